@@ -1,0 +1,183 @@
+//! Adapter discovery, ranking and reporting.
+
+use super::{GpuError, GpuOptions, requirements};
+
+/// Range of subgroup (wave) sizes the adapter may run with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SubgroupSize {
+    pub min: u32,
+    pub max: u32,
+}
+
+/// The optional capabilities this project uses, as the device will have them.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Capabilities {
+    /// `Some` when `Features::SUBGROUP` is available: scalarized shader variants can run.
+    pub subgroup: Option<SubgroupSize>,
+    /// `Features::TIMESTAMP_QUERY`: per-pass GPU timings.
+    pub timestamp_query: bool,
+    /// Timestamps inside encoders and passes, which nested profiler scopes use.
+    pub timestamp_inside_passes: bool,
+    /// MSAA sample counts usable for `Depth32Float` attachments.
+    pub msaa_depth32float: Vec<u32>,
+    /// MSAA sample counts usable for `Rgba16Float` attachments.
+    pub msaa_rgba16float: Vec<u32>,
+    /// Largest compute workgroup (invocations) the device allows.
+    pub max_workgroup_invocations: u32,
+}
+
+impl Capabilities {
+    /// MSAA counts usable for a frame: those both the depth and the colour target support.
+    pub fn msaa_counts(&self) -> Vec<u32> {
+        self.msaa_depth32float
+            .iter()
+            .copied()
+            .filter(|c| self.msaa_rgba16float.contains(c))
+            .collect()
+    }
+}
+
+/// What an adapter is, and what the renderer can use on it.
+#[derive(Debug, Clone)]
+pub struct AdapterReport {
+    pub name: String,
+    pub backend: wgpu::Backend,
+    pub device_type: wgpu::DeviceType,
+    pub driver: String,
+    pub driver_info: String,
+    pub capabilities: Capabilities,
+}
+
+impl AdapterReport {
+    pub fn new(adapter: &wgpu::Adapter) -> Self {
+        let info = adapter.get_info();
+        let features = requirements::optional_features(adapter);
+        let subgroup = features
+            .contains(wgpu::Features::SUBGROUP)
+            .then_some(SubgroupSize {
+                min: info.subgroup_min_size,
+                max: info.subgroup_max_size,
+            });
+        let sample_counts = |format| {
+            let mut counts = adapter
+                .get_texture_format_features(format)
+                .flags
+                .supported_sample_counts();
+            if !features.contains(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES) {
+                // Without adapter-specific format features WebGPU guarantees only 1 and 4.
+                counts.retain(|c| matches!(c, 1 | 4));
+            }
+            counts
+        };
+        Self {
+            name: info.name,
+            backend: info.backend,
+            device_type: info.device_type,
+            driver: info.driver,
+            driver_info: info.driver_info,
+            capabilities: Capabilities {
+                subgroup,
+                timestamp_query: features.contains(wgpu::Features::TIMESTAMP_QUERY),
+                timestamp_inside_passes: features.contains(
+                    wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
+                        | wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES,
+                ),
+                msaa_depth32float: sample_counts(wgpu::TextureFormat::Depth32Float),
+                msaa_rgba16float: sample_counts(wgpu::TextureFormat::Rgba16Float),
+                max_workgroup_invocations: requirements::workgroup_invocations(adapter),
+            },
+        }
+    }
+}
+
+impl std::fmt::Display for AdapterReport {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let caps = &self.capabilities;
+        writeln!(
+            f,
+            "{} ({:?}, {:?})",
+            self.name, self.backend, self.device_type
+        )?;
+        writeln!(
+            f,
+            "  driver:            {} {}",
+            self.driver, self.driver_info
+        )?;
+        match caps.subgroup {
+            Some(s) if s.min == s.max => writeln!(f, "  SUBGROUP:          yes, size {}", s.min)?,
+            Some(s) => writeln!(f, "  SUBGROUP:          yes, size {}..={}", s.min, s.max)?,
+            None => writeln!(f, "  SUBGROUP:          no")?,
+        }
+        let yes_no = |b: bool| if b { "yes" } else { "no" };
+        writeln!(
+            f,
+            "  TIMESTAMP_QUERY:   {} (inside passes: {})",
+            yes_no(caps.timestamp_query),
+            yes_no(caps.timestamp_inside_passes)
+        )?;
+        writeln!(f, "  MSAA Depth32Float: {:?}", caps.msaa_depth32float)?;
+        writeln!(f, "  MSAA Rgba16Float:  {:?}", caps.msaa_rgba16float)?;
+        write!(
+            f,
+            "  workgroup max:     {} invocations",
+            caps.max_workgroup_invocations
+        )
+    }
+}
+
+/// Every adapter on the given backends, best first (see [`rank_adapters`]).
+pub async fn enumerate_adapters(options: &GpuOptions) -> Vec<wgpu::Adapter> {
+    let instance = options.create_instance();
+    let mut adapters = instance.enumerate_adapters(options.backends).await;
+    rank_adapters(&mut adapters);
+    adapters
+}
+
+/// Orders adapters by preference: discrete GPU, integrated, virtual, CPU, other; Vulkan first
+/// among equals, then by name so the order is stable.
+pub fn rank_adapters(adapters: &mut [wgpu::Adapter]) {
+    adapters.sort_by_cached_key(|a| {
+        let info = a.get_info();
+        (
+            device_type_rank(info.device_type),
+            info.backend != wgpu::Backend::Vulkan,
+            info.name,
+        )
+    });
+}
+
+fn device_type_rank(device_type: wgpu::DeviceType) -> u8 {
+    match device_type {
+        wgpu::DeviceType::DiscreteGpu => 0,
+        wgpu::DeviceType::IntegratedGpu => 1,
+        wgpu::DeviceType::VirtualGpu => 2,
+        wgpu::DeviceType::Cpu => 3,
+        wgpu::DeviceType::Other => 4,
+    }
+}
+
+pub(super) fn choose(
+    mut adapters: Vec<wgpu::Adapter>,
+    options: &GpuOptions,
+) -> Result<wgpu::Adapter, GpuError> {
+    if adapters.is_empty() {
+        return Err(GpuError::NoAdapter {
+            backends: options.backends,
+        });
+    }
+    rank_adapters(&mut adapters);
+    let Some(wanted) = &options.adapter_name else {
+        return Ok(adapters.swap_remove(0));
+    };
+    let needle = wanted.to_lowercase();
+    match adapters
+        .iter()
+        .position(|a| a.get_info().name.to_lowercase().contains(&needle))
+    {
+        Some(i) => Ok(adapters.swap_remove(i)),
+        None => Err(GpuError::AdapterNotFound {
+            wanted: wanted.clone(),
+            available: adapters.iter().map(|a| a.get_info().name).collect(),
+        }),
+    }
+}

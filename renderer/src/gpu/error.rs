@@ -1,0 +1,52 @@
+//! Typed errors of GPU context creation, each saying what to do about it.
+
+/// Why a GPU context could not be created.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum GpuError {
+    #[error(
+        "no GPU adapter found (searched backends: {backends:?}). Install a Vulkan driver: on \
+         Debian/Ubuntu without a GPU, `apt-get install mesa-vulkan-drivers libvulkan1` gives the \
+         software driver lavapipe (`cargo xtask test` installs it when run as root)"
+    )]
+    NoAdapter { backends: wgpu::Backends },
+
+    #[error(
+        "no adapter name contains {wanted:?} (from --adapter or RENDERER_ADAPTER); adapters \
+         found: {available:?}"
+    )]
+    AdapterNotFound {
+        wanted: String,
+        available: Vec<String>,
+    },
+
+    #[error(
+        "adapter {adapter:?} lacks the limit {limit} = {needed} the renderer needs (it has \
+         {available}); pick another adapter with --adapter or RENDERER_ADAPTER"
+    )]
+    InsufficientLimit {
+        adapter: String,
+        limit: &'static str,
+        needed: u64,
+        available: u64,
+    },
+
+    #[error("adapter {adapter:?} refused the device request: {source}")]
+    RequestDevice {
+        adapter: String,
+        #[source]
+        source: wgpu::RequestDeviceError,
+    },
+
+    #[error("waiting for the GPU failed: {0}")]
+    Poll(#[source] wgpu::PollError),
+
+    #[error("GPU timing failed: {0}")]
+    Profiler(String),
+
+    #[error("mapping a readback buffer failed: {0}")]
+    Map(#[source] wgpu::BufferAsyncError),
+
+    #[error("reading a mapped readback buffer failed: {0}")]
+    MapRange(String),
+}

@@ -1,0 +1,76 @@
+//! The headless GPU context: instance, adapter choice, device and queue.
+//!
+//! [`GpuContext::new`] picks an adapter (discrete, then integrated, then CPU; or the one whose
+//! name contains `RENDERER_ADAPTER` / `--adapter`), requests exactly the features and limits the
+//! renderer uses and the adapter has ([`requirements`]), and reports what it found
+//! ([`AdapterReport`]). It must not own any rendering state: passes and scenes live elsewhere.
+
+mod adapter;
+mod error;
+mod options;
+pub mod requirements;
+
+pub use adapter::{AdapterReport, Capabilities, SubgroupSize, enumerate_adapters, rank_adapters};
+pub use error::GpuError;
+pub use options::{ADAPTER_ENV, GpuOptions};
+
+/// A headless wgpu instance, the chosen adapter, and its device and queue.
+#[derive(Debug, Clone)]
+pub struct GpuContext {
+    pub instance: wgpu::Instance,
+    pub adapter: wgpu::Adapter,
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    /// What the adapter is and which optional capabilities the device was created with.
+    pub report: AdapterReport,
+}
+
+impl GpuContext {
+    /// Creates the instance, picks an adapter and opens a device on it.
+    pub async fn new(options: &GpuOptions) -> Result<Self, GpuError> {
+        let instance = options.create_instance();
+        let adapters = instance.enumerate_adapters(options.backends).await;
+        let adapter = adapter::choose(adapters, options)?;
+        let report = AdapterReport::new(&adapter);
+        let (required_features, required_limits) = requirements::for_adapter(&adapter)?;
+        let (device, queue) = adapter
+            .request_device(&wgpu::DeviceDescriptor {
+                label: Some("renderer device"),
+                required_features,
+                required_limits,
+                experimental_features: wgpu::ExperimentalFeatures::disabled(),
+                memory_hints: wgpu::MemoryHints::Performance,
+                trace: wgpu::Trace::Off,
+            })
+            .await
+            .map_err(|source| GpuError::RequestDevice {
+                adapter: report.name.clone(),
+                source,
+            })?;
+        Ok(Self {
+            instance,
+            adapter,
+            device,
+            queue,
+            report,
+        })
+    }
+
+    /// Blocking form of [`GpuContext::new`] for tools and tests.
+    pub fn new_blocking(options: &GpuOptions) -> Result<Self, GpuError> {
+        pollster::block_on(Self::new(options))
+    }
+
+    /// The optional capabilities of the device that was created.
+    pub fn capabilities(&self) -> &Capabilities {
+        &self.report.capabilities
+    }
+
+    /// Waits until all submitted GPU work is done.
+    pub fn wait_idle(&self) -> Result<(), GpuError> {
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map(|_| ())
+            .map_err(GpuError::Poll)
+    }
+}

@@ -1,0 +1,79 @@
+//! Exactly the features and limits the renderer asks of a device.
+//!
+//! Nothing is required beyond WebGPU's defaults; optional features are requested only when the
+//! adapter has them, and limits are raised only as far as the renderer uses them and the adapter
+//! allows. Code that needs an optional feature checks [`super::Capabilities`] first.
+
+use super::GpuError;
+
+/// Features the renderer uses when present.
+pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::SUBGROUP
+    .union(wgpu::Features::TIMESTAMP_QUERY)
+    .union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS)
+    .union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES)
+    // MSAA 2 and 8, and multisampled Rgba16Float beyond the WebGPU guarantee.
+    .union(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES);
+
+/// Largest compute workgroup the kernels use: a 32×32 tile, one invocation per pixel.
+pub const WANTED_WORKGROUP_INVOCATIONS: u32 = 32 * 32;
+/// Largest storage binding the light lists use (index lists for 65,536 lights at 4K).
+pub const WANTED_STORAGE_BINDING_BYTES: u64 = 1 << 30;
+
+/// The optional features this adapter has.
+pub fn optional_features(adapter: &wgpu::Adapter) -> wgpu::Features {
+    adapter.features() & OPTIONAL_FEATURES
+}
+
+/// The workgroup size the device will allow: what the kernels want, capped by the adapter.
+pub fn workgroup_invocations(adapter: &wgpu::Adapter) -> u32 {
+    adapter
+        .limits()
+        .max_compute_invocations_per_workgroup
+        .min(WANTED_WORKGROUP_INVOCATIONS)
+}
+
+/// The features and limits to request from `adapter`.
+pub fn for_adapter(adapter: &wgpu::Adapter) -> Result<(wgpu::Features, wgpu::Limits), GpuError> {
+    let have = adapter.limits();
+    let base = wgpu::Limits::default();
+    // The WebGPU defaults are the floor: an adapter below them cannot run the renderer.
+    let floor: [(&'static str, u64, u64); 3] = [
+        (
+            "max_compute_invocations_per_workgroup",
+            base.max_compute_invocations_per_workgroup.into(),
+            have.max_compute_invocations_per_workgroup.into(),
+        ),
+        (
+            "max_storage_buffers_per_shader_stage",
+            base.max_storage_buffers_per_shader_stage.into(),
+            have.max_storage_buffers_per_shader_stage.into(),
+        ),
+        (
+            "max_storage_buffer_binding_size",
+            base.max_storage_buffer_binding_size,
+            have.max_storage_buffer_binding_size,
+        ),
+    ];
+    if let Some((limit, needed, available)) = floor.into_iter().find(|(_, n, a)| a < n) {
+        return Err(GpuError::InsufficientLimit {
+            adapter: adapter.get_info().name,
+            limit,
+            needed,
+            available,
+        });
+    }
+    let invocations = workgroup_invocations(adapter);
+    let limits = wgpu::Limits {
+        max_compute_invocations_per_workgroup: invocations,
+        max_compute_workgroup_size_x: have.max_compute_workgroup_size_x.min(invocations),
+        max_compute_workgroup_size_y: have.max_compute_workgroup_size_y.min(invocations),
+        max_storage_buffer_binding_size: have
+            .max_storage_buffer_binding_size
+            .min(WANTED_STORAGE_BINDING_BYTES),
+        max_buffer_size: have.max_buffer_size.min(WANTED_STORAGE_BINDING_BYTES),
+        ..base
+    }
+    .using_resolution(have.clone())
+    .using_alignment(have);
+    Ok((optional_features(adapter), limits))
+}

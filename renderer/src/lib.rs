@@ -1,0 +1,13 @@
+//! Data-oriented wgpu renderer: the GPU context, the frame graph, its passes, glTF scenes and
+//! the engine-facing API.
+//!
+//! The renderer never creates a window and never holds hand-written shader source: every GPU
+//! program comes from `shaders_gen`, which the shader DSL generates. An engine hands over a
+//! device (or lets [`gpu::GpuContext`] create a headless one), a scene and a camera, and gets back
+//! a frame and per-pass GPU timings.
+
+pub mod gpu;
+pub mod readback;
+pub mod test_pattern;
+
+pub use gpu::{AdapterReport, Capabilities, GpuContext, GpuError, GpuOptions};

@@ -1,0 +1,137 @@
+//! A full-screen test-pattern frame: the smallest real render pass, with GPU timing.
+//!
+//! `cargo xtask demo` shows it until the scene renderer replaces it, and the GPU tests check its
+//! pixels against a CPU recomputation. The shaders come from `shaders_gen::bootstrap`.
+
+use shaders_gen::bootstrap::{PatternParams, TEST_PATTERN_WGSL};
+use wgpu::util::DeviceExt as _;
+
+use crate::{GpuContext, GpuError, readback};
+
+/// Colour format of the pattern target: linear 8-bit, so a CPU can predict every byte.
+pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+
+/// A rendered pattern frame.
+#[derive(Debug, Clone)]
+pub struct PatternFrame {
+    pub width: u32,
+    pub height: u32,
+    /// Tightly packed RGBA8 rows, top row first.
+    pub rgba: Vec<u8>,
+    /// GPU time of the render pass, when the device has timestamp queries.
+    pub gpu_time: Option<std::time::Duration>,
+}
+
+/// Parameters of the pattern for a `width`×`height` target.
+pub fn params(width: u32, height: u32) -> PatternParams {
+    let radius = width.min(height) * 3 / 10;
+    let thickness = (width.min(height) / 40).max(1);
+    PatternParams {
+        size: [width, height],
+        cell: 32,
+        _pad: 0,
+        ring_radii_sq: [radius * radius, (radius + thickness) * (radius + thickness)],
+    }
+}
+
+/// Renders the pattern into a new `width`×`height` texture and reads it back.
+pub fn render(gpu: &GpuContext, width: u32, height: u32) -> Result<PatternFrame, GpuError> {
+    let device = &gpu.device;
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("test pattern"),
+        source: wgpu::ShaderSource::Wgsl(TEST_PATTERN_WGSL.into()),
+    });
+    let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("test pattern"),
+        layout: None,
+        vertex: wgpu::VertexState {
+            module: &module,
+            entry_point: Some("vs_fullscreen"),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: None,
+        multisample: wgpu::MultisampleState::default(),
+        fragment: Some(wgpu::FragmentState {
+            module: &module,
+            entry_point: Some("fs_pattern"),
+            compilation_options: Default::default(),
+            targets: &[Some(FORMAT.into())],
+        }),
+        multiview_mask: None,
+        cache: None,
+    });
+    let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("test pattern params"),
+        contents: bytemuck::bytes_of(&params(width, height)),
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
+    let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("test pattern"),
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &[wgpu::BindGroupEntry {
+            binding: 0,
+            resource: uniform.as_entire_binding(),
+        }],
+    });
+    let target = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("test pattern target"),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let view = target.create_view(&Default::default());
+
+    let mut profiler = wgpu_profiler::GpuProfiler::new(device, Default::default())
+        .map_err(|e| GpuError::Profiler(e.to_string()))?;
+    let mut encoder = device.create_command_encoder(&Default::default());
+    let query = profiler.begin_pass_query("test pattern", &mut encoder);
+    {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("test pattern"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: query.render_pass_timestamp_writes(),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &bind_group, &[]);
+        pass.draw(0..3, 0..1);
+    }
+    profiler.end_query(&mut encoder, query);
+    profiler.resolve_queries(&mut encoder);
+    gpu.queue.submit([encoder.finish()]);
+    profiler
+        .end_frame()
+        .map_err(|e| GpuError::Profiler(e.to_string()))?;
+    let rgba = readback::read_texture_rgba8(device, &gpu.queue, &target)?;
+    gpu.wait_idle()?;
+    let gpu_time = profiler
+        .process_finished_frame(gpu.queue.get_timestamp_period())
+        .and_then(|scopes| scopes.into_iter().find_map(|s| s.time))
+        .map(|t| std::time::Duration::from_secs_f64(t.end - t.start));
+    Ok(PatternFrame {
+        width,
+        height,
+        rgba,
+        gpu_time,
+    })
+}

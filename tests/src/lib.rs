@@ -1,0 +1,8 @@
+//! Workspace-level integration tests: GPU tests under validation, CPU references, image tests and
+//! codegen snapshots.
+//!
+//! This library holds the shared harness; the tests themselves are in `tests/tests/`. Every GPU
+//! test gets its device from [`gpu::gpu_test`], which fails loudly when there is no adapter or no
+//! validation layer, and fails the test on any validation error it caused.
+
+pub mod gpu;

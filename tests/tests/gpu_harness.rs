@@ -1,0 +1,184 @@
+//! The GPU context and test harness, proven on real work: a compute dispatch and a render pass
+//! whose results are read back and checked against plain Rust, and deliberate misuses that the
+//! harness must catch (one wgpu validation error, one Vulkan validation-layer error).
+
+use renderer::{readback, test_pattern};
+use shaders_gen::bootstrap::{SQUARE_PLUS_INDEX_WGSL, SQUARE_PLUS_INDEX_WORKGROUP};
+use tests::gpu::{GpuTestFailure, gpu_test, try_gpu_test};
+use wgpu::util::DeviceExt as _;
+
+#[test]
+fn compute_dispatch_matches_cpu() {
+    // Not a multiple of the workgroup size, so the bounds check in the kernel matters.
+    let input: Vec<u32> = (0..1000u32)
+        .map(|i| i.wrapping_mul(2_654_435_761) >> 16)
+        .collect();
+    let expected: Vec<u32> = input
+        .iter()
+        .enumerate()
+        .map(|(i, &x)| x.wrapping_mul(x).wrapping_add(i as u32))
+        .collect();
+    let output = gpu_test(|gpu| {
+        let device = &gpu.device;
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("square plus index"),
+            source: wgpu::ShaderSource::Wgsl(SQUARE_PLUS_INDEX_WGSL.into()),
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("square plus index"),
+            layout: None,
+            module: &module,
+            entry_point: Some("square_plus_index"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        let input_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("input"),
+            contents: bytemuck::cast_slice(&input),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let output_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("output"),
+            size: (input.len() * 4) as u64,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: input_buffer.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: output_buffer.as_entire_binding(),
+                },
+            ],
+        });
+        let mut encoder = device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&pipeline);
+            pass.set_bind_group(0, &bind_group, &[]);
+            pass.dispatch_workgroups(
+                (input.len() as u32).div_ceil(SQUARE_PLUS_INDEX_WORKGROUP),
+                1,
+                1,
+            );
+        }
+        gpu.queue.submit([encoder.finish()]);
+        readback::read_buffer::<u32>(device, &gpu.queue, &output_buffer).expect("readback")
+    });
+    assert_eq!(output, expected);
+}
+
+/// The CPU recomputation of `fs_pattern` at pixel (x, y).
+fn expected_pattern_pixel(
+    params: &shaders_gen::bootstrap::PatternParams,
+    x: u32,
+    y: u32,
+) -> [f32; 4] {
+    let [w, h] = params.size;
+    let (cx, cy) = ((w / 2) as i32, (h / 2) as i32);
+    let (dx, dy) = (x as i32 - cx, y as i32 - cy);
+    let dist_sq = (dx * dx + dy * dy) as u32;
+    if dist_sq >= params.ring_radii_sq[0] && dist_sq < params.ring_radii_sq[1] {
+        return [1.0; 4];
+    }
+    let checker = ((x / params.cell + y / params.cell) & 1) as f32;
+    [
+        (x as f32 + 0.5) / w as f32,
+        (y as f32 + 0.5) / h as f32,
+        0.25 + 0.5 * checker,
+        1.0,
+    ]
+}
+
+#[test]
+fn render_pass_matches_cpu_pattern() {
+    let (width, height) = (96, 64);
+    let frame = gpu_test(|gpu| test_pattern::render(gpu, width, height).expect("render"));
+    let params = test_pattern::params(width, height);
+    let mut ring_pixels = 0;
+    for y in 0..height {
+        for x in 0..width {
+            let expected = expected_pattern_pixel(&params, x, y);
+            ring_pixels += usize::from(expected == [1.0; 4]);
+            let at = ((y * width + x) * 4) as usize;
+            let got = &frame.rgba[at..at + 4];
+            for (channel, (&g, e)) in got.iter().zip(expected).enumerate() {
+                // Tolerance: one unorm8 step. The GPU may round an f32 that lies near a .5
+                // boundary of value*255 the other way from the CPU; anything more is a bug.
+                let e = (e * 255.0).round();
+                assert!(
+                    (f32::from(g) - e).abs() <= 1.0,
+                    "pixel ({x},{y}) channel {channel}: got {g}, expected {e}"
+                );
+            }
+        }
+    }
+    assert!(
+        ring_pixels > 50,
+        "the ring must be visible ({ring_pixels} pixels)"
+    );
+}
+
+#[test]
+fn wgpu_validation_error_fails_the_test() {
+    let failure = try_gpu_test(|gpu| {
+        let buffer = |label, size| {
+            gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        let (small, large) = (buffer("small", 16), buffer("large", 256));
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        // Deliberately out of bounds: 64 bytes from a 16-byte buffer.
+        encoder.copy_buffer_to_buffer(&small, 0, &large, 0, 64);
+        gpu.queue.submit([encoder.finish()]);
+    });
+    match failure {
+        Err(GpuTestFailure::Errors(errors)) => assert!(
+            errors
+                .iter()
+                .any(|e| e.starts_with("wgpu:") && e.contains("overrun")),
+            "expected a copy-overrun error, got {errors:#?}"
+        ),
+        other => panic!("the out-of-bounds copy was not caught: {other:?}"),
+    }
+}
+
+#[test]
+fn vulkan_validation_layer_error_fails_the_test() {
+    let failure = try_gpu_test(|gpu| {
+        // SAFETY: the raw device outlives this block; the buffer, if the driver made one, is
+        // destroyed before returning. Size 0 is invalid on purpose (VUID-VkBufferCreateInfo-size-00912).
+        unsafe {
+            let hal = gpu
+                .device
+                .as_hal::<wgpu::hal::api::Vulkan>()
+                .expect("GPU tests run on the Vulkan backend");
+            let raw = hal.raw_device();
+            let info = ash::vk::BufferCreateInfo::default()
+                .size(0)
+                .usage(ash::vk::BufferUsageFlags::TRANSFER_SRC);
+            if let Ok(buffer) = raw.create_buffer(&info, None) {
+                raw.destroy_buffer(buffer, None);
+            }
+        }
+    });
+    match failure {
+        Err(GpuTestFailure::Errors(errors)) => assert!(
+            errors
+                .iter()
+                .any(|e| e.contains("VUID-VkBufferCreateInfo-size")),
+            "expected the layer's VUID-VkBufferCreateInfo-size error, got {errors:#?}"
+        ),
+        other => panic!("the layer did not report the zero-size buffer: {other:?}"),
+    }
+}

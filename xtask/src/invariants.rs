@@ -1,0 +1,241 @@
+//! The architecture invariants of ARCHITECTURE.md, checked rather than hoped for.
+//!
+//! Each check is a pure function over text (`cargo tree` output or source files), so the unit
+//! tests below show that every check fails when its invariant is broken.
+
+use std::path::Path;
+use std::process::Command;
+
+use anyhow::{Context as _, Result, bail};
+
+/// Crates that must never depend on wgpu: the DSL compiles shaders, it never runs them.
+const WGPU_FREE_CRATES: &[&str] = &["shader-dsl", "codegen"];
+/// The only direct dependencies `shader-dsl` may have: it is a syn -> codegen -> tokens adapter.
+const SHADER_DSL_ALLOWED_DEPS: &[&str] = &["codegen", "proc-macro2", "quote", "syn"];
+/// Lines of code (without comments and blank lines) `shader-dsl` may hold before it is no longer
+/// a thin adapter; compiler logic belongs in `codegen`.
+const SHADER_DSL_MAX_CODE_LINES: usize = 200;
+/// Text that only hand-written shader code contains.
+const SHADER_SOURCE_MARKERS: &[&str] = &[
+    "@compute",
+    "@vertex",
+    "@fragment",
+    "@group(",
+    "@builtin(",
+    "var<storage",
+    "var<uniform",
+    "var<workgroup",
+    ".wgsl\"",
+    ".spv\"",
+    "create_shader_module_spirv",
+    "create_shader_module_passthrough",
+    "ShaderSource::SpirV",
+    "ShaderSource::Glsl",
+];
+
+/// A broken invariant, named as in ARCHITECTURE.md.
+#[derive(Debug, PartialEq, Eq)]
+pub struct Violation {
+    pub invariant: &'static str,
+    pub detail: String,
+}
+
+#[expect(clippy::print_stdout, reason = "command-line report")]
+pub fn run() -> Result<()> {
+    let root = crate::workspace_root();
+    let mut violations = Vec::new();
+    for krate in WGPU_FREE_CRATES {
+        let tree = cargo_tree(&root, &[krate, "-e", "normal,build"])?;
+        violations.extend(check_no_wgpu(krate, &tree));
+    }
+    let direct = cargo_tree(&root, &["shader-dsl", "-e", "normal", "--depth", "1"])?;
+    violations.extend(check_shader_dsl_deps(&direct));
+    violations.extend(check_shader_dsl_is_thin(&read_rust_sources(
+        &root.join("shader-dsl/src"),
+    )?));
+    violations.extend(check_no_shader_source(&read_rust_sources(
+        &root.join("renderer/src"),
+    )?));
+    if violations.is_empty() {
+        println!("architecture invariants hold");
+        return Ok(());
+    }
+    for v in &violations {
+        println!(
+            "Architecture invariant broken: {}\n  {}",
+            v.invariant, v.detail
+        );
+    }
+    bail!("{} architecture invariant(s) broken", violations.len())
+}
+
+/// Package names (without versions) of `cargo tree -p <package> <args>`, one per line.
+fn cargo_tree(root: &Path, args: &[&str]) -> Result<String> {
+    let (package, rest) = args.split_first().context("cargo tree needs a package")?;
+    let output = Command::new(env!("CARGO"))
+        .args([
+            "tree", "--quiet", "--prefix", "none", "--format", "{p}", "-p",
+        ])
+        .arg(package)
+        .args(rest)
+        .current_dir(root)
+        .output()
+        .context("running cargo tree")?;
+    if !output.status.success() {
+        bail!(
+            "cargo tree -p {package} failed: {}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+    }
+    Ok(String::from_utf8_lossy(&output.stdout).into_owned())
+}
+
+fn package_names(tree: &str) -> impl Iterator<Item = &str> {
+    tree.lines().filter_map(|l| l.split_whitespace().next())
+}
+
+/// "`shader-dsl` and `codegen` do not depend on wgpu."
+pub fn check_no_wgpu(krate: &str, tree: &str) -> Option<Violation> {
+    let offenders: Vec<&str> = package_names(tree)
+        .filter(|name| *name == "wgpu" || name.starts_with("wgpu-"))
+        .collect();
+    (!offenders.is_empty()).then(|| Violation {
+        invariant: "shader-dsl and codegen do not depend on wgpu",
+        detail: format!("{krate} depends on {}", dedup(offenders).join(", ")),
+    })
+}
+
+/// "`shader-dsl` is only a syn -> codegen -> tokens adapter": its direct dependencies.
+pub fn check_shader_dsl_deps(direct_tree: &str) -> Option<Violation> {
+    let extra: Vec<&str> = package_names(direct_tree)
+        .skip(1) // the first line is shader-dsl itself
+        .filter(|name| !SHADER_DSL_ALLOWED_DEPS.contains(name))
+        .collect();
+    (!extra.is_empty()).then(|| Violation {
+        invariant: "shader-dsl is only a syn -> codegen -> tokens adapter",
+        detail: format!(
+            "shader-dsl depends directly on {} (allowed: {})",
+            dedup(extra).join(", "),
+            SHADER_DSL_ALLOWED_DEPS.join(", ")
+        ),
+    })
+}
+
+/// "`shader-dsl` is only a syn -> codegen -> tokens adapter": its size.
+pub fn check_shader_dsl_is_thin(sources: &[(String, String)]) -> Option<Violation> {
+    let code_lines = sources
+        .iter()
+        .flat_map(|(_, text)| text.lines())
+        .map(str::trim)
+        .filter(|l| !l.is_empty() && !l.starts_with("//"))
+        .count();
+    (code_lines > SHADER_DSL_MAX_CODE_LINES).then(|| Violation {
+        invariant: "shader-dsl is only a syn -> codegen -> tokens adapter",
+        detail: format!(
+            "shader-dsl holds {code_lines} lines of code (limit {SHADER_DSL_MAX_CODE_LINES}); \
+             move compiler logic into codegen"
+        ),
+    })
+}
+
+/// "`renderer` contains no hand-written shader source: its GPU code comes from `shaders_gen`."
+pub fn check_no_shader_source(sources: &[(String, String)]) -> Vec<Violation> {
+    sources
+        .iter()
+        .flat_map(|(path, text)| {
+            text.lines().enumerate().filter_map(move |(i, line)| {
+                let marker = SHADER_SOURCE_MARKERS.iter().find(|m| line.contains(**m))?;
+                Some(Violation {
+                    invariant: "renderer contains no hand-written shader source",
+                    detail: format!(
+                        "{path}:{}: `{marker}` looks like shader code; write it in the DSL in \
+                         shaders_gen",
+                        i + 1
+                    ),
+                })
+            })
+        })
+        .collect()
+}
+
+/// Every `.rs` file under `dir`, as (path, contents), in a stable order.
+fn read_rust_sources(dir: &Path) -> Result<Vec<(String, String)>> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for entry in std::fs::read_dir(&d).with_context(|| format!("reading {}", d.display()))? {
+            let path = entry?.path();
+            if path.is_dir() {
+                stack.push(path);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                let text = std::fs::read_to_string(&path)
+                    .with_context(|| format!("reading {}", path.display()))?;
+                out.push((path.display().to_string(), text));
+            }
+        }
+    }
+    out.sort();
+    Ok(out)
+}
+
+fn dedup(mut names: Vec<&str>) -> Vec<&str> {
+    names.sort_unstable();
+    names.dedup();
+    names
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn src(path: &str, text: &str) -> Vec<(String, String)> {
+        vec![(path.to_owned(), text.to_owned())]
+    }
+
+    #[test]
+    fn wgpu_in_codegen_tree_is_a_violation() {
+        let clean = "codegen v0.1.0 (/w/codegen)\nnaga v30.0.1\nsyn v2.0.119\n";
+        assert_eq!(check_no_wgpu("codegen", clean), None);
+        let broken = "codegen v0.1.0 (/w/codegen)\nwgpu v30.0.1\nwgpu-core v30.0.1\nnaga v30.0.1\n";
+        let v = check_no_wgpu("codegen", broken).expect("wgpu must be caught");
+        assert_eq!(v.invariant, "shader-dsl and codegen do not depend on wgpu");
+        assert!(v.detail.contains("wgpu, wgpu-core"), "{}", v.detail);
+    }
+
+    #[test]
+    fn shader_dsl_may_only_depend_on_the_adapter_crates() {
+        let clean = "shader-dsl v0.1.0\ncodegen v0.1.0\nproc-macro2 v1\nquote v1\nsyn v2\n";
+        assert_eq!(check_shader_dsl_deps(clean), None);
+        let broken = "shader-dsl v0.1.0\ncodegen v0.1.0\nnaga v30.0.1\nsyn v2\n";
+        let v = check_shader_dsl_deps(broken).expect("naga must be caught");
+        assert!(v.detail.contains("naga"), "{}", v.detail);
+    }
+
+    #[test]
+    fn a_fat_shader_dsl_is_a_violation() {
+        let thin = src("lib.rs", "//! doc\nfn a() {}\n\n// comment\n");
+        assert_eq!(check_shader_dsl_is_thin(&thin), None);
+        let fat = src(
+            "lib.rs",
+            &"let x = 1;\n".repeat(SHADER_DSL_MAX_CODE_LINES + 1),
+        );
+        assert!(check_shader_dsl_is_thin(&fat).is_some());
+    }
+
+    #[test]
+    fn wgsl_in_renderer_is_a_violation() {
+        let clean = src("pass.rs", "let m = shaders_gen::forward::variant(key);\n");
+        assert!(check_no_shader_source(&clean).is_empty());
+        let broken = src(
+            "pass.rs",
+            "ok\nconst S: &str = \"@compute @workgroup_size(64) fn f() {}\";\n",
+        );
+        let v = check_no_shader_source(&broken);
+        assert_eq!(v.len(), 1);
+        assert!(
+            v[0].detail.starts_with("pass.rs:2: `@compute`"),
+            "{}",
+            v[0].detail
+        );
+    }
+}

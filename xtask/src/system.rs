@@ -1,0 +1,138 @@
+//! System packages the tests need: a Vulkan driver, the Khronos validation layer and spirv-val.
+//!
+//! On a Debian/Ubuntu machine where we run as root, missing packages are installed with apt;
+//! anywhere else the command stops and names the packages to install.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use anyhow::{Context as _, Result, bail};
+
+/// A system requirement, the Debian packages that provide it, and whether it is present.
+#[derive(Debug)]
+struct Requirement {
+    what: &'static str,
+    packages: &'static [&'static str],
+    present: fn() -> bool,
+}
+
+const REQUIREMENTS: &[Requirement] = &[
+    Requirement {
+        what: "a Vulkan adapter (a GPU driver, or Mesa's software driver lavapipe)",
+        packages: &["mesa-vulkan-drivers", "libvulkan1"],
+        present: has_vulkan_adapter,
+    },
+    Requirement {
+        what: "the Khronos Vulkan validation layer",
+        packages: &["vulkan-validationlayers"],
+        present: has_validation_layer,
+    },
+    Requirement {
+        what: "spirv-val (SPIR-V validation of generated shaders)",
+        packages: &["spirv-tools"],
+        present: has_spirv_val,
+    },
+];
+
+/// Makes sure every requirement is present, installing what is missing where we can.
+#[expect(
+    clippy::print_stdout,
+    reason = "progress report of a command-line tool"
+)]
+pub fn ensure_test_requirements() -> Result<()> {
+    let missing: Vec<&Requirement> = REQUIREMENTS.iter().filter(|r| !(r.present)()).collect();
+    if missing.is_empty() {
+        return Ok(());
+    }
+    let packages: Vec<&str> = missing.iter().flat_map(|r| r.packages).copied().collect();
+    let needs = missing
+        .iter()
+        .map(|r| r.what)
+        .collect::<Vec<_>>()
+        .join("; ");
+    if !(is_debian_like() && is_root()) {
+        bail!(
+            "missing: {needs}.\nInstall the Debian/Ubuntu packages: apt-get install {}\n\
+             (cargo xtask test installs them itself when run as root on Debian/Ubuntu)",
+            packages.join(" ")
+        );
+    }
+    println!("xtask: missing {needs}; installing {}", packages.join(" "));
+    apt(&["update"])?;
+    let mut install = vec!["install", "-y", "--no-install-recommends"];
+    install.extend(&packages);
+    apt(&install)?;
+    if let Some(still) = REQUIREMENTS.iter().find(|r| !(r.present)()) {
+        bail!(
+            "installed {} but still missing {}",
+            packages.join(" "),
+            still.what
+        );
+    }
+    Ok(())
+}
+
+fn apt(args: &[&str]) -> Result<()> {
+    let status = Command::new("apt-get")
+        .args(args)
+        .env("DEBIAN_FRONTEND", "noninteractive")
+        .status()
+        .context("running apt-get")?;
+    if !status.success() {
+        bail!("apt-get {} failed with {status}", args.join(" "));
+    }
+    Ok(())
+}
+
+fn has_vulkan_adapter() -> bool {
+    let options = renderer::GpuOptions {
+        backends: wgpu::Backends::VULKAN,
+        ..renderer::GpuOptions::default()
+    };
+    !pollster::block_on(renderer::gpu::enumerate_adapters(&options)).is_empty()
+}
+
+fn has_spirv_val() -> bool {
+    Command::new("spirv-val")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success())
+}
+
+/// Looks for the layer manifest where the Vulkan loader looks for explicit layers.
+fn has_validation_layer() -> bool {
+    layer_search_dirs()
+        .iter()
+        .any(|dir| dir.join("VkLayer_khronos_validation.json").is_file())
+}
+
+fn layer_search_dirs() -> Vec<PathBuf> {
+    let env_paths = |var: &str| -> Vec<PathBuf> {
+        std::env::var_os(var)
+            .map(|v| std::env::split_paths(&v).collect())
+            .unwrap_or_default()
+    };
+    let mut dirs = env_paths("VK_LAYER_PATH");
+    dirs.extend(env_paths("VK_ADD_LAYER_PATH"));
+    let mut data_dirs = env_paths("XDG_DATA_HOME");
+    let xdg = env_paths("XDG_DATA_DIRS");
+    if xdg.is_empty() {
+        data_dirs.extend(["/usr/local/share", "/usr/share"].map(PathBuf::from));
+    } else {
+        data_dirs.extend(xdg);
+    }
+    data_dirs.extend(["/etc", "/etc/xdg"].map(PathBuf::from));
+    dirs.extend(data_dirs.iter().map(|d| d.join("vulkan/explicit_layer.d")));
+    dirs
+}
+
+fn is_debian_like() -> bool {
+    Path::new("/etc/debian_version").exists()
+}
+
+fn is_root() -> bool {
+    Command::new("id")
+        .arg("-u")
+        .output()
+        .is_ok_and(|o| String::from_utf8_lossy(&o.stdout).trim() == "0")
+}

@@ -1,0 +1,159 @@
+//! `cargo xtask test`: the README's test command, and what CI runs.
+//!
+//! It provisions the system packages the GPU tests need, then runs formatting, clippy, the
+//! architecture invariants and every workspace test (doc tests included), stopping at the first
+//! failing step. It ends with a one-line `N passed, N failed` summary.
+
+use std::io::{BufRead as _, BufReader};
+use std::process::{Command, Stdio};
+use std::time::Instant;
+
+use anyhow::{Context as _, Result, bail};
+
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Extra arguments passed to `cargo test` (for example a test name filter after `--`).
+    #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
+    cargo_test_args: Vec<String>,
+}
+
+#[expect(
+    clippy::print_stdout,
+    reason = "progress report of a command-line tool"
+)]
+pub fn run(args: &Args) -> Result<()> {
+    let started = Instant::now();
+    step("system packages", crate::system::ensure_test_requirements)?;
+    step("cargo fmt --check", || cargo(&["fmt", "--all", "--check"]))?;
+    step("cargo clippy", || {
+        cargo(&[
+            "clippy",
+            "--workspace",
+            "--all-targets",
+            "--",
+            "-D",
+            "warnings",
+        ])
+    })?;
+    step("architecture invariants", crate::invariants::run)?;
+    let counts = step("cargo test", || cargo_test(&args.cargo_test_args))?;
+    println!(
+        "xtask test: all steps done in {:.1} s",
+        started.elapsed().as_secs_f64()
+    );
+    println!("{} passed, {} failed", counts.passed, counts.failed);
+    if counts.failed > 0 {
+        bail!("{} test(s) failed", counts.failed);
+    }
+    Ok(())
+}
+
+#[expect(
+    clippy::print_stdout,
+    reason = "progress report of a command-line tool"
+)]
+fn step<T>(name: &str, f: impl FnOnce() -> Result<T>) -> Result<T> {
+    println!("xtask test: {name} ...");
+    let started = Instant::now();
+    let result = f();
+    let secs = started.elapsed().as_secs_f64();
+    match &result {
+        Ok(_) => println!("xtask test: {name} ok ({secs:.1} s)"),
+        Err(e) => {
+            println!("xtask test: {name} FAILED ({secs:.1} s): {e:#}");
+            println!("0 passed, 1 failed");
+        }
+    }
+    result
+}
+
+fn cargo(args: &[&str]) -> Result<()> {
+    let status = Command::new(env!("CARGO"))
+        .args(args)
+        .current_dir(crate::workspace_root())
+        .status()
+        .with_context(|| format!("running cargo {}", args.join(" ")))?;
+    if !status.success() {
+        bail!("cargo {} failed with {status}", args.join(" "));
+    }
+    Ok(())
+}
+
+/// Totals over every `test result:` line that libtest printed.
+#[derive(Debug, Default, PartialEq, Eq)]
+pub struct Counts {
+    pub passed: u64,
+    pub failed: u64,
+}
+
+impl Counts {
+    /// Adds the counts of one libtest summary line, such as
+    /// `test result: ok. 3 passed; 0 failed; 0 ignored; 0 measured; 0 filtered out; ...`.
+    pub fn add_line(&mut self, line: &str) {
+        let Some(rest) = line.trim().strip_prefix("test result: ") else {
+            return;
+        };
+        for part in rest.split(';') {
+            let mut words = part.split_whitespace().rev();
+            let (Some(label), Some(number)) = (words.next(), words.next()) else {
+                continue;
+            };
+            let Ok(n) = number.parse::<u64>() else {
+                continue;
+            };
+            match label {
+                "passed" => self.passed += n,
+                "failed" => self.failed += n,
+                _ => {}
+            }
+        }
+    }
+}
+
+/// Runs the workspace tests, echoing their output while counting results. A test binary that
+/// fails to build or crashes counts as one failure even if it printed no summary.
+#[expect(clippy::print_stdout, reason = "echoes the test output")]
+fn cargo_test(extra: &[String]) -> Result<Counts> {
+    let mut child = Command::new(env!("CARGO"))
+        .args(["test", "--workspace", "--no-fail-fast"])
+        .args(extra)
+        .current_dir(crate::workspace_root())
+        .stdout(Stdio::piped())
+        .spawn()
+        .context("running cargo test")?;
+    let stdout = child.stdout.take().context("capturing cargo test output")?;
+    let mut counts = Counts::default();
+    for line in BufReader::new(stdout).lines() {
+        let line = line.context("reading cargo test output")?;
+        println!("{line}");
+        counts.add_line(&line);
+    }
+    let status = child.wait().context("waiting for cargo test")?;
+    if !status.success() && counts.failed == 0 {
+        counts.failed = 1;
+    }
+    Ok(counts)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Counts;
+
+    #[test]
+    fn counts_sum_libtest_summaries() {
+        let mut c = Counts::default();
+        c.add_line("test result: ok. 3 passed; 0 failed; 0 ignored; 0 measured; 0 filtered out; finished in 0.01s");
+        c.add_line(
+            "test result: FAILED. 5 passed; 2 failed; 0 ignored; 0 measured; 1 filtered out",
+        );
+        c.add_line("running 7 tests");
+        c.add_line("test foo::bar ... ok");
+        assert_eq!(
+            c,
+            Counts {
+                passed: 8,
+                failed: 2
+            }
+        );
+    }
+}
