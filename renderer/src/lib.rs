@@ -6,6 +6,7 @@
 //! device (or lets [`gpu::GpuContext`] create a headless one), a scene and a camera, and gets back
 //! a frame and per-pass GPU timings.
 
+pub mod culling;
 pub mod gpu;
 pub mod readback;
 pub mod test_pattern;

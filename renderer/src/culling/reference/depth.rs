@@ -1,0 +1,49 @@
+//! A CPU copy of a (possibly multisampled) depth buffer and the sample positions of each count.
+
+/// Depth samples, row by row, `samples` per pixel.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DepthBuffer {
+    pub width: u32,
+    pub height: u32,
+    pub samples: u32,
+    /// `depth[((y * width) + x) * samples + s]`, wgpu convention (1.0 = far, sky).
+    pub depth: Vec<f32>,
+}
+
+impl DepthBuffer {
+    pub fn get(&self, x: u32, y: u32, s: u32) -> f32 {
+        self.depth[((y * self.width + x) * self.samples + s) as usize]
+    }
+
+    /// Whether the sample holds a surface (anything nearer than the far plane).
+    pub fn is_surface(depth: f32) -> bool {
+        depth < 1.0
+    }
+
+    /// Sub-pixel position of sample `s` (Vulkan/D3D standard sample locations).
+    pub fn sample_offset(&self, s: u32) -> (f32, f32) {
+        const X2: [(f32, f32); 2] = [(0.75, 0.75), (0.25, 0.25)];
+        const X4: [(f32, f32); 4] = [
+            (0.375, 0.125),
+            (0.875, 0.375),
+            (0.125, 0.625),
+            (0.625, 0.875),
+        ];
+        const X8: [(f32, f32); 8] = [
+            (0.5625, 0.3125),
+            (0.4375, 0.6875),
+            (0.8125, 0.5625),
+            (0.3125, 0.1875),
+            (0.1875, 0.8125),
+            (0.0625, 0.4375),
+            (0.6875, 0.9375),
+            (0.9375, 0.0625),
+        ];
+        match self.samples {
+            2 => X2[s as usize],
+            4 => X4[s as usize],
+            8 => X8[s as usize],
+            _ => (0.5, 0.5),
+        }
+    }
+}

@@ -1,0 +1,136 @@
+//! The CPU culling reference checked against the exact answer: on seeded scenes with depth
+//! discontinuities, every light that reaches a sample is in that sample's cell list (up to the
+//! stated `f32` tolerance), and the cull-efficiency ordering holds.
+
+use renderer::culling::reference::{
+    CellLists, ClusterGrid, Method, cull,
+    exact::{LightGrid, cull_efficiency, lights_reaching},
+};
+use tests::cull_scene::{CullScene, FAR, NEAR, scene};
+
+fn methods() -> Vec<Method> {
+    let grid = ClusterGrid {
+        x: 16,
+        y: 8,
+        z: 24,
+        near: NEAR,
+        far: FAR,
+    };
+    let mut m: Vec<Method> = [8, 16, 32]
+        .into_iter()
+        .flat_map(|tile| [Method::Tiled { tile }, Method::Depth25 { tile }])
+        .collect();
+    m.push(Method::Clustered {
+        grid,
+        skip_empty: false,
+    });
+    m.push(Method::Clustered {
+        grid,
+        skip_empty: true,
+    });
+    m
+}
+
+/// Asserts that no light reaching a sample is missing from the sample's list.
+fn assert_conservative(s: &CullScene, method: Method, lists: &CellLists) {
+    let lights = s.lights_view();
+    let grid = LightGrid::new(&s.camera, &s.depth, &lights);
+    let mut checked = 0usize;
+    renderer::culling::reference::exact::for_each_surface_sample_pub(
+        &s.camera,
+        &s.depth,
+        |x, y, p| {
+            let cell = method.cell_of(s.camera.width, s.camera.height, x, y, -p.z);
+            for light in lights_reaching(&grid, &lights, p) {
+                checked += 1;
+                let listed = lists.lists[cell].binary_search(&light).is_ok();
+                let close_call = lists.borderline[cell].iter().any(|b| b.light == light);
+                assert!(
+                    listed || close_call,
+                    "{method:?}: light {light} reaches sample at pixel ({x},{y}) (view {p}) but is \
+                 missing from cell {cell}"
+                );
+            }
+        },
+    );
+    assert!(
+        checked > 1000,
+        "{method:?}: too few light/sample pairs checked ({checked})"
+    );
+}
+
+#[test]
+fn every_method_is_conservative_msaa1_and_msaa4() {
+    for (seed, samples) in [(1, 1), (2, 4)] {
+        let s = scene(seed, 128, 96, samples, 200);
+        let lights = s.lights_view();
+        for method in methods() {
+            let lists = cull(&s.camera, &s.depth, &lights, method);
+            assert_conservative(&s, method, &lists);
+        }
+    }
+}
+
+#[test]
+fn special_lights_are_handled() {
+    let s = scene(3, 128, 96, 1, 0);
+    let lights = s.lights_view();
+    let lists = cull(&s.camera, &s.depth, &lights, Method::Tiled { tile: 16 });
+    let count = |light: u32| lists.lists.iter().filter(|l| l.contains(&light)).count();
+    let (behind, _near, huge, zero) = (0, 1, 2, 3);
+    assert_eq!(
+        count(behind),
+        0,
+        "a light behind the camera touches no tile"
+    );
+    let surface_tiles = lists.lists.iter().filter(|l| !l.is_empty()).count();
+    assert_eq!(
+        count(huge),
+        surface_tiles,
+        "a huge light is in every tile with a surface"
+    );
+    assert_eq!(
+        count(zero),
+        0,
+        "a zero-radius light in mid-air touches nothing"
+    );
+    let crowded = lists.lists.iter().map(Vec::len).max().unwrap_or(0);
+    assert!(
+        crowded >= 64,
+        "the crowded spot puts 64+ lights in one tile ({crowded})"
+    );
+}
+
+#[test]
+fn depth_mask_and_clusters_beat_plain_tiles() {
+    for lights in [256, 1024] {
+        let s = scene(7, 192, 128, 1, lights);
+        let view_lights = s.lights_view();
+        let efficiency = |method| {
+            let lists = cull(&s.camera, &s.depth, &view_lights, method);
+            cull_efficiency(&s.camera, &s.depth, &view_lights, method, &lists).ratio()
+        };
+        let tiled = efficiency(Method::Tiled { tile: 16 });
+        let depth25 = efficiency(Method::Depth25 { tile: 16 });
+        let grid = ClusterGrid {
+            x: 12,
+            y: 8,
+            z: 24,
+            near: NEAR,
+            far: FAR,
+        };
+        let clustered = efficiency(Method::Clustered {
+            grid,
+            skip_empty: true,
+        });
+        assert!(tiled >= 1.0 && depth25 >= 1.0 && clustered >= 1.0);
+        assert!(
+            depth25 <= tiled,
+            "2.5D ({depth25}) must not list more than tiled ({tiled})"
+        );
+        assert!(
+            clustered <= tiled,
+            "clustered ({clustered}) must beat tiled ({tiled})"
+        );
+    }
+}
