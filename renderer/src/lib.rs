@@ -8,6 +8,7 @@
 
 pub mod culling;
 pub mod gpu;
+pub mod graph;
 pub mod readback;
 pub mod test_pattern;
 

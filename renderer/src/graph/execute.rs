@@ -1,0 +1,130 @@
+//! Recording a compiled graph: pool objects for transients, imports bound by the caller, one
+//! debug group and one GPU timestamp scope per pass.
+
+use super::GraphError;
+use super::builder::ResourceDesc;
+use super::compile::CompiledGraph;
+use super::pool::{PoolObject, PoolStats, TransientPool};
+use super::resource::{Buffer, Handle, Texture};
+
+/// What a pass's recording function gets: the encoder and its resources' GPU objects.
+#[derive(Debug)]
+pub struct PassContext<'a> {
+    pub encoder: &'a mut wgpu::CommandEncoder,
+    pub device: &'a wgpu::Device,
+    objects: &'a [Option<PoolObject>],
+}
+
+impl PassContext<'_> {
+    /// The texture behind `handle`.
+    pub fn texture(&self, handle: Handle<Texture>) -> &wgpu::Texture {
+        match &self.objects[handle.index] {
+            Some(PoolObject::Texture(t)) => t,
+            // Compilation and binding checked every resource a kept pass uses.
+            _ => unreachable!("texture handle without a texture"),
+        }
+    }
+
+    /// The buffer behind `handle`.
+    pub fn buffer(&self, handle: Handle<Buffer>) -> &wgpu::Buffer {
+        match &self.objects[handle.index] {
+            Some(PoolObject::Buffer(b)) => b,
+            _ => unreachable!("buffer handle without a buffer"),
+        }
+    }
+}
+
+/// GPU time of one pass, once the timestamps are back.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PassTiming {
+    pub pass: String,
+    pub gpu_ms: f64,
+}
+
+impl CompiledGraph {
+    /// Binds an imported texture's GPU object.
+    pub fn bind_texture(&mut self, handle: Handle<Texture>, texture: &wgpu::Texture) -> &mut Self {
+        self.imports_mut()[handle.index] = Some(PoolObject::Texture(texture.clone()));
+        self
+    }
+
+    /// Binds an imported buffer's GPU object.
+    pub fn bind_buffer(&mut self, handle: Handle<Buffer>, buffer: &wgpu::Buffer) -> &mut Self {
+        self.imports_mut()[handle.index] = Some(PoolObject::Buffer(buffer.clone()));
+        self
+    }
+
+    fn imports_mut(&mut self) -> &mut Vec<Option<PoolObject>> {
+        let n = self.resources.len();
+        let imports = &mut self.bound;
+        imports.resize(n, None);
+        imports
+    }
+
+    /// Records every kept pass into `encoder`, in order, each inside a profiler scope.
+    pub fn execute(
+        mut self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        pool: &mut TransientPool,
+        profiler: &wgpu_profiler::GpuProfiler,
+    ) -> Result<PoolStats, GraphError> {
+        let n = self.resources.len();
+        self.bound.resize(n, None);
+        let mut objects = std::mem::take(&mut self.bound);
+        for (i, r) in self.resources.iter().enumerate() {
+            if r.import.is_none() || self.lifetimes[i].is_none() {
+                continue;
+            }
+            let expected = kind_name(&r.desc);
+            match &objects[i] {
+                None => {
+                    return Err(GraphError::ImportNotBound {
+                        resource: r.name.clone(),
+                    });
+                }
+                Some(o) if object_kind(o) != expected => {
+                    return Err(GraphError::ImportKindMismatch {
+                        resource: r.name.clone(),
+                        expected,
+                        given: object_kind(o),
+                    });
+                }
+                Some(_) => {}
+            }
+        }
+        let (physical, stats) = pool.acquire(device, &self.slots);
+        for (i, slot) in self.slot_of.iter().enumerate() {
+            if let Some(slot) = slot {
+                objects[i] = Some(physical[*slot].clone());
+            }
+        }
+        for &p in &self.order {
+            let pass = &mut self.passes[p];
+            let mut scope = profiler.scope(pass.name.clone(), &mut *encoder);
+            if let Some(record) = pass.execute.take() {
+                let mut ctx = PassContext {
+                    encoder: &mut scope,
+                    device,
+                    objects: &objects,
+                };
+                record(&mut ctx);
+            }
+        }
+        Ok(stats)
+    }
+}
+
+fn kind_name(desc: &ResourceDesc) -> &'static str {
+    match desc {
+        ResourceDesc::Texture(_) => "texture",
+        ResourceDesc::Buffer(_) => "buffer",
+    }
+}
+
+fn object_kind(o: &PoolObject) -> &'static str {
+    match o {
+        PoolObject::Texture(_) => "texture",
+        PoolObject::Buffer(_) => "buffer",
+    }
+}

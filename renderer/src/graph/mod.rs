@@ -1,0 +1,31 @@
+//! A lean frame graph: passes declare the resources they read and write, the graph orders them,
+//! culls what nothing needs, plans transient resources from a pool, and records them with
+//! debug labels and per-pass GPU timestamps.
+//!
+//! Lifecycle: [`RenderGraph`] (passes are added) → [`RenderGraph::compile`] →
+//! [`CompiledGraph`] (order, lifetimes, pool plan; no GPU needed) →
+//! [`CompiledGraph::execute`] (records the passes on a device).
+//!
+//! Handles are versioned: writing a resource takes `&mut Handle` and advances it, so a read
+//! always names the exact write it depends on. Mistakes are [`GraphError`]s at compile time,
+//! never wgpu validation errors later.
+
+mod builder;
+mod compile;
+mod dot;
+mod error;
+mod execute;
+mod pool;
+mod resource;
+
+pub use builder::{PassBuilder, PassId, RenderGraph};
+pub use compile::{CompiledGraph, Lifetime};
+pub use error::GraphError;
+pub use execute::{PassContext, PassTiming};
+pub use pool::{PoolStats, TransientPool};
+pub use resource::{
+    Buffer, BufferAccess, BufferDesc, Handle, ImportAccess, Texture, TextureAccess, TextureDesc,
+};
+
+#[cfg(test)]
+mod tests;

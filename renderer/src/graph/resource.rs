@@ -1,0 +1,152 @@
+//! Virtual resources: descriptors, typed versioned handles, and the ways a pass may access them.
+
+use std::marker::PhantomData;
+
+/// Marker for texture handles.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Texture {}
+/// Marker for buffer handles.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Buffer {}
+
+/// A versioned reference to a virtual resource of one graph.
+#[derive(Debug, PartialEq, Eq)]
+pub struct Handle<T> {
+    pub(crate) graph: u64,
+    pub(crate) index: usize,
+    pub(crate) version: u32,
+    _kind: PhantomData<T>,
+}
+
+impl<T> Clone for Handle<T> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<T> Copy for Handle<T> {}
+
+impl<T> Handle<T> {
+    pub(crate) fn new(graph: u64, index: usize) -> Self {
+        Self {
+            graph,
+            index,
+            version: 0,
+            _kind: PhantomData,
+        }
+    }
+}
+
+/// A 2D texture the graph creates (transient) or is given (imported).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct TextureDesc {
+    pub width: u32,
+    pub height: u32,
+    pub format: wgpu::TextureFormat,
+    pub sample_count: u32,
+    /// Array layers (1 for a plain 2D texture).
+    pub layers: u32,
+}
+
+impl TextureDesc {
+    pub fn new_2d(width: u32, height: u32, format: wgpu::TextureFormat) -> Self {
+        Self {
+            width,
+            height,
+            format,
+            sample_count: 1,
+            layers: 1,
+        }
+    }
+
+    #[must_use]
+    pub fn with_samples(mut self, sample_count: u32) -> Self {
+        self.sample_count = sample_count;
+        self
+    }
+}
+
+/// A buffer the graph creates (transient) or is given (imported).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct BufferDesc {
+    pub size: u64,
+}
+
+/// How a pass touches a texture.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum TextureAccess {
+    /// Sampled or loaded in a shader.
+    Sampled,
+    /// Bound as a storage texture and written.
+    StorageWrite,
+    /// Rendered to as a colour attachment (or resolve target).
+    ColorAttachment,
+    /// Depth attachment, depth writes on.
+    DepthWrite,
+    /// Depth attachment, depth test only.
+    DepthRead,
+    /// Source of a copy.
+    CopySrc,
+    /// Destination of a copy.
+    CopyDst,
+}
+
+impl TextureAccess {
+    pub fn is_write(self) -> bool {
+        matches!(
+            self,
+            Self::StorageWrite | Self::ColorAttachment | Self::DepthWrite | Self::CopyDst
+        )
+    }
+
+    pub fn usage(self) -> wgpu::TextureUsages {
+        use wgpu::TextureUsages as U;
+        match self {
+            Self::Sampled => U::TEXTURE_BINDING,
+            Self::StorageWrite => U::STORAGE_BINDING,
+            Self::ColorAttachment | Self::DepthWrite | Self::DepthRead => U::RENDER_ATTACHMENT,
+            Self::CopySrc => U::COPY_SRC,
+            Self::CopyDst => U::COPY_DST,
+        }
+    }
+}
+
+/// How a pass touches a buffer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum BufferAccess {
+    Uniform,
+    StorageRead,
+    StorageWrite,
+    Indirect,
+    Vertex,
+    Index,
+    CopySrc,
+    CopyDst,
+}
+
+impl BufferAccess {
+    pub fn is_write(self) -> bool {
+        matches!(self, Self::StorageWrite | Self::CopyDst)
+    }
+
+    pub fn usage(self) -> wgpu::BufferUsages {
+        use wgpu::BufferUsages as U;
+        match self {
+            Self::Uniform => U::UNIFORM,
+            Self::StorageRead | Self::StorageWrite => U::STORAGE,
+            Self::Indirect => U::INDIRECT,
+            Self::Vertex => U::VERTEX,
+            Self::Index => U::INDEX,
+            Self::CopySrc => U::COPY_SRC,
+            Self::CopyDst => U::COPY_DST,
+        }
+    }
+}
+
+/// What passes may do to an imported resource.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ImportAccess {
+    /// Passes may only read it (for example light data uploaded by the host).
+    ReadOnly,
+    /// Passes may write it; a pass that does is kept, since the result is seen outside.
+    ReadWrite,
+}
