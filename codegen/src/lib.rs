@@ -4,3 +4,45 @@
 //! SPIR-V for every variant, validates each with naga, and reflects bindings and host types.
 //! It never depends on wgpu and never on proc-macro machinery beyond `syn`, so every stage can
 //! be tested as an ordinary library.
+//!
+//! Stages (feature `compiler`, on by default):
+//! [`front`] (Rust subset → typed [`ir`]) → [`variants`] (matrix, specialisation, pruning) →
+//! [`back::wgsl`] (our printer + source map) → [`validate`] (naga) → [`back::spv`] →
+//! [`reflect`] → [`emit`] (the tokens the macro returns). [`compile`] runs them all.
+//!
+//! Without `compiler`, only [`rt`] (the runtime reflection types generated code stores in
+//! statics) and the hidden re-exports generated code needs are available.
+
+pub mod rt;
+
+#[cfg(feature = "compiler")]
+pub mod back;
+#[cfg(feature = "compiler")]
+pub mod emit;
+#[cfg(feature = "compiler")]
+pub mod front;
+#[cfg(feature = "compiler")]
+pub mod ir;
+#[cfg(feature = "compiler")]
+pub mod layout;
+#[cfg(feature = "compiler")]
+mod pipeline;
+#[cfg(feature = "compiler")]
+pub mod reflect;
+#[cfg(feature = "compiler")]
+pub mod validate;
+#[cfg(feature = "compiler")]
+pub mod variants;
+
+#[cfg(feature = "compiler")]
+pub use pipeline::{
+    Compiled, CompiledVariant, NagaStructLayout, compile, compile_source, compile_source_all,
+    declarations, expand, shader_modules,
+};
+
+/// Re-exports for generated code only. Not a public API.
+#[doc(hidden)]
+pub mod __private {
+    pub use bytemuck;
+    pub use glam;
+}

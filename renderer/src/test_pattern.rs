@@ -3,9 +3,10 @@
 //! `cargo xtask demo` shows it until the scene renderer replaces it, and the GPU tests check its
 //! pixels against a CPU recomputation. The shaders come from `shaders_gen::bootstrap`.
 
-use shaders_gen::bootstrap::{PatternParams, TEST_PATTERN_WGSL};
+use shaders_gen::bootstrap::test_pattern::{self, PatternParams};
 use wgpu::util::DeviceExt as _;
 
+use crate::shader::{ShaderProgram, VariantError};
 use crate::{GpuContext, GpuError, readback};
 
 /// Colour format of the pattern target: linear 8-bit, so a CPU can predict every byte.
@@ -26,27 +27,37 @@ pub struct PatternFrame {
 pub fn params(width: u32, height: u32) -> PatternParams {
     let radius = width.min(height) * 3 / 10;
     let thickness = (width.min(height) / 40).max(1);
-    PatternParams {
-        size: [width, height],
-        cell: 32,
-        _pad: 0,
-        ring_radii_sq: [radius * radius, (radius + thickness) * (radius + thickness)],
-    }
+    PatternParams::new(
+        glam::UVec2::new(width, height),
+        32,
+        glam::UVec2::new(radius * radius, (radius + thickness) * (radius + thickness)),
+    )
+}
+
+/// Why the pattern frame could not be rendered.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum PatternError {
+    #[error(transparent)]
+    Gpu(#[from] GpuError),
+    #[error(transparent)]
+    Variant(#[from] VariantError),
 }
 
 /// Renders the pattern into a new `width`×`height` texture and reads it back.
-pub fn render(gpu: &GpuContext, width: u32, height: u32) -> Result<PatternFrame, GpuError> {
+pub fn render(gpu: &GpuContext, width: u32, height: u32) -> Result<PatternFrame, PatternError> {
     let device = &gpu.device;
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some("test pattern"),
-        source: wgpu::ShaderSource::Wgsl(TEST_PATTERN_WGSL.into()),
-    });
+    let variant = test_pattern::variant(test_pattern::VariantKey::ALL[0]);
+    let program = ShaderProgram::new(device, gpu.capabilities(), variant)?;
+    let vs = program.entry(codegen::rt::Stage::Vertex, "vs_fullscreen")?;
+    let fs = program.entry(codegen::rt::Stage::Fragment, "fs_pattern")?;
+    let module = &program.module;
     let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some("test pattern"),
-        layout: None,
+        layout: Some(&program.pipeline_layout),
         vertex: wgpu::VertexState {
-            module: &module,
-            entry_point: Some("vs_fullscreen"),
+            module,
+            entry_point: Some(vs),
             compilation_options: Default::default(),
             buffers: &[],
         },
@@ -54,8 +65,8 @@ pub fn render(gpu: &GpuContext, width: u32, height: u32) -> Result<PatternFrame,
         depth_stencil: None,
         multisample: wgpu::MultisampleState::default(),
         fragment: Some(wgpu::FragmentState {
-            module: &module,
-            entry_point: Some("fs_pattern"),
+            module,
+            entry_point: Some(fs),
             compilation_options: Default::default(),
             targets: &[Some(FORMAT.into())],
         }),
@@ -69,7 +80,7 @@ pub fn render(gpu: &GpuContext, width: u32, height: u32) -> Result<PatternFrame,
     });
     let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("test pattern"),
-        layout: &pipeline.get_bind_group_layout(0),
+        layout: &program.bind_group_layouts[0],
         entries: &[wgpu::BindGroupEntry {
             binding: 0,
             resource: uniform.as_entire_binding(),

@@ -1,5 +1,32 @@
 //! Proc-macro front door of the shader DSL.
 //!
-//! This crate is only an adapter: it parses the macro input with syn, hands it to `codegen`,
+//! This crate is only an adapter: it parses the macro input with `syn`, hands it to `codegen`,
 //! and turns the result (or the error, at the user's span) back into tokens. Anything that can be
-//! tested without a proc-macro lives in `codegen`.
+//! tested without a proc-macro lives in `codegen`. The language guide below is `GUIDE.md`; its
+//! examples compile as doc tests of this crate.
+//!
+#![doc = include_str!("../GUIDE.md")]
+
+use proc_macro::TokenStream;
+
+/// Compiles an inline module of GPU code written in the DSL's Rust subset.
+///
+/// See the crate documentation for the language guide.
+#[proc_macro_attribute]
+pub fn shader(args: TokenStream, item: TokenStream) -> TokenStream {
+    let args = proc_macro2::TokenStream::from(args);
+    let item = proc_macro2::TokenStream::from(item);
+    match codegen::expand(args.clone(), item.clone()) {
+        Ok(tokens) => tokens.into(),
+        Err(err) => {
+            // The DSL's message first, then a stub of the module so the rest of the crate (and
+            // the IDE) keeps resolving its host types and key types.
+            let mut out = err.to_compile_error();
+            if let Ok(module) = syn::parse2::<syn::ItemMod>(item) {
+                let decls = codegen::declarations(args, &module);
+                out.extend(codegen::emit::stub(&module, decls.as_ref()));
+            }
+            out.into()
+        }
+    }
+}

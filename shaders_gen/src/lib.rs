@@ -1,8 +1,18 @@
-//! The project's own GPU code: culling kernels and the forward, shadow, decal and particle
-//! shaders, exposing every generated variant.
+//! The project's own GPU code, written once in the shader DSL: culling kernels and the forward,
+//! shadow, decal and particle shaders, each exposing every generated variant.
 //!
-//! The renderer takes all its shader code from here; it holds none of its own.
-//! `bootstrap` is the only hand-written WGSL in the project, and the shader DSL (issue 3)
-//! replaces it.
+//! Each module here is a `#[shader_dsl::shader]` module: at compile time it becomes WGSL and
+//! SPIR-V for every variant (validated by naga), host structs with the WGSL layout, a typed
+//! `VariantKey` and a `variant(key)` lookup. The renderer takes all of its shader code from
+//! here. [`MODULES`] lists every module, for tools such as `cargo xtask shaders`.
 
 pub mod bootstrap;
+pub mod culling;
+
+/// Every generated module, for tools that walk them all.
+pub static MODULES: &[&codegen::rt::Module] = &[
+    &bootstrap::test_pattern::MODULE,
+    &bootstrap::square_plus_index::MODULE,
+    &culling::tile_cull::MODULE,
+    &culling::cluster_cull::MODULE,
+];

@@ -6,4 +6,5 @@
 //! validation layer, and fails the test on any validation error it caused.
 
 pub mod cull_scene;
+pub mod depth_upload;
 pub mod gpu;

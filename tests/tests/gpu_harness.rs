@@ -2,8 +2,9 @@
 //! whose results are read back and checked against plain Rust, and deliberate misuses that the
 //! harness must catch (one wgpu validation error, one Vulkan validation-layer error).
 
+use renderer::shader::ShaderProgram;
 use renderer::{readback, test_pattern};
-use shaders_gen::bootstrap::{SQUARE_PLUS_INDEX_WGSL, SQUARE_PLUS_INDEX_WORKGROUP};
+use shaders_gen::bootstrap::{square_plus_index, test_pattern::PatternParams};
 use tests::gpu::{GpuTestFailure, gpu_test, try_gpu_test};
 use wgpu::util::DeviceExt as _;
 
@@ -20,18 +21,11 @@ fn compute_dispatch_matches_cpu() {
         .collect();
     let output = gpu_test(|gpu| {
         let device = &gpu.device;
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("square plus index"),
-            source: wgpu::ShaderSource::Wgsl(SQUARE_PLUS_INDEX_WGSL.into()),
-        });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("square plus index"),
-            layout: None,
-            module: &module,
-            entry_point: Some("square_plus_index"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let variant = square_plus_index::variant(square_plus_index::VariantKey::ALL[0]);
+        let program = ShaderProgram::new(device, gpu.capabilities(), variant).expect("variant");
+        let pipeline = program
+            .compute_pipeline(device, "square_plus_index")
+            .expect("entry point");
         let input_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("input"),
             contents: bytemuck::cast_slice(&input),
@@ -45,7 +39,7 @@ fn compute_dispatch_matches_cpu() {
         });
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: None,
-            layout: &pipeline.get_bind_group_layout(0),
+            layout: &program.bind_group_layouts[0],
             entries: &[
                 wgpu::BindGroupEntry {
                     binding: 0,
@@ -63,7 +57,7 @@ fn compute_dispatch_matches_cpu() {
             pass.set_pipeline(&pipeline);
             pass.set_bind_group(0, &bind_group, &[]);
             pass.dispatch_workgroups(
-                (input.len() as u32).div_ceil(SQUARE_PLUS_INDEX_WORKGROUP),
+                (input.len() as u32).div_ceil(square_plus_index::WORKGROUP),
                 1,
                 1,
             );
@@ -75,16 +69,12 @@ fn compute_dispatch_matches_cpu() {
 }
 
 /// The CPU recomputation of `fs_pattern` at pixel (x, y).
-fn expected_pattern_pixel(
-    params: &shaders_gen::bootstrap::PatternParams,
-    x: u32,
-    y: u32,
-) -> [f32; 4] {
-    let [w, h] = params.size;
+fn expected_pattern_pixel(params: &PatternParams, x: u32, y: u32) -> [f32; 4] {
+    let [w, h] = params.size.to_array();
     let (cx, cy) = ((w / 2) as i32, (h / 2) as i32);
     let (dx, dy) = (x as i32 - cx, y as i32 - cy);
     let dist_sq = (dx * dx + dy * dy) as u32;
-    if dist_sq >= params.ring_radii_sq[0] && dist_sq < params.ring_radii_sq[1] {
+    if dist_sq >= params.ring_radii_sq.x && dist_sq < params.ring_radii_sq.y {
         return [1.0; 4];
     }
     let checker = ((x / params.cell + y / params.cell) & 1) as f32;

@@ -7,6 +7,7 @@
 mod demo;
 mod info;
 mod invariants;
+mod shaders;
 mod system;
 mod test;
 
@@ -30,6 +31,8 @@ enum Command {
     Test(test::Args),
     /// Print every GPU adapter with the capabilities this project uses.
     Info(info::Args),
+    /// Write every variant of every shaders_gen module (WGSL, SPIR-V) and tabulate them.
+    Shaders(shaders::Args),
     /// Check the architecture invariants of ARCHITECTURE.md.
     CheckInvariants,
 }
@@ -39,6 +42,7 @@ fn main() -> anyhow::Result<()> {
         Command::Demo(args) => demo::run(&args),
         Command::Test(args) => test::run(&args),
         Command::Info(args) => info::run(&args),
+        Command::Shaders(args) => shaders::run(&args),
         Command::CheckInvariants => invariants::run(),
     }
 }

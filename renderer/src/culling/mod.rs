@@ -1,7 +1,84 @@
 //! Light culling: which lights (and later decals and probes) can touch each screen tile or
 //! froxel cluster.
 //!
-//! The GPU kernels live in `shaders_gen`; this module holds the host side and the independent CPU
+//! The GPU kernels live in `shaders_gen::culling`; this module holds their host side
+//! ([`tiled`], [`clustered`]), the output they share ([`lists`]), and the independent CPU
 //! reference ([`reference`]) that the kernels are proven against.
 
+pub mod clustered;
+pub mod lists;
 pub mod reference;
+pub mod tiled;
+
+use crate::GpuError;
+use crate::shader::{ShaderProgram, VariantError};
+
+/// Why light culling cannot be set up or run.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum CullError {
+    #[error("tile size {0} is not supported; use 8, 16 or 32")]
+    TileSize(u32),
+    #[error("MSAA sample count {0} is not supported; use 1, 2, 4 or 8")]
+    SampleCount(u32),
+    #[error("a per-cell capacity of {asked} exceeds the kernel's limit of {limit}")]
+    PerCellCapacity { asked: u32, limit: u32 },
+    #[error("the cluster grid must be at least 1×1×1 with 0 < near < far, got {0}")]
+    Grid(String),
+    #[error(
+        "{count} items do not fit the item buffer of {capacity}; create the culling pass with a \
+         larger item_capacity"
+    )]
+    TooManyItems { count: usize, capacity: u32 },
+    #[error(transparent)]
+    Variant(#[from] VariantError),
+    #[error(transparent)]
+    Gpu(#[from] GpuError),
+}
+
+fn check_item_count(count: usize, capacity: u32) -> Result<(), CullError> {
+    if count > capacity as usize {
+        return Err(CullError::TooManyItems { count, capacity });
+    }
+    Ok(())
+}
+
+fn uniform_buffer<T>(device: &wgpu::Device) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("cull params"),
+        size: size_of::<T>() as u64,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+fn item_buffer<T>(device: &wgpu::Device, capacity: u32) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("cull items"),
+        size: (u64::from(capacity) * size_of::<T>() as u64).max(16),
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+/// A bind group for group 0 of `program`, binding its entries in order to `resources`.
+fn bind_all(
+    device: &wgpu::Device,
+    program: &ShaderProgram,
+    resources: &[wgpu::BindingResource<'_>],
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry<'_>> = program
+        .variant
+        .group(0)
+        .zip(resources)
+        .map(|(b, r)| wgpu::BindGroupEntry {
+            binding: b.binding,
+            resource: r.clone(),
+        })
+        .collect();
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(program.variant.module),
+        layout: &program.bind_group_layouts[0],
+        entries: &entries,
+    })
+}

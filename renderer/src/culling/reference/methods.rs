@@ -11,6 +11,8 @@ pub const DEPTH_MASK_CELLS: u32 = 32;
 
 /// A froxel grid: `x × y` screen tiles and `z` exponential depth slices between `near` and `far`
 /// (view depth). Samples nearer than `near` fall in slice 0, farther than `far` in slice `z − 1`.
+/// Column `i` spans pixels `[i·w/x, (i+1)·w/x)` in integer division (rows likewise), so a pixel's
+/// samples all lie inside its froxel whatever the screen size.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ClusterGrid {
     pub x: u32,
@@ -25,6 +27,17 @@ impl ClusterGrid {
     pub fn slice(&self, d: f32) -> u32 {
         let t = (d / self.near).ln() / (self.far / self.near).ln();
         ((t * self.z as f32).floor().max(0.0) as u32).min(self.z - 1)
+    }
+
+    /// The column (or row) holding pixel `p` when `count` columns share `size` pixels: the last
+    /// `i` with `i·size/count ≤ p`.
+    pub fn column_of(p: u32, count: u32, size: u32) -> u32 {
+        ((p + 1) * count - 1) / size
+    }
+
+    /// First pixel of column (or row) `i`.
+    pub fn column_start(i: u32, count: u32, size: u32) -> u32 {
+        i * size / count
     }
 
     /// View depth where slice `k` starts (slice 0 starts at 0; slice `z` means infinity).
@@ -65,8 +78,8 @@ impl Method {
         match *self {
             Self::Tiled { tile } | Self::Depth25 { tile } => ((y / tile) * dx + x / tile) as usize,
             Self::Clustered { grid, .. } => {
-                let i = x * grid.x / width;
-                let j = y * grid.y / height;
+                let i = ClusterGrid::column_of(x, grid.x, width);
+                let j = ClusterGrid::column_of(y, grid.y, height);
                 ((grid.slice(view_depth) * dy + j) * dx + i) as usize
             }
         }
@@ -196,10 +209,15 @@ fn tile_planes(camera: &CullCamera, tile: u32, i: u32, j: u32, near: f32, far: f
 }
 
 fn cluster_planes(camera: &CullCamera, grid: ClusterGrid, i: u32, j: u32, k: u32) -> [Plane; 6] {
-    let x0 = 2.0 * i as f32 / grid.x as f32 - 1.0;
-    let x1 = 2.0 * (i + 1) as f32 / grid.x as f32 - 1.0;
-    let y1 = 1.0 - 2.0 * j as f32 / grid.y as f32;
-    let y0 = 1.0 - 2.0 * (j + 1) as f32 / grid.y as f32;
+    let (w, h) = (camera.width, camera.height);
+    let (x0, y1) = camera.pixel_to_ndc(
+        ClusterGrid::column_start(i, grid.x, w) as f32,
+        ClusterGrid::column_start(j, grid.y, h) as f32,
+    );
+    let (x1, y0) = camera.pixel_to_ndc(
+        ClusterGrid::column_start(i + 1, grid.x, w) as f32,
+        ClusterGrid::column_start(j + 1, grid.y, h) as f32,
+    );
     let [l, r, b, t] = tile_side_planes(camera.projection, x0, x1, y0, y1);
     let far = grid.slice_start(k + 1).min(f32::MAX);
     [

@@ -1,0 +1,174 @@
+//! Expression and literal printing. Axis-dependent constant subexpressions are folded to the
+//! variant's literal; operands that are operations get parentheses (WGSL forbids mixing some
+//! operators without them), so the output never depends on precedence subtleties.
+
+use super::writer::Writer;
+use crate::ir::{Expr, ExprKind, Lit, Scalar, Ty, UnOp};
+use crate::variants::eval;
+use std::fmt::Write;
+
+fn float_text(v: f64) -> String {
+    let s = format!("{v:?}");
+    if s.contains(['.', 'e', 'E']) || s.contains("inf") || s.contains("NaN") {
+        s
+    } else {
+        format!("{s}.0")
+    }
+}
+
+fn f32_text(v: f32) -> String {
+    let s = format!("{v:?}");
+    if s.contains(['.', 'e', 'E']) {
+        s
+    } else {
+        format!("{s}.0")
+    }
+}
+
+/// Prints a literal of the given scalar type.
+pub(crate) fn lit_text(l: Lit) -> String {
+    match l {
+        Lit::Bool(b) => b.to_string(),
+        Lit::Int(v, Scalar::U32) => format!("{}u", v as u32),
+        Lit::Int(v, Scalar::I32) if v == i32::MIN as i64 => "i32(-2147483648)".into(),
+        Lit::Int(v, Scalar::I32) => format!("{v}i"),
+        Lit::Int(v, Scalar::F32) => format!("{}f", float_text(v as f32 as f64)),
+        Lit::Int(v, _) => v.to_string(),
+        Lit::Float(v, Scalar::F32) => format!("{}f", f32_text(v as f32)),
+        Lit::Float(v, _) => float_text(v),
+    }
+}
+
+impl Writer<'_> {
+    pub(super) fn needs_parens(e: &Expr) -> bool {
+        matches!(
+            e.kind,
+            ExprKind::Binary(..) | ExprKind::Unary(..) | ExprKind::Deref(_) | ExprKind::AddrOf(_)
+        ) || matches!(e.kind, ExprKind::Lit(Lit::Int(v, _)) if v < 0)
+            || matches!(e.kind, ExprKind::Lit(Lit::Float(v, _)) if v < 0.0)
+    }
+
+    pub(super) fn operand(&mut self, e: &Expr) {
+        let folded = self.folded(e);
+        if Self::needs_parens(e) && folded.is_none() {
+            self.out.push('(');
+            self.expr(e);
+            self.out.push(')');
+        } else {
+            self.expr(e);
+        }
+    }
+
+    /// The literal an axis-dependent constant subexpression folds to, if any.
+    pub(super) fn folded(&self, e: &Expr) -> Option<Lit> {
+        if !matches!(
+            e.kind,
+            ExprKind::Binary(..) | ExprKind::Unary(..) | ExprKind::Cast(..)
+        ) {
+            return None;
+        }
+        if !crate::front::mentions_axis(e, self.m) {
+            return None;
+        }
+        eval(e, self.m, self.env).map(|v| v.to_lit(&e.ty))
+    }
+
+    pub(super) fn args(&mut self, args: &[Expr], pointer_first: bool) {
+        for (i, a) in args.iter().enumerate() {
+            if i > 0 {
+                self.out.push_str(", ");
+            }
+            if i == 0 && pointer_first {
+                self.out.push('&');
+            }
+            self.expr(a);
+        }
+    }
+
+    pub(super) fn expr(&mut self, e: &Expr) {
+        let start = self.out.len();
+        if let Some(l) = self.folded(e) {
+            let text = lit_text(l);
+            self.out.push_str(&text);
+            self.map.record(start..self.out.len(), e.span);
+            return;
+        }
+        match &e.kind {
+            ExprKind::Lit(l) => {
+                let text = lit_text(*l);
+                self.out.push_str(&text);
+            }
+            ExprKind::Local(l) => {
+                let name = self.locals[*l].name.clone();
+                self.out.push_str(&name);
+            }
+            ExprKind::Global(g) => self.out.push_str(&self.m.globals[*g].name),
+            ExprKind::Const(c) => self.out.push_str(&self.m.consts[*c].name),
+            ExprKind::Axis(a) => {
+                let text = lit_text(self.env.values[*a]);
+                self.out.push_str(&text);
+            }
+            ExprKind::Unary(op, x) => {
+                self.out.push_str(match op {
+                    UnOp::Neg => "-",
+                    UnOp::Not => "!",
+                    UnOp::BitNot => "~",
+                });
+                self.operand(x);
+            }
+            ExprKind::Binary(op, a, b) => {
+                self.operand(a);
+                let _ = write!(self.out, " {} ", op.symbol());
+                self.operand(b);
+            }
+            ExprKind::Cast(x) => {
+                let t = self.ty(&e.ty);
+                let _ = write!(self.out, "{t}(");
+                self.expr(x);
+                self.out.push(')');
+            }
+            ExprKind::Field(b, i) => {
+                self.operand(b);
+                let Ty::Struct(id) = b.ty else {
+                    unreachable!("field of a struct")
+                };
+                let _ = write!(self.out, ".{}", self.m.structs[id].fields[*i].name);
+            }
+            ExprKind::Swizzle(b, s) => {
+                self.operand(b);
+                let _ = write!(self.out, ".{s}");
+            }
+            ExprKind::Index(b, i) => {
+                self.operand(b);
+                self.out.push('[');
+                self.expr(i);
+                self.out.push(']');
+            }
+            ExprKind::Construct(args) => {
+                let t = self.ty(&e.ty);
+                let _ = write!(self.out, "{t}(");
+                self.args(args, false);
+                self.out.push(')');
+            }
+            ExprKind::Call(f, args) => {
+                let _ = write!(self.out, "{}(", self.m.functions[*f].name);
+                self.args(args, false);
+                self.out.push(')');
+            }
+            ExprKind::Builtin(b, args) => {
+                let _ = write!(self.out, "{}(", b.wgsl);
+                self.args(args, b.pointer_first);
+                self.out.push(')');
+            }
+            ExprKind::AddrOf(x) => {
+                self.out.push('&');
+                self.operand(x);
+            }
+            ExprKind::Deref(x) => {
+                self.out.push('*');
+                self.operand(x);
+            }
+        }
+        self.map.record(start..self.out.len(), e.span);
+    }
+}

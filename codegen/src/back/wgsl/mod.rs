@@ -1,0 +1,29 @@
+//! Our own WGSL printer. Output is readable, deterministic and stable (it is what the golden
+//! snapshots show), and every printed construct is recorded in a [`SourceMap`].
+//!
+//! The printer specialises while printing: axes are printed as literals, constant `if`s are
+//! pruned, unreachable functions are left out. It must not use naga's WGSL backend (which
+//! normalises the output and mishandles `override`), and never emits `override`.
+
+mod expr;
+mod source_map;
+mod writer;
+
+pub use source_map::SourceMap;
+
+use crate::ir::Module;
+use crate::variants::Env;
+
+/// Options of one printed variant.
+#[derive(Debug, Clone, Copy)]
+pub struct Options {
+    /// The variant may use subgroup operations (subgroup builtin parameters are kept).
+    pub subgroup: bool,
+}
+
+/// Prints one variant of `module` as WGSL, with its source map.
+pub fn write_string(module: &Module, env: &Env, options: Options) -> (String, SourceMap) {
+    let mut w = writer::Writer::new(module, env, options);
+    w.module();
+    w.finish()
+}

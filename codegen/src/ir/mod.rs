@@ -1,0 +1,217 @@
+//! The typed intermediate representation of one DSL module.
+//!
+//! The front end builds it (every expression already carries its type and the Rust span that
+//! produced it); the variant, printer, reflection and emit stages only read it. The IR holds
+//! axis references unevaluated: a variant is the IR plus an axis environment
+//! ([`crate::variants::Env`]). Nothing here knows about syn syntax trees or naga.
+
+mod expr;
+mod ty;
+
+pub use expr::{BinOp, Block, Builtin, Expr, ExprKind, Lit, Stmt, UnOp};
+pub use ty::{Access, ArrayLen, Scalar, StorageFormatTy, TexKind, TextureTy, Ty};
+
+use proc_macro2::Span;
+
+/// Index of a struct in [`Module::structs`].
+pub type StructId = usize;
+
+/// One DSL module (`#[shader] mod name { .. }`).
+#[derive(Debug, Clone)]
+pub struct Module {
+    /// The `mod` name.
+    pub name: String,
+    /// Span of the `mod` name.
+    pub span: Span,
+    /// Declared variant axes, in declaration order.
+    pub axes: Vec<Axis>,
+    /// `exclude(..)` predicates over axes.
+    pub excludes: Vec<Expr>,
+    /// `requires(subgroup = ..)` predicate, if any.
+    pub requires_subgroup: Option<Expr>,
+    /// GPU structs.
+    pub structs: Vec<Struct>,
+    /// `const` items.
+    pub consts: Vec<Const>,
+    /// `static` items: resources and workgroup variables.
+    pub globals: Vec<Global>,
+    /// Functions, helpers and entry points, in declaration order.
+    pub functions: Vec<Function>,
+}
+
+/// A typed compile-time parameter.
+#[derive(Debug, Clone)]
+pub struct Axis {
+    /// Name used in expressions.
+    pub name: String,
+    /// Label used in variant names (defaults to `name`).
+    pub label: String,
+    /// `u32`, `i32` or `bool`.
+    pub ty: Scalar,
+    /// The values, in declaration order.
+    pub values: Vec<Lit>,
+    /// Span of the axis name.
+    pub span: Span,
+}
+
+/// Where a struct is used, which decides its layout rules.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct StructUse {
+    /// Reachable from a uniform buffer.
+    pub uniform: bool,
+    /// Reachable from a storage buffer.
+    pub storage: bool,
+    /// Used as entry point input or output.
+    pub io: bool,
+}
+
+/// A struct declaration.
+#[derive(Debug, Clone)]
+pub struct Struct {
+    /// Its name (both in WGSL and on the host).
+    pub name: String,
+    /// Fields in declaration order.
+    pub fields: Vec<Field>,
+    /// Span of the name.
+    pub span: Span,
+    /// How it is used (filled in after all items are lowered).
+    pub uses: StructUse,
+}
+
+/// A struct field.
+#[derive(Debug, Clone)]
+pub struct Field {
+    /// Field name.
+    pub name: String,
+    /// Field type.
+    pub ty: Ty,
+    /// `#[location]`/`#[builtin]` for entry point IO structs.
+    pub io: Option<Io>,
+    /// Span of the field name.
+    pub span: Span,
+}
+
+/// Entry point input/output decoration.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Io {
+    /// `#[builtin(name)]`, the WGSL builtin name.
+    Builtin(String),
+    /// `#[location(n)]` with optional `#[interpolate(kind[, sampling])]`.
+    Location {
+        /// The location.
+        location: u32,
+        /// Interpolation type and sampling, WGSL spelling.
+        interpolate: Option<(String, Option<String>)>,
+    },
+}
+
+/// A `const` item.
+#[derive(Debug, Clone)]
+pub struct Const {
+    /// Name.
+    pub name: String,
+    /// Declared type.
+    pub ty: Ty,
+    /// Value (a constant expression; may use axes).
+    pub value: Expr,
+    /// Span of the name.
+    pub span: Span,
+}
+
+/// The address space (or resource class) of a `static`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Space {
+    /// `#[uniform]`
+    Uniform,
+    /// `#[storage]`, `read_write` when writable.
+    Storage {
+        /// Declared `read_write`.
+        read_write: bool,
+    },
+    /// Textures and samplers.
+    Handle,
+    /// `#[workgroup]`
+    Workgroup,
+}
+
+/// A `static` item.
+#[derive(Debug, Clone)]
+pub struct Global {
+    /// Name.
+    pub name: String,
+    /// Type.
+    pub ty: Ty,
+    /// Address space.
+    pub space: Space,
+    /// `(group, binding)` for resources.
+    pub binding: Option<(u32, u32)>,
+    /// For float textures: declared `unfilterable`.
+    pub unfilterable: bool,
+    /// `#[when(predicate)]`: the static exists only in variants where the predicate holds.
+    pub when: Option<Expr>,
+    /// Span of the name.
+    pub span: Span,
+}
+
+/// Shader stage of an entry point.
+#[derive(Debug, Clone)]
+pub enum Stage {
+    /// Compute, with its workgroup size expressions (may use axes).
+    Compute(Box<[Expr; 3]>),
+    /// Vertex.
+    Vertex,
+    /// Fragment.
+    Fragment,
+}
+
+/// A local variable or parameter.
+#[derive(Debug, Clone)]
+pub struct Local {
+    /// Unique (within the function) WGSL name.
+    pub name: String,
+    /// Type; `Ty::Ptr` for `&mut` parameters.
+    pub ty: Ty,
+    /// Declared `mut`.
+    pub mutable: bool,
+    /// Span of the binding.
+    pub span: Span,
+}
+
+/// A function parameter.
+#[derive(Debug, Clone)]
+pub struct Param {
+    /// The local it binds.
+    pub local: usize,
+    /// Entry point decoration.
+    pub io: Option<Io>,
+    /// For `mut` parameters, the name the WGSL parameter gets (the body copies it into a `var`).
+    pub incoming: Option<String>,
+}
+
+/// A function: helper or entry point.
+#[derive(Debug, Clone)]
+pub struct Function {
+    /// Name.
+    pub name: String,
+    /// `Some` for entry points.
+    pub stage: Option<Stage>,
+    /// Parameters.
+    pub params: Vec<Param>,
+    /// Return type (`Ty::Unit` for none).
+    pub ret: Ty,
+    /// Decoration of a non-struct entry point result.
+    pub ret_io: Option<Io>,
+    /// All locals, parameters first.
+    pub locals: Vec<Local>,
+    /// Body.
+    pub body: Block,
+    /// Span of the name.
+    pub span: Span,
+}
+
+impl Module {
+    /// Finds an axis by name.
+    pub fn axis(&self, name: &str) -> Option<usize> {
+        self.axes.iter().position(|a| a.name == name)
+    }
+}

@@ -1,0 +1,306 @@
+//! Stage-level tests of the compiler, without the proc-macro: front-end errors, variant
+//! enumeration, naming, pruning and dedup, the source map, layouts and reflection.
+
+use codegen::rt::{BindingKind, SampleType};
+
+fn compile(src: &str) -> codegen::Compiled {
+    codegen::compile_source(src).unwrap_or_else(|e| {
+        let at = e.span().start();
+        panic!("{}:{}: {e}", at.line, at.column)
+    })
+}
+
+/// Asserts that `src` fails with a message containing `msg` at `line:column` (1-based line,
+/// 0-based column, as proc_macro2 reports them).
+fn check_err(src: &str, msg: &str, line: usize, column: usize) {
+    let e = codegen::compile_source(src).expect_err("must fail");
+    let at = e.span().start();
+    assert!(e.to_string().contains(msg), "message `{e}` lacks `{msg}`");
+    assert_eq!((at.line, at.column), (line, column), "span of `{e}`");
+}
+
+fn kernel(body: &str) -> String {
+    format!(
+        "#[shader]\nmod m {{\n    #[storage(group = 0, binding = 0, read_write)]\n    static OUT: [u32];\n    #[compute(workgroup_size(1))]\n    fn main(#[builtin(global_invocation_id)] gid: UVec3) {{\n{body}\n    }}\n}}\n"
+    )
+}
+
+#[test]
+fn front_end_errors_point_at_the_construct() {
+    check_err(
+        &kernel("        let f = |x: u32| x;"),
+        "closures are not supported",
+        7,
+        16,
+    );
+    check_err(
+        &kernel("        let x = 1u32;\n        let r = &x;"),
+        "references are only allowed",
+        8,
+        16,
+    );
+    check_err(
+        &kernel("        OUT[gid.x] = 1.5;"),
+        "mismatched types: expected `u32`, found `{float}`",
+        7,
+        21,
+    );
+    check_err(
+        &kernel("        let v = Vec3::ONE.wobble();"),
+        "unknown method `wobble` on `Vec3`",
+        7,
+        26,
+    );
+    check_err(
+        &kernel("        let n: u64 = 0;"),
+        "`u64` is not supported",
+        7,
+        15,
+    );
+    check_err(
+        &kernel("        loop { }\n        break;"),
+        "`break` outside of a loop",
+        8,
+        8,
+    );
+    check_err(
+        &kernel("        let x = 1u32;\n        x = 2u32;"),
+        "not declared `mut`",
+        8,
+        8,
+    );
+    check_err(
+        &kernel("        let v = Vec3::new(1.0, 2.0);"),
+        "needs 3 components in total, found 2",
+        7,
+        16,
+    );
+    check_err(
+        &kernel("        let a = Vec3::ONE < Vec3::ZERO;"),
+        "comparing vectors is not supported",
+        7,
+        26,
+    );
+}
+
+#[test]
+fn enumeration_names_exclusion_and_order() {
+    let c = compile(
+        r#"#[shader(axes(tile: u32 = [8, 16] => "t", neg: i32 = [-1, 2], fast: bool = [false, true]), exclude(tile == 16 && fast))]
+mod m {
+    #[storage(group = 0, binding = 0, read_write)]
+    static OUT: [i32];
+    #[compute(workgroup_size(tile))]
+    fn main(#[builtin(global_invocation_id)] gid: UVec3) {
+        if fast {
+            OUT[gid.x] = neg * 2;
+        } else {
+            OUT[gid.x] = neg;
+        }
+    }
+}"#,
+    );
+    let names: Vec<&str> = c.keys.iter().map(|k| k.name.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "t8_negm1",
+            "t8_negm1_fast",
+            "t8_neg2",
+            "t8_neg2_fast",
+            "t16_negm1",
+            "t16_negm1_fast",
+            "t16_neg2",
+            "t16_neg2_fast"
+        ]
+    );
+    let excluded: Vec<bool> = c.keys.iter().map(|k| k.excluded).collect();
+    assert_eq!(
+        excluded,
+        [false, false, false, false, false, true, false, true]
+    );
+    assert_eq!(c.variants.len(), 6);
+    // Pruning: the `fast` branch exists only where `fast` is true, with the axis folded in.
+    let fast = &c.variants[1].wgsl;
+    assert!(fast.contains("OUT[gid.x] = -2i;"), "{fast}");
+    assert!(!fast.contains("if "), "{fast}");
+    assert!(c.variants[0].wgsl.contains("OUT[gid.x] = -1i;"));
+}
+
+#[test]
+fn identical_variants_are_deduplicated() {
+    let c = compile(
+        r#"#[shader(axes(unused: bool = [false, true], tile: u32 = [4, 8]))]
+mod m {
+    #[storage(group = 0, binding = 0, read_write)]
+    static OUT: [u32];
+    #[compute(workgroup_size(tile))]
+    fn main(#[builtin(local_invocation_index)] i: u32) {
+        OUT[i] = i;
+    }
+}"#,
+    );
+    assert_eq!(c.keys.len(), 4);
+    assert_eq!(c.variants.len(), 2);
+    assert_eq!(c.variants[0].names, ["tile4", "unused_tile4"]);
+    assert_eq!(c.key_variant, [Some(0), Some(1), Some(0), Some(1)]);
+}
+
+#[test]
+fn unreachable_helpers_are_left_out() {
+    let c = compile(
+        r#"#[shader(axes(wave: bool = [false, true]), requires(subgroup = wave))]
+mod m {
+    #[storage(group = 0, binding = 0, read_write)]
+    static OUT: [u32];
+    fn wave_sum(x: u32) -> u32 {
+        subgroup_add(x)
+    }
+    #[compute(workgroup_size(64))]
+    fn main(#[builtin(local_invocation_index)] i: u32) {
+        let mut v = i;
+        if wave {
+            v = wave_sum(v);
+        }
+        OUT[i] = v;
+    }
+}"#,
+    );
+    assert!(!c.variants[0].wgsl.contains("wave_sum"));
+    assert!(c.variants[1].wgsl.contains("fn wave_sum"));
+    assert!(!c.variants[0].reflection.features.subgroup);
+    assert!(c.variants[1].reflection.features.subgroup);
+}
+
+#[test]
+fn source_map_finds_the_rust_span_of_printed_code() {
+    let src = kernel("        let doubled = gid.x * 2u32;\n        OUT[gid.x] = doubled;");
+    let c = compile(&src);
+    let v = &c.variants[0];
+    let at = v.wgsl.find("gid.x * 2u").expect("printed");
+    let span = v
+        .source_map
+        .lookup(at..at + "gid.x * 2u".len())
+        .expect("mapped");
+    // Binary expressions are located at their operator.
+    assert_eq!((span.start().line, span.start().column), (7, 28));
+    let at = v.wgsl.find("OUT[gid.x] = doubled").expect("printed");
+    let span = v.source_map.lookup(at..at + 3).expect("mapped");
+    assert_eq!(span.start().line, 8);
+}
+
+#[test]
+fn layouts_follow_wgsl_and_uniform_rules() {
+    let c = compile(
+        r#"#[shader]
+mod m {
+    pub struct Inner { pub a: f32 }
+    pub struct Outer { pub v: Vec3, pub s: f32, pub inner: Inner, pub after: u32, pub m: Mat3 }
+    #[uniform(group = 0, binding = 0)]
+    static U: Outer;
+    #[compute(workgroup_size(1))]
+    fn main() {
+        let x = U.v;
+    }
+}"#,
+    );
+    let m = &c.module;
+    let env = &c.keys[0].env;
+    let outer = codegen::layout::struct_layout(1, m, env);
+    let offsets: Vec<u32> = outer.members.iter().map(|x| x.offset).collect();
+    // vec3 + f32 share 16 bytes; the nested struct is 16-aligned and 16-sized in uniforms.
+    assert_eq!(offsets, [0, 12, 16, 32, 48]);
+    assert_eq!((outer.layout.size, outer.layout.align), (96, 16));
+    assert_eq!(outer.members[2].align_attr, Some(16));
+    assert!(
+        c.variants[0]
+            .wgsl
+            .contains("@align(16) @size(16) inner: Inner,")
+    );
+    // naga agrees.
+    let naga = c.naga_layouts[1].as_ref().expect("naga layout");
+    assert_eq!(naga.offsets, offsets);
+    assert_eq!((naga.size, naga.align), (96, 16));
+}
+
+#[test]
+fn reflection_of_bindings_and_entry_points() {
+    let c = compile(
+        r#"#[shader(axes(msaa: u32 = [1, 4]))]
+mod m {
+    #[uniform(group = 1, binding = 0)]
+    static U: Vec4;
+    #[texture(group = 0, binding = 1)]
+    #[when(msaa == 1)]
+    static DEPTH: TextureDepth2d;
+    #[texture(group = 0, binding = 1)]
+    #[when(msaa > 1)]
+    static DEPTH_MS: TextureDepthMultisampled2d;
+    #[storage(group = 0, binding = 0)]
+    static DATA: [Vec4];
+    #[vertex]
+    fn vs(#[builtin(vertex_index)] i: u32) -> Vec4 {
+        DATA[i]
+    }
+    #[fragment]
+    fn fs(#[builtin(position)] p: Vec4) -> Vec4 {
+        let mut d = 0.0;
+        if msaa == 1 {
+            d = DEPTH.load(p.xy().as_uvec2(), 0u32);
+        } else {
+            d = DEPTH_MS.load(p.xy().as_uvec2(), 0u32);
+        }
+        U * d
+    }
+}"#,
+    );
+    let single = &c.variants[0].reflection;
+    let keys: Vec<(u32, u32, &str)> = single
+        .bindings
+        .iter()
+        .map(|b| (b.group, b.binding, b.name.as_str()))
+        .collect();
+    assert_eq!(keys, [(0, 0, "DATA"), (0, 1, "DEPTH"), (1, 0, "U")]);
+    assert!(single.bindings[0].visibility.vertex && !single.bindings[0].visibility.fragment);
+    assert!(matches!(
+        single.bindings[0].kind,
+        BindingKind::Storage {
+            read_only: true,
+            min_size: 16
+        }
+    ));
+    assert!(matches!(
+        single.bindings[1].kind,
+        BindingKind::Texture {
+            sample_type: SampleType::Depth,
+            multisampled: false,
+            ..
+        }
+    ));
+    let ms = &c.variants[1].reflection;
+    assert_eq!(ms.bindings[1].name, "DEPTH_MS");
+    assert!(matches!(
+        ms.bindings[1].kind,
+        BindingKind::Texture {
+            multisampled: true,
+            ..
+        }
+    ));
+    assert_eq!(single.entry_points.len(), 2);
+    assert_eq!(single.entry_points[0].workgroup_size, [0, 0, 0]);
+    let color = codegen::rt::Location {
+        location: 0,
+        format: codegen::rt::ValueFormat::Float32x4,
+    };
+    assert_eq!(single.entry_points[1].outputs, [color]);
+    assert!(single.entry_points[0].inputs.is_empty());
+}
+
+#[test]
+fn naga_errors_map_back_and_name_the_variant() {
+    let src = "#[shader(axes(n: u32 = [1, 0]))]\nmod m {\n    #[storage(group = 0, binding = 0, read_write)]\n    static OUT: [u32];\n    #[compute(workgroup_size(1))]\n    fn main() {\n        OUT[0] = 7u32 / n;\n    }\n}\n";
+    let e = codegen::compile_source(src).expect_err("division by zero in variant n0");
+    let msg = e.to_string();
+    assert!(msg.contains("variant `n0`"), "{msg}");
+    assert_eq!(e.span().start().line, 7);
+}

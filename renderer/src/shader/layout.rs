@@ -1,0 +1,237 @@
+//! Bind-group layout entries from the DSL's reflected bindings.
+
+use codegen::rt::{
+    BindingKind, SampleType, StorageAccess, StorageFormat, Variant, ViewDimension, Visibility,
+};
+
+/// The layout entries of bind group `group` of `variant`, in binding order.
+pub fn bind_group_layout_entries(variant: &Variant, group: u32) -> Vec<wgpu::BindGroupLayoutEntry> {
+    variant
+        .group(group)
+        .map(|b| wgpu::BindGroupLayoutEntry {
+            binding: b.binding,
+            visibility: stages(b.visibility),
+            ty: binding_type(b.kind),
+            count: None,
+        })
+        .collect()
+}
+
+fn stages(v: Visibility) -> wgpu::ShaderStages {
+    let mut s = wgpu::ShaderStages::NONE;
+    s.set(wgpu::ShaderStages::COMPUTE, v.compute);
+    s.set(wgpu::ShaderStages::VERTEX, v.vertex);
+    s.set(wgpu::ShaderStages::FRAGMENT, v.fragment);
+    s
+}
+
+fn binding_type(kind: BindingKind) -> wgpu::BindingType {
+    match kind {
+        BindingKind::Uniform { min_size } => wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: wgpu::BufferSize::new(min_size),
+        },
+        BindingKind::Storage {
+            read_only,
+            min_size,
+        } => wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: wgpu::BufferSize::new(min_size),
+        },
+        BindingKind::Texture {
+            sample_type,
+            view_dimension,
+            multisampled,
+        } => wgpu::BindingType::Texture {
+            sample_type: match sample_type {
+                SampleType::Float { filterable } => wgpu::TextureSampleType::Float { filterable },
+                SampleType::Depth => wgpu::TextureSampleType::Depth,
+                SampleType::Uint => wgpu::TextureSampleType::Uint,
+                SampleType::Sint => wgpu::TextureSampleType::Sint,
+            },
+            view_dimension: view_dimension_of(view_dimension),
+            multisampled,
+        },
+        BindingKind::StorageTexture {
+            format,
+            access,
+            view_dimension,
+        } => wgpu::BindingType::StorageTexture {
+            access: match access {
+                StorageAccess::ReadOnly => wgpu::StorageTextureAccess::ReadOnly,
+                StorageAccess::WriteOnly => wgpu::StorageTextureAccess::WriteOnly,
+                StorageAccess::ReadWrite => wgpu::StorageTextureAccess::ReadWrite,
+            },
+            format: storage_format(format),
+            view_dimension: view_dimension_of(view_dimension),
+        },
+        BindingKind::Sampler { comparison: true } => {
+            wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison)
+        }
+        BindingKind::Sampler { comparison: false } => {
+            wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering)
+        }
+    }
+}
+
+fn view_dimension_of(d: ViewDimension) -> wgpu::TextureViewDimension {
+    match d {
+        ViewDimension::D2 => wgpu::TextureViewDimension::D2,
+        ViewDimension::D2Array => wgpu::TextureViewDimension::D2Array,
+    }
+}
+
+/// The wgpu format of a DSL storage-texture format.
+pub fn storage_format(f: StorageFormat) -> wgpu::TextureFormat {
+    use wgpu::TextureFormat as T;
+    match f {
+        StorageFormat::Rgba8Unorm => T::Rgba8Unorm,
+        StorageFormat::Rgba8Snorm => T::Rgba8Snorm,
+        StorageFormat::Rgba8Uint => T::Rgba8Uint,
+        StorageFormat::Rgba8Sint => T::Rgba8Sint,
+        StorageFormat::Rgba16Uint => T::Rgba16Uint,
+        StorageFormat::Rgba16Sint => T::Rgba16Sint,
+        StorageFormat::Rgba16Float => T::Rgba16Float,
+        StorageFormat::R32Uint => T::R32Uint,
+        StorageFormat::R32Sint => T::R32Sint,
+        StorageFormat::R32Float => T::R32Float,
+        StorageFormat::Rg32Uint => T::Rg32Uint,
+        StorageFormat::Rg32Sint => T::Rg32Sint,
+        StorageFormat::Rg32Float => T::Rg32Float,
+        StorageFormat::Rgba32Uint => T::Rgba32Uint,
+        StorageFormat::Rgba32Sint => T::Rgba32Sint,
+        StorageFormat::Rgba32Float => T::Rgba32Float,
+        StorageFormat::Bgra8Unorm => T::Bgra8Unorm,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use codegen::rt::{Binding, EntryPoint, Features, Stage};
+
+    const BINDINGS: &[Binding] = &[
+        Binding {
+            name: "CAMERA",
+            group: 0,
+            binding: 0,
+            visibility: Visibility {
+                compute: true,
+                vertex: false,
+                fragment: false,
+            },
+            kind: BindingKind::Uniform { min_size: 80 },
+        },
+        Binding {
+            name: "DEPTH",
+            group: 0,
+            binding: 3,
+            visibility: Visibility {
+                compute: true,
+                vertex: false,
+                fragment: true,
+            },
+            kind: BindingKind::Texture {
+                sample_type: SampleType::Depth,
+                view_dimension: ViewDimension::D2,
+                multisampled: true,
+            },
+        },
+        Binding {
+            name: "GRID",
+            group: 1,
+            binding: 0,
+            visibility: Visibility {
+                compute: true,
+                vertex: false,
+                fragment: false,
+            },
+            kind: BindingKind::Storage {
+                read_only: false,
+                min_size: 8,
+            },
+        },
+    ];
+    const VARIANT: Variant = Variant {
+        module: "cull",
+        names: &["t16"],
+        wgsl: "",
+        spirv: &[],
+        spirv_version: (1, 0),
+        entry_points: &[EntryPoint {
+            name: "main",
+            stage: Stage::Compute,
+            workgroup_size: [16, 16, 1],
+            inputs: &[],
+            outputs: &[],
+        }],
+        bindings: BINDINGS,
+        features: Features { subgroup: true },
+    };
+
+    #[test]
+    fn groups_map_to_wgpu_entries() {
+        let g0 = bind_group_layout_entries(&VARIANT, 0);
+        assert_eq!(g0.len(), 2);
+        assert_eq!(g0[0].binding, 0);
+        assert_eq!(g0[0].visibility, wgpu::ShaderStages::COMPUTE);
+        assert!(matches!(
+            g0[0].ty,
+            wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                min_binding_size: Some(s),
+                ..
+            } if s.get() == 80
+        ));
+        assert_eq!(
+            g0[1].visibility,
+            wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT
+        );
+        assert!(matches!(
+            g0[1].ty,
+            wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Depth,
+                multisampled: true,
+                ..
+            }
+        ));
+        let g1 = bind_group_layout_entries(&VARIANT, 1);
+        assert!(matches!(
+            g1[0].ty,
+            wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Storage { read_only: false },
+                ..
+            }
+        ));
+        assert_eq!(VARIANT.group_count(), 2);
+    }
+
+    #[test]
+    fn subgroup_variant_is_refused_without_subgroup() {
+        let mut caps = crate::Capabilities {
+            subgroup: None,
+            timestamp_query: false,
+            timestamp_inside_passes: false,
+            msaa_depth32float: vec![1, 4],
+            msaa_rgba16float: vec![1, 4],
+            max_workgroup_invocations: 1024,
+        };
+        let err = crate::shader::check_supported(&VARIANT, &caps).unwrap_err();
+        assert!(
+            err.to_string().contains("needs the SUBGROUP feature"),
+            "{err}"
+        );
+        caps.subgroup = Some(crate::gpu::SubgroupSize { min: 8, max: 8 });
+        assert_eq!(crate::shader::check_supported(&VARIANT, &caps), Ok(()));
+        caps.max_workgroup_invocations = 128;
+        assert!(matches!(
+            crate::shader::check_supported(&VARIANT, &caps),
+            Err(crate::shader::VariantError::WorkgroupTooLarge {
+                invocations: 256,
+                ..
+            })
+        ));
+    }
+}

@@ -1,0 +1,150 @@
+//! Turns the DSL's generated shader variants into wgpu objects.
+//!
+//! `shaders_gen` exposes each variant as plain data ([`codegen::rt::Variant`]): WGSL, entry
+//! points, bindings and required features. This module is the only place that maps that data to
+//! wgpu, so no pass writes a bind-group layout by hand. It holds no shader source of its own.
+
+mod layout;
+
+pub use layout::{bind_group_layout_entries, storage_format};
+
+use codegen::rt::{Stage, Variant};
+
+use crate::gpu::Capabilities;
+
+/// Why a generated variant cannot be used on this device.
+#[derive(Debug, thiserror::Error, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum VariantError {
+    #[error(
+        "shader variant `{module}::{variant}` needs the SUBGROUP feature, which this device lacks; \
+         use a non-scalarized variant (scalarize off) or an adapter with subgroup support"
+    )]
+    MissingSubgroup {
+        module: &'static str,
+        variant: &'static str,
+    },
+    #[error("shader variant `{module}::{variant}` has no {stage:?} entry point named `{entry}`")]
+    NoEntryPoint {
+        module: &'static str,
+        variant: &'static str,
+        stage: Stage,
+        entry: String,
+    },
+    #[error(
+        "shader variant `{module}::{variant}` needs a {invocations}-invocation workgroup, but the \
+         device allows {allowed}; choose a smaller tile size"
+    )]
+    WorkgroupTooLarge {
+        module: &'static str,
+        variant: &'static str,
+        invocations: u32,
+        allowed: u32,
+    },
+}
+
+/// Checks that `variant` can run on a device with `caps`, before any wgpu call could fail.
+pub fn check_supported(variant: &Variant, caps: &Capabilities) -> Result<(), VariantError> {
+    if variant.features.subgroup && caps.subgroup.is_none() {
+        return Err(VariantError::MissingSubgroup {
+            module: variant.module,
+            variant: variant.name(),
+        });
+    }
+    if let Some(invocations) = variant
+        .entry_points
+        .iter()
+        .map(|e| e.workgroup_size.iter().product::<u32>())
+        .max()
+        .filter(|&n| n > caps.max_workgroup_invocations)
+    {
+        return Err(VariantError::WorkgroupTooLarge {
+            module: variant.module,
+            variant: variant.name(),
+            invocations,
+            allowed: caps.max_workgroup_invocations,
+        });
+    }
+    Ok(())
+}
+
+/// A variant compiled on a device: its shader module and bind-group layouts.
+#[derive(Debug, Clone)]
+pub struct ShaderProgram {
+    pub variant: &'static Variant,
+    pub module: wgpu::ShaderModule,
+    /// One layout per group index `0..variant.group_count()` (empty where a group is unused).
+    pub bind_group_layouts: Vec<wgpu::BindGroupLayout>,
+    pub pipeline_layout: wgpu::PipelineLayout,
+}
+
+impl ShaderProgram {
+    /// Compiles `variant` on `device` after checking it against `caps`.
+    pub fn new(
+        device: &wgpu::Device,
+        caps: &Capabilities,
+        variant: &'static Variant,
+    ) -> Result<Self, VariantError> {
+        check_supported(variant, caps)?;
+        let label = format!("{}::{}", variant.module, variant.name());
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(&label),
+            source: wgpu::ShaderSource::Wgsl(variant.wgsl.into()),
+        });
+        let bind_group_layouts: Vec<_> = (0..variant.group_count())
+            .map(|group| {
+                device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                    label: Some(&format!("{label} group {group}")),
+                    entries: &bind_group_layout_entries(variant, group),
+                })
+            })
+            .collect();
+        let layout_refs: Vec<Option<&wgpu::BindGroupLayout>> =
+            bind_group_layouts.iter().map(Some).collect();
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(&label),
+            bind_group_layouts: &layout_refs,
+            immediate_size: 0,
+        });
+        Ok(Self {
+            variant,
+            module,
+            bind_group_layouts,
+            pipeline_layout,
+        })
+    }
+
+    /// The name of the entry point of `stage` called `name`, checked to exist.
+    pub fn entry(&self, stage: Stage, name: &str) -> Result<&'static str, VariantError> {
+        self.variant
+            .entry_points
+            .iter()
+            .find(|e| e.stage == stage && e.name == name)
+            .map(|e| e.name)
+            .ok_or_else(|| VariantError::NoEntryPoint {
+                module: self.variant.module,
+                variant: self.variant.name(),
+                stage,
+                entry: name.to_owned(),
+            })
+    }
+
+    /// A compute pipeline for the compute entry point `name`.
+    pub fn compute_pipeline(
+        &self,
+        device: &wgpu::Device,
+        name: &str,
+    ) -> Result<wgpu::ComputePipeline, VariantError> {
+        let entry = self.entry(Stage::Compute, name)?;
+        Ok(
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: Some(&self.pipeline_layout),
+                module: &self.module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            }),
+        )
+    }
+}

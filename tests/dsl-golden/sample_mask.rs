@@ -1,0 +1,17 @@
+// Golden: `#[builtin(sample_mask)]` input and output. naga 30 writes the SampleMask builtin as a
+// scalar, which `spirv-val` rejects (see KNOWN_NAGA_SPIRV_BUGS in codegen/tests/golden.rs); the
+// WGSL is valid and naga-validated.
+#[shader_dsl::shader]
+pub mod sample_mask {
+    pub struct FsOut {
+        #[location(0)]
+        pub color: Vec4,
+        #[builtin(sample_mask)]
+        pub mask: u32,
+    }
+
+    #[fragment]
+    pub fn fs(#[builtin(sample_mask)] coverage: u32, #[builtin(sample_index)] sample: u32) -> FsOut {
+        FsOut { color: Vec4::ONE, mask: coverage & (1u32 << sample) }
+    }
+}

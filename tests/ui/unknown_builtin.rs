@@ -1,0 +1,6 @@
+#[shader_dsl::shader]
+mod m {
+    #[compute(workgroup_size(1))]
+    fn main(#[builtin(pixel_id)] id: u32) {}
+}
+fn main() {}

@@ -1,0 +1,299 @@
+//! `cargo xtask shaders`: every variant of every DSL module in `shaders_gen`, written out and
+//! tabulated.
+//!
+//! It runs the DSL compiler (`codegen`) on the `shaders_gen` sources, exactly as the proc-macro
+//! does, and times each variant. Outputs go to `target/shaders/<module>/<variant>.{wgsl,spv}`,
+//! plus `.spvasm` from `spirv-dis` when installed. `--check` fails when `spirv-val` rejects any
+//! variant (or is missing).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::Duration;
+
+use anyhow::{Context as _, Result, bail};
+use codegen::rt::BindingKind;
+
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Output folder; defaults to target/shaders.
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Fail when spirv-val rejects any variant (or is not installed).
+    #[arg(long)]
+    check: bool,
+    /// Only modules whose name contains this.
+    #[arg(long)]
+    module: Option<String>,
+}
+
+/// One row of the table.
+struct Row {
+    module: String,
+    names: Vec<String>,
+    wgsl_bytes: usize,
+    spirv_words: usize,
+    workgroup: String,
+    bindings: String,
+    features: &'static str,
+    spirv_val: SpirvVal,
+    gen_time: Duration,
+}
+
+#[derive(Debug, Clone, PartialEq, Eq)]
+enum SpirvVal {
+    Passed,
+    Failed(String),
+    NotInstalled,
+}
+
+#[expect(clippy::print_stdout, reason = "command-line report")]
+pub fn run(args: &Args) -> Result<()> {
+    let root = crate::workspace_root();
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| root.join("target/shaders"));
+    let have_val = tool_available("spirv-val");
+    let have_dis = tool_available("spirv-dis");
+    let mut rows = Vec::new();
+    for (file, modules) in dsl_modules(&root.join("shaders_gen/src"))? {
+        for (args_tokens, item) in modules {
+            let name = item.ident.to_string();
+            if args.module.as_deref().is_some_and(|m| !name.contains(m)) {
+                continue;
+            }
+            let compiled = codegen::compile(args_tokens, &item)
+                .map_err(|e| anyhow::anyhow!("{}: module `{name}`: {e}", file.display()))?;
+            let dir = out.join(&name);
+            std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+            for v in &compiled.variants {
+                let stem = dir.join(&v.names[0]);
+                std::fs::write(stem.with_extension("wgsl"), &v.wgsl)?;
+                let spv_path = stem.with_extension("spv");
+                std::fs::write(&spv_path, bytemuck_words(&v.spirv))?;
+                if have_dis {
+                    let dis = Command::new("spirv-dis").arg(&spv_path).output()?;
+                    std::fs::write(stem.with_extension("spvasm"), dis.stdout)?;
+                }
+                rows.push(Row {
+                    module: name.clone(),
+                    names: v.names.clone(),
+                    wgsl_bytes: v.wgsl.len(),
+                    spirv_words: v.spirv.len(),
+                    workgroup: workgroup(&v.reflection.entry_points),
+                    bindings: bindings(&v.reflection.bindings),
+                    features: if v.reflection.features.subgroup {
+                        "SUBGROUP"
+                    } else {
+                        "-"
+                    },
+                    spirv_val: if have_val {
+                        spirv_val(&spv_path, v.spirv_version)?
+                    } else {
+                        SpirvVal::NotInstalled
+                    },
+                    gen_time: v.gen_time,
+                });
+            }
+        }
+    }
+    print_table(&rows);
+    println!("\nwrote {} variant(s) to {}", rows.len(), out.display());
+    print_timing(&rows);
+    let failures: Vec<&Row> = rows
+        .iter()
+        .filter(|r| matches!(r.spirv_val, SpirvVal::Failed(_)))
+        .collect();
+    for r in &failures {
+        if let SpirvVal::Failed(msg) = &r.spirv_val {
+            println!("spirv-val rejected {}::{}:\n{msg}", r.module, r.names[0]);
+        }
+    }
+    if args.check {
+        if !have_val {
+            bail!("--check needs spirv-val: install the Debian/Ubuntu package spirv-tools");
+        }
+        if !failures.is_empty() {
+            bail!("spirv-val rejected {} variant(s)", failures.len());
+        }
+        println!("spirv-val: all {} variant(s) valid", rows.len());
+    }
+    Ok(())
+}
+
+/// Every `#[shader(..)] mod` in the `.rs` files under `dir`, with its attribute arguments.
+type DslModule = (proc_macro2::TokenStream, syn::ItemMod);
+
+fn dsl_modules(dir: &Path) -> Result<Vec<(PathBuf, Vec<DslModule>)>> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "rs"))
+        .collect();
+    files.sort();
+    let mut out = Vec::new();
+    for file in files {
+        let text = std::fs::read_to_string(&file)?;
+        let parsed =
+            syn::parse_file(&text).with_context(|| format!("parsing {}", file.display()))?;
+        let modules: Vec<DslModule> = parsed
+            .items
+            .into_iter()
+            .filter_map(|item| match item {
+                syn::Item::Mod(m) => shader_args(&m).map(|args| (args, strip_shader_attr(m))),
+                _ => None,
+            })
+            .collect();
+        if !modules.is_empty() {
+            out.push((file, modules));
+        }
+    }
+    Ok(out)
+}
+
+fn is_shader_attr(a: &syn::Attribute) -> bool {
+    a.path()
+        .segments
+        .last()
+        .is_some_and(|s| s.ident == "shader")
+}
+
+fn shader_args(m: &syn::ItemMod) -> Option<proc_macro2::TokenStream> {
+    let attr = m.attrs.iter().find(|a| is_shader_attr(a))?;
+    Some(match &attr.meta {
+        syn::Meta::List(list) => list.tokens.clone(),
+        _ => proc_macro2::TokenStream::new(),
+    })
+}
+
+fn strip_shader_attr(mut m: syn::ItemMod) -> syn::ItemMod {
+    m.attrs.retain(|a| !is_shader_attr(a));
+    m
+}
+
+fn bytemuck_words(words: &[u32]) -> Vec<u8> {
+    words.iter().flat_map(|w| w.to_le_bytes()).collect()
+}
+
+fn tool_available(tool: &str) -> bool {
+    Command::new(tool)
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success())
+}
+
+/// Runs spirv-val for the Vulkan environment matching the module's SPIR-V version.
+fn spirv_val(path: &Path, version: (u8, u8)) -> Result<SpirvVal> {
+    let env = if version >= (1, 3) {
+        "vulkan1.1"
+    } else {
+        "vulkan1.0"
+    };
+    let out = Command::new("spirv-val")
+        .args(["--target-env", env])
+        .arg(path)
+        .output()
+        .context("running spirv-val")?;
+    Ok(if out.status.success() {
+        SpirvVal::Passed
+    } else {
+        SpirvVal::Failed(String::from_utf8_lossy(&out.stderr).into_owned())
+    })
+}
+
+fn workgroup(entries: &[codegen::reflect::EntryPointInfo]) -> String {
+    let sizes: Vec<String> = entries
+        .iter()
+        .filter(|e| e.stage == codegen::rt::Stage::Compute)
+        .map(|e| {
+            format!(
+                "{}x{}x{}",
+                e.workgroup_size[0], e.workgroup_size[1], e.workgroup_size[2]
+            )
+        })
+        .collect();
+    if sizes.is_empty() {
+        "-".into()
+    } else {
+        sizes.join(",")
+    }
+}
+
+fn bindings(list: &[codegen::reflect::BindingInfo]) -> String {
+    list.iter()
+        .map(|b| {
+            let kind = match b.kind {
+                BindingKind::Uniform { .. } => "uniform",
+                BindingKind::Storage {
+                    read_only: true, ..
+                } => "storage",
+                BindingKind::Storage {
+                    read_only: false, ..
+                } => "storage_rw",
+                BindingKind::Texture {
+                    multisampled: true, ..
+                } => "texture_ms",
+                BindingKind::Texture { .. } => "texture",
+                BindingKind::StorageTexture { .. } => "storage_texture",
+                BindingKind::Sampler { comparison: true } => "sampler_cmp",
+                BindingKind::Sampler { comparison: false } => "sampler",
+            };
+            format!("{}.{}:{kind}", b.group, b.binding)
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+#[expect(clippy::print_stdout, reason = "command-line report")]
+fn print_table(rows: &[Row]) {
+    println!(
+        "| module | variant | WGSL bytes | SPIR-V words | workgroup | bindings | features | naga | spirv-val | gen ms |"
+    );
+    println!("|---|---|---:|---:|---|---|---|---|---|---:|");
+    for r in rows {
+        let val = match &r.spirv_val {
+            SpirvVal::Passed => "ok",
+            SpirvVal::Failed(_) => "FAILED",
+            SpirvVal::NotInstalled => "not installed",
+        };
+        let name = if r.names.len() > 1 {
+            format!("{} (= {})", r.names[0], r.names[1..].join(", "))
+        } else {
+            r.names[0].clone()
+        };
+        println!(
+            "| {} | {name} | {} | {} | {} | {} | {} | ok | {val} | {:.3} |",
+            r.module,
+            r.wgsl_bytes,
+            r.spirv_words,
+            r.workgroup,
+            r.bindings,
+            r.features,
+            r.gen_time.as_secs_f64() * 1e3
+        );
+    }
+}
+
+#[expect(clippy::print_stdout, reason = "command-line report")]
+fn print_timing(rows: &[Row]) {
+    let mut times: Vec<f64> = rows
+        .iter()
+        .map(|r| r.gen_time.as_secs_f64() * 1e3)
+        .collect();
+    if times.is_empty() {
+        return;
+    }
+    times.sort_by(f64::total_cmp);
+    let median = times[times.len() / 2];
+    let total: f64 = times.iter().sum();
+    let profile = if cfg!(debug_assertions) {
+        "dev profile, codegen and naga at opt-level 3"
+    } else {
+        "release"
+    };
+    println!(
+        "generation per variant (print + naga validate + SPIR-V + reflect): median {median:.3} ms, \
+         max {:.3} ms, total {total:.1} ms over {} variant(s) [{profile}]",
+        times[times.len() - 1],
+        times.len()
+    );
+}
