@@ -135,3 +135,99 @@ fn depth_mask_and_clusters_beat_plain_tiles() {
         );
     }
 }
+
+#[test]
+fn spot_bounding_sphere_contains_its_cone() {
+    use glam::Vec3;
+    use renderer::culling::reference::LightSphere;
+    use tests::cull_scene::Rng;
+    let mut rng = Rng::new(5);
+    for cos_outer in [0.99f32, 0.9, 0.75, 0.5, 0.2, 0.0] {
+        let (apex, dir, range) = (
+            Vec3::new(1.0, 2.0, 3.0),
+            Vec3::new(0.3, -1.0, 0.2).normalize(),
+            4.0,
+        );
+        let sphere = LightSphere::spot(apex, dir, cos_outer, range);
+        let naive_radius = range;
+        assert!(
+            sphere.radius <= naive_radius + 1e-5,
+            "never worse than the point-light sphere"
+        );
+        let (u, v) = (dir.any_orthonormal_pair().0, dir.any_orthonormal_pair().1);
+        let sin_outer = (1.0 - cos_outer * cos_outer).sqrt();
+        for _ in 0..2000 {
+            // A random point of the cone: within the angle and within range of the apex.
+            let t = rng.range(0.0, 1.0).sqrt() * range;
+            let a = rng.range(0.0, std::f32::consts::TAU);
+            let s = rng.range(0.0, 1.0).sqrt() * sin_outer;
+            let c = (1.0 - s * s).sqrt();
+            let p = apex + t * (c * dir + s * (a.cos() * u + a.sin() * v));
+            assert!(
+                sphere.center.distance(p) <= sphere.radius * (1.0 + 1e-5) + 1e-5,
+                "cone point {p} outside the bounding sphere (cos {cos_outer})"
+            );
+        }
+    }
+}
+
+/// Prints the cull-efficiency table (listed ÷ reaching, and lights per non-empty cell) for every
+/// method and tile size on the fixed scene with 1,024 and 4,096 lights, and checks its ordering.
+/// Run with `--nocapture` to see it.
+#[test]
+#[expect(clippy::print_stdout, reason = "the table is this test's report")]
+fn cull_efficiency_table() {
+    println!("| lights | method | tile | listed/reaching | lights per non-empty cell |");
+    println!("|---:|---|---:|---:|---:|");
+    for lights in [1024, 4096] {
+        let s = scene(7, 256, 144, 1, lights);
+        let view_lights = s.lights_view();
+        let row = |name: &str, tile: &str, method| {
+            let lists = cull(&s.camera, &s.depth, &view_lights, method);
+            let e = cull_efficiency(&s.camera, &s.depth, &view_lights, method, &lists);
+            let non_empty: Vec<usize> = lists
+                .lists
+                .iter()
+                .map(Vec::len)
+                .filter(|&n| n > 0)
+                .collect();
+            let per_cell = non_empty.iter().sum::<usize>() as f64 / non_empty.len().max(1) as f64;
+            println!(
+                "| {lights} | {name} | {tile} | {:.2} | {per_cell:.1} |",
+                e.ratio()
+            );
+            e.ratio()
+        };
+        for tile in [8, 16, 32] {
+            let tiled = row("tiled", &tile.to_string(), Method::Tiled { tile });
+            let depth25 = row("2.5D", &tile.to_string(), Method::Depth25 { tile });
+            assert!(
+                depth25 <= tiled,
+                "2.5D must not list more than tiled at tile {tile}"
+            );
+        }
+        let grid = ClusterGrid {
+            x: 16,
+            y: 8,
+            z: 24,
+            near: NEAR,
+            far: FAR,
+        };
+        row(
+            "clustered 16x8x24",
+            "-",
+            Method::Clustered {
+                grid,
+                skip_empty: false,
+            },
+        );
+        row(
+            "clustered 16x8x24, skip empty",
+            "-",
+            Method::Clustered {
+                grid,
+                skip_empty: true,
+            },
+        );
+    }
+}

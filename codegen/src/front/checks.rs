@@ -134,6 +134,9 @@ fn check_structs(m: &ModCtx) -> Result<()> {
                     "struct layouts cannot depend on axes (the host type is shared by all variants); size the array with a constant, or use a workgroup array",
                 ));
             }
+            if (s.uses.uniform || s.uses.storage) && super::statics::vec3_array(&f.ty) {
+                return Err(Error::new(f.span, super::statics::VEC3_ARRAY));
+            }
             if s.uses.uniform
                 && let Some(stride) = uniform_bad_stride(&f.ty, module)
             {

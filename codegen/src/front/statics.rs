@@ -29,6 +29,9 @@ pub(crate) fn lower_static(m: &mut ModCtx, st: &BareStatic) -> Result<()> {
     let bad = |what: &str| Error::new(st.ty.span(), format!("`{tyname}` cannot be {what}"));
     let space = match attr.kind {
         StaticKind::Uniform => {
+            if vec3_array(&ty) {
+                return Err(Error::new(st.ty.span(), VEC3_ARRAY));
+            }
             if !ty.is_constructible() || matches!(ty, Ty::Scalar(Scalar::Bool)) {
                 return Err(bad(
                     "a uniform buffer; use a struct, scalar, vector, matrix or array",
@@ -37,6 +40,9 @@ pub(crate) fn lower_static(m: &mut ModCtx, st: &BareStatic) -> Result<()> {
             Space::Uniform
         }
         StaticKind::Storage => {
+            if vec3_array(&ty) {
+                return Err(Error::new(st.ty.span(), VEC3_ARRAY));
+            }
             let ok = match &ty {
                 Ty::RuntimeArray(_) | Ty::Atomic(_) => true,
                 Ty::Array(e, _) if matches!(**e, Ty::Atomic(_)) => true,
@@ -136,4 +142,11 @@ fn contains_atomic(ty: &Ty, m: &ir::Module) -> bool {
             .any(|f| contains_atomic(&f.ty, m)),
         _ => false,
     }
+}
+
+pub(crate) const VEC3_ARRAY: &str = "arrays of 3-component vectors have a 16-byte stride on the GPU but 12 bytes on the host (glam `Vec3`), so buffers of them are a layout trap; use `[Vec4]`/`[UVec4]`, or a struct with a `Vec3` and a scalar";
+
+/// Arrays (sized or not) whose element is a 3-component vector.
+pub(crate) fn vec3_array(ty: &Ty) -> bool {
+    matches!(ty, Ty::Array(e, _) | Ty::RuntimeArray(e) if matches!(**e, Ty::Vector(3, _)))
 }

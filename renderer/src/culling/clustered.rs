@@ -155,6 +155,26 @@ impl ClusteredCulling {
         pass.dispatch_workgroups(g.x, g.y, g.z);
     }
 
+    /// Per-froxel capacity limit of the kernel.
+    pub const PER_CELL_LIMIT: u32 = cluster_cull::MAX_PER_CLUSTER;
+
+    /// The capacities in use.
+    pub fn capacities(&self) -> super::overflow::Capacities {
+        super::overflow::Capacities {
+            per_cell: self.config.max_per_cluster,
+            index: self.config.index_capacity,
+        }
+    }
+
+    /// Takes new capacities (from [`super::overflow::grow_for`]) for the next frame.
+    pub fn grow(&mut self, device: &wgpu::Device, caps: super::overflow::Capacities) {
+        self.config.max_per_cluster = caps.per_cell.min(cluster_cull::MAX_PER_CLUSTER);
+        if caps.index != self.config.index_capacity {
+            self.config.index_capacity = caps.index;
+            self.lists = LightLists::new(device, self.lists.cells, caps.index);
+        }
+    }
+
     /// Blocking readback of the results (tests and tools).
     pub fn read_back(&self, gpu: &GpuContext) -> Result<CullReadback, GpuError> {
         self.lists.read_back(gpu)

@@ -27,7 +27,7 @@ pub struct CullCounters {
 impl CullCounters {
     pub const WORDS: u64 = 4;
 
-    fn from_words(c: &[u32]) -> Self {
+    pub(crate) fn from_words(c: &[u32]) -> Self {
         Self {
             requested_entries: c[0],
             overflow_cells: c[1],

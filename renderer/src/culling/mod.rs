@@ -7,6 +7,7 @@
 
 pub mod clustered;
 pub mod lists;
+pub mod overflow;
 pub mod reference;
 pub mod tiled;
 

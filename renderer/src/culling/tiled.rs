@@ -146,6 +146,26 @@ impl TiledCulling {
         pass.dispatch_workgroups(self.tiles.x, self.tiles.y, 1);
     }
 
+    /// Per-tile capacity limit of the kernel.
+    pub const PER_CELL_LIMIT: u32 = tile_cull::MAX_PER_TILE;
+
+    /// The capacities in use.
+    pub fn capacities(&self) -> super::overflow::Capacities {
+        super::overflow::Capacities {
+            per_cell: self.config.max_per_tile,
+            index: self.config.index_capacity,
+        }
+    }
+
+    /// Takes new capacities (from [`super::overflow::grow_for`]) for the next frame.
+    pub fn grow(&mut self, device: &wgpu::Device, caps: super::overflow::Capacities) {
+        self.config.max_per_tile = caps.per_cell.min(tile_cull::MAX_PER_TILE);
+        if caps.index != self.config.index_capacity {
+            self.config.index_capacity = caps.index;
+            self.lists = LightLists::new(device, self.tiles.x * self.tiles.y, caps.index);
+        }
+    }
+
     /// Blocking readback of the results (tests and tools).
     pub fn read_back(&self, gpu: &GpuContext) -> Result<CullReadback, GpuError> {
         self.lists.read_back(gpu)
