@@ -13,6 +13,10 @@
 //!   that is running.
 //!
 //! There is no skip: no adapter, or no validation layer, is a failure with instructions.
+//!
+//! On NVIDIA drivers, a test binary that opens many devices can exhaust glibc's static TLS
+//! surplus ("libnvidia-tls.so: cannot allocate memory in static TLS block", then "no adapter");
+//! run it with `GLIBC_TUNABLES=glibc.rtld.optional_static_tls=65536`.
 
 use std::sync::{Arc, Mutex, MutexGuard, OnceLock, PoisonError};
 

@@ -1,0 +1,20 @@
+//! Snapshots of the WGSL of every variant of every `shaders_gen` module, so a change to a kernel
+//! or to the generator shows up as a reviewable diff (`tests/tests/snapshots/`).
+//!
+//! To re-approve after a deliberate change: `INSTA_UPDATE=always cargo test -p tests --test
+//! shaders_gen_snapshots`, then review `git diff tests/tests/snapshots` before committing.
+
+#[test]
+fn every_shaders_gen_variant_matches_its_wgsl_snapshot() {
+    let mut seen = 0;
+    for module in shaders_gen::MODULES {
+        for variant in module.variants {
+            insta::assert_snapshot!(format!("{}@{}", module.name, variant.name()), variant.wgsl);
+            seen += 1;
+        }
+    }
+    assert!(
+        seen >= 58,
+        "every module's variants are snapshotted ({seen})"
+    );
+}
