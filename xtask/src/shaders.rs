@@ -56,7 +56,9 @@ pub fn run(args: &Args) -> Result<()> {
     let have_val = tool_available("spirv-val");
     let have_dis = tool_available("spirv-dis");
     let mut rows = Vec::new();
-    for (file, modules) in dsl_modules(&root.join("shaders_gen/src"))? {
+    let sources = dsl_modules(&root.join("shaders_gen/src"))?;
+    check_all_modules_found(&sources)?;
+    for (file, modules) in sources {
         for (args_tokens, item) in modules {
             let name = item.ident.to_string();
             if args.module.as_deref().is_some_and(|m| !name.contains(m)) {
@@ -125,10 +127,18 @@ pub fn run(args: &Args) -> Result<()> {
 type DslModule = (proc_macro2::TokenStream, syn::ItemMod);
 
 fn dsl_modules(dir: &Path) -> Result<Vec<(PathBuf, Vec<DslModule>)>> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|e| e == "rs"))
-        .collect();
+    let mut files = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for entry in std::fs::read_dir(&d).with_context(|| format!("reading {}", d.display()))? {
+            let path = entry?.path();
+            if path.is_dir() {
+                stack.push(path);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                files.push(path);
+            }
+        }
+    }
     files.sort();
     let mut out = Vec::new();
     for file in files {
@@ -148,6 +158,26 @@ fn dsl_modules(dir: &Path) -> Result<Vec<(PathBuf, Vec<DslModule>)>> {
         }
     }
     Ok(out)
+}
+
+/// Every module `shaders_gen::MODULES` exports must have been found in the sources, or the
+/// table would silently leave it out.
+fn check_all_modules_found(sources: &[(PathBuf, Vec<DslModule>)]) -> Result<()> {
+    let found: Vec<String> = sources
+        .iter()
+        .flat_map(|(_, modules)| modules.iter().map(|(_, m)| m.ident.to_string()))
+        .collect();
+    let missing: Vec<&str> = shaders_gen::MODULES
+        .iter()
+        .map(|m| m.name)
+        .filter(|name| !found.iter().any(|f| f == name))
+        .collect();
+    if !missing.is_empty() {
+        bail!(
+            "shaders_gen exports {missing:?}, but no `#[shader] mod` of that name was found under shaders_gen/src"
+        );
+    }
+    Ok(())
 }
 
 fn is_shader_attr(a: &syn::Attribute) -> bool {
