@@ -10,6 +10,7 @@ pub mod culling;
 pub mod gpu;
 pub mod graph;
 pub mod readback;
+pub mod scene;
 pub mod shader;
 pub mod test_pattern;
 

@@ -1,0 +1,60 @@
+//! Why a scene file could not be loaded.
+
+use std::path::PathBuf;
+
+/// A scene file that cannot be used, naming the file and the problem.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum SceneError {
+    #[error("{path}: cannot read or parse the glTF file: {source}")]
+    Gltf {
+        path: PathBuf,
+        #[source]
+        source: gltf::Error,
+    },
+    #[error(
+        "{path}: requires extension `{extension}`, which this renderer does not support; \
+         re-export the scene without it"
+    )]
+    UnsupportedExtension { path: PathBuf, extension: String },
+    #[error("{path}: mesh `{mesh}` primitive {primitive} has no {attribute} attribute")]
+    MissingAttribute {
+        path: PathBuf,
+        mesh: String,
+        primitive: usize,
+        attribute: &'static str,
+    },
+    #[error(
+        "{path}: mesh `{mesh}` primitive {primitive} uses vertex index {index}, but has only \
+         {vertices} vertices"
+    )]
+    IndexOutOfRange {
+        path: PathBuf,
+        mesh: String,
+        primitive: usize,
+        index: u32,
+        vertices: usize,
+    },
+    #[error("{path}: mesh `{mesh}` primitive {primitive} is not a triangle list ({mode:?})")]
+    NotTriangles {
+        path: PathBuf,
+        mesh: String,
+        primitive: usize,
+        mode: gltf::mesh::Mode,
+    },
+    #[error("{path}: {what} has {got} values where {expected} are needed")]
+    AttributeLength {
+        path: PathBuf,
+        what: String,
+        got: usize,
+        expected: usize,
+    },
+    #[error(
+        "{path}: image {image} has pixel format {format:?}, which cannot be converted to RGBA8"
+    )]
+    ImageFormat {
+        path: PathBuf,
+        image: usize,
+        format: gltf::image::Format,
+    },
+}

@@ -1,0 +1,322 @@
+//! Reading a glTF file into a [`Scene`].
+
+use std::path::Path;
+
+use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
+
+use super::{
+    Aabb, AlphaMode, Image, Instance, LightKind, Material, Mesh, Primitive, Scene, SceneCamera,
+    SceneError, SceneLight, TextureRef, tangents,
+};
+
+/// Extensions a file may require that the loader understands.
+const SUPPORTED_REQUIRED: &[&str] = &["KHR_lights_punctual", "KHR_materials_emissive_strength"];
+
+impl Scene {
+    /// Loads a `.gltf` (with its buffers and images) or `.glb` file.
+    pub fn load(path: impl AsRef<Path>) -> Result<Self, SceneError> {
+        let path = path.as_ref();
+        let gltf_err = |source| SceneError::Gltf {
+            path: path.to_path_buf(),
+            source,
+        };
+        // Read the document first, so an unsupported required extension is named as such rather
+        // than reported as a generic validation failure.
+        let bytes = std::fs::read(path).map_err(|e| gltf_err(gltf::Error::Io(e)))?;
+        if let Some(extension) = unsupported_required_extension(&bytes) {
+            return Err(SceneError::UnsupportedExtension {
+                path: path.to_path_buf(),
+                extension,
+            });
+        }
+        let (doc, buffers, images) = gltf::import(path).map_err(gltf_err)?;
+        let ctx = Ctx { path };
+        let meshes = doc
+            .meshes()
+            .map(|m| ctx.mesh(&m, &buffers))
+            .collect::<Result<Vec<_>, _>>()?;
+        let images = images
+            .into_iter()
+            .enumerate()
+            .map(|(i, data)| ctx.image(i, data))
+            .collect::<Result<Vec<_>, _>>()?;
+        let materials = doc.materials().map(|m| material(&m)).collect();
+        let mut scene = Self {
+            meshes,
+            materials,
+            images,
+            instances: Vec::new(),
+            cameras: Vec::new(),
+            lights: Vec::new(),
+            bounds: Aabb::EMPTY,
+        };
+        let roots: Vec<gltf::Node<'_>> = match doc.default_scene().or_else(|| doc.scenes().next()) {
+            Some(s) => s.nodes().collect(),
+            None => doc.nodes().collect(),
+        };
+        for node in roots {
+            scene.visit(&node, Mat4::IDENTITY);
+        }
+        Ok(scene)
+    }
+
+    fn visit(&mut self, node: &gltf::Node<'_>, parent: Mat4) {
+        let (t, r, s) = node.transform().decomposed();
+        let world = parent
+            * Mat4::from_scale_rotation_translation(
+                Vec3::from(s),
+                Quat::from_array(r),
+                Vec3::from(t),
+            );
+        if let Some(mesh) = node.mesh() {
+            let index = mesh.index();
+            self.instances.push(Instance {
+                mesh: index,
+                world_from_mesh: world,
+            });
+            for p in &self.meshes[index].primitives {
+                self.bounds = self.bounds.union(p.bounds.transformed(world));
+            }
+        }
+        if let Some(camera) = node.camera()
+            && let gltf::camera::Projection::Perspective(p) = camera.projection()
+        {
+            self.cameras.push(SceneCamera {
+                world_from_view: world,
+                yfov: p.yfov(),
+                aspect: p.aspect_ratio(),
+                znear: p.znear(),
+                zfar: p.zfar(),
+            });
+        }
+        if let Some(light) = node.light() {
+            self.lights.push(light_of(&light, world));
+        }
+        for child in node.children() {
+            self.visit(&child, world);
+        }
+    }
+}
+
+/// The first extension in `extensionsRequired` the loader does not support.
+fn unsupported_required_extension(bytes: &[u8]) -> Option<String> {
+    let json = if bytes.starts_with(b"glTF") {
+        gltf::binary::Glb::from_slice(bytes).ok()?.json.into_owned()
+    } else {
+        bytes.to_vec()
+    };
+    let root: gltf::json::Root = gltf::json::deserialize::from_slice(&json).ok()?;
+    root.extensions_required
+        .into_iter()
+        .find(|e| !SUPPORTED_REQUIRED.contains(&e.as_str()))
+}
+
+struct Ctx<'a> {
+    path: &'a Path,
+}
+
+impl Ctx<'_> {
+    fn mesh(
+        &self,
+        mesh: &gltf::Mesh<'_>,
+        buffers: &[gltf::buffer::Data],
+    ) -> Result<Mesh, SceneError> {
+        let name = mesh
+            .name()
+            .map_or_else(|| format!("#{}", mesh.index()), str::to_owned);
+        let primitives = mesh
+            .primitives()
+            .enumerate()
+            .map(|(i, p)| self.primitive(&name, i, &p, buffers))
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(Mesh { name, primitives })
+    }
+
+    fn primitive(
+        &self,
+        mesh: &str,
+        index: usize,
+        p: &gltf::Primitive<'_>,
+        buffers: &[gltf::buffer::Data],
+    ) -> Result<Primitive, SceneError> {
+        let path = self.path.to_path_buf();
+        if p.mode() != gltf::mesh::Mode::Triangles {
+            return Err(SceneError::NotTriangles {
+                path,
+                mesh: mesh.to_owned(),
+                primitive: index,
+                mode: p.mode(),
+            });
+        }
+        let reader = p.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
+        let positions: Vec<Vec3> = reader
+            .read_positions()
+            .ok_or_else(|| SceneError::MissingAttribute {
+                path: path.clone(),
+                mesh: mesh.to_owned(),
+                primitive: index,
+                attribute: "POSITION",
+            })?
+            .map(Vec3::from)
+            .collect();
+        let n = positions.len();
+        let indices: Vec<u32> = match reader.read_indices() {
+            Some(i) => i.into_u32().collect(),
+            None => (0..n as u32).collect(),
+        };
+        if let Some(&bad) = indices.iter().find(|&&i| i as usize >= n) {
+            return Err(SceneError::IndexOutOfRange {
+                path,
+                mesh: mesh.to_owned(),
+                primitive: index,
+                index: bad,
+                vertices: n,
+            });
+        }
+        let normals: Vec<Vec3> = match reader.read_normals() {
+            Some(it) => it.map(Vec3::from).collect(),
+            None => flat_normals(&positions, &indices),
+        };
+        let uvs: Vec<Vec2> = match reader.read_tex_coords(0) {
+            Some(it) => it.into_f32().map(Vec2::from).collect(),
+            None => vec![Vec2::ZERO; n],
+        };
+        for (what, got) in [("NORMAL", normals.len()), ("TEXCOORD_0", uvs.len())] {
+            if got != n {
+                return Err(SceneError::AttributeLength {
+                    path,
+                    what: format!("mesh `{mesh}` primitive {index} {what}"),
+                    got,
+                    expected: n,
+                });
+            }
+        }
+        let tangents: Vec<Vec4> = match reader.read_tangents() {
+            Some(it) => it.map(Vec4::from).collect(),
+            None => tangents::generate(&positions, &normals, &uvs, &indices),
+        };
+        let bounds = positions.iter().fold(Aabb::EMPTY, |b, &p| b.with_point(p));
+        Ok(Primitive {
+            positions,
+            normals,
+            uvs,
+            tangents,
+            indices,
+            material: p.material().index(),
+            bounds,
+        })
+    }
+
+    fn image(&self, index: usize, data: gltf::image::Data) -> Result<Image, SceneError> {
+        use gltf::image::Format;
+        let px = (data.width * data.height) as usize;
+        let rgba8 = match data.format {
+            Format::R8G8B8A8 => data.pixels,
+            Format::R8G8B8 => data
+                .pixels
+                .chunks_exact(3)
+                .flat_map(|c| [c[0], c[1], c[2], 255])
+                .collect(),
+            Format::R8G8 => data
+                .pixels
+                .chunks_exact(2)
+                .flat_map(|c| [c[0], c[1], 0, 255])
+                .collect(),
+            Format::R8 => data.pixels.iter().flat_map(|&c| [c, c, c, 255]).collect(),
+            format => {
+                return Err(SceneError::ImageFormat {
+                    path: self.path.to_path_buf(),
+                    image: index,
+                    format,
+                });
+            }
+        };
+        debug_assert_eq!(rgba8.len(), px * 4);
+        Ok(Image {
+            width: data.width,
+            height: data.height,
+            rgba8,
+        })
+    }
+}
+
+/// Face normals for primitives without a NORMAL attribute (vertices shared by faces get the
+/// last face's normal).
+fn flat_normals(positions: &[Vec3], indices: &[u32]) -> Vec<Vec3> {
+    let mut normals = vec![Vec3::Y; positions.len()];
+    for tri in indices.chunks_exact(3) {
+        let [a, b, c] = [0, 1, 2].map(|k| positions[tri[k] as usize]);
+        let n = (b - a).cross(c - a).normalize_or(Vec3::Y);
+        for &i in tri {
+            normals[i as usize] = n;
+        }
+    }
+    normals
+}
+
+fn texture_ref(info: Option<gltf::texture::Info<'_>>) -> Option<TextureRef> {
+    info.map(|t| TextureRef {
+        image: t.texture().source().index(),
+        tex_coord: t.tex_coord(),
+    })
+}
+
+fn material(m: &gltf::Material<'_>) -> Material {
+    let pbr = m.pbr_metallic_roughness();
+    let normal = m.normal_texture();
+    let occlusion = m.occlusion_texture();
+    Material {
+        name: m.name().unwrap_or("").to_owned(),
+        base_color: Vec4::from(pbr.base_color_factor()),
+        base_color_texture: texture_ref(pbr.base_color_texture()),
+        metallic: pbr.metallic_factor(),
+        roughness: pbr.roughness_factor(),
+        metallic_roughness_texture: texture_ref(pbr.metallic_roughness_texture()),
+        normal_scale: normal.as_ref().map_or(1.0, |n| n.scale()),
+        normal_texture: normal.map(|t| TextureRef {
+            image: t.texture().source().index(),
+            tex_coord: t.tex_coord(),
+        }),
+        occlusion_strength: occlusion.as_ref().map_or(1.0, |o| o.strength()),
+        occlusion_texture: occlusion.map(|t| TextureRef {
+            image: t.texture().source().index(),
+            tex_coord: t.tex_coord(),
+        }),
+        emissive: Vec3::from(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0),
+        emissive_texture: texture_ref(m.emissive_texture()),
+        alpha_mode: match m.alpha_mode() {
+            gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
+            gltf::material::AlphaMode::Mask => AlphaMode::Mask {
+                cutoff: m.alpha_cutoff().unwrap_or(0.5),
+            },
+            gltf::material::AlphaMode::Blend => AlphaMode::Blend,
+        },
+        double_sided: m.double_sided(),
+    }
+}
+
+fn light_of(light: &gltf::khr_lights_punctual::Light<'_>, world: Mat4) -> SceneLight {
+    use gltf::khr_lights_punctual::Kind;
+    let kind = match light.kind() {
+        Kind::Point => LightKind::Point,
+        Kind::Directional => LightKind::Directional,
+        Kind::Spot {
+            inner_cone_angle,
+            outer_cone_angle,
+        } => LightKind::Spot {
+            inner_cone: inner_cone_angle,
+            outer_cone: outer_cone_angle,
+        },
+    };
+    SceneLight {
+        kind,
+        position: world.transform_point3(Vec3::ZERO),
+        // glTF lights point down their node's −Z.
+        direction: world
+            .transform_vector3(Vec3::NEG_Z)
+            .normalize_or(Vec3::NEG_Z),
+        color: Vec3::from(light.color()),
+        intensity: light.intensity(),
+        range: light.range(),
+    }
+}

@@ -1,0 +1,192 @@
+//! Scenes from glTF 2.0: meshes, materials with their textures, node transforms, cameras and
+//! `KHR_lights_punctual` lights, as plain CPU data ready to upload.
+//!
+//! [`Scene::load`] reads a `.gltf` or `.glb` file; anything malformed is a [`SceneError`] naming
+//! the file and the problem, never a panic.
+
+mod error;
+mod load;
+mod tangents;
+
+pub use error::SceneError;
+
+use glam::{Mat4, Vec2, Vec3, Vec4};
+
+/// An axis-aligned bounding box.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Aabb {
+    pub min: Vec3,
+    pub max: Vec3,
+}
+
+impl Aabb {
+    pub const EMPTY: Self = Self {
+        min: Vec3::splat(f32::INFINITY),
+        max: Vec3::splat(f32::NEG_INFINITY),
+    };
+
+    pub fn is_empty(&self) -> bool {
+        self.min.x > self.max.x
+    }
+
+    #[must_use]
+    pub fn with_point(self, p: Vec3) -> Self {
+        Self {
+            min: self.min.min(p),
+            max: self.max.max(p),
+        }
+    }
+
+    #[must_use]
+    pub fn union(self, other: Self) -> Self {
+        Self {
+            min: self.min.min(other.min),
+            max: self.max.max(other.max),
+        }
+    }
+
+    /// The box around this one transformed by `m`.
+    #[must_use]
+    pub fn transformed(self, m: Mat4) -> Self {
+        if self.is_empty() {
+            return self;
+        }
+        (0..8).fold(Self::EMPTY, |b, i| {
+            let corner = Vec3::new(
+                if i & 1 == 0 { self.min.x } else { self.max.x },
+                if i & 2 == 0 { self.min.y } else { self.max.y },
+                if i & 4 == 0 { self.min.z } else { self.max.z },
+            );
+            b.with_point(m.transform_point3(corner))
+        })
+    }
+
+    pub fn center(&self) -> Vec3 {
+        (self.min + self.max) * 0.5
+    }
+}
+
+/// Triangles of one material, indexed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Primitive {
+    pub positions: Vec<Vec3>,
+    pub normals: Vec<Vec3>,
+    pub uvs: Vec<Vec2>,
+    /// xyz tangent and handedness in w; generated (MikkTSpace) when the file has none.
+    pub tangents: Vec<Vec4>,
+    pub indices: Vec<u32>,
+    pub material: Option<usize>,
+    pub bounds: Aabb,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mesh {
+    pub name: String,
+    pub primitives: Vec<Primitive>,
+}
+
+/// A mesh placed in the world.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Instance {
+    pub mesh: usize,
+    pub world_from_mesh: Mat4,
+}
+
+/// A texture a material samples: an image and the UV set it uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TextureRef {
+    pub image: usize,
+    pub tex_coord: u32,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum AlphaMode {
+    Opaque,
+    /// Discard fragments whose alpha is below the cutoff.
+    Mask {
+        cutoff: f32,
+    },
+    /// Blended after opaque geometry, back to front.
+    Blend,
+}
+
+/// A metallic-roughness PBR material.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Material {
+    pub name: String,
+    pub base_color: Vec4,
+    pub base_color_texture: Option<TextureRef>,
+    pub metallic: f32,
+    pub roughness: f32,
+    pub metallic_roughness_texture: Option<TextureRef>,
+    pub normal_texture: Option<TextureRef>,
+    pub normal_scale: f32,
+    pub occlusion_texture: Option<TextureRef>,
+    pub occlusion_strength: f32,
+    pub emissive: Vec3,
+    pub emissive_texture: Option<TextureRef>,
+    pub alpha_mode: AlphaMode,
+    pub double_sided: bool,
+}
+
+/// An image decoded to RGBA8.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Image {
+    pub width: u32,
+    pub height: u32,
+    pub rgba8: Vec<u8>,
+}
+
+/// A perspective camera from the file.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SceneCamera {
+    pub world_from_view: Mat4,
+    pub yfov: f32,
+    pub aspect: Option<f32>,
+    pub znear: f32,
+    pub zfar: Option<f32>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum LightKind {
+    Point,
+    Spot { inner_cone: f32, outer_cone: f32 },
+    Directional,
+}
+
+/// A `KHR_lights_punctual` light in world space.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SceneLight {
+    pub kind: LightKind,
+    pub position: Vec3,
+    /// Direction the light points to (spot and directional).
+    pub direction: Vec3,
+    pub color: Vec3,
+    pub intensity: f32,
+    /// `None`: infinite range (the file set none).
+    pub range: Option<f32>,
+}
+
+/// A loaded glTF scene.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    pub meshes: Vec<Mesh>,
+    pub materials: Vec<Material>,
+    pub images: Vec<Image>,
+    pub instances: Vec<Instance>,
+    pub cameras: Vec<SceneCamera>,
+    pub lights: Vec<SceneLight>,
+    /// World-space bounds of every instance.
+    pub bounds: Aabb,
+}
+
+impl Scene {
+    /// Number of triangles over all instances.
+    pub fn triangle_count(&self) -> usize {
+        self.instances
+            .iter()
+            .flat_map(|i| &self.meshes[i.mesh].primitives)
+            .map(|p| p.indices.len() / 3)
+            .sum()
+    }
+}
