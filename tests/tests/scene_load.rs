@@ -224,3 +224,32 @@ fn an_unsupported_required_extension_is_named() {
         e => panic!("wrong error: {e}"),
     }
 }
+
+#[test]
+fn committed_scene_uploads_with_exact_buffers_and_texels() {
+    use renderer::scene::GpuScene;
+    let scene = Scene::load(committed_scene()).unwrap_or_else(|e| panic!("{e}"));
+    tests::gpu::gpu_test(|gpu| {
+        let uploaded = GpuScene::upload(&gpu.device, &gpu.queue, &scene);
+        assert_eq!(uploaded.meshes.len(), scene.meshes.len());
+        let p = &scene.meshes[0].primitives[0];
+        let g = &uploaded.meshes[0][0];
+        assert_eq!(g.index_count as usize, p.indices.len());
+        let read = |b: &wgpu::Buffer| {
+            renderer::readback::read_buffer::<u8>(&gpu.device, &gpu.queue, b).expect("readback")
+        };
+        assert_eq!(
+            read(&g.positions),
+            bytemuck::cast_slice::<_, u8>(&p.positions)
+        );
+        assert_eq!(read(&g.indices), bytemuck::cast_slice::<_, u8>(&p.indices));
+        let image = &scene.images[0];
+        let texels = renderer::readback::read_texture_rgba8(
+            &gpu.device,
+            &gpu.queue,
+            &uploaded.images[0].texture,
+        )
+        .expect("readback");
+        assert_eq!(texels, image.rgba8, "texels arrive unchanged");
+    });
+}

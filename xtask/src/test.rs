@@ -114,7 +114,12 @@ impl Counts {
 /// fails to build or crashes counts as one failure even if it printed no summary.
 #[expect(clippy::print_stdout, reason = "echoes the test output")]
 fn cargo_test(extra: &[String]) -> Result<Counts> {
-    let mut child = Command::new(env!("CARGO"))
+    let mut command = Command::new(env!("CARGO"));
+    if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
+        // Mesa's Vulkan drivers complain on every device creation without one (CI has none).
+        command.env("XDG_RUNTIME_DIR", private_runtime_dir()?);
+    }
+    let mut child = command
         .args(["test", "--workspace", "--no-fail-fast"])
         .args(extra)
         .current_dir(crate::workspace_root())
@@ -133,6 +138,16 @@ fn cargo_test(extra: &[String]) -> Result<Counts> {
         counts.failed = 1;
     }
     Ok(counts)
+}
+
+/// A runtime directory only this user can use (what `XDG_RUNTIME_DIR` must be).
+fn private_runtime_dir() -> Result<std::path::PathBuf> {
+    use std::os::unix::fs::PermissionsExt as _;
+    let dir = crate::workspace_root().join("target/xdg-runtime");
+    std::fs::create_dir_all(&dir).context("creating target/xdg-runtime")?;
+    std::fs::set_permissions(&dir, std::fs::Permissions::from_mode(0o700))
+        .context("restricting target/xdg-runtime")?;
+    Ok(dir)
 }
 
 #[cfg(test)]

@@ -2,13 +2,15 @@
 //! `KHR_lights_punctual` lights, as plain CPU data ready to upload.
 //!
 //! [`Scene::load`] reads a `.gltf` or `.glb` file; anything malformed is a [`SceneError`] naming
-//! the file and the problem, never a panic.
+//! the file and the problem, never a panic. [`GpuScene::upload`] puts it on the GPU.
 
 mod error;
+mod gpu;
 mod load;
 mod tangents;
 
 pub use error::SceneError;
+pub use gpu::{GpuImage, GpuPrimitive, GpuScene};
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
