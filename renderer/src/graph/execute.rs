@@ -41,6 +41,24 @@ pub struct PassTiming {
     pub gpu_ms: f64,
 }
 
+impl PassTiming {
+    /// Flattens wgpu-profiler's results for one frame into per-pass timings (nested scopes are
+    /// listed after their parent). Scopes without a time (no timestamp support) are skipped.
+    pub fn from_profiler(results: &[wgpu_profiler::GpuTimerQueryResult]) -> Vec<Self> {
+        let mut out = Vec::new();
+        for r in results {
+            if let Some(t) = &r.time {
+                out.push(Self {
+                    pass: r.label.clone(),
+                    gpu_ms: (t.end - t.start) * 1e3,
+                });
+            }
+            out.extend(Self::from_profiler(&r.nested_queries));
+        }
+        out
+    }
+}
+
 impl CompiledGraph {
     /// Binds an imported texture's GPU object.
     pub fn bind_texture(&mut self, handle: Handle<Texture>, texture: &wgpu::Texture) -> &mut Self {
