@@ -7,12 +7,19 @@
 //! here. [`MODULES`] lists every module, for tools such as `cargo xtask shaders`.
 
 pub mod bootstrap;
+pub mod calibrate;
 pub mod culling;
+pub mod forward;
 
 /// Every generated module, for tools that walk them all.
 pub static MODULES: &[&codegen::rt::Module] = &[
     &bootstrap::test_pattern::MODULE,
     &bootstrap::square_plus_index::MODULE,
+    &calibrate::fma_rate::MODULE,
     &culling::tile_cull::MODULE,
     &culling::cluster_cull::MODULE,
+    &forward::prez::MODULE,
+    &forward::forward::MODULE,
+    &forward::heatmap::MODULE,
+    &forward::tonemap::MODULE,
 ];

@@ -4,6 +4,7 @@
 //! `test` (everything CI checks); `info` describes the GPU adapters, and `check-invariants` enforces
 //! the architecture rules of ARCHITECTURE.md.
 
+mod bench_cull;
 mod demo;
 mod info;
 mod invariants;
@@ -35,6 +36,8 @@ enum Command {
     Shaders(shaders::Args),
     /// Check the architecture invariants of ARCHITECTURE.md.
     CheckInvariants,
+    /// GPU time of the light-culling kernels beside the physical floor.
+    BenchCull(bench_cull::Args),
 }
 
 fn main() -> anyhow::Result<()> {
@@ -44,6 +47,7 @@ fn main() -> anyhow::Result<()> {
         Command::Info(args) => info::run(&args),
         Command::Shaders(args) => shaders::run(&args),
         Command::CheckInvariants => invariants::run(),
+        Command::BenchCull(args) => bench_cull::run(&args),
     }
 }
 

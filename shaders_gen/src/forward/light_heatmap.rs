@@ -1,0 +1,119 @@
+//! The light-count heatmap debug view.
+
+/// Full-screen debug view: each pixel is coloured by the number of lights in its tile's or
+/// froxel's list (`GRID[cell].y`, the lists `tile_cull`/`cluster_cull` write), on a ramp black
+/// → blue → green → yellow → red with stops at counts 0, ¼, ½, ¾ and 1 × `max_count`
+/// (saturating). The bottom 16 pixel rows are the legend: the same ramp from left (0) to right
+/// (`max_count`).
+///
+/// `list` 1: tiled (cell from `tile_size`/`tiles`); `list` 2: clustered, whose depth slice comes
+/// from sample 0 of the depth buffer through `inv_projection` and `cluster_cull`'s `slice_of`;
+/// sky pixels (depth 1) show 0. The colours are written as they are: draw into a `*Unorm`
+/// target to get them as bytes.
+#[shader_dsl::shader(axes(list: u32 = [1, 2] => "list", msaa: u32 = [1, 2, 4, 8]), exclude(list == 1 && msaa > 1))]
+pub mod heatmap {
+    pub struct HeatmapParams {
+        pub inv_projection: Mat4,
+        /// Target size in pixels.
+        pub screen: UVec2,
+        /// Tiles across and down (tiled).
+        pub tiles: UVec2,
+        /// Froxels across, down and in depth (clustered).
+        pub grid: UVec3,
+        /// Tile size in pixels (tiled).
+        pub tile_size: u32,
+        pub near: f32,
+        pub far: f32,
+        /// Count shown as full red.
+        pub max_count: u32,
+    }
+
+    /// Rows of the legend strip at the bottom.
+    pub const LEGEND_ROWS: u32 = 16;
+
+    #[uniform(group = 0, binding = 0)]
+    static PARAMS: HeatmapParams;
+    #[storage(group = 0, binding = 1)]
+    static GRID: [UVec2];
+    #[storage(group = 0, binding = 2)]
+    static INDICES: [u32];
+    #[texture(group = 0, binding = 3)]
+    #[when(list == 2 && msaa == 1)]
+    static DEPTH: TextureDepth2d;
+    #[texture(group = 0, binding = 3)]
+    #[when(list == 2 && msaa > 1)]
+    static DEPTH_MS: TextureDepthMultisampled2d;
+
+    #[vertex]
+    pub fn vs_fullscreen(#[builtin(vertex_index)] index: u32) -> Vec4 {
+        let uv = Vec2::new(((index << 1u32) & 2u32) as f32, (index & 2u32) as f32);
+        Vec4::new(uv.x * 2.0 - 1.0, uv.y * 2.0 - 1.0, 0.0, 1.0)
+    }
+
+    /// The ramp colour at `t` in [0, 1].
+    fn ramp(t: f32) -> Vec3 {
+        let s = t.saturate() * 4.0;
+        let mut c = Vec3::ZERO.lerp(Vec3::Z, s);
+        if s > 1.0 {
+            c = Vec3::Z.lerp(Vec3::Y, s - 1.0);
+        }
+        if s > 2.0 {
+            c = Vec3::Y.lerp(Vec3::new(1.0, 1.0, 0.0), s - 2.0);
+        }
+        if s > 3.0 {
+            c = Vec3::new(1.0, 1.0, 0.0).lerp(Vec3::X, s - 3.0);
+        }
+        c
+    }
+
+    /// View depth (distance along −Z) of a depth-buffer value.
+    fn view_depth(d: f32) -> f32 {
+        let p = PARAMS.inv_projection * Vec4::new(0.0, 0.0, d, 1.0);
+        -p.z / p.w
+    }
+
+    /// `cluster_cull`'s `slice_of`.
+    fn slice_of(d: f32) -> u32 {
+        let t = (d / PARAMS.near).ln() / (PARAMS.far / PARAMS.near).ln();
+        let k = (t * PARAMS.grid.z as f32).floor().max(0.0);
+        (k as u32).min(PARAMS.grid.z - 1u32)
+    }
+
+    /// `cluster_cull`'s `column_of`.
+    fn column_of(x: u32, count: u32, size: u32) -> u32 {
+        ((x + 1u32) * count - 1u32) / size
+    }
+
+    #[fragment]
+    pub fn fs_heatmap(#[builtin(position)] position: Vec4) -> Vec4 {
+        let px = position.xy().floor().as_uvec2();
+        let max_count = PARAMS.max_count.max(1u32) as f32;
+        if px.y + LEGEND_ROWS >= PARAMS.screen.y {
+            let t = px.x as f32 / (PARAMS.screen.x - 1u32).max(1u32) as f32;
+            return ramp(t).extend(1.0);
+        }
+        let mut count = 0u32;
+        if list == 1 {
+            let t = px / PARAMS.tile_size;
+            count = GRID[t.y * PARAMS.tiles.x + t.x].y;
+        } else {
+            let mut d = 1.0;
+            if msaa == 1 {
+                d = DEPTH.load(px, 0u32);
+            } else {
+                d = DEPTH_MS.load(px, 0u32);
+            }
+            if d < 1.0 {
+                let g = PARAMS.grid;
+                let i = column_of(px.x, g.x, PARAMS.screen.x);
+                let j = column_of(px.y, g.y, PARAMS.screen.y);
+                let cell = (slice_of(view_depth(d)) * g.y + j) * g.x + i;
+                count = GRID[cell].y;
+            }
+        }
+        if INDICES.len() == 0u32 {
+            count = 0u32;
+        }
+        ramp(count as f32 / max_count).extend(1.0)
+    }
+}

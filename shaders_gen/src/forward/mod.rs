@@ -1,0 +1,17 @@
+//! Forward shading: the depth pre-pass, PBR metallic-roughness shading over the naive, tiled or
+//! clustered light lists, the light-count heatmap debug view, and tonemapping to sRGB.
+//!
+//! Light-list conventions are those of [`crate::culling`]: `GRID` holds `(offset, count)` per
+//! tile or froxel and `INDICES` the light indices, exactly as `tile_cull` and `cluster_cull`
+//! write them; light `i` of the list is entry `i` of the culling pass's item buffer and of
+//! `forward`'s `LIGHTS`.
+
+pub mod depth_prepass;
+pub mod light_heatmap;
+pub mod shading;
+pub mod tonemapping;
+
+pub use depth_prepass::prez;
+pub use light_heatmap::heatmap;
+pub use shading::forward;
+pub use tonemapping::tonemap;

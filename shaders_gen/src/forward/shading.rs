@@ -1,0 +1,313 @@
+//! Forward shading: PBR metallic-roughness over the naive, tiled or clustered light lists.
+
+/// Forward+ / clustered forward shading (GGX distribution, Smith/Schlick-GGX geometry, Schlick
+/// Fresnel, Lambert diffuse) into an `Rgba16Float` linear HDR target at location 0.
+///
+/// `list` picks how the punctual light list of a fragment is found:
+/// * `0` naive: every light `LIGHTS[0..light_count]`;
+/// * `1` tiled: `GRID[ty * tiles.x + tx]` with `(tx, ty) = floor(frag_coord.xy / tile_size)`;
+/// * `2` clustered: `GRID[(k * grid.y + j) * grid.x + i]` with `i = ((x + 1) * grid.x - 1) /
+///   screen.x` for pixel column `x` (rows likewise) and `k` the depth slice of the fragment's
+///   view depth by `cluster_cull`'s `slice_of`.
+///
+/// `GRID` entries are `(offset, count)` into `INDICES`, which index `LIGHTS`, as the culling
+/// kernels write them. Directional lights are never culled: they live in their own storage
+/// array `DIRECTIONAL` and the first `directional_count` of them shade every fragment. `LIGHTS`
+/// holds the punctual (point and spot) lights, in the culling pass's item order.
+///
+/// Falloff: `saturate(1 - (d / range)^4)^2 / max(d², 0.01²)`, with no window when `range` is 0
+/// (infinite). Spot cone: `smoothstep(cos_outer, cos_inner, cos θ)`.
+///
+/// With `blend` the output alpha is the material's (alpha blend); otherwise 1. Alpha mask is
+/// not available: the DSL has no `discard`.
+///
+/// With `scalarize` (tiled and clustered only), when every lane of the subgroup shares one list
+/// the list is read through `subgroup_broadcast_first` (uniform loads and loop, as in DOOM
+/// 2016); otherwise each lane walks its own list.
+#[shader_dsl::shader(
+    axes(
+        list: u32 = [0, 1, 2] => "list",
+        blend: bool = [false, true] => "blend",
+        scalarize: bool = [false, true] => "scalar",
+    ),
+    exclude(list == 0 && scalarize),
+    requires(subgroup = scalarize),
+)]
+pub mod forward {
+    /// The camera, same layout as `prez::Camera`.
+    pub struct Camera {
+        pub view: Mat4,
+        pub projection: Mat4,
+        pub view_projection: Mat4,
+        /// Eye position in world space.
+        pub eye: Vec3,
+    }
+
+    /// Light counts and the light-grid geometry of the frame.
+    pub struct Lighting {
+        /// Ambient radiance (times base colour and occlusion).
+        pub ambient: Vec3,
+        /// Punctual lights in `LIGHTS` (naive loop bound).
+        pub light_count: u32,
+        /// Target size in pixels (clustered column/row mapping).
+        pub screen: UVec2,
+        /// Tiles across and down (tiled).
+        pub tiles: UVec2,
+        /// Froxels across, down and in depth (clustered).
+        pub grid: UVec3,
+        /// Tile size in pixels (tiled).
+        pub tile_size: u32,
+        /// View depth where slice 1 starts (clustered).
+        pub near: f32,
+        /// View depth where the last slice starts (clustered).
+        pub far: f32,
+        /// Directional lights at the start of `DIRECTIONAL`.
+        pub directional_count: u32,
+    }
+
+    /// One light. `kind`: 0 point, 1 spot, 2 directional. `direction` is where a spot or
+    /// directional light points (unit length).
+    pub struct GpuLight {
+        pub position: Vec3,
+        /// 0: infinite (no window).
+        pub range: f32,
+        /// Linear colour.
+        pub color: Vec3,
+        /// Point/spot: candela (W/sr-like); directional: lux.
+        pub intensity: f32,
+        pub direction: Vec3,
+        pub kind: u32,
+        pub cos_inner: f32,
+        pub cos_outer: f32,
+    }
+
+    /// Per-draw transforms, same layout as `prez::Draw`.
+    pub struct Draw {
+        pub world_from_mesh: Mat4,
+        /// Inverse transpose of `world_from_mesh` (normals).
+        pub normal_from_mesh: Mat4,
+        pub material: u32,
+    }
+
+    /// glTF metallic-roughness factors; each multiplies its texture.
+    pub struct Material {
+        pub base_color: Vec4,
+        pub emissive: Vec3,
+        pub metallic: f32,
+        pub roughness: f32,
+        pub normal_scale: f32,
+        pub occlusion_strength: f32,
+        /// Kept for the masked pre-pass; unused here (no `discard` in the DSL).
+        pub alpha_cutoff: f32,
+    }
+
+    pub struct VsOut {
+        #[builtin(position)]
+        pub clip: Vec4,
+        #[location(0)]
+        pub world: Vec3,
+        #[location(1)]
+        pub normal: Vec3,
+        #[location(2)]
+        pub uv: Vec2,
+        #[location(3)]
+        pub tangent: Vec4,
+    }
+
+    pub const KIND_POINT: u32 = 0;
+    pub const KIND_SPOT: u32 = 1;
+    pub const KIND_DIRECTIONAL: u32 = 2;
+    /// Smallest roughness (keeps the GGX lobe finite).
+    pub const MIN_ROUGHNESS: f32 = 0.045;
+    const PI: f32 = core::f32::consts::PI;
+
+    #[uniform(group = 0, binding = 0)]
+    static CAMERA: Camera;
+    #[uniform(group = 0, binding = 1)]
+    static LIGHTING: Lighting;
+    #[storage(group = 0, binding = 2)]
+    static LIGHTS: [GpuLight];
+    #[storage(group = 0, binding = 3)]
+    static DIRECTIONAL: [GpuLight];
+    #[storage(group = 0, binding = 4)]
+    #[when(list > 0)]
+    static GRID: [UVec2];
+    #[storage(group = 0, binding = 5)]
+    #[when(list > 0)]
+    static INDICES: [u32];
+
+    #[uniform(group = 1, binding = 0)]
+    static DRAW: Draw;
+
+    #[uniform(group = 2, binding = 0)]
+    static MATERIAL: Material;
+    #[texture(group = 2, binding = 1)]
+    static BASE_COLOR_TEX: Texture2d<f32>;
+    #[texture(group = 2, binding = 2)]
+    static NORMAL_TEX: Texture2d<f32>;
+    #[texture(group = 2, binding = 3)]
+    static METALLIC_ROUGHNESS_TEX: Texture2d<f32>;
+    #[texture(group = 2, binding = 4)]
+    static OCCLUSION_TEX: Texture2d<f32>;
+    #[texture(group = 2, binding = 5)]
+    static EMISSIVE_TEX: Texture2d<f32>;
+    #[sampler(group = 2, binding = 6)]
+    static MATERIAL_SAMPLER: Sampler;
+
+    #[vertex]
+    pub fn vs_forward(
+        #[location(0)] position: Vec3,
+        #[location(1)] normal: Vec3,
+        #[location(2)] uv: Vec2,
+        #[location(3)] tangent: Vec4,
+    ) -> VsOut {
+        let world = DRAW.world_from_mesh * position.extend(1.0);
+        let n = (DRAW.normal_from_mesh * normal.extend(0.0)).xyz();
+        let t = (DRAW.world_from_mesh * tangent.xyz().extend(0.0)).xyz();
+        VsOut {
+            clip: CAMERA.view_projection * world,
+            world: world.xyz(),
+            normal: n,
+            uv,
+            tangent: t.extend(tangent.w),
+        }
+    }
+
+    /// The depth slice of view depth `d` (`cluster_cull`'s `slice_of`).
+    fn slice_of(d: f32) -> u32 {
+        let t = (d / LIGHTING.near).ln() / (LIGHTING.far / LIGHTING.near).ln();
+        let k = (t * LIGHTING.grid.z as f32).floor().max(0.0);
+        (k as u32).min(LIGHTING.grid.z - 1u32)
+    }
+
+    /// The froxel column (or row) of pixel `x` (`cluster_cull`'s `column_of`).
+    fn column_of(x: u32, count: u32, size: u32) -> u32 {
+        ((x + 1u32) * count - 1u32) / size
+    }
+
+    /// The `GRID` cell of a fragment: its tile, or its froxel.
+    fn cell_of(frag: Vec4, view_depth: f32) -> u32 {
+        let px = frag.xy().floor().as_uvec2();
+        let mut cell = 0u32;
+        if list == 1 {
+            let t = px / LIGHTING.tile_size;
+            cell = t.y * LIGHTING.tiles.x + t.x;
+        } else {
+            let g = LIGHTING.grid;
+            let i = column_of(px.x, g.x, LIGHTING.screen.x);
+            let j = column_of(px.y, g.y, LIGHTING.screen.y);
+            cell = (slice_of(view_depth) * g.y + j) * g.x + i;
+        }
+        cell
+    }
+
+    /// Radiance one light reflects towards `v` (GGX / Smith-Schlick / Schlick / Lambert).
+    fn shade_light(
+        light: GpuLight,
+        p: Vec3,
+        n: Vec3,
+        v: Vec3,
+        albedo: Vec3,
+        metallic: f32,
+        roughness: f32,
+    ) -> Vec3 {
+        let mut l = -light.direction;
+        let mut attenuation = 1.0;
+        if light.kind != KIND_DIRECTIONAL {
+            let to_light = light.position - p;
+            let d2 = to_light.dot(to_light);
+            l = to_light.normalize();
+            attenuation = 1.0 / d2.max(0.0001);
+            if light.range > 0.0 {
+                let r = d2 / (light.range * light.range);
+                let window = (1.0 - r * r).saturate();
+                attenuation = attenuation * window * window;
+            }
+            if light.kind == KIND_SPOT {
+                let cos_angle = light.direction.dot(-l);
+                attenuation = attenuation * cos_angle.smoothstep(light.cos_outer, light.cos_inner);
+            }
+        }
+        let nl = n.dot(l).max(0.0);
+        let h = (l + v).normalize();
+        let nv = n.dot(v).max(0.0001);
+        let nh = n.dot(h).max(0.0);
+        let vh = v.dot(h).max(0.0);
+        let a = roughness * roughness;
+        let a2 = a * a;
+        let dd = nh * nh * (a2 - 1.0) + 1.0;
+        let distribution = a2 / (PI * dd * dd);
+        let k = (roughness + 1.0) * (roughness + 1.0) / 8.0;
+        let geometry = nv / (nv * (1.0 - k) + k) * (nl / (nl * (1.0 - k) + k));
+        let f0 = Vec3::splat(0.04).lerp(albedo, metallic);
+        let fresnel = f0 + (Vec3::ONE - f0) * (1.0 - vh).powf(5.0);
+        let specular = fresnel * (distribution * geometry / (4.0 * nv * nl).max(0.0001));
+        let diffuse = (Vec3::ONE - fresnel) * (1.0 - metallic) * albedo / PI;
+        (diffuse + specular) * light.color * (light.intensity * attenuation * nl)
+    }
+
+    #[fragment]
+    pub fn fs_forward(input: VsOut) -> Vec4 {
+        let base = MATERIAL.base_color * BASE_COLOR_TEX.sample(MATERIAL_SAMPLER, input.uv);
+        let mr = METALLIC_ROUGHNESS_TEX.sample(MATERIAL_SAMPLER, input.uv);
+        let occlusion_texel = OCCLUSION_TEX.sample(MATERIAL_SAMPLER, input.uv).x;
+        let emissive = MATERIAL.emissive * EMISSIVE_TEX.sample(MATERIAL_SAMPLER, input.uv).xyz();
+        let tangent_normal = NORMAL_TEX.sample(MATERIAL_SAMPLER, input.uv).xyz() * 2.0 - 1.0;
+
+        // Tangent frame (Gram-Schmidt), bitangent handedness in tangent.w.
+        let nn = input.normal.normalize();
+        let t = (input.tangent.xyz() - nn * nn.dot(input.tangent.xyz())).normalize();
+        let b = nn.cross(t) * input.tangent.w;
+        let ts = Vec3::new(
+            tangent_normal.x * MATERIAL.normal_scale,
+            tangent_normal.y * MATERIAL.normal_scale,
+            tangent_normal.z,
+        );
+        let n = (t * ts.x + b * ts.y + nn * ts.z).normalize();
+
+        let albedo = base.xyz();
+        let metallic = (MATERIAL.metallic * mr.z).saturate();
+        let roughness = (MATERIAL.roughness * mr.y).clamp(MIN_ROUGHNESS, 1.0);
+        let occlusion = 1.0 + MATERIAL.occlusion_strength * (occlusion_texel - 1.0);
+        let p = input.world;
+        let v = (CAMERA.eye - p).normalize();
+
+        let mut color = LIGHTING.ambient * albedo * occlusion + emissive;
+        for i in 0u32..LIGHTING.directional_count {
+            color += shade_light(DIRECTIONAL[i], p, n, v, albedo, metallic, roughness);
+        }
+        if list == 0 {
+            for i in 0u32..LIGHTING.light_count {
+                color += shade_light(LIGHTS[i], p, n, v, albedo, metallic, roughness);
+            }
+        } else {
+            let view_depth = -(CAMERA.view * p.extend(1.0)).z;
+            let cell = cell_of(input.clip, view_depth);
+            let mut done = false;
+            if scalarize {
+                let first = subgroup_broadcast_first(cell);
+                if subgroup_all(first == cell) {
+                    // One list for the whole subgroup: uniform loads and trip count.
+                    let range = subgroup_broadcast_first(GRID[first]);
+                    for j in 0u32..range.y {
+                        let index = subgroup_broadcast_first(INDICES[range.x + j]);
+                        color += shade_light(LIGHTS[index], p, n, v, albedo, metallic, roughness);
+                    }
+                    done = true;
+                }
+            }
+            if !done {
+                let range = GRID[cell];
+                for j in 0u32..range.y {
+                    let index = INDICES[range.x + j];
+                    color += shade_light(LIGHTS[index], p, n, v, albedo, metallic, roughness);
+                }
+            }
+        }
+        let mut alpha = 1.0;
+        if blend {
+            alpha = base.w;
+        }
+        color.extend(alpha)
+    }
+}

@@ -1,0 +1,726 @@
+//! Forward shading on the GPU against plain-Rust references: the PBR light loop and falloff
+//! (naive variant) against a CPU evaluation of the formulas, the tiled and clustered light-list
+//! lookups against naive (complete lists) and against the CPU with deliberately partial lists,
+//! the tonemapper against its CPU curve + sRGB encode, and the light-count heatmap's ramp.
+
+mod forward_kernels;
+
+use forward_kernels::{ForwardInputs, draw_forward, draw_heatmap, draw_prez, draw_tonemap};
+use glam::camera::rh;
+use glam::{Mat4, UVec2, UVec3, Vec3, Vec4, Vec4Swizzles as _};
+use shaders_gen::forward::{forward, heatmap, prez, tonemap};
+use tests::gpu::gpu_test;
+
+const SIZE: u32 = 64;
+const PI: f32 = std::f32::consts::PI;
+
+/// A light as the CPU reference sees it.
+#[derive(Clone, Copy)]
+struct Light {
+    kind: u32,
+    position: Vec3,
+    direction: Vec3,
+    color: Vec3,
+    intensity: f32,
+    range: f32,
+    cos_inner: f32,
+    cos_outer: f32,
+}
+
+impl Light {
+    fn gpu(&self) -> forward::GpuLight {
+        forward::GpuLight::new(
+            self.position,
+            self.range,
+            self.color,
+            self.intensity,
+            self.direction,
+            self.kind,
+            self.cos_inner,
+            self.cos_outer,
+        )
+    }
+}
+
+/// Surface parameters of the test material (all textures white, normal map flat).
+struct Surface {
+    albedo: Vec3,
+    metallic: f32,
+    roughness: f32,
+    emissive: Vec3,
+    ambient: Vec3,
+}
+
+const SURFACE: Surface = Surface {
+    albedo: Vec3::new(0.8, 0.6, 0.4),
+    metallic: 0.3,
+    roughness: 0.5,
+    emissive: Vec3::new(0.05, 0.0, 0.0),
+    ambient: Vec3::splat(0.02),
+};
+
+fn punctual_lights() -> Vec<Light> {
+    let point = |position: Vec3, range: f32, color: Vec3, intensity: f32| Light {
+        kind: 0,
+        position,
+        direction: Vec3::NEG_Z,
+        color,
+        intensity,
+        range,
+        cos_inner: 1.0,
+        cos_outer: 1.0,
+    };
+    vec![
+        point(Vec3::new(0.5, 0.3, 1.0), 4.0, Vec3::new(1.0, 0.9, 0.8), 2.0),
+        // Infinite range: pure inverse square.
+        point(
+            Vec3::new(-0.7, -0.4, 0.6),
+            0.0,
+            Vec3::new(0.3, 0.5, 1.0),
+            0.5,
+        ),
+        // Range 1.2 at height 0.4: the smooth window fades it out across the image.
+        point(
+            Vec3::new(-0.5, 0.6, 0.4),
+            1.2,
+            Vec3::new(0.2, 1.0, 0.3),
+            1.0,
+        ),
+        // Behind the quad: contributes nothing.
+        point(Vec3::new(0.0, 0.0, -0.5), 0.0, Vec3::ONE, 5.0),
+        Light {
+            kind: 1,
+            position: Vec3::new(0.2, -0.2, 2.0),
+            direction: Vec3::new(0.1, 0.0, -1.0).normalize(),
+            color: Vec3::new(1.0, 0.8, 0.6),
+            intensity: 6.0,
+            range: 5.0,
+            cos_inner: 15f32.to_radians().cos(),
+            cos_outer: 30f32.to_radians().cos(),
+        },
+    ]
+}
+
+fn directional_lights() -> Vec<Light> {
+    vec![Light {
+        kind: 2,
+        position: Vec3::ZERO,
+        direction: Vec3::new(-0.3, -0.5, -1.0).normalize(),
+        color: Vec3::new(0.9, 0.9, 1.0),
+        intensity: 0.8,
+        range: 0.0,
+        cos_inner: 1.0,
+        cos_outer: 1.0,
+    }]
+}
+
+/// GGX normal distribution, with `alpha = roughness²`.
+fn ggx(n_dot_h: f32, roughness: f32) -> f32 {
+    let alpha2 = roughness.powi(4);
+    let q = n_dot_h * n_dot_h * (alpha2 - 1.0) + 1.0;
+    alpha2 / (PI * q * q)
+}
+
+/// Smith's geometry term with Schlick-GGX for direct lighting, `k = (r + 1)² / 8`.
+fn smith_schlick_ggx(n_dot_v: f32, n_dot_l: f32, roughness: f32) -> f32 {
+    let k = (roughness + 1.0).powi(2) / 8.0;
+    let g1 = |x: f32| x / (x * (1.0 - k) + k);
+    g1(n_dot_v) * g1(n_dot_l)
+}
+
+fn fresnel_schlick(v_dot_h: f32, f0: Vec3) -> Vec3 {
+    f0 + (Vec3::ONE - f0) * (1.0 - v_dot_h).powi(5)
+}
+
+/// `saturate(1 − (d/range)⁴)² / max(d², 0.01²)`; range 0 is infinite.
+fn falloff(d: f32, range: f32) -> f32 {
+    let window = if range > 0.0 {
+        (1.0 - (d / range).powi(4)).clamp(0.0, 1.0).powi(2)
+    } else {
+        1.0
+    };
+    window / (d * d).max(0.01 * 0.01)
+}
+
+fn smoothstep(e0: f32, e1: f32, x: f32) -> f32 {
+    let t = ((x - e0) / (e1 - e0)).clamp(0.0, 1.0);
+    t * t * (3.0 - 2.0 * t)
+}
+
+/// Outgoing radiance at `p` (normal `n`, towards the eye) from `lights`, plus ambient and
+/// emission, evaluated from the formulas in f64-free plain f32 Rust.
+fn shade_cpu(p: Vec3, n: Vec3, eye: Vec3, s: &Surface, lights: &[Light]) -> Vec3 {
+    let v = (eye - p).normalize();
+    let f0 = Vec3::splat(0.04) * (1.0 - s.metallic) + s.albedo * s.metallic;
+    let mut color = s.ambient * s.albedo + s.emissive;
+    for light in lights {
+        let (l, radiance) = if light.kind == 2 {
+            (-light.direction, light.color * light.intensity)
+        } else {
+            let to_light = light.position - p;
+            let d = to_light.length();
+            let l = to_light / d;
+            let mut a = falloff(d, light.range);
+            if light.kind == 1 {
+                a *= smoothstep(light.cos_outer, light.cos_inner, light.direction.dot(-l));
+            }
+            (l, light.color * light.intensity * a)
+        };
+        let n_dot_l = n.dot(l).max(0.0);
+        if n_dot_l == 0.0 {
+            continue;
+        }
+        let h = (l + v).normalize();
+        let n_dot_v = n.dot(v).max(1e-4);
+        let f = fresnel_schlick(v.dot(h).max(0.0), f0);
+        let specular = f
+            * ggx(n.dot(h).max(0.0), s.roughness)
+            * smith_schlick_ggx(n_dot_v, n_dot_l, s.roughness)
+            / (4.0 * n_dot_v * n_dot_l).max(1e-4);
+        let diffuse = (Vec3::ONE - f) * (1.0 - s.metallic) * s.albedo / PI;
+        color += (diffuse + specular) * radiance * n_dot_l;
+    }
+    color
+}
+
+struct Scene {
+    view: Mat4,
+    projection: Mat4,
+    eye: Vec3,
+    lights: Vec<Light>,
+    directional: Vec<Light>,
+}
+
+fn scene() -> Scene {
+    let eye = Vec3::new(0.0, 0.0, 3.0);
+    Scene {
+        view: rh::view::look_at_mat4(eye, Vec3::ZERO, Vec3::Y),
+        projection: rh::proj::directx::perspective(60f32.to_radians(), 1.0, 0.1, 100.0),
+        eye,
+        lights: punctual_lights(),
+        directional: directional_lights(),
+    }
+}
+
+/// A 4×4 quad in the z = 0 plane facing +Z (covers the whole view).
+fn quad() -> Vec<[f32; 12]> {
+    let v = |x: f32, y: f32| {
+        [
+            x,
+            y,
+            0.0,
+            0.0,
+            0.0,
+            1.0,
+            (x + 2.0) / 4.0,
+            (2.0 - y) / 4.0,
+            1.0,
+            0.0,
+            0.0,
+            1.0,
+        ]
+    };
+    vec![
+        v(-2.0, -2.0),
+        v(2.0, -2.0),
+        v(2.0, 2.0),
+        v(-2.0, -2.0),
+        v(2.0, 2.0),
+        v(-2.0, 2.0),
+    ]
+}
+
+/// Clustered grid of the tests, with `near`/`far` as `cluster_cull` takes them.
+const GRID: UVec3 = UVec3::new(4, 4, 8);
+const TILE: u32 = 16;
+const NEAR: f32 = 0.5;
+const FAR: f32 = 50.0;
+
+fn inputs<'a>(
+    s: &Scene,
+    lights: &'a [forward::GpuLight],
+    directional: &'a [forward::GpuLight],
+    grid: &'a [UVec2],
+    indices: &'a [u32],
+    vertices: &'a [[f32; 12]],
+) -> ForwardInputs<'a> {
+    let tiles = UVec2::splat(SIZE.div_ceil(TILE));
+    ForwardInputs {
+        size: SIZE,
+        camera: forward::Camera::new(s.view, s.projection, s.projection * s.view, s.eye),
+        lighting: forward::Lighting::new(
+            SURFACE.ambient,
+            lights.len() as u32,
+            UVec2::splat(SIZE),
+            tiles,
+            GRID,
+            TILE,
+            NEAR,
+            FAR,
+            directional.len() as u32,
+        ),
+        lights,
+        directional,
+        grid,
+        indices,
+        draw: forward::Draw::new(Mat4::IDENTITY, Mat4::IDENTITY, 0),
+        material: forward::Material::new(
+            SURFACE.albedo.extend(1.0),
+            SURFACE.emissive,
+            SURFACE.metallic,
+            SURFACE.roughness,
+            1.0,
+            1.0,
+            0.5,
+        ),
+        vertices,
+    }
+}
+
+/// The world point of the quad (z = 0) seen at the centre of pixel (x, y).
+fn quad_point(s: &Scene, x: u32, y: u32) -> Vec3 {
+    let ndc = Vec4::new(
+        2.0 * (x as f32 + 0.5) / SIZE as f32 - 1.0,
+        1.0 - 2.0 * (y as f32 + 0.5) / SIZE as f32,
+        0.5,
+        1.0,
+    );
+    let inv = (s.projection * s.view).inverse();
+    let far = inv * ndc;
+    let dir = far.xyz() / far.w - s.eye;
+    s.eye + dir * (-s.eye.z / dir.z)
+}
+
+fn key(list: forward::List, scalarize: bool) -> forward::VariantKey {
+    forward::VariantKey {
+        list,
+        blend: false,
+        scalarize,
+    }
+}
+
+/// Compares a GPU image with the CPU radiance at every pixel. Tolerance: f32 on both sides,
+/// but the GPU interpolates the world position barycentrically and lavapipe's `pow`,
+/// `normalize` and division are LLVM approximations (a few ulp); the GGX lobe amplifies relative
+/// errors of `n·h` by at most ~10 here. 2e-3 relative (+1e-5 absolute) is ~100× the error
+/// observed, and far below any formula slip (a wrong k, a missing π or a squared window changes
+/// values by tens of percent).
+fn assert_matches_cpu(image: &[[f32; 4]], expected: impl Fn(u32, u32) -> Vec3, what: &str) {
+    let mut worst = 0.0f32;
+    for y in 0..SIZE {
+        for x in 0..SIZE {
+            let got = Vec4::from(image[(y * SIZE + x) as usize]);
+            let want = expected(x, y);
+            for c in 0..3 {
+                let err = (got[c] - want[c]).abs();
+                let bound = 2e-3 * want[c].abs() + 1e-5;
+                assert!(
+                    err <= bound,
+                    "{what}: pixel ({x},{y}) channel {c}: GPU {} vs CPU {}",
+                    got[c],
+                    want[c]
+                );
+                worst = worst.max(err / want[c].abs().max(1e-3));
+            }
+            assert_eq!(got.w, 1.0, "{what}: opaque alpha at ({x},{y})");
+        }
+    }
+    eprintln!("{what}: worst relative error {worst:e}");
+}
+
+fn gpu_lights(lights: &[Light]) -> Vec<forward::GpuLight> {
+    lights.iter().map(Light::gpu).collect()
+}
+
+#[test]
+fn naive_forward_matches_cpu_brdf_and_falloff() {
+    let s = scene();
+    let (lights, directional) = (gpu_lights(&s.lights), gpu_lights(&s.directional));
+    let vertices = quad();
+    let image = gpu_test(|gpu| {
+        draw_forward(
+            gpu,
+            key(forward::List::List0, false),
+            &inputs(&s, &lights, &directional, &[], &[], &vertices),
+        )
+    });
+    let all: Vec<Light> = s.directional.iter().chain(&s.lights).copied().collect();
+    assert_matches_cpu(
+        &image,
+        |x, y| shade_cpu(quad_point(&s, x, y), Vec3::Z, s.eye, &SURFACE, &all),
+        "naive",
+    );
+    // The scene exercises what it claims: the windowed light fades out inside the image and
+    // the spot cone has an edge.
+    let centre = shade_cpu(Vec3::ZERO, Vec3::Z, s.eye, &SURFACE, &all);
+    assert!(centre.x > 0.1, "lit centre {centre}");
+    let windowed = &s.lights[2];
+    let far_corner = quad_point(&s, SIZE - 1, SIZE - 1);
+    assert!(windowed.position.distance(far_corner) > windowed.range);
+}
+
+/// Every tile and every froxel lists every light, in order.
+fn complete_lists(count: u32, cells: u32) -> (Vec<UVec2>, Vec<u32>) {
+    (
+        vec![UVec2::new(0, count); cells as usize],
+        (0..count).collect(),
+    )
+}
+
+#[test]
+fn tiled_and_clustered_with_complete_lists_equal_naive() {
+    let s = scene();
+    let (lights, directional) = (gpu_lights(&s.lights), gpu_lights(&s.directional));
+    let vertices = quad();
+    let n = lights.len() as u32;
+    let tiles = SIZE.div_ceil(TILE).pow(2);
+    let (tile_grid, tile_indices) = complete_lists(n, tiles);
+    let (cluster_grid, cluster_indices) = complete_lists(n, GRID.x * GRID.y * GRID.z);
+    let (naive, tiled, clustered, scalar) = gpu_test(|gpu| {
+        let run = |k, grid: &[UVec2], indices: &[u32]| {
+            draw_forward(
+                gpu,
+                k,
+                &inputs(&s, &lights, &directional, grid, indices, &vertices),
+            )
+        };
+        let scalar = gpu.capabilities().subgroup.is_some().then(|| {
+            (
+                run(key(forward::List::List1, true), &tile_grid, &tile_indices),
+                run(
+                    key(forward::List::List2, true),
+                    &cluster_grid,
+                    &cluster_indices,
+                ),
+            )
+        });
+        (
+            run(key(forward::List::List0, false), &[], &[]),
+            run(key(forward::List::List1, false), &tile_grid, &tile_indices),
+            run(
+                key(forward::List::List2, false),
+                &cluster_grid,
+                &cluster_indices,
+            ),
+            scalar,
+        )
+    });
+    // Same lights in the same order through the same function: only the loop bound's source
+    // differs, so the images agree to rounding (exact on lavapipe).
+    let close = |a: &[[f32; 4]], b: &[[f32; 4]], what: &str| {
+        for (i, (p, q)) in a.iter().zip(b).enumerate() {
+            for c in 0..4 {
+                assert!(
+                    (p[c] - q[c]).abs() <= 1e-6 * p[c].abs().max(1.0),
+                    "{what} differs from naive at pixel {i}: {p:?} vs {q:?}"
+                );
+            }
+        }
+    };
+    close(&naive, &tiled, "tiled");
+    close(&naive, &clustered, "clustered");
+    let (tiled_scalar, clustered_scalar) = scalar.expect("lavapipe has SUBGROUP");
+    close(&naive, &tiled_scalar, "tiled scalarized");
+    close(&naive, &clustered_scalar, "clustered scalarized");
+}
+
+/// The subset of lights cell `cell` lists in the partial-list tests: a different, non-empty or
+/// empty subset per cell, so reading the wrong cell shows.
+fn partial_subset(cell: u32, count: u32) -> Vec<u32> {
+    (0..count)
+        .filter(|&l| (cell.wrapping_mul(2_654_435_761) >> (l * 3 + 5)) & 1 == 1)
+        .collect()
+}
+
+fn partial_lists(cells: u32, count: u32) -> (Vec<UVec2>, Vec<u32>) {
+    let mut grid = Vec::new();
+    let mut indices = Vec::new();
+    for cell in 0..cells {
+        let list = partial_subset(cell, count);
+        grid.push(UVec2::new(indices.len() as u32, list.len() as u32));
+        indices.extend(list);
+    }
+    (grid, indices)
+}
+
+/// `cluster_cull`'s slice of a view depth.
+fn slice_of(d: f32) -> u32 {
+    let t = (d / NEAR).ln() / (FAR / NEAR).ln();
+    ((t * GRID.z as f32).floor().max(0.0) as u32).min(GRID.z - 1)
+}
+
+#[test]
+fn tiled_and_clustered_read_their_partial_lists() {
+    let s = scene();
+    let (lights, directional) = (gpu_lights(&s.lights), gpu_lights(&s.directional));
+    let vertices = quad();
+    let n = lights.len() as u32;
+    let tiles_x = SIZE.div_ceil(TILE);
+    let (tile_grid, tile_indices) = partial_lists(tiles_x * tiles_x, n);
+    let (cluster_grid, cluster_indices) = partial_lists(GRID.x * GRID.y * GRID.z, n);
+    let scalar = gpu_test(|gpu| gpu.capabilities().subgroup.is_some());
+    for scalarize in [false, true].into_iter().filter(|&sc| !sc || scalar) {
+        let (naive, tiled, clustered) = gpu_test(|gpu| {
+            let run = |k, grid: &[UVec2], indices: &[u32]| {
+                draw_forward(
+                    gpu,
+                    k,
+                    &inputs(&s, &lights, &directional, grid, indices, &vertices),
+                )
+            };
+            (
+                run(key(forward::List::List0, false), &[], &[]),
+                run(
+                    key(forward::List::List1, scalarize),
+                    &tile_grid,
+                    &tile_indices,
+                ),
+                run(
+                    key(forward::List::List2, scalarize),
+                    &cluster_grid,
+                    &cluster_indices,
+                ),
+            )
+        });
+        assert_ne!(tiled, naive, "partial tile lists must change the image");
+        assert_ne!(
+            clustered, naive,
+            "partial froxel lists must change the image"
+        );
+        let expected = |cell: u32, x: u32, y: u32| {
+            let mut used: Vec<Light> = s.directional.clone();
+            used.extend(
+                partial_subset(cell, n)
+                    .iter()
+                    .map(|&l| s.lights[l as usize]),
+            );
+            shade_cpu(quad_point(&s, x, y), Vec3::Z, s.eye, &SURFACE, &used)
+        };
+        assert_matches_cpu(
+            &tiled,
+            |x, y| expected((y / TILE) * tiles_x + x / TILE, x, y),
+            &format!("tiled partial (scalarize {scalarize})"),
+        );
+        // The quad is at view depth 3 everywhere: slice 3 of 8 (t·8 = 3.11, far from an edge).
+        let k = slice_of(3.0);
+        assert_eq!(k, 3);
+        let column = |x: u32, count: u32| ((x + 1) * count - 1) / SIZE;
+        assert_matches_cpu(
+            &clustered,
+            |x, y| {
+                let cell = (k * GRID.y + column(y, GRID.y)) * GRID.x + column(x, GRID.x);
+                expected(cell, x, y)
+            },
+            &format!("clustered partial (scalarize {scalarize})"),
+        );
+    }
+}
+
+/// ACES filmic, Narkowicz's fit, clamped to [0, 1].
+fn aces_cpu(x: f32) -> f32 {
+    ((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14)).clamp(0.0, 1.0)
+}
+
+/// Khronos PBR Neutral, from its published definition.
+fn neutral_cpu(c: Vec3) -> Vec3 {
+    let start_compression = 0.8 - 0.04;
+    let desaturation = 0.15;
+    let x = c.min_element();
+    let offset = if x < 0.08 { x - 6.25 * x * x } else { 0.04 };
+    let c = c - offset;
+    let peak = c.max_element();
+    if peak < start_compression {
+        return c;
+    }
+    let d = 1.0 - start_compression;
+    let new_peak = 1.0 - d * d / (peak + d - start_compression);
+    let c = c * (new_peak / peak);
+    let g = 1.0 - 1.0 / (desaturation * (peak - new_peak) + 1.0);
+    c * (1.0 - g) + Vec3::splat(new_peak) * g
+}
+
+fn srgb_encode(l: f32) -> u8 {
+    let l = l.clamp(0.0, 1.0);
+    let s = if l <= 0.003_130_8 {
+        12.92 * l
+    } else {
+        1.055 * l.powf(1.0 / 2.4) - 0.055
+    };
+    (s * 255.0).round() as u8
+}
+
+#[test]
+fn tonemap_matches_cpu_curve_and_srgb_encode() {
+    let size = (16u32, 4u32);
+    let exposure = 1.5;
+    let hdr: Vec<[f32; 4]> = (0..size.0 * size.1)
+        .map(|i| {
+            let t = i as f32 / 8.0;
+            [t * 0.05, t * t * 0.1, (i % 5) as f32 * 0.7, 1.0]
+        })
+        .collect();
+    for curve in tonemap::Curve::ALL {
+        let bytes =
+            gpu_test(|gpu| draw_tonemap(gpu, tonemap::VariantKey { curve }, exposure, size, &hdr));
+        for (i, px) in hdr.iter().enumerate() {
+            let c = Vec3::new(px[0], px[1], px[2]) * exposure;
+            let mapped = match curve {
+                tonemap::Curve::Curve0 => Vec3::new(aces_cpu(c.x), aces_cpu(c.y), aces_cpu(c.z)),
+                tonemap::Curve::Curve1 => neutral_cpu(c),
+            };
+            let want = [
+                srgb_encode(mapped.x),
+                srgb_encode(mapped.y),
+                srgb_encode(mapped.z),
+                255,
+            ];
+            let got = &bytes[i * 4..i * 4 + 4];
+            for c in 0..4 {
+                assert!(
+                    (i32::from(got[c]) - i32::from(want[c])).abs() <= 1,
+                    "{curve:?} texel {i} channel {c}: GPU {got:?} vs CPU {want:?}"
+                );
+            }
+        }
+    }
+}
+
+/// The heatmap ramp from its stops: black, blue, green, yellow, red at 0, ¼, ½, ¾, 1.
+fn ramp_cpu(t: f32) -> Vec3 {
+    let stops = [
+        Vec3::ZERO,
+        Vec3::Z,
+        Vec3::Y,
+        Vec3::new(1.0, 1.0, 0.0),
+        Vec3::X,
+    ];
+    let s = t.clamp(0.0, 1.0) * 4.0;
+    let i = (s.ceil() as usize).clamp(1, 4);
+    stops[i - 1].lerp(stops[i], s - (i - 1) as f32)
+}
+
+fn assert_ramp_pixel(bytes: &[u8], x: u32, y: u32, t: f32, what: &str) {
+    let want = ramp_cpu(t) * 255.0;
+    let at = ((y * SIZE + x) * 4) as usize;
+    let got = &bytes[at..at + 4];
+    for c in 0..3 {
+        assert!(
+            (f32::from(got[c]) - want[c]).abs() <= 1.0,
+            "{what} pixel ({x},{y}): GPU {got:?} vs ramp({t}) = {want}"
+        );
+    }
+    assert_eq!(got[3], 255);
+}
+
+#[test]
+fn heatmap_colours_counts_on_the_ramp_with_a_legend() {
+    let s = scene();
+    let max_count = 12u32;
+    let tiles_x = SIZE.div_ceil(TILE);
+    // Tile t lists t lights (counts 0..15, saturating past 12).
+    let tile_grid: Vec<UVec2> = (0..tiles_x * tiles_x).map(|t| UVec2::new(0, t)).collect();
+    let cells = GRID.x * GRID.y * GRID.z;
+    let cluster_grid: Vec<UVec2> = (0..cells).map(|c| UVec2::new(0, c % 13)).collect();
+    // Depth of view distance 3 for the clustered variant: slice 3.
+    let clip = s.projection * Vec4::new(0.0, 0.0, -3.0, 1.0);
+    let depth = clip.z / clip.w;
+    let params = heatmap::HeatmapParams::new(
+        s.projection.inverse(),
+        UVec2::splat(SIZE),
+        UVec2::splat(tiles_x),
+        GRID,
+        TILE,
+        NEAR,
+        FAR,
+        max_count,
+    );
+    let (tiled, clustered, sky) = gpu_test(|gpu| {
+        let k = |list| heatmap::VariantKey {
+            list,
+            msaa: heatmap::Msaa::Msaa1,
+        };
+        (
+            draw_heatmap(gpu, k(heatmap::List::List1), &params, &tile_grid, 0.0),
+            draw_heatmap(gpu, k(heatmap::List::List2), &params, &cluster_grid, depth),
+            draw_heatmap(gpu, k(heatmap::List::List2), &params, &cluster_grid, 1.0),
+        )
+    });
+    let legend_top = SIZE - heatmap::LEGEND_ROWS;
+    for y in (0..legend_top).step_by(5) {
+        for x in (0..SIZE).step_by(3) {
+            let tile = (y / TILE) * tiles_x + x / TILE;
+            let t = tile as f32 / max_count as f32;
+            assert_ramp_pixel(&tiled, x, y, t, "tiled");
+            let k = slice_of(3.0);
+            let column = |x: u32, count: u32| ((x + 1) * count - 1) / SIZE;
+            let cell = (k * GRID.y + column(y, GRID.y)) * GRID.x + column(x, GRID.x);
+            assert_ramp_pixel(
+                &clustered,
+                x,
+                y,
+                (cell % 13) as f32 / max_count as f32,
+                "clustered",
+            );
+            assert_ramp_pixel(&sky, x, y, 0.0, "sky");
+        }
+    }
+    for image in [&tiled, &clustered, &sky] {
+        for y in legend_top..SIZE {
+            for x in 0..SIZE {
+                let t = x as f32 / (SIZE - 1) as f32;
+                assert_ramp_pixel(image, x, y, t, "legend");
+            }
+        }
+    }
+}
+
+#[test]
+fn prez_writes_the_projected_depth_of_a_tilted_quad() {
+    let s = scene();
+    // The quad tilted 30° about X and pushed back: its depth varies down the image.
+    let world = Mat4::from_translation(Vec3::new(0.0, 0.0, -1.0))
+        * Mat4::from_rotation_x(30f32.to_radians());
+    let vertices: Vec<[f32; 5]> = quad()
+        .iter()
+        .map(|v| [v[0] * 2.0, v[1] * 2.0, v[2], v[6], v[7]])
+        .collect();
+    let depth = gpu_test(|gpu| {
+        draw_prez(
+            gpu,
+            SIZE,
+            &prez::Camera::new(s.view, s.projection, s.projection * s.view, s.eye),
+            &prez::Draw::new(world, world.inverse().transpose(), 0),
+            &vertices,
+        )
+    });
+    // CPU: intersect the pixel-centre ray with the tilted plane, project, take z/w.
+    let normal = world.transform_vector3(Vec3::Z);
+    let origin = world.transform_point3(Vec3::ZERO);
+    let view_projection = s.projection * s.view;
+    let inv = view_projection.inverse();
+    let mut spread = (f32::MAX, f32::MIN);
+    for y in 0..SIZE {
+        for x in 0..SIZE {
+            let ndc = Vec4::new(
+                2.0 * (x as f32 + 0.5) / SIZE as f32 - 1.0,
+                1.0 - 2.0 * (y as f32 + 0.5) / SIZE as f32,
+                0.5,
+                1.0,
+            );
+            let p = inv * ndc;
+            let dir = p.xyz() / p.w - s.eye;
+            let t = (origin - s.eye).dot(normal) / dir.dot(normal);
+            let hit = s.eye + dir * t;
+            let clip = view_projection * hit.extend(1.0);
+            let want = clip.z / clip.w;
+            let got = depth[(y * SIZE + x) as usize];
+            // Depth is interpolated linearly in screen space in f32: a few ulp of [0, 1].
+            assert!(
+                (got - want).abs() <= 1e-5,
+                "pixel ({x},{y}): depth {got} vs CPU {want}"
+            );
+            spread = (spread.0.min(want), spread.1.max(want));
+        }
+    }
+    assert!(spread.1 - spread.0 > 1e-3, "depth varies: {spread:?}");
+}
