@@ -403,3 +403,24 @@ fn overflow_reported_asynchronously_then_buffers_grow_for_the_next_frame() {
         "frame 2 lists what an unconstrained run lists"
     );
 }
+
+#[test]
+fn an_index_list_larger_than_a_binding_is_a_clear_error() {
+    use renderer::culling::{CullError, max_index_entries};
+    gpu_test(|gpu| {
+        let too_big = max_index_entries(&gpu.device) + 1;
+        let config = TileCullConfig {
+            index_capacity: too_big,
+            ..config(16, 1, false)
+        };
+        match TiledCulling::new(gpu, config, 64, 64) {
+            Err(CullError::IndexListTooLarge {
+                entries,
+                max_entries,
+            }) => {
+                assert_eq!((entries, max_entries), (too_big, too_big - 1));
+            }
+            other => panic!("expected IndexListTooLarge, got {other:?}"),
+        }
+    });
+}

@@ -259,6 +259,7 @@ fn time_cell(
             .collect()
     };
     let (view, projection) = (scene.camera.view, scene.camera.projection);
+    let index_capacity = renderer::culling::max_index_entries(&gpu.device).min(1 << 26);
     match cell {
         Cell::Tiled {
             tile,
@@ -271,7 +272,7 @@ fn time_cell(
                 scalarize,
                 depth_mask,
                 max_per_tile: tile_cull::MAX_PER_TILE,
-                index_capacity: 1 << 26,
+                index_capacity,
                 item_capacity: n,
             };
             let mut culling = TiledCulling::new(gpu, config, w, h)?;
@@ -299,7 +300,7 @@ fn time_cell(
                 scalarize,
                 skip_empty: true,
                 max_per_cluster: cluster_cull::MAX_PER_CLUSTER,
-                index_capacity: 1 << 26,
+                index_capacity,
                 item_capacity: n,
             };
             let mut culling = ClusteredCulling::new(gpu, config, w, h)?;

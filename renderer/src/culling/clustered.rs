@@ -70,6 +70,7 @@ impl ClusteredCulling {
                 limit: cluster_cull::MAX_PER_CLUSTER,
             });
         }
+        super::check_index_capacity(&gpu.device, config.index_capacity)?;
         let variant = cluster_cull::variant(variant_key(&config)?);
         let program = ShaderProgram::new(&gpu.device, gpu.capabilities(), variant)?;
         let device = &gpu.device;
@@ -166,8 +167,13 @@ impl ClusteredCulling {
         }
     }
 
-    /// Takes new capacities (from [`super::overflow::grow_for`]) for the next frame.
+    /// Takes new capacities (from [`super::overflow::grow_for`]) for the next frame. The index
+    /// list never grows past what one storage binding holds; beyond that, overflow stays counted.
     pub fn grow(&mut self, device: &wgpu::Device, caps: super::overflow::Capacities) {
+        let caps = super::overflow::Capacities {
+            index: caps.index.min(super::max_index_entries(device)),
+            ..caps
+        };
         self.config.max_per_cluster = caps.per_cell.min(cluster_cull::MAX_PER_CLUSTER);
         if caps.index != self.config.index_capacity {
             self.config.index_capacity = caps.index;

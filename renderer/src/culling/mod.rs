@@ -31,10 +31,35 @@ pub enum CullError {
          larger item_capacity"
     )]
     TooManyItems { count: usize, capacity: u32 },
+    #[error(
+        "an index list of {entries} entries does not fit one storage binding on this device (at \
+         most {max_entries}); use a smaller index capacity, fewer lights, or the 2.5D or \
+         clustered method, which list fewer entries"
+    )]
+    IndexListTooLarge { entries: u32, max_entries: u32 },
     #[error(transparent)]
     Variant(#[from] VariantError),
     #[error(transparent)]
     Gpu(#[from] GpuError),
+}
+
+/// The most index-list entries one storage binding holds on `device` (guard region included).
+pub fn max_index_entries(device: &wgpu::Device) -> u32 {
+    let words = device.limits().max_storage_buffer_binding_size / 4;
+    u32::try_from(words)
+        .unwrap_or(u32::MAX)
+        .saturating_sub(lists::GUARD_WORDS)
+}
+
+fn check_index_capacity(device: &wgpu::Device, entries: u32) -> Result<(), CullError> {
+    let max_entries = max_index_entries(device);
+    if entries > max_entries {
+        return Err(CullError::IndexListTooLarge {
+            entries,
+            max_entries,
+        });
+    }
+    Ok(())
 }
 
 fn check_item_count(count: usize, capacity: u32) -> Result<(), CullError> {

@@ -77,6 +77,7 @@ impl TiledCulling {
                 limit: tile_cull::MAX_PER_TILE,
             });
         }
+        super::check_index_capacity(&gpu.device, config.index_capacity)?;
         let variant = tile_cull::variant(variant_key(&config)?);
         let program = ShaderProgram::new(&gpu.device, gpu.capabilities(), variant)?;
         let pipeline = program.compute_pipeline(&gpu.device, "cull")?;
@@ -157,8 +158,13 @@ impl TiledCulling {
         }
     }
 
-    /// Takes new capacities (from [`super::overflow::grow_for`]) for the next frame.
+    /// Takes new capacities (from [`super::overflow::grow_for`]) for the next frame. The index
+    /// list never grows past what one storage binding holds; beyond that, overflow stays counted.
     pub fn grow(&mut self, device: &wgpu::Device, caps: super::overflow::Capacities) {
+        let caps = super::overflow::Capacities {
+            index: caps.index.min(super::max_index_entries(device)),
+            ..caps
+        };
         self.config.max_per_tile = caps.per_cell.min(tile_cull::MAX_PER_TILE);
         if caps.index != self.config.index_capacity {
             self.config.index_capacity = caps.index;
