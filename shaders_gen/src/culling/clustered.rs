@@ -218,15 +218,19 @@ pub mod cluster_cull {
                     + ballot.y.count_ones()
                     + ballot.z.count_ones()
                     + ballot.w.count_ones();
-                let rank = subgroup_exclusive_add(select(visible, 1u32, 0u32));
-                let mut base = 0u32;
-                if lane == 0u32 && total > 0u32 {
-                    base = CLUSTER_COUNT.fetch_add(total);
-                }
-                base = subgroup_broadcast_first(base);
-                let slot = base + rank;
-                if visible && slot < PARAMS.max_per_cluster {
-                    CLUSTER_LIST[slot] = item;
+                // `total` is the same on every lane, so this branch keeps the subgroup uniform;
+                // rounds where no lane sees an item (most of them) skip the scan and the atomic.
+                if total > 0u32 {
+                    let rank = subgroup_exclusive_add(select(visible, 1u32, 0u32));
+                    let mut base = 0u32;
+                    if lane == 0u32 {
+                        base = CLUSTER_COUNT.fetch_add(total);
+                    }
+                    base = subgroup_broadcast_first(base);
+                    let slot = base + rank;
+                    if visible && slot < PARAMS.max_per_cluster {
+                        CLUSTER_LIST[slot] = item;
+                    }
                 }
             } else {
                 if visible {
