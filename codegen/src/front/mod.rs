@@ -101,6 +101,8 @@ pub(crate) struct FnCtx<'a> {
     pub calls: Vec<(usize, Span)>,
     pub const_only: bool,
     pub loop_depth: u32,
+    /// Lowering the body of a vertex or compute entry point, where `discard()` is an error.
+    pub non_fragment_entry: bool,
 }
 
 /// Whether WGSL reserves this identifier, or predeclares it (builtin functions and types).
@@ -121,6 +123,7 @@ impl<'a> FnCtx<'a> {
             calls: vec![],
             const_only,
             loop_depth: 0,
+            non_fragment_entry: false,
         }
     }
 
@@ -128,6 +131,7 @@ impl<'a> FnCtx<'a> {
     pub(crate) fn for_function(m: &'a ModCtx, f: &ir::Function, rust_names: &[String]) -> Self {
         let mut cx = FnCtx::new(m, false);
         cx.ret = f.ret.clone();
+        cx.non_fragment_entry = matches!(f.stage, Some(ir::Stage::Vertex | ir::Stage::Compute(_)));
         for (i, l) in f.locals.iter().enumerate() {
             cx.used_names.insert(l.name.clone(), 0);
             cx.scopes[0].insert(rust_names[i].clone(), i);

@@ -105,6 +105,22 @@ impl FnCtx<'_> {
 
     fn expr_stmt(&mut self, e: &syn::Expr, semi: bool, tail: bool) -> Result<Stmt> {
         let span = e.span();
+        if let syn::Expr::Call(c) = e
+            && let syn::Expr::Path(p) = &*c.func
+            && p.path.is_ident("discard")
+        {
+            if !c.args.is_empty() {
+                return Err(Error::new(c.args.span(), "`discard()` takes no arguments"));
+            }
+            if self.non_fragment_entry {
+                return Err(Error::new(
+                    span,
+                    "`discard()` ends a fragment invocation; it is allowed only in fragment entry \
+                     points and the helpers they call",
+                ));
+            }
+            return Ok(Stmt::Discard(span));
+        }
         match e {
             syn::Expr::Assign(a) => {
                 let place = self.expr(&a.left)?;

@@ -216,6 +216,8 @@ pub enum Stmt {
     Continue(Span),
     /// `return` (also a function's tail expression).
     Return(Option<Expr>, Span),
+    /// `discard()`: ends a fragment invocation without output.
+    Discard(Span),
     /// A nested `{ .. }` block.
     Block(Block),
 }

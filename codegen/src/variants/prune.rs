@@ -93,7 +93,7 @@ pub(crate) fn walk_block(b: &Block, m: &Module, env: &Env, f: &mut dyn FnMut(&Ex
                 walk_block(body, m, env, f);
             }
             Stmt::Loop { body, .. } | Stmt::Block(body) => walk_block(body, m, env, f),
-            Stmt::Break(_) | Stmt::Continue(_) => {}
+            Stmt::Break(_) | Stmt::Continue(_) | Stmt::Discard(_) => {}
         }
     }
 }

@@ -353,6 +353,10 @@ impl<'a> Writer<'a> {
                 self.out.push_str("continue;");
                 *span
             }
+            Stmt::Discard(span) => {
+                self.out.push_str("discard;");
+                *span
+            }
             Stmt::Return(e, span) => {
                 self.out.push_str("return");
                 if let Some(e) = e {
