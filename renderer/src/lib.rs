@@ -7,8 +7,10 @@
 //! a frame and per-pass GPU timings.
 
 pub mod culling;
+pub mod frame;
 pub mod gpu;
 pub mod graph;
+pub mod passes;
 pub mod readback;
 pub mod scene;
 pub mod shader;

@@ -6,29 +6,7 @@
 use glam::{Vec3, camera::rh};
 use renderer::culling::reference::{CullCamera, DepthBuffer, LightSphere};
 
-/// A tiny deterministic generator (SplitMix64): test scenes must not change between runs.
-#[derive(Debug, Clone)]
-pub struct Rng(u64);
-
-impl Rng {
-    pub fn new(seed: u64) -> Self {
-        Self(seed)
-    }
-
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `[lo, hi)`.
-    pub fn range(&mut self, lo: f32, hi: f32) -> f32 {
-        let unit = (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32;
-        lo + (hi - lo) * unit
-    }
-}
+pub use renderer::frame::setup::Rng;
 
 /// Camera, depth buffer and world-space lights of one test scene.
 #[derive(Debug, Clone)]

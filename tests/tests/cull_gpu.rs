@@ -58,7 +58,7 @@ fn run_method(s: &CullScene, method: GpuMethod) -> CullReadback {
         let (cam, d) = (&s.camera, &gpu.device);
         let result = match method {
             GpuMethod::Tiled(config) => {
-                let mut culling = TiledCulling::new(gpu, config, w, h).expect("culling setup");
+                let culling = TiledCulling::new(gpu, config, w, h).expect("culling setup");
                 let screen = UVec2::new(w, h);
                 culling
                     .upload(gpu, cam.view, cam.projection, screen, &items)
@@ -74,7 +74,7 @@ fn run_method(s: &CullScene, method: GpuMethod) -> CullReadback {
                         shaders_gen::culling::cluster_cull::CullSphere::new(i.center, i.radius)
                     })
                     .collect();
-                let mut culling = ClusteredCulling::new(gpu, config, w, h).expect("culling setup");
+                let culling = ClusteredCulling::new(gpu, config, w, h).expect("culling setup");
                 culling
                     .upload(gpu, cam.view, cam.projection, &items)
                     .expect("upload");

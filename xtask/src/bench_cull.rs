@@ -275,7 +275,7 @@ fn time_cell(
                 index_capacity,
                 item_capacity: n,
             };
-            let mut culling = TiledCulling::new(gpu, config, w, h)?;
+            let culling = TiledCulling::new(gpu, config, w, h)?;
             timed_frames(gpu, warmup, frames, |encoder, frame| {
                 let items: Vec<_> = moved(frame)
                     .into_iter()
@@ -303,7 +303,7 @@ fn time_cell(
                 index_capacity,
                 item_capacity: n,
             };
-            let mut culling = ClusteredCulling::new(gpu, config, w, h)?;
+            let culling = ClusteredCulling::new(gpu, config, w, h)?;
             timed_frames(gpu, warmup, frames, |encoder, frame| {
                 let items: Vec<_> = moved(frame)
                     .into_iter()

@@ -95,7 +95,7 @@ impl ClusteredCulling {
 
     /// Uploads the camera and the items' world-space bounding spheres.
     pub fn upload(
-        &mut self,
+        &self,
         gpu: &GpuContext,
         view: Mat4,
         projection: Mat4,

@@ -96,7 +96,7 @@ impl TiledCulling {
 
     /// Uploads the camera and the items' world-space bounding spheres.
     pub fn upload(
-        &mut self,
+        &self,
         gpu: &GpuContext,
         view: Mat4,
         projection: Mat4,

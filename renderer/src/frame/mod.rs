@@ -1,0 +1,568 @@
+//! The engine-facing renderer: a device, a scene, lights and a camera in; a frame, per-pass GPU
+//! timings and the compiled graph out.
+//!
+//! Each frame builds a [`RenderGraph`] from the passes in [`crate::passes`] (pre-Z → light
+//! culling → forward → tonemap), compiles it and records it. The renderer never creates a window:
+//! the caller owns the target texture.
+
+mod pipelines;
+mod prepared;
+pub mod setup;
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use glam::{Mat4, UVec2, UVec3, Vec3};
+use shaders_gen::forward::forward;
+use wgpu::util::DeviceExt as _;
+
+pub use pipelines::Pipelines;
+pub use prepared::{DrawItem, PreparedMaterial, PreparedScene};
+
+use crate::culling::clustered::{ClusterCullConfig, ClusteredCulling};
+use crate::culling::reference::{ClusterGrid, LightSphere};
+use crate::culling::tiled::{TileCullConfig, TiledCulling};
+use crate::culling::{CullError, max_index_entries};
+use crate::graph::{
+    BufferDesc, GraphError, ImportAccess, PassTiming, RenderGraph, TextureDesc, TransientPool,
+};
+use crate::scene::{LightKind, Scene, SceneLight};
+use crate::shader::VariantError;
+use crate::{GpuContext, passes};
+
+/// How the forward pass finds its lights.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RenderPath {
+    /// Every light at every pixel (the baseline and reference image).
+    Naive,
+    /// Tiled culling (Forward+).
+    Tiled,
+    /// Tiled culling with the 2.5D depth mask.
+    Depth25,
+    /// Clustered culling, 16×8×24 froxels.
+    Clustered,
+}
+
+impl RenderPath {
+    fn list_axis(self) -> forward::List {
+        match self {
+            Self::Naive => forward::List::List0,
+            Self::Tiled | Self::Depth25 => forward::List::List1,
+            Self::Clustered => forward::List::List2,
+        }
+    }
+
+    fn is_culled(self) -> bool {
+        self != Self::Naive
+    }
+}
+
+/// Renderer settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RendererConfig {
+    pub width: u32,
+    pub height: u32,
+    /// 1, 2, 4 or 8, as the adapter supports for Depth32Float and Rgba16Float.
+    pub msaa: u32,
+    pub path: RenderPath,
+    /// Tile size of the tiled paths.
+    pub tile: u32,
+    /// Use subgroup variants where the device has SUBGROUP.
+    pub scalarize: bool,
+    /// Format of the caller's target (an sRGB format gets sRGB output).
+    pub output_format: wgpu::TextureFormat,
+    /// Ambient light, linear RGB.
+    pub ambient: Vec3,
+    pub exposure: f32,
+}
+
+impl Default for RendererConfig {
+    fn default() -> Self {
+        Self {
+            width: 1280,
+            height: 720,
+            msaa: 4,
+            path: RenderPath::Tiled,
+            tile: 16,
+            scalarize: false,
+            output_format: wgpu::TextureFormat::Rgba8UnormSrgb,
+            ambient: Vec3::splat(0.03),
+            exposure: 1.0,
+        }
+    }
+}
+
+/// Why the renderer cannot be set up or cannot render.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum RenderError {
+    #[error("MSAA {asked} is not supported by this device (supported: {supported:?})")]
+    SampleCount { asked: u32, supported: Vec<u32> },
+    #[error("scalarize was requested but the device has no SUBGROUP feature")]
+    NoSubgroup,
+    #[error("render() was called before prepare_scene()")]
+    NoScene,
+    #[error(transparent)]
+    Variant(#[from] VariantError),
+    #[error(transparent)]
+    Excluded(#[from] codegen::rt::ExcludedVariant),
+    #[error(transparent)]
+    Cull(#[from] CullError),
+    #[error(transparent)]
+    Graph(#[from] GraphError),
+    #[error("GPU timing failed: {0}")]
+    Profiler(String),
+}
+
+/// The camera of a frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrameCamera {
+    pub view: Mat4,
+    /// A wgpu (depth 0..1) perspective projection.
+    pub projection: Mat4,
+    pub eye: Vec3,
+    pub near: f32,
+    pub far: f32,
+}
+
+/// What a frame reports back.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrameReport {
+    /// Per-pass GPU times of the newest frame whose timestamps have arrived.
+    pub timings: Option<Vec<PassTiming>>,
+    /// CPU time to build, compile and encode the frame graph, in milliseconds.
+    pub cpu_graph_ms: f64,
+    /// The compiled graph as Graphviz DOT.
+    pub graph_dot: String,
+}
+
+/// The light culler of the configured path.
+#[derive(Debug, Clone)]
+pub enum Culler {
+    Naive,
+    Tiled(Arc<TiledCulling>),
+    Clustered(Arc<ClusteredCulling>),
+}
+
+/// Everything the passes of one frame need on the GPU.
+#[derive(Debug)]
+pub struct FrameGpu {
+    pub msaa: u32,
+    pub scene: Arc<PreparedScene>,
+    pub pipelines: Arc<Pipelines>,
+    pub culler: Culler,
+    pub prez_camera: wgpu::BindGroup,
+    pub camera: wgpu::Buffer,
+    pub lighting: wgpu::Buffer,
+    pub lights: wgpu::Buffer,
+    pub directional: wgpu::Buffer,
+    pub tonemap_params: wgpu::Buffer,
+    pub clear_color: wgpu::Color,
+    pub eye: Vec3,
+}
+
+impl FrameGpu {
+    /// Group 0 of the forward program: camera, lighting, lights and, when culled, the lists.
+    pub fn forward_frame_group(&self, device: &wgpu::Device) -> wgpu::BindGroup {
+        let mut entries = vec![
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: self.camera.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: self.lighting.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: self.lights.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: self.directional.as_entire_binding(),
+            },
+        ];
+        let lists = match &self.culler {
+            Culler::Tiled(c) => Some(&c.lists),
+            Culler::Clustered(c) => Some(&c.lists),
+            Culler::Naive => None,
+        };
+        if let Some(l) = lists {
+            entries.push(wgpu::BindGroupEntry {
+                binding: 4,
+                resource: l.grid.as_entire_binding(),
+            });
+            entries.push(wgpu::BindGroupEntry {
+                binding: 5,
+                resource: l.indices.as_entire_binding(),
+            });
+        }
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("forward frame"),
+            layout: &self.pipelines.forward_program.bind_group_layouts[0],
+            entries: &entries,
+        })
+    }
+}
+
+/// The renderer.
+pub struct Renderer {
+    gpu: GpuContext,
+    config: RendererConfig,
+    pipelines: Arc<Pipelines>,
+    culler: Culler,
+    scene: Option<Arc<PreparedScene>>,
+    punctual: Vec<forward::GpuLight>,
+    directional: Vec<forward::GpuLight>,
+    spheres: Vec<LightSphere>,
+    pool: TransientPool,
+    profiler: wgpu_profiler::GpuProfiler,
+}
+
+impl std::fmt::Debug for Renderer {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Renderer")
+            .field("config", &self.config)
+            .field("lights", &self.punctual.len())
+            .field("directional", &self.directional.len())
+            .finish_non_exhaustive()
+    }
+}
+
+/// Range standing in for "infinite" in culling spheres.
+const INFINITE_RANGE: f32 = 1.0e30;
+
+impl Renderer {
+    pub fn new(gpu: &GpuContext, config: RendererConfig) -> Result<Self, RenderError> {
+        let caps = gpu.capabilities();
+        let supported = caps.msaa_counts();
+        if !supported.contains(&config.msaa) {
+            return Err(RenderError::SampleCount {
+                asked: config.msaa,
+                supported,
+            });
+        }
+        if config.scalarize && caps.subgroup.is_none() {
+            return Err(RenderError::NoSubgroup);
+        }
+        let settings = wgpu_profiler::GpuProfilerSettings {
+            enable_debug_groups: false,
+            ..Default::default()
+        };
+        Ok(Self {
+            pipelines: Arc::new(Pipelines::new(&gpu.device, caps, &config)?),
+            culler: Culler::Naive,
+            gpu: gpu.clone(),
+            config,
+            scene: None,
+            punctual: Vec::new(),
+            directional: Vec::new(),
+            spheres: Vec::new(),
+            pool: TransientPool::new(),
+            profiler: wgpu_profiler::GpuProfiler::new(&gpu.device, settings)
+                .map_err(|e| RenderError::Profiler(e.to_string()))?,
+        })
+    }
+
+    pub fn config(&self) -> &RendererConfig {
+        &self.config
+    }
+
+    /// Uploads a scene; it replaces the previous one.
+    pub fn prepare_scene(&mut self, scene: &Scene) {
+        self.scene = Some(PreparedScene::new(
+            &self.gpu.device,
+            &self.gpu.queue,
+            scene,
+            &self.pipelines.forward_program,
+        ));
+    }
+
+    /// Replaces the lights (scene lights and any procedural ones), effective next frame.
+    pub fn set_lights(&mut self, lights: &[SceneLight]) {
+        self.punctual.clear();
+        self.directional.clear();
+        self.spheres.clear();
+        for l in lights {
+            let range = l.range.unwrap_or(0.0);
+            let (kind, cos_inner, cos_outer) = match l.kind {
+                LightKind::Point => (forward::KIND_POINT, 1.0, 1.0),
+                LightKind::Spot {
+                    inner_cone,
+                    outer_cone,
+                } => (forward::KIND_SPOT, inner_cone.cos(), outer_cone.cos()),
+                LightKind::Directional => (forward::KIND_DIRECTIONAL, 1.0, 1.0),
+            };
+            let gpu_light = forward::GpuLight::new(
+                l.position,
+                range,
+                l.color,
+                l.intensity,
+                l.direction,
+                kind,
+                cos_inner,
+                cos_outer,
+            );
+            if l.kind == LightKind::Directional {
+                self.directional.push(gpu_light);
+                continue;
+            }
+            let reach = l.range.unwrap_or(INFINITE_RANGE);
+            self.spheres.push(match l.kind {
+                LightKind::Spot { outer_cone, .. } => {
+                    LightSphere::spot(l.position, l.direction, outer_cone.cos(), reach)
+                }
+                _ => LightSphere {
+                    center: l.position,
+                    radius: reach,
+                },
+            });
+            self.punctual.push(gpu_light);
+        }
+    }
+
+    /// Changes the frame size; culling buffers follow on the next frame.
+    pub fn resize(&mut self, width: u32, height: u32) {
+        self.config.width = width;
+        self.config.height = height;
+        self.culler = Culler::Naive;
+    }
+
+    fn ensure_culler(&mut self, camera: &FrameCamera) -> Result<(), RenderError> {
+        let c = &self.config;
+        let items = (self.spheres.len() as u32).max(1).next_power_of_two();
+        let index_capacity = max_index_entries(&self.gpu.device).min(1 << 22);
+        let fits = |capacity: u32| capacity >= items;
+        let ok = match (&self.culler, c.path) {
+            (Culler::Naive, RenderPath::Naive) => true,
+            (Culler::Tiled(t), RenderPath::Tiled | RenderPath::Depth25) => {
+                fits(t.config.item_capacity)
+            }
+            (Culler::Clustered(k), RenderPath::Clustered) => {
+                fits(k.config.item_capacity)
+                    && k.config.grid.near == camera.near
+                    && k.config.grid.far == camera.far
+            }
+            _ => false,
+        };
+        if ok {
+            return Ok(());
+        }
+        let scalarize = c.scalarize;
+        self.culler = match c.path {
+            RenderPath::Naive => Culler::Naive,
+            RenderPath::Tiled | RenderPath::Depth25 => {
+                let config = TileCullConfig {
+                    tile: c.tile,
+                    msaa: c.msaa,
+                    scalarize,
+                    depth_mask: c.path == RenderPath::Depth25,
+                    max_per_tile: 1024,
+                    index_capacity,
+                    item_capacity: items,
+                };
+                Culler::Tiled(Arc::new(TiledCulling::new(
+                    &self.gpu, config, c.width, c.height,
+                )?))
+            }
+            RenderPath::Clustered => {
+                let grid = ClusterGrid {
+                    x: 16,
+                    y: 8,
+                    z: 24,
+                    near: camera.near,
+                    far: camera.far,
+                };
+                let config = ClusterCullConfig {
+                    grid,
+                    msaa: c.msaa,
+                    scalarize,
+                    skip_empty: true,
+                    max_per_cluster: 1024,
+                    index_capacity,
+                    item_capacity: items,
+                };
+                Culler::Clustered(Arc::new(ClusteredCulling::new(
+                    &self.gpu, config, c.width, c.height,
+                )?))
+            }
+        };
+        Ok(())
+    }
+
+    /// Renders one frame into `target` (a `config.output_format` texture of the configured size).
+    pub fn render(
+        &mut self,
+        camera: &FrameCamera,
+        target: &wgpu::Texture,
+    ) -> Result<FrameReport, RenderError> {
+        let scene = self.scene.clone().ok_or(RenderError::NoScene)?;
+        self.ensure_culler(camera)?;
+        let started = Instant::now();
+        let gpu = &self.gpu;
+        let c = self.config;
+        let screen = UVec2::new(c.width, c.height);
+        let storage = |label: &str, lights: &[forward::GpuLight]| {
+            let bytes: &[u8] = if lights.is_empty() {
+                &[0; 64]
+            } else {
+                bytemuck::cast_slice(lights)
+            };
+            gpu.device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(label),
+                    contents: bytes,
+                    usage: wgpu::BufferUsages::STORAGE,
+                })
+        };
+        let uniform = |label: &str, bytes: &[u8]| {
+            gpu.device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(label),
+                    contents: bytes,
+                    usage: wgpu::BufferUsages::UNIFORM,
+                })
+        };
+        let cam = forward::Camera::new(
+            camera.view,
+            camera.projection,
+            camera.projection * camera.view,
+            camera.eye,
+        );
+        let tiles = UVec2::new(c.width.div_ceil(c.tile), c.height.div_ceil(c.tile));
+        let lighting = forward::Lighting::new(
+            c.ambient,
+            self.punctual.len() as u32,
+            screen,
+            tiles,
+            UVec3::new(16, 8, 24),
+            c.tile,
+            camera.near,
+            camera.far,
+            self.directional.len() as u32,
+        );
+        let camera_buffer = uniform("camera", bytemuck::bytes_of(&cam));
+        match &self.culler {
+            Culler::Tiled(t) => {
+                let items: Vec<_> = self
+                    .spheres
+                    .iter()
+                    .map(|s| shaders_gen::culling::tile_cull::CullSphere::new(s.center, s.radius))
+                    .collect();
+                t.upload(gpu, camera.view, camera.projection, screen, &items)?;
+            }
+            Culler::Clustered(k) => {
+                let items: Vec<_> = self
+                    .spheres
+                    .iter()
+                    .map(|s| {
+                        shaders_gen::culling::cluster_cull::CullSphere::new(s.center, s.radius)
+                    })
+                    .collect();
+                k.upload(gpu, camera.view, camera.projection, &items)?;
+            }
+            Culler::Naive => {}
+        }
+        let prez_camera = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("pre-z camera"),
+            layout: &self.pipelines.prez_program.bind_group_layouts[0],
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: camera_buffer.as_entire_binding(),
+            }],
+        });
+        let frame = Arc::new(FrameGpu {
+            msaa: c.msaa,
+            scene,
+            pipelines: Arc::clone(&self.pipelines),
+            culler: self.culler.clone(),
+            prez_camera,
+            camera: camera_buffer,
+            lighting: uniform("lighting", bytemuck::bytes_of(&lighting)),
+            lights: storage("lights", &self.punctual),
+            directional: storage("directional lights", &self.directional),
+            tonemap_params: uniform(
+                "tonemap",
+                bytemuck::bytes_of(&shaders_gen::forward::tonemap::TonemapParams::new(
+                    c.exposure,
+                )),
+            ),
+            clear_color: wgpu::Color::BLACK,
+            eye: camera.eye,
+        });
+
+        let mut graph = RenderGraph::new();
+        let output_desc = TextureDesc::new_2d(c.width, c.height, c.output_format);
+        let mut output = graph.import_texture("output", output_desc, ImportAccess::ReadWrite);
+        let depth = passes::prez::add(&mut graph, &frame, c.width, c.height);
+        let lists = match &self.culler {
+            Culler::Naive => None,
+            Culler::Tiled(_) | Culler::Clustered(_) => {
+                let (grid_bytes, index_bytes) = match &self.culler {
+                    Culler::Tiled(t) => t.lists.bytes(),
+                    Culler::Clustered(k) => k.lists.bytes(),
+                    Culler::Naive => (0, 0),
+                };
+                let mut grid = graph.import_buffer(
+                    "light grid",
+                    BufferDesc { size: grid_bytes },
+                    ImportAccess::ReadWrite,
+                );
+                let mut indices = graph.import_buffer(
+                    "light indices",
+                    BufferDesc { size: index_bytes },
+                    ImportAccess::ReadWrite,
+                );
+                passes::light_cull::add(&mut graph, &frame, depth, &mut grid, &mut indices);
+                Some((grid, indices))
+            }
+        };
+        let hdr = passes::forward::add(&mut graph, &frame, depth, lists, c.width, c.height);
+        passes::tonemap::add(&mut graph, &frame, hdr, &mut output);
+
+        let mut compiled = graph.compile()?;
+        let graph_dot = compiled.to_dot();
+        compiled.bind_texture(output, target);
+        if let Some((grid, indices)) = lists {
+            let l = match &self.culler {
+                Culler::Tiled(t) => &t.lists,
+                Culler::Clustered(k) => &k.lists,
+                Culler::Naive => unreachable!("lists exist only on culled paths"),
+            };
+            compiled
+                .bind_buffer(grid, &l.grid)
+                .bind_buffer(indices, &l.indices);
+        }
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        compiled.execute(&gpu.device, &mut encoder, &mut self.pool, &self.profiler)?;
+        self.profiler.resolve_queries(&mut encoder);
+        let cpu_graph_ms = started.elapsed().as_secs_f64() * 1e3;
+        gpu.queue.submit([encoder.finish()]);
+        self.profiler
+            .end_frame()
+            .map_err(|e| RenderError::Profiler(e.to_string()))?;
+        let _ = gpu.device.poll(wgpu::PollType::Poll);
+        let timings = self
+            .profiler
+            .process_finished_frame(gpu.queue.get_timestamp_period())
+            .map(|r| PassTiming::from_profiler(&r));
+        Ok(FrameReport {
+            timings,
+            cpu_graph_ms,
+            graph_dot,
+        })
+    }
+
+    /// Waits for the GPU and returns the timings of the frames that finished (tools and tests).
+    pub fn finish(&mut self) -> Option<Vec<PassTiming>> {
+        let _ = self.gpu.wait_idle();
+        let mut newest = None;
+        while let Some(r) = self
+            .profiler
+            .process_finished_frame(self.gpu.queue.get_timestamp_period())
+        {
+            newest = Some(PassTiming::from_profiler(&r));
+        }
+        newest
+    }
+}

@@ -1,0 +1,194 @@
+//! The render pipelines of one renderer configuration, from the DSL's generated variants.
+
+use shaders_gen::forward::{forward, prez, tonemap};
+
+use super::{RenderError, RendererConfig};
+use crate::passes::{forward::HDR_FORMAT, prez::DEPTH_FORMAT, stream};
+use crate::shader::ShaderProgram;
+
+/// Every pipeline a frame uses.
+#[derive(Debug)]
+pub struct Pipelines {
+    pub prez_program: ShaderProgram,
+    pub forward_program: ShaderProgram,
+    pub tonemap_program: ShaderProgram,
+    prez: [wgpu::RenderPipeline; 2],
+    /// `[blend][double_sided]`.
+    forward: [[wgpu::RenderPipeline; 2]; 2],
+    pub tonemap: wgpu::RenderPipeline,
+}
+
+impl Pipelines {
+    pub fn prez(&self, double_sided: bool) -> &wgpu::RenderPipeline {
+        &self.prez[usize::from(double_sided)]
+    }
+
+    pub fn forward(&self, blend: bool, double_sided: bool) -> &wgpu::RenderPipeline {
+        &self.forward[usize::from(blend)][usize::from(double_sided)]
+    }
+
+    pub fn new(
+        device: &wgpu::Device,
+        caps: &crate::Capabilities,
+        config: &RendererConfig,
+    ) -> Result<Self, RenderError> {
+        let prez_program =
+            ShaderProgram::new(device, caps, prez::variant(prez::VariantKey::ALL[0]))?;
+        let list = config.path.list_axis();
+        let key = |blend| forward::VariantKey {
+            list,
+            blend,
+            scalarize: config.scalarize && config.path.is_culled(),
+        };
+        let forward_opaque = ShaderProgram::new(device, caps, forward::variant(key(false))?)?;
+        let forward_blend = ShaderProgram::new(device, caps, forward::variant(key(true))?)?;
+        let tonemap_program = ShaderProgram::new(
+            device,
+            caps,
+            tonemap::variant(tonemap::VariantKey {
+                curve: tonemap::Curve::Curve0,
+            }),
+        )?;
+        let multisample = wgpu::MultisampleState {
+            count: config.msaa,
+            ..Default::default()
+        };
+        let cull = |double_sided: bool| {
+            if double_sided {
+                None
+            } else {
+                Some(wgpu::Face::Back)
+            }
+        };
+        let prez_streams = [
+            stream(0, wgpu::VertexFormat::Float32x3),
+            stream(1, wgpu::VertexFormat::Float32x2),
+        ];
+        let prez_layouts: Vec<_> = prez_streams
+            .iter()
+            .zip([12, 8])
+            .map(|(a, stride)| Some(layout(a, stride)))
+            .collect();
+        let prez = [false, true].map(|double_sided| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("pre-z"),
+                layout: Some(&prez_program.pipeline_layout),
+                vertex: wgpu::VertexState {
+                    module: &prez_program.module,
+                    entry_point: Some("vs_prez"),
+                    compilation_options: Default::default(),
+                    buffers: &prez_layouts,
+                },
+                primitive: wgpu::PrimitiveState {
+                    cull_mode: cull(double_sided),
+                    ..Default::default()
+                },
+                depth_stencil: Some(depth_state(true, wgpu::CompareFunction::Less)),
+                multisample,
+                fragment: None,
+                multiview_mask: None,
+                cache: None,
+            })
+        });
+        let forward_streams = [
+            stream(0, wgpu::VertexFormat::Float32x3),
+            stream(1, wgpu::VertexFormat::Float32x3),
+            stream(2, wgpu::VertexFormat::Float32x2),
+            stream(3, wgpu::VertexFormat::Float32x4),
+        ];
+        let forward_layouts: Vec<_> = forward_streams
+            .iter()
+            .zip([12, 12, 8, 16])
+            .map(|(a, stride)| Some(layout(a, stride)))
+            .collect();
+        let forward_pipeline = |program: &ShaderProgram, blend: bool, double_sided: bool| {
+            let target = wgpu::ColorTargetState {
+                format: HDR_FORMAT,
+                blend: blend.then_some(wgpu::BlendState::ALPHA_BLENDING),
+                write_mask: wgpu::ColorWrites::ALL,
+            };
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(if blend { "forward blend" } else { "forward" }),
+                layout: Some(&program.pipeline_layout),
+                vertex: wgpu::VertexState {
+                    module: &program.module,
+                    entry_point: Some("vs_forward"),
+                    compilation_options: Default::default(),
+                    buffers: &forward_layouts,
+                },
+                primitive: wgpu::PrimitiveState {
+                    cull_mode: cull(double_sided),
+                    ..Default::default()
+                },
+                // Opaque surfaces are in the depth buffer already; blended ones test against it.
+                depth_stencil: Some(depth_state(false, wgpu::CompareFunction::LessEqual)),
+                multisample,
+                fragment: Some(wgpu::FragmentState {
+                    module: &program.module,
+                    entry_point: Some("fs_forward"),
+                    compilation_options: Default::default(),
+                    targets: &[Some(target)],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        let forward = [
+            [
+                forward_pipeline(&forward_opaque, false, false),
+                forward_pipeline(&forward_opaque, false, true),
+            ],
+            [
+                forward_pipeline(&forward_blend, true, false),
+                forward_pipeline(&forward_blend, true, true),
+            ],
+        ];
+        let tonemap = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("tonemap"),
+            layout: Some(&tonemap_program.pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &tonemap_program.module,
+                entry_point: Some("vs_fullscreen"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: None,
+            multisample: wgpu::MultisampleState::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &tonemap_program.module,
+                entry_point: Some("fs_tonemap"),
+                compilation_options: Default::default(),
+                targets: &[Some(config.output_format.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        Ok(Self {
+            prez_program,
+            forward_program: forward_opaque,
+            tonemap_program,
+            prez,
+            forward,
+            tonemap,
+        })
+    }
+}
+
+fn layout(attributes: &[wgpu::VertexAttribute], stride: u64) -> wgpu::VertexBufferLayout<'_> {
+    wgpu::VertexBufferLayout {
+        array_stride: stride,
+        step_mode: wgpu::VertexStepMode::Vertex,
+        attributes,
+    }
+}
+
+fn depth_state(write: bool, compare: wgpu::CompareFunction) -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState {
+        format: DEPTH_FORMAT,
+        depth_write_enabled: Some(write),
+        depth_compare: Some(compare),
+        stencil: Default::default(),
+        bias: Default::default(),
+    }
+}

@@ -1,0 +1,105 @@
+//! Frame set-up helpers for tools and tests: a camera that frames a scene, and seeded procedural
+//! lights around it.
+
+use glam::{Mat4, Vec3, camera::rh};
+
+use super::FrameCamera;
+use crate::scene::{Aabb, LightKind, SceneLight};
+
+/// A tiny deterministic generator (SplitMix64), so seeded scenes never change between runs.
+#[derive(Debug, Clone)]
+pub struct Rng(u64);
+
+impl Rng {
+    pub fn new(seed: u64) -> Self {
+        Self(seed)
+    }
+
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in `[lo, hi)`.
+    pub fn range(&mut self, lo: f32, hi: f32) -> f32 {
+        let unit = (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32;
+        lo + (hi - lo) * unit
+    }
+}
+
+/// A perspective camera looking at the centre of `bounds` from the front and a little above.
+pub fn framing_camera(bounds: Aabb, aspect: f32) -> FrameCamera {
+    let center = bounds.center();
+    let radius = ((bounds.max - bounds.min).length() * 0.5).max(1e-3);
+    let eye = center + Vec3::new(0.0, 0.35, 1.0).normalize() * radius * 2.4;
+    let (near, far) = (radius * 0.05, radius * 8.0);
+    FrameCamera {
+        view: rh::view::look_at_mat4(eye, center, Vec3::Y),
+        projection: rh::proj::directx::perspective(45f32.to_radians(), aspect, near, far),
+        eye,
+        near,
+        far,
+    }
+}
+
+/// The camera of a glTF node (world-from-view transform and vertical field of view).
+pub fn scene_camera(
+    world_from_view: Mat4,
+    yfov: f32,
+    aspect: f32,
+    near: f32,
+    far: f32,
+) -> FrameCamera {
+    FrameCamera {
+        view: world_from_view.inverse(),
+        projection: rh::proj::directx::perspective(yfov, aspect, near, far),
+        eye: world_from_view.transform_point3(Vec3::ZERO),
+        near,
+        far,
+    }
+}
+
+/// `count` point lights spread through `bounds` (grown by 20%), with ranges drawn from
+/// `[min_radius, max_radius]` and bright enough to show at their range's middle.
+pub fn procedural_lights(
+    bounds: Aabb,
+    count: usize,
+    seed: u64,
+    min_radius: f32,
+    max_radius: f32,
+) -> Vec<SceneLight> {
+    let mut rng = Rng::new(seed);
+    let (lo, hi) = (bounds.min, bounds.max);
+    let pad = (hi - lo) * 0.1;
+    (0..count)
+        .map(|_| {
+            let position = Vec3::new(
+                rng.range(lo.x - pad.x, hi.x + pad.x),
+                rng.range(lo.y - pad.y, hi.y + pad.y),
+                rng.range(lo.z - pad.z, hi.z + pad.z),
+            );
+            let range = rng.range(min_radius, max_radius);
+            let hue = rng.range(0.0, 1.0);
+            SceneLight {
+                kind: LightKind::Point,
+                position,
+                direction: Vec3::NEG_Z,
+                color: hue_to_rgb(hue),
+                intensity: range * range * 0.08,
+                range: Some(range),
+            }
+        })
+        .collect()
+}
+
+/// A saturated colour around the hue wheel.
+fn hue_to_rgb(h: f32) -> Vec3 {
+    let k = |n: f32| {
+        let x = (n + h * 6.0) % 6.0;
+        1.0 - (x.min(4.0 - x).clamp(0.0, 1.0))
+    };
+    Vec3::new(k(5.0), k(3.0), k(1.0)) * 0.8 + Vec3::splat(0.2)
+}
