@@ -172,3 +172,35 @@ fn vulkan_validation_layer_error_fails_the_test() {
         other => panic!("the layer did not report the zero-size buffer: {other:?}"),
     }
 }
+
+#[test]
+fn an_engines_own_device_reports_only_what_it_enabled() {
+    gpu_test(|gpu| {
+        // A device opened with no optional features at all, as an engine might.
+        let (device, queue) = pollster::block_on(
+            gpu.adapter
+                .request_device(&wgpu::DeviceDescriptor::default()),
+        )
+        .expect("a default device");
+        let wrapped = renderer::GpuContext::from_parts(
+            gpu.instance.clone(),
+            gpu.adapter.clone(),
+            device,
+            queue,
+        );
+        let caps = wrapped.capabilities();
+        assert_eq!(caps.subgroup, None, "SUBGROUP was not enabled");
+        assert!(!caps.timestamp_query);
+        assert!(caps.msaa_depth32float.iter().all(|c| matches!(c, 1 | 4)));
+        // Asking for a subgroup variant on it is a typed error, not a wgpu failure.
+        let key = shaders_gen::culling::tile_cull::VariantKey {
+            tile: shaders_gen::culling::tile_cull::Tile::T16,
+            msaa: shaders_gen::culling::tile_cull::Msaa::Msaa1,
+            scalarize: true,
+            depth_mask: false,
+        };
+        let variant = shaders_gen::culling::tile_cull::variant(key);
+        let err = ShaderProgram::new(&wrapped.device, caps, variant).unwrap_err();
+        assert!(err.to_string().contains("SUBGROUP"), "{err}");
+    });
+}

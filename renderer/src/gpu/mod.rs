@@ -56,6 +56,42 @@ impl GpuContext {
         })
     }
 
+    /// Wraps an engine's own instance, adapter, device and queue. The capabilities are those of
+    /// the adapter that the device was actually created with (features the engine did not enable
+    /// are reported absent), so variant selection never asks for more than the device has.
+    pub fn from_parts(
+        instance: wgpu::Instance,
+        adapter: wgpu::Adapter,
+        device: wgpu::Device,
+        queue: wgpu::Queue,
+    ) -> Self {
+        let mut report = AdapterReport::new(&adapter);
+        let enabled = device.features();
+        let caps = &mut report.capabilities;
+        if !enabled.contains(wgpu::Features::SUBGROUP) {
+            caps.subgroup = None;
+        }
+        caps.timestamp_query &= enabled.contains(wgpu::Features::TIMESTAMP_QUERY);
+        caps.timestamp_inside_passes &= enabled.contains(
+            wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
+                | wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES,
+        );
+        if !enabled.contains(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES) {
+            caps.msaa_depth32float.retain(|c| matches!(c, 1 | 4));
+            caps.msaa_rgba16float.retain(|c| matches!(c, 1 | 4));
+        }
+        caps.max_workgroup_invocations = caps
+            .max_workgroup_invocations
+            .min(device.limits().max_compute_invocations_per_workgroup);
+        Self {
+            instance,
+            adapter,
+            device,
+            queue,
+            report,
+        }
+    }
+
     /// Blocking form of [`GpuContext::new`] for tools and tests.
     pub fn new_blocking(options: &GpuOptions) -> Result<Self, GpuError> {
         pollster::block_on(Self::new(options))
