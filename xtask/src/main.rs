@@ -8,6 +8,7 @@ mod bench_cull;
 mod demo;
 mod info;
 mod invariants;
+mod render;
 mod shaders;
 mod system;
 mod test;
@@ -28,6 +29,8 @@ struct Cli {
 enum Command {
     /// Render the demo frame to a PNG under target/ and print the adapter and GPU time.
     Demo(demo::Args),
+    /// Render one frame of a glTF scene with every renderer option.
+    Render(render::Args),
     /// Run every check CI runs: formatting, clippy, architecture invariants, all tests.
     Test(test::Args),
     /// Print every GPU adapter with the capabilities this project uses.
@@ -43,6 +46,7 @@ enum Command {
 fn main() -> anyhow::Result<()> {
     match Cli::parse().command {
         Command::Demo(args) => demo::run(&args),
+        Command::Render(args) => render::run(&args, "target/render/frame.png"),
         Command::Test(args) => test::run(&args),
         Command::Info(args) => info::run(&args),
         Command::Shaders(args) => shaders::run(&args),

@@ -1,0 +1,196 @@
+//! `cargo xtask render`: one frame of a glTF scene with every renderer option on the command
+//! line, written to a PNG, with per-pass GPU timings. `cargo xtask demo` is a preset of it.
+
+use std::path::PathBuf;
+
+use anyhow::{Context as _, Result, bail};
+use glam::Vec3;
+use renderer::frame::setup::{framing_camera, procedural_lights, scene_camera};
+use renderer::frame::{FrameCamera, RenderPath, Renderer, RendererConfig};
+use renderer::scene::Scene;
+use renderer::{GpuContext, GpuOptions, readback};
+
+#[derive(Debug, Clone, clap::Args)]
+pub struct Args {
+    /// glTF scene (.gltf or .glb); without it, the committed tests/scenes/AlphaBlendModeTest.
+    #[arg(long)]
+    pub scene: Option<PathBuf>,
+    /// Procedural point lights added to the scene's own.
+    #[arg(long, default_value_t = 1024)]
+    pub lights: usize,
+    /// Seed of the procedural lights.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Range of light radii in scene units, MIN,MAX; defaults to 3%..20% of the scene's size.
+    #[arg(long, value_delimiter = ',', num_args = 2)]
+    pub light_radius: Option<Vec<f32>>,
+    /// naive | naive-prez | tiled | 2.5d | clustered (naive-prez: every light, after a depth
+    /// pre-pass; the renderer always runs pre-Z, so naive and naive-prez are the same path).
+    #[arg(long, default_value = "tiled")]
+    pub path: String,
+    /// MSAA sample count: 1, 2, 4 or 8 (as the adapter supports).
+    #[arg(long, default_value_t = 4)]
+    pub msaa: u32,
+    /// Frame size, WxH.
+    #[arg(long, default_value = "640x360")]
+    pub size: String,
+    /// Tile size of the tiled paths: 8, 16 or 32.
+    #[arg(long, default_value_t = 16)]
+    pub tile: u32,
+    /// auto | on | off: subgroup (scalarized) variants; auto uses them when SUBGROUP exists.
+    #[arg(long, default_value = "off")]
+    pub scalarize: String,
+    /// Use the scene's camera with this index.
+    #[arg(long, conflicts_with_all = ["eye", "target"])]
+    pub camera: Option<usize>,
+    /// Camera position X,Y,Z (with --target); default: a camera framing the scene's bounds.
+    #[arg(long, value_delimiter = ',', num_args = 3, requires = "target")]
+    pub eye: Option<Vec<f32>>,
+    /// Point the camera looks at, X,Y,Z (with --eye).
+    #[arg(long, value_delimiter = ',', num_args = 3, requires = "eye")]
+    pub target: Option<Vec<f32>>,
+    /// Output PNG; defaults to target/render/frame.png.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Adapter name substring (also RENDERER_ADAPTER).
+    #[arg(long)]
+    pub adapter: Option<String>,
+}
+
+#[expect(clippy::print_stdout, reason = "a command-line report")]
+pub fn run(args: &Args, default_out: &str) -> Result<()> {
+    let (w, h) = args
+        .size
+        .split_once('x')
+        .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)))
+        .filter(|&(w, h)| (1..=8192).contains(&w) && (1..=8192).contains(&h))
+        .context("--size must be WxH with each side 1..=8192, for example 1920x1080")?;
+    let path = match args.path.as_str() {
+        "naive" | "naive-prez" => RenderPath::Naive,
+        "tiled" => RenderPath::Tiled,
+        "2.5d" => RenderPath::Depth25,
+        "clustered" => RenderPath::Clustered,
+        other => bail!("--path {other:?}: use naive, naive-prez, tiled, 2.5d or clustered"),
+    };
+    let root = crate::workspace_root();
+    let scene_path = args
+        .scene
+        .clone()
+        .unwrap_or_else(|| root.join("tests/scenes/AlphaBlendModeTest/AlphaBlendModeTest.glb"));
+    let scene = Scene::load(&scene_path)?;
+    let gpu =
+        GpuContext::new_blocking(&GpuOptions::from_env().with_adapter_name(args.adapter.clone()))?;
+    let scalarize = match args.scalarize.as_str() {
+        "auto" => gpu.capabilities().subgroup.is_some(),
+        "on" => true,
+        "off" => false,
+        other => bail!("--scalarize {other:?}: use auto, on or off"),
+    };
+    println!("adapter: {}", gpu.report);
+    let config = RendererConfig {
+        width: w,
+        height: h,
+        msaa: args.msaa,
+        path,
+        tile: args.tile,
+        scalarize,
+        ..Default::default()
+    };
+    let mut renderer = Renderer::new(&gpu, config)?;
+    renderer.prepare_scene(&scene);
+    let size = (scene.bounds.max - scene.bounds.min).length();
+    let (rmin, rmax) = match args.light_radius.as_deref() {
+        Some([a, b]) if *a > 0.0 && a <= b => (*a, *b),
+        Some(r) => bail!("--light-radius {r:?}: give MIN,MAX with 0 < MIN <= MAX"),
+        None => (size * 0.03, size * 0.2),
+    };
+    let mut lights = scene.lights.clone();
+    lights.extend(procedural_lights(
+        scene.bounds,
+        args.lights,
+        args.seed,
+        rmin,
+        rmax,
+    ));
+    renderer.set_lights(&lights);
+    let camera = pick_camera(args, &scene, w as f32 / h as f32)?;
+    let target = gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("render target"),
+        size: wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: config.output_format,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let report = renderer.render(&camera, &target)?;
+    let timings = renderer.finish();
+    let rgba = readback::read_texture_rgba8(&gpu.device, &gpu.queue, &target)?;
+    let out = args.out.clone().unwrap_or_else(|| root.join(default_out));
+    if let Some(dir) = out.parent() {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    }
+    image::save_buffer(&out, &rgba, w, h, image::ExtendedColorType::Rgba8)
+        .with_context(|| format!("writing {}", out.display()))?;
+    println!(
+        "scene {} ({} triangles), {} lights, {w}x{h}, MSAA {}, path {}, tile {}, scalarize {scalarize}",
+        scene_path.display(),
+        scene.triangle_count(),
+        lights.len(),
+        args.msaa,
+        args.path,
+        args.tile
+    );
+    println!(
+        "CPU: build + compile + encode the frame graph: {:.3} ms",
+        report.cpu_graph_ms
+    );
+    match timings {
+        Some(t) => {
+            for pass in &t {
+                println!("GPU {:<14} {:8.3} ms", pass.pass, pass.gpu_ms);
+            }
+        }
+        None => println!("GPU time: unavailable (no timestamp queries on this adapter)"),
+    }
+    println!("compiled frame graph:\n{}", report.graph_dot);
+    println!("wrote {}", out.display());
+    Ok(())
+}
+
+fn pick_camera(args: &Args, scene: &Scene, aspect: f32) -> Result<FrameCamera> {
+    let size = (scene.bounds.max - scene.bounds.min).length().max(1e-3);
+    if let Some(i) = args.camera {
+        let Some(c) = scene.cameras.get(i) else {
+            bail!(
+                "--camera {i}: the scene has {} camera(s)",
+                scene.cameras.len()
+            );
+        };
+        return Ok(scene_camera(
+            c.world_from_view,
+            c.yfov,
+            aspect,
+            c.znear,
+            c.zfar.unwrap_or(size * 10.0),
+        ));
+    }
+    if let (Some(e), Some(t)) = (&args.eye, &args.target) {
+        let (eye, target) = (Vec3::from_slice(e), Vec3::from_slice(t));
+        let (near, far) = (size * 0.01, size * 10.0);
+        let world_from_view = glam::camera::rh::view::look_at_mat4(eye, target, Vec3::Y).inverse();
+        return Ok(scene_camera(
+            world_from_view,
+            45f32.to_radians(),
+            aspect,
+            near,
+            far,
+        ));
+    }
+    Ok(framing_camera(scene.bounds, aspect))
+}
