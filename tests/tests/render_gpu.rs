@@ -51,6 +51,11 @@ fn render(path: RenderPath, msaa: u32, seed: u64) -> Vec<u8> {
         let camera = framing_camera(scene.bounds, w as f32 / h as f32);
         renderer.render(&camera, &target).expect("frame");
         renderer.finish();
+        let dropped = renderer.culling_counters().map_or(0, |c| c.dropped);
+        assert_eq!(
+            dropped, 0,
+            "{path:?}: the comparison needs complete light lists"
+        );
         readback::read_texture_rgba8(&gpu.device, &gpu.queue, &target).expect("readback")
     })
 }

@@ -158,6 +158,17 @@ pub fn run(args: &Args, default_out: &str) -> Result<()> {
         }
         None => println!("GPU time: unavailable (no timestamp queries on this adapter)"),
     }
+    if let Some(c) = renderer.culling_counters() {
+        println!(
+            "culling: {} list entries, most items in one cell {}, {} cells over the per-cell limit, {} entries dropped",
+            c.requested_entries, c.max_cell_items, c.overflow_cells, c.dropped
+        );
+        if c.dropped > 0 {
+            println!(
+                "WARNING: lights were dropped from some lists this frame: the image is not exact (see above)"
+            );
+        }
+    }
     println!("compiled frame graph:\n{}", report.graph_dot);
     println!("wrote {}", out.display());
     Ok(())

@@ -20,6 +20,8 @@ pub use pipelines::Pipelines;
 pub use prepared::{DrawItem, PreparedMaterial, PreparedScene};
 
 use crate::culling::clustered::{ClusterCullConfig, ClusteredCulling};
+use crate::culling::lists::CullCounters;
+use crate::culling::overflow::{CounterReadback, grow_for};
 use crate::culling::reference::{ClusterGrid, LightSphere};
 use crate::culling::tiled::{TileCullConfig, TiledCulling};
 use crate::culling::{CullError, max_index_entries};
@@ -134,6 +136,10 @@ pub struct FrameReport {
     pub cpu_graph_ms: f64,
     /// The compiled graph as Graphviz DOT.
     pub graph_dot: String,
+    /// Culling counters of the newest frame whose copy has arrived (read asynchronously).
+    /// `dropped > 0` means lights were left out of some lists that frame; the renderer logs a
+    /// warning and grows the index list for the next frame where the device allows.
+    pub culling: Option<CullCounters>,
 }
 
 /// The light culler of the configured path.
@@ -217,6 +223,10 @@ pub struct Renderer {
     spheres: Vec<LightSphere>,
     pool: TransientPool,
     profiler: wgpu_profiler::GpuProfiler,
+    counters: CounterReadback,
+    frame_index: u64,
+    index_capacity: u32,
+    last_counters: Option<CullCounters>,
 }
 
 impl std::fmt::Debug for Renderer {
@@ -261,6 +271,10 @@ impl Renderer {
             pool: TransientPool::new(),
             profiler: wgpu_profiler::GpuProfiler::new(&gpu.device, settings)
                 .map_err(|e| RenderError::Profiler(e.to_string()))?,
+            counters: CounterReadback::new(&gpu.device),
+            frame_index: 0,
+            index_capacity: max_index_entries(&gpu.device).min(1 << 22),
+            last_counters: None,
         })
     }
 
@@ -331,7 +345,7 @@ impl Renderer {
     fn ensure_culler(&mut self, camera: &FrameCamera) -> Result<(), RenderError> {
         let c = &self.config;
         let items = (self.spheres.len() as u32).max(1).next_power_of_two();
-        let index_capacity = max_index_entries(&self.gpu.device).min(1 << 22);
+        let index_capacity = self.index_capacity;
         let fits = |capacity: u32| capacity >= items;
         let ok = match (&self.culler, c.path) {
             (Culler::Naive, RenderPath::Naive) => true,
@@ -535,9 +549,19 @@ impl Renderer {
         }
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         compiled.execute(&gpu.device, &mut encoder, &mut self.pool, &self.profiler)?;
+        self.frame_index += 1;
+        let counters_buffer = match &self.culler {
+            Culler::Tiled(t) => Some(&t.lists.counters),
+            Culler::Clustered(k) => Some(&k.lists.counters),
+            Culler::Naive => None,
+        };
+        if let Some(b) = counters_buffer {
+            self.counters.record(&mut encoder, b, self.frame_index);
+        }
         self.profiler.resolve_queries(&mut encoder);
         let cpu_graph_ms = started.elapsed().as_secs_f64() * 1e3;
         gpu.queue.submit([encoder.finish()]);
+        self.counters.after_submit();
         self.profiler
             .end_frame()
             .map_err(|e| RenderError::Profiler(e.to_string()))?;
@@ -546,16 +570,59 @@ impl Renderer {
             .profiler
             .process_finished_frame(gpu.queue.get_timestamp_period())
             .map(|r| PassTiming::from_profiler(&r));
+        self.poll_counters();
         Ok(FrameReport {
             timings,
             cpu_graph_ms,
             graph_dot,
+            culling: self.last_counters,
         })
+    }
+
+    /// Picks up culling counters that have arrived; on overflow, warns and grows the index list
+    /// for the next frame (up to one storage binding; past that the overflow stays reported).
+    fn poll_counters(&mut self) -> Option<CullCounters> {
+        let (_, counters) = self.counters.poll(&self.gpu.device)?;
+        self.last_counters = Some(counters);
+        if counters.dropped > 0 {
+            let current = crate::culling::overflow::Capacities {
+                per_cell: 1024,
+                index: self.index_capacity,
+            };
+            let limit = max_index_entries(&self.gpu.device);
+            let grown = grow_for(&counters, current, 1024)
+                .map(|c| c.index.min(limit))
+                .filter(|&index| index > self.index_capacity);
+            log::warn!(
+                "light culling dropped {} list entries ({} cells over their 1024-item limit, {} \
+                 entries requested of {}); {}",
+                counters.dropped,
+                counters.overflow_cells,
+                counters.requested_entries,
+                self.index_capacity,
+                if grown.is_some() {
+                    "growing the index list for the next frame"
+                } else {
+                    "the per-cell limit is reached: use smaller tiles, 2.5D or fewer lights per cell"
+                }
+            );
+            if let Some(index) = grown {
+                self.index_capacity = index;
+            }
+        }
+        Some(counters)
+    }
+
+    /// The newest culling counters that have arrived, polling first.
+    pub fn culling_counters(&mut self) -> Option<CullCounters> {
+        self.poll_counters();
+        self.last_counters
     }
 
     /// Waits for the GPU and returns the timings of the frames that finished (tools and tests).
     pub fn finish(&mut self) -> Option<Vec<PassTiming>> {
         let _ = self.gpu.wait_idle();
+        self.poll_counters();
         let mut newest = None;
         while let Some(r) = self
             .profiler
