@@ -93,6 +93,7 @@ fn config(tile: u32, msaa: u32, scalarize: bool) -> TileCullConfig {
         msaa,
         scalarize,
         depth_mask: false,
+        include_transparent: false,
         max_per_tile: 1024,
         index_capacity: 1 << 20,
         item_capacity: 4096,

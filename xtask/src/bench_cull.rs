@@ -271,6 +271,7 @@ fn time_cell(
                 msaa,
                 scalarize,
                 depth_mask,
+                include_transparent: false,
                 max_per_tile: tile_cull::MAX_PER_TILE,
                 index_capacity,
                 item_capacity: n,

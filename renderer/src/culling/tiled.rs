@@ -21,6 +21,9 @@ pub struct TileCullConfig {
     pub scalarize: bool,
     /// 2.5D culling: test items against the tile's 32-cell geometry depth mask too.
     pub depth_mask: bool,
+    /// Lists also serve blended surfaces, which the pre-Z depth does not hold: tiles span from
+    /// the near plane (see `tile_cull::CullParams::include_transparent`).
+    pub include_transparent: bool,
     /// Most items one tile may list (at most [`tile_cull::MAX_PER_TILE`]).
     pub max_per_tile: u32,
     /// Entries the index list holds.
@@ -113,6 +116,7 @@ impl TiledCulling {
             items.len() as u32,
             self.config.max_per_tile,
             self.config.index_capacity,
+            u32::from(self.config.include_transparent),
         );
         gpu.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));

@@ -346,14 +346,23 @@ impl Renderer {
         let c = &self.config;
         let items = (self.spheres.len() as u32).max(1).next_power_of_two();
         let index_capacity = self.index_capacity;
+        let has_blend = self.scene.as_ref().is_some_and(|s| {
+            s.materials
+                .iter()
+                .any(|m| m.alpha_mode == crate::scene::AlphaMode::Blend)
+        });
         let fits = |capacity: u32| capacity >= items;
         let ok = match (&self.culler, c.path) {
             (Culler::Naive, RenderPath::Naive) => true,
             (Culler::Tiled(t), RenderPath::Tiled | RenderPath::Depth25) => {
                 fits(t.config.item_capacity)
+                    && t.config.index_capacity == index_capacity
+                    && t.config.include_transparent == has_blend
             }
             (Culler::Clustered(k), RenderPath::Clustered) => {
                 fits(k.config.item_capacity)
+                    && k.config.index_capacity == index_capacity
+                    && k.config.skip_empty != has_blend
                     && k.config.grid.near == camera.near
                     && k.config.grid.far == camera.far
             }
@@ -371,6 +380,7 @@ impl Renderer {
                     msaa: c.msaa,
                     scalarize,
                     depth_mask: c.path == RenderPath::Depth25,
+                    include_transparent: has_blend,
                     max_per_tile: 1024,
                     index_capacity,
                     item_capacity: items,
@@ -391,7 +401,8 @@ impl Renderer {
                     grid,
                     msaa: c.msaa,
                     scalarize,
-                    skip_empty: true,
+                    // Froxels holding only blended surfaces have no depth sample.
+                    skip_empty: !has_blend,
                     max_per_cluster: 1024,
                     index_capacity,
                     item_capacity: items,

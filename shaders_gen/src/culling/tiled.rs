@@ -43,6 +43,10 @@ pub mod tile_cull {
         pub max_per_tile: u32,
         /// Entries `INDICES` may hold; the buffer may be larger (guard regions).
         pub index_capacity: u32,
+        /// Non-zero when blended (transparent) surfaces, which pre-Z does not hold, are shaded
+        /// with these lists: the tile then spans from the near plane to its farthest opaque
+        /// sample (the far plane for sky-only tiles), and the 2.5D mask keeps every cell.
+        pub include_transparent: u32,
     }
 
     /// An item's bounding sphere in world space.
@@ -230,15 +234,23 @@ pub mod tile_cull {
         let tile_index = wg.y * PARAMS.tiles.x + wg.x;
         let min_bits = TILE_MIN.load();
         let max_bits = TILE_MAX.load();
-        if min_bits > max_bits {
+        let transparent = PARAMS.include_transparent != 0u32;
+        if min_bits > max_bits && !transparent {
             // Sky only: no surface in this tile, so no item can touch it.
             if lid == 0u32 {
                 GRID[tile_index] = UVec2::new(0u32, 0u32);
             }
             return;
         }
-        let near = view_depth(f32::from_bits(min_bits));
-        let far = view_depth(f32::from_bits(max_bits));
+        let mut near = view_depth(f32::from_bits(min_bits));
+        let mut far = view_depth(f32::from_bits(max_bits));
+        if transparent {
+            // A blended surface can be anywhere between the eye and the opaque depth.
+            near = view_depth(0.0);
+            if min_bits > max_bits {
+                far = view_depth(1.0);
+            }
+        }
         let in_screen = pixel.x < PARAMS.screen.x && pixel.y < PARAMS.screen.y;
         if depth_mask {
             // 1b. The geometry's depth mask (2.5D).
@@ -256,7 +268,10 @@ pub mod tile_cull {
             }
             workgroup_barrier();
         }
-        let geometry_mask = TILE_MASK.load();
+        let mut geometry_mask = TILE_MASK.load();
+        if transparent {
+            geometry_mask = 0xffff_ffffu32;
+        }
 
         // 2. Tile frustum from the projection rows (Gribb/Hartmann).
         let m = PARAMS.projection;
