@@ -227,6 +227,76 @@ pub struct Renderer {
     frame_index: u64,
     index_capacity: u32,
     last_counters: Option<CullCounters>,
+    buffers: FrameBuffers,
+}
+
+/// Per-frame GPU data kept across frames: uniforms rewritten each frame, light storage rewritten
+/// by `set_lights`, so a frame allocates nothing for them.
+#[derive(Debug)]
+struct FrameBuffers {
+    camera: wgpu::Buffer,
+    lighting: wgpu::Buffer,
+    tonemap: wgpu::Buffer,
+    prez_camera: wgpu::BindGroup,
+    lights: wgpu::Buffer,
+    directional: wgpu::Buffer,
+}
+
+impl FrameBuffers {
+    fn new(device: &wgpu::Device, pipelines: &Pipelines) -> Self {
+        let uniform = |label, size| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        let camera = uniform("camera", size_of::<forward::Camera>() as u64);
+        let prez_camera = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("pre-z camera"),
+            layout: &pipelines.prez_program.bind_group_layouts[0],
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: camera.as_entire_binding(),
+            }],
+        });
+        Self {
+            lighting: uniform("lighting", size_of::<forward::Lighting>() as u64),
+            tonemap: uniform(
+                "tonemap",
+                size_of::<shaders_gen::forward::tonemap::TonemapParams>() as u64,
+            ),
+            camera,
+            prez_camera,
+            lights: light_storage(device, "lights", &[]),
+            directional: light_storage(device, "directional lights", &[]),
+        }
+    }
+}
+
+/// A storage buffer holding `lights` (at least one element, so the binding is never empty).
+fn light_storage(device: &wgpu::Device, label: &str, lights: &[forward::GpuLight]) -> wgpu::Buffer {
+    let placeholder = [forward::GpuLight::new(
+        Vec3::ZERO,
+        0.0,
+        Vec3::ZERO,
+        0.0,
+        Vec3::Z,
+        0,
+        1.0,
+        1.0,
+    )];
+    let contents = if lights.is_empty() {
+        &placeholder[..]
+    } else {
+        lights
+    };
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents: bytemuck::cast_slice(contents),
+        usage: wgpu::BufferUsages::STORAGE,
+    })
 }
 
 impl std::fmt::Debug for Renderer {
@@ -259,8 +329,9 @@ impl Renderer {
             enable_debug_groups: false,
             ..Default::default()
         };
+        let pipelines = Arc::new(Pipelines::new(&gpu.device, caps, &config)?);
         Ok(Self {
-            pipelines: Arc::new(Pipelines::new(&gpu.device, caps, &config)?),
+            pipelines: Arc::clone(&pipelines),
             culler: Culler::Naive,
             gpu: gpu.clone(),
             config,
@@ -272,6 +343,7 @@ impl Renderer {
             profiler: wgpu_profiler::GpuProfiler::new(&gpu.device, settings)
                 .map_err(|e| RenderError::Profiler(e.to_string()))?,
             counters: CounterReadback::new(&gpu.device),
+            buffers: FrameBuffers::new(&gpu.device, &pipelines),
             frame_index: 0,
             index_capacity: max_index_entries(&gpu.device).min(1 << 22),
             last_counters: None,
@@ -333,6 +405,9 @@ impl Renderer {
             });
             self.punctual.push(gpu_light);
         }
+        let device = &self.gpu.device;
+        self.buffers.lights = light_storage(device, "lights", &self.punctual);
+        self.buffers.directional = light_storage(device, "directional lights", &self.directional);
     }
 
     /// Changes the frame size; culling buffers follow on the next frame.
@@ -427,27 +502,6 @@ impl Renderer {
         let gpu = &self.gpu;
         let c = self.config;
         let screen = UVec2::new(c.width, c.height);
-        let storage = |label: &str, lights: &[forward::GpuLight]| {
-            let bytes: &[u8] = if lights.is_empty() {
-                &[0; 64]
-            } else {
-                bytemuck::cast_slice(lights)
-            };
-            gpu.device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some(label),
-                    contents: bytes,
-                    usage: wgpu::BufferUsages::STORAGE,
-                })
-        };
-        let uniform = |label: &str, bytes: &[u8]| {
-            gpu.device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some(label),
-                    contents: bytes,
-                    usage: wgpu::BufferUsages::UNIFORM,
-                })
-        };
         let cam = forward::Camera::new(
             camera.view,
             camera.projection,
@@ -466,7 +520,14 @@ impl Renderer {
             camera.far,
             self.directional.len() as u32,
         );
-        let camera_buffer = uniform("camera", bytemuck::bytes_of(&cam));
+        let b = &self.buffers;
+        gpu.queue
+            .write_buffer(&b.camera, 0, bytemuck::bytes_of(&cam));
+        gpu.queue
+            .write_buffer(&b.lighting, 0, bytemuck::bytes_of(&lighting));
+        let tonemap = shaders_gen::forward::tonemap::TonemapParams::new(c.exposure);
+        gpu.queue
+            .write_buffer(&b.tonemap, 0, bytemuck::bytes_of(&tonemap));
         match &self.culler {
             Culler::Tiled(t) => {
                 let items: Vec<_> = self
@@ -488,30 +549,17 @@ impl Renderer {
             }
             Culler::Naive => {}
         }
-        let prez_camera = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("pre-z camera"),
-            layout: &self.pipelines.prez_program.bind_group_layouts[0],
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: camera_buffer.as_entire_binding(),
-            }],
-        });
         let frame = Arc::new(FrameGpu {
             msaa: c.msaa,
             scene,
             pipelines: Arc::clone(&self.pipelines),
             culler: self.culler.clone(),
-            prez_camera,
-            camera: camera_buffer,
-            lighting: uniform("lighting", bytemuck::bytes_of(&lighting)),
-            lights: storage("lights", &self.punctual),
-            directional: storage("directional lights", &self.directional),
-            tonemap_params: uniform(
-                "tonemap",
-                bytemuck::bytes_of(&shaders_gen::forward::tonemap::TonemapParams::new(
-                    c.exposure,
-                )),
-            ),
+            prez_camera: b.prez_camera.clone(),
+            camera: b.camera.clone(),
+            lighting: b.lighting.clone(),
+            lights: b.lights.clone(),
+            directional: b.directional.clone(),
+            tonemap_params: b.tonemap.clone(),
             clear_color: wgpu::Color::BLACK,
             eye: camera.eye,
         });
