@@ -96,3 +96,93 @@ fn culling_never_changes_the_image() {
         }
     }
 }
+
+#[test]
+fn heatmap_view_shows_list_counts_with_a_legend_and_refuses_the_naive_path() {
+    use renderer::frame::{FrameView, RenderError};
+    let scene_path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes/AlphaBlendModeTest/AlphaBlendModeTest.glb");
+    let scene = Scene::load(scene_path).unwrap_or_else(|e| panic!("{e}"));
+    let (w, h) = (96, 64);
+    gpu_test(|gpu| {
+        let naive = RendererConfig {
+            width: w,
+            height: h,
+            msaa: 1,
+            path: RenderPath::Naive,
+            view: FrameView::Heatmap,
+            ..Default::default()
+        };
+        assert!(matches!(
+            Renderer::new(gpu, naive),
+            Err(RenderError::HeatmapNeedsLists)
+        ));
+        for path in [RenderPath::Tiled, RenderPath::Clustered] {
+            let config = RendererConfig {
+                width: w,
+                height: h,
+                msaa: 4,
+                path,
+                view: FrameView::Heatmap,
+                heatmap_max: 16,
+                ..Default::default()
+            };
+            let mut renderer = Renderer::new(gpu, config).expect("renderer");
+            renderer.prepare_scene(&scene);
+            let radius = (scene.bounds.max - scene.bounds.min).length();
+            renderer.set_lights(&procedural_lights(
+                scene.bounds,
+                64,
+                3,
+                radius * 0.05,
+                radius * 0.3,
+            ));
+            let target = gpu.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("heatmap target"),
+                size: wgpu::Extent3d {
+                    width: w,
+                    height: h,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: config.output_format,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+                view_formats: &[],
+            });
+            let report = renderer
+                .render(&framing_camera(scene.bounds, w as f32 / h as f32), &target)
+                .expect("frame");
+            assert!(
+                report.graph_dot.contains("light heatmap"),
+                "{}",
+                report.graph_dot
+            );
+            assert!(
+                !report.graph_dot.contains("\"#3 forward\""),
+                "the lit passes are not scheduled"
+            );
+            renderer.finish();
+            let rgba =
+                readback::read_texture_rgba8(&gpu.device, &gpu.queue, &target).expect("readback");
+            // The legend strip (bottom rows) runs from the cold end to the hot end of the ramp.
+            let px =
+                |x: u32, y: u32| &rgba[((y * w + x) * 4) as usize..((y * w + x) * 4 + 3) as usize];
+            let (left, right) = (px(1, h - 2), px(w - 2, h - 2));
+            assert!(
+                right[0] > left[0] && left[2] >= right[2],
+                "{path:?}: legend runs cold to hot: {left:?} .. {right:?}"
+            );
+            // Pixels over lit geometry show a non-zero count.
+            let coloured = (0..h - 16)
+                .flat_map(|y| (0..w).map(move |x| (x, y)))
+                .filter(|&(x, y)| px(x, y) != [0, 0, 0])
+                .count();
+            assert!(
+                coloured > 100,
+                "{path:?}: cells with lights are coloured ({coloured})"
+            );
+        }
+    });
+}

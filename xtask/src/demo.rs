@@ -27,6 +27,7 @@ pub fn run(args: &Args) -> Result<()> {
         camera: None,
         eye: None,
         target: None,
+        view: "lit".into(),
         out: args.out.clone(),
         adapter: args.adapter.clone(),
     };

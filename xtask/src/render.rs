@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use anyhow::{Context as _, Result, bail};
 use glam::Vec3;
 use renderer::frame::setup::{framing_camera, procedural_lights, scene_camera};
-use renderer::frame::{FrameCamera, RenderPath, Renderer, RendererConfig};
+use renderer::frame::{FrameCamera, FrameView, RenderPath, Renderer, RendererConfig};
 use renderer::scene::Scene;
 use renderer::{GpuContext, GpuOptions, readback};
 
@@ -49,6 +49,9 @@ pub struct Args {
     /// Point the camera looks at, X,Y,Z (with --eye).
     #[arg(long, value_delimiter = ',', num_args = 3, requires = "eye")]
     pub target: Option<Vec<f32>>,
+    /// lit | heatmap: the shaded image, or the light count of each pixel's list with a legend.
+    #[arg(long, default_value = "lit")]
+    pub view: String,
     /// Output PNG; defaults to target/render/frame.png.
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -86,6 +89,11 @@ pub fn run(args: &Args, default_out: &str) -> Result<()> {
         "off" => false,
         other => bail!("--scalarize {other:?}: use auto, on or off"),
     };
+    let view = match args.view.as_str() {
+        "lit" => FrameView::Lit,
+        "heatmap" => FrameView::Heatmap,
+        other => bail!("--view {other:?}: use lit or heatmap"),
+    };
     println!("adapter: {}", gpu.report);
     let config = RendererConfig {
         width: w,
@@ -94,6 +102,7 @@ pub fn run(args: &Args, default_out: &str) -> Result<()> {
         path,
         tile: args.tile,
         scalarize,
+        view,
         ..Default::default()
     };
     let mut renderer = Renderer::new(&gpu, config)?;

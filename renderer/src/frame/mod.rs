@@ -59,6 +59,16 @@ impl RenderPath {
     }
 }
 
+/// What a frame shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FrameView {
+    /// The shaded image.
+    #[default]
+    Lit,
+    /// The light-count heatmap of the culled path's lists, with a legend.
+    Heatmap,
+}
+
 /// Renderer settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RendererConfig {
@@ -76,6 +86,10 @@ pub struct RendererConfig {
     /// Ambient light, linear RGB.
     pub ambient: Vec3,
     pub exposure: f32,
+    /// Shaded image or light-count heatmap.
+    pub view: FrameView,
+    /// Light count at which the heatmap saturates (red).
+    pub heatmap_max: u32,
 }
 
 impl Default for RendererConfig {
@@ -90,6 +104,8 @@ impl Default for RendererConfig {
             output_format: wgpu::TextureFormat::Rgba8UnormSrgb,
             ambient: Vec3::splat(0.03),
             exposure: 1.0,
+            view: FrameView::Lit,
+            heatmap_max: 256,
         }
     }
 }
@@ -104,6 +120,10 @@ pub enum RenderError {
     NoSubgroup,
     #[error("render() was called before prepare_scene()")]
     NoScene,
+    #[error(
+        "the light heatmap shows culled lists; the naive path has none (use tiled, 2.5D or clustered)"
+    )]
+    HeatmapNeedsLists,
     #[error(transparent)]
     Variant(#[from] VariantError),
     #[error(transparent)]
@@ -163,11 +183,21 @@ pub struct FrameGpu {
     pub lights: wgpu::Buffer,
     pub directional: wgpu::Buffer,
     pub tonemap_params: wgpu::Buffer,
+    pub heatmap_params: wgpu::Buffer,
     pub clear_color: wgpu::Color,
     pub eye: Vec3,
 }
 
 impl FrameGpu {
+    /// The light lists of a culled path (the heatmap is only built for those).
+    pub fn lists(&self) -> &crate::culling::lists::LightLists {
+        match &self.culler {
+            Culler::Tiled(c) => &c.lists,
+            Culler::Clustered(c) => &c.lists,
+            Culler::Naive => unreachable!("Pipelines::new refuses a heatmap on the naive path"),
+        }
+    }
+
     /// Group 0 of the forward program: camera, lighting, lights and, when culled, the lists.
     pub fn forward_frame_group(&self, device: &wgpu::Device) -> wgpu::BindGroup {
         let mut entries = vec![
@@ -237,6 +267,7 @@ struct FrameBuffers {
     camera: wgpu::Buffer,
     lighting: wgpu::Buffer,
     tonemap: wgpu::Buffer,
+    heatmap: wgpu::Buffer,
     prez_camera: wgpu::BindGroup,
     lights: wgpu::Buffer,
     directional: wgpu::Buffer,
@@ -266,6 +297,10 @@ impl FrameBuffers {
             tonemap: uniform(
                 "tonemap",
                 size_of::<shaders_gen::forward::tonemap::TonemapParams>() as u64,
+            ),
+            heatmap: uniform(
+                "heatmap",
+                size_of::<shaders_gen::forward::heatmap::HeatmapParams>() as u64,
             ),
             camera,
             prez_camera,
@@ -528,6 +563,20 @@ impl Renderer {
         let tonemap = shaders_gen::forward::tonemap::TonemapParams::new(c.exposure);
         gpu.queue
             .write_buffer(&b.tonemap, 0, bytemuck::bytes_of(&tonemap));
+        if c.view == FrameView::Heatmap {
+            let heatmap = shaders_gen::forward::heatmap::HeatmapParams::new(
+                camera.projection.inverse(),
+                screen,
+                tiles,
+                UVec3::new(16, 8, 24),
+                c.tile,
+                camera.near,
+                camera.far,
+                c.heatmap_max,
+            );
+            gpu.queue
+                .write_buffer(&b.heatmap, 0, bytemuck::bytes_of(&heatmap));
+        }
         match &self.culler {
             Culler::Tiled(t) => {
                 let items: Vec<_> = self
@@ -560,6 +609,7 @@ impl Renderer {
             lights: b.lights.clone(),
             directional: b.directional.clone(),
             tonemap_params: b.tonemap.clone(),
+            heatmap_params: b.heatmap.clone(),
             clear_color: wgpu::Color::BLACK,
             eye: camera.eye,
         });
@@ -590,8 +640,15 @@ impl Renderer {
                 Some((grid, indices))
             }
         };
-        let hdr = passes::forward::add(&mut graph, &frame, depth, lists, c.width, c.height);
-        passes::tonemap::add(&mut graph, &frame, hdr, &mut output);
+        match (c.view, lists) {
+            (FrameView::Heatmap, Some(lists)) => {
+                passes::heatmap::add(&mut graph, &frame, depth, lists, &mut output);
+            }
+            _ => {
+                let hdr = passes::forward::add(&mut graph, &frame, depth, lists, c.width, c.height);
+                passes::tonemap::add(&mut graph, &frame, hdr, &mut output);
+            }
+        }
 
         let mut compiled = graph.compile()?;
         let graph_dot = compiled.to_dot();

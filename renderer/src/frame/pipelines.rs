@@ -1,6 +1,6 @@
 //! The render pipelines of one renderer configuration, from the DSL's generated variants.
 
-use shaders_gen::forward::{forward, prez, tonemap};
+use shaders_gen::forward::{forward, heatmap, prez, tonemap};
 
 use super::{RenderError, RendererConfig};
 use crate::passes::{forward::HDR_FORMAT, prez::DEPTH_FORMAT, stream};
@@ -16,6 +16,17 @@ pub struct Pipelines {
     /// `[blend][double_sided]`.
     forward: [[wgpu::RenderPipeline; 2]; 2],
     pub tonemap: wgpu::RenderPipeline,
+    /// Present when the configuration's view is the light heatmap.
+    pub heatmap: Option<HeatmapPipeline>,
+}
+
+/// The heatmap debug view's program and pipeline.
+#[derive(Debug)]
+pub struct HeatmapPipeline {
+    pub program: ShaderProgram,
+    pub pipeline: wgpu::RenderPipeline,
+    /// Clustered lists need the depth buffer to find a pixel's slice.
+    pub needs_depth: bool,
 }
 
 impl Pipelines {
@@ -164,6 +175,57 @@ impl Pipelines {
             multiview_mask: None,
             cache: None,
         });
+        let heatmap = match (config.view, config.path) {
+            (super::FrameView::Lit, _) => None,
+            (super::FrameView::Heatmap, super::RenderPath::Naive) => {
+                return Err(RenderError::HeatmapNeedsLists);
+            }
+            (super::FrameView::Heatmap, path) => {
+                let clustered = path == super::RenderPath::Clustered;
+                let msaa = match (clustered, config.msaa) {
+                    (true, 2) => heatmap::Msaa::Msaa2,
+                    (true, 4) => heatmap::Msaa::Msaa4,
+                    (true, 8) => heatmap::Msaa::Msaa8,
+                    _ => heatmap::Msaa::Msaa1,
+                };
+                let list = if clustered {
+                    heatmap::List::List2
+                } else {
+                    heatmap::List::List1
+                };
+                let program = ShaderProgram::new(
+                    device,
+                    caps,
+                    heatmap::variant(heatmap::VariantKey { list, msaa })?,
+                )?;
+                let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                    label: Some("light heatmap"),
+                    layout: Some(&program.pipeline_layout),
+                    vertex: wgpu::VertexState {
+                        module: &program.module,
+                        entry_point: Some("vs_fullscreen"),
+                        compilation_options: Default::default(),
+                        buffers: &[],
+                    },
+                    primitive: wgpu::PrimitiveState::default(),
+                    depth_stencil: None,
+                    multisample: wgpu::MultisampleState::default(),
+                    fragment: Some(wgpu::FragmentState {
+                        module: &program.module,
+                        entry_point: Some("fs_heatmap"),
+                        compilation_options: Default::default(),
+                        targets: &[Some(config.output_format.into())],
+                    }),
+                    multiview_mask: None,
+                    cache: None,
+                });
+                Some(HeatmapPipeline {
+                    program,
+                    pipeline,
+                    needs_depth: clustered,
+                })
+            }
+        };
         Ok(Self {
             prez_program,
             forward_program: forward_opaque,
@@ -171,6 +233,7 @@ impl Pipelines {
             prez,
             forward,
             tonemap,
+            heatmap,
         })
     }
 }

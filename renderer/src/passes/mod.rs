@@ -3,6 +3,7 @@
 //! what it produces. Their GPU state lives in [`crate::frame::FrameGpu`].
 
 pub mod forward;
+pub mod heatmap;
 pub mod light_cull;
 pub mod prez;
 pub mod tonemap;
