@@ -396,6 +396,7 @@ impl Renderer {
             &self.gpu.queue,
             scene,
             &self.pipelines.forward_program,
+            &self.pipelines.prez_mask_program,
         ));
     }
 

@@ -10,6 +10,9 @@ use crate::shader::ShaderProgram;
 #[derive(Debug)]
 pub struct Pipelines {
     pub prez_program: ShaderProgram,
+    /// Pre-Z for alpha-masked materials (a fragment stage that discards below the cutoff).
+    pub prez_mask_program: ShaderProgram,
+    prez_mask: [wgpu::RenderPipeline; 2],
     pub forward_program: ShaderProgram,
     pub tonemap_program: ShaderProgram,
     prez: [wgpu::RenderPipeline; 2],
@@ -34,6 +37,10 @@ impl Pipelines {
         &self.prez[usize::from(double_sided)]
     }
 
+    pub fn prez_mask(&self, double_sided: bool) -> &wgpu::RenderPipeline {
+        &self.prez_mask[usize::from(double_sided)]
+    }
+
     pub fn forward(&self, blend: bool, double_sided: bool) -> &wgpu::RenderPipeline {
         &self.forward[usize::from(blend)][usize::from(double_sided)]
     }
@@ -43,8 +50,11 @@ impl Pipelines {
         caps: &crate::Capabilities,
         config: &RendererConfig,
     ) -> Result<Self, RenderError> {
-        let prez_program =
-            ShaderProgram::new(device, caps, prez::variant(prez::VariantKey::ALL[0]))?;
+        let prez_program = ShaderProgram::new(
+            device,
+            caps,
+            prez::variant(prez::VariantKey { alpha_mask: false }),
+        )?;
         let list = config.path.list_axis();
         let key = |blend| forward::VariantKey {
             list,
@@ -80,12 +90,17 @@ impl Pipelines {
             .zip([12, 8])
             .map(|(a, stride)| Some(layout(a, stride)))
             .collect();
-        let prez = [false, true].map(|double_sided| {
+        let prez_mask_program = ShaderProgram::new(
+            device,
+            caps,
+            prez::variant(prez::VariantKey { alpha_mask: true }),
+        )?;
+        let prez_pipeline = |program: &ShaderProgram, masked: bool, double_sided: bool| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("pre-z"),
-                layout: Some(&prez_program.pipeline_layout),
+                label: Some(if masked { "pre-z masked" } else { "pre-z" }),
+                layout: Some(&program.pipeline_layout),
                 vertex: wgpu::VertexState {
-                    module: &prez_program.module,
+                    module: &program.module,
                     entry_point: Some("vs_prez"),
                     compilation_options: Default::default(),
                     buffers: &prez_layouts,
@@ -96,11 +111,19 @@ impl Pipelines {
                 },
                 depth_stencil: Some(depth_state(true, wgpu::CompareFunction::Less)),
                 multisample,
-                fragment: None,
+                // Opaque draws need no fragment stage at all; masked ones discard.
+                fragment: masked.then(|| wgpu::FragmentState {
+                    module: &program.module,
+                    entry_point: Some("fs_prez_mask"),
+                    compilation_options: Default::default(),
+                    targets: &[],
+                }),
                 multiview_mask: None,
                 cache: None,
             })
-        });
+        };
+        let prez = [false, true].map(|d| prez_pipeline(&prez_program, false, d));
+        let prez_mask = [false, true].map(|d| prez_pipeline(&prez_mask_program, true, d));
         let forward_streams = [
             stream(0, wgpu::VertexFormat::Float32x3),
             stream(1, wgpu::VertexFormat::Float32x3),
@@ -228,6 +251,8 @@ impl Pipelines {
         };
         Ok(Self {
             prez_program,
+            prez_mask_program,
+            prez_mask,
             forward_program: forward_opaque,
             tonemap_program,
             prez,

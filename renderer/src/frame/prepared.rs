@@ -25,6 +25,8 @@ pub struct DrawItem {
 #[derive(Debug)]
 pub struct PreparedMaterial {
     pub bind_group: wgpu::BindGroup,
+    /// Group 2 of the masked pre-Z program, for alpha-masked materials.
+    pub prez_mask_group: Option<wgpu::BindGroup>,
     pub alpha_mode: AlphaMode,
     pub double_sided: bool,
 }
@@ -45,6 +47,7 @@ impl PreparedScene {
         queue: &wgpu::Queue,
         scene: &Scene,
         forward: &ShaderProgram,
+        prez_mask: &ShaderProgram,
     ) -> Arc<Self> {
         let gpu = GpuScene::upload(device, queue, scene);
         let defaults = Defaults::new(device, queue);
@@ -59,13 +62,13 @@ impl PreparedScene {
         let mut materials: Vec<PreparedMaterial> = scene
             .materials
             .iter()
-            .map(|m| prepare_material(device, forward, &gpu, &defaults, &sampler, m))
+            .map(|m| prepare_material(device, [forward, prez_mask], &gpu, &defaults, &sampler, m))
             .collect();
         // Primitives without a material use the glTF default material.
         let default_material = materials.len();
         materials.push(prepare_material(
             device,
-            forward,
+            [forward, prez_mask],
             &gpu,
             &defaults,
             &sampler,
@@ -149,7 +152,7 @@ impl Defaults {
 
 fn prepare_material(
     device: &wgpu::Device,
-    forward: &ShaderProgram,
+    [forward, prez_mask]: [&ShaderProgram; 2],
     gpu: &GpuScene,
     defaults: &Defaults,
     sampler: &wgpu::Sampler,
@@ -204,7 +207,34 @@ fn prepare_material(
         binding: 6,
         resource: wgpu::BindingResource::Sampler(sampler),
     });
+    let prez_mask_group = matches!(m.alpha_mode, AlphaMode::Mask { .. }).then(|| {
+        let mask = shaders_gen::forward::prez::MaskMaterial::new(m.base_color, cutoff);
+        let mask_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("mask material"),
+            contents: bytemuck::bytes_of(&mask),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("pre-z mask material"),
+            layout: &prez_mask.bind_group_layouts[2],
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: mask_buffer.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(&views[0]),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::Sampler(sampler),
+                },
+            ],
+        })
+    });
     PreparedMaterial {
+        prez_mask_group,
         bind_group: device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("material"),
             layout: &forward.bind_group_layouts[2],

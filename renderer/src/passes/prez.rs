@@ -1,5 +1,6 @@
 //! Depth pre-pass: every opaque and masked draw into the MSAA depth buffer, so culling sees the
-//! scene's depth and forward shading runs once per visible sample.
+//! scene's depth and forward shading runs once per visible sample. Masked materials discard
+//! texels below their cutoff here too, so they leave no depth where they are see-through.
 
 use std::sync::Arc;
 
@@ -50,7 +51,13 @@ pub fn add(
                 if material.alpha_mode == AlphaMode::Blend {
                     continue;
                 }
-                pass.set_pipeline(gpu.pipelines.prez(material.double_sided));
+                match &material.prez_mask_group {
+                    Some(mask) => {
+                        pass.set_pipeline(gpu.pipelines.prez_mask(material.double_sided));
+                        pass.set_bind_group(2, mask, &[]);
+                    }
+                    None => pass.set_pipeline(gpu.pipelines.prez(material.double_sided)),
+                }
                 pass.set_bind_group(1, &draw.bind_group, &[]);
                 let p = &scene.gpu.meshes[draw.mesh][draw.primitive];
                 super::draw_primitive(&mut pass, p, &[&p.positions, &p.uvs]);

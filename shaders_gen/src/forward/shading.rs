@@ -18,8 +18,8 @@
 /// Falloff: `saturate(1 - (d / range)^4)^2 / max(d², 0.01²)`, with no window when `range` is 0
 /// (infinite). Spot cone: `smoothstep(cos_outer, cos_inner, cos θ)`.
 ///
-/// With `blend` the output alpha is the material's (alpha blend); otherwise 1. Alpha mask is
-/// not available: the DSL has no `discard`.
+/// With `blend` the output alpha is the material's (alpha blend); otherwise 1. Alpha mask: a
+/// material with a positive `alpha_cutoff` discards texels below it.
 ///
 /// With `scalarize` (tiled and clustered only), when every lane of the subgroup shares one list
 /// the list is read through `subgroup_broadcast_first` (uniform loads and loop, as in DOOM
@@ -249,6 +249,10 @@ pub mod forward {
     #[fragment]
     pub fn fs_forward(input: VsOut) -> Vec4 {
         let base = MATERIAL.base_color * BASE_COLOR_TEX.sample(MATERIAL_SAMPLER, input.uv);
+        // Alpha mask: a positive cutoff marks a masked material (0 for opaque and blend).
+        if MATERIAL.alpha_cutoff > 0.0 && base.w < MATERIAL.alpha_cutoff {
+            discard();
+        }
         let mr = METALLIC_ROUGHNESS_TEX.sample(MATERIAL_SAMPLER, input.uv);
         let occlusion_texel = OCCLUSION_TEX.sample(MATERIAL_SAMPLER, input.uv).x;
         let emissive = MATERIAL.emissive * EMISSIVE_TEX.sample(MATERIAL_SAMPLER, input.uv).xyz();
