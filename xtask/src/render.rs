@@ -24,8 +24,8 @@ pub struct Args {
     /// Range of light radii in scene units, MIN,MAX; defaults to 3%..20% of the scene's size.
     #[arg(long, value_delimiter = ',', num_args = 2)]
     pub light_radius: Option<Vec<f32>>,
-    /// naive | naive-prez | tiled | 2.5d | clustered (naive-prez: every light, after a depth
-    /// pre-pass; the renderer always runs pre-Z, so naive and naive-prez are the same path).
+    /// naive | naive-prez | tiled | 2.5d | clustered (naive: every light at every fragment, no
+    /// pre-pass; naive-prez: the same after a depth pre-pass).
     #[arg(long, default_value = "tiled")]
     pub path: String,
     /// MSAA sample count: 1, 2, 4 or 8 (as the adapter supports).
@@ -69,7 +69,8 @@ pub fn run(args: &Args, default_out: &str) -> Result<()> {
         .filter(|&(w, h)| (1..=8192).contains(&w) && (1..=8192).contains(&h))
         .context("--size must be WxH with each side 1..=8192, for example 1920x1080")?;
     let path = match args.path.as_str() {
-        "naive" | "naive-prez" => RenderPath::Naive,
+        "naive" => RenderPath::Naive,
+        "naive-prez" => RenderPath::NaivePrez,
         "tiled" => RenderPath::Tiled,
         "2.5d" => RenderPath::Depth25,
         "clustered" => RenderPath::Clustered,

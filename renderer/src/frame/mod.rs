@@ -4,6 +4,49 @@
 //! Each frame builds a [`RenderGraph`] from the passes in [`crate::passes`] (pre-Z → light
 //! culling → forward → tonemap), compiles it and records it. The renderer never creates a window:
 //! the caller owns the target texture.
+//!
+//! ```no_run
+//! use renderer::frame::setup::{framing_camera, procedural_lights};
+//! use renderer::frame::{RenderPath, Renderer, RendererConfig};
+//! use renderer::scene::Scene;
+//! use renderer::{GpuContext, GpuOptions};
+//!
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
+//! // An engine would use GpuContext::from_parts(instance, adapter, device, queue).
+//! let gpu = GpuContext::new_blocking(&GpuOptions::from_env())?;
+//! let config = RendererConfig { width: 1280, height: 720, msaa: 4, path: RenderPath::Clustered, ..Default::default() };
+//! let mut renderer = Renderer::new(&gpu, config)?;
+//!
+//! let scene = Scene::load("scene.glb")?;
+//! renderer.prepare_scene(&scene);
+//! let mut lights = scene.lights.clone();
+//! lights.extend(procedural_lights(scene.bounds, 4096, 1, 0.5, 3.0));
+//! renderer.set_lights(&lights);
+//!
+//! // The engine's own target: any texture of `config.output_format` with RENDER_ATTACHMENT.
+//! let target = gpu.device.create_texture(&wgpu::TextureDescriptor {
+//!     label: Some("frame"),
+//!     size: wgpu::Extent3d { width: 1280, height: 720, depth_or_array_layers: 1 },
+//!     mip_level_count: 1,
+//!     sample_count: 1,
+//!     dimension: wgpu::TextureDimension::D2,
+//!     format: config.output_format,
+//!     usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+//!     view_formats: &[],
+//! });
+//! let camera = framing_camera(scene.bounds, 1280.0 / 720.0);
+//! let report = renderer.render(&camera, &target)?;
+//! if let Some(timings) = report.timings {
+//!     for pass in timings {
+//!         println!("{}: {:.3} ms", pass.pass, pass.gpu_ms);
+//!     }
+//! }
+//! if let Some(culling) = report.culling {
+//!     assert_eq!(culling.dropped, 0, "grow the lists or use smaller tiles");
+//! }
+//! # Ok(())
+//! # }
+//! ```
 
 mod pipelines;
 mod prepared;
@@ -35,8 +78,11 @@ use crate::{GpuContext, passes};
 /// How the forward pass finds its lights.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum RenderPath {
-    /// Every light at every pixel (the baseline and reference image).
+    /// Every light at every pixel, without a depth pre-pass (overdraw shades every layer).
     Naive,
+    /// Every light at every pixel after a depth pre-pass (the reference image of the culled
+    /// paths).
+    NaivePrez,
     /// Tiled culling (Forward+).
     Tiled,
     /// Tiled culling with the 2.5D depth mask.
@@ -48,13 +94,18 @@ pub enum RenderPath {
 impl RenderPath {
     fn list_axis(self) -> forward::List {
         match self {
-            Self::Naive => forward::List::List0,
+            Self::Naive | Self::NaivePrez => forward::List::List0,
             Self::Tiled | Self::Depth25 => forward::List::List1,
             Self::Clustered => forward::List::List2,
         }
     }
 
     fn is_culled(self) -> bool {
+        !matches!(self, Self::Naive | Self::NaivePrez)
+    }
+
+    /// Whether the frame runs the depth pre-pass.
+    pub fn has_prepass(self) -> bool {
         self != Self::Naive
     }
 }
@@ -464,7 +515,7 @@ impl Renderer {
         });
         let fits = |capacity: u32| capacity >= items;
         let ok = match (&self.culler, c.path) {
-            (Culler::Naive, RenderPath::Naive) => true,
+            (Culler::Naive, RenderPath::Naive | RenderPath::NaivePrez) => true,
             (Culler::Tiled(t), RenderPath::Tiled | RenderPath::Depth25) => {
                 fits(t.config.item_capacity)
                     && t.config.index_capacity == index_capacity
@@ -484,7 +535,7 @@ impl Renderer {
         }
         let scalarize = c.scalarize;
         self.culler = match c.path {
-            RenderPath::Naive => Culler::Naive,
+            RenderPath::Naive | RenderPath::NaivePrez => Culler::Naive,
             RenderPath::Tiled | RenderPath::Depth25 => {
                 let config = TileCullConfig {
                     tile: c.tile,
@@ -618,10 +669,15 @@ impl Renderer {
         let mut graph = RenderGraph::new();
         let output_desc = TextureDesc::new_2d(c.width, c.height, c.output_format);
         let mut output = graph.import_texture("output", output_desc, ImportAccess::ReadWrite);
-        let depth = passes::prez::add(&mut graph, &frame, c.width, c.height);
-        let lists = match &self.culler {
-            Culler::Naive => None,
-            Culler::Tiled(_) | Culler::Clustered(_) => {
+        let depth = c
+            .path
+            .has_prepass()
+            .then(|| passes::prez::add(&mut graph, &frame, c.width, c.height));
+        // Every culled path runs the pre-pass (culling reads its depth).
+        let culled_depth = depth.filter(|_| !matches!(self.culler, Culler::Naive));
+        let lists = match culled_depth {
+            None => None,
+            Some(depth) => {
                 let (grid_bytes, index_bytes) = match &self.culler {
                     Culler::Tiled(t) => t.lists.bytes(),
                     Culler::Clustered(k) => k.lists.bytes(),
@@ -641,8 +697,8 @@ impl Renderer {
                 Some((grid, indices))
             }
         };
-        match (c.view, lists) {
-            (FrameView::Heatmap, Some(lists)) => {
+        match (c.view, lists, depth) {
+            (FrameView::Heatmap, Some(lists), Some(depth)) => {
                 passes::heatmap::add(&mut graph, &frame, depth, lists, &mut output);
             }
             _ => {

@@ -154,8 +154,13 @@ impl Pipelines {
                     cull_mode: cull(double_sided),
                     ..Default::default()
                 },
-                // Opaque surfaces are in the depth buffer already; blended ones test against it.
-                depth_stencil: Some(depth_state(false, wgpu::CompareFunction::LessEqual)),
+                // With a pre-pass, opaque surfaces are in the depth buffer already and blended
+                // ones test against it; without one, opaque draws write depth themselves.
+                depth_stencil: Some(if config.path.has_prepass() || blend {
+                    depth_state(false, wgpu::CompareFunction::LessEqual)
+                } else {
+                    depth_state(true, wgpu::CompareFunction::Less)
+                }),
                 multisample,
                 fragment: Some(wgpu::FragmentState {
                     module: &program.module,
@@ -200,7 +205,10 @@ impl Pipelines {
         });
         let heatmap = match (config.view, config.path) {
             (super::FrameView::Lit, _) => None,
-            (super::FrameView::Heatmap, super::RenderPath::Naive) => {
+            (
+                super::FrameView::Heatmap,
+                super::RenderPath::Naive | super::RenderPath::NaivePrez,
+            ) => {
                 return Err(RenderError::HeatmapNeedsLists);
             }
             (super::FrameView::Heatmap, path) => {

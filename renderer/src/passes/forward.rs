@@ -11,11 +11,12 @@ use crate::scene::AlphaMode;
 
 pub const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
-/// Adds the forward pass; returns the resolved HDR colour.
+/// Adds the forward pass; returns the resolved HDR colour. With `depth` from a pre-pass it tests
+/// against it; with `None` (naive forward without pre-Z) it clears and writes its own.
 pub fn add(
     graph: &mut RenderGraph,
     gpu: &Arc<FrameGpu>,
-    depth: Handle<Texture>,
+    depth: Option<Handle<Texture>>,
     lists: Option<(Handle<Buffer>, Handle<Buffer>)>,
     width: u32,
     height: u32,
@@ -29,10 +30,20 @@ pub fn add(
         )
     });
     let (resolved, multisampled) = (hdr, hdr_msaa);
+    let prepass = depth.is_some();
+    let mut own_depth = depth.is_none().then(|| {
+        let desc = TextureDesc::new_2d(width, height, super::prez::DEPTH_FORMAT).with_samples(msaa);
+        graph.create_texture("depth", desc)
+    });
+    let depth_target = depth.or(own_depth).expect("one of the two is set");
     let gpu = Arc::clone(gpu);
     let mut pass = graph.add_pass("forward");
-    pass.read_texture(depth, TextureAccess::DepthRead)
-        .write_texture(&mut hdr, TextureAccess::ColorAttachment);
+    match (depth, own_depth.as_mut()) {
+        (Some(d), _) => pass.read_texture(d, TextureAccess::DepthRead),
+        (None, Some(d)) => pass.write_texture(d, TextureAccess::DepthWrite),
+        (None, None) => &mut pass,
+    };
+    pass.write_texture(&mut hdr, TextureAccess::ColorAttachment);
     if let Some(h) = hdr_msaa.as_mut() {
         pass.write_texture(h, TextureAccess::ColorAttachment);
     }
@@ -41,7 +52,7 @@ pub fn add(
             .read_buffer(indices, BufferAccess::StorageRead);
     }
     pass.execute(move |ctx| {
-        let depth_view = ctx.texture(depth).create_view(&Default::default());
+        let depth_view = ctx.texture(depth_target).create_view(&Default::default());
         let resolved_view = ctx.texture(resolved).create_view(&Default::default());
         let msaa_view = multisampled.map(|h| ctx.texture(h).create_view(&Default::default()));
         let frame_group = gpu.forward_frame_group(ctx.device);
@@ -59,7 +70,11 @@ pub fn add(
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &depth_view,
                 depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
+                    load: if prepass {
+                        wgpu::LoadOp::Load
+                    } else {
+                        wgpu::LoadOp::Clear(1.0)
+                    },
                     store: wgpu::StoreOp::Store,
                 }),
                 stencil_ops: None,
