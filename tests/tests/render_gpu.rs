@@ -186,3 +186,68 @@ fn heatmap_view_shows_list_counts_with_a_legend_and_refuses_the_naive_path() {
         }
     });
 }
+
+/// Regression: with MSAA, edge fragments are shaded at the pixel centre, which may lie in a froxel
+/// no visible sample occupies; skipping empty froxels there lost lights on DamagedHelmet.
+#[test]
+fn clustered_equals_naive_on_a_shared_scene_with_msaa() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../shared/scenes/DamagedHelmet/glTF-Binary/DamagedHelmet.glb");
+    assert!(
+        path.is_file(),
+        "shared scene {} is missing: this test needs ../shared/scenes",
+        path.display()
+    );
+    let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let (w, h) = (160, 90);
+    let frame = |path: RenderPath| {
+        gpu_test(|gpu| {
+            let config = RendererConfig {
+                width: w,
+                height: h,
+                msaa: 4,
+                path,
+                ..Default::default()
+            };
+            let mut renderer = Renderer::new(gpu, config).expect("renderer");
+            renderer.prepare_scene(&scene);
+            let size = (scene.bounds.max - scene.bounds.min).length();
+            renderer.set_lights(&procedural_lights(
+                scene.bounds,
+                1024,
+                1,
+                size * 0.03,
+                size * 0.2,
+            ));
+            let target = gpu.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("target"),
+                size: wgpu::Extent3d {
+                    width: w,
+                    height: h,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: config.output_format,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+                view_formats: &[],
+            });
+            renderer
+                .render(&framing_camera(scene.bounds, w as f32 / h as f32), &target)
+                .expect("frame");
+            renderer.finish();
+            assert_eq!(renderer.culling_counters().map_or(0, |c| c.dropped), 0);
+            readback::read_texture_rgba8(&gpu.device, &gpu.queue, &target).expect("readback")
+        })
+    };
+    let naive = frame(RenderPath::NaivePrez);
+    let clustered = frame(RenderPath::Clustered);
+    let worst = naive
+        .iter()
+        .zip(&clustered)
+        .map(|(a, b)| a.abs_diff(*b))
+        .max()
+        .unwrap_or(0);
+    assert!(worst <= 1, "clustered differs from naive by {worst}");
+}

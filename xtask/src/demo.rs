@@ -23,7 +23,7 @@ pub fn run(args: &Args) -> Result<()> {
         msaa: 4,
         size: "640x360".into(),
         tile: 16,
-        scalarize: "off".into(),
+        scalarize: "auto".into(),
         camera: None,
         eye: None,
         target: None,

@@ -38,7 +38,7 @@ pub struct Args {
     #[arg(long, default_value_t = 16)]
     pub tile: u32,
     /// auto | on | off: subgroup (scalarized) variants; auto uses them when SUBGROUP exists.
-    #[arg(long, default_value = "off")]
+    #[arg(long, default_value = "auto")]
     pub scalarize: String,
     /// Use the scene's camera with this index.
     #[arg(long, conflicts_with_all = ["eye", "target"])]

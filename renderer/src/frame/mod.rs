@@ -524,7 +524,7 @@ impl Renderer {
             (Culler::Clustered(k), RenderPath::Clustered) => {
                 fits(k.config.item_capacity)
                     && k.config.index_capacity == index_capacity
-                    && k.config.skip_empty != has_blend
+                    && k.config.skip_empty == (!has_blend && c.msaa == 1)
                     && k.config.grid.near == camera.near
                     && k.config.grid.far == camera.far
             }
@@ -563,8 +563,11 @@ impl Renderer {
                     grid,
                     msaa: c.msaa,
                     scalarize,
-                    // Froxels holding only blended surfaces have no depth sample.
-                    skip_empty: !has_blend,
+                    // Skipping froxels without a depth sample is exact only when every shaded
+                    // point is a depth sample: no blended surfaces (absent from pre-Z) and no
+                    // MSAA (an edge fragment is shaded at the pixel centre, which may lie in a
+                    // froxel no visible sample occupies).
+                    skip_empty: !has_blend && c.msaa == 1,
                     max_per_cluster: 1024,
                     index_capacity,
                     item_capacity: items,

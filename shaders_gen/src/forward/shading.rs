@@ -247,7 +247,7 @@ pub mod forward {
     }
 
     #[fragment]
-    pub fn fs_forward(input: VsOut) -> Vec4 {
+    pub fn fs_forward(input: VsOut, #[builtin(front_facing)] front: bool) -> Vec4 {
         let base = MATERIAL.base_color * BASE_COLOR_TEX.sample(MATERIAL_SAMPLER, input.uv);
         // Alpha mask: a positive cutoff marks a masked material (0 for opaque and blend).
         if MATERIAL.alpha_cutoff > 0.0 && base.w < MATERIAL.alpha_cutoff {
@@ -259,7 +259,8 @@ pub mod forward {
         let tangent_normal = NORMAL_TEX.sample(MATERIAL_SAMPLER, input.uv).xyz() * 2.0 - 1.0;
 
         // Tangent frame (Gram-Schmidt), bitangent handedness in tangent.w.
-        let nn = input.normal.normalize();
+        // Back faces (double-sided materials) are lit with the flipped normal (glTF 2.0).
+        let nn = select(front, input.normal, -input.normal).normalize();
         let t = (input.tangent.xyz() - nn * nn.dot(input.tangent.xyz())).normalize();
         let b = nn.cross(t) * input.tangent.w;
         let ts = Vec3::new(
