@@ -7,4 +7,5 @@
 
 pub mod cull_scene;
 pub mod depth_upload;
+pub mod frames;
 pub mod gpu;

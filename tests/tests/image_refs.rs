@@ -11,10 +11,10 @@
 
 use std::path::{Path, PathBuf};
 
-use renderer::frame::setup::{framing_camera, procedural_lights};
-use renderer::frame::{FrameView, RenderPath, Renderer, RendererConfig};
-use renderer::readback;
+use renderer::frame::setup::procedural_lights;
+use renderer::frame::{FrameView, RenderPath, RendererConfig};
 use renderer::scene::Scene;
+use tests::frames::render_frame;
 use tests::gpu::gpu_test;
 
 const APPROVE_ENV: &str = "RENDERER_APPROVE_IMAGES";
@@ -30,36 +30,9 @@ fn render(config: RendererConfig) -> Vec<u8> {
     let scene_path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("scenes/AlphaBlendModeTest/AlphaBlendModeTest.glb");
     let scene = Scene::load(scene_path).unwrap_or_else(|e| panic!("{e}"));
-    gpu_test(|gpu| {
-        let mut renderer = Renderer::new(gpu, config).expect("renderer");
-        renderer.prepare_scene(&scene);
-        let size = (scene.bounds.max - scene.bounds.min).length();
-        renderer.set_lights(&procedural_lights(
-            scene.bounds,
-            96,
-            7,
-            size * 0.04,
-            size * 0.25,
-        ));
-        let target = gpu.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("image test target"),
-            size: wgpu::Extent3d {
-                width: config.width,
-                height: config.height,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: config.output_format,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        });
-        let camera = framing_camera(scene.bounds, config.width as f32 / config.height as f32);
-        renderer.render(&camera, &target).expect("frame");
-        renderer.finish();
-        readback::read_texture_rgba8(&gpu.device, &gpu.queue, &target).expect("readback")
-    })
+    let size = (scene.bounds.max - scene.bounds.min).length();
+    let lights = procedural_lights(scene.bounds, 96, 7, size * 0.04, size * 0.25);
+    gpu_test(|gpu| render_frame(gpu, &scene, config, &lights).rgba)
 }
 
 fn check(name: &str, config: RendererConfig) {

@@ -4,59 +4,42 @@
 
 use std::path::Path;
 
-use renderer::frame::setup::{framing_camera, procedural_lights};
+use renderer::frame::setup::procedural_lights;
 use renderer::frame::{RenderPath, Renderer, RendererConfig};
-use renderer::readback;
-use renderer::scene::Scene;
+use renderer::scene::{Scene, SceneLight};
+use tests::frames::render_frame;
 use tests::gpu::gpu_test;
 
-fn render(path: RenderPath, msaa: u32, seed: u64) -> Vec<u8> {
-    let scene_path = Path::new(env!("CARGO_MANIFEST_DIR"))
+fn committed_scene() -> Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("scenes/AlphaBlendModeTest/AlphaBlendModeTest.glb");
-    let scene = Scene::load(scene_path).unwrap_or_else(|e| panic!("{e}"));
-    let (w, h) = (96, 64);
+    Scene::load(path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// `count` seeded lights with ranges of 5–30% of the scene's size.
+fn lights(scene: &Scene, count: usize, seed: u64, min: f32, max: f32) -> Vec<SceneLight> {
+    let size = (scene.bounds.max - scene.bounds.min).length();
+    procedural_lights(scene.bounds, count, seed, size * min, size * max)
+}
+
+fn render(path: RenderPath, msaa: u32, seed: u64) -> Vec<u8> {
+    let scene = committed_scene();
+    let config = RendererConfig {
+        width: 96,
+        height: 64,
+        msaa,
+        path,
+        tile: 16,
+        ..Default::default()
+    };
     gpu_test(|gpu| {
-        let config = RendererConfig {
-            width: w,
-            height: h,
-            msaa,
-            path,
-            tile: 16,
-            ..Default::default()
-        };
-        let mut renderer = Renderer::new(gpu, config).expect("renderer");
-        renderer.prepare_scene(&scene);
-        let radius = (scene.bounds.max - scene.bounds.min).length();
-        renderer.set_lights(&procedural_lights(
-            scene.bounds,
-            64,
-            seed,
-            radius * 0.05,
-            radius * 0.3,
-        ));
-        let target = gpu.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("target"),
-            size: wgpu::Extent3d {
-                width: w,
-                height: h,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: config.output_format,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        });
-        let camera = framing_camera(scene.bounds, w as f32 / h as f32);
-        renderer.render(&camera, &target).expect("frame");
-        renderer.finish();
-        let dropped = renderer.culling_counters().map_or(0, |c| c.dropped);
+        let frame = render_frame(gpu, &scene, config, &lights(&scene, 64, seed, 0.05, 0.3));
+        let dropped = frame.culling.map_or(0, |c| c.dropped);
         assert_eq!(
             dropped, 0,
             "{path:?}: the comparison needs complete light lists"
         );
-        readback::read_texture_rgba8(&gpu.device, &gpu.queue, &target).expect("readback")
+        frame.rgba
     })
 }
 
@@ -100,9 +83,7 @@ fn culling_never_changes_the_image() {
 #[test]
 fn heatmap_view_shows_list_counts_with_a_legend_and_refuses_the_naive_path() {
     use renderer::frame::{FrameView, RenderError};
-    let scene_path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes/AlphaBlendModeTest/AlphaBlendModeTest.glb");
-    let scene = Scene::load(scene_path).unwrap_or_else(|e| panic!("{e}"));
+    let scene = committed_scene();
     let (w, h) = (96, 64);
     gpu_test(|gpu| {
         let naive = RendererConfig {
@@ -127,33 +108,8 @@ fn heatmap_view_shows_list_counts_with_a_legend_and_refuses_the_naive_path() {
                 heatmap_max: 16,
                 ..Default::default()
             };
-            let mut renderer = Renderer::new(gpu, config).expect("renderer");
-            renderer.prepare_scene(&scene);
-            let radius = (scene.bounds.max - scene.bounds.min).length();
-            renderer.set_lights(&procedural_lights(
-                scene.bounds,
-                64,
-                3,
-                radius * 0.05,
-                radius * 0.3,
-            ));
-            let target = gpu.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("heatmap target"),
-                size: wgpu::Extent3d {
-                    width: w,
-                    height: h,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: config.output_format,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-                view_formats: &[],
-            });
-            let report = renderer
-                .render(&framing_camera(scene.bounds, w as f32 / h as f32), &target)
-                .expect("frame");
+            let frame = render_frame(gpu, &scene, config, &lights(&scene, 64, 3, 0.05, 0.3));
+            let report = &frame.report;
             assert!(
                 report.graph_dot.contains("light heatmap"),
                 "{}",
@@ -163,9 +119,7 @@ fn heatmap_view_shows_list_counts_with_a_legend_and_refuses_the_naive_path() {
                 !report.graph_dot.contains("\"#3 forward\""),
                 "the lit passes are not scheduled"
             );
-            renderer.finish();
-            let rgba =
-                readback::read_texture_rgba8(&gpu.device, &gpu.queue, &target).expect("readback");
+            let rgba = &frame.rgba;
             // The legend strip (bottom rows) runs from the cold end to the hot end of the ramp.
             let px =
                 |x: u32, y: u32| &rgba[((y * w + x) * 4) as usize..((y * w + x) * 4 + 3) as usize];
@@ -199,46 +153,18 @@ fn clustered_equals_naive_on_a_shared_scene_with_msaa() {
         path.display()
     );
     let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
-    let (w, h) = (160, 90);
     let frame = |path: RenderPath| {
+        let config = RendererConfig {
+            width: 160,
+            height: 90,
+            msaa: 4,
+            path,
+            ..Default::default()
+        };
         gpu_test(|gpu| {
-            let config = RendererConfig {
-                width: w,
-                height: h,
-                msaa: 4,
-                path,
-                ..Default::default()
-            };
-            let mut renderer = Renderer::new(gpu, config).expect("renderer");
-            renderer.prepare_scene(&scene);
-            let size = (scene.bounds.max - scene.bounds.min).length();
-            renderer.set_lights(&procedural_lights(
-                scene.bounds,
-                1024,
-                1,
-                size * 0.03,
-                size * 0.2,
-            ));
-            let target = gpu.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("target"),
-                size: wgpu::Extent3d {
-                    width: w,
-                    height: h,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: config.output_format,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-                view_formats: &[],
-            });
-            renderer
-                .render(&framing_camera(scene.bounds, w as f32 / h as f32), &target)
-                .expect("frame");
-            renderer.finish();
-            assert_eq!(renderer.culling_counters().map_or(0, |c| c.dropped), 0);
-            readback::read_texture_rgba8(&gpu.device, &gpu.queue, &target).expect("readback")
+            let frame = render_frame(gpu, &scene, config, &lights(&scene, 1024, 1, 0.03, 0.2));
+            assert_eq!(frame.culling.map_or(0, |c| c.dropped), 0);
+            frame.rgba
         })
     };
     let naive = frame(RenderPath::NaivePrez);

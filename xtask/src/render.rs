@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context as _, Result, bail};
 use glam::Vec3;
-use renderer::frame::setup::{framing_camera, procedural_lights, scene_camera};
+use renderer::frame::setup::{create_target, framing_camera, procedural_lights, scene_camera};
 use renderer::frame::{FrameCamera, FrameView, RenderPath, Renderer, RendererConfig};
 use renderer::scene::Scene;
 use renderer::{GpuContext, GpuOptions, readback};
@@ -124,20 +124,7 @@ pub fn run(args: &Args, default_out: &str) -> Result<()> {
     ));
     renderer.set_lights(&lights);
     let camera = pick_camera(args, &scene, w as f32 / h as f32)?;
-    let target = gpu.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("render target"),
-        size: wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: config.output_format,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    });
+    let target = create_target(&gpu.device, &config);
     let report = renderer.render(&camera, &target)?;
     let timings = renderer.finish();
     let rgba = readback::read_texture_rgba8(&gpu.device, &gpu.queue, &target)?;

@@ -23,17 +23,9 @@
 //! lights.extend(procedural_lights(scene.bounds, 4096, 1, 0.5, 3.0));
 //! renderer.set_lights(&lights);
 //!
-//! // The engine's own target: any texture of `config.output_format` with RENDER_ATTACHMENT.
-//! let target = gpu.device.create_texture(&wgpu::TextureDescriptor {
-//!     label: Some("frame"),
-//!     size: wgpu::Extent3d { width: 1280, height: 720, depth_or_array_layers: 1 },
-//!     mip_level_count: 1,
-//!     sample_count: 1,
-//!     dimension: wgpu::TextureDimension::D2,
-//!     format: config.output_format,
-//!     usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-//!     view_formats: &[],
-//! });
+//! // The engine's own target: any texture of `config.output_format` with RENDER_ATTACHMENT
+//! // (this helper makes one of the configured size).
+//! let target = renderer::frame::setup::create_target(&gpu.device, &config);
 //! let camera = framing_camera(scene.bounds, 1280.0 / 720.0);
 //! let report = renderer.render(&camera, &target)?;
 //! if let Some(timings) = report.timings {

@@ -103,3 +103,22 @@ fn hue_to_rgb(h: f32) -> Vec3 {
     };
     Vec3::new(k(5.0), k(3.0), k(1.0)) * 0.8 + Vec3::splat(0.2)
 }
+
+/// A texture the renderer can draw a frame into (`config.output_format`, the configured size),
+/// readable back with [`crate::readback::read_texture_rgba8`].
+pub fn create_target(device: &wgpu::Device, config: &super::RendererConfig) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("frame target"),
+        size: wgpu::Extent3d {
+            width: config.width,
+            height: config.height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: config.output_format,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    })
+}
