@@ -57,6 +57,7 @@ fn culling_never_changes_the_image() {
                 "the scene must be visibly lit ({lit} pixels)"
             );
             for path in [
+                RenderPath::NaivePrez,
                 RenderPath::Tiled,
                 RenderPath::Depth25,
                 RenderPath::Clustered,
