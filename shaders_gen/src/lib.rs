@@ -10,6 +10,7 @@ pub mod bootstrap;
 pub mod calibrate;
 pub mod culling;
 pub mod forward;
+pub mod inspect;
 
 /// Every generated module, for tools that walk them all.
 pub static MODULES: &[&codegen::rt::Module] = &[
@@ -22,4 +23,5 @@ pub static MODULES: &[&codegen::rt::Module] = &[
     &forward::forward::MODULE,
     &forward::heatmap::MODULE,
     &forward::tonemap::MODULE,
+    &inspect::depth_probe::MODULE,
 ];

@@ -4,7 +4,8 @@
 //! `test` (everything CI checks); `info` describes the GPU adapters, and `check-invariants` enforces
 //! the architecture rules of ARCHITECTURE.md.
 
-mod bench_cull;
+mod bench;
+mod bench_codegen;
 mod demo;
 mod info;
 mod invariants;
@@ -39,8 +40,12 @@ enum Command {
     Shaders(shaders::Args),
     /// Check the architecture invariants of ARCHITECTURE.md.
     CheckInvariants,
-    /// GPU time of the light-culling kernels beside the physical floor.
-    BenchCull(bench_cull::Args),
+    /// Every render path side by side over a matrix of lights, sizes, MSAA, tiles and
+    /// scalarization: per-pass GPU time, CPU graph time, list bytes, cull efficiency, floors.
+    Bench(bench::Args),
+    /// Speed of the shader DSL's code generation: per variant, all of shaders_gen, the
+    /// incremental rebuild after a one-line kernel change, and the output sizes.
+    BenchCodegen(bench_codegen::Args),
 }
 
 fn main() -> anyhow::Result<()> {
@@ -51,14 +56,18 @@ fn main() -> anyhow::Result<()> {
         Command::Info(args) => info::run(&args),
         Command::Shaders(args) => shaders::run(&args),
         Command::CheckInvariants => invariants::run(),
-        Command::BenchCull(args) => bench_cull::run(&args),
+        Command::Bench(args) => bench::run(&args),
+        Command::BenchCodegen(args) => bench_codegen::run(&args),
     }
 }
 
-/// The workspace root (the parent of this crate's manifest directory).
+/// The workspace root: the parent of this crate's manifest directory when it exists (a build
+/// run in place), else the current directory (a binary carried to another machine and run from
+/// a checkout's root).
 fn workspace_root() -> std::path::PathBuf {
     let manifest_dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    manifest_dir
-        .parent()
-        .map_or_else(|| manifest_dir.to_path_buf(), std::path::Path::to_path_buf)
+    match manifest_dir.parent() {
+        Some(root) if root.join("Cargo.toml").is_file() => root.to_path_buf(),
+        _ => std::env::current_dir().unwrap_or_else(|_| manifest_dir.to_path_buf()),
+    }
 }

@@ -124,9 +124,9 @@ pub fn run(args: &Args) -> Result<()> {
 }
 
 /// Every `#[shader(..)] mod` in the `.rs` files under `dir`, with its attribute arguments.
-type DslModule = (proc_macro2::TokenStream, syn::ItemMod);
+pub(crate) type DslModule = (proc_macro2::TokenStream, syn::ItemMod);
 
-fn dsl_modules(dir: &Path) -> Result<Vec<(PathBuf, Vec<DslModule>)>> {
+pub(crate) fn dsl_modules(dir: &Path) -> Result<Vec<(PathBuf, Vec<DslModule>)>> {
     let mut files = Vec::new();
     let mut stack = vec![dir.to_path_buf()];
     while let Some(d) = stack.pop() {
@@ -162,7 +162,7 @@ fn dsl_modules(dir: &Path) -> Result<Vec<(PathBuf, Vec<DslModule>)>> {
 
 /// Every module `shaders_gen::MODULES` exports must have been found in the sources, or the
 /// table would silently leave it out.
-fn check_all_modules_found(sources: &[(PathBuf, Vec<DslModule>)]) -> Result<()> {
+pub(crate) fn check_all_modules_found(sources: &[(PathBuf, Vec<DslModule>)]) -> Result<()> {
     let found: Vec<String> = sources
         .iter()
         .flat_map(|(_, modules)| modules.iter().map(|(_, m)| m.ident.to_string()))

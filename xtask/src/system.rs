@@ -32,7 +32,18 @@ const REQUIREMENTS: &[Requirement] = &[
         packages: &["spirv-tools"],
         present: has_spirv_val,
     },
+    Requirement {
+        what: "a TrueType font (the benchmark's charts and their tests)",
+        packages: &["fonts-dejavu-core"],
+        present: has_chart_font,
+    },
 ];
+
+fn has_chart_font() -> bool {
+    crate::bench::charts::FONT_PATHS
+        .iter()
+        .any(|p| Path::new(p).is_file())
+}
 
 /// Makes sure every requirement is present, installing what is missing where we can.
 #[expect(

@@ -40,10 +40,12 @@
 //! # }
 //! ```
 
+pub mod capture;
 mod pipelines;
 mod prepared;
 pub mod setup;
 
+use std::collections::VecDeque;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -175,6 +177,12 @@ pub enum RenderError {
     Cull(#[from] CullError),
     #[error(transparent)]
     Graph(#[from] GraphError),
+    #[error(
+        "a frame capture reads the pre-Z depth; the naive path has none (use naive-prez or a culled path)"
+    )]
+    CaptureNeedsDepth,
+    #[error(transparent)]
+    Readback(#[from] crate::GpuError),
     #[error("GPU timing failed: {0}")]
     Profiler(String),
 }
@@ -197,6 +205,9 @@ pub struct FrameReport {
     pub timings: Option<Vec<PassTiming>>,
     /// CPU time to build, compile and encode the frame graph, in milliseconds.
     pub cpu_graph_ms: f64,
+    /// CPU time to write the frame's uniforms and culling items before that (grows with the
+    /// light count), in milliseconds.
+    pub cpu_upload_ms: f64,
     /// The compiled graph as Graphviz DOT.
     pub graph_dot: String,
     /// Culling counters of the newest frame whose copy has arrived (read asynchronously).
@@ -301,6 +312,12 @@ pub struct Renderer {
     index_capacity: u32,
     last_counters: Option<CullCounters>,
     buffers: FrameBuffers,
+    /// Submissions of frames that may still run on the GPU, oldest first.
+    in_flight: VecDeque<wgpu::SubmissionIndex>,
+    /// Probe stride of a capture asked for the next frame.
+    capture_request: Option<u32>,
+    capture_kernel: Option<Arc<capture::ProbePipeline>>,
+    pending_capture: Option<capture::PendingCapture>,
 }
 
 /// Per-frame GPU data kept across frames: uniforms rewritten each frame, light storage rewritten
@@ -387,6 +404,9 @@ impl std::fmt::Debug for Renderer {
     }
 }
 
+/// Submissions the renderer remembers for `wait_for_frames_in_flight`.
+const MAX_TRACKED_FRAMES: usize = 8;
+
 /// Range standing in for "infinite" in culling spheres.
 const INFINITE_RANGE: f32 = 1.0e30;
 
@@ -425,6 +445,10 @@ impl Renderer {
             frame_index: 0,
             index_capacity: max_index_entries(&gpu.device).min(1 << 22),
             last_counters: None,
+            in_flight: VecDeque::new(),
+            capture_request: None,
+            capture_kernel: None,
+            pending_capture: None,
         })
     }
 
@@ -580,7 +604,11 @@ impl Renderer {
     ) -> Result<FrameReport, RenderError> {
         let scene = self.scene.clone().ok_or(RenderError::NoScene)?;
         self.ensure_culler(camera)?;
-        let started = Instant::now();
+        if self.capture_request.is_some() && self.capture_kernel.is_none() {
+            let kernel = capture::ProbePipeline::new(&self.gpu, self.config.msaa)?;
+            self.capture_kernel = Some(Arc::new(kernel));
+        }
+        let upload_started = Instant::now();
         let gpu = &self.gpu;
         let c = self.config;
         let screen = UVec2::new(c.width, c.height);
@@ -645,6 +673,8 @@ impl Renderer {
             }
             Culler::Naive => {}
         }
+        let cpu_upload_ms = upload_started.elapsed().as_secs_f64() * 1e3;
+        let started = Instant::now();
         let frame = Arc::new(FrameGpu {
             msaa: c.msaa,
             scene,
@@ -702,9 +732,28 @@ impl Renderer {
             }
         }
 
+        let probe = match (self.capture_request, depth, &self.capture_kernel) {
+            (Some(stride), Some(depth), Some(kernel)) => {
+                let probe = Arc::new(capture::ProbeGpu::new(&gpu.device, kernel, screen, stride));
+                let mut handle = graph.import_buffer(
+                    "depth probes",
+                    BufferDesc {
+                        size: probe.output.size(),
+                    },
+                    ImportAccess::ReadWrite,
+                );
+                passes::depth_probe::add(&mut graph, &probe, depth, &mut handle);
+                Some((probe, handle))
+            }
+            _ => None,
+        };
+
         let mut compiled = graph.compile()?;
         let graph_dot = compiled.to_dot();
         compiled.bind_texture(output, target);
+        if let Some((probe, handle)) = &probe {
+            compiled.bind_buffer(*handle, &probe.output);
+        }
         if let Some((grid, indices)) = lists {
             let l = match &self.culler {
                 Culler::Tiled(t) => &t.lists,
@@ -726,9 +775,20 @@ impl Renderer {
         if let Some(b) = counters_buffer {
             self.counters.record(&mut encoder, b, self.frame_index);
         }
+        let capture = probe.map(|(probe, _)| self.record_capture(&mut encoder, probe, camera));
         self.profiler.resolve_queries(&mut encoder);
         let cpu_graph_ms = started.elapsed().as_secs_f64() * 1e3;
-        gpu.queue.submit([encoder.finish()]);
+        let gpu = &self.gpu;
+        self.in_flight
+            .push_back(gpu.queue.submit([encoder.finish()]));
+        // Only the newest frames matter to `wait_for_frames_in_flight`.
+        while self.in_flight.len() > MAX_TRACKED_FRAMES {
+            self.in_flight.pop_front();
+        }
+        if capture.is_some() {
+            self.pending_capture = capture;
+            self.capture_request = None;
+        }
         self.counters.after_submit();
         self.profiler
             .end_frame()
@@ -742,9 +802,109 @@ impl Renderer {
         Ok(FrameReport {
             timings,
             cpu_graph_ms,
+            cpu_upload_ms,
             graph_dot,
             culling: self.last_counters,
         })
+    }
+
+    /// The capture of a frame being encoded: probes plus a copy of the light grid.
+    fn record_capture(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        probe: Arc<capture::ProbeGpu>,
+        camera: &FrameCamera,
+    ) -> capture::PendingCapture {
+        use crate::culling::reference::Method;
+        let c = &self.config;
+        let (lists, method) = match &self.culler {
+            Culler::Tiled(t) if t.config.depth_mask => {
+                (Some(&t.lists), Some(Method::Depth25 { tile: c.tile }))
+            }
+            Culler::Tiled(t) => (Some(&t.lists), Some(Method::Tiled { tile: c.tile })),
+            Culler::Clustered(k) => (
+                Some(&k.lists),
+                Some(Method::Clustered {
+                    grid: k.config.grid,
+                    skip_empty: k.config.skip_empty,
+                }),
+            ),
+            Culler::Naive => (None, None),
+        };
+        let grid_copy = lists.map(|l| {
+            let copy = self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("captured light grid"),
+                size: l.grid.size(),
+                usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            encoder.copy_buffer_to_buffer(&l.grid, 0, &copy, 0, l.grid.size());
+            copy
+        });
+        capture::PendingCapture {
+            probe,
+            stride: self.capture_request.unwrap_or(1),
+            msaa: c.msaa,
+            camera: crate::culling::reference::CullCamera {
+                view: camera.view,
+                projection: camera.projection,
+                width: c.width,
+                height: c.height,
+            },
+            lights: self.spheres.clone(),
+            method,
+            grid_copy,
+        }
+    }
+
+    /// Asks the next frame to capture its depth at every `stride`-th pixel (both ways) and its
+    /// light grid, for [`Self::take_capture`]. Needs the depth pre-pass.
+    pub fn capture_next_frame(&mut self, stride: u32) -> Result<(), RenderError> {
+        if !self.config.path.has_prepass() {
+            return Err(RenderError::CaptureNeedsDepth);
+        }
+        self.capture_request = Some(stride.max(1));
+        Ok(())
+    }
+
+    /// Reads back the newest captured frame (blocking); `None` if no capture was rendered since
+    /// the last call.
+    pub fn take_capture(&mut self) -> Result<Option<capture::FrameCapture>, RenderError> {
+        match self.pending_capture.take() {
+            Some(p) => Ok(Some(p.read_back(&self.gpu)?)),
+            None => Ok(None),
+        }
+    }
+
+    /// Blocks until at most `max` submitted frames may still be running on the GPU, so a caller
+    /// can keep the GPU busy without running ahead of the timestamp queries.
+    pub fn wait_for_frames_in_flight(&mut self, max: usize) -> Result<(), RenderError> {
+        while self.in_flight.len() > max {
+            if let Some(index) = self.in_flight.pop_front() {
+                self.gpu
+                    .device
+                    .poll(wgpu::PollType::Wait {
+                        submission_index: Some(index),
+                        timeout: None,
+                    })
+                    .map_err(crate::GpuError::Poll)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Per-pass timings of every frame whose timestamps have arrived and were not yet returned
+    /// (by `render`'s report or an earlier call), oldest first. Does not block.
+    pub fn drain_timings(&mut self) -> Vec<Vec<PassTiming>> {
+        let _ = self.gpu.device.poll(wgpu::PollType::Poll);
+        let mut frames = Vec::new();
+        while let Some(r) = self
+            .profiler
+            .process_finished_frame(self.gpu.queue.get_timestamp_period())
+        {
+            frames.push(PassTiming::from_profiler(&r));
+        }
+        frames
     }
 
     /// Picks up culling counters that have arrived; on overflow, warns and grows the index list
@@ -779,6 +939,16 @@ impl Renderer {
             }
         }
         Some(counters)
+    }
+
+    /// Bytes of the light grid and of the index list allocated for the configured path (`None`
+    /// on the naive paths or before the first frame).
+    pub fn light_list_bytes(&self) -> Option<(u64, u64)> {
+        match &self.culler {
+            Culler::Tiled(t) => Some(t.lists.bytes()),
+            Culler::Clustered(k) => Some(k.lists.bytes()),
+            Culler::Naive => None,
+        }
     }
 
     /// The newest culling counters that have arrived, polling first.

@@ -2,6 +2,7 @@
 //! [`crate::graph::RenderGraph`], declaring what it reads and writes, and returns the handles of
 //! what it produces. Their GPU state lives in [`crate::frame::FrameGpu`].
 
+pub mod depth_probe;
 pub mod forward;
 pub mod heatmap;
 pub mod light_cull;

@@ -22,28 +22,34 @@ impl DepthBuffer {
 
     /// Sub-pixel position of sample `s` (Vulkan/D3D standard sample locations).
     pub fn sample_offset(&self, s: u32) -> (f32, f32) {
-        const X2: [(f32, f32); 2] = [(0.75, 0.75), (0.25, 0.25)];
-        const X4: [(f32, f32); 4] = [
-            (0.375, 0.125),
-            (0.875, 0.375),
-            (0.125, 0.625),
-            (0.625, 0.875),
-        ];
-        const X8: [(f32, f32); 8] = [
-            (0.5625, 0.3125),
-            (0.4375, 0.6875),
-            (0.8125, 0.5625),
-            (0.3125, 0.1875),
-            (0.1875, 0.8125),
-            (0.0625, 0.4375),
-            (0.6875, 0.9375),
-            (0.9375, 0.0625),
-        ];
-        match self.samples {
-            2 => X2[s as usize],
-            4 => X4[s as usize],
-            8 => X8[s as usize],
-            _ => (0.5, 0.5),
-        }
+        standard_sample_offset(self.samples, s)
+    }
+}
+
+/// Sub-pixel position of sample `s` of `samples` (Vulkan/D3D standard sample locations; the
+/// pixel centre without multisampling).
+pub fn standard_sample_offset(samples: u32, s: u32) -> (f32, f32) {
+    const X2: [(f32, f32); 2] = [(0.75, 0.75), (0.25, 0.25)];
+    const X4: [(f32, f32); 4] = [
+        (0.375, 0.125),
+        (0.875, 0.375),
+        (0.125, 0.625),
+        (0.625, 0.875),
+    ];
+    const X8: [(f32, f32); 8] = [
+        (0.5625, 0.3125),
+        (0.4375, 0.6875),
+        (0.8125, 0.5625),
+        (0.3125, 0.1875),
+        (0.1875, 0.8125),
+        (0.0625, 0.4375),
+        (0.6875, 0.9375),
+        (0.9375, 0.0625),
+    ];
+    match samples {
+        2 => X2[s as usize],
+        4 => X4[s as usize],
+        8 => X8[s as usize],
+        _ => (0.5, 0.5),
     }
 }

@@ -19,7 +19,7 @@ pub mod exact;
 mod frustum;
 mod methods;
 
-pub use depth::DepthBuffer;
+pub use depth::{DepthBuffer, standard_sample_offset};
 pub use frustum::{Plane, tile_side_planes};
 pub use methods::{Borderline, CellLists, ClusterGrid, Method, cull};
 

@@ -1,0 +1,206 @@
+//! The benchmark matrix: the axes chosen on the command line, expanded into renderer set-ups
+//! (one `Renderer` each) that are measured at every light count.
+
+use anyhow::{Result, bail};
+use renderer::frame::RenderPath;
+
+/// A path of the matrix, with its command-line name.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PathChoice(pub RenderPath);
+
+impl PathChoice {
+    pub fn parse(s: &str) -> Result<Self> {
+        Ok(Self(match s {
+            "naive" => RenderPath::Naive,
+            "naive-prez" => RenderPath::NaivePrez,
+            "tiled" => RenderPath::Tiled,
+            "2.5d" => RenderPath::Depth25,
+            "clustered" => RenderPath::Clustered,
+            other => bail!("path {other:?}: use naive, naive-prez, tiled, 2.5d or clustered"),
+        }))
+    }
+
+    pub fn name(self) -> &'static str {
+        match self.0 {
+            RenderPath::Naive => "naive",
+            RenderPath::NaivePrez => "naive-prez",
+            RenderPath::Tiled => "tiled",
+            RenderPath::Depth25 => "2.5d",
+            RenderPath::Clustered => "clustered",
+        }
+    }
+
+    fn has_tiles(self) -> bool {
+        matches!(self.0, RenderPath::Tiled | RenderPath::Depth25)
+    }
+
+    /// Whether the scalarize axis changes anything: the culling kernels and the culled forward
+    /// shader have subgroup variants; the naive loop has none.
+    fn has_scalarize(self) -> bool {
+        !matches!(self.0, RenderPath::Naive | RenderPath::NaivePrez)
+    }
+}
+
+/// The axes of a run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Axes {
+    pub scenes: Vec<String>,
+    pub sizes: Vec<(u32, u32)>,
+    pub msaa: Vec<u32>,
+    pub paths: Vec<PathChoice>,
+    pub tiles: Vec<u32>,
+    pub scalarize: Vec<bool>,
+    pub lights: Vec<u32>,
+}
+
+/// One renderer set-up of the matrix; it is measured at every light count of the run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Setup {
+    /// Index into `Axes::scenes`.
+    pub scene: usize,
+    pub width: u32,
+    pub height: u32,
+    pub msaa: u32,
+    pub path: PathChoice,
+    /// 0 for paths without tiles.
+    pub tile: u32,
+    pub scalarize: bool,
+}
+
+/// What the adapter can run; cells outside it are left out (and said so).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Support {
+    pub msaa: Vec<u32>,
+    pub subgroup: bool,
+}
+
+/// Expands the axes into set-ups the adapter supports, in a stable order, and lists what was
+/// left out.
+pub fn expand(axes: &Axes, support: &Support) -> (Vec<Setup>, Vec<String>) {
+    let mut setups = Vec::new();
+    let mut left_out = Vec::new();
+    for &m in &axes.msaa {
+        if !support.msaa.contains(&m) {
+            left_out.push(format!(
+                "MSAA {m}: not supported by this adapter ({:?})",
+                support.msaa
+            ));
+        }
+    }
+    if axes.scalarize.contains(&true) && !support.subgroup {
+        left_out.push("scalarize on: the adapter has no SUBGROUP feature".into());
+    }
+    for scene in 0..axes.scenes.len() {
+        for &(width, height) in &axes.sizes {
+            for &msaa in axes.msaa.iter().filter(|m| support.msaa.contains(m)) {
+                for &path in &axes.paths {
+                    let tiles: &[u32] = if path.has_tiles() { &axes.tiles } else { &[0] };
+                    let scalar: Vec<bool> = if path.has_scalarize() {
+                        axes.scalarize
+                            .iter()
+                            .copied()
+                            .filter(|&s| !s || support.subgroup)
+                            .collect()
+                    } else {
+                        vec![false]
+                    };
+                    for &tile in tiles {
+                        for &scalarize in &scalar {
+                            setups.push(Setup {
+                                scene,
+                                width,
+                                height,
+                                msaa,
+                                path,
+                                tile,
+                                scalarize,
+                            });
+                        }
+                    }
+                }
+            }
+        }
+    }
+    (setups, left_out)
+}
+
+/// Parses `WxH`.
+pub fn parse_size(s: &str) -> Result<(u32, u32)> {
+    s.split_once('x')
+        .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)))
+        .filter(|&(w, h)| (1..=8192).contains(&w) && (1..=8192).contains(&h))
+        .ok_or_else(|| {
+            anyhow::anyhow!("size {s:?}: use WxH with each side 1..=8192, e.g. 1920x1080")
+        })
+}
+
+/// Parses `on` / `off`.
+pub fn parse_on_off(s: &str) -> Result<bool> {
+    match s {
+        "on" => Ok(true),
+        "off" => Ok(false),
+        other => bail!("scalarize {other:?}: use off, on or off,on"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn axes() -> Axes {
+        Axes {
+            scenes: vec!["demo".into()],
+            sizes: vec![(1920, 1080), (3840, 2160)],
+            msaa: vec![1, 2, 4, 8],
+            paths: ["naive", "naive-prez", "tiled", "2.5d", "clustered"]
+                .iter()
+                .map(|p| PathChoice::parse(p).unwrap())
+                .collect(),
+            tiles: vec![8, 16, 32],
+            scalarize: vec![false, true],
+            lights: vec![1024, 4096],
+        }
+    }
+
+    #[test]
+    fn the_default_matrix_on_a_full_gpu() {
+        let support = Support {
+            msaa: vec![1, 2, 4, 8],
+            subgroup: true,
+        };
+        let (setups, left_out) = expand(&axes(), &support);
+        // Per size and MSAA: naive, naive-prez, tiled 3×2, 2.5D 3×2, clustered ×2.
+        assert_eq!(setups.len(), 2 * 4 * 16);
+        assert!(left_out.is_empty());
+        assert!(setups.iter().all(|s| s.tile == 0 || s.path.has_tiles()));
+    }
+
+    #[test]
+    fn unsupported_cells_are_left_out_and_named() {
+        let support = Support {
+            msaa: vec![1, 4],
+            subgroup: false,
+        };
+        let (setups, left_out) = expand(&axes(), &support);
+        assert_eq!(setups.len(), 2 * 2 * 9);
+        assert!(
+            setups
+                .iter()
+                .all(|s| !s.scalarize && [1, 4].contains(&s.msaa))
+        );
+        assert_eq!(left_out.len(), 3, "{left_out:?}");
+    }
+
+    #[test]
+    fn bad_axis_values_say_what_to_use() {
+        assert!(
+            PathChoice::parse("deferred")
+                .unwrap_err()
+                .to_string()
+                .contains("2.5d")
+        );
+        assert!(parse_size("1920").is_err());
+        assert!(parse_on_off("maybe").is_err());
+        assert_eq!(parse_size("64x32").unwrap(), (64, 32));
+    }
+}

@@ -1,0 +1,500 @@
+//! `cargo xtask bench`: every render path side by side, per pass, over a matrix of light counts,
+//! sizes, MSAA counts, tile sizes and scalarization, with the culling pass set beside its
+//! physical floor.
+//!
+//! Each cell renders warm-up frames, then timed frames back to back with moving lights, and
+//! records per-pass GPU timestamps (median, p90), the CPU time of the frame graph, the light
+//! list's bytes and, from one captured frame, the cull efficiency against the CPU reference. The
+//! run writes `bench.csv` (one row per cell, written as it goes), `bench.md` and PNG charts.
+//! `--report CSV` re-renders the Markdown and charts from a CSV, e.g. one from a GPU machine.
+//!
+//! Module map: [`matrix`] (axes → set-ups), [`lights`] (the moving light set), [`measure`]
+//! (frames of one cell), [`calibrate`] (ceilings and floors), [`record`] (the CSV row),
+//! [`markdown`] and [`charts`] (reports).
+
+mod calibrate;
+pub(crate) mod charts;
+mod lights;
+mod markdown;
+mod matrix;
+mod measure;
+mod record;
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use anyhow::{Context as _, Result};
+use renderer::frame::setup::{create_target, framing_camera};
+use renderer::frame::{RenderPath, Renderer, RendererConfig};
+use renderer::scene::Scene;
+use renderer::{GpuContext, GpuOptions};
+
+use matrix::{Axes, PathChoice, Setup, Support};
+use measure::{FramePlan, Reaching};
+use record::{CellRecord, CsvSink};
+
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Light counts (procedural point lights, plus the scene's own).
+    #[arg(long, value_delimiter = ',', default_value = "1024,4096,16384,65536")]
+    lights: Vec<u32>,
+    /// Frame sizes, WxH.
+    #[arg(long, value_delimiter = ',', default_value = "1920x1080,3840x2160")]
+    sizes: Vec<String>,
+    /// MSAA counts (those the adapter lacks are left out, and said so).
+    #[arg(long, value_delimiter = ',', default_value = "1,2,4,8")]
+    msaa: Vec<u32>,
+    /// Paths: naive, naive-prez, tiled, 2.5d, clustered.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "naive,naive-prez,tiled,2.5d,clustered"
+    )]
+    paths: Vec<String>,
+    /// Tile sizes of the tiled and 2.5D paths.
+    #[arg(long, value_delimiter = ',', default_value = "8,16,32")]
+    tiles: Vec<u32>,
+    /// Scalarization: off, on (on needs SUBGROUP; left out without it).
+    #[arg(long, value_delimiter = ',', default_value = "off,on")]
+    scalarize: Vec<String>,
+    /// glTF scenes measured after the built-in demo scene.
+    #[arg(long)]
+    scene: Vec<PathBuf>,
+    /// Leave the built-in demo scene out (only the --scene files).
+    #[arg(long)]
+    no_demo_scene: bool,
+    /// Timed frames per cell.
+    #[arg(long, default_value_t = 30)]
+    frames: u32,
+    /// Untimed frames before them.
+    #[arg(long, default_value_t = 5)]
+    warmup: u32,
+    /// Seconds of timed frames after which a cell stops early (its note says so); naive cells
+    /// whose estimate exceeds twice this are skipped.
+    #[arg(long, default_value_t = 4.0)]
+    cell_budget: f64,
+    /// Lights reaching a point of the light box on average (ranges shrink as counts grow).
+    #[arg(long, default_value_t = 16.0)]
+    light_density: f32,
+    /// Seed of the lights.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Depth probes per captured frame for the cull efficiency.
+    #[arg(long, default_value_t = 16_384)]
+    probes: u32,
+    /// Measure copy bandwidth and FMA rate first, for the floor column.
+    #[arg(long)]
+    calibrate: bool,
+    /// Reduced sizes for software drivers: 320x180 and 640x360, lights 64..4096, 30 frames,
+    /// 1 warm-up, 2 s per cell.
+    #[arg(long)]
+    quick: bool,
+    /// Output folder for bench.csv, bench.md and the charts.
+    #[arg(long, default_value = "target/bench")]
+    out: PathBuf,
+    /// Only re-render bench.md and the charts from this CSV (no GPU needed).
+    #[arg(long)]
+    report: Option<PathBuf>,
+    /// Adapter name substring (also RENDERER_ADAPTER).
+    #[arg(long)]
+    adapter: Option<String>,
+}
+
+pub fn run(args: &Args) -> Result<()> {
+    let out = crate::workspace_root().join(&args.out);
+    std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
+    if let Some(csv) = &args.report {
+        let meta = std::fs::read_to_string(csv.with_file_name("meta.md")).unwrap_or_default();
+        let records = record::read_csv(csv)?;
+        write_markdown(&meta, &records, &out)?;
+        return write_charts(&records, &out);
+    }
+    if cfg!(debug_assertions) && std::env::var_os("BENCH_ALLOW_DEBUG").is_none() {
+        return rerun_in_release();
+    }
+    sweep(args, &out)
+}
+
+/// A benchmark of a debug build measures the debug build: re-run this command in release.
+fn rerun_in_release() -> Result<()> {
+    eprintln!("bench: building and running in release (set BENCH_ALLOW_DEBUG=1 to skip)");
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let status = std::process::Command::new(cargo)
+        .args(["run", "--release", "--quiet", "--package", "xtask", "--"])
+        .args(std::env::args_os().skip(1))
+        .current_dir(crate::workspace_root())
+        .status()
+        .context("running cargo")?;
+    anyhow::ensure!(status.success(), "the release benchmark failed ({status})");
+    Ok(())
+}
+
+struct BenchScene {
+    name: String,
+    scene: Scene,
+}
+
+fn load_scenes(args: &Args) -> Result<Vec<BenchScene>> {
+    let mut paths = Vec::new();
+    if !args.no_demo_scene {
+        let demo =
+            crate::workspace_root().join("tests/scenes/AlphaBlendModeTest/AlphaBlendModeTest.glb");
+        paths.push(("demo".to_string(), demo));
+    }
+    for p in &args.scene {
+        let stem = p
+            .file_stem()
+            .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
+        paths.push((stem, p.clone()));
+    }
+    anyhow::ensure!(
+        !paths.is_empty(),
+        "no scene: drop --no-demo-scene or give --scene FILE"
+    );
+    paths
+        .into_iter()
+        .map(|(name, path)| {
+            Ok(BenchScene {
+                name,
+                scene: Scene::load(&path)?,
+            })
+        })
+        .collect()
+}
+
+fn axes(args: &Args, scenes: &[BenchScene]) -> Result<Axes> {
+    let mut axes = Axes {
+        scenes: scenes.iter().map(|s| s.name.clone()).collect(),
+        sizes: args
+            .sizes
+            .iter()
+            .map(|s| matrix::parse_size(s))
+            .collect::<Result<_>>()?,
+        msaa: args.msaa.clone(),
+        paths: args
+            .paths
+            .iter()
+            .map(|p| PathChoice::parse(p))
+            .collect::<Result<_>>()?,
+        tiles: args.tiles.clone(),
+        scalarize: args
+            .scalarize
+            .iter()
+            .map(|s| matrix::parse_on_off(s))
+            .collect::<Result<_>>()?,
+        lights: args.lights.clone(),
+    };
+    if args.quick {
+        axes.sizes = vec![(320, 180), (640, 360)];
+        axes.lights = vec![64, 256, 1024, 4096];
+    }
+    for &t in &axes.tiles {
+        anyhow::ensure!([8, 16, 32].contains(&t), "tile {t}: use 8, 16 or 32");
+    }
+    anyhow::ensure!(
+        axes.lights.iter().all(|&n| n > 0),
+        "light counts must be positive"
+    );
+    Ok(axes)
+}
+
+#[expect(clippy::print_stdout, reason = "command-line report")]
+fn sweep(args: &Args, out: &Path) -> Result<()> {
+    let scenes = load_scenes(args)?;
+    let axes = axes(args, &scenes)?;
+    let gpu =
+        GpuContext::new_blocking(&GpuOptions::from_env().with_adapter_name(args.adapter.clone()))?;
+    let caps = gpu.capabilities().clone();
+    anyhow::ensure!(
+        caps.timestamp_inside_passes,
+        "the benchmark needs TIMESTAMP_QUERY inside encoders; this adapter lacks it"
+    );
+    println!("adapter: {}", gpu.report);
+    let support = Support {
+        msaa: caps.msaa_counts(),
+        subgroup: caps.subgroup.is_some(),
+    };
+    let (setups, left_out) = matrix::expand(&axes, &support);
+    for l in &left_out {
+        println!("left out: {l}");
+    }
+    let ceilings = if args.calibrate {
+        let c = calibrate::calibrate(&gpu)?;
+        println!(
+            "calibration: copy bandwidth {:.0} GB/s, FMA rate {:.2} TFLOP/s",
+            c.bytes_per_s / 1e9,
+            c.flop_per_s / 1e12
+        );
+        Some(c)
+    } else {
+        None
+    };
+    let plan = if args.quick {
+        FramePlan {
+            warmup: 1,
+            frames: args.frames,
+            budget: Duration::from_secs_f64(2.0),
+            min_frames: 3,
+        }
+    } else {
+        FramePlan {
+            warmup: args.warmup,
+            frames: args.frames,
+            budget: Duration::from_secs_f64(args.cell_budget),
+            min_frames: 3,
+        }
+    };
+    let meta = meta(args, &gpu, ceilings, &left_out, &plan);
+    std::fs::write(out.join("meta.md"), &meta)?;
+    let mut csv = CsvSink::create(&out.join("bench.csv"))?;
+    let cells = (setups.len() * axes.lights.len()) as u64;
+    let bar =
+        indicatif::ProgressBar::new(cells).with_style(indicatif::ProgressStyle::with_template(
+            "{bar:40} {pos}/{len} cells, {elapsed_precise} elapsed, ETA {eta_precise}  {msg}",
+        )?);
+    let started = Instant::now();
+    let mut records = Vec::new();
+    let mut reaching: HashMap<(usize, u32, u32, u32, u32), Reaching> = HashMap::new();
+    for setup in &setups {
+        let bench_scene = &scenes[setup.scene];
+        let config = RendererConfig {
+            width: setup.width,
+            height: setup.height,
+            msaa: setup.msaa,
+            path: setup.path.0,
+            tile: setup.tile.max(8),
+            scalarize: setup.scalarize,
+            ..Default::default()
+        };
+        let mut renderer = Renderer::new(&gpu, config)?;
+        renderer.prepare_scene(&bench_scene.scene);
+        let target = create_target(&gpu.device, &config);
+        let camera = framing_camera(
+            bench_scene.scene.bounds,
+            setup.width as f32 / setup.height as f32,
+        );
+        let mut previous: Option<(u32, Duration)> = None;
+        for &n in &axes.lights {
+            bar.set_message(format!(
+                "{} {}x{} msaa{} {} {}",
+                bench_scene.name,
+                setup.width,
+                setup.height,
+                setup.msaa,
+                label(setup),
+                n
+            ));
+            let lights = lights::MovingLights::new(
+                bench_scene.scene.bounds,
+                n as usize,
+                args.light_density,
+                args.seed,
+            );
+            let mut record = empty_record(&bench_scene.name, setup, n);
+            let estimate = previous.map(|(m, wall)| wall.mul_f64(f64::from(n) / f64::from(m)));
+            let naive = !setup.path.0.has_prepass() || setup.path.0 == RenderPath::NaivePrez;
+            match estimate.filter(|e| naive && *e * (plan.min_frames + 1) > plan.budget * 2) {
+                Some(e) => {
+                    record.note = format!(
+                        "skipped: about {:.1} s per frame (estimated from {} lights); raise \
+                         --cell-budget to run it",
+                        e.as_secs_f64(),
+                        previous.map_or(0, |p| p.0)
+                    );
+                }
+                None => {
+                    let m = measure::measure(&mut renderer, &target, &camera, &lights, plan)?;
+                    previous = Some((n, m.wall_per_frame));
+                    fill(&mut record, &m, &renderer);
+                    if setup.path.0 != RenderPath::Naive && setup.path.0 != RenderPath::NaivePrez {
+                        let stride = probe_stride(setup.width, setup.height, args.probes);
+                        let key = (setup.scene, setup.width, setup.height, setup.msaa, n);
+                        let mut cached = reaching.remove(&key);
+                        record.cull_efficiency = measure::cull_efficiency(
+                            &mut renderer,
+                            &target,
+                            &camera,
+                            &lights,
+                            stride,
+                            &mut cached,
+                        )?;
+                        record.lights_reaching_mean = cached.as_ref().map(Reaching::mean);
+                        if let Some(c) = cached {
+                            reaching.insert(key, c);
+                        }
+                        record.cull_floor_us = ceilings.map(|c| {
+                            c.cull_floor_us(
+                                u64::from(setup.width * setup.height * setup.msaa) * 4,
+                                cull_cells(setup),
+                                u64::from(record.lights),
+                            )
+                        });
+                    }
+                }
+            }
+            csv.push(&record)?;
+            records.push(record);
+            bar.inc(1);
+        }
+    }
+    bar.finish_and_clear();
+    println!(
+        "{} cells in {:.0} s; wrote {}",
+        records.len(),
+        started.elapsed().as_secs_f64(),
+        out.join("bench.csv").display()
+    );
+    write_markdown(&meta, &records, out)?;
+    // The CSV is the result; charts need a font, which a bare GPU machine may lack.
+    if let Err(e) = write_charts(&records, out) {
+        eprintln!("charts not drawn: {e:#}\nre-render them elsewhere with --report bench.csv");
+    }
+    Ok(())
+}
+
+#[expect(clippy::print_stdout, reason = "command-line report")]
+fn write_markdown(meta: &str, records: &[CellRecord], out: &Path) -> Result<()> {
+    let md = out.join("bench.md");
+    std::fs::write(&md, markdown::report(meta, records))
+        .with_context(|| format!("writing {}", md.display()))?;
+    println!("wrote {}", md.display());
+    Ok(())
+}
+
+#[expect(clippy::print_stdout, reason = "command-line report")]
+fn write_charts(records: &[CellRecord], out: &Path) -> Result<()> {
+    for png in charts::write_charts(records, out)? {
+        println!("wrote {}", png.display());
+    }
+    Ok(())
+}
+
+fn label(setup: &Setup) -> String {
+    let mut s = setup.path.name().to_string();
+    if setup.tile > 0 {
+        s += &format!(" {}", setup.tile);
+    }
+    if setup.scalarize {
+        s += " scalar";
+    }
+    s
+}
+
+/// Cells the culling kernel tests every light against.
+fn cull_cells(setup: &Setup) -> u64 {
+    match setup.path.0 {
+        RenderPath::Tiled | RenderPath::Depth25 => {
+            u64::from(setup.width.div_ceil(setup.tile) * setup.height.div_ceil(setup.tile))
+        }
+        RenderPath::Clustered => 16 * 8 * 24,
+        RenderPath::Naive | RenderPath::NaivePrez => 0,
+    }
+}
+
+/// Pixels between depth probes so that about `probes` probes cover the frame.
+fn probe_stride(width: u32, height: u32, probes: u32) -> u32 {
+    let area = f64::from(width) * f64::from(height);
+    ((area / f64::from(probes.max(1))).sqrt().ceil() as u32).max(1)
+}
+
+fn empty_record(scene: &str, setup: &Setup, lights: u32) -> CellRecord {
+    CellRecord {
+        scene: scene.to_string(),
+        width: setup.width,
+        height: setup.height,
+        msaa: setup.msaa,
+        path: setup.path.name().to_string(),
+        tile: setup.tile,
+        scalarize: setup.scalarize,
+        lights,
+        frames: 0,
+        prez_median_ms: None,
+        prez_p90_ms: None,
+        cull_median_ms: None,
+        cull_p90_ms: None,
+        forward_median_ms: None,
+        forward_p90_ms: None,
+        tonemap_median_ms: None,
+        tonemap_p90_ms: None,
+        gpu_total_median_ms: 0.0,
+        cpu_graph_median_ms: 0.0,
+        cpu_upload_median_ms: 0.0,
+        grid_bytes: 0,
+        index_bytes_used: 0,
+        index_bytes_allocated: 0,
+        cull_efficiency: None,
+        lights_reaching_mean: None,
+        cull_floor_us: None,
+        dropped: 0,
+        note: String::new(),
+    }
+}
+
+fn fill(record: &mut CellRecord, m: &measure::Measured, renderer: &Renderer) {
+    let pass = |name: &str| m.passes.get(name);
+    record.frames = m.frames;
+    record.prez_median_ms = pass("pre-z").and_then(|s| s.median());
+    record.prez_p90_ms = pass("pre-z").and_then(|s| s.p90());
+    record.cull_median_ms = pass("light culling").and_then(|s| s.median());
+    record.cull_p90_ms = pass("light culling").and_then(|s| s.p90());
+    record.forward_median_ms = pass("forward").and_then(|s| s.median());
+    record.forward_p90_ms = pass("forward").and_then(|s| s.p90());
+    record.tonemap_median_ms = pass("tonemap").and_then(|s| s.median());
+    record.tonemap_p90_ms = pass("tonemap").and_then(|s| s.p90());
+    record.gpu_total_median_ms = m.total.median().unwrap_or(0.0);
+    record.cpu_graph_median_ms = m.cpu_graph_ms.median().unwrap_or(0.0);
+    record.cpu_upload_median_ms = m.cpu_upload_ms.median().unwrap_or(0.0);
+    if let Some((grid, index)) = renderer.light_list_bytes() {
+        record.grid_bytes = grid;
+        record.index_bytes_allocated = index;
+        record.index_bytes_used = (u64::from(m.requested_entries) * 4).min(index);
+    }
+    record.dropped = m.dropped;
+    record.note.clone_from(&m.note);
+}
+
+/// The run's header: adapter, driver, date, command, calibration, frame plan.
+fn meta(
+    args: &Args,
+    gpu: &GpuContext,
+    ceilings: Option<calibrate::Ceilings>,
+    left_out: &[String],
+    plan: &FramePlan,
+) -> String {
+    let date = std::process::Command::new("date")
+        .args(["-u", "+%Y-%m-%d %H:%M UTC"])
+        .output()
+        .ok()
+        .and_then(|o| String::from_utf8(o.stdout).ok())
+        .map_or_else(|| "unknown".into(), |s| s.trim().to_string());
+    let command: Vec<String> = std::env::args().skip(1).collect();
+    let mut s = format!(
+        "## Run of {date}\n\n- Command: `cargo xtask {}`\n- Adapter: `{}`\n- Driver: `{} {}`\n\
+         - Frames: {} warm-up, {} timed per cell (stopping early after {:.1} s, at least {}); \
+         light density {} (lights reaching a point on average), seed {}\n",
+        command.join(" "),
+        gpu.report.name,
+        gpu.report.driver,
+        gpu.report.driver_info,
+        plan.warmup,
+        plan.frames,
+        plan.budget.as_secs_f64(),
+        plan.min_frames,
+        args.light_density,
+        args.seed
+    );
+    if let Some(c) = ceilings {
+        s += &format!(
+            "- Calibration: copy bandwidth {:.0} GB/s, FMA rate {:.2} TFLOP/s (floor = max(depth \
+             bytes ÷ bandwidth, cells × lights × {} FLOP ÷ FMA rate))\n",
+            c.bytes_per_s / 1e9,
+            c.flop_per_s / 1e12,
+            calibrate::FLOP_PER_SPHERE_TEST
+        );
+    }
+    for l in left_out {
+        s += &format!("- Left out: {l}\n");
+    }
+    s
+}

@@ -1,0 +1,112 @@
+//! One measured cell of the benchmark matrix: its key, its figures, and its CSV row.
+//!
+//! The CSV is the benchmark's source of truth: the Markdown table and the charts are rendered
+//! from it, so results carried back from a GPU machine can be re-reported anywhere
+//! (`cargo xtask bench --report CSV`).
+
+use std::path::Path;
+
+use anyhow::{Context as _, Result};
+use serde::{Deserialize, Serialize};
+
+/// One row of `bench.csv`: a cell of the matrix and what was measured for it. Times are GPU
+/// timestamps in milliseconds (median and p90 over `frames` timed frames); a pass the path does
+/// not run is empty.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CellRecord {
+    /// Scene name (file stem), `demo` for the built-in scene.
+    pub scene: String,
+    pub width: u32,
+    pub height: u32,
+    pub msaa: u32,
+    /// `naive`, `naive-prez`, `tiled`, `2.5d` or `clustered`.
+    pub path: String,
+    /// Tile size of the tiled paths; 0 for the others.
+    pub tile: u32,
+    pub scalarize: bool,
+    /// Lights culled and shaded (procedural plus the scene's own punctual lights).
+    pub lights: u32,
+    /// Timed frames behind the medians (fewer than asked only when the cell's time budget ran
+    /// out; `note` then says so).
+    pub frames: u32,
+    pub prez_median_ms: Option<f64>,
+    pub prez_p90_ms: Option<f64>,
+    pub cull_median_ms: Option<f64>,
+    pub cull_p90_ms: Option<f64>,
+    pub forward_median_ms: Option<f64>,
+    pub forward_p90_ms: Option<f64>,
+    pub tonemap_median_ms: Option<f64>,
+    pub tonemap_p90_ms: Option<f64>,
+    /// Median over frames of the sum of all passes.
+    pub gpu_total_median_ms: f64,
+    /// Median CPU time to build, compile and encode the frame graph.
+    pub cpu_graph_median_ms: f64,
+    /// Median CPU time to write the frame's uniforms and culling items (before the graph).
+    pub cpu_upload_median_ms: f64,
+    /// Bytes of the light grid (`(offset, count)` per cell); 0 without culling.
+    pub grid_bytes: u64,
+    /// Bytes of the index list the frame filled (entries requested × 4).
+    pub index_bytes_used: u64,
+    /// Bytes allocated for the index list.
+    pub index_bytes_allocated: u64,
+    /// Lights listed ÷ lights that reach the sample, from the CPU reference on sampled pixels.
+    pub cull_efficiency: Option<f64>,
+    /// Mean number of lights reaching a probed surface sample (the light density as seen).
+    pub lights_reaching_mean: Option<f64>,
+    /// Physical floor of the culling pass in µs (needs `--calibrate`).
+    pub cull_floor_us: Option<f64>,
+    /// List entries dropped in the measured frames (0 means the image is exact).
+    pub dropped: u32,
+    pub note: String,
+}
+
+impl CellRecord {
+    /// The path label used in tables and chart legends, e.g. `tiled 16 scalar`.
+    pub fn label(&self) -> String {
+        let mut s = self.path.clone();
+        if self.tile > 0 {
+            s += &format!(" {}", self.tile);
+        }
+        if self.scalarize {
+            s += " scalar";
+        }
+        s
+    }
+
+    /// Culling median over its floor, where both exist.
+    pub fn cull_ratio_to_floor(&self) -> Option<f64> {
+        Some(self.cull_median_ms? * 1e3 / self.cull_floor_us?)
+    }
+}
+
+/// Writes records to a CSV file, one row per cell, header first.
+#[derive(Debug)]
+pub struct CsvSink {
+    writer: csv::Writer<std::fs::File>,
+}
+
+impl CsvSink {
+    pub fn create(path: &Path) -> Result<Self> {
+        Ok(Self {
+            writer: csv::Writer::from_path(path)
+                .with_context(|| format!("creating {}", path.display()))?,
+        })
+    }
+
+    /// Appends one row and flushes, so an interrupted run keeps every finished cell.
+    pub fn push(&mut self, record: &CellRecord) -> Result<()> {
+        self.writer.serialize(record)?;
+        self.writer.flush()?;
+        Ok(())
+    }
+}
+
+/// Reads every record of a CSV written by [`CsvSink`].
+pub fn read_csv(path: &Path) -> Result<Vec<CellRecord>> {
+    let mut reader =
+        csv::Reader::from_path(path).with_context(|| format!("opening {}", path.display()))?;
+    reader
+        .deserialize()
+        .map(|r| r.with_context(|| format!("reading {}", path.display())))
+        .collect()
+}
