@@ -128,3 +128,34 @@ pub fn calibrate(gpu: &GpuContext) -> Result<Ceilings> {
         flop_per_s: flop / (percentile(&fma, 0.5) * 1e-6),
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_floor_is_the_larger_of_bytes_and_tests() {
+        // The brief's H100 figures: ~3 TB/s, ~50 TFLOP/s; 1080p, 16×16 tiles, 4,096 lights.
+        let c = Ceilings {
+            bytes_per_s: 3.0e12,
+            flop_per_s: 50.0e12,
+        };
+        let tiles = 120 * 68;
+        let depth = 1920 * 1080 * 4;
+        let floor = c.cull_floor_us(depth, tiles, 4096);
+        assert!((floor - 16.04).abs() < 0.01, "{floor} µs: tests bound it");
+        assert!(
+            (c.cull_floor_us(depth, tiles, 1) - 2.76).abs() < 0.01,
+            "bytes bound it"
+        );
+        assert_eq!(c.cull_floor_us(0, 0, 0), 0.0);
+    }
+
+    #[test]
+    fn percentiles_are_nearest_rank() {
+        let v = [1.0, 2.0, 3.0, 4.0, 5.0];
+        assert_eq!(percentile(&v, 0.5), 3.0);
+        assert_eq!(percentile(&v, 0.9), 5.0);
+        assert_eq!(percentile(&[7.0], 0.9), 7.0);
+    }
+}

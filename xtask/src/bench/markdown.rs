@@ -113,7 +113,10 @@ fn speedups(records: &[CellRecord]) -> String {
          lights | tiled 16 | 2.5d 16 | clustered |\n|---|---|---:|---:|---:|---:|---:|\n",
     );
     let mut any = false;
-    for naive in records.iter().filter(|r| r.path == "naive-prez") {
+    for naive in records
+        .iter()
+        .filter(|r| r.path == "naive-prez" && r.frames > 0)
+    {
         let ratio = |path: &str, tile: u32| -> String {
             let Some(culled) = find(records, naive, path, tile, false) else {
                 return "–".into();
@@ -123,7 +126,7 @@ fn speedups(records: &[CellRecord]) -> String {
                 _ => "–".into(),
             };
             let frame = find(records, naive, "naive", 0, false)
-                .filter(|_| culled.gpu_total_median_ms > 0.0)
+                .filter(|n| n.frames > 0 && culled.gpu_total_median_ms > 0.0)
                 .map(|n| {
                     format!(
                         " ({:.1}×)",
