@@ -124,6 +124,25 @@ pub fn expand(axes: &Axes, support: &Support) -> (Vec<Setup>, Vec<String>) {
     (setups, left_out)
 }
 
+/// What a group of set-ups shares: scene, size and MSAA (`--isolate` runs a group per process).
+pub type GroupKey = (usize, u32, u32, u32);
+
+pub fn group_key(s: &Setup) -> GroupKey {
+    (s.scene, s.width, s.height, s.msaa)
+}
+
+/// The distinct groups of `setups`, in order of first appearance.
+pub fn groups(setups: &[Setup]) -> Vec<GroupKey> {
+    let mut keys: Vec<GroupKey> = Vec::new();
+    for s in setups {
+        let k = group_key(s);
+        if !keys.contains(&k) {
+            keys.push(k);
+        }
+    }
+    keys
+}
+
 /// Parses `WxH`.
 pub fn parse_size(s: &str) -> Result<(u32, u32)> {
     s.split_once('x')
@@ -189,6 +208,7 @@ mod tests {
                 .all(|s| !s.scalarize && [1, 4].contains(&s.msaa))
         );
         assert_eq!(left_out.len(), 3, "{left_out:?}");
+        assert_eq!(groups(&setups).len(), 2 * 2, "one group per size and MSAA");
     }
 
     #[test]

@@ -90,6 +90,17 @@ pub struct Args {
     /// lights 64, 256, 1024, 4096, 1 warm-up, 0.75 s of timed frames per cell.
     #[arg(long)]
     quick: bool,
+    /// Run each scene × size × MSAA group in its own process, so memory a driver keeps per
+    /// frame is returned between groups (lavapipe 22.3 keeps ~10 MB per frame in its queue
+    /// thread). `--quick` turns it on.
+    #[arg(long)]
+    isolate: bool,
+    /// Internal: run only this group (a child of `--isolate`).
+    #[arg(long, hide = true)]
+    group: Option<usize>,
+    /// Internal: the parent's calibration, bytes/s and FLOP/s.
+    #[arg(long, hide = true, value_delimiter = ',')]
+    ceilings: Option<Vec<f64>>,
     /// Output folder for bench.csv, bench.md and the charts.
     #[arg(long, default_value = "target/bench")]
     out: PathBuf,
@@ -215,11 +226,22 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
         msaa: caps.msaa_counts(),
         subgroup: caps.subgroup.is_some(),
     };
-    let (setups, left_out) = matrix::expand(&axes, &support);
-    for l in &left_out {
-        println!("left out: {l}");
+    let (mut setups, left_out) = matrix::expand(&axes, &support);
+    let groups = matrix::groups(&setups);
+    if let Some(k) = args.group {
+        setups.retain(|s| matrix::group_key(s) == groups[k]);
+    } else {
+        for l in &left_out {
+            println!("left out: {l}");
+        }
     }
-    let ceilings = if args.calibrate {
+    let ceilings = if let Some(c) = &args.ceilings {
+        anyhow::ensure!(c.len() == 2, "--ceilings takes BYTES_PER_S,FLOP_PER_S");
+        Some(calibrate::Ceilings {
+            bytes_per_s: c[0],
+            flop_per_s: c[1],
+        })
+    } else if args.calibrate {
         let c = calibrate::calibrate(&gpu)?;
         println!(
             "calibration: copy bandwidth {:.0} GB/s, FMA rate {:.2} TFLOP/s",
@@ -246,8 +268,17 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
         }
     };
     let meta = meta(args, &gpu, ceilings, &left_out, &plan);
-    std::fs::write(out.join("meta.md"), &meta)?;
-    let mut csv = CsvSink::create(&out.join("bench.csv"))?;
+    if (args.isolate || args.quick) && args.group.is_none() {
+        drop(gpu);
+        return run_isolated(groups.len(), ceilings, &meta, out);
+    }
+    let csv_name = args
+        .group
+        .map_or_else(|| "bench.csv".to_string(), |k| format!("group-{k}.csv"));
+    if args.group.is_none() {
+        std::fs::write(out.join("meta.md"), &meta)?;
+    }
+    let mut csv = CsvSink::create(&out.join(&csv_name))?;
     let cells = (setups.len() * axes.lights.len()) as u64;
     let bar =
         indicatif::ProgressBar::new(cells).with_style(indicatif::ProgressStyle::with_template(
@@ -348,10 +379,58 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
         "{} cells in {:.0} s; wrote {}",
         records.len(),
         started.elapsed().as_secs_f64(),
-        out.join("bench.csv").display()
+        out.join(&csv_name).display()
     );
+    if args.group.is_some() {
+        return Ok(());
+    }
     write_markdown(&meta, &records, out)?;
     // The CSV is the result; charts need a font, which a bare GPU machine may lack.
+    if let Err(e) = write_charts(&records, out) {
+        eprintln!("charts not drawn: {e:#}\nre-render them elsewhere with --report bench.csv");
+    }
+    Ok(())
+}
+
+/// Runs every group in a child process of this binary (same arguments plus `--group K` and the
+/// calibration), then merges their CSVs into `bench.csv` and writes the reports.
+#[expect(clippy::print_stdout, reason = "command-line report")]
+fn run_isolated(
+    groups: usize,
+    ceilings: Option<calibrate::Ceilings>,
+    meta: &str,
+    out: &Path,
+) -> Result<()> {
+    let started = Instant::now();
+    std::fs::write(out.join("meta.md"), meta)?;
+    let exe = std::env::current_exe().context("finding this executable")?;
+    let mut csv = CsvSink::create(&out.join("bench.csv"))?;
+    let mut records = Vec::new();
+    for k in 0..groups {
+        println!("group {} of {groups} (own process)", k + 1);
+        let mut child = std::process::Command::new(&exe);
+        child
+            .args(std::env::args_os().skip(1))
+            .args(["--group", &k.to_string()]);
+        if let Some(c) = ceilings {
+            child.arg(format!("--ceilings={},{}", c.bytes_per_s, c.flop_per_s));
+        }
+        let status = child.status().context("starting a group's process")?;
+        anyhow::ensure!(status.success(), "group {k} failed ({status})");
+        let part = out.join(format!("group-{k}.csv"));
+        for record in record::read_csv(&part)? {
+            csv.push(&record)?;
+            records.push(record);
+        }
+        std::fs::remove_file(&part)?;
+    }
+    println!(
+        "{} cells in {:.0} s; wrote {}",
+        records.len(),
+        started.elapsed().as_secs_f64(),
+        out.join("bench.csv").display()
+    );
+    write_markdown(meta, &records, out)?;
     if let Err(e) = write_charts(&records, out) {
         eprintln!("charts not drawn: {e:#}\nre-render them elsewhere with --report bench.csv");
     }
@@ -487,7 +566,7 @@ fn meta(
     let command: Vec<String> = std::env::args().skip(1).collect();
     let mut s = format!(
         "## Run of {date}\n\n- Command: `cargo xtask {}`\n- Adapter: `{}`\n- Driver: `{} {}`\n\
-         - Frames: {} warm-up, {} timed per cell (stopping early after {:.1} s, at least {}); \
+         - Frames: {} warm-up, {} timed per cell (stopping early after {:.2} s, at least {}); \
          light density {} (lights reaching a point on average), seed {}\n",
         command.join(" "),
         gpu.report.name,
