@@ -68,11 +68,11 @@ pub struct Args {
     #[arg(long, default_value_t = 30)]
     frames: u32,
     /// Untimed frames before them.
-    #[arg(long, default_value_t = 5)]
+    #[arg(long, default_value_t = 2)]
     warmup: u32,
     /// Seconds of timed frames after which a cell stops early (its note says so); naive cells
     /// whose estimate exceeds twice this are skipped.
-    #[arg(long, default_value_t = 4.0)]
+    #[arg(long, default_value_t = 1.2)]
     cell_budget: f64,
     /// Lights reaching a point of the light box on average (ranges shrink as counts grow).
     #[arg(long, default_value_t = 16.0)]
