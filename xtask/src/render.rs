@@ -6,9 +6,11 @@ use std::path::PathBuf;
 use anyhow::{Context as _, Result, bail};
 use glam::Vec3;
 use renderer::frame::setup::{create_target, framing_camera, procedural_lights, scene_camera};
-use renderer::frame::{FrameCamera, FrameView, RenderPath, Renderer, RendererConfig};
+use renderer::frame::{FrameCamera, FrameView, Renderer, RendererConfig};
 use renderer::scene::Scene;
 use renderer::{GpuContext, GpuOptions, readback};
+
+use crate::bench::matrix::{PathChoice, parse_size};
 
 #[derive(Debug, Clone, clap::Args)]
 pub struct Args {
@@ -62,20 +64,8 @@ pub struct Args {
 
 #[expect(clippy::print_stdout, reason = "a command-line report")]
 pub fn run(args: &Args, default_out: &str) -> Result<()> {
-    let (w, h) = args
-        .size
-        .split_once('x')
-        .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)))
-        .filter(|&(w, h)| (1..=8192).contains(&w) && (1..=8192).contains(&h))
-        .context("--size must be WxH with each side 1..=8192, for example 1920x1080")?;
-    let path = match args.path.as_str() {
-        "naive" => RenderPath::Naive,
-        "naive-prez" => RenderPath::NaivePrez,
-        "tiled" => RenderPath::Tiled,
-        "2.5d" => RenderPath::Depth25,
-        "clustered" => RenderPath::Clustered,
-        other => bail!("--path {other:?}: use naive, naive-prez, tiled, 2.5d or clustered"),
-    };
+    let (w, h) = parse_size(&args.size)?;
+    let path = PathChoice::parse(&args.path)?.0;
     let root = crate::workspace_root();
     let scene_path = args
         .scene

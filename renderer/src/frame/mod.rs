@@ -224,6 +224,27 @@ pub enum Culler {
     Clustered(Arc<ClusteredCulling>),
 }
 
+impl Culler {
+    /// The light lists this culler writes (none on the naive paths).
+    pub fn lists(&self) -> Option<&crate::culling::lists::LightLists> {
+        match self {
+            Self::Tiled(c) => Some(&c.lists),
+            Self::Clustered(c) => Some(&c.lists),
+            Self::Naive => None,
+        }
+    }
+
+    /// Whether the culling pass reads the depth buffer: tiled always; clustered only to skip
+    /// empty froxels.
+    pub fn reads_depth(&self) -> bool {
+        match self {
+            Self::Tiled(_) => true,
+            Self::Clustered(c) => c.config.skip_empty,
+            Self::Naive => false,
+        }
+    }
+}
+
 /// Everything the passes of one frame need on the GPU.
 #[derive(Debug)]
 pub struct FrameGpu {
@@ -245,11 +266,9 @@ pub struct FrameGpu {
 impl FrameGpu {
     /// The light lists of a culled path (the heatmap is only built for those).
     pub fn lists(&self) -> &crate::culling::lists::LightLists {
-        match &self.culler {
-            Culler::Tiled(c) => &c.lists,
-            Culler::Clustered(c) => &c.lists,
-            Culler::Naive => unreachable!("Pipelines::new refuses a heatmap on the naive path"),
-        }
+        self.culler
+            .lists()
+            .expect("Pipelines::new refuses a heatmap on the naive path")
     }
 
     /// Group 0 of the forward program: camera, lighting, lights and, when culled, the lists.
@@ -272,12 +291,7 @@ impl FrameGpu {
                 resource: self.directional.as_entire_binding(),
             },
         ];
-        let lists = match &self.culler {
-            Culler::Tiled(c) => Some(&c.lists),
-            Culler::Clustered(c) => Some(&c.lists),
-            Culler::Naive => None,
-        };
-        if let Some(l) = lists {
+        if let Some(l) = self.culler.lists() {
             entries.push(wgpu::BindGroupEntry {
                 binding: 4,
                 resource: l.grid.as_entire_binding(),
@@ -703,11 +717,7 @@ impl Renderer {
         let lists = match culled_depth {
             None => None,
             Some(depth) => {
-                let (grid_bytes, index_bytes) = match &self.culler {
-                    Culler::Tiled(t) => t.lists.bytes(),
-                    Culler::Clustered(k) => k.lists.bytes(),
-                    Culler::Naive => (0, 0),
-                };
+                let (grid_bytes, index_bytes) = self.culler.lists().map_or((0, 0), |l| l.bytes());
                 let mut grid = graph.import_buffer(
                     "light grid",
                     BufferDesc { size: grid_bytes },
@@ -754,12 +764,7 @@ impl Renderer {
         if let Some((probe, handle)) = &probe {
             compiled.bind_buffer(*handle, &probe.output);
         }
-        if let Some((grid, indices)) = lists {
-            let l = match &self.culler {
-                Culler::Tiled(t) => &t.lists,
-                Culler::Clustered(k) => &k.lists,
-                Culler::Naive => unreachable!("lists exist only on culled paths"),
-            };
+        if let (Some((grid, indices)), Some(l)) = (lists, self.culler.lists()) {
             compiled
                 .bind_buffer(grid, &l.grid)
                 .bind_buffer(indices, &l.indices);
@@ -767,13 +772,9 @@ impl Renderer {
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         compiled.execute(&gpu.device, &mut encoder, &mut self.pool, &self.profiler)?;
         self.frame_index += 1;
-        let counters_buffer = match &self.culler {
-            Culler::Tiled(t) => Some(&t.lists.counters),
-            Culler::Clustered(k) => Some(&k.lists.counters),
-            Culler::Naive => None,
-        };
-        if let Some(b) = counters_buffer {
-            self.counters.record(&mut encoder, b, self.frame_index);
+        if let Some(l) = self.culler.lists() {
+            self.counters
+                .record(&mut encoder, &l.counters, self.frame_index);
         }
         let capture = probe.map(|(probe, _)| self.record_capture(&mut encoder, probe, camera));
         self.profiler.resolve_queries(&mut encoder);
@@ -817,21 +818,16 @@ impl Renderer {
     ) -> capture::PendingCapture {
         use crate::culling::reference::Method;
         let c = &self.config;
-        let (lists, method) = match &self.culler {
-            Culler::Tiled(t) if t.config.depth_mask => {
-                (Some(&t.lists), Some(Method::Depth25 { tile: c.tile }))
-            }
-            Culler::Tiled(t) => (Some(&t.lists), Some(Method::Tiled { tile: c.tile })),
-            Culler::Clustered(k) => (
-                Some(&k.lists),
-                Some(Method::Clustered {
-                    grid: k.config.grid,
-                    skip_empty: k.config.skip_empty,
-                }),
-            ),
-            Culler::Naive => (None, None),
+        let method = match &self.culler {
+            Culler::Tiled(t) if t.config.depth_mask => Some(Method::Depth25 { tile: c.tile }),
+            Culler::Tiled(_) => Some(Method::Tiled { tile: c.tile }),
+            Culler::Clustered(k) => Some(Method::Clustered {
+                grid: k.config.grid,
+                skip_empty: k.config.skip_empty,
+            }),
+            Culler::Naive => None,
         };
-        let grid_copy = lists.map(|l| {
+        let grid_copy = self.culler.lists().map(|l| {
             let copy = self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("captured light grid"),
                 size: l.grid.size(),
@@ -941,14 +937,10 @@ impl Renderer {
         Some(counters)
     }
 
-    /// Bytes of the light grid and of the index list allocated for the configured path (`None`
-    /// on the naive paths or before the first frame).
-    pub fn light_list_bytes(&self) -> Option<(u64, u64)> {
-        match &self.culler {
-            Culler::Tiled(t) => Some(t.lists.bytes()),
-            Culler::Clustered(k) => Some(k.lists.bytes()),
-            Culler::Naive => None,
-        }
+    /// The light culler of the configured path (built on the first frame; `Naive` before), for
+    /// tools that report on it: its lists' cells and bytes, whether it reads depth.
+    pub fn culler(&self) -> &Culler {
+        &self.culler
     }
 
     /// The newest culling counters that have arrived, polling first.

@@ -16,7 +16,7 @@ mod calibrate;
 pub(crate) mod charts;
 mod lights;
 mod markdown;
-mod matrix;
+pub(crate) mod matrix;
 mod measure;
 mod record;
 
@@ -307,15 +307,6 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
         );
         let mut previous: Option<(u32, Duration)> = None;
         for &n in &axes.lights {
-            bar.set_message(format!(
-                "{} {}x{} msaa{} {} {}",
-                bench_scene.name,
-                setup.width,
-                setup.height,
-                setup.msaa,
-                label(setup),
-                n
-            ));
             let lights = lights::MovingLights::new(
                 bench_scene.scene.bounds,
                 n as usize,
@@ -323,6 +314,14 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
                 args.seed,
             );
             let mut record = empty_record(&bench_scene.name, setup, n);
+            bar.set_message(format!(
+                "{} {}x{} msaa{} {} {n}",
+                record.scene,
+                record.width,
+                record.height,
+                record.msaa,
+                record.label()
+            ));
             let estimate = previous.map(|(m, wall)| wall.mul_f64(f64::from(n) / f64::from(m)));
             let naive = !setup.path.0.has_prepass() || setup.path.0 == RenderPath::NaivePrez;
             match estimate.filter(|e| naive && *e * (plan.min_frames + 1) > plan.budget * 2) {
@@ -354,18 +353,15 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
                         if let Some(c) = cached {
                             reaching.insert(key, c);
                         }
-                        let depth_bytes = if reads_depth(setup, &bench_scene.scene) {
+                        let culler = renderer.culler();
+                        let depth_bytes = if culler.reads_depth() {
                             u64::from(setup.width * setup.height * setup.msaa) * 4
                         } else {
                             0
                         };
-                        record.cull_floor_us = ceilings.map(|c| {
-                            c.cull_floor_us(
-                                depth_bytes,
-                                cull_cells(setup),
-                                u64::from(record.lights),
-                            )
-                        });
+                        let cells = culler.lists().map_or(0, |l| u64::from(l.cells));
+                        record.cull_floor_us = ceilings
+                            .map(|c| c.cull_floor_us(depth_bytes, cells, u64::from(record.lights)));
                     }
                 }
             }
@@ -454,39 +450,6 @@ fn write_charts(records: &[CellRecord], out: &Path) -> Result<()> {
     Ok(())
 }
 
-fn label(setup: &Setup) -> String {
-    let mut s = setup.path.name().to_string();
-    if setup.tile > 0 {
-        s += &format!(" {}", setup.tile);
-    }
-    if setup.scalarize {
-        s += " scalar";
-    }
-    s
-}
-
-/// Cells the culling kernel tests every light against.
-fn cull_cells(setup: &Setup) -> u64 {
-    match setup.path.0 {
-        RenderPath::Tiled | RenderPath::Depth25 => {
-            u64::from(setup.width.div_ceil(setup.tile) * setup.height.div_ceil(setup.tile))
-        }
-        RenderPath::Clustered => 16 * 8 * 24,
-        RenderPath::Naive | RenderPath::NaivePrez => 0,
-    }
-}
-
-/// Whether the culling pass reads the depth buffer: the tiled kernels always do; the clustered
-/// one only to skip empty froxels, which the renderer does only without MSAA and without blended
-/// materials (see `Renderer::ensure_culler`).
-fn reads_depth(setup: &Setup, scene: &Scene) -> bool {
-    let has_blend = scene
-        .materials
-        .iter()
-        .any(|m| m.alpha_mode == renderer::scene::AlphaMode::Blend);
-    setup.path.0 != RenderPath::Clustered || (setup.msaa == 1 && !has_blend)
-}
-
 /// Pixels between depth probes so that about `probes` probes cover the frame.
 fn probe_stride(width: u32, height: u32, probes: u32) -> u32 {
     let area = f64::from(width) * f64::from(height);
@@ -540,7 +503,7 @@ fn fill(record: &mut CellRecord, m: &measure::Measured, renderer: &Renderer) {
     record.gpu_total_median_ms = m.total.median().unwrap_or(0.0);
     record.cpu_graph_median_ms = m.cpu_graph_ms.median().unwrap_or(0.0);
     record.cpu_upload_median_ms = m.cpu_upload_ms.median().unwrap_or(0.0);
-    if let Some((grid, index)) = renderer.light_list_bytes() {
+    if let Some((grid, index)) = renderer.culler().lists().map(|l| l.bytes()) {
         record.grid_bytes = grid;
         record.index_bytes_allocated = index;
         record.index_bytes_used = (u64::from(m.requested_entries) * 4).min(index);
