@@ -6,8 +6,11 @@
 //! device (or lets [`gpu::GpuContext`] create a headless one), a scene and a camera, and gets back
 //! a frame and per-pass GPU timings.
 
+#![warn(clippy::too_many_lines)]
+
 pub mod culling;
 pub mod frame;
+pub mod frame_data;
 pub mod gpu;
 pub mod graph;
 pub mod passes;

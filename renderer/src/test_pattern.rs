@@ -51,28 +51,7 @@ pub fn render(gpu: &GpuContext, width: u32, height: u32) -> Result<PatternFrame,
     let program = ShaderProgram::new(device, gpu.capabilities(), variant)?;
     let vs = program.entry(codegen::rt::Stage::Vertex, "vs_fullscreen")?;
     let fs = program.entry(codegen::rt::Stage::Fragment, "fs_pattern")?;
-    let module = &program.module;
-    let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some("test pattern"),
-        layout: Some(&program.pipeline_layout),
-        vertex: wgpu::VertexState {
-            module,
-            entry_point: Some(vs),
-            compilation_options: Default::default(),
-            buffers: &[],
-        },
-        primitive: wgpu::PrimitiveState::default(),
-        depth_stencil: None,
-        multisample: wgpu::MultisampleState::default(),
-        fragment: Some(wgpu::FragmentState {
-            module,
-            entry_point: Some(fs),
-            compilation_options: Default::default(),
-            targets: &[Some(FORMAT.into())],
-        }),
-        multiview_mask: None,
-        cache: None,
-    });
+    let pipeline = pattern_pipeline(device, &program, vs, fs);
     let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("test pattern params"),
         contents: bytemuck::bytes_of(&params(width, height)),
@@ -86,20 +65,7 @@ pub fn render(gpu: &GpuContext, width: u32, height: u32) -> Result<PatternFrame,
             resource: uniform.as_entire_binding(),
         }],
     });
-    let target = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("test pattern target"),
-        size: wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    });
+    let target = pattern_target(device, width, height);
     let view = target.create_view(&Default::default());
 
     let mut profiler = wgpu_profiler::GpuProfiler::new(device, Default::default())
@@ -144,5 +110,54 @@ pub fn render(gpu: &GpuContext, width: u32, height: u32) -> Result<PatternFrame,
         height,
         rgba,
         gpu_time,
+    })
+}
+
+/// The pattern's full-screen pipeline into one [`FORMAT`] target.
+fn pattern_pipeline(
+    device: &wgpu::Device,
+    program: &ShaderProgram,
+    vs: &str,
+    fs: &str,
+) -> wgpu::RenderPipeline {
+    let module = &program.module;
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("test pattern"),
+        layout: Some(&program.pipeline_layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some(vs),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: None,
+        multisample: wgpu::MultisampleState::default(),
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some(fs),
+            compilation_options: Default::default(),
+            targets: &[Some(FORMAT.into())],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+/// A `width`×`height` [`FORMAT`] texture to render into and read back.
+fn pattern_target(device: &wgpu::Device, width: u32, height: u32) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("test pattern target"),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
     })
 }

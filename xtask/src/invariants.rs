@@ -1,7 +1,17 @@
 //! The architecture invariants of ARCHITECTURE.md, checked rather than hoped for.
 //!
 //! Each check is a pure function over text (`cargo tree` output or source files), so the unit
-//! tests below show that every check fails when its invariant is broken.
+//! tests below show that every check fails when its invariant is broken. The import-graph checks
+//! (no circle between files, passes never import the frame orchestrator) parse the sources with
+//! syn: the submodules build that graph, `import_tests` shows those checks failing.
+
+mod circles;
+mod graph;
+#[cfg(test)]
+mod import_tests;
+mod modules;
+mod resolve;
+mod uses;
 
 use std::path::Path;
 use std::process::Command;
@@ -32,6 +42,10 @@ const SHADER_SOURCE_MARKERS: &[&str] = &[
     "ShaderSource::SpirV",
     "ShaderSource::Glsl",
 ];
+/// Files that may not use anything of the frame orchestrator: passes add themselves to a graph
+/// the frame builds, they never reach back into it.
+const PASSES_DIR: &str = "renderer/src/passes/";
+const FRAME_DIR: &str = "renderer/src/frame/";
 
 /// A broken invariant, named as in ARCHITECTURE.md.
 #[derive(Debug, PartialEq, Eq)]
@@ -56,6 +70,9 @@ pub fn run() -> Result<()> {
     violations.extend(check_no_shader_source(&read_rust_sources(
         &root.join("renderer/src"),
     )?));
+    let workspace = read_workspace_sources(&root)?;
+    violations.extend(check_no_import_circles(&workspace));
+    violations.extend(check_passes_do_not_import_frame(&workspace));
     if violations.is_empty() {
         println!("architecture invariants hold");
         return Ok(());
@@ -156,6 +173,77 @@ pub fn check_no_shader_source(sources: &[(String, String)]) -> Vec<Violation> {
             })
         })
         .collect()
+}
+
+/// "No circle between files": no two files of a crate use items defined in each other, directly or
+/// around a ring. One violation per strongly connected component of the file graph.
+pub fn check_no_import_circles(sources: &[(String, String)]) -> Vec<Violation> {
+    const INVARIANT: &str = "no import circle between files";
+    let graph = match graph::FileGraph::new(sources) {
+        Ok(graph) => graph,
+        Err(e) => return vec![unparsable(INVARIANT, e)],
+    };
+    circles::circles(&graph)
+        .into_iter()
+        .map(|c| Violation {
+            invariant: INVARIANT,
+            detail: format!(
+                "{} files import each other: {}\n    edges: {}",
+                c.files.len(),
+                c.cycle,
+                c.examples.join("\n           ")
+            ),
+        })
+        .collect()
+}
+
+/// "Passes never import the frame orchestrator": no path in `renderer/src/passes/` names an item
+/// defined in, or reached through, `renderer/src/frame/`.
+pub fn check_passes_do_not_import_frame(sources: &[(String, String)]) -> Vec<Violation> {
+    const INVARIANT: &str = "passes never import the frame orchestrator";
+    let graph = match graph::FileGraph::new(sources) {
+        Ok(graph) => graph,
+        Err(e) => return vec![unparsable(INVARIANT, e)],
+    };
+    graph
+        .uses_into(PASSES_DIR, FRAME_DIR)
+        .into_iter()
+        .map(|(file, uses)| Violation {
+            invariant: INVARIANT,
+            detail: format!(
+                "{file} uses the frame orchestrator ({}); give the pass what it needs as \
+                 arguments, or move the shared type below both",
+                uses.join(", ")
+            ),
+        })
+        .collect()
+}
+
+fn unparsable(invariant: &'static str, error: String) -> Violation {
+    Violation {
+        invariant,
+        detail: format!("cannot parse {error}"),
+    }
+}
+
+/// The `src/` files of every workspace member (a directory with a Cargo.toml and a `src/`), as
+/// (path relative to the workspace root with `/` separators, contents).
+fn read_workspace_sources(root: &Path) -> Result<Vec<(String, String)>> {
+    let mut out = Vec::new();
+    for entry in std::fs::read_dir(root).context("reading the workspace root")? {
+        let dir = entry?.path();
+        if dir.join("Cargo.toml").is_file() && dir.join("src").is_dir() {
+            for (path, text) in read_rust_sources(&dir.join("src"))? {
+                let relative = Path::new(&path)
+                    .strip_prefix(root)
+                    .unwrap_or(Path::new(&path));
+                let parts: Vec<_> = relative.iter().map(|p| p.to_string_lossy()).collect();
+                out.push((parts.join("/"), text));
+            }
+        }
+    }
+    out.sort();
+    Ok(out)
 }
 
 /// Every `.rs` file under `dir`, as (path, contents), in a stable order.

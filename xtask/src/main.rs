@@ -13,6 +13,9 @@ mod render;
 mod shaders;
 mod system;
 mod test;
+mod workspace;
+
+use workspace::workspace_root;
 
 use clap::{Parser, Subcommand};
 
@@ -58,16 +61,5 @@ fn main() -> anyhow::Result<()> {
         Command::CheckInvariants => invariants::run(),
         Command::Bench(args) => bench::run(&args),
         Command::BenchCodegen(args) => bench_codegen::run(&args),
-    }
-}
-
-/// The workspace root: the parent of this crate's manifest directory when it exists (a build
-/// run in place), else the current directory (a binary carried to another machine and run from
-/// a checkout's root).
-fn workspace_root() -> std::path::PathBuf {
-    let manifest_dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    match manifest_dir.parent() {
-        Some(root) if root.join("Cargo.toml").is_file() => root.to_path_buf(),
-        _ => std::env::current_dir().unwrap_or_else(|_| manifest_dir.to_path_buf()),
     }
 }

@@ -2,8 +2,9 @@
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use super::GraphError;
-use super::execute::PassContext;
+use super::context::PassContext;
+use super::error::GraphError;
+use super::nodes::{AccessKind, PassNode, ResourceDesc, ResourceNode, Use};
 use super::resource::{
     Buffer, BufferAccess, BufferDesc, Handle, ImportAccess, Texture, TextureAccess, TextureDesc,
 };
@@ -13,59 +14,6 @@ use super::resource::{
 pub struct PassId {
     pub(crate) graph: u64,
     pub(crate) index: usize,
-}
-
-pub(crate) type ExecuteFn = Box<dyn FnOnce(&mut PassContext<'_>) + 'static>;
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub(crate) enum ResourceDesc {
-    Texture(TextureDesc),
-    Buffer(BufferDesc),
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub(crate) enum AccessKind {
-    Texture(TextureAccess),
-    Buffer(BufferAccess),
-}
-
-#[derive(Debug, Clone)]
-pub(crate) struct ResourceNode {
-    pub name: String,
-    pub desc: ResourceDesc,
-    /// `None` for transients; the import's access otherwise.
-    pub import: Option<ImportAccess>,
-    /// The latest version (0 = nothing written yet).
-    pub latest: u32,
-}
-
-/// One use of a resource version by a pass. For a write, `version` is the version it produces.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) struct Use {
-    pub resource: usize,
-    pub version: u32,
-    pub kind: AccessKind,
-}
-
-pub(crate) struct PassNode {
-    pub name: String,
-    pub reads: Vec<Use>,
-    pub writes: Vec<Use>,
-    pub after: Vec<usize>,
-    pub side_effects: bool,
-    pub execute: Option<ExecuteFn>,
-}
-
-impl std::fmt::Debug for PassNode {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("PassNode")
-            .field("name", &self.name)
-            .field("reads", &self.reads)
-            .field("writes", &self.writes)
-            .field("after", &self.after)
-            .field("side_effects", &self.side_effects)
-            .finish_non_exhaustive()
-    }
 }
 
 /// A frame graph being built. Compile it with [`RenderGraph::compile`].

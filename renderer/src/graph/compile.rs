@@ -3,16 +3,11 @@
 
 use std::collections::BTreeSet;
 
-use super::GraphError;
-use super::builder::{AccessKind, PassNode, RenderGraph, ResourceDesc, ResourceNode};
+use super::builder::RenderGraph;
+use super::context::PoolObject;
+use super::error::GraphError;
+use super::nodes::{AccessKind, Lifetime, PassNode, ResourceDesc, ResourceNode, Usage};
 use super::pool::{SlotPlan, plan_slots};
-
-/// The first and last position (in execution order) at which a resource is used.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Lifetime {
-    pub first: usize,
-    pub last: usize,
-}
 
 /// A graph ready to execute: passes in order, culled passes, lifetimes and the pool plan.
 #[derive(Debug)]
@@ -27,14 +22,7 @@ pub struct CompiledGraph {
     pub(crate) slots: Vec<SlotPlan>,
     pub(crate) slot_of: Vec<Option<usize>>,
     /// GPU objects of imported resources, bound before execution.
-    pub(crate) bound: Vec<Option<super::pool::PoolObject>>,
-}
-
-/// Accumulated usage flags of a resource.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub(crate) enum Usage {
-    Texture(wgpu::TextureUsages),
-    Buffer(wgpu::BufferUsages),
+    pub(crate) bound: Vec<Option<PoolObject>>,
 }
 
 impl RenderGraph {

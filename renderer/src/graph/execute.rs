@@ -1,38 +1,12 @@
 //! Recording a compiled graph: pool objects for transients, imports bound by the caller, one
 //! debug group and one GPU timestamp scope per pass.
 
-use super::GraphError;
-use super::builder::ResourceDesc;
 use super::compile::CompiledGraph;
-use super::pool::{PoolObject, PoolStats, TransientPool};
+use super::context::{PassContext, PoolObject};
+use super::error::GraphError;
+use super::nodes::ResourceDesc;
+use super::pool::{PoolStats, TransientPool};
 use super::resource::{Buffer, Handle, Texture};
-
-/// What a pass's recording function gets: the encoder and its resources' GPU objects.
-#[derive(Debug)]
-pub struct PassContext<'a> {
-    pub encoder: &'a mut wgpu::CommandEncoder,
-    pub device: &'a wgpu::Device,
-    objects: &'a [Option<PoolObject>],
-}
-
-impl PassContext<'_> {
-    /// The texture behind `handle`.
-    pub fn texture(&self, handle: Handle<Texture>) -> &wgpu::Texture {
-        match &self.objects[handle.index] {
-            Some(PoolObject::Texture(t)) => t,
-            // Compilation and binding checked every resource a kept pass uses.
-            _ => unreachable!("texture handle without a texture"),
-        }
-    }
-
-    /// The buffer behind `handle`.
-    pub fn buffer(&self, handle: Handle<Buffer>) -> &wgpu::Buffer {
-        match &self.objects[handle.index] {
-            Some(PoolObject::Buffer(b)) => b,
-            _ => unreachable!("buffer handle without a buffer"),
-        }
-    }
-}
 
 /// GPU time of one pass, once the timestamps are back.
 #[derive(Debug, Clone, PartialEq)]
@@ -121,11 +95,7 @@ impl CompiledGraph {
             let pass = &mut self.passes[p];
             let mut scope = profiler.scope(pass.name.clone(), &mut *encoder);
             if let Some(record) = pass.execute.take() {
-                let mut ctx = PassContext {
-                    encoder: &mut scope,
-                    device,
-                    objects: &objects,
-                };
+                let mut ctx = PassContext::new(&mut scope, device, &objects);
                 record(&mut ctx);
             }
         }

@@ -9,19 +9,27 @@
 //! Handles are versioned: writing a resource takes `&mut Handle` and advances it, so a read
 //! always names the exact write it depends on. Mistakes are [`GraphError`]s at compile time,
 //! never wgpu validation errors later.
+//!
+//! Files are layered, each using only those below it: `resource`, `error` → `context` (what a
+//! recording function gets) → `nodes` (the shared plain data) → `builder`, `pool` → `compile` →
+//! `execute`, `dot`. `cargo xtask check-invariants` rejects any import circle between them.
 
 mod builder;
 mod compile;
+mod context;
 mod dot;
 mod error;
 mod execute;
+mod nodes;
 mod pool;
 mod resource;
 
 pub use builder::{PassBuilder, PassId, RenderGraph};
-pub use compile::{CompiledGraph, Lifetime};
+pub use compile::CompiledGraph;
+pub use context::PassContext;
 pub use error::GraphError;
-pub use execute::{PassContext, PassTiming};
+pub use execute::PassTiming;
+pub use nodes::Lifetime;
 pub use pool::{PoolStats, TransientPool};
 pub use resource::{
     Buffer, BufferAccess, BufferDesc, Handle, ImportAccess, Texture, TextureAccess, TextureDesc,

@@ -5,8 +5,8 @@
 //! their descriptors are equal and their lifetimes do not overlap. The pool then hands each slot
 //! an object with that descriptor and at least its usage, reusing last frame's objects.
 
-use super::builder::{ResourceDesc, ResourceNode};
-use super::compile::{Lifetime, Usage};
+use super::context::PoolObject;
+use super::nodes::{Lifetime, ResourceDesc, ResourceNode, Usage};
 
 /// One physical object of this frame: its descriptor, its usage and when it is busy.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -60,13 +60,6 @@ fn union(a: Usage, b: Usage) -> Usage {
         // Slots only ever hold one kind of descriptor.
         (a, _) => a,
     }
-}
-
-/// A physical transient object.
-#[derive(Debug, Clone)]
-pub(crate) enum PoolObject {
-    Texture(wgpu::Texture),
-    Buffer(wgpu::Buffer),
 }
 
 #[derive(Debug)]

@@ -1,122 +1,328 @@
-//! Forward shading: PBR over the chosen light list into the MSAA HDR target, resolved to a
-//! single-sample HDR texture. Opaque draws first, then blended draws back to front.
+//! Forward shading: PBR over the frame's light list (every light, or the culled cell lists)
+//! into the MSAA HDR target, resolved to a single-sample HDR texture. Opaque draws first, then
+//! blended draws back to front. After the pre-pass it tests depth with `LessEqual` against the
+//! pre-Z depth (both vertex stages compute the position with the same `#[invariant]` code);
+//! without one (the naive path) it writes its own.
 
 use std::sync::Arc;
 
-use crate::frame::FrameGpu;
-use crate::graph::{
-    Buffer, BufferAccess, Handle, RenderGraph, Texture, TextureAccess, TextureDesc,
+use glam::{UVec2, UVec3};
+use shaders_gen::forward::forward;
+
+use super::{Pass, cull_mode, depth_state, draw_primitive, stream_layouts, vertex_streams};
+use crate::GpuContext;
+use crate::culling::reference::Method;
+use crate::frame_data::{
+    DEPTH_FORMAT, FrameInputs, FrameResources, HDR_FORMAT, LightListHandles, PreparedScene,
+    RenderError, RendererConfig,
 };
+use crate::graph::{BufferAccess, Handle, RenderGraph, Texture, TextureAccess, TextureDesc};
 use crate::scene::AlphaMode;
+use crate::shader::ShaderProgram;
 
-pub const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// The forward pass: its program and pipelines (`[blend][double_sided]`) and its lighting
+/// uniform.
+#[derive(Debug)]
+pub struct ForwardPass {
+    program: ShaderProgram,
+    pipelines: Arc<[[wgpu::RenderPipeline; 2]; 2]>,
+    lighting: wgpu::Buffer,
+}
 
-/// Adds the forward pass; returns the resolved HDR colour. With `depth` from a pre-pass it tests
-/// against it; with `None` (naive forward without pre-Z) it clears and writes its own.
-pub fn add(
-    graph: &mut RenderGraph,
-    gpu: &Arc<FrameGpu>,
-    depth: Option<Handle<Texture>>,
-    lists: Option<(Handle<Buffer>, Handle<Buffer>)>,
-    width: u32,
-    height: u32,
-) -> Handle<Texture> {
-    let msaa = gpu.msaa;
-    let mut hdr = graph.create_texture("hdr", TextureDesc::new_2d(width, height, HDR_FORMAT));
-    let mut hdr_msaa = (msaa > 1).then(|| {
-        graph.create_texture(
-            "hdr msaa",
-            TextureDesc::new_2d(width, height, HDR_FORMAT).with_samples(msaa),
-        )
-    });
-    let (resolved, multisampled) = (hdr, hdr_msaa);
-    let prepass = depth.is_some();
-    let mut own_depth = depth.is_none().then(|| {
-        let desc = TextureDesc::new_2d(width, height, super::prez::DEPTH_FORMAT).with_samples(msaa);
-        graph.create_texture("depth", desc)
-    });
-    let depth_target = depth.or(own_depth).expect("one of the two is set");
-    let gpu = Arc::clone(gpu);
-    let mut pass = graph.add_pass("forward");
-    match (depth, own_depth.as_mut()) {
-        (Some(d), _) => pass.read_texture(d, TextureAccess::DepthRead),
-        (None, Some(d)) => pass.write_texture(d, TextureAccess::DepthWrite),
-        (None, None) => &mut pass,
-    };
-    pass.write_texture(&mut hdr, TextureAccess::ColorAttachment);
-    if let Some(h) = hdr_msaa.as_mut() {
-        pass.write_texture(h, TextureAccess::ColorAttachment);
-    }
-    if let Some((grid, indices)) = lists {
-        pass.read_buffer(grid, BufferAccess::StorageRead)
-            .read_buffer(indices, BufferAccess::StorageRead);
-    }
-    pass.execute(move |ctx| {
-        let depth_view = ctx.texture(depth_target).create_view(&Default::default());
-        let resolved_view = ctx.texture(resolved).create_view(&Default::default());
-        let msaa_view = multisampled.map(|h| ctx.texture(h).create_view(&Default::default()));
-        let frame_group = gpu.forward_frame_group(ctx.device);
-        let mut pass = ctx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("forward"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: msaa_view.as_ref().unwrap_or(&resolved_view),
-                depth_slice: None,
-                resolve_target: msaa_view.as_ref().map(|_| &resolved_view),
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(gpu.clear_color),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &depth_view,
-                depth_ops: Some(wgpu::Operations {
-                    load: if prepass {
-                        wgpu::LoadOp::Load
-                    } else {
-                        wgpu::LoadOp::Clear(1.0)
-                    },
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
+impl ForwardPass {
+    pub fn new(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
+        let list = match config.path {
+            crate::frame_data::RenderPath::Naive | crate::frame_data::RenderPath::NaivePrez => {
+                forward::List::List0
+            }
+            crate::frame_data::RenderPath::Tiled | crate::frame_data::RenderPath::Depth25 => {
+                forward::List::List1
+            }
+            crate::frame_data::RenderPath::Clustered => forward::List::List2,
+        };
+        let key = |blend| forward::VariantKey {
+            list,
+            blend,
+            scalarize: config.scalarize && config.path.is_culled(),
+        };
+        let caps = gpu.capabilities();
+        let opaque = ShaderProgram::new(&gpu.device, caps, forward::variant(key(false))?)?;
+        let blended = ShaderProgram::new(&gpu.device, caps, forward::variant(key(true))?)?;
+        let prepass = config.path.has_prepass();
+        let make = |program: &ShaderProgram, blend: bool| {
+            [false, true].map(|d| pipeline(&gpu.device, program, config.msaa, prepass, blend, d))
+        };
+        Ok(Self {
+            pipelines: Arc::new([make(&opaque, false), make(&blended, true)]),
+            program: opaque,
+            lighting: gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("lighting"),
+                size: size_of::<forward::Lighting>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
             }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        pass.set_bind_group(0, &frame_group, &[]);
-        let scene = &gpu.scene;
-        let eye = gpu.eye;
-        let mut order: Vec<usize> = (0..scene.draws.len()).collect();
-        // Opaque and masked first (any order), then blended back to front.
-        order.sort_by(|&a, &b| {
-            let (da, db) = (&scene.draws[a], &scene.draws[b]);
-            let blend = |d: &crate::frame::DrawItem| {
-                scene.materials[d.material].alpha_mode == AlphaMode::Blend
-            };
-            blend(da).cmp(&blend(db)).then_with(|| {
-                if blend(da) {
-                    db.center
-                        .distance_squared(eye)
-                        .total_cmp(&da.center.distance_squared(eye))
-                } else {
-                    std::cmp::Ordering::Equal
-                }
-            })
-        });
-        for i in order {
-            let draw = &scene.draws[i];
-            let material = &scene.materials[draw.material];
-            let blend = material.alpha_mode == AlphaMode::Blend;
-            pass.set_pipeline(gpu.pipelines.forward(blend, material.double_sided));
-            pass.set_bind_group(1, &draw.bind_group, &[]);
-            pass.set_bind_group(2, &material.bind_group, &[]);
-            let p = &scene.gpu.meshes[draw.mesh][draw.primitive];
-            super::draw_primitive(
-                &mut pass,
-                p,
-                &[&p.positions, &p.normals, &p.uvs, &p.tangents],
-            );
+        })
+    }
+
+    /// Writes the frame's light counts and the geometry of its light lists.
+    fn write_lighting(&self, frame: &FrameInputs, lists: Option<&LightListHandles>) {
+        let c = &frame.config;
+        let screen = frame.screen();
+        let (mut tile, mut grid) = (c.tile, UVec3::ONE);
+        let (mut near, mut far) = (frame.camera.near, frame.camera.far);
+        match lists.map(|l| l.method) {
+            Some(Method::Tiled { tile: t } | Method::Depth25 { tile: t }) => tile = t,
+            Some(Method::Clustered { grid: g, .. }) => {
+                grid = UVec3::new(g.x, g.y, g.z);
+                (near, far) = (g.near, g.far);
+            }
+            None => {}
         }
+        let tiles = UVec2::new(c.width.div_ceil(tile), c.height.div_ceil(tile));
+        let lighting = forward::Lighting::new(
+            c.ambient,
+            frame.lights.punctual.len() as u32,
+            screen,
+            tiles,
+            grid,
+            tile,
+            near,
+            far,
+            frame.lights.directional.len() as u32,
+        );
+        frame
+            .gpu
+            .queue
+            .write_buffer(&self.lighting, 0, bytemuck::bytes_of(&lighting));
+    }
+}
+
+fn pipeline(
+    device: &wgpu::Device,
+    program: &ShaderProgram,
+    msaa: u32,
+    prepass: bool,
+    blend: bool,
+    double_sided: bool,
+) -> wgpu::RenderPipeline {
+    let streams = vertex_streams(&[
+        wgpu::VertexFormat::Float32x3,
+        wgpu::VertexFormat::Float32x3,
+        wgpu::VertexFormat::Float32x2,
+        wgpu::VertexFormat::Float32x4,
+    ]);
+    let target = wgpu::ColorTargetState {
+        format: HDR_FORMAT,
+        blend: blend.then_some(wgpu::BlendState::ALPHA_BLENDING),
+        write_mask: wgpu::ColorWrites::ALL,
+    };
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(if blend { "forward blend" } else { "forward" }),
+        layout: Some(&program.pipeline_layout),
+        vertex: wgpu::VertexState {
+            module: &program.module,
+            entry_point: Some("vs_forward"),
+            compilation_options: Default::default(),
+            buffers: &stream_layouts(&streams),
+        },
+        primitive: wgpu::PrimitiveState {
+            cull_mode: cull_mode(double_sided),
+            ..Default::default()
+        },
+        // With a pre-pass, opaque surfaces are in the depth buffer already and blended ones
+        // test against it; without one, opaque draws write depth themselves.
+        depth_stencil: Some(if prepass || blend {
+            depth_state(false, wgpu::CompareFunction::LessEqual)
+        } else {
+            depth_state(true, wgpu::CompareFunction::Less)
+        }),
+        multisample: wgpu::MultisampleState {
+            count: msaa,
+            ..Default::default()
+        },
+        fragment: Some(wgpu::FragmentState {
+            module: &program.module,
+            entry_point: Some("fs_forward"),
+            compilation_options: Default::default(),
+            targets: &[Some(target)],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+/// Draw order: opaque and masked first (any order), then blended back to front from `eye`.
+fn draw_order(scene: &PreparedScene, eye: glam::Vec3) -> Vec<usize> {
+    let blend = |i: usize| scene.materials[scene.draws[i].material].alpha_mode == AlphaMode::Blend;
+    let mut order: Vec<usize> = (0..scene.draws.len()).collect();
+    order.sort_by(|&a, &b| {
+        blend(a).cmp(&blend(b)).then_with(|| {
+            if blend(a) {
+                let d = |i: usize| scene.draws[i].center.distance_squared(eye);
+                d(b).total_cmp(&d(a))
+            } else {
+                std::cmp::Ordering::Equal
+            }
+        })
     });
-    hdr
+    order
+}
+
+/// The colour and depth targets of the pass.
+struct Targets {
+    resolved: Handle<Texture>,
+    multisampled: Option<Handle<Texture>>,
+    depth: Handle<Texture>,
+    /// Whether `depth` holds the pre-pass's depth (load it) or is the pass's own (clear it).
+    prepass: bool,
+}
+
+impl Pass for ForwardPass {
+    fn name(&self) -> &'static str {
+        "forward"
+    }
+
+    fn add_to_graph(
+        &self,
+        graph: &mut RenderGraph,
+        frame: &FrameInputs,
+        resources: &mut FrameResources,
+    ) -> Result<(), RenderError> {
+        let c = &frame.config;
+        let lists = resources.light_lists.clone();
+        if frame.config.path.is_culled() && lists.is_none() {
+            return Err(RenderError::MissingInput {
+                pass: "forward",
+                input: "light lists",
+            });
+        }
+        self.write_lighting(frame, lists.as_ref());
+        let desc = TextureDesc::new_2d(c.width, c.height, HDR_FORMAT);
+        let mut hdr = graph.create_texture("hdr", desc);
+        let mut hdr_msaa =
+            (c.msaa > 1).then(|| graph.create_texture("hdr msaa", desc.with_samples(c.msaa)));
+        let mut own_depth = resources.depth.is_none().then(|| {
+            let desc = TextureDesc::new_2d(c.width, c.height, DEPTH_FORMAT).with_samples(c.msaa);
+            graph.create_texture("depth", desc)
+        });
+        let targets = Targets {
+            resolved: hdr,
+            multisampled: hdr_msaa,
+            depth: resources
+                .depth
+                .or(own_depth)
+                .ok_or(RenderError::MissingInput {
+                    pass: "forward",
+                    input: "depth buffer",
+                })?,
+            prepass: resources.depth.is_some(),
+        };
+        let mut pass = graph.add_pass(self.name());
+        match (resources.depth, own_depth.as_mut()) {
+            (Some(d), _) => pass.read_texture(d, TextureAccess::DepthRead),
+            (None, Some(d)) => pass.write_texture(d, TextureAccess::DepthWrite),
+            (None, None) => &mut pass,
+        };
+        pass.write_texture(&mut hdr, TextureAccess::ColorAttachment);
+        if let Some(h) = hdr_msaa.as_mut() {
+            pass.write_texture(h, TextureAccess::ColorAttachment);
+        }
+        if let Some(l) = &lists {
+            pass.read_buffer(l.grid, BufferAccess::StorageRead)
+                .read_buffer(l.indices, BufferAccess::StorageRead);
+        }
+        let record = self.recorder(frame, targets, lists);
+        pass.execute(record);
+        resources.hdr = Some(hdr);
+        if resources.depth.is_none() {
+            resources.depth = own_depth;
+        }
+        Ok(())
+    }
+}
+
+impl ForwardPass {
+    /// The recording function of one frame.
+    fn recorder(
+        &self,
+        frame: &FrameInputs,
+        targets: Targets,
+        lists: Option<LightListHandles>,
+    ) -> impl FnOnce(&mut crate::graph::PassContext<'_>) + 'static {
+        let layout = self.program.bind_group_layouts[0].clone();
+        let pipelines = Arc::clone(&self.pipelines);
+        let scene = Arc::clone(&frame.scene);
+        let camera = frame.camera_uniform.buffer.clone();
+        let lighting = self.lighting.clone();
+        let lights = Arc::clone(&frame.lights);
+        let eye = frame.camera.eye;
+        move |ctx| {
+            let mut frame_resources = vec![
+                camera.as_entire_binding(),
+                lighting.as_entire_binding(),
+                lights.punctual_buffer.as_entire_binding(),
+                lights.directional_buffer.as_entire_binding(),
+            ];
+            if let Some(l) = &lists {
+                frame_resources.push(ctx.buffer(l.grid).as_entire_binding());
+                frame_resources.push(ctx.buffer(l.indices).as_entire_binding());
+            }
+            let frame_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("forward frame"),
+                layout: &layout,
+                entries: &super::entries(&frame_resources),
+            });
+            let depth_view = ctx.texture(targets.depth).create_view(&Default::default());
+            let resolved_view = ctx
+                .texture(targets.resolved)
+                .create_view(&Default::default());
+            let msaa_view = targets
+                .multisampled
+                .map(|h| ctx.texture(h).create_view(&Default::default()));
+            let mut pass = ctx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("forward"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: msaa_view.as_ref().unwrap_or(&resolved_view),
+                    depth_slice: None,
+                    resolve_target: msaa_view.as_ref().map(|_| &resolved_view),
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &depth_view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: if targets.prepass {
+                            wgpu::LoadOp::Load
+                        } else {
+                            wgpu::LoadOp::Clear(1.0)
+                        },
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_bind_group(0, &frame_group, &[]);
+            for i in draw_order(&scene, eye) {
+                let draw = &scene.draws[i];
+                let material = &scene.materials[draw.material];
+                let blend = material.alpha_mode == AlphaMode::Blend;
+                pass.set_pipeline(
+                    &pipelines[usize::from(blend)][usize::from(material.double_sided)],
+                );
+                pass.set_bind_group(1, &draw.bind_group, &[]);
+                pass.set_bind_group(2, &material.bind_group, &[]);
+                let p = &scene.gpu.meshes[draw.mesh][draw.primitive];
+                draw_primitive(
+                    &mut pass,
+                    p,
+                    &[&p.positions, &p.normals, &p.uvs, &p.tangents],
+                );
+            }
+        }
+    }
 }

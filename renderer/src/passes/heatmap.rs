@@ -1,82 +1,149 @@
 //! Light-count heatmap debug view: each pixel coloured by how many lights its tile or froxel
-//! lists (reference 000's "Visualize Light Count"), with a legend strip along the bottom.
+//! lists (reference 000's "Visualize Light Count"), with a legend strip along the bottom. It
+//! replaces forward shading and tonemapping in the frame's pass list.
 
-use std::sync::Arc;
+use glam::{UVec2, UVec3};
+use shaders_gen::forward::heatmap;
 
-use crate::frame::FrameGpu;
-use crate::graph::{Buffer, BufferAccess, Handle, RenderGraph, Texture, TextureAccess};
+use super::{Pass, color_pass, entries, fullscreen_pipeline};
+use crate::GpuContext;
+use crate::culling::reference::Method;
+use crate::frame_data::{FrameInputs, FrameResources, RenderError, RenderPath, RendererConfig};
+use crate::graph::{BufferAccess, RenderGraph, TextureAccess};
+use crate::shader::ShaderProgram;
 
-/// Adds the heatmap pass reading the light lists (and, for clusters, the depth) and writing the
-/// imported `output`.
-pub fn add(
-    graph: &mut RenderGraph,
-    gpu: &Arc<FrameGpu>,
-    depth: Handle<Texture>,
-    (grid, indices): (Handle<Buffer>, Handle<Buffer>),
-    output: &mut Handle<Texture>,
-) {
-    let target = *output;
-    let gpu = Arc::clone(gpu);
-    let Some(heatmap) = gpu.pipelines.heatmap.as_ref().map(|h| h.needs_depth) else {
-        return;
-    };
-    let mut pass = graph.add_pass("light heatmap");
-    pass.read_buffer(grid, BufferAccess::StorageRead)
-        .read_buffer(indices, BufferAccess::StorageRead)
-        .write_texture(output, TextureAccess::ColorAttachment);
-    if heatmap {
-        pass.read_texture(depth, TextureAccess::Sampled);
-    }
-    pass.execute(move |ctx| {
-        let Some(h) = gpu.pipelines.heatmap.as_ref() else {
-            return;
+/// The heatmap pass: its program, pipeline and parameters.
+#[derive(Debug)]
+pub struct HeatmapPass {
+    program: ShaderProgram,
+    pipeline: wgpu::RenderPipeline,
+    params: wgpu::Buffer,
+    /// Clustered lists need the depth buffer to find a pixel's slice.
+    needs_depth: bool,
+}
+
+impl HeatmapPass {
+    pub fn new(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
+        let clustered = match config.path {
+            RenderPath::Naive | RenderPath::NaivePrez => {
+                return Err(RenderError::HeatmapNeedsLists);
+            }
+            path => path == RenderPath::Clustered,
         };
-        let depth_view = ctx.texture(depth).create_view(&Default::default());
-        let out_view = ctx.texture(target).create_view(&Default::default());
-        let lists = gpu.lists();
-        let mut entries = vec![
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: gpu.heatmap_params.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: lists.grid.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 2,
-                resource: lists.indices.as_entire_binding(),
-            },
-        ];
-        if h.needs_depth {
-            entries.push(wgpu::BindGroupEntry {
-                binding: 3,
-                resource: wgpu::BindingResource::TextureView(&depth_view),
-            });
+        let msaa = match (clustered, config.msaa) {
+            (true, 2) => heatmap::Msaa::Msaa2,
+            (true, 4) => heatmap::Msaa::Msaa4,
+            (true, 8) => heatmap::Msaa::Msaa8,
+            _ => heatmap::Msaa::Msaa1,
+        };
+        let list = if clustered {
+            heatmap::List::List2
+        } else {
+            heatmap::List::List1
+        };
+        let variant = heatmap::variant(heatmap::VariantKey { list, msaa })?;
+        let program = ShaderProgram::new(&gpu.device, gpu.capabilities(), variant)?;
+        Ok(Self {
+            pipeline: fullscreen_pipeline(
+                &gpu.device,
+                &program,
+                "fs_heatmap",
+                config.output_format,
+            ),
+            program,
+            params: gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("heatmap"),
+                size: size_of::<heatmap::HeatmapParams>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            needs_depth: clustered,
+        })
+    }
+
+    fn write_params(&self, frame: &FrameInputs, method: Method) {
+        let c = &frame.config;
+        let camera = &frame.camera;
+        let (mut tile, mut grid) = (c.tile, UVec3::ONE);
+        let (mut near, mut far) = (camera.near, camera.far);
+        match method {
+            Method::Tiled { tile: t } | Method::Depth25 { tile: t } => tile = t,
+            Method::Clustered { grid: g, .. } => {
+                grid = UVec3::new(g.x, g.y, g.z);
+                (near, far) = (g.near, g.far);
+            }
         }
-        let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("light heatmap"),
-            layout: &h.program.bind_group_layouts[0],
-            entries: &entries,
+        let params = heatmap::HeatmapParams::new(
+            camera.projection.inverse(),
+            frame.screen(),
+            UVec2::new(c.width.div_ceil(tile), c.height.div_ceil(tile)),
+            grid,
+            tile,
+            near,
+            far,
+            c.heatmap_max,
+        );
+        frame
+            .gpu
+            .queue
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+    }
+}
+
+impl Pass for HeatmapPass {
+    fn name(&self) -> &'static str {
+        "light heatmap"
+    }
+
+    fn add_to_graph(
+        &self,
+        graph: &mut RenderGraph,
+        frame: &FrameInputs,
+        resources: &mut FrameResources,
+    ) -> Result<(), RenderError> {
+        let missing = |input| RenderError::MissingInput {
+            pass: "light heatmap",
+            input,
+        };
+        let lists = resources
+            .light_lists
+            .clone()
+            .ok_or(missing("light lists"))?;
+        let depth = resources.depth.ok_or(missing("depth buffer"))?;
+        self.write_params(frame, lists.method);
+        let target = resources.output;
+        let needs_depth = self.needs_depth;
+        let layout = self.program.bind_group_layouts[0].clone();
+        let (pipeline, params) = (self.pipeline.clone(), self.params.clone());
+        let mut pass = graph.add_pass(self.name());
+        pass.read_buffer(lists.grid, BufferAccess::StorageRead)
+            .read_buffer(lists.indices, BufferAccess::StorageRead)
+            .write_texture(&mut resources.output, TextureAccess::ColorAttachment);
+        if needs_depth {
+            pass.read_texture(depth, TextureAccess::Sampled);
+        }
+        pass.execute(move |ctx| {
+            let depth_view =
+                needs_depth.then(|| ctx.texture(depth).create_view(&Default::default()));
+            let out_view = ctx.texture(target).create_view(&Default::default());
+            let mut bound = vec![
+                params.as_entire_binding(),
+                ctx.buffer(lists.grid).as_entire_binding(),
+                ctx.buffer(lists.indices).as_entire_binding(),
+            ];
+            if let Some(view) = &depth_view {
+                bound.push(wgpu::BindingResource::TextureView(view));
+            }
+            let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("light heatmap"),
+                layout: &layout,
+                entries: &entries(&bound),
+            });
+            let mut pass = color_pass(ctx.encoder, "light heatmap", &out_view);
+            pass.set_pipeline(&pipeline);
+            pass.set_bind_group(0, &bind_group, &[]);
+            pass.draw(0..3, 0..1);
         });
-        let mut pass = ctx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("light heatmap"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &out_view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: None,
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        pass.set_pipeline(&h.pipeline);
-        pass.set_bind_group(0, &bind_group, &[]);
-        pass.draw(0..3, 0..1);
-    });
+        Ok(())
+    }
 }

@@ -1,31 +1,309 @@
 //! Light culling: the tiled / 2.5D or clustered kernel over the pre-Z depth, writing the light
-//! grid and index list the forward pass reads. The naive path has no culling pass.
+//! grid and index list the shading passes read. It owns the culler of the configured path (built
+//! on the first frame and rebuilt when the size, light count, scene or camera range call for
+//! it), reads the overflow counters back asynchronously, and grows the index list after an
+//! overflow. The naive paths have no culling pass.
 
 use std::sync::Arc;
 
-use crate::frame::{Culler, FrameGpu};
-use crate::graph::{Buffer, BufferAccess, Handle, RenderGraph, Texture, TextureAccess};
+use super::Pass;
+use crate::GpuContext;
+use crate::culling::clustered::{ClusterCullConfig, ClusteredCulling};
+use crate::culling::lists::{CullCounters, LightLists};
+use crate::culling::max_index_entries;
+use crate::culling::overflow::{Capacities, CounterReadback, grow_for};
+use crate::culling::reference::{ClusterGrid, Method};
+use crate::culling::tiled::{TileCullConfig, TiledCulling};
+use crate::frame_data::{
+    FrameInputs, FrameReport, FrameResources, LightListHandles, RenderError, RenderPath,
+};
+use crate::graph::{BufferAccess, ImportAccess, RenderGraph, TextureAccess};
 
-/// Adds the culling pass reading `depth` and writing `grid` and `indices` (imported).
-pub fn add(
-    graph: &mut RenderGraph,
-    gpu: &Arc<FrameGpu>,
-    depth: Handle<Texture>,
-    grid: &mut Handle<Buffer>,
-    indices: &mut Handle<Buffer>,
-) {
-    let gpu = Arc::clone(gpu);
-    graph
-        .add_pass("light culling")
-        .read_texture(depth, TextureAccess::Sampled)
-        .write_buffer(grid, BufferAccess::StorageWrite)
-        .write_buffer(indices, BufferAccess::StorageWrite)
-        .execute(move |ctx| {
-            let view = ctx.texture(depth).create_view(&Default::default());
-            match &gpu.culler {
-                Culler::Tiled(c) => c.encode(ctx.device, ctx.encoder, &view),
-                Culler::Clustered(c) => c.encode(ctx.device, ctx.encoder, &view),
-                Culler::Naive => {}
+/// Froxels across, down and in depth of the clustered path.
+pub const CLUSTER_GRID: [u32; 3] = [16, 8, 24];
+/// Most lights one tile or froxel lists (the kernels' workgroup memory).
+const MAX_PER_CELL: u32 = 1024;
+
+/// The light culler of the configured path.
+#[derive(Debug, Clone)]
+pub enum Culler {
+    Naive,
+    Tiled(Arc<TiledCulling>),
+    Clustered(Arc<ClusteredCulling>),
+}
+
+impl Culler {
+    /// The light lists this culler writes (none on the naive paths).
+    pub fn lists(&self) -> Option<&LightLists> {
+        match self {
+            Self::Tiled(c) => Some(&c.lists),
+            Self::Clustered(c) => Some(&c.lists),
+            Self::Naive => None,
+        }
+    }
+
+    /// Whether the culling pass reads the depth buffer: tiled always; clustered only to skip
+    /// empty froxels.
+    pub fn reads_depth(&self) -> bool {
+        match self {
+            Self::Tiled(_) => true,
+            Self::Clustered(c) => c.config.skip_empty,
+            Self::Naive => false,
+        }
+    }
+
+    /// The culling method, as the CPU reference names it.
+    pub fn method(&self) -> Option<Method> {
+        match self {
+            Self::Tiled(t) if t.config.depth_mask => Some(Method::Depth25 {
+                tile: t.config.tile,
+            }),
+            Self::Tiled(t) => Some(Method::Tiled {
+                tile: t.config.tile,
+            }),
+            Self::Clustered(k) => Some(Method::Clustered {
+                grid: k.config.grid,
+                skip_empty: k.config.skip_empty,
+            }),
+            Self::Naive => None,
+        }
+    }
+}
+
+/// The light-culling pass.
+#[derive(Debug)]
+pub struct LightCullPass {
+    gpu: GpuContext,
+    culler: Culler,
+    /// The size the culler was built for.
+    built_for: (u32, u32),
+    counters: CounterReadback,
+    index_capacity: u32,
+    last_counters: Option<CullCounters>,
+}
+
+impl LightCullPass {
+    pub fn new(gpu: &GpuContext) -> Self {
+        Self {
+            gpu: gpu.clone(),
+            culler: Culler::Naive,
+            built_for: (0, 0),
+            counters: CounterReadback::new(&gpu.device),
+            index_capacity: max_index_entries(&gpu.device).min(1 << 22),
+            last_counters: None,
+        }
+    }
+
+    /// The culler in use (`Naive` before the first frame).
+    pub fn culler(&self) -> &Culler {
+        &self.culler
+    }
+
+    /// The newest culling counters that have arrived, polling first.
+    pub fn counters(&mut self) -> Option<CullCounters> {
+        self.poll_counters();
+        self.last_counters
+    }
+
+    /// Rebuilds the culler when the frame no longer fits it.
+    fn ensure_culler(&mut self, frame: &FrameInputs) -> Result<(), RenderError> {
+        let c = &frame.config;
+        let items = (frame.lights.spheres.len() as u32)
+            .max(1)
+            .next_power_of_two();
+        let has_blend = frame
+            .scene
+            .materials
+            .iter()
+            .any(|m| m.alpha_mode == crate::scene::AlphaMode::Blend);
+        // Skipping froxels without a depth sample is exact only when every shaded point is a
+        // depth sample: no blended surfaces (absent from pre-Z) and no MSAA (an edge fragment is
+        // shaded at the pixel centre, which may lie in a froxel no visible sample occupies).
+        let skip_empty = !has_blend && c.msaa == 1;
+        let (near, far) = (frame.camera.near, frame.camera.far);
+        let same_size = self.built_for == (c.width, c.height);
+        let ok = same_size
+            && match (&self.culler, c.path) {
+                (Culler::Tiled(t), RenderPath::Tiled | RenderPath::Depth25) => {
+                    t.config.item_capacity >= items
+                        && t.config.index_capacity == self.index_capacity
+                        && t.config.include_transparent == has_blend
+                }
+                (Culler::Clustered(k), RenderPath::Clustered) => {
+                    k.config.item_capacity >= items
+                        && k.config.index_capacity == self.index_capacity
+                        && k.config.skip_empty == skip_empty
+                        && k.config.grid.near == near
+                        && k.config.grid.far == far
+                }
+                _ => false,
+            };
+        if ok {
+            return Ok(());
+        }
+        self.built_for = (c.width, c.height);
+        self.culler = match c.path {
+            RenderPath::Naive | RenderPath::NaivePrez => Culler::Naive,
+            RenderPath::Tiled | RenderPath::Depth25 => {
+                let config = TileCullConfig {
+                    tile: c.tile,
+                    msaa: c.msaa,
+                    scalarize: c.scalarize,
+                    depth_mask: c.path == RenderPath::Depth25,
+                    include_transparent: has_blend,
+                    max_per_tile: MAX_PER_CELL,
+                    index_capacity: self.index_capacity,
+                    item_capacity: items,
+                };
+                Culler::Tiled(Arc::new(TiledCulling::new(
+                    &self.gpu, config, c.width, c.height,
+                )?))
             }
+            RenderPath::Clustered => {
+                let [x, y, z] = CLUSTER_GRID;
+                let config = ClusterCullConfig {
+                    grid: ClusterGrid { x, y, z, near, far },
+                    msaa: c.msaa,
+                    scalarize: c.scalarize,
+                    skip_empty,
+                    max_per_cluster: MAX_PER_CELL,
+                    index_capacity: self.index_capacity,
+                    item_capacity: items,
+                };
+                Culler::Clustered(Arc::new(ClusteredCulling::new(
+                    &self.gpu, config, c.width, c.height,
+                )?))
+            }
+        };
+        Ok(())
+    }
+
+    /// Picks up culling counters that have arrived; on overflow, warns and grows the index list
+    /// for the next frame (up to one storage binding; past that the overflow stays reported).
+    fn poll_counters(&mut self) {
+        let Some((_, counters)) = self.counters.poll(&self.gpu.device) else {
+            return;
+        };
+        self.last_counters = Some(counters);
+        if counters.dropped == 0 {
+            return;
+        }
+        let current = Capacities {
+            per_cell: MAX_PER_CELL,
+            index: self.index_capacity,
+        };
+        let limit = max_index_entries(&self.gpu.device);
+        let grown = grow_for(&counters, current, MAX_PER_CELL)
+            .map(|c| c.index.min(limit))
+            .filter(|&index| index > self.index_capacity);
+        log::warn!(
+            "light culling dropped {} list entries ({} cells over their {MAX_PER_CELL}-item limit, \
+             {} entries requested of {}); {}",
+            counters.dropped,
+            counters.overflow_cells,
+            counters.requested_entries,
+            self.index_capacity,
+            if grown.is_some() {
+                "growing the index list for the next frame"
+            } else {
+                "the per-cell limit is reached: use smaller tiles, 2.5D or fewer lights per cell"
+            }
+        );
+        if let Some(index) = grown {
+            self.index_capacity = index;
+        }
+    }
+}
+
+impl Pass for LightCullPass {
+    fn name(&self) -> &'static str {
+        "light culling"
+    }
+
+    fn prepare(&mut self, frame: &FrameInputs) -> Result<(), RenderError> {
+        self.ensure_culler(frame)?;
+        let (camera, gpu) = (&frame.camera, &frame.gpu);
+        let spheres = &frame.lights.spheres;
+        match &self.culler {
+            Culler::Tiled(t) => {
+                use shaders_gen::culling::tile_cull::CullSphere;
+                let items: Vec<_> = spheres
+                    .iter()
+                    .map(|s| CullSphere::new(s.center, s.radius))
+                    .collect();
+                t.upload(gpu, camera.view, camera.projection, frame.screen(), &items)?;
+            }
+            Culler::Clustered(k) => {
+                use shaders_gen::culling::cluster_cull::CullSphere;
+                let items: Vec<_> = spheres
+                    .iter()
+                    .map(|s| CullSphere::new(s.center, s.radius))
+                    .collect();
+                k.upload(gpu, camera.view, camera.projection, &items)?;
+            }
+            Culler::Naive => {}
+        }
+        Ok(())
+    }
+
+    fn add_to_graph(
+        &self,
+        graph: &mut RenderGraph,
+        _frame: &FrameInputs,
+        resources: &mut FrameResources,
+    ) -> Result<(), RenderError> {
+        let (Some(lists), Some(method)) = (self.culler.lists(), self.culler.method()) else {
+            return Ok(());
+        };
+        let depth = resources.depth.ok_or(RenderError::MissingInput {
+            pass: "light culling",
+            input: "depth buffer",
+        })?;
+        let mut grid =
+            resources.import_buffer(graph, "light grid", &lists.grid, ImportAccess::ReadWrite);
+        let mut indices = resources.import_buffer(
+            graph,
+            "light indices",
+            &lists.indices,
+            ImportAccess::ReadWrite,
+        );
+        let culler = self.culler.clone();
+        graph
+            .add_pass(self.name())
+            .read_texture(depth, TextureAccess::Sampled)
+            .write_buffer(&mut grid, BufferAccess::StorageWrite)
+            .write_buffer(&mut indices, BufferAccess::StorageWrite)
+            .execute(move |ctx| {
+                let view = ctx.texture(depth).create_view(&Default::default());
+                match &culler {
+                    Culler::Tiled(c) => c.encode(ctx.device, ctx.encoder, &view),
+                    Culler::Clustered(c) => c.encode(ctx.device, ctx.encoder, &view),
+                    Culler::Naive => {}
+                }
+            });
+        resources.light_lists = Some(LightListHandles {
+            grid,
+            indices,
+            method,
+            grid_buffer: lists.grid.clone(),
         });
+        Ok(())
+    }
+
+    fn after_execute(
+        &mut self,
+        frame: &FrameInputs,
+        _resources: &FrameResources,
+        encoder: &mut wgpu::CommandEncoder,
+    ) {
+        if let Some(l) = self.culler.lists() {
+            self.counters.record(encoder, &l.counters, frame.index);
+        }
+    }
+
+    fn after_submit(&mut self, _frame: &FrameInputs, report: &mut FrameReport) {
+        self.counters.after_submit();
+        self.poll_counters();
+        report.culling = self.last_counters;
+    }
 }

@@ -1,6 +1,14 @@
-//! The render passes, one module each. Every pass is a free function that adds itself to a
-//! [`crate::graph::RenderGraph`], declaring what it reads and writes, and returns the handles of
-//! what it produces. Their GPU state lives in [`crate::frame::FrameGpu`].
+//! The render passes, one module each, behind one contract: [`Pass`].
+//!
+//! A pass module owns everything about its pass: its pipelines (from the `shaders_gen`
+//! variants) and its variant choice, its persistent GPU resources, its per-frame uniforms, and
+//! the function that adds it to the frame graph. What several passes read lives below, in
+//! [`crate::frame_data`]; a pass never imports `crate::frame`, which only runs an ordered list
+//! of passes.
+//!
+//! Adding a pass: write its module here (a type implementing [`Pass`]), and put it in the pass
+//! list of the paths that use it (`crate::frame`'s pass list) or, from an engine, insert it
+//! with `Renderer::insert_pass_after`.
 
 pub mod depth_probe;
 pub mod forward;
@@ -9,7 +17,50 @@ pub mod light_cull;
 pub mod prez;
 pub mod tonemap;
 
-/// Draws `primitive` of `mesh` with the given vertex streams bound to slots 0.. in order.
+use crate::frame_data::{FrameInputs, FrameReport, FrameResources, RenderError};
+use crate::graph::RenderGraph;
+
+/// One pass of the frame. A frame calls, for every pass in list order: [`Pass::prepare`], then
+/// [`Pass::add_to_graph`]; after the graph is recorded, [`Pass::after_execute`]; after the
+/// frame is submitted, [`Pass::after_submit`].
+pub trait Pass: std::fmt::Debug + std::any::Any {
+    /// The pass's name: its graph node, its GPU timing label, and how engines find it.
+    fn name(&self) -> &'static str;
+
+    /// CPU work before the graph is built: write uniforms, upload items, (re)build resources
+    /// the frame's inputs call for.
+    fn prepare(&mut self, frame: &FrameInputs) -> Result<(), RenderError> {
+        let _ = frame;
+        Ok(())
+    }
+
+    /// Declares the pass on `graph`, reading what earlier passes left in `resources` and
+    /// adding what it produces.
+    fn add_to_graph(
+        &self,
+        graph: &mut RenderGraph,
+        frame: &FrameInputs,
+        resources: &mut FrameResources,
+    ) -> Result<(), RenderError>;
+
+    /// Records work that follows the whole graph in the same submission (copies for readback).
+    fn after_execute(
+        &mut self,
+        frame: &FrameInputs,
+        resources: &FrameResources,
+        encoder: &mut wgpu::CommandEncoder,
+    ) {
+        let _ = (frame, resources, encoder);
+    }
+
+    /// After the frame is submitted: start readbacks, pick up finished ones, and add the
+    /// pass's section to the frame report.
+    fn after_submit(&mut self, frame: &FrameInputs, report: &mut FrameReport) {
+        let _ = (frame, report);
+    }
+}
+
+/// Draws `primitive` with the given vertex streams bound to slots 0.. in order.
 pub(crate) fn draw_primitive<'a>(
     pass: &mut wgpu::RenderPass<'a>,
     primitive: &'a crate::scene::GpuPrimitive,
@@ -22,11 +73,117 @@ pub(crate) fn draw_primitive<'a>(
     pass.draw_indexed(0..primitive.index_count, 0, 0..1);
 }
 
-/// A vertex buffer layout of one tightly packed attribute at `location`.
-pub(crate) fn stream(location: u32, format: wgpu::VertexFormat) -> [wgpu::VertexAttribute; 1] {
-    [wgpu::VertexAttribute {
-        format,
-        offset: 0,
-        shader_location: location,
-    }]
+/// Vertex buffer layouts of tightly packed attributes at locations 0.., one buffer each.
+pub(crate) fn vertex_streams(formats: &[wgpu::VertexFormat]) -> Vec<[wgpu::VertexAttribute; 1]> {
+    formats
+        .iter()
+        .enumerate()
+        .map(|(location, &format)| {
+            [wgpu::VertexAttribute {
+                format,
+                offset: 0,
+                shader_location: location as u32,
+            }]
+        })
+        .collect()
+}
+
+/// The `wgpu::VertexBufferLayout`s of [`vertex_streams`].
+pub(crate) fn stream_layouts(
+    streams: &[[wgpu::VertexAttribute; 1]],
+) -> Vec<Option<wgpu::VertexBufferLayout<'_>>> {
+    streams
+        .iter()
+        .map(|a| {
+            Some(wgpu::VertexBufferLayout {
+                array_stride: a[0].format.size(),
+                step_mode: wgpu::VertexStepMode::Vertex,
+                attributes: a,
+            })
+        })
+        .collect()
+}
+
+/// Depth test state on [`crate::frame_data::DEPTH_FORMAT`].
+pub(crate) fn depth_state(write: bool, compare: wgpu::CompareFunction) -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState {
+        format: crate::frame_data::DEPTH_FORMAT,
+        depth_write_enabled: Some(write),
+        depth_compare: Some(compare),
+        stencil: Default::default(),
+        bias: Default::default(),
+    }
+}
+
+/// Back-face culling unless the material is double-sided.
+pub(crate) fn cull_mode(double_sided: bool) -> Option<wgpu::Face> {
+    (!double_sided).then_some(wgpu::Face::Back)
+}
+
+/// A full-screen triangle pipeline (`vs_fullscreen` + `fragment`) into one `format` target.
+pub(crate) fn fullscreen_pipeline(
+    device: &wgpu::Device,
+    program: &crate::shader::ShaderProgram,
+    fragment: &str,
+    format: wgpu::TextureFormat,
+) -> wgpu::RenderPipeline {
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(fragment),
+        layout: Some(&program.pipeline_layout),
+        vertex: wgpu::VertexState {
+            module: &program.module,
+            entry_point: Some("vs_fullscreen"),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: None,
+        multisample: wgpu::MultisampleState::default(),
+        fragment: Some(wgpu::FragmentState {
+            module: &program.module,
+            entry_point: Some(fragment),
+            compilation_options: Default::default(),
+            targets: &[Some(format.into())],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+/// A render pass over one colour attachment (cleared to black), without depth.
+pub(crate) fn color_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    label: &str,
+    view: &wgpu::TextureView,
+) -> wgpu::RenderPass<'e> {
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                store: wgpu::StoreOp::Store,
+            },
+        })],
+        depth_stencil_attachment: None,
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
+}
+
+/// The bind-group entries of `resources`, at bindings 0.. in order.
+pub(crate) fn entries<'a>(
+    resources: &[wgpu::BindingResource<'a>],
+) -> Vec<wgpu::BindGroupEntry<'a>> {
+    resources
+        .iter()
+        .enumerate()
+        .map(|(i, r)| wgpu::BindGroupEntry {
+            binding: i as u32,
+            resource: r.clone(),
+        })
+        .collect()
 }

@@ -2,66 +2,153 @@
 //! scene's depth and forward shading runs once per visible sample. Masked materials discard
 //! texels below their cutoff here too, so they leave no depth where they are see-through.
 
-use std::sync::Arc;
+use shaders_gen::forward::prez;
 
-use crate::frame::FrameGpu;
-use crate::graph::{Handle, RenderGraph, Texture, TextureAccess, TextureDesc};
+use super::{Pass, cull_mode, depth_state, draw_primitive, stream_layouts, vertex_streams};
+use crate::GpuContext;
+use crate::frame_data::{DEPTH_FORMAT, FrameInputs, FrameResources, RenderError, RendererConfig};
+use crate::graph::{RenderGraph, TextureAccess, TextureDesc};
 use crate::scene::AlphaMode;
+use crate::shader::ShaderProgram;
 
-pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// The pre-Z pass: its programs and pipelines (`[double_sided]`, plain and alpha-masked).
+#[derive(Debug)]
+pub struct PrezPass {
+    program: ShaderProgram,
+    plain: [wgpu::RenderPipeline; 2],
+    masked: [wgpu::RenderPipeline; 2],
+}
 
-/// Adds the pre-Z pass; returns the depth buffer it writes.
-pub fn add(
-    graph: &mut RenderGraph,
-    gpu: &Arc<FrameGpu>,
-    width: u32,
-    height: u32,
-) -> Handle<Texture> {
-    let mut depth = graph.create_texture(
-        "depth",
-        TextureDesc::new_2d(width, height, DEPTH_FORMAT).with_samples(gpu.msaa),
-    );
-    let target = depth;
-    let gpu = Arc::clone(gpu);
-    graph
-        .add_pass("pre-z")
-        .write_texture(&mut depth, TextureAccess::DepthWrite)
-        .execute(move |ctx| {
-            let view = ctx.texture(target).create_view(&Default::default());
-            let mut pass = ctx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("pre-z"),
-                color_attachments: &[],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &view,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(1.0),
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
+impl PrezPass {
+    pub fn new(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
+        let caps = gpu.capabilities();
+        let program = ShaderProgram::new(
+            &gpu.device,
+            caps,
+            prez::variant(prez::VariantKey { alpha_mask: false }),
+        )?;
+        let mask_program = ShaderProgram::new(
+            &gpu.device,
+            caps,
+            prez::variant(prez::VariantKey { alpha_mask: true }),
+        )?;
+        let pipelines = |program: &ShaderProgram, masked: bool| {
+            [false, true].map(|d| pipeline(&gpu.device, program, config.msaa, masked, d))
+        };
+        Ok(Self {
+            plain: pipelines(&program, false),
+            masked: pipelines(&mask_program, true),
+            program,
+        })
+    }
+}
+
+fn pipeline(
+    device: &wgpu::Device,
+    program: &ShaderProgram,
+    msaa: u32,
+    masked: bool,
+    double_sided: bool,
+) -> wgpu::RenderPipeline {
+    let streams = vertex_streams(&[wgpu::VertexFormat::Float32x3, wgpu::VertexFormat::Float32x2]);
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(if masked { "pre-z masked" } else { "pre-z" }),
+        layout: Some(&program.pipeline_layout),
+        vertex: wgpu::VertexState {
+            module: &program.module,
+            entry_point: Some("vs_prez"),
+            compilation_options: Default::default(),
+            buffers: &stream_layouts(&streams),
+        },
+        primitive: wgpu::PrimitiveState {
+            cull_mode: cull_mode(double_sided),
+            ..Default::default()
+        },
+        depth_stencil: Some(depth_state(true, wgpu::CompareFunction::Less)),
+        multisample: wgpu::MultisampleState {
+            count: msaa,
+            ..Default::default()
+        },
+        // Opaque draws need no fragment stage at all; masked ones discard.
+        fragment: masked.then(|| wgpu::FragmentState {
+            module: &program.module,
+            entry_point: Some("fs_prez_mask"),
+            compilation_options: Default::default(),
+            targets: &[],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+impl Pass for PrezPass {
+    fn name(&self) -> &'static str {
+        "pre-z"
+    }
+
+    fn add_to_graph(
+        &self,
+        graph: &mut RenderGraph,
+        frame: &FrameInputs,
+        resources: &mut FrameResources,
+    ) -> Result<(), RenderError> {
+        let c = &frame.config;
+        let mut depth = graph.create_texture(
+            "depth",
+            TextureDesc::new_2d(c.width, c.height, DEPTH_FORMAT).with_samples(c.msaa),
+        );
+        let target = depth;
+        let camera_group = frame
+            .gpu
+            .device
+            .create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("pre-z camera"),
+                layout: &self.program.bind_group_layouts[0],
+                entries: &super::entries(&[frame.camera_uniform.buffer.as_entire_binding()]),
             });
-            pass.set_bind_group(0, &gpu.prez_camera, &[]);
-            let scene = &gpu.scene;
-            for draw in &scene.draws {
-                let material = &scene.materials[draw.material];
-                // Blended surfaces must not hide what is behind them.
-                if material.alpha_mode == AlphaMode::Blend {
-                    continue;
-                }
-                match &material.prez_mask_group {
-                    Some(mask) => {
-                        pass.set_pipeline(gpu.pipelines.prez_mask(material.double_sided));
-                        pass.set_bind_group(2, mask, &[]);
+        let (plain, masked) = (self.plain.clone(), self.masked.clone());
+        let scene = std::sync::Arc::clone(&frame.scene);
+        graph
+            .add_pass(self.name())
+            .write_texture(&mut depth, TextureAccess::DepthWrite)
+            .execute(move |ctx| {
+                let view = ctx.texture(target).create_view(&Default::default());
+                let mut pass = ctx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("pre-z"),
+                    color_attachments: &[],
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: &view,
+                        depth_ops: Some(wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(1.0),
+                            store: wgpu::StoreOp::Store,
+                        }),
+                        stencil_ops: None,
+                    }),
+                    timestamp_writes: None,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                pass.set_bind_group(0, &camera_group, &[]);
+                for draw in &scene.draws {
+                    let material = &scene.materials[draw.material];
+                    // Blended surfaces must not hide what is behind them.
+                    if material.alpha_mode == AlphaMode::Blend {
+                        continue;
                     }
-                    None => pass.set_pipeline(gpu.pipelines.prez(material.double_sided)),
+                    let sided = usize::from(material.double_sided);
+                    match &material.prez_mask_group {
+                        Some(mask) => {
+                            pass.set_pipeline(&masked[sided]);
+                            pass.set_bind_group(2, mask, &[]);
+                        }
+                        None => pass.set_pipeline(&plain[sided]),
+                    }
+                    pass.set_bind_group(1, &draw.bind_group, &[]);
+                    let p = &scene.gpu.meshes[draw.mesh][draw.primitive];
+                    draw_primitive(&mut pass, p, &[&p.positions, &p.uvs]);
                 }
-                pass.set_bind_group(1, &draw.bind_group, &[]);
-                let p = &scene.gpu.meshes[draw.mesh][draw.primitive];
-                super::draw_primitive(&mut pass, p, &[&p.positions, &p.uvs]);
-            }
-        });
-    depth
+            });
+        resources.depth = Some(depth);
+        Ok(())
+    }
 }

@@ -1,59 +1,93 @@
 //! Tonemapping: the resolved HDR colour through exposure and a filmic curve into the caller's
-//! 8-bit sRGB target.
+//! target (an sRGB format gets sRGB output).
 
-use std::sync::Arc;
+use shaders_gen::forward::tonemap;
 
-use crate::frame::FrameGpu;
-use crate::graph::{Handle, RenderGraph, Texture, TextureAccess};
+use super::{Pass, color_pass, entries, fullscreen_pipeline};
+use crate::GpuContext;
+use crate::frame_data::{FrameInputs, FrameResources, RenderError, RendererConfig};
+use crate::graph::{RenderGraph, TextureAccess};
+use crate::shader::ShaderProgram;
 
-/// Adds the tonemap pass reading `hdr` and writing the imported `output`.
-pub fn add(
-    graph: &mut RenderGraph,
-    gpu: &Arc<FrameGpu>,
-    hdr: Handle<Texture>,
-    output: &mut Handle<Texture>,
-) {
-    let target = *output;
-    let gpu = Arc::clone(gpu);
-    graph
-        .add_pass("tonemap")
-        .read_texture(hdr, TextureAccess::Sampled)
-        .write_texture(output, TextureAccess::ColorAttachment)
-        .execute(move |ctx| {
-            let hdr_view = ctx.texture(hdr).create_view(&Default::default());
-            let out_view = ctx.texture(target).create_view(&Default::default());
-            let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+/// The tonemap pass: its program, pipeline and parameters.
+#[derive(Debug)]
+pub struct TonemapPass {
+    program: ShaderProgram,
+    pipeline: wgpu::RenderPipeline,
+    params: wgpu::Buffer,
+}
+
+impl TonemapPass {
+    pub fn new(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
+        let key = tonemap::VariantKey {
+            curve: tonemap::Curve::Curve0,
+        };
+        let program = ShaderProgram::new(&gpu.device, gpu.capabilities(), tonemap::variant(key))?;
+        Ok(Self {
+            pipeline: fullscreen_pipeline(
+                &gpu.device,
+                &program,
+                "fs_tonemap",
+                config.output_format,
+            ),
+            program,
+            params: gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("tonemap"),
-                layout: &gpu.pipelines.tonemap_program.bind_group_layouts[0],
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: gpu.tonemap_params.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: wgpu::BindingResource::TextureView(&hdr_view),
-                    },
-                ],
+                size: size_of::<tonemap::TonemapParams>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+        })
+    }
+}
+
+impl Pass for TonemapPass {
+    fn name(&self) -> &'static str {
+        "tonemap"
+    }
+
+    fn prepare(&mut self, frame: &FrameInputs) -> Result<(), RenderError> {
+        let params = tonemap::TonemapParams::new(frame.config.exposure);
+        frame
+            .gpu
+            .queue
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+        Ok(())
+    }
+
+    fn add_to_graph(
+        &self,
+        graph: &mut RenderGraph,
+        _frame: &FrameInputs,
+        resources: &mut FrameResources,
+    ) -> Result<(), RenderError> {
+        let hdr = resources.hdr.ok_or(RenderError::MissingInput {
+            pass: "tonemap",
+            input: "HDR colour",
+        })?;
+        let target = resources.output;
+        let layout = self.program.bind_group_layouts[0].clone();
+        let (pipeline, params) = (self.pipeline.clone(), self.params.clone());
+        graph
+            .add_pass(self.name())
+            .read_texture(hdr, TextureAccess::Sampled)
+            .write_texture(&mut resources.output, TextureAccess::ColorAttachment)
+            .execute(move |ctx| {
+                let hdr_view = ctx.texture(hdr).create_view(&Default::default());
+                let out_view = ctx.texture(target).create_view(&Default::default());
+                let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("tonemap"),
+                    layout: &layout,
+                    entries: &entries(&[
+                        params.as_entire_binding(),
+                        wgpu::BindingResource::TextureView(&hdr_view),
+                    ]),
+                });
+                let mut pass = color_pass(ctx.encoder, "tonemap", &out_view);
+                pass.set_pipeline(&pipeline);
+                pass.set_bind_group(0, &bind_group, &[]);
+                pass.draw(0..3, 0..1);
             });
-            let mut pass = ctx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("tonemap"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &out_view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: None,
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.set_pipeline(&gpu.pipelines.tonemap);
-            pass.set_bind_group(0, &bind_group, &[]);
-            pass.draw(0..3, 0..1);
-        });
+        Ok(())
+    }
 }

@@ -109,67 +109,8 @@ pub fn storage_format(f: StorageFormat) -> wgpu::TextureFormat {
 
 #[cfg(test)]
 mod tests {
+    use super::super::test_variant::VARIANT;
     use super::*;
-    use codegen::rt::{Binding, EntryPoint, Features, Stage};
-
-    const BINDINGS: &[Binding] = &[
-        Binding {
-            name: "CAMERA",
-            group: 0,
-            binding: 0,
-            visibility: Visibility {
-                compute: true,
-                vertex: false,
-                fragment: false,
-            },
-            kind: BindingKind::Uniform { min_size: 80 },
-        },
-        Binding {
-            name: "DEPTH",
-            group: 0,
-            binding: 3,
-            visibility: Visibility {
-                compute: true,
-                vertex: false,
-                fragment: true,
-            },
-            kind: BindingKind::Texture {
-                sample_type: SampleType::Depth,
-                view_dimension: ViewDimension::D2,
-                multisampled: true,
-            },
-        },
-        Binding {
-            name: "GRID",
-            group: 1,
-            binding: 0,
-            visibility: Visibility {
-                compute: true,
-                vertex: false,
-                fragment: false,
-            },
-            kind: BindingKind::Storage {
-                read_only: false,
-                min_size: 8,
-            },
-        },
-    ];
-    const VARIANT: Variant = Variant {
-        module: "cull",
-        names: &["t16"],
-        wgsl: "",
-        spirv: &[],
-        spirv_version: (1, 0),
-        entry_points: &[EntryPoint {
-            name: "main",
-            stage: Stage::Compute,
-            workgroup_size: [16, 16, 1],
-            inputs: &[],
-            outputs: &[],
-        }],
-        bindings: BINDINGS,
-        features: Features { subgroup: true },
-    };
 
     #[test]
     fn groups_map_to_wgpu_entries() {
@@ -206,32 +147,5 @@ mod tests {
             }
         ));
         assert_eq!(VARIANT.group_count(), 2);
-    }
-
-    #[test]
-    fn subgroup_variant_is_refused_without_subgroup() {
-        let mut caps = crate::Capabilities {
-            subgroup: None,
-            timestamp_query: false,
-            timestamp_inside_passes: false,
-            msaa_depth32float: vec![1, 4],
-            msaa_rgba16float: vec![1, 4],
-            max_workgroup_invocations: 1024,
-        };
-        let err = crate::shader::check_supported(&VARIANT, &caps).unwrap_err();
-        assert!(
-            err.to_string().contains("needs the SUBGROUP feature"),
-            "{err}"
-        );
-        caps.subgroup = Some(crate::gpu::SubgroupSize { min: 8, max: 8 });
-        assert_eq!(crate::shader::check_supported(&VARIANT, &caps), Ok(()));
-        caps.max_workgroup_invocations = 128;
-        assert!(matches!(
-            crate::shader::check_supported(&VARIANT, &caps),
-            Err(crate::shader::VariantError::WorkgroupTooLarge {
-                invocations: 256,
-                ..
-            })
-        ));
     }
 }

@@ -5,6 +5,8 @@
 //! wgpu, so no pass writes a bind-group layout by hand. It holds no shader source of its own.
 
 mod layout;
+#[cfg(test)]
+mod test_variant;
 
 pub use layout::{bind_group_layout_entries, storage_format};
 
@@ -146,5 +148,38 @@ impl ShaderProgram {
                 cache: None,
             }),
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::test_variant::VARIANT;
+    use super::*;
+
+    #[test]
+    fn subgroup_variant_is_refused_without_subgroup() {
+        let mut caps = Capabilities {
+            subgroup: None,
+            timestamp_query: false,
+            timestamp_inside_passes: false,
+            msaa_depth32float: vec![1, 4],
+            msaa_rgba16float: vec![1, 4],
+            max_workgroup_invocations: 1024,
+        };
+        let err = check_supported(&VARIANT, &caps).unwrap_err();
+        assert!(
+            err.to_string().contains("needs the SUBGROUP feature"),
+            "{err}"
+        );
+        caps.subgroup = Some(crate::gpu::SubgroupSize { min: 8, max: 8 });
+        assert_eq!(check_supported(&VARIANT, &caps), Ok(()));
+        caps.max_workgroup_invocations = 128;
+        assert!(matches!(
+            check_supported(&VARIANT, &caps),
+            Err(VariantError::WorkgroupTooLarge {
+                invocations: 256,
+                ..
+            })
+        ));
     }
 }

@@ -8,7 +8,7 @@ use shaders_gen::forward::forward;
 use wgpu::util::DeviceExt as _;
 
 use crate::scene::{AlphaMode, GpuScene, Material, Scene, TextureRef};
-use crate::shader::ShaderProgram;
+use crate::shader::bind_group_layout_entries;
 
 /// One primitive of one instance.
 #[derive(Debug)]
@@ -40,15 +40,12 @@ pub struct PreparedScene {
 }
 
 impl PreparedScene {
-    /// Uploads `scene` and builds bind groups against the forward program's layouts (groups 1
-    /// and 2), which the pre-Z program shares for group 1.
-    pub fn new(
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        scene: &Scene,
-        forward: &ShaderProgram,
-        prez_mask: &ShaderProgram,
-    ) -> Arc<Self> {
+    /// Uploads `scene` and builds its bind groups against the layouts the DSL reflects for the
+    /// forward program's groups 1 (draw) and 2 (material), which the pre-Z programs share for
+    /// group 1, and the masked pre-Z program's group 2. wgpu treats layouts with equal entries
+    /// as one, so these groups bind with every pipeline of those programs.
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Arc<Self> {
+        let layouts = SceneLayouts::new(device);
         let gpu = GpuScene::upload(device, queue, scene);
         let defaults = Defaults::new(device, queue);
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
@@ -62,13 +59,13 @@ impl PreparedScene {
         let mut materials: Vec<PreparedMaterial> = scene
             .materials
             .iter()
-            .map(|m| prepare_material(device, [forward, prez_mask], &gpu, &defaults, &sampler, m))
+            .map(|m| prepare_material(device, &layouts, &gpu, &defaults, &sampler, m))
             .collect();
         // Primitives without a material use the glTF default material.
         let default_material = materials.len();
         materials.push(prepare_material(
             device,
-            [forward, prez_mask],
+            &layouts,
             &gpu,
             &defaults,
             &sampler,
@@ -87,7 +84,7 @@ impl PreparedScene {
                 });
                 let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("draw"),
-                    layout: &forward.bind_group_layouts[1],
+                    layout: &layouts.draw,
                     entries: &[wgpu::BindGroupEntry {
                         binding: 0,
                         resource: buffer.as_entire_binding(),
@@ -150,9 +147,41 @@ impl Defaults {
     }
 }
 
+/// The bind-group layouts of the scene's per-draw and per-material groups.
+struct SceneLayouts {
+    draw: wgpu::BindGroupLayout,
+    material: wgpu::BindGroupLayout,
+    mask_material: wgpu::BindGroupLayout,
+}
+
+impl SceneLayouts {
+    fn new(device: &wgpu::Device) -> Self {
+        use shaders_gen::forward::prez;
+        let layout = |variant: &codegen::rt::Variant, group: u32| {
+            device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(variant.module),
+                entries: &bind_group_layout_entries(variant, group),
+            })
+        };
+        // Groups 1 and 2 are the same in every forward variant; group 2 of the masked pre-Z.
+        let forward_variant = forward::variant(forward::VariantKey {
+            list: forward::List::List0,
+            blend: false,
+            scalarize: false,
+        })
+        .expect("the naive, opaque, plain forward variant always exists");
+        let mask = prez::variant(prez::VariantKey { alpha_mask: true });
+        Self {
+            draw: layout(forward_variant, 1),
+            material: layout(forward_variant, 2),
+            mask_material: layout(mask, 2),
+        }
+    }
+}
+
 fn prepare_material(
     device: &wgpu::Device,
-    [forward, prez_mask]: [&ShaderProgram; 2],
+    layouts: &SceneLayouts,
     gpu: &GpuScene,
     defaults: &Defaults,
     sampler: &wgpu::Sampler,
@@ -207,42 +236,53 @@ fn prepare_material(
         binding: 6,
         resource: wgpu::BindingResource::Sampler(sampler),
     });
-    let prez_mask_group = matches!(m.alpha_mode, AlphaMode::Mask { .. }).then(|| {
-        let mask = shaders_gen::forward::prez::MaskMaterial::new(m.base_color, cutoff);
-        let mask_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("mask material"),
-            contents: bytemuck::bytes_of(&mask),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("pre-z mask material"),
-            layout: &prez_mask.bind_group_layouts[2],
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: mask_buffer.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::TextureView(&views[0]),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::Sampler(sampler),
-                },
-            ],
-        })
-    });
+    let prez_mask_group = matches!(m.alpha_mode, AlphaMode::Mask { .. })
+        .then(|| mask_group(device, layouts, m, cutoff, &views[0], sampler));
     PreparedMaterial {
         prez_mask_group,
         bind_group: device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("material"),
-            layout: &forward.bind_group_layouts[2],
+            layout: &layouts.material,
             entries: &entries,
         }),
         alpha_mode: m.alpha_mode,
         double_sided: m.double_sided,
     }
+}
+
+/// Group 2 of the masked pre-Z program: the material's alpha, cutoff and base colour texture.
+fn mask_group(
+    device: &wgpu::Device,
+    layouts: &SceneLayouts,
+    m: &Material,
+    cutoff: f32,
+    base_color: &wgpu::TextureView,
+    sampler: &wgpu::Sampler,
+) -> wgpu::BindGroup {
+    let mask = shaders_gen::forward::prez::MaskMaterial::new(m.base_color, cutoff);
+    let mask_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("mask material"),
+        contents: bytemuck::bytes_of(&mask),
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("pre-z mask material"),
+        layout: &layouts.mask_material,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: mask_buffer.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: wgpu::BindingResource::TextureView(base_color),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: wgpu::BindingResource::Sampler(sampler),
+            },
+        ],
+    })
 }
 
 impl Material {

@@ -1,0 +1,45 @@
+//! Which passes a configuration runs, in order. Adding a pass to a path is one entry here.
+
+use crate::GpuContext;
+use crate::frame_data::{FrameView, RenderError, RenderPath, RendererConfig};
+use crate::passes::Pass;
+use crate::passes::depth_probe::DepthProbePass;
+use crate::passes::forward::ForwardPass;
+use crate::passes::heatmap::HeatmapPass;
+use crate::passes::light_cull::LightCullPass;
+use crate::passes::prez::PrezPass;
+use crate::passes::tonemap::TonemapPass;
+
+/// The ordered passes of `config`:
+///
+/// | path | passes |
+/// |---|---|
+/// | naive | forward (own depth) → tonemap |
+/// | naive-prez | pre-Z → forward → tonemap → depth probe |
+/// | tiled, 2.5D, clustered | pre-Z → light culling → forward → tonemap → depth probe |
+/// | heatmap view (culled paths) | pre-Z → light culling → light heatmap → depth probe |
+///
+/// The depth probe adds work only to frames a tool asked to capture.
+pub fn passes_for(
+    gpu: &GpuContext,
+    config: &RendererConfig,
+) -> Result<Vec<Box<dyn Pass>>, RenderError> {
+    let mut passes: Vec<Box<dyn Pass>> = Vec::new();
+    if config.path.has_prepass() {
+        passes.push(Box::new(PrezPass::new(gpu, config)?));
+    }
+    if config.path.is_culled() {
+        passes.push(Box::new(LightCullPass::new(gpu)));
+    }
+    match config.view {
+        FrameView::Heatmap => passes.push(Box::new(HeatmapPass::new(gpu, config)?)),
+        FrameView::Lit => {
+            passes.push(Box::new(ForwardPass::new(gpu, config)?));
+            passes.push(Box::new(TonemapPass::new(gpu, config)?));
+        }
+    }
+    if config.path != RenderPath::Naive {
+        passes.push(Box::new(DepthProbePass::new()));
+    }
+    Ok(passes)
+}

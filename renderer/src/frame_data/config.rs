@@ -1,0 +1,82 @@
+//! The renderer's configuration: size, MSAA, light-culling path, view.
+
+use glam::Vec3;
+
+/// How the forward pass finds its lights.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RenderPath {
+    /// Every light at every pixel, without a depth pre-pass (overdraw shades every layer).
+    Naive,
+    /// Every light at every pixel after a depth pre-pass (the reference image of the culled
+    /// paths).
+    NaivePrez,
+    /// Tiled culling (Forward+).
+    Tiled,
+    /// Tiled culling with the 2.5D depth mask.
+    Depth25,
+    /// Clustered culling, 16×8×24 froxels.
+    Clustered,
+}
+
+impl RenderPath {
+    /// Whether the path culls lights into per-cell lists.
+    pub fn is_culled(self) -> bool {
+        !matches!(self, Self::Naive | Self::NaivePrez)
+    }
+
+    /// Whether the frame runs the depth pre-pass.
+    pub fn has_prepass(self) -> bool {
+        self != Self::Naive
+    }
+}
+
+/// What a frame shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FrameView {
+    /// The shaded image.
+    #[default]
+    Lit,
+    /// The light-count heatmap of the culled path's lists, with a legend.
+    Heatmap,
+}
+
+/// Renderer settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RendererConfig {
+    pub width: u32,
+    pub height: u32,
+    /// 1, 2, 4 or 8, as the adapter supports for Depth32Float and Rgba16Float.
+    pub msaa: u32,
+    pub path: RenderPath,
+    /// Tile size of the tiled paths.
+    pub tile: u32,
+    /// Use subgroup variants where the device has SUBGROUP.
+    pub scalarize: bool,
+    /// Format of the caller's target (an sRGB format gets sRGB output).
+    pub output_format: wgpu::TextureFormat,
+    /// Ambient light, linear RGB.
+    pub ambient: Vec3,
+    pub exposure: f32,
+    /// Shaded image or light-count heatmap.
+    pub view: FrameView,
+    /// Light count at which the heatmap saturates (red).
+    pub heatmap_max: u32,
+}
+
+impl Default for RendererConfig {
+    fn default() -> Self {
+        Self {
+            width: 1280,
+            height: 720,
+            msaa: 4,
+            path: RenderPath::Tiled,
+            tile: 16,
+            scalarize: false,
+            output_format: wgpu::TextureFormat::Rgba8UnormSrgb,
+            ambient: Vec3::splat(0.03),
+            exposure: 1.0,
+            view: FrameView::Lit,
+            heatmap_max: 256,
+        }
+    }
+}

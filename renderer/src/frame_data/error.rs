@@ -1,0 +1,47 @@
+//! Why the renderer cannot be set up or cannot render a frame.
+
+use crate::culling::CullError;
+use crate::graph::GraphError;
+use crate::shader::VariantError;
+
+/// Why the renderer cannot be set up or cannot render.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum RenderError {
+    #[error("MSAA {asked} is not supported by this device (supported: {supported:?})")]
+    SampleCount { asked: u32, supported: Vec<u32> },
+    #[error("scalarize was requested but the device has no SUBGROUP feature")]
+    NoSubgroup,
+    #[error("render() was called before prepare_scene()")]
+    NoScene,
+    #[error(
+        "the light heatmap shows culled lists; the naive path has none (use tiled, 2.5D or clustered)"
+    )]
+    HeatmapNeedsLists,
+    #[error(
+        "pass `{pass}` needs the {input} of an earlier pass, and no earlier pass of this frame \
+         produced it; put a pass that does before it"
+    )]
+    MissingInput {
+        pass: &'static str,
+        input: &'static str,
+    },
+    #[error("no pass named `{0}` in this renderer's pass list")]
+    NoSuchPass(String),
+    #[error(transparent)]
+    Variant(#[from] VariantError),
+    #[error(transparent)]
+    Excluded(#[from] codegen::rt::ExcludedVariant),
+    #[error(transparent)]
+    Cull(#[from] CullError),
+    #[error(transparent)]
+    Graph(#[from] GraphError),
+    #[error(
+        "a frame capture reads the pre-Z depth; the naive path has none (use naive-prez or a culled path)"
+    )]
+    CaptureNeedsDepth,
+    #[error(transparent)]
+    Readback(#[from] crate::GpuError),
+    #[error("GPU timing failed: {0}")]
+    Profiler(String),
+}

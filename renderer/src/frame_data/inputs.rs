@@ -1,0 +1,30 @@
+//! The read-only inputs of one frame, as every pass sees them while it prepares and adds itself
+//! to the graph.
+
+use std::sync::Arc;
+
+use super::{CameraUniform, FrameCamera, LightSet, PreparedScene, RendererConfig};
+use crate::GpuContext;
+
+/// One frame's inputs.
+#[derive(Debug, Clone)]
+pub struct FrameInputs {
+    pub gpu: GpuContext,
+    pub config: RendererConfig,
+    pub camera: FrameCamera,
+    pub scene: Arc<PreparedScene>,
+    pub lights: Arc<LightSet>,
+    /// The camera uniform, already written for this frame.
+    pub camera_uniform: CameraUniform,
+    /// Probe stride when a tool asked this frame to capture its depth and light grid.
+    pub capture: Option<u32>,
+    /// Counts rendered frames, from 1.
+    pub index: u64,
+}
+
+impl FrameInputs {
+    /// The target size as a vector.
+    pub fn screen(&self) -> glam::UVec2 {
+        glam::UVec2::new(self.config.width, self.config.height)
+    }
+}

@@ -1,0 +1,26 @@
+//! What every pass of a frame may read, below the passes: the renderer's configuration, the
+//! camera, the prepared scene and its draw lists, the lights, the shared texture formats, the
+//! graph resources passes hand each other ([`FrameResources`]) and the frame report.
+//!
+//! Passes (`crate::passes`) import this module and never `crate::frame`; `frame` orchestrates
+//! them. Nothing here knows any particular pass.
+
+mod camera;
+mod config;
+mod error;
+mod formats;
+mod inputs;
+mod lights;
+mod report;
+mod resources;
+mod scene;
+
+pub use camera::{CameraUniform, FrameCamera};
+pub use config::{FrameView, RenderPath, RendererConfig};
+pub use error::RenderError;
+pub use formats::{DEPTH_FORMAT, HDR_FORMAT};
+pub use inputs::FrameInputs;
+pub use lights::LightSet;
+pub use report::FrameReport;
+pub use resources::{FrameResources, LightListHandles};
+pub use scene::{DrawItem, PreparedMaterial, PreparedScene};

@@ -1,0 +1,23 @@
+//! What a frame reports back to the engine. The orchestrator fills the timings and CPU times;
+//! each pass adds its own section (light culling its counters).
+
+use crate::culling::lists::CullCounters;
+use crate::graph::PassTiming;
+
+/// What a frame reports back.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct FrameReport {
+    /// Per-pass GPU times of the newest frame whose timestamps have arrived.
+    pub timings: Option<Vec<PassTiming>>,
+    /// CPU time to build, compile and encode the frame graph, in milliseconds.
+    pub cpu_graph_ms: f64,
+    /// CPU time of the passes' per-frame preparation before that (uniforms, culling items;
+    /// grows with the light count), in milliseconds.
+    pub cpu_upload_ms: f64,
+    /// The compiled graph as Graphviz DOT.
+    pub graph_dot: String,
+    /// Culling counters of the newest frame whose copy has arrived (read asynchronously).
+    /// `dropped > 0` means lights were left out of some lists that frame; the renderer logs a
+    /// warning and grows the index list for the next frame where the device allows.
+    pub culling: Option<CullCounters>,
+}

@@ -1,0 +1,68 @@
+//! The graph resources passes hand each other within a frame: each pass reads the handles
+//! earlier passes put here and adds its own. A new kind of shared result (a shadow atlas, a
+//! decal list) is a new field here, not a change to the orchestrator.
+
+use crate::culling::reference::Method;
+use crate::graph::{Buffer, CompiledGraph, Handle, ImportAccess, RenderGraph, Texture};
+
+/// The per-cell light lists of a culled frame.
+#[derive(Debug, Clone)]
+pub struct LightListHandles {
+    /// `(offset, count)` per cell.
+    pub grid: Handle<Buffer>,
+    /// Light indices the grid points into.
+    pub indices: Handle<Buffer>,
+    /// How cells map to the screen (tiles or froxels), for the passes that look lists up.
+    pub method: Method,
+    /// The grid's buffer itself, for copies recorded after the graph (frame capture).
+    pub grid_buffer: wgpu::Buffer,
+}
+
+/// What the passes of one frame have produced so far.
+#[derive(Debug)]
+pub struct FrameResources {
+    /// The caller's target texture (imported).
+    pub output: Handle<Texture>,
+    /// The multisampled depth buffer (pre-Z, or the naive forward pass's own).
+    pub depth: Option<Handle<Texture>>,
+    /// The culled light lists.
+    pub light_lists: Option<LightListHandles>,
+    /// The resolved linear HDR colour.
+    pub hdr: Option<Handle<Texture>>,
+    imports: Vec<(Handle<Buffer>, wgpu::Buffer)>,
+}
+
+impl FrameResources {
+    pub fn new(output: Handle<Texture>) -> Self {
+        Self {
+            output,
+            depth: None,
+            light_lists: None,
+            hdr: None,
+            imports: Vec::new(),
+        }
+    }
+
+    /// Imports a buffer a pass owns across frames; it is bound when the graph is compiled.
+    pub fn import_buffer(
+        &mut self,
+        graph: &mut RenderGraph,
+        name: &str,
+        buffer: &wgpu::Buffer,
+        access: ImportAccess,
+    ) -> Handle<Buffer> {
+        let desc = crate::graph::BufferDesc {
+            size: buffer.size(),
+        };
+        let handle = graph.import_buffer(name, desc, access);
+        self.imports.push((handle, buffer.clone()));
+        handle
+    }
+
+    /// Binds every buffer imported through [`Self::import_buffer`].
+    pub fn bind_imports(&self, compiled: &mut CompiledGraph) {
+        for (handle, buffer) in &self.imports {
+            compiled.bind_buffer(*handle, buffer);
+        }
+    }
+}
