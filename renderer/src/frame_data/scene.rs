@@ -3,7 +3,7 @@
 
 use std::sync::Arc;
 
-use glam::{Vec3, Vec4};
+use glam::Vec3;
 use shaders_gen::forward::forward;
 use wgpu::util::DeviceExt as _;
 
@@ -283,26 +283,4 @@ fn mask_group(
             },
         ],
     })
-}
-
-impl Material {
-    /// The glTF 2.0 default material (white, metallic 1, roughness 1), for primitives without one.
-    pub fn gltf_default() -> Self {
-        Self {
-            name: "default".into(),
-            base_color: Vec4::ONE,
-            base_color_texture: None,
-            metallic: 1.0,
-            roughness: 1.0,
-            metallic_roughness_texture: None,
-            normal_texture: None,
-            normal_scale: 1.0,
-            occlusion_texture: None,
-            occlusion_strength: 1.0,
-            emissive: Vec3::ZERO,
-            emissive_texture: None,
-            alpha_mode: AlphaMode::Opaque,
-            double_sided: false,
-        }
-    }
 }

@@ -7,6 +7,7 @@
 mod error;
 mod gpu;
 mod load;
+pub mod procedural;
 mod tangents;
 
 pub use error::SceneError;
@@ -190,5 +191,27 @@ impl Scene {
             .flat_map(|i| &self.meshes[i.mesh].primitives)
             .map(|p| p.indices.len() / 3)
             .sum()
+    }
+}
+
+impl Material {
+    /// The glTF 2.0 default material (white, metallic 1, roughness 1), for primitives without one.
+    pub fn gltf_default() -> Self {
+        Self {
+            name: "default".into(),
+            base_color: Vec4::ONE,
+            base_color_texture: None,
+            metallic: 1.0,
+            roughness: 1.0,
+            metallic_roughness_texture: None,
+            normal_texture: None,
+            normal_scale: 1.0,
+            occlusion_texture: None,
+            occlusion_strength: 1.0,
+            emissive: Vec3::ZERO,
+            emissive_texture: None,
+            alpha_mode: AlphaMode::Opaque,
+            double_sided: false,
+        }
     }
 }

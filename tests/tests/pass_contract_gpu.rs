@@ -1,0 +1,166 @@
+//! The pass contract: a pass written outside the renderer (here, in this test) joins the frame
+//! through `Renderer::insert_pass_after`, without any change to `renderer::frame`. The graph
+//! schedules it, it reads what an earlier pass produced (`FrameResources::hdr`), its GPU work
+//! lands in the frame's submission, and its result is what the frame really held.
+
+use std::path::Path;
+
+use renderer::frame::setup::{create_target, framing_camera, procedural_lights};
+use renderer::frame::{RenderError, RenderPath, Renderer, RendererConfig};
+use renderer::frame_data::{FrameInputs, FrameResources, HDR_FORMAT};
+use renderer::graph::{BufferAccess, ImportAccess, RenderGraph, TextureAccess};
+use renderer::passes::Pass;
+use renderer::readback;
+use renderer::scene::Scene;
+use tests::gpu::gpu_test;
+
+const WIDTH: u32 = 96;
+const HEIGHT: u32 = 64;
+/// Bytes per Rgba16Float texel.
+const TEXEL: u32 = 8;
+
+/// A debug pass that copies the resolved HDR colour into a buffer the test reads back.
+#[derive(Debug)]
+struct HdrSnapshot {
+    buffer: wgpu::Buffer,
+}
+
+impl Pass for HdrSnapshot {
+    fn name(&self) -> &'static str {
+        "hdr snapshot"
+    }
+
+    fn add_to_graph(
+        &self,
+        graph: &mut RenderGraph,
+        _frame: &FrameInputs,
+        resources: &mut FrameResources,
+    ) -> Result<(), RenderError> {
+        let hdr = resources.hdr.ok_or(RenderError::MissingInput {
+            pass: "hdr snapshot",
+            input: "HDR colour",
+        })?;
+        let mut out =
+            resources.import_buffer(graph, "hdr snapshot", &self.buffer, ImportAccess::ReadWrite);
+        let target = out;
+        graph
+            .add_pass(self.name())
+            .read_texture(hdr, TextureAccess::CopySrc)
+            .write_buffer(&mut out, BufferAccess::CopyDst)
+            .execute(move |ctx| {
+                let texture = ctx.texture(hdr).clone();
+                let buffer = ctx.buffer(target).clone();
+                ctx.encoder.copy_texture_to_buffer(
+                    texture.as_image_copy(),
+                    wgpu::TexelCopyBufferInfo {
+                        buffer: &buffer,
+                        layout: wgpu::TexelCopyBufferLayout {
+                            offset: 0,
+                            bytes_per_row: Some(WIDTH * TEXEL),
+                            rows_per_image: Some(HEIGHT),
+                        },
+                    },
+                    texture.size(),
+                );
+            });
+        Ok(())
+    }
+}
+
+#[test]
+fn a_pass_from_outside_the_renderer_joins_the_frame() {
+    let scene = Scene::load(
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("scenes/AlphaBlendModeTest/AlphaBlendModeTest.glb"),
+    )
+    .expect("committed scene");
+    let config = RendererConfig {
+        width: WIDTH,
+        height: HEIGHT,
+        msaa: 4,
+        path: RenderPath::Tiled,
+        ..Default::default()
+    };
+    assert_eq!(HDR_FORMAT, wgpu::TextureFormat::Rgba16Float);
+    gpu_test(|gpu| {
+        let mut renderer = Renderer::new(gpu, config).expect("renderer");
+        let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("hdr snapshot"),
+            size: u64::from(WIDTH * HEIGHT * TEXEL),
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let err = renderer
+            .insert_pass_after(
+                "no such pass",
+                Box::new(HdrSnapshot {
+                    buffer: buffer.clone(),
+                }),
+            )
+            .unwrap_err();
+        assert!(matches!(err, RenderError::NoSuchPass(_)), "{err}");
+        renderer
+            .insert_pass_after(
+                "forward",
+                Box::new(HdrSnapshot {
+                    buffer: buffer.clone(),
+                }),
+            )
+            .expect("insert");
+        assert_eq!(
+            renderer.pass_names(),
+            [
+                "pre-z",
+                "light culling",
+                "forward",
+                "hdr snapshot",
+                "tonemap",
+                "depth probe"
+            ]
+        );
+        assert!(renderer.pass::<HdrSnapshot>().is_some());
+
+        renderer.prepare_scene(&scene);
+        renderer.set_lights(&procedural_lights(scene.bounds, 32, 3, 0.5, 2.0));
+        let target = create_target(&gpu.device, &config);
+        let camera = framing_camera(scene.bounds, WIDTH as f32 / HEIGHT as f32);
+        let report = renderer.render(&camera, &target).expect("frame");
+        renderer.finish();
+        assert!(
+            report.graph_dot.contains("hdr snapshot"),
+            "the compiled graph schedules the pass:\n{}",
+            report.graph_dot
+        );
+
+        // The snapshot is the frame's HDR image: wherever the output shows light the HDR holds
+        // some, and wherever the HDR holds more than a 1/20 the output shows it (tonemapping
+        // maps tiny values to 0).
+        let ldr = readback::read_texture_rgba8(&gpu.device, &gpu.queue, &target).expect("ldr");
+        let hdr = readback::read_buffer::<[u16; 4]>(&gpu.device, &gpu.queue, &buffer).expect("hdr");
+        let mut lit = 0;
+        for (i, (texel, pixel)) in hdr.iter().zip(ldr.chunks(4)).enumerate() {
+            let brightest = texel[..3]
+                .iter()
+                .map(|&h| f16_to_f32(h))
+                .fold(0.0, f32::max);
+            let shown = pixel[..3].iter().any(|&b| b > 0);
+            assert!(
+                (!shown || brightest > 0.0) && (brightest <= 0.05 || shown),
+                "pixel {i}: HDR {brightest}, output {pixel:?}"
+            );
+            lit += usize::from(brightest > 0.05);
+        }
+        assert!(lit > hdr.len() / 20, "the frame must be lit ({lit} pixels)");
+    });
+}
+
+/// An IEEE half-precision value as f32 (normal, subnormal and zero; the frame holds no NaN).
+fn f16_to_f32(h: u16) -> f32 {
+    let sign = if h & 0x8000 != 0 { -1.0 } else { 1.0 };
+    let exponent = i32::from((h >> 10) & 0x1f);
+    let mantissa = f32::from(h & 0x3ff);
+    sign * match exponent {
+        0 => mantissa * 2f32.powi(-24),
+        _ => (1.0 + mantissa / 1024.0) * 2f32.powi(exponent - 15),
+    }
+}
