@@ -5,9 +5,11 @@
 //! A variant is the module IR seen through an [`Env`] (one value per axis); this stage never
 //! copies or rewrites the IR, and it never prints or validates anything.
 
+mod env;
 mod eval;
 mod prune;
 
+pub use env::Env;
 pub use eval::{Value, eval};
 pub use prune::{
     Branch, branch, check_capabilities, check_globals, global_present, reachable_functions,
@@ -16,13 +18,6 @@ pub use prune::{
 
 use crate::ir::{Lit, Module};
 use syn::{Error, Result};
-
-/// Axis values of one variant, indexed like `Module::axes`.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Env {
-    /// One value per axis.
-    pub values: Vec<Lit>,
-}
 
 /// One point of the variant matrix.
 #[derive(Debug, Clone)]

@@ -6,20 +6,15 @@
 //! normalises the output and mishandles `override`), and never emits `override`.
 
 mod expr;
+mod options;
 mod source_map;
 mod writer;
 
+pub use options::Options;
 pub use source_map::SourceMap;
 
 use crate::ir::Module;
 use crate::variants::Env;
-
-/// Options of one printed variant.
-#[derive(Debug, Clone, Copy)]
-pub struct Options {
-    /// The variant may use subgroup operations (subgroup builtin parameters are kept).
-    pub subgroup: bool,
-}
 
 /// Prints one variant of `module` as WGSL, with its source map.
 pub fn write_string(module: &Module, env: &Env, options: Options) -> (String, SourceMap) {
