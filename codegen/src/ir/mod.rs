@@ -5,16 +5,13 @@
 //! axis references unevaluated: a variant is the IR plus an axis environment
 //! ([`crate::variants::Env`]). Nothing here knows about syn syntax trees or naga.
 
-mod expr;
-mod ty;
+mod scalars;
+mod tree;
 
-pub use expr::{BinOp, Block, Builtin, Expr, ExprKind, Lit, Stmt, UnOp};
-pub use ty::{Access, ArrayLen, Scalar, StorageFormatTy, TexKind, TextureTy, Ty};
+pub use scalars::{Access, Scalar, StorageFormatTy, StructId, TexKind, TextureTy};
+pub use tree::{ArrayLen, BinOp, Block, Builtin, Expr, ExprKind, Lit, Stmt, Ty, UnOp};
 
 use proc_macro2::Span;
-
-/// Index of a struct in [`Module::structs`].
-pub type StructId = usize;
 
 /// One DSL module (`#[shader] mod name { .. }`).
 #[derive(Debug, Clone)]

@@ -1,6 +1,9 @@
-//! IR expressions and statements. Every expression carries its type and source span.
+//! The recursive part of the IR: types (whose array lengths are unevaluated expressions that may
+//! use axes, so two array types compare equal whatever their lengths: naga checks lengths per
+//! variant), and typed expressions and statements, each carrying its type and source span.
+//! Types and expressions refer to each other, so they live in one file.
 
-use super::Ty;
+use super::scalars::{Access, Scalar, StorageFormatTy, StructId, TextureTy};
 use proc_macro2::Span;
 
 /// A literal value (also the value of an axis).
@@ -9,9 +12,9 @@ pub enum Lit {
     /// `true` / `false`
     Bool(bool),
     /// Integer with its scalar type (`i32`, `u32` or abstract).
-    Int(i64, super::Scalar),
+    Int(i64, Scalar),
     /// Float with its scalar type (`f32` or abstract).
-    Float(f64, super::Scalar),
+    Float(f64, Scalar),
 }
 
 /// Unary operators.
@@ -220,4 +223,121 @@ pub enum Stmt {
     Discard(Span),
     /// A nested `{ .. }` block.
     Block(Block),
+}
+
+/// An unevaluated array length (compares equal to any other length).
+#[derive(Debug, Clone)]
+pub struct ArrayLen(pub Box<Expr>);
+
+impl PartialEq for ArrayLen {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+/// A type of the DSL.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Ty {
+    /// `()`
+    Unit,
+    /// Scalars.
+    Scalar(Scalar),
+    /// `Vec2`..`Vec4`, `UVec*`, `IVec*`, `BVec*`.
+    Vector(u8, Scalar),
+    /// `Mat3`, `Mat4` (columns, rows), always `f32`.
+    Matrix(u8, u8),
+    /// `[T; N]`
+    Array(Box<Ty>, ArrayLen),
+    /// `[T]` (storage buffers only)
+    RuntimeArray(Box<Ty>),
+    /// A DSL struct.
+    Struct(StructId),
+    /// `Atomic<u32>` / `Atomic<i32>`
+    Atomic(Scalar),
+    /// Sampled and depth textures.
+    Texture(TextureTy),
+    /// `StorageTexture2d<Format, Access>`
+    StorageTexture(StorageFormatTy, Access),
+    /// `Sampler` / `SamplerComparison`
+    Sampler {
+        /// Comparison sampler.
+        comparison: bool,
+    },
+    /// `&mut T` parameter.
+    Ptr(Box<Ty>),
+}
+
+impl Ty {
+    /// Shorthand for `f32`.
+    pub const F32: Ty = Ty::Scalar(Scalar::F32);
+    /// Shorthand for `u32`.
+    pub const U32: Ty = Ty::Scalar(Scalar::U32);
+    /// Shorthand for `i32`.
+    pub const I32: Ty = Ty::Scalar(Scalar::I32);
+    /// Shorthand for `bool`.
+    pub const BOOL: Ty = Ty::Scalar(Scalar::Bool);
+
+    /// The scalar of a scalar or vector type.
+    pub fn scalar(&self) -> Option<Scalar> {
+        match self {
+            Ty::Scalar(s) | Ty::Vector(_, s) => Some(*s),
+            Ty::Matrix(..) => Some(Scalar::F32),
+            _ => None,
+        }
+    }
+
+    /// Scalar or vector of floats.
+    pub fn is_float_like(&self) -> bool {
+        matches!(self, Ty::Scalar(s) | Ty::Vector(_, s) if s.is_float())
+    }
+
+    /// Scalar or vector of integers.
+    pub fn is_int_like(&self) -> bool {
+        matches!(self, Ty::Scalar(s) | Ty::Vector(_, s) if s.is_int())
+    }
+
+    /// Scalar or vector of numbers.
+    pub fn is_numeric(&self) -> bool {
+        matches!(self, Ty::Scalar(s) | Ty::Vector(_, s) if s.is_numeric())
+    }
+
+    /// Replaces abstract scalars by the types a `let` would give them.
+    pub fn concretize(&self) -> Ty {
+        match self {
+            Ty::Scalar(s) => Ty::Scalar(s.concretize()),
+            Ty::Vector(n, s) => Ty::Vector(*n, s.concretize()),
+            t => t.clone(),
+        }
+    }
+
+    /// The common type of two types under literal conversion, if any.
+    pub fn unify(&self, other: &Ty) -> Option<Ty> {
+        match (self, other) {
+            (Ty::Scalar(a), Ty::Scalar(b)) => a.unify(*b).map(Ty::Scalar),
+            (Ty::Vector(n, a), Ty::Vector(m, b)) if n == m => {
+                a.unify(*b).map(|s| Ty::Vector(*n, s))
+            }
+            (a, b) if a == b => Some(a.clone()),
+            _ => None,
+        }
+    }
+
+    /// Whether a value of type `self` may be stored where `target` is expected.
+    pub fn converts_to(&self, target: &Ty) -> bool {
+        self.unify(target).as_ref() == Some(target)
+    }
+
+    /// Whether values of this type can be host-shared (uniform/storage buffers).
+    pub fn is_constructible(&self) -> bool {
+        !matches!(
+            self,
+            Ty::Texture(_)
+                | Ty::StorageTexture(..)
+                | Ty::Sampler { .. }
+                | Ty::Ptr(_)
+                | Ty::Atomic(_)
+                | Ty::RuntimeArray(_)
+                | Ty::Unit
+        )
+    }
 }
