@@ -1,7 +1,8 @@
 //! Whole-module checks after lowering: recursion, how structs are used (uniform, storage,
 //! entry point IO) and the rules that follow, and entry point locations.
 
-use super::{ModCtx, signature::check_builtin_type};
+use super::ctx::ModCtx;
+use super::signature::check_builtin_type;
 use crate::ir::{Expr, ExprKind, Io, Module, Space, Stage, StructUse, Ty};
 use proc_macro2::Span;
 use std::collections::HashMap;

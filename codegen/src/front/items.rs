@@ -3,30 +3,11 @@
 
 use super::args::{BareStatic, ShaderArgs};
 use super::attrs;
+use super::ctx::{FnCtx, ModCtx, register};
 use super::types::TyPos;
-use super::{FnCtx, ModCtx, wgsl_reserved};
 use crate::ir::{self, Expr, ExprKind, Lit, Scalar, Ty};
 use syn::spanned::Spanned;
 use syn::{Error, Result};
-
-pub(crate) fn register(m: &mut ModCtx, name: &syn::Ident, what: &str) -> Result<()> {
-    let s = name.to_string();
-    if wgsl_reserved(&s) {
-        return Err(Error::new(
-            name.span(),
-            format!("`{s}` is a reserved word or builtin name in WGSL; rename this {what}"),
-        ));
-    }
-    if m.names.insert(s.clone(), name.span()).is_some() {
-        return Err(Error::new(
-            name.span(),
-            format!(
-                "the name `{s}` is defined twice in this shader module (types, values and axes share one namespace)"
-            ),
-        ));
-    }
-    Ok(())
-}
 
 fn axis_value(e: &syn::Expr, ty: Scalar) -> Result<Lit> {
     let err = || {

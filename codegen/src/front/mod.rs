@@ -6,8 +6,10 @@
 
 mod args;
 mod attrs;
+mod build;
 mod calls;
 mod checks;
+mod ctx;
 mod expr;
 mod fncall;
 mod items;
@@ -20,10 +22,11 @@ mod types;
 
 pub(crate) use attrs::is_subgroup_builtin;
 pub(crate) use checks::mentions_axis;
-pub(crate) use types::ty_name;
 
-use crate::ir::{self, Local, Module, Ty};
-use proc_macro2::{Span, TokenStream};
+pub(crate) use ctx::{FnCtx, ModCtx};
+
+use crate::ir::Module;
+use proc_macro2::TokenStream;
 use std::collections::HashMap;
 use syn::{Error, Result};
 
@@ -76,131 +79,4 @@ fn lower_impl(args: TokenStream, item: &syn::ItemMod, declarations_only: bool) -
         checks::check_module(&mut m)?;
     }
     Ok(m.module)
-}
-
-/// Module-level lowering state.
-pub(crate) struct ModCtx {
-    pub module: Module,
-    pub struct_ids: HashMap<String, usize>,
-    pub const_ids: HashMap<String, usize>,
-    pub global_ids: HashMap<String, usize>,
-    pub fn_ids: HashMap<String, usize>,
-    /// Calls made by each function: `(callee, span)`.
-    pub calls: Vec<Vec<(usize, Span)>>,
-    /// Every module-level name, for conflict checks.
-    pub names: HashMap<String, Span>,
-}
-
-/// Function-level lowering state (also used, with `const_only`, for constant expressions).
-pub(crate) struct FnCtx<'a> {
-    pub m: &'a ModCtx,
-    pub locals: Vec<Local>,
-    scopes: Vec<HashMap<String, usize>>,
-    used_names: HashMap<String, u32>,
-    pub ret: Ty,
-    pub calls: Vec<(usize, Span)>,
-    pub const_only: bool,
-    pub loop_depth: u32,
-    /// Lowering the body of a vertex or compute entry point, where `discard()` is an error.
-    pub non_fragment_entry: bool,
-}
-
-/// Whether WGSL reserves this identifier, or predeclares it (builtin functions and types).
-pub(crate) fn wgsl_reserved(name: &str) -> bool {
-    naga::keywords::wgsl::RESERVED_SET.contains(name)
-        || naga::keywords::wgsl::BUILTIN_IDENTIFIER_SET.contains(name)
-        || name.starts_with("__")
-}
-
-impl<'a> FnCtx<'a> {
-    pub(crate) fn new(m: &'a ModCtx, const_only: bool) -> Self {
-        FnCtx {
-            m,
-            locals: vec![],
-            scopes: vec![HashMap::new()],
-            used_names: HashMap::new(),
-            ret: Ty::Unit,
-            calls: vec![],
-            const_only,
-            loop_depth: 0,
-            non_fragment_entry: false,
-        }
-    }
-
-    /// A context for a function body whose parameters are already lowered.
-    pub(crate) fn for_function(m: &'a ModCtx, f: &ir::Function, rust_names: &[String]) -> Self {
-        let mut cx = FnCtx::new(m, false);
-        cx.ret = f.ret.clone();
-        cx.non_fragment_entry = matches!(f.stage, Some(ir::Stage::Vertex | ir::Stage::Compute(_)));
-        for (i, l) in f.locals.iter().enumerate() {
-            cx.used_names.insert(l.name.clone(), 0);
-            cx.scopes[0].insert(rust_names[i].clone(), i);
-            cx.locals.push(l.clone());
-        }
-        for p in &f.params {
-            if let Some(n) = &p.incoming {
-                cx.used_names.insert(n.clone(), 0);
-            }
-        }
-        cx
-    }
-
-    /// Declares a local in the innermost scope, giving it a unique WGSL name.
-    pub(crate) fn declare(&mut self, rust_name: &str, ty: Ty, mutable: bool, span: Span) -> usize {
-        let name = self.fresh_name(rust_name);
-        let id = self.locals.len();
-        self.locals.push(Local {
-            name,
-            ty,
-            mutable,
-            span,
-        });
-        self.scopes
-            .last_mut()
-            .expect("a scope is open")
-            .insert(rust_name.to_string(), id);
-        id
-    }
-
-    pub(crate) fn fresh_name(&mut self, rust_name: &str) -> String {
-        let mut base = rust_name.trim_start_matches('_').to_string();
-        if base.is_empty() {
-            base = "v".into();
-        }
-        if wgsl_reserved(&base) || self.m.names.contains_key(&base) {
-            base.push('_');
-        }
-        let mut name = base.clone();
-        let mut n = 0;
-        while self.used_names.contains_key(&name) {
-            n += 1;
-            name = format!("{base}_{n}");
-        }
-        self.used_names.insert(name.clone(), 0);
-        name
-    }
-
-    pub(crate) fn lookup_local(&self, name: &str) -> Option<usize> {
-        self.scopes.iter().rev().find_map(|s| s.get(name).copied())
-    }
-
-    pub(crate) fn push_scope(&mut self) {
-        self.scopes.push(HashMap::new());
-    }
-
-    pub(crate) fn pop_scope(&mut self) {
-        self.scopes.pop();
-    }
-
-    /// Lowers a constant expression (literals, consts, axes and operators).
-    pub(crate) fn const_expr(&mut self, e: &syn::Expr) -> Result<ir::Expr> {
-        let saved = std::mem::replace(&mut self.const_only, true);
-        let r = self.expr(e);
-        self.const_only = saved;
-        r
-    }
-
-    pub(crate) fn ty_name(&self, ty: &Ty) -> String {
-        ty_name(ty, &self.m.module)
-    }
 }

@@ -2,8 +2,8 @@
 //! decorations, and return types with the entry point conventions.
 
 use super::attrs::{self, StageAttr};
+use super::ctx::{FnCtx, ModCtx};
 use super::types::TyPos;
-use super::{FnCtx, ModCtx};
 use crate::ir::{self, Expr, ExprKind, Io, Lit, Scalar, Stage, Ty};
 use proc_macro2::Span;
 use syn::spanned::Spanned;
