@@ -7,6 +7,18 @@ use proc_macro2::Span;
 use std::collections::HashMap;
 use syn::{Error, Result};
 
+/// What is being lowered.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mode {
+    /// A `#[shader]` module, all of it.
+    Shader,
+    /// Only the declarations the host side sees (axes, structs, consts, statics), skipping
+    /// functions and whole-module checks. Used to emit a useful stub next to an error.
+    Declarations,
+    /// A `#[library]` module: no entry points, every function kept.
+    Library,
+}
+
 /// Module-level lowering state.
 pub(crate) struct ModCtx {
     pub module: Module,
@@ -18,6 +30,38 @@ pub(crate) struct ModCtx {
     pub calls: Vec<Vec<(usize, Span)>>,
     /// Every module-level name, for conflict checks.
     pub names: HashMap<String, Span>,
+    /// The library each module-level name came from (`None`: the module itself).
+    pub origins: HashMap<String, Option<String>>,
+    /// The library of the items being lowered now (`None`: the module itself).
+    pub origin: Option<String>,
+}
+
+impl ModCtx {
+    /// An empty context for the module `item`.
+    pub(crate) fn new(item: &syn::ItemMod) -> Self {
+        ModCtx {
+            module: Module {
+                name: item.ident.to_string(),
+                span: item.ident.span(),
+                axes: vec![],
+                excludes: vec![],
+                requires_subgroup: None,
+                structs: vec![],
+                consts: vec![],
+                globals: vec![],
+                functions: vec![],
+                library: false,
+            },
+            struct_ids: HashMap::new(),
+            const_ids: HashMap::new(),
+            global_ids: HashMap::new(),
+            fn_ids: HashMap::new(),
+            calls: vec![],
+            names: HashMap::new(),
+            origins: HashMap::new(),
+            origin: None,
+        }
+    }
 }
 
 /// Function-level lowering state (also used, with `const_only`, for constant expressions).
@@ -138,13 +182,25 @@ pub(crate) fn register(m: &mut ModCtx, name: &syn::Ident, what: &str) -> Result<
             format!("`{s}` is a reserved word or builtin name in WGSL; rename this {what}"),
         ));
     }
-    if m.names.insert(s.clone(), name.span()).is_some() {
-        return Err(Error::new(
-            name.span(),
-            format!(
+    if let Some(first) = m.names.insert(s.clone(), name.span()) {
+        let before = m.origins.get(&s).cloned().flatten();
+        let msg = match (&before, &m.origin) {
+            (None, None) => format!(
                 "the name `{s}` is defined twice in this shader module (types, values and axes share one namespace)"
             ),
-        ));
+            (Some(lib), None) | (None, Some(lib)) => format!(
+                "the name `{s}` is defined both in library `{lib}` and in this module (a module and the libraries it uses share one namespace); rename one of them"
+            ),
+            (Some(a), Some(b)) => format!(
+                "the name `{s}` is defined in both library `{a}` and library `{b}` (the libraries a module uses share one namespace)"
+            ),
+        };
+        let mut err = Error::new(name.span(), msg);
+        if before.is_some() || m.origin.is_some() {
+            err.combine(Error::new(first, format!("`{s}` is first defined here")));
+        }
+        return Err(err);
     }
+    m.origins.insert(s, m.origin.clone());
     Ok(())
 }

@@ -13,6 +13,7 @@ mod ctx;
 mod expr;
 mod fncall;
 mod items;
+mod libs;
 mod ops;
 mod resources;
 mod signature;
@@ -20,58 +21,73 @@ mod statics;
 mod stmt;
 mod types;
 
-pub(crate) use attrs::is_subgroup_builtin;
 pub(crate) use checks::mentions_axis;
 
-pub(crate) use ctx::{FnCtx, ModCtx};
+pub use ctx::Mode;
+pub use libs::Library;
+
+use ctx::ModCtx;
 
 use crate::ir::Module;
 use proc_macro2::TokenStream;
-use std::collections::HashMap;
 use syn::{Error, Result};
 
 /// Lowers a shader module: the attribute arguments and the `mod` item.
 pub fn lower(args: TokenStream, item: &syn::ItemMod) -> Result<Module> {
-    lower_impl(args, item, false)
+    lower_with(args, item, &[], Mode::Shader)
 }
 
-/// Lowers only the declarations the host side sees (axes, structs, consts, statics), skipping
-/// functions and whole-module checks. Used to emit a useful stub next to an error.
+/// Lowers only the declarations the host side sees (see [`Mode::Declarations`]).
 pub fn lower_declarations(args: TokenStream, item: &syn::ItemMod) -> Result<Module> {
-    lower_impl(args, item, true)
+    lower_with(args, item, &[], Mode::Declarations)
 }
 
-fn lower_impl(args: TokenStream, item: &syn::ItemMod, declarations_only: bool) -> Result<Module> {
+/// The libraries a module's attribute arguments name in `uses(..)`, in order.
+pub fn uses_of(args: TokenStream) -> Result<Vec<syn::Path>> {
+    Ok(args::parse_args(args)?.uses)
+}
+
+/// Lowers a module with the libraries its `uses(..)` names merged in (`libs`, in the order of
+/// `uses(..)`), or a library on its own (`Mode::Library`, no `libs`).
+pub fn lower_with(
+    args: TokenStream,
+    item: &syn::ItemMod,
+    libs: &[Library],
+    mode: Mode,
+) -> Result<Module> {
     let args = args::parse_args(args)?;
-    let mut m = ModCtx {
-        module: Module {
-            name: item.ident.to_string(),
-            span: item.ident.span(),
-            axes: vec![],
-            excludes: vec![],
-            requires_subgroup: None,
-            structs: vec![],
-            consts: vec![],
-            globals: vec![],
-            functions: vec![],
-        },
-        struct_ids: HashMap::new(),
-        const_ids: HashMap::new(),
-        global_ids: HashMap::new(),
-        fn_ids: HashMap::new(),
-        calls: vec![],
-        names: HashMap::new(),
-    };
+    let mut m = ModCtx::new(item);
+    m.module.library = mode == Mode::Library;
     let Some((_, content)) = &item.content else {
         return Err(Error::new(
             item.ident.span(),
             "a shader module must be inline: `mod name { .. }`",
         ));
     };
+    if mode == Mode::Library {
+        libs::check_library_args(&args)?;
+    }
+    for p in &args.uses {
+        if !libs.iter().any(|l| l.path == *p) {
+            let last = p
+                .segments
+                .last()
+                .map(|s| s.ident.to_string())
+                .unwrap_or_default();
+            return Err(Error::new(
+                syn::spanned::Spanned::span(p),
+                format!("no library `{last}` was found for this `uses(..)` path"),
+            ));
+        }
+    }
     items::lower_axes(&mut m, &args)?;
-    items::lower_items(&mut m, content, declarations_only)?;
+    for lib in libs {
+        libs::check_axes(&m, lib)?;
+    }
+    let merged = libs::merged_items(libs, content);
+    items::lower_items(&mut m, &merged, mode)?;
     items::lower_predicates(&mut m, &args)?;
-    if declarations_only {
+    if mode == Mode::Declarations {
         for s in &mut m.module.structs {
             s.uses.io = s.fields.iter().any(|f| f.io.is_some());
         }
