@@ -12,7 +12,7 @@ use crate::front::Library;
 use crate::pipeline::{
     compile, compile_library, compile_linked, declarations, declarations_linked,
 };
-use proc_macro2::TokenStream;
+use proc_macro2::{Span, TokenStream};
 use quote::{ToTokens, quote};
 use syn::parse::{Parse, ParseStream};
 use syn::spanned::Spanned;
@@ -117,8 +117,15 @@ fn next_step(s: &State) -> TokenStream {
         let (p, a, i) = (&l.path, &l.args, &l.item);
         quote!({ #p } { #a } { #i })
     });
+    // The macro's name carries the span of the path's last segment, so that a path that is not
+    // a library fails there ("cannot find `__shader_library` in `name`").
+    let at = next
+        .segments
+        .last()
+        .map_or_else(Span::call_site, |s| s.ident.span());
+    let mac = Ident::new("__shader_library", at);
     quote! {
-        #next::__shader_library! {
+        #next::#mac! {
             shader { #args } { #item }
             pending { #(#rest),* }
             calling { #next }

@@ -319,7 +319,7 @@ fn no_entry_point(f: &syn::ItemFn) -> Result<()> {
     match stage {
         None => Ok(()),
         Some(a) => Err(Error::new(
-            a.span(),
+            a.meta.span(),
             "a library has no entry points: `#[vertex]`, `#[fragment]` and `#[compute]` functions belong in the `#[shader]` modules that use the library",
         )),
     }
