@@ -9,9 +9,8 @@
 //! `b::__shader_library!`, and so on; the last step compiles the module with every library.
 
 use crate::front::Library;
-use crate::pipeline::{
-    compile, compile_library, compile_linked, declarations, declarations_linked,
-};
+use crate::link::{compile_linked, declarations_linked};
+use crate::pipeline::{compile, compile_library, declarations};
 use proc_macro2::{Span, TokenStream};
 use quote::{ToTokens, quote};
 use syn::parse::{Parse, ParseStream};

@@ -28,6 +28,8 @@ pub mod ir;
 #[cfg(feature = "compiler")]
 pub mod layout;
 #[cfg(feature = "compiler")]
+mod link;
+#[cfg(feature = "compiler")]
 mod pipeline;
 #[cfg(feature = "compiler")]
 pub mod reflect;
@@ -43,9 +45,11 @@ pub use expand::{expand, expand_library, expand_with_library};
 #[cfg(feature = "compiler")]
 pub use front::Library;
 #[cfg(feature = "compiler")]
+pub use link::{compile_linked, declarations_linked};
+#[cfg(feature = "compiler")]
 pub use pipeline::{
     Compiled, CompiledVariant, LinkedLibrary, NagaStructLayout, compile, compile_library,
-    compile_linked, declarations, declarations_linked,
+    declarations,
 };
 #[cfg(feature = "compiler")]
 pub use sources::{

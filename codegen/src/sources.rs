@@ -3,7 +3,8 @@
 //! resolved by the path's last segment among the libraries found.
 
 use crate::front::Library;
-use crate::pipeline::{Compiled, compile_linked};
+use crate::link::compile_linked;
+use crate::pipeline::Compiled;
 use proc_macro2::TokenStream;
 
 /// Every `#[shader(..)]` module of a Rust source file (at any nesting depth), with its
