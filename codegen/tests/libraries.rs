@@ -187,3 +187,40 @@ fn invariant_positions_are_decorated_in_wgsl_and_spirv() {
         "{misplaced}"
     );
 }
+
+#[test]
+fn a_library_struct_must_keep_its_layout_in_the_using_module() {
+    let lib = r#"
+#[library]
+pub mod shapes {
+    pub struct Inner { pub a: f32 }
+    pub struct Outer { pub inner: Inner, pub b: f32 }
+}
+"#;
+    let module = |space: &str| {
+        format!(
+            r#"
+#[shader(uses(crate::shapes))]
+mod m {{
+    #[{space}(group = 0, binding = 0)]
+    static U: Outer;
+    #[storage(group = 0, binding = 1, read_write)]
+    static OUT: [f32];
+    #[compute(workgroup_size(1))]
+    fn main() {{
+        OUT[0] = U.b;
+    }}
+}}
+"#
+        )
+    };
+    // A storage buffer keeps the library's (non-uniform) layout; a uniform buffer would move
+    // `b` to offset 16 and break the library's host type.
+    codegen::compile_source(&format!("{lib}{}", module("storage")))
+        .unwrap_or_else(|e| panic!("{e}"));
+    let e = err(&format!("{lib}{}", module("uniform")));
+    assert!(
+        e.contains("struct `Outer` of library `shapes` gets a different memory layout"),
+        "{e}"
+    );
+}
