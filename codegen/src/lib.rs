@@ -20,24 +20,41 @@ pub mod back;
 #[cfg(feature = "compiler")]
 pub mod emit;
 #[cfg(feature = "compiler")]
+mod expand;
+#[cfg(feature = "compiler")]
 pub mod front;
 #[cfg(feature = "compiler")]
 pub mod ir;
 #[cfg(feature = "compiler")]
 pub mod layout;
 #[cfg(feature = "compiler")]
+mod link;
+#[cfg(feature = "compiler")]
 mod pipeline;
 #[cfg(feature = "compiler")]
 pub mod reflect;
+#[cfg(feature = "compiler")]
+mod sources;
 #[cfg(feature = "compiler")]
 pub mod validate;
 #[cfg(feature = "compiler")]
 pub mod variants;
 
 #[cfg(feature = "compiler")]
+pub use expand::{expand, expand_library, expand_with_library};
+#[cfg(feature = "compiler")]
+pub use front::Library;
+#[cfg(feature = "compiler")]
+pub use link::{compile_linked, declarations_linked};
+#[cfg(feature = "compiler")]
 pub use pipeline::{
-    Compiled, CompiledVariant, NagaStructLayout, compile, compile_source, compile_source_all,
-    declarations, expand, shader_modules,
+    Compiled, CompiledVariant, LinkedLibrary, NagaStructLayout, compile, compile_library,
+    declarations,
+};
+#[cfg(feature = "compiler")]
+pub use sources::{
+    compile_source, compile_source_all, compile_source_all_with, compile_with_libraries,
+    libraries_of, library_modules, shader_modules,
 };
 
 /// Re-exports for generated code only. Not a public API.

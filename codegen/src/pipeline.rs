@@ -3,6 +3,7 @@
 //! Holds no logic of its own beyond ordering, deduplication and timing.
 
 use crate::back::{spv, wgsl};
+use crate::front::Mode;
 use crate::ir::Module;
 use crate::reflect::{Reflection, reflect};
 use crate::variants::{self, Key, check_capabilities};
@@ -53,6 +54,23 @@ pub struct Compiled {
     pub variants: Vec<CompiledVariant>,
     /// naga's layout of each struct (by struct index).
     pub naga_layouts: Vec<Option<NagaStructLayout>>,
+    /// The libraries merged into the module (empty for a library or a module without
+    /// `uses(..)`): the generated module re-exports their host items instead of defining
+    /// copies.
+    pub libraries: Vec<LinkedLibrary>,
+}
+
+/// A library merged into a module, as the emitter needs it.
+#[derive(Debug, Clone)]
+pub struct LinkedLibrary {
+    /// The path in `uses(..)`.
+    pub path: syn::Path,
+    /// Every struct and const name the library defines (the using module defines no host
+    /// item of these names).
+    pub names: Vec<String>,
+    /// The host items the library's own generated module defines, which the using module
+    /// re-exports.
+    pub exports: Vec<String>,
 }
 
 fn naga_layouts(m: &Module, module: &naga::Module) -> Vec<Option<NagaStructLayout>> {
@@ -79,7 +97,16 @@ fn naga_layouts(m: &Module, module: &naga::Module) -> Vec<Option<NagaStructLayou
 
 /// Compiles a shader module: the attribute arguments and the `mod` item.
 pub fn compile(args: TokenStream, item: &syn::ItemMod) -> syn::Result<Compiled> {
-    let module = crate::front::lower(args, item)?;
+    compile_module(crate::front::lower(args, item)?)
+}
+
+/// Compiles a `#[library]` module on its own, over its axis matrix: every function is kept
+/// and validated by naga (a module without entry points is fine for naga).
+pub fn compile_library(args: TokenStream, item: &syn::ItemMod) -> syn::Result<Compiled> {
+    compile_module(crate::front::lower_with(args, item, &[], Mode::Library)?)
+}
+
+pub(crate) fn compile_module(module: Module) -> syn::Result<Compiled> {
     let keys = variants::enumerate(&module)?;
     let mut variants: Vec<CompiledVariant> = vec![];
     let mut by_output: HashMap<(String, bool), usize> = HashMap::new();
@@ -149,80 +176,28 @@ pub fn compile(args: TokenStream, item: &syn::ItemMod) -> syn::Result<Compiled> 
         key_variant,
         variants,
         naga_layouts,
+        libraries: vec![],
     })
-}
-
-/// Every `#[shader(..)]` module of a Rust source file (at any nesting depth), with its
-/// attribute arguments, the attribute removed.
-pub fn shader_modules(file: &syn::File) -> Vec<(TokenStream, syn::ItemMod)> {
-    fn is_shader(a: &syn::Attribute) -> bool {
-        a.path()
-            .segments
-            .last()
-            .is_some_and(|s| s.ident == "shader")
-    }
-    fn walk(items: &[syn::Item], out: &mut Vec<(TokenStream, syn::ItemMod)>) {
-        for item in items {
-            let syn::Item::Mod(m) = item else { continue };
-            if let Some(attr) = m.attrs.iter().find(|a| is_shader(a)) {
-                let args = match &attr.meta {
-                    syn::Meta::List(l) => l.tokens.clone(),
-                    _ => TokenStream::new(),
-                };
-                let mut item = m.clone();
-                item.attrs.retain(|a| !is_shader(a));
-                out.push((args, item));
-            } else if let Some((_, content)) = &m.content {
-                walk(content, out);
-            }
-        }
-    }
-    let mut out = vec![];
-    walk(&file.items, &mut out);
-    out
-}
-
-/// Compiles every `#[shader(..)]` module of Rust source text (tools such as
-/// `cargo xtask shaders`, which also want per-variant timings): `(module name, result)`.
-pub fn compile_source_all(src: &str) -> syn::Result<Vec<(String, syn::Result<Compiled>)>> {
-    let file = syn::parse_file(src)?;
-    Ok(shader_modules(&file)
-        .into_iter()
-        .map(|(args, item)| (item.ident.to_string(), compile(args, &item)))
-        .collect())
-}
-
-/// Compiles the first `#[shader(..)]` module found in Rust source text (golden tests, tools).
-pub fn compile_source(src: &str) -> syn::Result<Compiled> {
-    let file = syn::parse_file(src)?;
-    match shader_modules(&file).into_iter().next() {
-        Some((args, item)) => compile(args, &item),
-        None => Err(syn::Error::new(
-            proc_macro2::Span::call_site(),
-            "no `#[shader(..)] mod` found",
-        )),
-    }
 }
 
 /// The declarations of a module that failed to compile, as a [`Compiled`] without variants,
 /// when its declarations at least lower (see [`crate::emit::stub`]).
 pub fn declarations(args: TokenStream, item: &syn::ItemMod) -> Option<Compiled> {
-    let module = crate::front::lower_declarations(args, item).ok()?;
-    let keys = variants::enumerate(&module).ok()?;
+    with_keys(crate::front::lower_declarations(args, item).ok()?).ok()
+}
+
+/// A lowered module as a [`Compiled`] without variants: its keys, each valid key pointing at
+/// variant 0 (for the emitter's declarations-only outputs).
+pub(crate) fn with_keys(module: Module) -> syn::Result<Compiled> {
+    let keys = variants::enumerate(&module)?;
     let key_variant = keys.iter().map(|k| (!k.excluded).then_some(0)).collect();
     let naga_layouts = vec![None; module.structs.len()];
-    Some(Compiled {
+    Ok(Compiled {
         module,
         keys,
         key_variant,
         variants: vec![],
         naga_layouts,
+        libraries: vec![],
     })
-}
-
-/// The whole macro: compiles and emits the generated Rust module.
-pub fn expand(args: TokenStream, item: TokenStream) -> syn::Result<TokenStream> {
-    let item: syn::ItemMod = syn::parse2(item)?;
-    let compiled = compile(args, &item)?;
-    Ok(crate::emit::emit(&item, &compiled))
 }

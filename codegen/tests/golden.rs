@@ -1,7 +1,9 @@
 //! Golden tests in the style of naga's `tests/in` → `tests/out`: every DSL program in
 //! `tests/dsl-golden/*.rs` is compiled by `codegen` (no proc-macro), each distinct variant's
 //! WGSL is an insta snapshot in `tests/dsl-golden/snapshots/`, and each variant's SPIR-V must
-//! pass `spirv-val` for Vulkan 1.1 (which accepts SPIR-V up to 1.3).
+//! pass `spirv-val` for Vulkan 1.1 (which accepts SPIR-V up to 1.3). A file's `#[library]`
+//! modules are merged into the modules that use them, and are also compiled on their own
+//! (every function kept), with snapshots of their own.
 //!
 //! Review changes with `cargo insta review`, or re-approve with `INSTA_UPDATE=always`.
 
@@ -112,6 +114,41 @@ fn golden_wgsl_snapshots_and_spirv_val() {
     assert!(
         checked >= 30,
         "expected the whole corpus, checked {checked} variants"
+    );
+}
+
+#[test]
+fn golden_libraries_on_their_own() {
+    let snapshots = corpus_dir().join("snapshots");
+    let mut checked = 0;
+    for (stem, src) in corpus() {
+        let file = syn::parse_file(&src).expect("corpus file parses");
+        for (args, item) in codegen::library_modules(&file) {
+            let lib = item.ident.to_string();
+            let compiled = codegen::compile_library(args, &item).unwrap_or_else(|e| {
+                let at = e.span().start();
+                panic!("{stem}.rs:{}:{}: {e}", at.line, at.column)
+            });
+            for v in &compiled.variants {
+                let name = format!("{stem}@{lib}@{}", v.names[0]);
+                insta::with_settings!({
+                    snapshot_path => &snapshots,
+                    prepend_module_to_snapshot => false,
+                    omit_expression => true,
+                    description => format!("library {lib} of {stem}: keys {}", v.names.join(", ")),
+                }, {
+                    insta::assert_snapshot!(format!("{name}.wgsl"), &v.wgsl);
+                });
+                // Without entry points naga declares the `Linkage` capability, which Vulkan
+                // rejects; the universal environment checks everything else.
+                spirv_tool("spirv-val", &v.spirv, &["--target-env", "spv1.3"], &name);
+                checked += 1;
+            }
+        }
+    }
+    assert!(
+        checked >= 2,
+        "expected the corpus libraries, checked {checked} variants"
     );
 }
 

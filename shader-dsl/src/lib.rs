@@ -30,3 +30,20 @@ pub fn shader(args: TokenStream, item: TokenStream) -> TokenStream {
         }
     }
 }
+
+/// Declares a library: structs, constants, helper functions and statics that `#[shader]`
+/// modules merge in with `uses(crate::path::to::library)`. The library is compiled and
+/// validated on its own over its `axes(..)`; it may have no entry points.
+///
+/// See "Sharing code: libraries" in the crate documentation.
+#[proc_macro_attribute]
+pub fn library(args: TokenStream, item: TokenStream) -> TokenStream {
+    codegen::expand_library(args.into(), item.into()).into()
+}
+
+/// One step of the `uses(..)` chain: generated code only, not an API.
+#[doc(hidden)]
+#[proc_macro]
+pub fn __with_library(input: TokenStream) -> TokenStream {
+    codegen::expand_with_library(input.into()).into()
+}

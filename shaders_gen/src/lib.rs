@@ -11,6 +11,7 @@ pub mod calibrate;
 pub mod culling;
 pub mod forward;
 pub mod inspect;
+pub mod shared;
 
 /// Every generated module, for tools that walk them all.
 pub static MODULES: &[&codegen::rt::Module] = &[

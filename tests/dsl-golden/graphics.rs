@@ -10,6 +10,7 @@ pub mod graphics {
 
     pub struct VsOut {
         #[builtin(position)]
+        #[invariant]
         pub clip: Vec4,
         #[location(0)]
         pub uv: Vec2,

@@ -32,7 +32,7 @@ use std::time::{Duration, Instant, SystemTime};
 
 use anyhow::{Context as _, Result, anyhow, bail, ensure};
 
-use crate::shaders::{check_all_modules_found, dsl_modules};
+use crate::shaders::{DslModule, check_all_modules_found, dsl_libraries, dsl_modules};
 
 /// The target for one variant (median), in milliseconds.
 const TARGET_MS_PER_VARIANT: f64 = 2.0;
@@ -259,20 +259,33 @@ struct Source {
     file: PathBuf,
     args: proc_macro2::TokenStream,
     item: syn::ItemMod,
+    /// Every library of `shaders_gen`, for the module's `uses(..)`.
+    libraries: Vec<DslModule>,
 }
 
 fn sources(root: &Path) -> Result<Vec<Source>> {
     let found = dsl_modules(&root.join("shaders_gen/src"))?;
     check_all_modules_found(&found)?;
+    let libraries = shaders_gen_libraries(root)?;
     Ok(found
         .into_iter()
         .flat_map(|(file, modules)| {
+            let libraries = libraries.clone();
             modules.into_iter().map(move |(args, item)| Source {
                 file: file.clone(),
                 args,
                 item,
+                libraries: libraries.clone(),
             })
         })
+        .collect())
+}
+
+/// The `#[library]` modules of `shaders_gen`.
+fn shaders_gen_libraries(root: &Path) -> Result<Vec<DslModule>> {
+    Ok(dsl_libraries(&root.join("shaders_gen/src"))?
+        .into_iter()
+        .map(|(_, m)| m)
         .collect())
 }
 
@@ -293,7 +306,7 @@ fn compile_all(modules: &[Source]) -> Result<Vec<ModuleRun>> {
         .map(|m| {
             let args = m.args.clone();
             let start = Instant::now();
-            let compiled = codegen::compile(args, &m.item)
+            let compiled = codegen::compile_with_libraries(args, &m.item, &m.libraries)
                 .map_err(|e| anyhow!("{}: module `{}`: {e}", m.file.display(), m.item.ident))?;
             let compile = start.elapsed();
             let start = Instant::now();
@@ -330,8 +343,10 @@ fn measure_rebuild(root: &Path, release: bool, rebuilds: u32) -> Result<RebuildF
     let original =
         std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
     let edits = [edited_source(&original, 0)?, edited_source(&original, 1)?];
+    let libraries = shaders_gen_libraries(root)?;
     for edit in &edits {
-        check_dsl_accepts(edit).context("the DSL rejects the benchmark's one-line kernel edit")?;
+        check_dsl_accepts(edit, &libraries)
+            .context("the DSL rejects the benchmark's one-line kernel edit")?;
     }
     let profile = if release { "release" } else { "debug" };
     eprintln!("bench-codegen: warm-up `cargo build -p shaders_gen` ({profile}, untimed)");
@@ -400,12 +415,15 @@ fn edited_source(source: &str, value: u32) -> Result<String> {
     Ok(out)
 }
 
-/// Compiles every `#[shader] mod` of `source` in-process; fails on any error.
-fn check_dsl_accepts(source: &str) -> Result<()> {
-    let modules = codegen::compile_source_all(source).map_err(|e| anyhow!("{e}"))?;
+/// Compiles every `#[shader] mod` of `source` in-process, with `shaders_gen`'s libraries;
+/// fails on any error.
+fn check_dsl_accepts(source: &str, libraries: &[DslModule]) -> Result<()> {
+    let file = syn::parse_file(source)?;
+    let modules = codegen::shader_modules(&file);
     ensure!(!modules.is_empty(), "no `#[shader] mod` found");
-    for (name, result) in modules {
-        result.map_err(|e| anyhow!("module `{name}`: {e}"))?;
+    for (args, item) in modules {
+        codegen::compile_with_libraries(args, &item, libraries)
+            .map_err(|e| anyhow!("module `{}`: {e}", item.ident))?;
     }
     Ok(())
 }
@@ -884,8 +902,9 @@ mod tests {
     fn the_dsl_accepts_the_edited_kernel() {
         let src = std::fs::read_to_string(crate::workspace_root().join(EDITED_FILE)).unwrap();
         assert!(!src.contains(EDIT_MARKER));
+        let libraries = shaders_gen_libraries(&crate::workspace_root()).unwrap();
         for value in [0, 1] {
-            check_dsl_accepts(&edited_source(&src, value).unwrap()).unwrap();
+            check_dsl_accepts(&edited_source(&src, value).unwrap(), &libraries).unwrap();
         }
     }
 }

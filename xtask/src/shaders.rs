@@ -4,7 +4,8 @@
 //! It runs the DSL compiler (`codegen`) on the `shaders_gen` sources, exactly as the proc-macro
 //! does, and times each variant. Outputs go to `target/shaders/<module>/<variant>.{wgsl,spv}`,
 //! plus `.spvasm` from `spirv-dis` when installed. `--check` fails when `spirv-val` rejects any
-//! variant (or is missing).
+//! variant (or is missing). `#[library]` modules are compiled on their own too (rows marked
+//! `(library)`), and the modules that use them with their `uses(..)` resolved by name.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -58,45 +59,61 @@ pub fn run(args: &Args) -> Result<()> {
     let mut rows = Vec::new();
     let sources = dsl_modules(&root.join("shaders_gen/src"))?;
     check_all_modules_found(&sources)?;
-    for (file, modules) in sources {
-        for (args_tokens, item) in modules {
-            let name = item.ident.to_string();
-            if args.module.as_deref().is_some_and(|m| !name.contains(m)) {
-                continue;
+    let libraries = dsl_libraries(&root.join("shaders_gen/src"))?;
+    // Libraries first, each on its own (every function kept), then the shader modules with the
+    // libraries their `uses(..)` names.
+    let library_units = libraries
+        .iter()
+        .map(|(file, (a, item))| (file.clone(), (a.clone(), item.clone()), true));
+    let shader_units = sources
+        .into_iter()
+        .flat_map(|(file, modules)| modules.into_iter().map(move |m| (file.clone(), m, false)));
+    let available: Vec<DslModule> = libraries.iter().map(|(_, m)| m.clone()).collect();
+    for (file, (args_tokens, item), is_library) in library_units.chain(shader_units) {
+        let name = item.ident.to_string();
+        if args.module.as_deref().is_some_and(|m| !name.contains(m)) {
+            continue;
+        }
+        let compiled = if is_library {
+            codegen::compile_library(args_tokens, &item)
+        } else {
+            codegen::compile_with_libraries(args_tokens, &item, &available)
+        }
+        .map_err(|e| anyhow::anyhow!("{}: module `{name}`: {e}", file.display()))?;
+        let dir = out.join(&name);
+        std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+        for v in &compiled.variants {
+            let stem = dir.join(&v.names[0]);
+            std::fs::write(stem.with_extension("wgsl"), &v.wgsl)?;
+            let spv_path = stem.with_extension("spv");
+            std::fs::write(&spv_path, bytemuck_words(&v.spirv))?;
+            if have_dis {
+                let dis = Command::new("spirv-dis").arg(&spv_path).output()?;
+                std::fs::write(stem.with_extension("spvasm"), dis.stdout)?;
             }
-            let compiled = codegen::compile(args_tokens, &item)
-                .map_err(|e| anyhow::anyhow!("{}: module `{name}`: {e}", file.display()))?;
-            let dir = out.join(&name);
-            std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
-            for v in &compiled.variants {
-                let stem = dir.join(&v.names[0]);
-                std::fs::write(stem.with_extension("wgsl"), &v.wgsl)?;
-                let spv_path = stem.with_extension("spv");
-                std::fs::write(&spv_path, bytemuck_words(&v.spirv))?;
-                if have_dis {
-                    let dis = Command::new("spirv-dis").arg(&spv_path).output()?;
-                    std::fs::write(stem.with_extension("spvasm"), dis.stdout)?;
-                }
-                rows.push(Row {
-                    module: name.clone(),
-                    names: v.names.clone(),
-                    wgsl_bytes: v.wgsl.len(),
-                    spirv_words: v.spirv.len(),
-                    workgroup: workgroup(&v.reflection.entry_points),
-                    bindings: bindings(&v.reflection.bindings),
-                    features: if v.reflection.features.subgroup {
-                        "SUBGROUP"
-                    } else {
-                        "-"
-                    },
-                    spirv_val: if have_val {
-                        spirv_val(&spv_path, v.spirv_version)?
-                    } else {
-                        SpirvVal::NotInstalled
-                    },
-                    gen_time: v.gen_time,
-                });
-            }
+            rows.push(Row {
+                module: if is_library {
+                    format!("{name} (library)")
+                } else {
+                    name.clone()
+                },
+                names: v.names.clone(),
+                wgsl_bytes: v.wgsl.len(),
+                spirv_words: v.spirv.len(),
+                workgroup: workgroup(&v.reflection.entry_points),
+                bindings: bindings(&v.reflection.bindings),
+                features: if v.reflection.features.subgroup {
+                    "SUBGROUP"
+                } else {
+                    "-"
+                },
+                spirv_val: if have_val {
+                    spirv_val(&spv_path, v.spirv_version, is_library)?
+                } else {
+                    SpirvVal::NotInstalled
+                },
+                gen_time: v.gen_time,
+            });
         }
     }
     print_table(&rows);
@@ -127,21 +144,8 @@ pub fn run(args: &Args) -> Result<()> {
 pub(crate) type DslModule = (proc_macro2::TokenStream, syn::ItemMod);
 
 pub(crate) fn dsl_modules(dir: &Path) -> Result<Vec<(PathBuf, Vec<DslModule>)>> {
-    let mut files = Vec::new();
-    let mut stack = vec![dir.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        for entry in std::fs::read_dir(&d).with_context(|| format!("reading {}", d.display()))? {
-            let path = entry?.path();
-            if path.is_dir() {
-                stack.push(path);
-            } else if path.extension().is_some_and(|e| e == "rs") {
-                files.push(path);
-            }
-        }
-    }
-    files.sort();
     let mut out = Vec::new();
-    for file in files {
+    for file in rust_files(dir)? {
         let text = std::fs::read_to_string(&file)?;
         let parsed =
             syn::parse_file(&text).with_context(|| format!("parsing {}", file.display()))?;
@@ -156,6 +160,40 @@ pub(crate) fn dsl_modules(dir: &Path) -> Result<Vec<(PathBuf, Vec<DslModule>)>> 
         if !modules.is_empty() {
             out.push((file, modules));
         }
+    }
+    Ok(out)
+}
+
+/// The `.rs` files under `dir`, sorted.
+fn rust_files(dir: &Path) -> Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for entry in std::fs::read_dir(&d).with_context(|| format!("reading {}", d.display()))? {
+            let path = entry?.path();
+            if path.is_dir() {
+                stack.push(path);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                files.push(path);
+            }
+        }
+    }
+    files.sort();
+    Ok(files)
+}
+
+/// Every `#[shader_dsl::library]` module under `dir`, with its file (attribute removed).
+pub(crate) fn dsl_libraries(dir: &Path) -> Result<Vec<(PathBuf, DslModule)>> {
+    let mut out = Vec::new();
+    for file in rust_files(dir)? {
+        let text = std::fs::read_to_string(&file)?;
+        let parsed =
+            syn::parse_file(&text).with_context(|| format!("parsing {}", file.display()))?;
+        out.extend(
+            codegen::library_modules(&parsed)
+                .into_iter()
+                .map(|m| (file.clone(), m)),
+        );
     }
     Ok(out)
 }
@@ -212,11 +250,14 @@ fn tool_available(tool: &str) -> bool {
 }
 
 /// Runs spirv-val for the Vulkan environment matching the module's SPIR-V version.
-fn spirv_val(path: &Path, version: (u8, u8)) -> Result<SpirvVal> {
-    let env = if version >= (1, 3) {
-        "vulkan1.1"
-    } else {
-        "vulkan1.0"
+/// Validates a variant for Vulkan; a library (no entry points, so naga declares the `Linkage`
+/// capability that Vulkan rejects) is validated for the universal environment of its version.
+fn spirv_val(path: &Path, version: (u8, u8), library: bool) -> Result<SpirvVal> {
+    let env = match (library, version >= (1, 3)) {
+        (true, true) => "spv1.3",
+        (true, false) => "spv1.0",
+        (false, true) => "vulkan1.1",
+        (false, false) => "vulkan1.0",
     };
     let out = Command::new("spirv-val")
         .args(["--target-env", env])

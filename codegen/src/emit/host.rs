@@ -64,14 +64,49 @@ pub(crate) fn hostable(id: usize, m: &Module, env: &Env) -> bool {
     !s.uses.io && s.fields.iter().all(|f| host_ty(&f.ty, m, env).is_some())
 }
 
+/// Whether the module defines struct `id` itself (not a library's, which it re-exports).
+fn own_item(c: &Compiled, name: &str) -> bool {
+    !c.libraries
+        .iter()
+        .any(|l| l.names.iter().any(|n| n == name))
+}
+
+/// The structs that get a host type.
+fn host_structs(c: &Compiled) -> impl Iterator<Item = usize> + '_ {
+    let m = &c.module;
+    let env = &c.keys[0].env;
+    (0..m.structs.len()).filter(move |&id| hostable(id, m, env) && own_item(c, &m.structs[id].name))
+}
+
+/// Names of the host structs [`structs`] defines.
+pub(super) fn struct_names(c: &Compiled) -> Vec<String> {
+    host_structs(c)
+        .map(|id| c.module.structs[id].name.clone())
+        .collect()
+}
+
+/// Names of the host constants [`consts`] defines.
+pub(super) fn const_names(c: &Compiled) -> Vec<String> {
+    host_consts(c).map(|(k, _)| k.name.clone()).collect()
+}
+
+fn host_consts(c: &Compiled) -> impl Iterator<Item = (&crate::ir::Const, crate::variants::Value)> {
+    let m = &c.module;
+    let env = &c.keys[0].env;
+    m.consts.iter().filter_map(move |k| {
+        if crate::front::mentions_axis(&k.value, m) || !own_item(c, &k.name) {
+            return None;
+        }
+        eval(&k.value, m, env).map(|v| (k, v))
+    })
+}
+
 pub(super) fn structs(c: &Compiled) -> TokenStream {
     let m = &c.module;
     let env = &c.keys[0].env;
     let mut out = TokenStream::new();
-    for (id, s) in m.structs.iter().enumerate() {
-        if !hostable(id, m, env) {
-            continue;
-        }
+    for id in host_structs(c) {
+        let s = &m.structs[id];
         let layout = struct_layout(id, m, env);
         let name = Ident::new(&s.name, Span::call_site());
         let mut fields = vec![];
@@ -162,16 +197,8 @@ pub(super) fn structs(c: &Compiled) -> TokenStream {
 }
 
 pub(super) fn consts(c: &Compiled) -> TokenStream {
-    let m = &c.module;
-    let env = &c.keys[0].env;
     let mut out = TokenStream::new();
-    for k in &m.consts {
-        if crate::front::mentions_axis(&k.value, m) {
-            continue;
-        }
-        let Some(v) = eval(&k.value, m, env) else {
-            continue;
-        };
+    for (k, v) in host_consts(c) {
         let name = Ident::new(&k.name, Span::call_site());
         let (ty, val) = match v.to_lit(&k.ty) {
             Lit::Bool(b) => (quote!(bool), quote!(#b)),

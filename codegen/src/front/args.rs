@@ -1,4 +1,5 @@
-//! Parses the `#[shader(..)]` arguments: `axes(..)`, `exclude(..)`, `requires(..)`.
+//! Parses the `#[shader(..)]` and `#[library(..)]` arguments: `axes(..)`, `exclude(..)`,
+//! `requires(..)` and `uses(..)`.
 //!
 //! Only syntax lives here; predicates are lowered to IR by the expression lowering like any
 //! other constant expression. Must not look at the module body.
@@ -23,6 +24,8 @@ pub(crate) struct ShaderArgs {
     pub excludes: Vec<syn::Expr>,
     /// `(capability name, predicate)`; a bare `requires(subgroup)` gives `None`.
     pub requires: Vec<(Ident, Option<syn::Expr>)>,
+    /// `uses(path, ..)`: the libraries merged into the module, in order.
+    pub uses: Vec<syn::Path>,
 }
 
 impl Parse for AxisDecl {
@@ -84,11 +87,15 @@ impl Parse for ShaderArgs {
                     let reqs = Punctuated::<Requirement, Token![,]>::parse_terminated(&content)?;
                     args.requires.extend(reqs.into_iter().map(|r| (r.0, r.1)));
                 }
+                "uses" => {
+                    let paths = Punctuated::<syn::Path, Token![,]>::parse_terminated(&content)?;
+                    args.uses.extend(paths);
+                }
                 other => {
                     return Err(syn::Error::new(
                         key.span(),
                         format!(
-                            "unknown shader argument `{other}`; expected `axes(..)`, `exclude(..)` or `requires(..)`"
+                            "unknown shader argument `{other}`; expected `axes(..)`, `exclude(..)`, `requires(..)` or `uses(..)`"
                         ),
                     ));
                 }

@@ -160,6 +160,17 @@ pub(crate) fn static_attr(attrs: &[Attribute], item_span: Span) -> Result<Static
     Ok(found)
 }
 
+/// The message for `#[invariant]` anywhere but on a position builtin.
+pub(crate) const INVARIANT_MISPLACED: &str = "`#[invariant]` applies only to the position: a `#[builtin(position)]` field or parameter, or a `#[vertex]` function that returns its position as `Vec4`";
+
+/// Whether a `fn` carries `#[invariant]` (its returned position is invariant), and where.
+pub(crate) fn fn_invariant(attrs: &[Attribute]) -> Option<Span> {
+    attrs
+        .iter()
+        .find(|a| a.path().is_ident("invariant"))
+        .map(|a| a.meta.span())
+}
+
 /// Stage attribute on a `fn`.
 pub(crate) enum StageAttr {
     Compute(Vec<syn::Expr>, Span),
@@ -171,7 +182,7 @@ pub(crate) fn fn_stage(attrs: &[Attribute]) -> Result<Option<StageAttr>> {
     const ALLOWED: &str = "`#[compute(workgroup_size(x, y, z))]`, `#[vertex]` or `#[fragment]`";
     let mut stage = None;
     for attr in attrs {
-        if is_ignored(attr) {
+        if is_ignored(attr) || attr.path().is_ident("invariant") {
             continue;
         }
         let s = if attr.path().is_ident("compute") {
@@ -251,11 +262,6 @@ pub(crate) const BUILTINS: &[(&str, &str)] = &[
     ("subgroup_invocation_id", "u32"),
 ];
 
-/// Builtins that need the SUBGROUP capability.
-pub(crate) fn is_subgroup_builtin(name: &str) -> bool {
-    name.starts_with("subgroup_")
-}
-
 const INTERP_TYPES: &[&str] = &["perspective", "linear", "flat"];
 const INTERP_SAMPLING: &[&str] = &["center", "centroid", "sample", "first", "either"];
 
@@ -264,6 +270,7 @@ pub(crate) fn io_attrs(attrs: &[Attribute], what: &str) -> Result<Option<(Io, Sp
     let mut builtin: Option<(String, Span)> = None;
     let mut location: Option<(u32, Span)> = None;
     let mut interp: Option<((String, Option<String>), Span)> = None;
+    let mut invariant: Option<Span> = None;
     for attr in attrs {
         if is_ignored(attr) {
             continue;
@@ -288,6 +295,11 @@ pub(crate) fn io_attrs(attrs: &[Attribute], what: &str) -> Result<Option<(Io, Sp
                 ));
             }
             builtin = Some((name, ident.span()));
+        } else if attr.path().is_ident("invariant") {
+            if !matches!(attr.meta, syn::Meta::Path(_)) {
+                return Err(Error::new(span, "`#[invariant]` takes no arguments"));
+            }
+            invariant = Some(span);
         } else if attr.path().is_ident("location") {
             let lit: LitInt = attr
                 .parse_args()
@@ -317,9 +329,15 @@ pub(crate) fn io_attrs(attrs: &[Attribute], what: &str) -> Result<Option<(Io, Sp
             return Err(unexpected(
                 attr,
                 what,
-                "`#[builtin(..)]`, `#[location(N)]`, `#[interpolate(..)]`",
+                "`#[builtin(..)]`, `#[location(N)]`, `#[interpolate(..)]`, `#[invariant]`",
             ));
         }
+    }
+    if let Some(s) = invariant {
+        if builtin.as_ref().is_none_or(|(b, _)| b != "position") {
+            return Err(Error::new(s, INVARIANT_MISPLACED));
+        }
+        return Ok(Some((Io::InvariantPosition, s)));
     }
     match (builtin, location, interp) {
         (Some(_), Some((_, s)), _) => Err(Error::new(

@@ -6,8 +6,8 @@
 //! `COUNT.fetch_add(1)`, `TEX.sample(S, uv)`); an operation without a natural receiver is a
 //! free function (`select`, `workgroup_barrier`, `dpdx`, `pack4x8_unorm`, `subgroup_add`).
 
-use super::FnCtx;
-use super::expr::mk;
+use super::build::mk;
+use super::ctx::FnCtx;
 use crate::ir::{Builtin, Expr, ExprKind, Scalar, Ty};
 use proc_macro2::Span;
 use syn::{Error, Result};

@@ -1,7 +1,8 @@
 //! Whole-module checks after lowering: recursion, how structs are used (uniform, storage,
 //! entry point IO) and the rules that follow, and entry point locations.
 
-use super::{ModCtx, signature::check_builtin_type};
+use super::ctx::ModCtx;
+use super::signature::check_builtin_type;
 use crate::ir::{Expr, ExprKind, Io, Module, Space, Stage, StructUse, Ty};
 use proc_macro2::Span;
 use std::collections::HashMap;
@@ -125,7 +126,7 @@ fn ty_axis_span(ty: &Ty, m: &Module) -> Option<Span> {
 
 fn check_structs(m: &ModCtx) -> Result<()> {
     let module = &m.module;
-    let cx = super::FnCtx::new(m, true);
+    let cx = super::ctx::FnCtx::new(m, true);
     for s in &module.structs {
         for f in &s.fields {
             if let Some(span) = ty_axis_span(&f.ty, module) {
@@ -178,7 +179,9 @@ fn check_structs(m: &ModCtx) -> Result<()> {
                             ),
                         ));
                     }
-                    Some(Io::Builtin(b)) => check_builtin_type(&cx, b, &f.ty, f.span)?,
+                    Some(io @ (Io::Builtin(_) | Io::InvariantPosition)) => {
+                        check_builtin_type(&cx, io.builtin().unwrap_or_default(), &f.ty, f.span)?
+                    }
                     Some(Io::Location { .. }) => {
                         if !f.ty.is_numeric() {
                             return Err(Error::new(

@@ -2,36 +2,13 @@
 //! indexing, constructors, struct literals and calls of module functions. Builtin functions
 //! and methods are in `calls`.
 
-use super::FnCtx;
+use super::build::{NOT_CONST, lit, mk, scalar_lit};
+use super::ctx::FnCtx;
 use super::ops::bin_op;
 use super::types::TyPos;
 use crate::ir::{Expr, ExprKind, Lit, Scalar, Ty};
-use proc_macro2::Span;
 use syn::spanned::Spanned;
 use syn::{Error, Result};
-
-pub(crate) fn mk(kind: ExprKind, ty: Ty, span: Span) -> Expr {
-    Expr { kind, ty, span }
-}
-
-pub(crate) fn lit(l: Lit, span: Span) -> Expr {
-    let ty = match l {
-        Lit::Bool(_) => Ty::BOOL,
-        Lit::Int(_, s) | Lit::Float(_, s) => Ty::Scalar(s),
-    };
-    mk(ExprKind::Lit(l), ty, span)
-}
-
-/// A literal `v` of scalar type `s`.
-pub(crate) fn scalar_lit(s: Scalar, v: f64, span: Span) -> Expr {
-    match s {
-        Scalar::Bool => lit(Lit::Bool(v != 0.0), span),
-        Scalar::F32 | Scalar::AbstractFloat => lit(Lit::Float(v, Scalar::F32), span),
-        _ => lit(Lit::Int(v as i64, s), span),
-    }
-}
-
-pub(crate) const NOT_CONST: &str = "not a constant expression: only literals, `const`s, axes, operators and casts are allowed here";
 
 impl FnCtx<'_> {
     pub(crate) fn err_mismatch(&self, expected: &Ty, found: &Expr) -> Error {

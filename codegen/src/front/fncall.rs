@@ -1,8 +1,8 @@
 //! Calls and constructors: module function calls (with `&mut` in-out arguments), vector and
 //! matrix constructors, UFCS (`f32::max(a, b)`), struct literals, and place checks.
 
-use super::FnCtx;
-use super::expr::{NOT_CONST, mk};
+use super::build::{NOT_CONST, mk};
+use super::ctx::FnCtx;
 use crate::ir::{Expr, ExprKind, Scalar, Ty};
 use proc_macro2::Span;
 use syn::spanned::Spanned;

@@ -3,30 +3,11 @@
 
 use super::args::{BareStatic, ShaderArgs};
 use super::attrs;
+use super::ctx::{FnCtx, ModCtx, Mode, register};
 use super::types::TyPos;
-use super::{FnCtx, ModCtx, wgsl_reserved};
 use crate::ir::{self, Expr, ExprKind, Lit, Scalar, Ty};
 use syn::spanned::Spanned;
 use syn::{Error, Result};
-
-pub(crate) fn register(m: &mut ModCtx, name: &syn::Ident, what: &str) -> Result<()> {
-    let s = name.to_string();
-    if wgsl_reserved(&s) {
-        return Err(Error::new(
-            name.span(),
-            format!("`{s}` is a reserved word or builtin name in WGSL; rename this {what}"),
-        ));
-    }
-    if m.names.insert(s.clone(), name.span()).is_some() {
-        return Err(Error::new(
-            name.span(),
-            format!(
-                "the name `{s}` is defined twice in this shader module (types, values and axes share one namespace)"
-            ),
-        ));
-    }
-    Ok(())
-}
 
 fn axis_value(e: &syn::Expr, ty: Scalar) -> Result<Lit> {
     let err = || {
@@ -174,30 +155,38 @@ fn unsupported_item(item: &syn::Item) -> Error {
     )
 }
 
-/// Lowers the module's items; with `declarations_only`, stops before functions (used for the
-/// error stub, which only needs the host-facing declarations).
+/// Lowers the module's items, each tagged with the library it came from (`None`: the module
+/// itself); with `Mode::Declarations`, stops before functions (used for the error stub, which
+/// only needs the host-facing declarations).
 pub(crate) fn lower_items(
     m: &mut ModCtx,
-    items: &[syn::Item],
-    declarations_only: bool,
+    items: &[(Option<String>, &syn::Item)],
+    mode: Mode,
 ) -> Result<()> {
     let (mut structs, mut consts, mut statics, mut fns) = (vec![], vec![], vec![], vec![]);
-    for item in items {
+    for (origin, item) in items {
+        let origin = origin.clone();
         match item {
             syn::Item::Use(_) => {}
-            syn::Item::Struct(s) => structs.push(s),
-            syn::Item::Const(c) => consts.push(c),
+            syn::Item::Struct(s) => structs.push((origin, s)),
+            syn::Item::Const(c) => consts.push((origin, c)),
             syn::Item::Static(_) | syn::Item::Verbatim(_) => {
-                let tokens = quote::ToTokens::to_token_stream(item);
+                let tokens = quote::ToTokens::to_token_stream(*item);
                 let parsed: BareStatic = syn::parse2(tokens).map_err(|_| unsupported_item(item))?;
-                statics.push(parsed);
+                statics.push((origin, parsed));
             }
-            syn::Item::Fn(f) => fns.push(f),
+            syn::Item::Fn(f) => {
+                if origin.is_some() || mode == Mode::Library {
+                    no_entry_point(f)?;
+                }
+                fns.push((origin, f));
+            }
             other => return Err(unsupported_item(other)),
         }
     }
     // 1. struct names, so any type can refer to any struct.
-    for s in &structs {
+    for (origin, s) in &structs {
+        m.origin = origin.clone();
         register(m, &s.ident, "struct")?;
         if !s.generics.params.is_empty() {
             return Err(Error::new(
@@ -215,7 +204,8 @@ pub(crate) fn lower_items(
         });
     }
     // 2. consts, in declaration order.
-    for c in &consts {
+    for (origin, c) in &consts {
+        m.origin = origin.clone();
         let lowered = {
             let mut cx = FnCtx::new(m, true);
             let ty = cx.lower_type(&c.ty, TyPos::Value)?;
@@ -249,7 +239,7 @@ pub(crate) fn lower_items(
         m.module.consts.push(lowered);
     }
     // 3. struct fields.
-    for (id, s) in structs.iter().enumerate() {
+    for (id, (_, s)) in structs.iter().enumerate() {
         let syn::Fields::Named(named) = &s.fields else {
             return Err(Error::new(
                 s.ident.span(),
@@ -286,15 +276,17 @@ pub(crate) fn lower_items(
         m.module.structs[id].fields = fields;
     }
     // 4. statics.
-    for st in &statics {
+    for (origin, st) in &statics {
+        m.origin = origin.clone();
         super::statics::lower_static(m, st)?;
     }
-    if declarations_only {
+    if mode == Mode::Declarations {
         return Ok(());
     }
     // 5. function signatures.
     let mut rust_names = vec![];
-    for f in &fns {
+    for (origin, f) in &fns {
+        m.origin = origin.clone();
         register(m, &f.sig.ident, "function")?;
         let (func, names) = super::signature::lower_signature(m, f)?;
         m.fn_ids.insert(func.name.clone(), m.module.functions.len());
@@ -302,7 +294,8 @@ pub(crate) fn lower_items(
         rust_names.push(names);
     }
     // 6. bodies.
-    for (i, f) in fns.iter().enumerate() {
+    m.origin = None;
+    for (i, (_, f)) in fns.iter().enumerate() {
         let (body, locals, calls) = {
             let mut cx = FnCtx::for_function(m, &m.module.functions[i], &rust_names[i]);
             let body = cx.fn_body(&f.block)?;
@@ -314,4 +307,20 @@ pub(crate) fn lower_items(
         m.calls.push(calls);
     }
     Ok(())
+}
+
+/// Libraries hold helpers only: a stage attribute there is an error at the attribute.
+fn no_entry_point(f: &syn::ItemFn) -> Result<()> {
+    let stage = f.attrs.iter().find(|a| {
+        ["vertex", "fragment", "compute"]
+            .iter()
+            .any(|s| a.path().is_ident(s))
+    });
+    match stage {
+        None => Ok(()),
+        Some(a) => Err(Error::new(
+            a.meta.span(),
+            "a library has no entry points: `#[vertex]`, `#[fragment]` and `#[compute]` functions belong in the `#[shader]` modules that use the library",
+        )),
+    }
 }

@@ -6,11 +6,14 @@
 
 mod args;
 mod attrs;
+mod build;
 mod calls;
 mod checks;
+mod ctx;
 mod expr;
 mod fncall;
 mod items;
+mod libs;
 mod ops;
 mod resources;
 mod signature;
@@ -18,57 +21,73 @@ mod statics;
 mod stmt;
 mod types;
 
-pub(crate) use attrs::is_subgroup_builtin;
 pub(crate) use checks::mentions_axis;
-pub(crate) use types::ty_name;
 
-use crate::ir::{self, Local, Module, Ty};
-use proc_macro2::{Span, TokenStream};
-use std::collections::HashMap;
+pub use ctx::Mode;
+pub use libs::Library;
+
+use ctx::ModCtx;
+
+use crate::ir::Module;
+use proc_macro2::TokenStream;
 use syn::{Error, Result};
 
 /// Lowers a shader module: the attribute arguments and the `mod` item.
 pub fn lower(args: TokenStream, item: &syn::ItemMod) -> Result<Module> {
-    lower_impl(args, item, false)
+    lower_with(args, item, &[], Mode::Shader)
 }
 
-/// Lowers only the declarations the host side sees (axes, structs, consts, statics), skipping
-/// functions and whole-module checks. Used to emit a useful stub next to an error.
+/// Lowers only the declarations the host side sees (see [`Mode::Declarations`]).
 pub fn lower_declarations(args: TokenStream, item: &syn::ItemMod) -> Result<Module> {
-    lower_impl(args, item, true)
+    lower_with(args, item, &[], Mode::Declarations)
 }
 
-fn lower_impl(args: TokenStream, item: &syn::ItemMod, declarations_only: bool) -> Result<Module> {
+/// The libraries a module's attribute arguments name in `uses(..)`, in order.
+pub fn uses_of(args: TokenStream) -> Result<Vec<syn::Path>> {
+    Ok(args::parse_args(args)?.uses)
+}
+
+/// Lowers a module with the libraries its `uses(..)` names merged in (`libs`, in the order of
+/// `uses(..)`), or a library on its own (`Mode::Library`, no `libs`).
+pub fn lower_with(
+    args: TokenStream,
+    item: &syn::ItemMod,
+    libs: &[Library],
+    mode: Mode,
+) -> Result<Module> {
     let args = args::parse_args(args)?;
-    let mut m = ModCtx {
-        module: Module {
-            name: item.ident.to_string(),
-            span: item.ident.span(),
-            axes: vec![],
-            excludes: vec![],
-            requires_subgroup: None,
-            structs: vec![],
-            consts: vec![],
-            globals: vec![],
-            functions: vec![],
-        },
-        struct_ids: HashMap::new(),
-        const_ids: HashMap::new(),
-        global_ids: HashMap::new(),
-        fn_ids: HashMap::new(),
-        calls: vec![],
-        names: HashMap::new(),
-    };
+    let mut m = ModCtx::new(item);
+    m.module.library = mode == Mode::Library;
     let Some((_, content)) = &item.content else {
         return Err(Error::new(
             item.ident.span(),
             "a shader module must be inline: `mod name { .. }`",
         ));
     };
+    if mode == Mode::Library {
+        libs::check_library_args(&args)?;
+    }
+    for p in &args.uses {
+        if !libs.iter().any(|l| l.path == *p) {
+            let last = p
+                .segments
+                .last()
+                .map(|s| s.ident.to_string())
+                .unwrap_or_default();
+            return Err(Error::new(
+                syn::spanned::Spanned::span(p),
+                format!("no library `{last}` was found for this `uses(..)` path"),
+            ));
+        }
+    }
     items::lower_axes(&mut m, &args)?;
-    items::lower_items(&mut m, content, declarations_only)?;
+    for lib in libs {
+        libs::check_axes(&m, lib)?;
+    }
+    let merged = libs::merged_items(libs, content);
+    items::lower_items(&mut m, &merged, mode)?;
     items::lower_predicates(&mut m, &args)?;
-    if declarations_only {
+    if mode == Mode::Declarations {
         for s in &mut m.module.structs {
             s.uses.io = s.fields.iter().any(|f| f.io.is_some());
         }
@@ -76,131 +95,4 @@ fn lower_impl(args: TokenStream, item: &syn::ItemMod, declarations_only: bool) -
         checks::check_module(&mut m)?;
     }
     Ok(m.module)
-}
-
-/// Module-level lowering state.
-pub(crate) struct ModCtx {
-    pub module: Module,
-    pub struct_ids: HashMap<String, usize>,
-    pub const_ids: HashMap<String, usize>,
-    pub global_ids: HashMap<String, usize>,
-    pub fn_ids: HashMap<String, usize>,
-    /// Calls made by each function: `(callee, span)`.
-    pub calls: Vec<Vec<(usize, Span)>>,
-    /// Every module-level name, for conflict checks.
-    pub names: HashMap<String, Span>,
-}
-
-/// Function-level lowering state (also used, with `const_only`, for constant expressions).
-pub(crate) struct FnCtx<'a> {
-    pub m: &'a ModCtx,
-    pub locals: Vec<Local>,
-    scopes: Vec<HashMap<String, usize>>,
-    used_names: HashMap<String, u32>,
-    pub ret: Ty,
-    pub calls: Vec<(usize, Span)>,
-    pub const_only: bool,
-    pub loop_depth: u32,
-    /// Lowering the body of a vertex or compute entry point, where `discard()` is an error.
-    pub non_fragment_entry: bool,
-}
-
-/// Whether WGSL reserves this identifier, or predeclares it (builtin functions and types).
-pub(crate) fn wgsl_reserved(name: &str) -> bool {
-    naga::keywords::wgsl::RESERVED_SET.contains(name)
-        || naga::keywords::wgsl::BUILTIN_IDENTIFIER_SET.contains(name)
-        || name.starts_with("__")
-}
-
-impl<'a> FnCtx<'a> {
-    pub(crate) fn new(m: &'a ModCtx, const_only: bool) -> Self {
-        FnCtx {
-            m,
-            locals: vec![],
-            scopes: vec![HashMap::new()],
-            used_names: HashMap::new(),
-            ret: Ty::Unit,
-            calls: vec![],
-            const_only,
-            loop_depth: 0,
-            non_fragment_entry: false,
-        }
-    }
-
-    /// A context for a function body whose parameters are already lowered.
-    pub(crate) fn for_function(m: &'a ModCtx, f: &ir::Function, rust_names: &[String]) -> Self {
-        let mut cx = FnCtx::new(m, false);
-        cx.ret = f.ret.clone();
-        cx.non_fragment_entry = matches!(f.stage, Some(ir::Stage::Vertex | ir::Stage::Compute(_)));
-        for (i, l) in f.locals.iter().enumerate() {
-            cx.used_names.insert(l.name.clone(), 0);
-            cx.scopes[0].insert(rust_names[i].clone(), i);
-            cx.locals.push(l.clone());
-        }
-        for p in &f.params {
-            if let Some(n) = &p.incoming {
-                cx.used_names.insert(n.clone(), 0);
-            }
-        }
-        cx
-    }
-
-    /// Declares a local in the innermost scope, giving it a unique WGSL name.
-    pub(crate) fn declare(&mut self, rust_name: &str, ty: Ty, mutable: bool, span: Span) -> usize {
-        let name = self.fresh_name(rust_name);
-        let id = self.locals.len();
-        self.locals.push(Local {
-            name,
-            ty,
-            mutable,
-            span,
-        });
-        self.scopes
-            .last_mut()
-            .expect("a scope is open")
-            .insert(rust_name.to_string(), id);
-        id
-    }
-
-    pub(crate) fn fresh_name(&mut self, rust_name: &str) -> String {
-        let mut base = rust_name.trim_start_matches('_').to_string();
-        if base.is_empty() {
-            base = "v".into();
-        }
-        if wgsl_reserved(&base) || self.m.names.contains_key(&base) {
-            base.push('_');
-        }
-        let mut name = base.clone();
-        let mut n = 0;
-        while self.used_names.contains_key(&name) {
-            n += 1;
-            name = format!("{base}_{n}");
-        }
-        self.used_names.insert(name.clone(), 0);
-        name
-    }
-
-    pub(crate) fn lookup_local(&self, name: &str) -> Option<usize> {
-        self.scopes.iter().rev().find_map(|s| s.get(name).copied())
-    }
-
-    pub(crate) fn push_scope(&mut self) {
-        self.scopes.push(HashMap::new());
-    }
-
-    pub(crate) fn pop_scope(&mut self) {
-        self.scopes.pop();
-    }
-
-    /// Lowers a constant expression (literals, consts, axes and operators).
-    pub(crate) fn const_expr(&mut self, e: &syn::Expr) -> Result<ir::Expr> {
-        let saved = std::mem::replace(&mut self.const_only, true);
-        let r = self.expr(e);
-        self.const_only = saved;
-        r
-    }
-
-    pub(crate) fn ty_name(&self, ty: &Ty) -> String {
-        ty_name(ty, &self.m.module)
-    }
 }

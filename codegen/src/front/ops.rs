@@ -1,8 +1,8 @@
 //! Operators: typing of unary and binary operators (scalar, vector, vector-scalar and matrix
 //! arithmetic, bit operations, logic and comparisons) and the syn operator mapping.
 
-use super::FnCtx;
-use super::expr::{NOT_CONST, mk};
+use super::build::{NOT_CONST, mk};
+use super::ctx::FnCtx;
 use crate::ir::{BinOp, Expr, ExprKind, Scalar, Ty, UnOp};
 use proc_macro2::Span;
 use syn::{Error, Result};

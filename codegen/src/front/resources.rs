@@ -1,8 +1,8 @@
 //! Resource methods: atomics on workgroup/storage places and texture loads, stores, sampling
 //! and queries, each typed against its receiver and mapped to one WGSL builtin.
 
-use super::FnCtx;
 use super::calls::{ATOMICS, call, lookup, plain};
+use super::ctx::FnCtx;
 use crate::ir::{Builtin, Expr, ExprKind, Scalar, Space, TexKind, Ty};
 use proc_macro2::Span;
 use syn::{Error, Result};

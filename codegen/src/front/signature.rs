@@ -2,8 +2,8 @@
 //! decorations, and return types with the entry point conventions.
 
 use super::attrs::{self, StageAttr};
+use super::ctx::{FnCtx, ModCtx};
 use super::types::TyPos;
-use super::{FnCtx, ModCtx};
 use crate::ir::{self, Expr, ExprKind, Io, Lit, Scalar, Stage, Ty};
 use proc_macro2::Span;
 use syn::spanned::Spanned;
@@ -86,7 +86,9 @@ pub(crate) fn lower_signature(m: &ModCtx, f: &syn::ItemFn) -> Result<(ir::Functi
                 ));
             }
             match &io {
-                Some((Io::Builtin(b), s)) => check_builtin_type(&cx, b, &ty, *s)?,
+                Some((io @ (Io::Builtin(_) | Io::InvariantPosition), s)) => {
+                    check_builtin_type(&cx, io.builtin().unwrap_or_default(), &ty, *s)?
+                }
                 Some(_) => {}
                 None if matches!(ty, Ty::Struct(_)) => {}
                 None => {
@@ -121,12 +123,21 @@ pub(crate) fn lower_signature(m: &ModCtx, f: &syn::ItemFn) -> Result<(ir::Functi
         syn::ReturnType::Default => Ty::Unit,
         syn::ReturnType::Type(_, t) => cx.lower_type(t, TyPos::Value)?,
     };
+    let invariant = attrs::fn_invariant(&f.attrs);
+    if let Some(span) = invariant
+        && !(matches!(stage, Some(Stage::Vertex)) && ret == Ty::Vector(4, Scalar::F32))
+    {
+        return Err(Error::new(span, attrs::INVARIANT_MISPLACED));
+    }
     let ret_io = match (&stage, &ret) {
         (Some(Stage::Compute(_)), r) if *r != Ty::Unit => {
             return Err(Error::new(
                 sig.output.span(),
                 "compute entry points return nothing",
             ));
+        }
+        (Some(Stage::Vertex), Ty::Vector(4, Scalar::F32)) if invariant.is_some() => {
+            Some(Io::InvariantPosition)
         }
         (Some(Stage::Vertex), Ty::Vector(4, Scalar::F32)) => Some(Io::Builtin("position".into())),
         (Some(Stage::Vertex), Ty::Struct(_) | Ty::Unit) => None,

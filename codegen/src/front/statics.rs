@@ -3,9 +3,9 @@
 
 use super::args::BareStatic;
 use super::attrs::{self, StaticKind};
-use super::items::register;
+use super::ctx::register;
+use super::ctx::{FnCtx, ModCtx};
 use super::types::TyPos;
-use super::{FnCtx, ModCtx};
 use crate::ir::{self, Scalar, Space, Ty};
 use syn::spanned::Spanned;
 use syn::{Error, Result};

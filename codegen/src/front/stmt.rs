@@ -1,7 +1,7 @@
 //! Statement lowering: `let`, assignment, `if`/`else`, `for` over ranges, `while`, `loop`,
 //! `break`, `continue`, `return`, blocks and call statements.
 
-use super::FnCtx;
+use super::ctx::FnCtx;
 use super::ops::compound_op;
 use super::types::TyPos;
 use crate::ir::{Block, ExprKind, Stmt, Ty};

@@ -3,7 +3,7 @@
 //! Accepts only GPU types (scalars, glam vectors and matrices, arrays, DSL structs, atomics,
 //! textures, samplers); everything else gets an error that says what to use instead.
 
-use super::FnCtx;
+use super::ctx::FnCtx;
 use crate::ir::{Access, ArrayLen, Module, Scalar, StorageFormatTy, TexKind, TextureTy, Ty};
 use syn::spanned::Spanned;
 use syn::{Error, Result};
@@ -342,5 +342,12 @@ pub(crate) fn ty_name(ty: &Ty, m: &Module) -> String {
         Ty::Sampler { comparison: false } => "Sampler".into(),
         Ty::Sampler { comparison: true } => "SamplerComparison".into(),
         Ty::Ptr(t) => format!("&mut {}", ty_name(t, m)),
+    }
+}
+
+impl FnCtx<'_> {
+    /// The DSL spelling of a type, for messages.
+    pub(crate) fn ty_name(&self, ty: &Ty) -> String {
+        ty_name(ty, &self.m.module)
     }
 }

@@ -34,6 +34,9 @@ pub struct Module {
     pub globals: Vec<Global>,
     /// Functions, helpers and entry points, in declaration order.
     pub functions: Vec<Function>,
+    /// A `#[library]` module: no entry points, and every function is kept (so that the
+    /// library's own compilation validates all of its code).
+    pub library: bool,
 }
 
 /// A typed compile-time parameter.
@@ -93,6 +96,8 @@ pub struct Field {
 pub enum Io {
     /// `#[builtin(name)]`, the WGSL builtin name.
     Builtin(String),
+    /// `#[builtin(position)] #[invariant]`: WGSL `@builtin(position) @invariant`.
+    InvariantPosition,
     /// `#[location(n)]` with optional `#[interpolate(kind[, sampling])]`.
     Location {
         /// The location.
@@ -204,6 +209,22 @@ pub struct Function {
     pub body: Block,
     /// Span of the name.
     pub span: Span,
+}
+
+impl Io {
+    /// The WGSL builtin name, if this is a builtin.
+    pub fn builtin(&self) -> Option<&str> {
+        match self {
+            Io::Builtin(b) => Some(b),
+            Io::InvariantPosition => Some("position"),
+            Io::Location { .. } => None,
+        }
+    }
+}
+
+/// Builtins that need the SUBGROUP capability.
+pub fn is_subgroup_builtin(name: &str) -> bool {
+    name.starts_with("subgroup_")
 }
 
 impl Module {

@@ -104,7 +104,7 @@ pub fn reachable_functions(m: &Module, env: &Env, roots: Option<&[usize]>) -> Ve
     let mut stack: Vec<usize> = match roots {
         Some(r) => r.to_vec(),
         None => (0..m.functions.len())
-            .filter(|&i| m.functions[i].stage.is_some())
+            .filter(|&i| m.library || m.functions[i].stage.is_some())
             .collect(),
     };
     while let Some(fi) = stack.pop() {
@@ -211,9 +211,7 @@ pub fn check_capabilities(m: &Module, env: &Env, subgroup: bool, variant: &str) 
         let subgroup_params: Vec<usize> = f
             .params
             .iter()
-            .filter(
-                |p| matches!(&p.io, Some(Io::Builtin(b)) if crate::front::is_subgroup_builtin(b)),
-            )
+            .filter(|p| matches!(&p.io, Some(Io::Builtin(b)) if crate::ir::is_subgroup_builtin(b)))
             .map(|p| p.local)
             .collect();
         walk_block(&f.body, m, env, &mut |e| {

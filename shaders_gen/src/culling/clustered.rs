@@ -11,13 +11,15 @@
 /// `mark_occupied` (optional, one invocation per pixel) flags the froxels that hold a depth
 /// sample; with `skip_empty` set, `cull` gives the other froxels empty lists. `cull` runs one
 /// workgroup per froxel and writes the same `(offset, count)` grid and index list as the tiled
-/// kernel, with the same overflow counters.
+/// kernel, with the same overflow counters: the gather, the append, the output bindings and
+/// the counters are the `cull_append` library's, the froxel geometry `light_grid`'s.
 #[shader_dsl::shader(
     axes(
         msaa: u32 = [1, 2, 4, 8],
         scalarize: bool = [false, true] => "scalar",
     ),
     requires(subgroup = scalarize),
+    uses(crate::shared::light_grid, crate::shared::cull_append),
 )]
 pub mod cluster_cull {
     /// Camera, grid and capacities of the clustered pass.
@@ -42,32 +44,16 @@ pub mod cluster_cull {
         pub skip_empty: u32,
     }
 
-    /// An item's bounding sphere in world space.
-    pub struct CullSphere {
-        pub center: Vec3,
-        pub radius: f32,
-    }
-
-    pub const MAX_PER_CLUSTER: u32 = 1024;
+    /// Largest per-froxel list the workgroup can gather (workgroup memory).
+    pub const MAX_PER_CLUSTER: u32 = MAX_PER_CELL;
     pub const WORKGROUP: u32 = 64;
-    pub const NEXT_INDEX: u32 = 0;
-    pub const OVERFLOW_CLUSTERS: u32 = 1;
-    pub const DROPPED: u32 = 2;
-    pub const MAX_CLUSTER_ITEMS: u32 = 3;
-    pub const COUNTER_COUNT: u32 = 4;
-    /// Stands for infinity in plane distances (WGSL has no infinite literal).
-    const FAR_AWAY: f32 = 3.0e38;
+    /// `COUNTERS[OVERFLOW_CLUSTERS]`: froxels that found more items than `max_per_cluster`.
+    pub const OVERFLOW_CLUSTERS: u32 = OVERFLOW_CELLS;
+    /// `COUNTERS[MAX_CLUSTER_ITEMS]`: the most items any froxel found.
+    pub const MAX_CLUSTER_ITEMS: u32 = MAX_CELL_ITEMS;
 
     #[uniform(group = 0, binding = 0)]
     static PARAMS: ClusterParams;
-    #[storage(group = 0, binding = 1)]
-    static ITEMS: [CullSphere];
-    #[storage(group = 0, binding = 2, read_write)]
-    static GRID: [UVec2];
-    #[storage(group = 0, binding = 3, read_write)]
-    static INDICES: [u32];
-    #[storage(group = 0, binding = 4, read_write)]
-    static COUNTERS: [Atomic<u32>];
     #[storage(group = 0, binding = 5, read_write)]
     static OCCUPIED: [u32];
     #[texture(group = 0, binding = 6)]
@@ -77,50 +63,20 @@ pub mod cluster_cull {
     #[when(msaa > 1)]
     static DEPTH_MS: TextureDepthMultisampled2d;
 
-    #[workgroup]
-    static CLUSTER_COUNT: Atomic<u32>;
-    #[workgroup]
-    static CLUSTER_LIST: [u32; MAX_PER_CLUSTER];
-    #[workgroup]
-    static CLUSTER_BASE: u32;
-    #[workgroup]
-    static CLUSTER_STORED: u32;
-
-    /// View depth (distance along −Z) of a depth-buffer value.
-    fn view_depth(d: f32) -> f32 {
-        let p = PARAMS.inv_projection * Vec4::new(0.0, 0.0, d, 1.0);
-        -p.z / p.w
-    }
-
     /// The depth slice of view depth `d`.
-    fn slice_of(d: f32) -> u32 {
-        let t = (d / PARAMS.near).ln() / (PARAMS.far / PARAMS.near).ln();
-        let k = (t * PARAMS.grid.z as f32).floor().max(0.0);
-        (k as u32).min(PARAMS.grid.z - 1u32)
+    fn slice_at(d: f32) -> u32 {
+        slice_of(d, PARAMS.near, PARAMS.far, PARAMS.grid.z)
     }
 
     /// View depth where slice `k` starts.
-    fn slice_start(k: u32) -> f32 {
-        let mut d = 0.0;
-        if k >= PARAMS.grid.z {
-            d = FAR_AWAY;
-        } else if k > 0u32 {
-            d = PARAMS.near * (PARAMS.far / PARAMS.near).powf(k as f32 / PARAMS.grid.z as f32);
-        }
-        d
-    }
-
-    /// The froxel column (or row) of pixel `x` when `count` columns share `size` pixels.
-    fn column_of(x: u32, count: u32, size: u32) -> u32 {
-        ((x + 1u32) * count - 1u32) / size
+    fn start_of(k: u32) -> f32 {
+        slice_start(k, PARAMS.near, PARAMS.far, PARAMS.grid.z)
     }
 
     /// Flags the froxel of every surface sample.
     #[compute(workgroup_size(8, 8, 1))]
     pub fn mark_occupied(#[builtin(global_invocation_id)] gid: UVec3) {
         if gid.x < PARAMS.screen.x && gid.y < PARAMS.screen.y {
-            let i = column_of(gid.x, PARAMS.grid.x, PARAMS.screen.x);
-            let j = column_of(gid.y, PARAMS.grid.y, PARAMS.screen.y);
             for s in 0u32..msaa {
                 let mut d = 1.0;
                 if msaa == 1 {
@@ -129,36 +85,11 @@ pub mod cluster_cull {
                     d = DEPTH_MS.load(gid.xy(), s);
                 }
                 if d < 1.0 {
-                    let k = slice_of(view_depth(d));
-                    OCCUPIED[(k * PARAMS.grid.y + j) * PARAMS.grid.x + i] = 1u32;
+                    let k = slice_at(view_depth(PARAMS.inv_projection, d));
+                    OCCUPIED[froxel_cell(gid.xy(), k, PARAMS.grid, PARAMS.screen)] = 1u32;
                 }
             }
         }
-    }
-
-    /// A plane from a combination of projection rows, normalised.
-    fn normalized_plane(v: Vec4) -> Vec4 {
-        v / v.xyz().length()
-    }
-
-    /// Whether a view-space sphere clears all six froxel planes.
-    fn sphere_in_froxel(
-        c: Vec3,
-        r: f32,
-        left: Vec4,
-        right: Vec4,
-        bottom: Vec4,
-        top: Vec4,
-        near: f32,
-        far: f32,
-    ) -> bool {
-        let mut inside = left.xyz().dot(c) + left.w >= -r;
-        inside = inside && right.xyz().dot(c) + right.w >= -r;
-        inside = inside && bottom.xyz().dot(c) + bottom.w >= -r;
-        inside = inside && top.xyz().dot(c) + top.w >= -r;
-        inside = inside && -c.z - near >= -r;
-        inside = inside && c.z + far >= -r;
-        inside
     }
 
     #[compute(workgroup_size(64, 1, 1))]
@@ -176,15 +107,11 @@ pub mod cluster_cull {
             return;
         }
         if lid == 0u32 {
-            CLUSTER_COUNT.store(0u32);
+            gather_reset();
         }
         workgroup_barrier();
 
         // Froxel planes: pixel-edge sides from the projection rows, slice bounds in depth.
-        let m = PARAMS.projection;
-        let row0 = Vec4::new(m.x_axis.x, m.y_axis.x, m.z_axis.x, m.w_axis.x);
-        let row1 = Vec4::new(m.x_axis.y, m.y_axis.y, m.z_axis.y, m.w_axis.y);
-        let row3 = Vec4::new(m.x_axis.w, m.y_axis.w, m.z_axis.w, m.w_axis.w);
         let size = PARAMS.screen.as_vec2();
         let px0 = (wg.x * PARAMS.screen.x / grid.x) as f32;
         let px1 = ((wg.x + 1u32) * PARAMS.screen.x / grid.x) as f32;
@@ -194,13 +121,15 @@ pub mod cluster_cull {
         let x1 = 2.0 * px1 / size.x - 1.0;
         let y1 = 1.0 - 2.0 * py0 / size.y;
         let y0 = 1.0 - 2.0 * py1 / size.y;
-        let left = normalized_plane(row0 - x0 * row3);
-        let right = normalized_plane(x1 * row3 - row0);
-        let bottom = normalized_plane(row1 - y0 * row3);
-        let top = normalized_plane(y1 * row3 - row1);
-        let near = slice_start(wg.z);
-        let far = slice_start(wg.z + 1u32);
+        let sides = side_planes(PARAMS.projection, x0, x1, y0, y1);
+        let near = start_of(wg.z);
+        let far = start_of(wg.z + 1u32);
 
+        // The subgroup lane exists only in scalarized variants.
+        let mut lane_id = 0u32;
+        if scalarize {
+            lane_id = lane;
+        }
         let rounds = (PARAMS.item_count + WORKGROUP - 1u32) / WORKGROUP;
         for round in 0u32..rounds {
             let item = round * WORKGROUP + lid;
@@ -210,66 +139,16 @@ pub mod cluster_cull {
                 let c = (PARAMS.view
                     * Vec4::new(sphere.center.x, sphere.center.y, sphere.center.z, 1.0))
                 .xyz();
-                visible = sphere_in_froxel(c, sphere.radius, left, right, bottom, top, near, far);
+                visible = sphere_in_frustum(c, sphere.radius, sides, near, far);
             }
-            if scalarize {
-                let ballot = subgroup_ballot(visible);
-                let total = ballot.x.count_ones()
-                    + ballot.y.count_ones()
-                    + ballot.z.count_ones()
-                    + ballot.w.count_ones();
-                // `total` is the same on every lane, so this branch keeps the subgroup uniform;
-                // rounds where no lane sees an item (most of them) skip the scan and the atomic.
-                if total > 0u32 {
-                    let rank = subgroup_exclusive_add(select(visible, 1u32, 0u32));
-                    let mut base = 0u32;
-                    if lane == 0u32 {
-                        base = CLUSTER_COUNT.fetch_add(total);
-                    }
-                    base = subgroup_broadcast_first(base);
-                    let slot = base + rank;
-                    if visible && slot < PARAMS.max_per_cluster {
-                        CLUSTER_LIST[slot] = item;
-                    }
-                }
-            } else {
-                if visible {
-                    let slot = CLUSTER_COUNT.fetch_add(1u32);
-                    if slot < PARAMS.max_per_cluster {
-                        CLUSTER_LIST[slot] = item;
-                    }
-                }
-            }
+            gather(visible, item, lane_id, PARAMS.max_per_cluster);
         }
-        workgroup_barrier();
-
-        if lid == 0u32 {
-            let found = CLUSTER_COUNT.load();
-            let kept = found.min(PARAMS.max_per_cluster);
-            COUNTERS[MAX_CLUSTER_ITEMS].fetch_max(found);
-            if found > kept {
-                COUNTERS[OVERFLOW_CLUSTERS].fetch_add(1u32);
-            }
-            let offset = COUNTERS[NEXT_INDEX].fetch_add(kept);
-            let mut room = 0u32;
-            if offset < PARAMS.index_capacity {
-                room = PARAMS.index_capacity - offset;
-            }
-            let stored = kept.min(room);
-            if found > stored {
-                COUNTERS[DROPPED].fetch_add(found - stored);
-            }
-            CLUSTER_BASE = offset;
-            CLUSTER_STORED = stored;
-            GRID[cluster] = UVec2::new(offset, stored);
-        }
-        workgroup_barrier();
-        let base = CLUSTER_BASE;
-        let stored = CLUSTER_STORED;
-        let mut j = lid;
-        while j < stored {
-            INDICES[base + j] = CLUSTER_LIST[j];
-            j += WORKGROUP;
-        }
+        store_list(
+            cluster,
+            lid,
+            WORKGROUP,
+            PARAMS.max_per_cluster,
+            PARAMS.index_capacity,
+        );
     }
 }

@@ -6,7 +6,9 @@
 /// Each workgroup reduces the tile's depth bounds from the pre-Z buffer, builds the tile
 /// frustum, tests every item's bounding sphere with the items spread over its threads, gathers
 /// survivors in workgroup memory, and appends them to the global index list through one atomic
-/// per tile. The grid gets `(offset, count)` per tile (reference 002's layout).
+/// per tile. The grid gets `(offset, count)` per tile (reference 002's layout). The gather, the
+/// append, the output bindings and the counters are the `cull_append` library's (shared with
+/// `cluster_cull`); planes and the sphere test are `light_grid`'s.
 ///
 /// Capacities are runtime parameters (`max_per_tile` up to [`MAX_PER_TILE`],
 /// `index_capacity`); anything that does not fit is counted in `COUNTERS`, never written out of
@@ -26,6 +28,7 @@
         depth_mask: bool = [false, true] => "mask",
     ),
     requires(subgroup = scalarize),
+    uses(crate::shared::light_grid, crate::shared::cull_append),
 )]
 pub mod tile_cull {
     /// Camera and frame parameters of the culling pass.
@@ -49,24 +52,12 @@ pub mod tile_cull {
         pub include_transparent: u32,
     }
 
-    /// An item's bounding sphere in world space.
-    pub struct CullSphere {
-        pub center: Vec3,
-        pub radius: f32,
-    }
-
     /// Largest per-tile list the workgroup can gather (workgroup memory).
-    pub const MAX_PER_TILE: u32 = 1024;
-    /// `COUNTERS[NEXT_INDEX]`: entries allocated in `INDICES` (may exceed the capacity).
-    pub const NEXT_INDEX: u32 = 0;
+    pub const MAX_PER_TILE: u32 = MAX_PER_CELL;
     /// `COUNTERS[OVERFLOW_TILES]`: tiles that found more items than `max_per_tile`.
-    pub const OVERFLOW_TILES: u32 = 1;
-    /// `COUNTERS[DROPPED]`: list entries dropped for lack of room (per tile or in total).
-    pub const DROPPED: u32 = 2;
+    pub const OVERFLOW_TILES: u32 = OVERFLOW_CELLS;
     /// `COUNTERS[MAX_TILE_ITEMS]`: the most items any tile found.
-    pub const MAX_TILE_ITEMS: u32 = 3;
-    /// Number of counters.
-    pub const COUNTER_COUNT: u32 = 4;
+    pub const MAX_TILE_ITEMS: u32 = MAX_CELL_ITEMS;
 
     const TILE_THREADS: u32 = tile * tile;
     /// Cells of the 2.5D depth mask.
@@ -75,14 +66,6 @@ pub mod tile_cull {
 
     #[uniform(group = 0, binding = 0)]
     static PARAMS: CullParams;
-    #[storage(group = 0, binding = 1)]
-    static ITEMS: [CullSphere];
-    #[storage(group = 0, binding = 2, read_write)]
-    static GRID: [UVec2];
-    #[storage(group = 0, binding = 3, read_write)]
-    static INDICES: [u32];
-    #[storage(group = 0, binding = 4, read_write)]
-    static COUNTERS: [Atomic<u32>];
     #[texture(group = 0, binding = 5)]
     #[when(msaa == 1)]
     static DEPTH: TextureDepth2d;
@@ -95,15 +78,7 @@ pub mod tile_cull {
     #[workgroup]
     static TILE_MAX: Atomic<u32>;
     #[workgroup]
-    static TILE_COUNT: Atomic<u32>;
-    #[workgroup]
-    static TILE_LIST: [u32; MAX_PER_TILE];
-    #[workgroup]
     static TILE_MASK: Atomic<u32>;
-    #[workgroup]
-    static TILE_BASE: u32;
-    #[workgroup]
-    static TILE_STORED: u32;
 
     /// Min and max depth over the pixel's surface samples (sky samples, depth 1, excluded).
     fn pixel_depth_bounds(p: UVec2, dmin: &mut f32, dmax: &mut f32) {
@@ -122,9 +97,8 @@ pub mod tile_cull {
     }
 
     /// View depth (distance along −Z) of a depth-buffer value.
-    fn view_depth(d: f32) -> f32 {
-        let p = PARAMS.inv_projection * Vec4::new(0.0, 0.0, d, 1.0);
-        -p.z / p.w
+    fn depth_to_view(d: f32) -> f32 {
+        view_depth(PARAMS.inv_projection, d)
     }
 
     /// The 2.5D mask cell of view depth `d` in the tile's range `[near, far]`.
@@ -164,35 +138,10 @@ pub mod tile_cull {
                 d = DEPTH_MS.load(p, s);
             }
             if d < 1.0 {
-                mask = mask | (1u32 << mask_cell(view_depth(d), near, far));
+                mask = mask | (1u32 << mask_cell(depth_to_view(d), near, far));
             }
         }
         mask
-    }
-
-    /// A plane `n · p + w = 0` from a combination of projection rows, normalised.
-    fn normalized_plane(v: Vec4) -> Vec4 {
-        v / v.xyz().length()
-    }
-
-    /// Whether a view-space sphere clears every plane of the tile frustum.
-    fn sphere_in_tile(
-        c: Vec3,
-        r: f32,
-        left: Vec4,
-        right: Vec4,
-        bottom: Vec4,
-        top: Vec4,
-        near: f32,
-        far: f32,
-    ) -> bool {
-        let mut inside = left.xyz().dot(c) + left.w >= -r;
-        inside = inside && right.xyz().dot(c) + right.w >= -r;
-        inside = inside && bottom.xyz().dot(c) + bottom.w >= -r;
-        inside = inside && top.xyz().dot(c) + top.w >= -r;
-        inside = inside && -c.z - near >= -r;
-        inside = inside && c.z + far >= -r;
-        inside
     }
 
     // One dimension: naga allows subgroup invocation ids only in 1D workgroups.
@@ -205,7 +154,7 @@ pub mod tile_cull {
         if lid == 0u32 {
             TILE_MIN.store(INFINITY_BITS);
             TILE_MAX.store(0u32);
-            TILE_COUNT.store(0u32);
+            gather_reset();
             TILE_MASK.store(0u32);
         }
         workgroup_barrier();
@@ -242,13 +191,13 @@ pub mod tile_cull {
             }
             return;
         }
-        let mut near = view_depth(f32::from_bits(min_bits));
-        let mut far = view_depth(f32::from_bits(max_bits));
+        let mut near = depth_to_view(f32::from_bits(min_bits));
+        let mut far = depth_to_view(f32::from_bits(max_bits));
         if transparent {
             // A blended surface can be anywhere between the eye and the opaque depth.
-            near = view_depth(0.0);
+            near = depth_to_view(0.0);
             if min_bits > max_bits {
-                far = view_depth(1.0);
+                far = depth_to_view(1.0);
             }
         }
         let in_screen = pixel.x < PARAMS.screen.x && pixel.y < PARAMS.screen.y;
@@ -274,23 +223,21 @@ pub mod tile_cull {
         }
 
         // 2. Tile frustum from the projection rows (Gribb/Hartmann).
-        let m = PARAMS.projection;
-        let row0 = Vec4::new(m.x_axis.x, m.y_axis.x, m.z_axis.x, m.w_axis.x);
-        let row1 = Vec4::new(m.x_axis.y, m.y_axis.y, m.z_axis.y, m.w_axis.y);
-        let row3 = Vec4::new(m.x_axis.w, m.y_axis.w, m.z_axis.w, m.w_axis.w);
         let size = PARAMS.screen.as_vec2();
         let x0 = 2.0 * (wg.x * tile) as f32 / size.x - 1.0;
         let x1 = 2.0 * ((wg.x + 1u32) * tile) as f32 / size.x - 1.0;
         let y1 = 1.0 - 2.0 * (wg.y * tile) as f32 / size.y;
         let y0 = 1.0 - 2.0 * ((wg.y + 1u32) * tile) as f32 / size.y;
-        let left = normalized_plane(row0 - x0 * row3);
-        let right = normalized_plane(x1 * row3 - row0);
-        let bottom = normalized_plane(row1 - y0 * row3);
-        let top = normalized_plane(y1 * row3 - row1);
+        let sides = side_planes(PARAMS.projection, x0, x1, y0, y1);
 
         // 3. Items spread over the threads; survivors gathered in workgroup memory. The trip
         //    count is the same for every thread, so subgroup operations see uniform control flow.
         let rounds = (PARAMS.item_count + TILE_THREADS - 1u32) / TILE_THREADS;
+        // The subgroup lane exists only in scalarized variants.
+        let mut lane_id = 0u32;
+        if scalarize {
+            lane_id = lane;
+        }
         for round in 0u32..rounds {
             let item = round * TILE_THREADS + lid;
             let mut visible = false;
@@ -299,72 +246,23 @@ pub mod tile_cull {
                 let c = (PARAMS.view
                     * Vec4::new(sphere.center.x, sphere.center.y, sphere.center.z, 1.0))
                 .xyz();
-                visible = sphere_in_tile(c, sphere.radius, left, right, bottom, top, near, far);
+                visible = sphere_in_frustum(c, sphere.radius, sides, near, far);
                 if depth_mask {
                     let light_mask =
                         sphere_mask(-c.z - sphere.radius, -c.z + sphere.radius, near, far);
                     visible = visible && (light_mask & geometry_mask) != 0u32;
                 }
             }
-            if scalarize {
-                let ballot = subgroup_ballot(visible);
-                let total = ballot.x.count_ones()
-                    + ballot.y.count_ones()
-                    + ballot.z.count_ones()
-                    + ballot.w.count_ones();
-                // `total` is the same on every lane, so this branch keeps the subgroup uniform;
-                // rounds where no lane sees an item (most of them) skip the scan and the atomic.
-                if total > 0u32 {
-                    let rank = subgroup_exclusive_add(select(visible, 1u32, 0u32));
-                    let mut base = 0u32;
-                    if lane == 0u32 {
-                        base = TILE_COUNT.fetch_add(total);
-                    }
-                    base = subgroup_broadcast_first(base);
-                    let slot = base + rank;
-                    if visible && slot < PARAMS.max_per_tile {
-                        TILE_LIST[slot] = item;
-                    }
-                }
-            } else {
-                if visible {
-                    let slot = TILE_COUNT.fetch_add(1u32);
-                    if slot < PARAMS.max_per_tile {
-                        TILE_LIST[slot] = item;
-                    }
-                }
-            }
+            gather(visible, item, lane_id, PARAMS.max_per_tile);
         }
-        workgroup_barrier();
 
         // 4. One global allocation per tile; overflow is counted, never written.
-        if lid == 0u32 {
-            let found = TILE_COUNT.load();
-            let kept = found.min(PARAMS.max_per_tile);
-            COUNTERS[MAX_TILE_ITEMS].fetch_max(found);
-            if found > kept {
-                COUNTERS[OVERFLOW_TILES].fetch_add(1u32);
-            }
-            let offset = COUNTERS[NEXT_INDEX].fetch_add(kept);
-            let mut room = 0u32;
-            if offset < PARAMS.index_capacity {
-                room = PARAMS.index_capacity - offset;
-            }
-            let stored = kept.min(room);
-            if found > stored {
-                COUNTERS[DROPPED].fetch_add(found - stored);
-            }
-            TILE_BASE = offset;
-            TILE_STORED = stored;
-            GRID[tile_index] = UVec2::new(offset, stored);
-        }
-        workgroup_barrier();
-        let base = TILE_BASE;
-        let stored = TILE_STORED;
-        let mut j = lid;
-        while j < stored {
-            INDICES[base + j] = TILE_LIST[j];
-            j += TILE_THREADS;
-        }
+        store_list(
+            tile_index,
+            lid,
+            TILE_THREADS,
+            PARAMS.max_per_tile,
+            PARAMS.index_capacity,
+        );
     }
 }

@@ -3,29 +3,17 @@
 /// Depth pre-pass: transforms positions to clip space and writes depth only (no fragment
 /// stage, no colour target).
 ///
-/// The group 0 `Camera` has the same layout as `forward`'s, so one buffer serves both passes.
+/// `Camera` and `Draw` come from the `view` library, like `forward`'s, so one buffer serves both
+/// passes, and the clip position is the library's `clip_position`, also like `forward`'s; the
+/// position output is `#[invariant]`, so the forward pass's `LessEqual` test against this
+/// depth sees bit-identical values.
 /// Alpha-masked materials are not handled here: the DSL has no `discard` (see the module
 /// report), so a masked material cannot reject texels in a fragment stage.
-#[shader_dsl::shader(axes(alpha_mask: bool = [false, true] => "mask"))]
+#[shader_dsl::shader(
+    axes(alpha_mask: bool = [false, true] => "mask"),
+    uses(crate::shared::view),
+)]
 pub mod prez {
-    /// The camera, shared with the forward pass.
-    pub struct Camera {
-        pub view: Mat4,
-        pub projection: Mat4,
-        pub view_projection: Mat4,
-        /// Eye position in world space.
-        pub eye: Vec3,
-    }
-
-    /// Per-draw transforms.
-    pub struct Draw {
-        pub world_from_mesh: Mat4,
-        /// Inverse transpose of `world_from_mesh` (normals).
-        pub normal_from_mesh: Mat4,
-        /// Material index (for the renderer's bookkeeping).
-        pub material: u32,
-    }
-
     /// What the masked variant needs of a material.
     pub struct MaskMaterial {
         pub base_color: Vec4,
@@ -34,6 +22,7 @@ pub mod prez {
 
     pub struct VsOut {
         #[builtin(position)]
+        #[invariant]
         pub clip: Vec4,
         #[location(0)]
         pub uv: Vec2,
@@ -55,9 +44,8 @@ pub mod prez {
 
     #[vertex]
     pub fn vs_prez(#[location(0)] position: Vec3, #[location(1)] uv: Vec2) -> VsOut {
-        let world = DRAW.world_from_mesh * position.extend(1.0);
         VsOut {
-            clip: CAMERA.view_projection * world,
+            clip: clip_position(CAMERA.view_projection, DRAW.world_from_mesh, position),
             uv,
         }
     }

@@ -7,10 +7,15 @@
 /// (`max_count`).
 ///
 /// `list` 1: tiled (cell from `tile_size`/`tiles`); `list` 2: clustered, whose depth slice comes
-/// from sample 0 of the depth buffer through `inv_projection` and `cluster_cull`'s `slice_of`;
+/// from sample 0 of the depth buffer through `inv_projection` and `light_grid`'s `slice_of`
+/// (the cell lookups are the `light_grid` library's, like the culling kernels' and `forward`'s);
 /// sky pixels (depth 1) show 0. The colours are written as they are: draw into a `*Unorm`
 /// target to get them as bytes.
-#[shader_dsl::shader(axes(list: u32 = [1, 2] => "list", msaa: u32 = [1, 2, 4, 8]), exclude(list == 1 && msaa > 1))]
+#[shader_dsl::shader(
+    axes(list: u32 = [1, 2] => "list", msaa: u32 = [1, 2, 4, 8]),
+    exclude(list == 1 && msaa > 1),
+    uses(crate::shared::light_grid),
+)]
 pub mod heatmap {
     pub struct HeatmapParams {
         pub inv_projection: Mat4,
@@ -66,24 +71,6 @@ pub mod heatmap {
         c
     }
 
-    /// View depth (distance along −Z) of a depth-buffer value.
-    fn view_depth(d: f32) -> f32 {
-        let p = PARAMS.inv_projection * Vec4::new(0.0, 0.0, d, 1.0);
-        -p.z / p.w
-    }
-
-    /// `cluster_cull`'s `slice_of`.
-    fn slice_of(d: f32) -> u32 {
-        let t = (d / PARAMS.near).ln() / (PARAMS.far / PARAMS.near).ln();
-        let k = (t * PARAMS.grid.z as f32).floor().max(0.0);
-        (k as u32).min(PARAMS.grid.z - 1u32)
-    }
-
-    /// `cluster_cull`'s `column_of`.
-    fn column_of(x: u32, count: u32, size: u32) -> u32 {
-        ((x + 1u32) * count - 1u32) / size
-    }
-
     #[fragment]
     pub fn fs_heatmap(#[builtin(position)] position: Vec4) -> Vec4 {
         let px = position.xy().floor().as_uvec2();
@@ -94,8 +81,7 @@ pub mod heatmap {
         }
         let mut count = 0u32;
         if list == 1 {
-            let t = px / PARAMS.tile_size;
-            count = GRID[t.y * PARAMS.tiles.x + t.x].y;
+            count = GRID[tile_cell(px, PARAMS.tile_size, PARAMS.tiles.x)].y;
         } else {
             let mut d = 1.0;
             if msaa == 1 {
@@ -105,10 +91,9 @@ pub mod heatmap {
             }
             if d < 1.0 {
                 let g = PARAMS.grid;
-                let i = column_of(px.x, g.x, PARAMS.screen.x);
-                let j = column_of(px.y, g.y, PARAMS.screen.y);
-                let cell = (slice_of(view_depth(d)) * g.y + j) * g.x + i;
-                count = GRID[cell].y;
+                let depth = view_depth(PARAMS.inv_projection, d);
+                let slice = slice_of(depth, PARAMS.near, PARAMS.far, g.z);
+                count = GRID[froxel_cell(px, slice, g, PARAMS.screen)].y;
             }
         }
         if INDICES.len() == 0u32 {

@@ -1,22 +1,23 @@
 //! Forward shading: PBR metallic-roughness over the naive, tiled or clustered light lists.
 
-/// Forward+ / clustered forward shading (GGX distribution, Smith/Schlick-GGX geometry, Schlick
-/// Fresnel, Lambert diffuse) into an `Rgba16Float` linear HDR target at location 0.
+/// Forward+ / clustered forward shading (the `pbr` library's `shade_light`: GGX distribution,
+/// Smith/Schlick-GGX geometry, Schlick Fresnel, Lambert diffuse) into an `Rgba16Float` linear
+/// HDR target at location 0. `Camera` and `Draw` come from the `view` library (shared with
+/// `prez`), and so does the clip position; the cell lookups are the `light_grid` library's.
 ///
 /// `list` picks how the punctual light list of a fragment is found:
 /// * `0` naive: every light `LIGHTS[0..light_count]`;
 /// * `1` tiled: `GRID[ty * tiles.x + tx]` with `(tx, ty) = floor(frag_coord.xy / tile_size)`;
 /// * `2` clustered: `GRID[(k * grid.y + j) * grid.x + i]` with `i = ((x + 1) * grid.x - 1) /
 ///   screen.x` for pixel column `x` (rows likewise) and `k` the depth slice of the fragment's
-///   view depth by `cluster_cull`'s `slice_of`.
+///   view depth by `light_grid`'s `slice_of`.
 ///
 /// `GRID` entries are `(offset, count)` into `INDICES`, which index `LIGHTS`, as the culling
 /// kernels write them. Directional lights are never culled: they live in their own storage
 /// array `DIRECTIONAL` and the first `directional_count` of them shade every fragment. `LIGHTS`
 /// holds the punctual (point and spot) lights, in the culling pass's item order.
 ///
-/// Falloff: `saturate(1 - (d / range)^4)^2 / max(d², 0.01²)`, with no window when `range` is 0
-/// (infinite). Spot cone: `smoothstep(cos_outer, cos_inner, cos θ)`.
+/// Falloff and spot cone: see the `pbr` library.
 ///
 /// With `blend` the output alpha is the material's (alpha blend); otherwise 1. Alpha mask: a
 /// material with a positive `alpha_cutoff` discards texels below it.
@@ -32,17 +33,9 @@
     ),
     exclude(list == 0 && scalarize),
     requires(subgroup = scalarize),
+    uses(crate::shared::view, crate::shared::pbr, crate::shared::light_grid),
 )]
 pub mod forward {
-    /// The camera, same layout as `prez::Camera`.
-    pub struct Camera {
-        pub view: Mat4,
-        pub projection: Mat4,
-        pub view_projection: Mat4,
-        /// Eye position in world space.
-        pub eye: Vec3,
-    }
-
     /// Light counts and the light-grid geometry of the frame.
     pub struct Lighting {
         /// Ambient radiance (times base colour and occlusion).
@@ -65,30 +58,6 @@ pub mod forward {
         pub directional_count: u32,
     }
 
-    /// One light. `kind`: 0 point, 1 spot, 2 directional. `direction` is where a spot or
-    /// directional light points (unit length).
-    pub struct GpuLight {
-        pub position: Vec3,
-        /// 0: infinite (no window).
-        pub range: f32,
-        /// Linear colour.
-        pub color: Vec3,
-        /// Point/spot: candela (W/sr-like); directional: lux.
-        pub intensity: f32,
-        pub direction: Vec3,
-        pub kind: u32,
-        pub cos_inner: f32,
-        pub cos_outer: f32,
-    }
-
-    /// Per-draw transforms, same layout as `prez::Draw`.
-    pub struct Draw {
-        pub world_from_mesh: Mat4,
-        /// Inverse transpose of `world_from_mesh` (normals).
-        pub normal_from_mesh: Mat4,
-        pub material: u32,
-    }
-
     /// glTF metallic-roughness factors; each multiplies its texture.
     pub struct Material {
         pub base_color: Vec4,
@@ -103,6 +72,7 @@ pub mod forward {
 
     pub struct VsOut {
         #[builtin(position)]
+        #[invariant]
         pub clip: Vec4,
         #[location(0)]
         pub world: Vec3,
@@ -113,13 +83,6 @@ pub mod forward {
         #[location(3)]
         pub tangent: Vec4,
     }
-
-    pub const KIND_POINT: u32 = 0;
-    pub const KIND_SPOT: u32 = 1;
-    pub const KIND_DIRECTIONAL: u32 = 2;
-    /// Smallest roughness (keeps the GGX lobe finite).
-    pub const MIN_ROUGHNESS: f32 = 0.045;
-    const PI: f32 = core::f32::consts::PI;
 
     #[uniform(group = 0, binding = 0)]
     static CAMERA: Camera;
@@ -165,7 +128,7 @@ pub mod forward {
         let n = (DRAW.normal_from_mesh * normal.extend(0.0)).xyz();
         let t = (DRAW.world_from_mesh * tangent.xyz().extend(0.0)).xyz();
         VsOut {
-            clip: CAMERA.view_projection * world,
+            clip: clip_position(CAMERA.view_projection, DRAW.world_from_mesh, position),
             world: world.xyz(),
             normal: n,
             uv,
@@ -173,77 +136,19 @@ pub mod forward {
         }
     }
 
-    /// The depth slice of view depth `d` (`cluster_cull`'s `slice_of`).
-    fn slice_of(d: f32) -> u32 {
-        let t = (d / LIGHTING.near).ln() / (LIGHTING.far / LIGHTING.near).ln();
-        let k = (t * LIGHTING.grid.z as f32).floor().max(0.0);
-        (k as u32).min(LIGHTING.grid.z - 1u32)
-    }
-
-    /// The froxel column (or row) of pixel `x` (`cluster_cull`'s `column_of`).
-    fn column_of(x: u32, count: u32, size: u32) -> u32 {
-        ((x + 1u32) * count - 1u32) / size
-    }
-
-    /// The `GRID` cell of a fragment: its tile, or its froxel.
+    /// The `GRID` cell of a fragment: its tile, or its froxel (by `light_grid`, like the
+    /// culling kernels).
     fn cell_of(frag: Vec4, view_depth: f32) -> u32 {
         let px = frag.xy().floor().as_uvec2();
         let mut cell = 0u32;
         if list == 1 {
-            let t = px / LIGHTING.tile_size;
-            cell = t.y * LIGHTING.tiles.x + t.x;
+            cell = tile_cell(px, LIGHTING.tile_size, LIGHTING.tiles.x);
         } else {
             let g = LIGHTING.grid;
-            let i = column_of(px.x, g.x, LIGHTING.screen.x);
-            let j = column_of(px.y, g.y, LIGHTING.screen.y);
-            cell = (slice_of(view_depth) * g.y + j) * g.x + i;
+            let slice = slice_of(view_depth, LIGHTING.near, LIGHTING.far, g.z);
+            cell = froxel_cell(px, slice, g, LIGHTING.screen);
         }
         cell
-    }
-
-    /// Radiance one light reflects towards `v` (GGX / Smith-Schlick / Schlick / Lambert).
-    fn shade_light(
-        light: GpuLight,
-        p: Vec3,
-        n: Vec3,
-        v: Vec3,
-        albedo: Vec3,
-        metallic: f32,
-        roughness: f32,
-    ) -> Vec3 {
-        let mut l = -light.direction;
-        let mut attenuation = 1.0;
-        if light.kind != KIND_DIRECTIONAL {
-            let to_light = light.position - p;
-            let d2 = to_light.dot(to_light);
-            l = to_light.normalize();
-            attenuation = 1.0 / d2.max(0.0001);
-            if light.range > 0.0 {
-                let r = d2 / (light.range * light.range);
-                let window = (1.0 - r * r).saturate();
-                attenuation = attenuation * window * window;
-            }
-            if light.kind == KIND_SPOT {
-                let cos_angle = light.direction.dot(-l);
-                attenuation = attenuation * cos_angle.smoothstep(light.cos_outer, light.cos_inner);
-            }
-        }
-        let nl = n.dot(l).max(0.0);
-        let h = (l + v).normalize();
-        let nv = n.dot(v).max(0.0001);
-        let nh = n.dot(h).max(0.0);
-        let vh = v.dot(h).max(0.0);
-        let a = roughness * roughness;
-        let a2 = a * a;
-        let dd = nh * nh * (a2 - 1.0) + 1.0;
-        let distribution = a2 / (PI * dd * dd);
-        let k = (roughness + 1.0) * (roughness + 1.0) / 8.0;
-        let geometry = nv / (nv * (1.0 - k) + k) * (nl / (nl * (1.0 - k) + k));
-        let f0 = Vec3::splat(0.04).lerp(albedo, metallic);
-        let fresnel = f0 + (Vec3::ONE - f0) * (1.0 - vh).powf(5.0);
-        let specular = fresnel * (distribution * geometry / (4.0 * nv * nl).max(0.0001));
-        let diffuse = (Vec3::ONE - fresnel) * (1.0 - metallic) * albedo / PI;
-        (diffuse + specular) * light.color * (light.intensity * attenuation * nl)
     }
 
     #[fragment]

@@ -1,7 +1,7 @@
 //! The WGSL writer proper. See the parent module for its contract.
 
 use super::{Options, SourceMap};
-use crate::front::is_subgroup_builtin;
+use crate::ir::is_subgroup_builtin;
 use crate::ir::{Access, Block, Function, Io, Module, Space, Stage, Stmt, TexKind, Ty};
 use crate::layout::{array_len, struct_layout};
 use crate::variants::{Branch, Env, branch, eval, reachable_functions};
@@ -80,6 +80,7 @@ impl<'a> Writer<'a> {
     fn io(&self, io: &Io) -> String {
         match io {
             Io::Builtin(b) => format!("@builtin({b}) "),
+            Io::InvariantPosition => "@builtin(position) @invariant ".into(),
             Io::Location {
                 location,
                 interpolate,

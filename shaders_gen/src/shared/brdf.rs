@@ -1,0 +1,77 @@
+//! Physically based shading of one light: the light record and the metallic-roughness BRDF.
+
+/// `GpuLight` (the record in the light buffers), its `KIND_*` values, and `shade_light`: GGX
+/// distribution, Smith/Schlick-GGX geometry, Schlick Fresnel and Lambert diffuse.
+///
+/// Falloff: `saturate(1 - (d / range)^4)^2 / max(d², 0.01²)`, with no window when `range` is 0
+/// (infinite). Spot cone: `smoothstep(cos_outer, cos_inner, cos θ)`.
+#[shader_dsl::library]
+pub mod pbr {
+    /// One light. `kind`: 0 point, 1 spot, 2 directional. `direction` is where a spot or
+    /// directional light points (unit length).
+    pub struct GpuLight {
+        pub position: Vec3,
+        /// 0: infinite (no window).
+        pub range: f32,
+        /// Linear colour.
+        pub color: Vec3,
+        /// Point/spot: candela (W/sr-like); directional: lux.
+        pub intensity: f32,
+        pub direction: Vec3,
+        pub kind: u32,
+        pub cos_inner: f32,
+        pub cos_outer: f32,
+    }
+
+    pub const KIND_POINT: u32 = 0;
+    pub const KIND_SPOT: u32 = 1;
+    pub const KIND_DIRECTIONAL: u32 = 2;
+    /// Smallest roughness (keeps the GGX lobe finite).
+    pub const MIN_ROUGHNESS: f32 = 0.045;
+    const PI: f32 = core::f32::consts::PI;
+
+    /// Radiance one light reflects towards `v` (GGX / Smith-Schlick / Schlick / Lambert).
+    pub fn shade_light(
+        light: GpuLight,
+        p: Vec3,
+        n: Vec3,
+        v: Vec3,
+        albedo: Vec3,
+        metallic: f32,
+        roughness: f32,
+    ) -> Vec3 {
+        let mut l = -light.direction;
+        let mut attenuation = 1.0;
+        if light.kind != KIND_DIRECTIONAL {
+            let to_light = light.position - p;
+            let d2 = to_light.dot(to_light);
+            l = to_light.normalize();
+            attenuation = 1.0 / d2.max(0.0001);
+            if light.range > 0.0 {
+                let r = d2 / (light.range * light.range);
+                let window = (1.0 - r * r).saturate();
+                attenuation = attenuation * window * window;
+            }
+            if light.kind == KIND_SPOT {
+                let cos_angle = light.direction.dot(-l);
+                attenuation = attenuation * cos_angle.smoothstep(light.cos_outer, light.cos_inner);
+            }
+        }
+        let nl = n.dot(l).max(0.0);
+        let h = (l + v).normalize();
+        let nv = n.dot(v).max(0.0001);
+        let nh = n.dot(h).max(0.0);
+        let vh = v.dot(h).max(0.0);
+        let a = roughness * roughness;
+        let a2 = a * a;
+        let dd = nh * nh * (a2 - 1.0) + 1.0;
+        let distribution = a2 / (PI * dd * dd);
+        let k = (roughness + 1.0) * (roughness + 1.0) / 8.0;
+        let geometry = nv / (nv * (1.0 - k) + k) * (nl / (nl * (1.0 - k) + k));
+        let f0 = Vec3::splat(0.04).lerp(albedo, metallic);
+        let fresnel = f0 + (Vec3::ONE - f0) * (1.0 - vh).powf(5.0);
+        let specular = fresnel * (distribution * geometry / (4.0 * nv * nl).max(0.0001));
+        let diffuse = (Vec3::ONE - fresnel) * (1.0 - metallic) * albedo / PI;
+        (diffuse + specular) * light.color * (light.intensity * attenuation * nl)
+    }
+}

@@ -1,0 +1,98 @@
+//! Light-grid geometry shared by the culling kernels and the passes that read their lists:
+//! view depth, depth slices, tile and froxel cells, frustum planes and the sphere test.
+
+/// The cell lookups and frustum tests of `tile_cull`, `cluster_cull`, `forward` and `heatmap`.
+/// Every function takes what it needs as parameters (no statics), so each module passes its
+/// own parameters uniform's fields.
+///
+/// Conventions are those of the CPU reference: froxel column `i` of `count` spans pixels
+/// `[i·size/count, (i+1)·size/count)`; depth slice `k` of `slices` spans view depths
+/// `near·(far/near)^(k/slices)` to the next, slice 0 reaching the eye and the last going to
+/// infinity.
+#[shader_dsl::library]
+pub mod light_grid {
+    /// The four side planes of a tile or froxel, `n · p + w = 0`, normals pointing inwards.
+    pub struct SidePlanes {
+        pub left: Vec4,
+        pub right: Vec4,
+        pub bottom: Vec4,
+        pub top: Vec4,
+    }
+
+    /// Stands for infinity in plane distances (WGSL has no infinite literal).
+    const FAR_AWAY: f32 = 3.0e38;
+
+    /// View depth (distance along −Z) of a depth-buffer value.
+    pub fn view_depth(inv_projection: Mat4, d: f32) -> f32 {
+        let p = inv_projection * Vec4::new(0.0, 0.0, d, 1.0);
+        -p.z / p.w
+    }
+
+    /// The depth slice of view depth `d`.
+    pub fn slice_of(d: f32, near: f32, far: f32, slices: u32) -> u32 {
+        let t = (d / near).ln() / (far / near).ln();
+        let k = (t * slices as f32).floor().max(0.0);
+        (k as u32).min(slices - 1u32)
+    }
+
+    /// View depth where slice `k` starts.
+    pub fn slice_start(k: u32, near: f32, far: f32, slices: u32) -> f32 {
+        let mut d = 0.0;
+        if k >= slices {
+            d = FAR_AWAY;
+        } else if k > 0u32 {
+            d = near * (far / near).powf(k as f32 / slices as f32);
+        }
+        d
+    }
+
+    /// The froxel column (or row) of pixel `x` when `count` columns share `size` pixels.
+    pub fn column_of(x: u32, count: u32, size: u32) -> u32 {
+        ((x + 1u32) * count - 1u32) / size
+    }
+
+    /// The grid cell of pixel `px` in a tiled grid `tiles_x` tiles across.
+    pub fn tile_cell(px: UVec2, tile_size: u32, tiles_x: u32) -> u32 {
+        let t = px / tile_size;
+        t.y * tiles_x + t.x
+    }
+
+    /// The grid cell of pixel `px` in depth slice `slice` of a froxel `grid` over `screen`.
+    pub fn froxel_cell(px: UVec2, slice: u32, grid: UVec3, screen: UVec2) -> u32 {
+        let i = column_of(px.x, grid.x, screen.x);
+        let j = column_of(px.y, grid.y, screen.y);
+        (slice * grid.y + j) * grid.x + i
+    }
+
+    /// A plane `n · p + w = 0` from a combination of projection rows, normalised.
+    pub fn normalized_plane(v: Vec4) -> Vec4 {
+        v / v.xyz().length()
+    }
+
+    /// The side planes of the screen rectangle `[x0, x1] × [y0, y1]` in NDC, from the
+    /// projection rows (Gribb/Hartmann).
+    pub fn side_planes(projection: Mat4, x0: f32, x1: f32, y0: f32, y1: f32) -> SidePlanes {
+        let m = projection;
+        let row0 = Vec4::new(m.x_axis.x, m.y_axis.x, m.z_axis.x, m.w_axis.x);
+        let row1 = Vec4::new(m.x_axis.y, m.y_axis.y, m.z_axis.y, m.w_axis.y);
+        let row3 = Vec4::new(m.x_axis.w, m.y_axis.w, m.z_axis.w, m.w_axis.w);
+        SidePlanes {
+            left: normalized_plane(row0 - x0 * row3),
+            right: normalized_plane(x1 * row3 - row0),
+            bottom: normalized_plane(row1 - y0 * row3),
+            top: normalized_plane(y1 * row3 - row1),
+        }
+    }
+
+    /// Whether a view-space sphere clears all six planes: the four sides and the view depths
+    /// `near` and `far`.
+    pub fn sphere_in_frustum(c: Vec3, r: f32, sides: SidePlanes, near: f32, far: f32) -> bool {
+        let mut inside = sides.left.xyz().dot(c) + sides.left.w >= -r;
+        inside = inside && sides.right.xyz().dot(c) + sides.right.w >= -r;
+        inside = inside && sides.bottom.xyz().dot(c) + sides.bottom.w >= -r;
+        inside = inside && sides.top.xyz().dot(c) + sides.top.w >= -r;
+        inside = inside && -c.z - near >= -r;
+        inside = inside && c.z + far >= -r;
+        inside
+    }
+}

@@ -1,0 +1,16 @@
+//! DSL libraries: the GPU code several shader modules share, written once.
+//!
+//! Each module here is a `#[shader_dsl::library]`: it is compiled and validated on its own, and
+//! a `#[shader_dsl::shader(.., uses(crate::shared::name))]` module merges its items in. The
+//! using modules re-export the library's host types, so `forward::GpuLight` and
+//! `pbr::GpuLight` are one Rust type.
+
+pub mod append;
+pub mod brdf;
+pub mod camera;
+pub mod grid;
+
+pub use append::cull_append;
+pub use brdf::pbr;
+pub use camera::view;
+pub use grid::light_grid;
