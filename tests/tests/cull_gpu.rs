@@ -68,12 +68,7 @@ fn run_method(s: &CullScene, method: GpuMethod) -> CullReadback {
                 culling.read_back(gpu)
             }
             GpuMethod::Clustered(config) => {
-                let items: Vec<_> = items
-                    .iter()
-                    .map(|i| {
-                        shaders_gen::culling::cluster_cull::CullSphere::new(i.center, i.radius)
-                    })
-                    .collect();
+                // Both kernels take the one `CullSphere` of the `cull_append` library.
                 let culling = ClusteredCulling::new(gpu, config, w, h).expect("culling setup");
                 culling
                     .upload(gpu, cam.view, cam.projection, &items)

@@ -6,6 +6,8 @@
 
 use std::sync::Arc;
 
+use shaders_gen::culling::tile_cull::CullSphere;
+
 use super::Pass;
 use crate::GpuContext;
 use crate::culling::clustered::{ClusterCullConfig, ClusteredCulling};
@@ -223,24 +225,18 @@ impl Pass for LightCullPass {
     fn prepare(&mut self, frame: &FrameInputs) -> Result<(), RenderError> {
         self.ensure_culler(frame)?;
         let (camera, gpu) = (&frame.camera, &frame.gpu);
-        let spheres = &frame.lights.spheres;
+        // Both kernels take the `CullSphere` of the shared `cull_append` library.
+        let items: Vec<CullSphere> = frame
+            .lights
+            .spheres
+            .iter()
+            .map(|s| CullSphere::new(s.center, s.radius))
+            .collect();
         match &self.culler {
             Culler::Tiled(t) => {
-                use shaders_gen::culling::tile_cull::CullSphere;
-                let items: Vec<_> = spheres
-                    .iter()
-                    .map(|s| CullSphere::new(s.center, s.radius))
-                    .collect();
                 t.upload(gpu, camera.view, camera.projection, frame.screen(), &items)?;
             }
-            Culler::Clustered(k) => {
-                use shaders_gen::culling::cluster_cull::CullSphere;
-                let items: Vec<_> = spheres
-                    .iter()
-                    .map(|s| CullSphere::new(s.center, s.radius))
-                    .collect();
-                k.upload(gpu, camera.view, camera.projection, &items)?;
-            }
+            Culler::Clustered(k) => k.upload(gpu, camera.view, camera.projection, &items)?,
             Culler::Naive => {}
         }
         Ok(())
