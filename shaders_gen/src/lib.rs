@@ -1,5 +1,7 @@
-//! The project's own GPU code, written once in the shader DSL: culling kernels and the forward,
-//! shadow, decal and particle shaders, each exposing every generated variant.
+//! The project's own GPU code, written once in the shader DSL: the light-culling kernels, the
+//! pre-Z, forward, tonemap and heatmap shaders, and small tool kernels, each exposing every
+//! generated variant. Code several modules need (camera and clip position, light-grid lookups,
+//! the culling list append, the BRDF) is written once in the libraries of [`shared`].
 //!
 //! Each module here is a `#[shader_dsl::shader]` module: at compile time it becomes WGSL and
 //! SPIR-V for every variant (validated by naga), host structs with the WGSL layout, a typed

@@ -82,6 +82,11 @@ fn render(scene: &Scene, path: RenderPath, msaa: u32) -> Vec<u8> {
     };
     let lights = procedural_lights(scene.bounds, 48, 7, 8.0, 30.0);
     gpu_test(|gpu| {
+        // Named in the output, so a run on hardware says which driver it checked.
+        eprintln!(
+            "{path:?} MSAA {msaa} on {} ({})",
+            gpu.report.name, gpu.report.driver_info
+        );
         let mut renderer = Renderer::new(gpu, config).expect("renderer");
         renderer.prepare_scene(scene);
         renderer.set_lights(&lights);
