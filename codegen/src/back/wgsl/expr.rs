@@ -3,7 +3,7 @@
 //! operators without them), so the output never depends on precedence subtleties.
 
 use super::writer::Writer;
-use crate::ir::{Expr, ExprKind, Lit, Scalar, Ty, UnOp};
+use crate::ir::{BinOp, Expr, ExprKind, Lit, Scalar, Ty, UnOp};
 use crate::variants::eval;
 use std::fmt::Write;
 
@@ -81,7 +81,30 @@ impl Writer<'_> {
             if i == 0 && pointer_first {
                 self.out.push('&');
             }
-            self.expr(a);
+            self.list_item(a);
+        }
+    }
+
+    /// An element of a comma-separated list (call, builtin and constructor arguments, array
+    /// literals). WGSL's template-list discovery reads `f(a < b, c > d)` as `f(a<b, c>d)`, a
+    /// template `a<..>`: an identifier then `<`, closed by a later `>` (or `>>`) with only
+    /// commas and expressions between. Comparisons and shifts are therefore parenthesised in
+    /// list positions (`f((a < b), (c > d))`); elsewhere they already are whenever they are
+    /// operands.
+    fn list_item(&mut self, e: &Expr) {
+        let ambiguous = matches!(
+            e.kind,
+            ExprKind::Binary(
+                BinOp::Lt | BinOp::Gt | BinOp::Le | BinOp::Ge | BinOp::Shl | BinOp::Shr,
+                ..
+            )
+        ) && self.folded(e).is_none();
+        if ambiguous {
+            self.out.push('(');
+            self.expr(e);
+            self.out.push(')');
+        } else {
+            self.expr(e);
         }
     }
 
