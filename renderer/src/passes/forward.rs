@@ -9,7 +9,7 @@ use std::sync::Arc;
 use glam::{UVec2, UVec3};
 use shaders_gen::forward::forward;
 
-use super::{Pass, cull_mode, depth_state, draw_primitive, stream_layouts, vertex_streams};
+use super::{MeshPipeline, Pass, depth_state, draw_primitive, mesh_pipeline};
 use crate::GpuContext;
 use crate::culling::reference::Method;
 use crate::frame_data::{
@@ -105,50 +105,36 @@ fn pipeline(
     blend: bool,
     double_sided: bool,
 ) -> wgpu::RenderPipeline {
-    let streams = vertex_streams(&[
-        wgpu::VertexFormat::Float32x3,
-        wgpu::VertexFormat::Float32x3,
-        wgpu::VertexFormat::Float32x2,
-        wgpu::VertexFormat::Float32x4,
-    ]);
     let target = wgpu::ColorTargetState {
         format: HDR_FORMAT,
         blend: blend.then_some(wgpu::BlendState::ALPHA_BLENDING),
         write_mask: wgpu::ColorWrites::ALL,
     };
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some(if blend { "forward blend" } else { "forward" }),
-        layout: Some(&program.pipeline_layout),
-        vertex: wgpu::VertexState {
-            module: &program.module,
-            entry_point: Some("vs_forward"),
-            compilation_options: Default::default(),
-            buffers: &stream_layouts(&streams),
+    let streams = [
+        wgpu::VertexFormat::Float32x3,
+        wgpu::VertexFormat::Float32x3,
+        wgpu::VertexFormat::Float32x2,
+        wgpu::VertexFormat::Float32x4,
+    ];
+    mesh_pipeline(
+        device,
+        program,
+        &MeshPipeline {
+            label: if blend { "forward blend" } else { "forward" },
+            vertex_entry: "vs_forward",
+            streams: &streams,
+            double_sided,
+            // With a pre-pass, opaque surfaces are in the depth buffer already and blended ones
+            // test against it; without one, opaque draws write depth themselves.
+            depth: if prepass || blend {
+                depth_state(false, wgpu::CompareFunction::LessEqual)
+            } else {
+                depth_state(true, wgpu::CompareFunction::Less)
+            },
+            msaa,
+            fragment: Some(("fs_forward", &[Some(target)])),
         },
-        primitive: wgpu::PrimitiveState {
-            cull_mode: cull_mode(double_sided),
-            ..Default::default()
-        },
-        // With a pre-pass, opaque surfaces are in the depth buffer already and blended ones
-        // test against it; without one, opaque draws write depth themselves.
-        depth_stencil: Some(if prepass || blend {
-            depth_state(false, wgpu::CompareFunction::LessEqual)
-        } else {
-            depth_state(true, wgpu::CompareFunction::Less)
-        }),
-        multisample: wgpu::MultisampleState {
-            count: msaa,
-            ..Default::default()
-        },
-        fragment: Some(wgpu::FragmentState {
-            module: &program.module,
-            entry_point: Some("fs_forward"),
-            compilation_options: Default::default(),
-            targets: &[Some(target)],
-        }),
-        multiview_mask: None,
-        cache: None,
-    })
+    )
 }
 
 /// Draw order: opaque and masked first (any order), then blended back to front from `eye`.

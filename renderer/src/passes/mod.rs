@@ -74,7 +74,7 @@ pub(crate) fn draw_primitive<'a>(
 }
 
 /// Vertex buffer layouts of tightly packed attributes at locations 0.., one buffer each.
-pub(crate) fn vertex_streams(formats: &[wgpu::VertexFormat]) -> Vec<[wgpu::VertexAttribute; 1]> {
+fn vertex_streams(formats: &[wgpu::VertexFormat]) -> Vec<[wgpu::VertexAttribute; 1]> {
     formats
         .iter()
         .enumerate()
@@ -89,7 +89,7 @@ pub(crate) fn vertex_streams(formats: &[wgpu::VertexFormat]) -> Vec<[wgpu::Verte
 }
 
 /// The `wgpu::VertexBufferLayout`s of [`vertex_streams`].
-pub(crate) fn stream_layouts(
+fn stream_layouts(
     streams: &[[wgpu::VertexAttribute; 1]],
 ) -> Vec<Option<wgpu::VertexBufferLayout<'_>>> {
     streams
@@ -104,6 +104,56 @@ pub(crate) fn stream_layouts(
         .collect()
 }
 
+/// What differs between the pipelines of passes that draw the scene's meshes (pre-Z, forward;
+/// later shadows and the G-buffer).
+pub(crate) struct MeshPipeline<'a> {
+    pub label: &'a str,
+    pub vertex_entry: &'a str,
+    /// One tightly packed attribute per buffer, at locations 0.. in order.
+    pub streams: &'a [wgpu::VertexFormat],
+    pub double_sided: bool,
+    pub depth: wgpu::DepthStencilState,
+    pub msaa: u32,
+    /// The fragment entry point and its colour targets; `None` draws depth only.
+    pub fragment: Option<(&'a str, &'a [Option<wgpu::ColorTargetState>])>,
+}
+
+/// A scene-mesh pipeline of `program`.
+pub(crate) fn mesh_pipeline(
+    device: &wgpu::Device,
+    program: &crate::shader::ShaderProgram,
+    p: &MeshPipeline<'_>,
+) -> wgpu::RenderPipeline {
+    let streams = vertex_streams(p.streams);
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(p.label),
+        layout: Some(&program.pipeline_layout),
+        vertex: wgpu::VertexState {
+            module: &program.module,
+            entry_point: Some(p.vertex_entry),
+            compilation_options: Default::default(),
+            buffers: &stream_layouts(&streams),
+        },
+        primitive: wgpu::PrimitiveState {
+            cull_mode: cull_mode(p.double_sided),
+            ..Default::default()
+        },
+        depth_stencil: Some(p.depth.clone()),
+        multisample: wgpu::MultisampleState {
+            count: p.msaa,
+            ..Default::default()
+        },
+        fragment: p.fragment.map(|(entry, targets)| wgpu::FragmentState {
+            module: &program.module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            targets,
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
 /// Depth test state on [`crate::frame_data::DEPTH_FORMAT`].
 pub(crate) fn depth_state(write: bool, compare: wgpu::CompareFunction) -> wgpu::DepthStencilState {
     wgpu::DepthStencilState {
@@ -116,7 +166,7 @@ pub(crate) fn depth_state(write: bool, compare: wgpu::CompareFunction) -> wgpu::
 }
 
 /// Back-face culling unless the material is double-sided.
-pub(crate) fn cull_mode(double_sided: bool) -> Option<wgpu::Face> {
+fn cull_mode(double_sided: bool) -> Option<wgpu::Face> {
     (!double_sided).then_some(wgpu::Face::Back)
 }
 

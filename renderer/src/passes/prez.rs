@@ -4,7 +4,7 @@
 
 use shaders_gen::forward::prez;
 
-use super::{Pass, cull_mode, depth_state, draw_primitive, stream_layouts, vertex_streams};
+use super::{MeshPipeline, Pass, depth_state, draw_primitive, mesh_pipeline};
 use crate::GpuContext;
 use crate::frame_data::{DEPTH_FORMAT, FrameInputs, FrameResources, RenderError, RendererConfig};
 use crate::graph::{RenderGraph, TextureAccess, TextureDesc};
@@ -50,35 +50,20 @@ fn pipeline(
     masked: bool,
     double_sided: bool,
 ) -> wgpu::RenderPipeline {
-    let streams = vertex_streams(&[wgpu::VertexFormat::Float32x3, wgpu::VertexFormat::Float32x2]);
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some(if masked { "pre-z masked" } else { "pre-z" }),
-        layout: Some(&program.pipeline_layout),
-        vertex: wgpu::VertexState {
-            module: &program.module,
-            entry_point: Some("vs_prez"),
-            compilation_options: Default::default(),
-            buffers: &stream_layouts(&streams),
+    mesh_pipeline(
+        device,
+        program,
+        &MeshPipeline {
+            label: if masked { "pre-z masked" } else { "pre-z" },
+            vertex_entry: "vs_prez",
+            streams: &[wgpu::VertexFormat::Float32x3, wgpu::VertexFormat::Float32x2],
+            double_sided,
+            depth: depth_state(true, wgpu::CompareFunction::Less),
+            msaa,
+            // Opaque draws need no fragment stage at all; masked ones discard.
+            fragment: masked.then_some(("fs_prez_mask", &[][..])),
         },
-        primitive: wgpu::PrimitiveState {
-            cull_mode: cull_mode(double_sided),
-            ..Default::default()
-        },
-        depth_stencil: Some(depth_state(true, wgpu::CompareFunction::Less)),
-        multisample: wgpu::MultisampleState {
-            count: msaa,
-            ..Default::default()
-        },
-        // Opaque draws need no fragment stage at all; masked ones discard.
-        fragment: masked.then(|| wgpu::FragmentState {
-            module: &program.module,
-            entry_point: Some("fs_prez_mask"),
-            compilation_options: Default::default(),
-            targets: &[],
-        }),
-        multiview_mask: None,
-        cache: None,
-    })
+    )
 }
 
 impl Pass for PrezPass {
