@@ -23,9 +23,10 @@ pub struct Args {
     /// Seed of the procedural lights.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Range of light radii in scene units, MIN,MAX; defaults to 3%..20% of the scene's size.
-    #[arg(long, value_delimiter = ',', num_args = 2)]
-    pub light_radius: Option<Vec<f32>>,
+    /// Range of light radii in scene units, MIN,MAX (0 < MIN <= MAX); defaults to 3%..20% of
+    /// the scene's size.
+    #[arg(long, value_parser = parse_radius_range)]
+    pub light_radius: Option<(f32, f32)>,
     /// naive | naive-prez | tiled | 2.5d | clustered (naive: every light at every fragment, no
     /// pre-pass; naive-prez: the same after a depth pre-pass).
     #[arg(long, default_value = "tiled")]
@@ -46,11 +47,11 @@ pub struct Args {
     #[arg(long, conflicts_with_all = ["eye", "target"])]
     pub camera: Option<usize>,
     /// Camera position X,Y,Z (with --target); default: a camera framing the scene's bounds.
-    #[arg(long, value_delimiter = ',', num_args = 3, requires = "target")]
-    pub eye: Option<Vec<f32>>,
+    #[arg(long, value_parser = parse_vec3, requires = "target")]
+    pub eye: Option<Vec3>,
     /// Point the camera looks at, X,Y,Z (with --eye).
-    #[arg(long, value_delimiter = ',', num_args = 3, requires = "eye")]
-    pub target: Option<Vec<f32>>,
+    #[arg(long, value_parser = parse_vec3, requires = "eye")]
+    pub target: Option<Vec3>,
     /// lit | heatmap: the shaded image, or the light count of each pixel's list with a legend.
     #[arg(long, default_value = "lit")]
     pub view: String,
@@ -99,11 +100,7 @@ pub fn run(args: &Args, default_out: &str) -> Result<()> {
     let mut renderer = Renderer::new(&gpu, config)?;
     renderer.prepare_scene(&scene);
     let size = (scene.bounds.max - scene.bounds.min).length();
-    let (rmin, rmax) = match args.light_radius.as_deref() {
-        Some([a, b]) if *a > 0.0 && a <= b => (*a, *b),
-        Some(r) => bail!("--light-radius {r:?}: give MIN,MAX with 0 < MIN <= MAX"),
-        None => (size * 0.03, size * 0.2),
-    };
+    let (rmin, rmax) = args.light_radius.unwrap_or((size * 0.03, size * 0.2));
     let mut lights = scene.lights.clone();
     lights.extend(procedural_lights(
         scene.bounds,
@@ -178,8 +175,7 @@ fn pick_camera(args: &Args, scene: &Scene, aspect: f32) -> Result<FrameCamera> {
             c.zfar.unwrap_or(size * 10.0),
         ));
     }
-    if let (Some(e), Some(t)) = (&args.eye, &args.target) {
-        let (eye, target) = (Vec3::from_slice(e), Vec3::from_slice(t));
+    if let (Some(eye), Some(target)) = (args.eye, args.target) {
         let (near, far) = (size * 0.01, size * 10.0);
         let world_from_view = glam::camera::rh::view::look_at_mat4(eye, target, Vec3::Y).inverse();
         return Ok(scene_camera(
@@ -191,4 +187,48 @@ fn pick_camera(args: &Args, scene: &Scene, aspect: f32) -> Result<FrameCamera> {
         ));
     }
     Ok(framing_camera(scene.bounds, aspect))
+}
+
+/// Comma-separated finite numbers, exactly `N` of them.
+fn parse_numbers<const N: usize>(s: &str, what: &str) -> Result<[f32; N], String> {
+    let values: Vec<f32> = s
+        .split(',')
+        .map(|v| v.trim().parse::<f32>().ok().filter(|v| v.is_finite()))
+        .collect::<Option<_>>()
+        .ok_or_else(|| format!("{s:?} is not {what}"))?;
+    values
+        .try_into()
+        .map_err(|_| format!("{s:?} is not {what}"))
+}
+
+/// `MIN,MAX` with `0 < MIN <= MAX`.
+fn parse_radius_range(s: &str) -> Result<(f32, f32), String> {
+    let [min, max] = parse_numbers::<2>(s, "MIN,MAX (two numbers, e.g. 0.5,3)")?;
+    if min > 0.0 && min <= max {
+        Ok((min, max))
+    } else {
+        Err(format!("{s:?}: give MIN,MAX with 0 < MIN <= MAX"))
+    }
+}
+
+/// `X,Y,Z`.
+fn parse_vec3(s: &str) -> Result<Vec3, String> {
+    parse_numbers::<3>(s, "X,Y,Z (three numbers, e.g. 0,2,5)").map(Vec3::from_array)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn radius_ranges_and_points_parse_as_documented() {
+        assert_eq!(parse_radius_range("50,200"), Ok((50.0, 200.0)));
+        assert_eq!(parse_radius_range(" 0.5 , 3 "), Ok((0.5, 3.0)));
+        for bad in ["50", "50,200,300", "0,1", "2,1", "a,b", "1,inf", ""] {
+            assert!(parse_radius_range(bad).is_err(), "{bad:?} must be refused");
+        }
+        assert_eq!(parse_vec3("0,2,-5"), Ok(Vec3::new(0.0, 2.0, -5.0)));
+        assert!(parse_vec3("1,2").is_err());
+        assert!(parse_vec3("1,2,NaN").is_err());
+    }
 }
