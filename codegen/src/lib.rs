@@ -9,6 +9,7 @@
 //! [`front`] (Rust subset → typed [`ir`]) → [`variants`] (matrix, specialisation, pruning) →
 //! [`back::wgsl`] (our printer + source map) → [`validate`] (naga) → [`back::spv`] →
 //! [`reflect`] → [`emit`] (the tokens the macro returns). [`compile`] runs them all.
+//! [`interp`] evaluates IR expressions on the host with the DSL's runtime semantics.
 //!
 //! Without `compiler`, only [`rt`] (the runtime reflection types generated code stores in
 //! statics) and the hidden re-exports generated code needs are available.
@@ -23,6 +24,8 @@ pub mod emit;
 mod expand;
 #[cfg(feature = "compiler")]
 pub mod front;
+#[cfg(feature = "compiler")]
+pub mod interp;
 #[cfg(feature = "compiler")]
 pub mod ir;
 #[cfg(feature = "compiler")]

@@ -7,5 +7,6 @@
 
 pub mod cull_scene;
 pub mod depth_upload;
+pub mod dsl_fuzz;
 pub mod frames;
 pub mod gpu;

@@ -7,6 +7,7 @@
 mod bench;
 mod bench_codegen;
 mod demo;
+mod fuzz_dsl;
 mod info;
 mod invariants;
 mod render;
@@ -41,6 +42,9 @@ enum Command {
     Info(info::Args),
     /// Write every variant of every shaders_gen module (WGSL, SPIR-V) and tabulate them.
     Shaders(shaders::Args),
+    /// Generated differential test of DSL expressions: GPU against the host evaluator, failures
+    /// printed shrunk.
+    FuzzDsl(fuzz_dsl::Args),
     /// Check the architecture invariants of ARCHITECTURE.md.
     CheckInvariants,
     /// Every render path side by side over a matrix of lights, sizes, MSAA, tiles and
@@ -58,6 +62,7 @@ fn main() -> anyhow::Result<()> {
         Command::Test(args) => test::run(&args),
         Command::Info(args) => info::run(&args),
         Command::Shaders(args) => shaders::run(&args),
+        Command::FuzzDsl(args) => fuzz_dsl::run(&args),
         Command::CheckInvariants => invariants::run(),
         Command::Bench(args) => bench::run(&args),
         Command::BenchCodegen(args) => bench_codegen::run(&args),

@@ -142,6 +142,12 @@ impl FnCtx<'_> {
                 _ => return Err(fail(self)),
             },
         };
+        // WGSL has no `^` on `bool` or `vecN<bool>` (naga rejects it); on booleans it is `!=`.
+        let op = if op == BitXor && ty.scalar() == Some(crate::ir::Scalar::Bool) {
+            Ne
+        } else {
+            op
+        };
         if self.const_only && !matches!(ty, Ty::Scalar(_)) {
             return Err(Error::new(span, NOT_CONST));
         }
