@@ -143,7 +143,7 @@ impl FnCtx<'_> {
             },
         };
         // WGSL has no `^` on `bool` or `vecN<bool>` (naga rejects it); on booleans it is `!=`.
-        let op = if op == BitXor && ty.scalar() == Some(crate::ir::Scalar::Bool) {
+        let op = if op == BitXor && ty.scalar() == Some(Scalar::Bool) {
             Ne
         } else {
             op

@@ -59,6 +59,13 @@ impl Writer<'_> {
         }
     }
 
+    /// Whether `e` is a constant of this variant (a literal, or folds to one): naga checks
+    /// constant shift amounts itself.
+    fn is_constant(&self, e: &Expr) -> bool {
+        matches!(e.kind, ExprKind::Lit(_) | ExprKind::Const(_) | ExprKind::Axis(_))
+            || eval(e, self.m, self.env).is_some()
+    }
+
     /// The literal an axis-dependent constant subexpression folds to, if any.
     pub(super) fn folded(&self, e: &Expr) -> Option<Lit> {
         if !matches!(
@@ -138,6 +145,19 @@ impl Writer<'_> {
                     UnOp::BitNot => "~",
                 });
                 self.operand(x);
+            }
+            ExprKind::Binary(op @ (BinOp::Shl | BinOp::Shr), a, b) if !self.is_constant(b) => {
+                // WGSL takes a runtime shift amount modulo the bit width, but SPIR-V leaves
+                // amounts of 32 or more undefined: mask them (the guide's "Semantics").
+                self.operand(a);
+                let _ = write!(self.out, " {} (", op.symbol());
+                self.operand(b);
+                match b.ty {
+                    Ty::Vector(n, _) => {
+                        let _ = write!(self.out, " & vec{n}<u32>(31u))");
+                    }
+                    _ => self.out.push_str(" & 31u)"),
+                }
             }
             ExprKind::Binary(op, a, b) => {
                 self.operand(a);
