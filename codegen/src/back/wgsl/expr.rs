@@ -62,8 +62,10 @@ impl Writer<'_> {
     /// Whether `e` is a constant of this variant (a literal, or folds to one): naga checks
     /// constant shift amounts itself.
     fn is_constant(&self, e: &Expr) -> bool {
-        matches!(e.kind, ExprKind::Lit(_) | ExprKind::Const(_) | ExprKind::Axis(_))
-            || eval(e, self.m, self.env).is_some()
+        matches!(
+            e.kind,
+            ExprKind::Lit(_) | ExprKind::Const(_) | ExprKind::Axis(_)
+        ) || eval(e, self.m, self.env).is_some()
     }
 
     /// The literal an axis-dependent constant subexpression folds to, if any.
