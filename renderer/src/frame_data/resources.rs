@@ -18,6 +18,48 @@ pub struct LightListHandles {
     pub grid_buffer: wgpu::Buffer,
 }
 
+/// How cells map to the screen, as the passes that look lists up need it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ListGeometry {
+    /// Tile size in pixels (tiled methods; the configured tile otherwise).
+    pub tile: u32,
+    /// Tiles across and down.
+    pub tiles: glam::UVec2,
+    /// Froxels across, down and in depth (clustered; 1×1×1 otherwise).
+    pub grid: glam::UVec3,
+    /// View depths where slice 1 and the last slice start (the camera's planes otherwise).
+    pub near: f32,
+    pub far: f32,
+}
+
+impl ListGeometry {
+    /// The geometry of `method` (or of no lists) for a `config`-sized frame seen by `camera`.
+    pub fn new(
+        method: Option<Method>,
+        config: &super::RendererConfig,
+        camera: &super::FrameCamera,
+    ) -> Self {
+        let (mut tile, mut grid) = (config.tile, glam::UVec3::ONE);
+        let (mut near, mut far) = (camera.near, camera.far);
+        match method {
+            Some(Method::Tiled { tile: t } | Method::Depth25 { tile: t }) => tile = t,
+            Some(Method::Clustered { grid: g, .. }) => {
+                grid = glam::UVec3::new(g.x, g.y, g.z);
+                (near, far) = (g.near, g.far);
+            }
+            None => {}
+        }
+        let tiles = glam::UVec2::new(config.width.div_ceil(tile), config.height.div_ceil(tile));
+        Self {
+            tile,
+            tiles,
+            grid,
+            near,
+            far,
+        }
+    }
+}
+
 /// What the passes of one frame have produced so far.
 #[derive(Debug)]
 pub struct FrameResources {

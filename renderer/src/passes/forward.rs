@@ -6,15 +6,13 @@
 
 use std::sync::Arc;
 
-use glam::{UVec2, UVec3};
 use shaders_gen::forward::forward;
 
 use super::{MeshPipeline, Pass, depth_state, draw_primitive, mesh_pipeline};
 use crate::GpuContext;
-use crate::culling::reference::Method;
 use crate::frame_data::{
-    DEPTH_FORMAT, FrameInputs, FrameResources, HDR_FORMAT, LightListHandles, PreparedScene,
-    RenderError, RendererConfig,
+    DEPTH_FORMAT, FrameInputs, FrameResources, HDR_FORMAT, LightListHandles, ListGeometry,
+    PreparedScene, RenderError, RendererConfig,
 };
 use crate::graph::{BufferAccess, Handle, RenderGraph, Texture, TextureAccess, TextureDesc};
 use crate::scene::AlphaMode;
@@ -67,27 +65,16 @@ impl ForwardPass {
     /// Writes the frame's light counts and the geometry of its light lists.
     fn write_lighting(&self, frame: &FrameInputs, lists: Option<&LightListHandles>) {
         let c = &frame.config;
-        let screen = frame.screen();
-        let (mut tile, mut grid) = (c.tile, UVec3::ONE);
-        let (mut near, mut far) = (frame.camera.near, frame.camera.far);
-        match lists.map(|l| l.method) {
-            Some(Method::Tiled { tile: t } | Method::Depth25 { tile: t }) => tile = t,
-            Some(Method::Clustered { grid: g, .. }) => {
-                grid = UVec3::new(g.x, g.y, g.z);
-                (near, far) = (g.near, g.far);
-            }
-            None => {}
-        }
-        let tiles = UVec2::new(c.width.div_ceil(tile), c.height.div_ceil(tile));
+        let g = ListGeometry::new(lists.map(|l| l.method), c, &frame.camera);
         let lighting = forward::Lighting::new(
             c.ambient,
             frame.lights.punctual.len() as u32,
-            screen,
-            tiles,
-            grid,
-            tile,
-            near,
-            far,
+            frame.screen(),
+            g.tiles,
+            g.grid,
+            g.tile,
+            g.near,
+            g.far,
             frame.lights.directional.len() as u32,
         );
         frame

@@ -2,13 +2,14 @@
 //! lists (reference 000's "Visualize Light Count"), with a legend strip along the bottom. It
 //! replaces forward shading and tonemapping in the frame's pass list.
 
-use glam::{UVec2, UVec3};
 use shaders_gen::forward::heatmap;
 
 use super::{Pass, color_pass, entries, fullscreen_pipeline};
 use crate::GpuContext;
 use crate::culling::reference::Method;
-use crate::frame_data::{FrameInputs, FrameResources, RenderError, RenderPath, RendererConfig};
+use crate::frame_data::{
+    FrameInputs, FrameResources, ListGeometry, RenderError, RenderPath, RendererConfig,
+};
 use crate::graph::{BufferAccess, RenderGraph, TextureAccess};
 use crate::shader::ShaderProgram;
 
@@ -64,23 +65,15 @@ impl HeatmapPass {
     fn write_params(&self, frame: &FrameInputs, method: Method) {
         let c = &frame.config;
         let camera = &frame.camera;
-        let (mut tile, mut grid) = (c.tile, UVec3::ONE);
-        let (mut near, mut far) = (camera.near, camera.far);
-        match method {
-            Method::Tiled { tile: t } | Method::Depth25 { tile: t } => tile = t,
-            Method::Clustered { grid: g, .. } => {
-                grid = UVec3::new(g.x, g.y, g.z);
-                (near, far) = (g.near, g.far);
-            }
-        }
+        let g = ListGeometry::new(Some(method), c, camera);
         let params = heatmap::HeatmapParams::new(
             camera.projection.inverse(),
             frame.screen(),
-            UVec2::new(c.width.div_ceil(tile), c.height.div_ceil(tile)),
-            grid,
-            tile,
-            near,
-            far,
+            g.tiles,
+            g.grid,
+            g.tile,
+            g.near,
+            g.far,
             c.heatmap_max,
         );
         frame

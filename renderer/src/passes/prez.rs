@@ -17,6 +17,8 @@ pub struct PrezPass {
     program: ShaderProgram,
     plain: [wgpu::RenderPipeline; 2],
     masked: [wgpu::RenderPipeline; 2],
+    /// Group 0 over the renderer's camera uniform (the buffer lives as long as the renderer).
+    camera_group: Option<wgpu::BindGroup>,
 }
 
 impl PrezPass {
@@ -39,6 +41,7 @@ impl PrezPass {
             plain: pipelines(&program, false),
             masked: pipelines(&mask_program, true),
             program,
+            camera_group: None,
         })
     }
 }
@@ -71,6 +74,21 @@ impl Pass for PrezPass {
         "pre-z"
     }
 
+    fn prepare(&mut self, frame: &FrameInputs) -> Result<(), RenderError> {
+        if self.camera_group.is_none() {
+            let group = frame
+                .gpu
+                .device
+                .create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("pre-z camera"),
+                    layout: &self.program.bind_group_layouts[0],
+                    entries: &super::entries(&[frame.camera_uniform.buffer.as_entire_binding()]),
+                });
+            self.camera_group = Some(group);
+        }
+        Ok(())
+    }
+
     fn add_to_graph(
         &self,
         graph: &mut RenderGraph,
@@ -83,14 +101,10 @@ impl Pass for PrezPass {
             TextureDesc::new_2d(c.width, c.height, DEPTH_FORMAT).with_samples(c.msaa),
         );
         let target = depth;
-        let camera_group = frame
-            .gpu
-            .device
-            .create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("pre-z camera"),
-                layout: &self.program.bind_group_layouts[0],
-                entries: &super::entries(&[frame.camera_uniform.buffer.as_entire_binding()]),
-            });
+        let camera_group = self.camera_group.clone().ok_or(RenderError::MissingInput {
+            pass: "pre-z",
+            input: "camera bind group (built in prepare)",
+        })?;
         let (plain, masked) = (self.plain.clone(), self.masked.clone());
         let scene = std::sync::Arc::clone(&frame.scene);
         graph
