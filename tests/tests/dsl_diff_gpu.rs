@@ -2,6 +2,7 @@
 //! random expression programs, compiled through `codegen`, run on the GPU and compared with
 //! the host evaluator `codegen::interp`. `cargo xtask fuzz-dsl --cases N [--seed S]` runs more.
 
+use tests::dsl_fuzz::statements::fuzz_programs;
 use tests::dsl_fuzz::{Config, fuzz};
 use tests::gpu::gpu_test;
 
@@ -22,4 +23,22 @@ fn generated_expressions_match_the_host_evaluator() {
         report.rows_compared > report.expressions * 32,
         "too many rows skipped"
     );
+}
+
+#[test]
+fn generated_statement_programs_match_the_host_interpreter() {
+    let cfg = Config {
+        cases: 512,
+        ..Config::default()
+    };
+    let report = gpu_test(|gpu| fuzz_programs(gpu, &cfg, |_| {}));
+    eprintln!(
+        "{} statement programs, {} rows compared, {} failures",
+        report.expressions,
+        report.rows_compared,
+        report.failures.len()
+    );
+    let text: Vec<String> = report.failures.iter().map(|f| f.to_string()).collect();
+    assert!(report.failures.is_empty(), "{}", text.join("\n\n"));
+    assert_eq!(report.expressions, cfg.cases);
 }

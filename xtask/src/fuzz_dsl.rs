@@ -1,14 +1,19 @@
-//! `cargo xtask fuzz-dsl`: the generated differential test of DSL expressions
-//! (`tests::dsl_fuzz`) with more cases than `cargo test` runs, printing every failure shrunk.
+//! `cargo xtask fuzz-dsl`: the generated differential tests of DSL expressions and statement
+//! programs (`tests::dsl_fuzz`) with more cases than `cargo test` runs, printing every failure
+//! shrunk.
 
 use anyhow::{Result, bail};
-use tests::dsl_fuzz::{Config, fuzz};
+use tests::dsl_fuzz::statements::fuzz_programs;
+use tests::dsl_fuzz::{Config, Report, fuzz};
 
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Number of expressions to generate.
     #[arg(long, default_value_t = 20_000)]
     cases: usize,
+    /// Number of statement programs to generate (after the expressions).
+    #[arg(long, default_value_t = 2_000)]
+    statements: usize,
     /// Seed of the run (the test uses the default).
     #[arg(long, default_value_t = Config::default().seed)]
     seed: u64,
@@ -18,7 +23,8 @@ pub struct Args {
     /// Generate shift amounts not masked to 0..32.
     #[arg(long)]
     raw_shifts: bool,
-    /// Compare "exact" float results bit-for-bit (no 1-ULP slack).
+    /// Compare "exact" float results bit for bit (no allowance for the driver's regrouping of
+    /// float operations).
     #[arg(long)]
     strict: bool,
 }
@@ -35,31 +41,56 @@ pub fn run(args: &Args) -> Result<()> {
     tests::dsl_fuzz::run::EXACT_SLACK_ULPS_STRICT
         .store(args.strict, std::sync::atomic::Ordering::Relaxed);
     let started = std::time::Instant::now();
-    let report = tests::gpu::gpu_test(|gpu| {
-        fuzz(gpu, &cfg, |r| {
+    let (expressions, programs) = tests::gpu::gpu_test(|gpu| {
+        let e = fuzz(gpu, &cfg, |r| {
             eprint!(
                 "\r{} / {} expressions, {} failures",
                 r.expressions,
                 cfg.cases,
                 r.failures.len()
             );
-        })
+        });
+        eprintln!();
+        let stmt_cfg = Config {
+            cases: args.statements,
+            ..cfg
+        };
+        let p = fuzz_programs(gpu, &stmt_cfg, |r| {
+            eprint!(
+                "\r{} / {} statement programs, {} failures",
+                r.expressions,
+                stmt_cfg.cases,
+                r.failures.len()
+            );
+        });
+        eprintln!();
+        (e, p)
     });
-    eprintln!();
-    for f in &report.failures {
-        println!("{f}\n");
+    let mut failures = 0;
+    for (what, report) in [
+        ("expressions", &expressions),
+        ("statement programs", &programs),
+    ] {
+        for f in &report.failures {
+            println!("{f}\n");
+        }
+        summary(cfg.seed, what, report);
+        failures += report.failures.len();
     }
-    println!(
-        "fuzz-dsl seed {}: {} expressions, {} input rows compared, {} skipped, {} failures in {:.1} s",
-        cfg.seed,
-        report.expressions,
-        report.rows_compared,
-        report.rows_skipped,
-        report.failures.len(),
-        started.elapsed().as_secs_f64()
-    );
-    if !report.failures.is_empty() {
-        bail!("{} failure(s)", report.failures.len());
+    println!("in {:.1} s", started.elapsed().as_secs_f64());
+    if failures > 0 {
+        bail!("{failures} failure(s)");
     }
     Ok(())
+}
+
+#[expect(clippy::print_stdout, reason = "report of a command-line tool")]
+fn summary(seed: u64, what: &str, r: &Report) {
+    println!(
+        "fuzz-dsl seed {seed}: {} {what}, {} input rows compared, {} skipped, {} failures",
+        r.expressions,
+        r.rows_compared,
+        r.rows_skipped,
+        r.failures.len(),
+    );
 }

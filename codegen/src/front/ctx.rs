@@ -2,7 +2,7 @@
 //! the function context (locals, scopes, unique WGSL names). Every lowering file builds on these;
 //! this file imports none of them.
 
-use crate::ir::{self, Local, Module, Ty};
+use crate::ir::{self, Expr, ExprKind, Local, Module, Ty};
 use proc_macro2::Span;
 use std::collections::HashMap;
 use syn::{Error, Result};
@@ -135,6 +135,47 @@ impl<'a> FnCtx<'a> {
         id
     }
 
+    /// The name the source uses for local `l`, where a scope in reach binds it.
+    pub(crate) fn source_name(&self, l: usize) -> Option<&str> {
+        self.scopes
+            .iter()
+            .rev()
+            .find_map(|s| s.iter().find(|(_, id)| **id == l).map(|(n, _)| n.as_str()))
+    }
+
+    /// A local the source never names (a `for` loop's hoisted end): in no scope.
+    pub(crate) fn hidden_local(&mut self, name: &str, ty: Ty, span: Span) -> usize {
+        let name = self.fresh_name(name);
+        self.locals.push(Local {
+            name,
+            ty,
+            mutable: false,
+            span,
+        });
+        self.locals.len() - 1
+    }
+
+    /// Whether `e` has the same value wherever it is evaluated in the function: it reads no
+    /// mutable local, no static (a buffer the body may write) and calls no function.
+    pub(crate) fn loop_invariant(&self, e: &Expr) -> bool {
+        let children: Vec<&Expr> = match &e.kind {
+            ExprKind::Lit(_) | ExprKind::Const(_) | ExprKind::Axis(_) => return true,
+            ExprKind::Local(l) => return !self.locals[*l].mutable,
+            ExprKind::Global(_) | ExprKind::Call(..) | ExprKind::Deref(_) => return false,
+            // `arr.len()` of a runtime-sized buffer is fixed for the dispatch.
+            ExprKind::Builtin(b, _) if b.wgsl == "arrayLength" => return true,
+            ExprKind::Builtin(b, _) if b.pointer_first => return false,
+            ExprKind::Unary(_, a)
+            | ExprKind::Cast(a)
+            | ExprKind::Field(a, _)
+            | ExprKind::Swizzle(a, _)
+            | ExprKind::AddrOf(a) => vec![a],
+            ExprKind::Binary(_, a, b) | ExprKind::Index(a, b) => vec![a, b],
+            ExprKind::Construct(args) | ExprKind::Builtin(_, args) => args.iter().collect(),
+        };
+        children.into_iter().all(|c| self.loop_invariant(c))
+    }
+
     pub(crate) fn fresh_name(&mut self, rust_name: &str) -> String {
         let mut base = rust_name.trim_start_matches('_').to_string();
         if base.is_empty() {
@@ -166,7 +207,7 @@ impl<'a> FnCtx<'a> {
     }
 
     /// Lowers a constant expression (literals, consts, axes and operators).
-    pub(crate) fn const_expr(&mut self, e: &syn::Expr) -> Result<ir::Expr> {
+    pub(crate) fn const_expr(&mut self, e: &syn::Expr) -> Result<Expr> {
         let saved = std::mem::replace(&mut self.const_only, true);
         let r = self.expr(e);
         self.const_only = saved;

@@ -296,12 +296,11 @@ impl FnCtx<'_> {
             ExprKind::Local(l) => {
                 let local = &self.locals[*l];
                 if write && !local.mutable {
+                    // The name as written (the WGSL name may carry a shadowing suffix).
+                    let name = self.source_name(*l).unwrap_or(&local.name);
                     return Err(Error::new(
                         e.span,
-                        format!(
-                            "cannot assign to `{}`: it is not declared `mut`",
-                            local.name
-                        ),
+                        format!("cannot assign to `{name}`: it is not declared `mut`"),
                     ));
                 }
                 Ok(())

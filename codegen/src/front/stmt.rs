@@ -4,7 +4,7 @@
 use super::ctx::FnCtx;
 use super::ops::compound_op;
 use super::types::TyPos;
-use crate::ir::{Block, ExprKind, Stmt, Ty};
+use crate::ir::{Block, Expr, ExprKind, Stmt, Ty};
 use syn::spanned::Spanned;
 use syn::{Error, Result};
 
@@ -142,15 +142,21 @@ impl FnCtx<'_> {
                 if result.ty != place.ty {
                     return Err(self.err_mismatch(&place.ty, &result));
                 }
-                let value = match result.kind {
-                    ExprKind::Binary(_, _, r) => *r,
-                    _ => value,
-                };
-                Ok(Stmt::Assign {
-                    place,
-                    op: Some(op),
-                    value,
-                    span,
+                Ok(match result.kind {
+                    ExprKind::Binary(o, _, r) if o == op => Stmt::Assign {
+                        place,
+                        op: Some(op),
+                        value: *r,
+                        span,
+                    },
+                    // Lowered to another operator (`b ^= c` on `bool` is `b = b != c`): WGSL
+                    // has no compound form of it.
+                    _ => Stmt::Assign {
+                        place,
+                        op: None,
+                        value: result,
+                        span,
+                    },
                 })
             }
             syn::Expr::If(i) => self.if_stmt(i),
@@ -168,7 +174,7 @@ impl FnCtx<'_> {
                     return Err(Error::new(r.span(), "`for` ranges need a start and an end"));
                 };
                 let start = self.expr(start)?;
-                let end = self.expr(end)?;
+                let mut end = self.expr(end)?;
                 let ty = start
                     .ty
                     .unify(&end.ty)
@@ -191,19 +197,42 @@ impl FnCtx<'_> {
                     ));
                 };
                 self.push_scope();
-                let var = self.declare(&pi.ident.to_string(), ty, false, pi.ident.span());
+                let var = self.declare(&pi.ident.to_string(), ty.clone(), false, pi.ident.span());
                 self.loop_depth += 1;
                 let body = self.block(&f.body);
                 self.loop_depth -= 1;
                 self.pop_scope();
                 let inclusive = matches!(r.limits, syn::RangeLimits::Closed(_));
-                Ok(Stmt::For {
+                // Rust evaluates the end once; WGSL's `for` condition re-evaluates it every
+                // iteration. An end the body could change is read into a local first.
+                let hoisted = (!self.loop_invariant(&end)).then(|| {
+                    let l = self.hidden_local(&format!("{}_end", pi.ident), ty.clone(), end.span);
+                    let span = end.span;
+                    let init = std::mem::replace(
+                        &mut end,
+                        Expr {
+                            kind: ExprKind::Local(l),
+                            ty: ty.clone(),
+                            span,
+                        },
+                    );
+                    Stmt::Let {
+                        local: Some(l),
+                        init,
+                        span,
+                    }
+                });
+                let for_stmt = Stmt::For {
                     var,
                     start,
                     end,
                     inclusive,
                     body: body?,
                     span: f.for_token.span,
+                };
+                Ok(match hoisted {
+                    Some(end_let) => Stmt::Block(vec![end_let, for_stmt]),
+                    None => for_stmt,
                 })
             }
             syn::Expr::While(w) => {

@@ -21,6 +21,45 @@ pub enum EvalError {
     },
     /// A local index beyond the `locals` slice given.
     UnknownLocal(usize),
+    /// The [`super::Machine`]'s step limit was reached: a loop that does not end, or a run
+    /// longer than the limit allows.
+    StepLimit,
+    /// An error raised by the statement at this source position.
+    At {
+        /// 1-based line of the statement (in the file, or in the source string given to
+        /// `compile_source`).
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// What went wrong.
+        error: Box<EvalError>,
+    },
+}
+
+impl EvalError {
+    /// This error located at `span`, unless it already has a location (the innermost
+    /// statement wins).
+    pub(crate) fn at(self, span: proc_macro2::Span) -> EvalError {
+        match self {
+            EvalError::At { .. } => self,
+            error => {
+                let start = span.start();
+                EvalError::At {
+                    line: start.line,
+                    column: start.column + 1,
+                    error: Box::new(error),
+                }
+            }
+        }
+    }
+
+    /// The error without its location.
+    pub fn cause(&self) -> &EvalError {
+        match self {
+            EvalError::At { error, .. } => error.cause(),
+            e => e,
+        }
+    }
 }
 
 impl fmt::Display for EvalError {
@@ -32,6 +71,14 @@ impl fmt::Display for EvalError {
                 write!(f, "index {index} out of bounds for {len} elements")
             }
             EvalError::UnknownLocal(l) => write!(f, "local {l} has no value"),
+            EvalError::StepLimit => {
+                write!(f, "the step limit was reached (a loop that does not end?)")
+            }
+            EvalError::At {
+                line,
+                column,
+                error,
+            } => write!(f, "{error} (at {line}:{column})"),
         }
     }
 }

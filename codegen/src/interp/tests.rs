@@ -1,7 +1,7 @@
 //! Edge cases of the evaluator's semantics, and one module compiled from source.
 
 use super::*;
-use crate::ir::{Builtin, UnOp};
+use crate::ir::{BinOp, Builtin, ExprKind, Scalar, Ty, UnOp};
 use proc_macro2::Span;
 
 fn module() -> Module {

@@ -83,6 +83,8 @@ pub enum Tol {
 pub enum Kind {
     /// An input local: `i0`, `u2`, `f1`, `b3`.
     Input(usize),
+    /// A variable of a statement program (`p0s1`, `p0v0.y`, `p0a0[2]`), as source text.
+    Var(String),
     /// A literal, as DSL source text.
     Lit(String),
     /// A prefix operator (`-`, `!`).
@@ -123,7 +125,7 @@ impl E {
     /// The children, in order.
     pub fn children(&self) -> Vec<&E> {
         match &self.kind {
-            Kind::Input(_) | Kind::Lit(_) => vec![],
+            Kind::Input(_) | Kind::Var(_) | Kind::Lit(_) => vec![],
             Kind::Un(_, a)
             | Kind::Cast(a)
             | Kind::Splat(a)
@@ -141,7 +143,7 @@ impl E {
     /// Mutable children, in the order of [`E::children`].
     pub fn children_mut(&mut self) -> Vec<&mut E> {
         match &mut self.kind {
-            Kind::Input(_) | Kind::Lit(_) => vec![],
+            Kind::Input(_) | Kind::Var(_) | Kind::Lit(_) => vec![],
             Kind::Un(_, a)
             | Kind::Cast(a)
             | Kind::Splat(a)
@@ -164,7 +166,8 @@ impl E {
     /// Whether an input local occurs in it (a tree without one would be constant-folded by
     /// naga, which rejects constant overflow).
     pub fn has_input(&self) -> bool {
-        matches!(self.kind, Kind::Input(_)) || self.children().iter().any(|c| c.has_input())
+        matches!(self.kind, Kind::Input(_) | Kind::Var(_))
+            || self.children().iter().any(|c| c.has_input())
     }
 
     /// DSL source text.
@@ -185,7 +188,7 @@ impl E {
                 };
                 let _ = write!(o, "{p}{i}");
             }
-            Kind::Lit(l) => o.push_str(l),
+            Kind::Lit(l) | Kind::Var(l) => o.push_str(l),
             Kind::Un(op, a) => {
                 let _ = write!(o, "({op}");
                 a.write(o);

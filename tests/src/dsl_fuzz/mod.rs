@@ -9,7 +9,9 @@
 //! - **Exactness.** Integers and bools compare exactly. Float operations that WGSL/Vulkan
 //!   require correctly rounded (`+ - *`, negation, `abs floor ceil round fract trunc min max
 //!   clamp saturate signum step`, `select`, constructors, swizzles, int→float casts) compare
-//!   exactly (as values: `-0.0 == 0.0`). Approximate functions appear only at the root of an
+//!   exactly (as values: `-0.0 == 0.0`), up to the driver's regrouping of float operations
+//!   (an absolute `ops · ε · largest intermediate`, see [`run::Regrouping`]; `fuzz-dsl
+//!   --strict` allows none). Approximate functions appear only at the root of an
 //!   expression, on exact operands, with these tolerances (from the Vulkan precision table that
 //!   WGSL defers to): `/` 3 ULP; `sqrt` 3 ULP; `inverse_sqrt` 2 ULP; `sin`/`cos` on
 //!   [-3, 3] absolute 2^-11; `exp`/`exp2` on [-10, 10] 3 + 2·|x| ULP (33 ULP); `ln`/`log2`
@@ -26,7 +28,9 @@
 
 pub mod ast;
 pub mod generate;
+pub mod program;
 pub mod run;
+pub mod statements;
 
 use ast::{E, T, Tol};
 use generate::{GenConfig, Rng};
@@ -86,7 +90,7 @@ impl std::fmt::Display for Failure {
 /// The result of a run.
 #[derive(Debug, Clone, Default)]
 pub struct Report {
-    /// Expressions generated.
+    /// Cases generated: expressions, or statement programs.
     pub expressions: usize,
     /// Input rows compared.
     pub rows_compared: usize,
@@ -123,7 +127,7 @@ fn run_batch(gpu: &GpuContext, exprs: &[(E, Tol)], inputs: &[u32]) -> Result<Vec
     let refs: Vec<&E> = exprs.iter().map(|x| &x.0).collect();
     let c = run::compile(&refs)?;
     let stride: usize = refs.iter().map(|x| x.ty.n as usize).sum::<usize>().max(1);
-    let out = run::run_gpu(gpu, &c, inputs, stride);
+    let out = run::run_gpu(gpu, &c.wgsl, inputs, stride);
     let mut slot = 0;
     Ok(exprs
         .iter()

@@ -2,7 +2,10 @@
 
 use super::{Options, SourceMap};
 use crate::ir::is_subgroup_builtin;
-use crate::ir::{Access, Block, Function, Io, Module, Space, Stage, Stmt, TexKind, Ty};
+use crate::ir::{
+    Access, Block, Expr, ExprKind, Function, Io, Lit, Module, Scalar, Space, Stage, Stmt, TexKind,
+    Ty,
+};
 use crate::layout::{array_len, struct_layout};
 use crate::variants::{Branch, Env, branch, eval, reachable_functions};
 use proc_macro2::Span;
@@ -315,6 +318,10 @@ impl<'a> Writer<'a> {
                 body,
                 span,
             } => {
+                if *inclusive && !below_max(end) {
+                    self.inclusive_loop(*var, from, end, body);
+                    return self.end_stmt(start, *span);
+                }
                 let local = &self.locals[*var];
                 let _ = write!(
                     self.out,
@@ -372,8 +379,53 @@ impl<'a> Writer<'a> {
                 Span::call_site()
             }
         };
+        self.end_stmt(start, span);
+    }
+
+    fn end_stmt(&mut self, start: usize, span: Span) {
         self.map.record(start..self.out.len(), span);
         self.out.push('\n');
+    }
+
+    /// `for i in a..=b` where `b` may be the type's maximum: WGSL's `i <= b; i++` would wrap
+    /// and never end, so the last iteration is detected before the increment.
+    fn inclusive_loop(&mut self, var: usize, from: &'a Expr, end: &'a Expr, body: &'a Block) {
+        let name = self.locals[var].name.clone();
+        let ty = self.ty(&self.locals[var].ty);
+        let _ = write!(self.out, "{{\n");
+        self.indent += 1;
+        self.line_start();
+        let _ = write!(self.out, "var {name}: {ty} = ");
+        self.expr(from);
+        self.out.push_str(";\n");
+        self.line_start();
+        let _ = write!(self.out, "if {name} <= ");
+        self.expr(end);
+        self.out.push_str(" {\n");
+        self.indent += 1;
+        self.line_start();
+        self.out.push_str("loop {\n");
+        self.indent += 1;
+        self.block_body(body);
+        self.line_start();
+        self.out.push_str("continuing {\n");
+        self.indent += 1;
+        self.line_start();
+        let _ = write!(self.out, "let {name}_last = {name} == ");
+        self.expr(end);
+        self.out.push_str(";\n");
+        self.line_start();
+        let _ = writeln!(self.out, "{name}++;");
+        self.line_start();
+        let _ = writeln!(self.out, "break if {name}_last;");
+        for _ in 0..3 {
+            self.indent -= 1;
+            self.line_start();
+            self.out.push_str("}\n");
+        }
+        self.indent -= 1;
+        self.line_start();
+        self.out.push('}');
     }
 
     /// Prints a dynamic `if` and its `else if` chain; returns the span of the first `if`.
@@ -416,5 +468,15 @@ impl<'a> Writer<'a> {
             },
             _ => false,
         })
+    }
+}
+
+/// Whether `end` is an integer literal below its type's maximum (`1..=4`), so that the
+/// plain `for (..; i <= end; i++)` ends.
+fn below_max(end: &Expr) -> bool {
+    match (&end.kind, end.ty.scalar()) {
+        (ExprKind::Lit(Lit::Int(v, _)), Some(Scalar::U32)) => *v < u32::MAX as i64,
+        (ExprKind::Lit(Lit::Int(v, _)), _) => *v < i32::MAX as i64,
+        _ => false,
     }
 }
