@@ -298,7 +298,7 @@ fn numeric_op(rng: &mut Rng, ty: T, d: u32, cfg: GenConfig) -> E {
     } else {
         &[
             "+", "-", "*", "min", "max", "clamp", "abs", "neg", "floor", "ceil", "round", "fract",
-            "trunc", "saturate", "signum", "step",
+            "trunc", "saturate", "signum", "step", "mul_add",
         ]
     };
     let op = *rng.pick(ops);
@@ -311,7 +311,13 @@ fn numeric_op(rng: &mut Rng, ty: T, d: u32, cfg: GenConfig) -> E {
             } else {
                 g(rng)
             };
-            let rhs = if matches!(op, "/" | "%") && !rhs.has_input() {
+            // A constant zero divisor, or a vector divisor with a constant zero component, is a
+            // compile error (naga; see the guide).
+            let zero_part = |x: &E| matches!(&x.kind, Kind::Lit(l) if l.starts_with("0"));
+            let rhs = if matches!(op, "/" | "%")
+                && (!rhs.has_input()
+                    || matches!(&rhs.kind, Kind::New(parts) if parts.iter().any(zero_part)))
+            {
                 input(rng, rhs.ty)
             } else {
                 rhs
@@ -343,7 +349,7 @@ fn numeric_op(rng: &mut Rng, ty: T, d: u32, cfg: GenConfig) -> E {
             e(ty, Kind::Bin(op, b(a), b(amt)))
         }
         "min" | "max" | "step" => m(ty, op, g(rng), vec![g(rng)]),
-        "clamp" => m(ty, op, g(rng), vec![g(rng), g(rng)]),
+        "clamp" | "mul_add" => m(ty, op, g(rng), vec![g(rng), g(rng)]),
         "neg" if s == Sc::U32 => e(ty, Kind::Un("!", b(g(rng)))),
         "neg" => e(ty, Kind::Un("-", b(g(rng)))),
         "!" => e(ty, Kind::Un("!", b(g(rng)))),
@@ -401,7 +407,7 @@ fn scalar(rng: &mut Rng, s: Sc, d: u32, cfg: GenConfig) -> E {
                 };
                 return e(ty, Kind::Cast(b(rgen(rng, T::scalar(from), d, cfg))));
             }
-            if k == 3 && s != Sc::F32 {
+            if k == 3 {
                 let vt = any_vec(rng, s);
                 let v = rgen(rng, vt, d, cfg);
                 let w = rgen(rng, v.ty, d, cfg);

@@ -9,17 +9,21 @@
 //! - **Exactness.** Integers and bools compare exactly. Float operations that WGSL/Vulkan
 //!   require correctly rounded (`+ - *`, negation, `abs floor ceil round fract trunc min max
 //!   clamp saturate signum step`, `select`, constructors, swizzles, int→float casts) compare
-//!   exactly (as values: `-0.0 == 0.0`), up to the driver's regrouping of float operations
-//!   (an absolute `ops · ε · largest intermediate`, see [`run::Regrouping`]; `fuzz-dsl
-//!   --strict` allows none). Approximate functions appear only at the root of an
+//!   exactly (as values: `-0.0 == 0.0`), up to the driver's regrouping of float operations (a
+//!   running error bound per node, see [`bound`]; `fuzz-dsl --strict` allows none). Approximate functions appear only at the root of an
 //!   expression, on exact operands, with these tolerances (from the Vulkan precision table that
 //!   WGSL defers to): `/` 3 ULP; `sqrt` 3 ULP; `inverse_sqrt` 2 ULP; `sin`/`cos` on
 //!   [-3, 3] absolute 2^-11; `exp`/`exp2` on [-10, 10] 3 + 2·|x| ULP (33 ULP); `ln`/`log2`
 //!   3 ULP or absolute 2^-21; `to_radians` 2 ULP; `length`, `normalize`, `distance` 8 ULP.
-//!   Not generated: float `%`, `powf`, `mul_add`, `lerp`, `smoothstep`, `dot` on floats (their
-//!   error depends on cancellation, not on one ULP bound), `from_bits` (NaN payloads).
+//!   Float `dot` and `mul_add` may round their products or not and sum in any order (WGSL
+//!   gives both the accuracy of their expansion): their products count as intermediates of the
+//!   regrouping allowance. Not generated: float `%` (`x - y * trunc(x / y)` inherits the
+//!   division's error, which `trunc` can turn into a whole `y`), `powf`, `lerp`, `smoothstep`
+//!   (error relative to intermediates the tree does not show), `from_bits` (NaN payloads).
 //! - **Skipped rows.** A row where any float subexpression is NaN, infinite or subnormal is not
-//!   compared (NaN-dependent results are indeterminate in WGSL; Vulkan may flush subnormals).
+//!   compared (NaN-dependent results are indeterminate in WGSL; Vulkan may flush subnormals),
+//!   nor one where a step (`floor`, a comparison, a float-to-int cast, ..) falls within the
+//!   error bound of its float operand, or an approximate function's operand is not exact.
 //! - **Shrinking.** A failing expression is shrunk greedily, type-aware: every subtree is
 //!   replaced by a same-typed descendant or an input, all candidates run in one batch, and the
 //!   smallest one that still fails is kept, until none does. (proptest's own shrinking of
@@ -27,6 +31,7 @@
 //!   drives the seeds instead.)
 
 pub mod ast;
+pub mod bound;
 pub mod generate;
 pub mod program;
 pub mod run;

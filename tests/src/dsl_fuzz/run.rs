@@ -2,6 +2,7 @@
 //! evaluates the same compiled IR on the host with `codegen::interp`, and compares.
 
 use super::ast::{E, INPUTS_PER_TYPE, Kind, Sc, T, Tol};
+use super::bound::Bounds;
 use super::generate::Rng;
 use codegen::interp::{Value, eval_expr};
 use codegen::ir::{Expr, ExprKind, Module, Stmt};
@@ -289,34 +290,11 @@ fn strict() -> bool {
     EXACT_SLACK_ULPS_STRICT.load(std::sync::atomic::Ordering::Relaxed)
 }
 
-/// How far the driver's float reassociation and contraction may move a result: Vulkan lets
-/// drivers transform float arithmetic that SPIR-V does not decorate `NoContraction` (naga
-/// decorates nothing), and llvmpipe does (`3.0 + (x + -2.0)` becomes `x + 1.0`). Regrouping
-/// `k` operations moves the result by at most about `k` roundings of the largest intermediate
-/// magnitude `m`, so the allowance is `k · ε · m`: absolute, because cancellation makes any
-/// relative bound meaningless (`(x + y) - y` may give `x` where f32 rounding gives 0).
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct Regrouping {
-    /// Float operations in the expression.
-    pub ops: u32,
-    /// Largest magnitude of any float subexpression on this row.
-    pub magnitude: f32,
-}
-
-impl Regrouping {
-    fn allowance(self) -> f32 {
-        if strict() {
-            0.0
-        } else {
-            self.ops as f32 * f32::EPSILON * self.magnitude
-        }
-    }
-}
-
-/// Whether a GPU component matches the host's under `tol`, allowing for regrouping `r`.
-pub fn close(gpu: f32, host: f32, tol: Tol, r: Regrouping) -> bool {
+/// Whether a GPU component matches the host's under `tol`, allowing `regrouping` for the
+/// driver's regrouping of float operations (see [`super::bound`]).
+pub fn close(gpu: f32, host: f32, tol: Tol, regrouping: f32) -> bool {
     gpu == host
-        || (gpu - host).abs() <= r.allowance()
+        || (gpu - host).abs() <= regrouping
         || match tol {
             Tol::Exact => false,
             Tol::Ulp(n) => ulps(gpu, host) <= n as u64,
@@ -333,7 +311,7 @@ impl Compiled {
         k: usize,
         inputs: &[u32],
         row: usize,
-    ) -> Result<Option<(Value, Regrouping)>, String> {
+    ) -> Result<Option<(Value, f32)>, String> {
         let mut locals = vec![Value::Bool(false); self.n_locals];
         locals[0] = Value::Vector(vec![Value::U32(row as u32), Value::U32(0), Value::U32(0)]);
         for &(l, t, w) in &self.inputs {
@@ -348,28 +326,29 @@ impl Compiled {
         let root = &self.results[k];
         let mut subs = vec![];
         sub_exprs(root, &mut subs);
-        let mut r = Regrouping::default();
         for s in subs.iter().filter(|s| is_float(s)) {
             match eval_expr(&self.module, &self.env, s, &locals) {
                 Ok(v) if unruly(&v) => return Ok(None),
-                Ok(v) => {
-                    if matches!(
-                        s.kind,
-                        ExprKind::Binary(..) | ExprKind::Unary(..) | ExprKind::Builtin(..)
-                    ) {
-                        r.ops += 1;
-                    }
-                    for c in v.components() {
-                        if let Value::F32(x) = c {
-                            r.magnitude = r.magnitude.max(x.abs());
-                        }
-                    }
-                }
+                Ok(_) => {}
                 Err(e) => return Err(e.to_string()),
             }
         }
+        let regrouping = if strict() {
+            0.0
+        } else {
+            let bounds = Bounds {
+                module: &self.module,
+                env: &self.env,
+                locals: &locals,
+            };
+            match bounds.err(root)? {
+                Some(err) => err,
+                // The driver's regrouping may decide this row either way.
+                None => return Ok(None),
+            }
+        };
         eval_expr(&self.module, &self.env, root, &locals)
-            .map(|v| Some((v, r)))
+            .map(|v| Some((v, regrouping)))
             .map_err(|e| e.to_string())
     }
 }
