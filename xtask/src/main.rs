@@ -32,7 +32,8 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
-    /// Render the demo frame to a PNG under target/ and print the adapter and GPU time.
+    /// The main job: render the demo scene (lit frame, light-count heatmap, frame graph) into
+    /// target/demo/ and print a short summary; installs the software Vulkan driver if needed.
     Demo(demo::Args),
     /// Render one frame of a glTF scene with every renderer option.
     Render(render::Args),
@@ -42,8 +43,8 @@ enum Command {
     Info(info::Args),
     /// Write every variant of every shaders_gen module (WGSL, SPIR-V) and tabulate them.
     Shaders(shaders::Args),
-    /// Generated differential test of DSL expressions: GPU against the host evaluator, failures
-    /// printed shrunk.
+    /// Generated differential test of DSL expressions and statement programs: GPU against the
+    /// host interpreter, failures printed shrunk.
     FuzzDsl(fuzz_dsl::Args),
     /// Check the architecture invariants of ARCHITECTURE.md.
     CheckInvariants,
@@ -56,7 +57,9 @@ enum Command {
 }
 
 fn main() -> anyhow::Result<()> {
-    match Cli::parse().command {
+    let cli = Cli::parse();
+    system::private_runtime_dir()?;
+    match cli.command {
         Command::Demo(args) => demo::run(&args),
         Command::Render(args) => render::run(&args, "target/render/frame.png"),
         Command::Test(args) => test::run(&args),

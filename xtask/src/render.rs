@@ -1,13 +1,15 @@
 //! `cargo xtask render`: one frame of a glTF scene with every renderer option on the command
 //! line, written to a PNG, with per-pass GPU timings. `cargo xtask demo` is a preset of it.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context as _, Result, bail};
 use glam::Vec3;
+use renderer::culling::lists::CullCounters;
 use renderer::frame::setup::{create_target, framing_camera, procedural_lights, scene_camera};
-use renderer::frame::{FrameCamera, FrameView, Renderer, RendererConfig};
-use renderer::scene::Scene;
+use renderer::frame::{FrameCamera, FrameReport, FrameView, Renderer, RendererConfig};
+use renderer::graph::PassTiming;
+use renderer::scene::{Scene, SceneLight};
 use renderer::{GpuContext, GpuOptions, readback};
 
 use crate::bench::matrix::{PathChoice, parse_size};
@@ -61,44 +63,94 @@ pub struct Args {
     /// Adapter name substring (also RENDERER_ADAPTER).
     #[arg(long)]
     pub adapter: Option<String>,
+    /// Fall back to MSAA 1 where the adapter lacks the asked count (the demo's choice).
+    #[arg(skip)]
+    pub msaa_fallback: bool,
 }
 
-#[expect(clippy::print_stdout, reason = "a command-line report")]
-pub fn run(args: &Args, default_out: &str) -> Result<()> {
+/// A scene, its lights and its camera on a device, ready for frames of any view.
+pub struct Setup {
+    pub gpu: GpuContext,
+    pub scene: Scene,
+    pub scene_path: PathBuf,
+    pub lights: Vec<SceneLight>,
+    pub camera: FrameCamera,
+    pub config: RendererConfig,
+}
+
+/// One rendered frame and what the renderer reported about it.
+pub struct Shot {
+    pub rgba: Vec<u8>,
+    pub report: FrameReport,
+    pub timings: Option<Vec<PassTiming>>,
+    pub counters: Option<CullCounters>,
+    /// Lights listed ÷ lights reaching, over probed surface samples (culled paths, when asked).
+    pub efficiency: Option<f64>,
+}
+
+/// Checks every option, opens the device and loads the scene. Bad input is an error naming the
+/// option and what would be accepted, before anything large is allocated.
+pub fn setup(args: &Args) -> Result<Setup> {
     let (w, h) = parse_size(&args.size)?;
     let path = PathChoice::parse(&args.path)?.0;
-    let root = crate::workspace_root();
-    let scene_path = args
-        .scene
-        .clone()
-        .unwrap_or_else(|| root.join("tests/scenes/AlphaBlendModeTest/AlphaBlendModeTest.glb"));
-    let scene = Scene::load(&scene_path)?;
-    let gpu =
-        GpuContext::new_blocking(&GpuOptions::from_env().with_adapter_name(args.adapter.clone()))?;
-    let scalarize = match args.scalarize.as_str() {
-        "auto" => gpu.capabilities().subgroup.is_some(),
-        "on" => true,
-        "off" => false,
-        other => bail!("--scalarize {other:?}: use auto, on or off"),
-    };
+    if ![8, 16, 32].contains(&args.tile) {
+        bail!("--tile {}: use 8, 16 or 32", args.tile);
+    }
+    if ![1, 2, 4, 8].contains(&args.msaa) {
+        bail!("--msaa {}: use 1, 2, 4 or 8", args.msaa);
+    }
     let view = match args.view.as_str() {
         "lit" => FrameView::Lit,
         "heatmap" => FrameView::Heatmap,
         other => bail!("--view {other:?}: use lit or heatmap"),
     };
-    println!("adapter: {}", gpu.report);
+    if !matches!(args.scalarize.as_str(), "auto" | "on" | "off") {
+        bail!("--scalarize {:?}: use auto, on or off", args.scalarize);
+    }
+    let root = crate::workspace_root();
+    let scene_path = args
+        .scene
+        .clone()
+        .unwrap_or_else(|| root.join("tests/scenes/AlphaBlendModeTest/AlphaBlendModeTest.glb"));
+    if !scene_path.is_file() {
+        bail!(
+            "--scene {}: no such file (give a .gltf or .glb file)",
+            scene_path.display()
+        );
+    }
+    let scene = Scene::load(&scene_path)
+        .with_context(|| format!("--scene {}: cannot load it", scene_path.display()))?;
+    let gpu =
+        GpuContext::new_blocking(&GpuOptions::from_env().with_adapter_name(args.adapter.clone()))?;
+    let max = gpu.device.limits().max_texture_dimension_2d;
+    if w > max || h > max {
+        bail!("--size {w}x{h}: this adapter's largest texture side is {max}");
+    }
+    let counts = gpu.capabilities().msaa_counts();
+    if !counts.contains(&args.msaa) && !args.msaa_fallback {
+        bail!(
+            "--msaa {}: this adapter supports MSAA {counts:?} for the frame's targets",
+            args.msaa
+        );
+    }
+    let scalarize = match args.scalarize.as_str() {
+        "auto" => gpu.capabilities().subgroup.is_some(),
+        other => other == "on",
+    };
     let config = RendererConfig {
         width: w,
         height: h,
-        msaa: args.msaa,
+        msaa: if counts.contains(&args.msaa) {
+            args.msaa
+        } else {
+            1
+        },
         path,
         tile: args.tile,
         scalarize,
         view,
         ..Default::default()
     };
-    let mut renderer = Renderer::new(&gpu, config)?;
-    renderer.prepare_scene(&scene);
     let size = (scene.bounds.max - scene.bounds.min).length();
     let (rmin, rmax) = args.light_radius.unwrap_or((size * 0.03, size * 0.2));
     let mut lights = scene.lights.clone();
@@ -109,40 +161,106 @@ pub fn run(args: &Args, default_out: &str) -> Result<()> {
         rmin,
         rmax,
     ));
-    renderer.set_lights(&lights);
     let camera = pick_camera(args, &scene, w as f32 / h as f32)?;
-    let target = create_target(&gpu.device, &config);
-    let report = renderer.render(&camera, &target)?;
+    Ok(Setup {
+        gpu,
+        scene,
+        scene_path,
+        lights,
+        camera,
+        config,
+    })
+}
+
+/// Renders one frame of `view` (and measures the cull efficiency when `efficiency`).
+pub fn shoot(s: &Setup, view: FrameView, efficiency: bool) -> Result<Shot> {
+    let config = RendererConfig { view, ..s.config };
+    let mut renderer = Renderer::new(&s.gpu, config)?;
+    renderer.prepare_scene(&s.scene);
+    renderer.set_lights(&s.lights);
+    let target = create_target(&s.gpu.device, &config);
+    if efficiency {
+        renderer.capture_next_frame(4)?;
+    }
+    let report = renderer.render(&s.camera, &target)?;
     let timings = renderer.finish();
-    let rgba = readback::read_texture_rgba8(&gpu.device, &gpu.queue, &target)?;
-    let out = args.out.clone().unwrap_or_else(|| root.join(default_out));
+    let counters = renderer.culling_counters();
+    let efficiency = match renderer.take_capture()? {
+        Some(capture) => {
+            let surface = capture.surface_probes();
+            let reaching = capture.lights_reaching(&surface);
+            capture
+                .cull_efficiency(&surface, &reaching)
+                .map(|e| e.ratio())
+        }
+        None => None,
+    };
+    let rgba = readback::read_texture_rgba8(&s.gpu.device, &s.gpu.queue, &target)?;
+    Ok(Shot {
+        rgba,
+        report,
+        timings,
+        counters,
+        efficiency,
+    })
+}
+
+/// Writes an RGBA8 image, creating its folder.
+pub fn save_png(out: &Path, rgba: &[u8], (w, h): (u32, u32)) -> Result<()> {
     if let Some(dir) = out.parent() {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }
-    image::save_buffer(&out, &rgba, w, h, image::ExtendedColorType::Rgba8)
-        .with_context(|| format!("writing {}", out.display()))?;
+    image::save_buffer(out, rgba, w, h, image::ExtendedColorType::Rgba8)
+        .with_context(|| format!("writing {}", out.display()))
+}
+
+/// Writes a text file, creating its folder.
+pub fn save_text(out: &Path, text: &str) -> Result<()> {
+    if let Some(dir) = out.parent() {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    }
+    std::fs::write(out, text).with_context(|| format!("writing {}", out.display()))
+}
+
+#[expect(clippy::print_stdout, reason = "a command-line report")]
+pub fn run(args: &Args, default_out: &str) -> Result<()> {
+    crate::system::ensure_vulkan_adapter()?;
+    let s = setup(args)?;
+    let shot = shoot(&s, s.config.view, false)?;
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| crate::workspace_root().join(default_out));
+    let size = (s.config.width, s.config.height);
+    save_png(&out, &shot.rgba, size)?;
+    let dot = out.with_extension("dot");
+    save_text(&dot, &shot.report.graph_dot)?;
+    println!("adapter: {}", s.gpu.report);
     println!(
-        "scene {} ({} triangles), {} lights, {w}x{h}, MSAA {}, path {}, tile {}, scalarize {scalarize}",
-        scene_path.display(),
-        scene.triangle_count(),
-        lights.len(),
-        args.msaa,
+        "scene {} ({} triangles), {} lights, {}x{}, MSAA {}, path {}, tile {}, scalarize {}",
+        s.scene_path.display(),
+        s.scene.triangle_count(),
+        s.lights.len(),
+        size.0,
+        size.1,
+        s.config.msaa,
         args.path,
-        args.tile
+        s.config.tile,
+        s.config.scalarize,
     );
     println!(
         "CPU: build + compile + encode the frame graph: {:.3} ms",
-        report.cpu_graph_ms
+        shot.report.cpu_graph_ms
     );
-    match timings {
+    match &shot.timings {
         Some(t) => {
-            for pass in &t {
+            for pass in t {
                 println!("GPU {:<14} {:8.3} ms", pass.pass, pass.gpu_ms);
             }
         }
         None => println!("GPU time: unavailable (no timestamp queries on this adapter)"),
     }
-    if let Some(c) = renderer.culling_counters() {
+    if let Some(c) = shot.counters {
         println!(
             "culling: {} list entries, most items in one cell {}, {} cells over the per-cell limit, {} entries dropped",
             c.requested_entries, c.max_cell_items, c.overflow_cells, c.dropped
@@ -153,8 +271,11 @@ pub fn run(args: &Args, default_out: &str) -> Result<()> {
             );
         }
     }
-    println!("compiled frame graph:\n{}", report.graph_dot);
-    println!("wrote {}", out.display());
+    println!(
+        "wrote {} and the frame graph {}",
+        out.display(),
+        dot.display()
+    );
     Ok(())
 }
 

@@ -45,13 +45,30 @@ fn has_chart_font() -> bool {
         .any(|p| Path::new(p).is_file())
 }
 
-/// Makes sure every requirement is present, installing what is missing where we can.
+/// Makes sure every requirement of `cargo xtask test` is present, installing what is missing
+/// where we can.
+pub fn ensure_test_requirements() -> Result<()> {
+    ensure(&REQUIREMENTS.iter().collect::<Vec<_>>(), "test")
+}
+
+/// Makes sure a Vulkan adapter exists (the software driver is enough), installing Mesa's where
+/// we can: what `cargo xtask demo` and `render` need.
+pub fn ensure_vulkan_adapter() -> Result<()> {
+    ensure(&[&REQUIREMENTS[0]], "demo")
+}
+
+/// Installs the packages of the missing `requirements` (Debian/Ubuntu as root), or stops naming
+/// them and the command to run.
 #[expect(
     clippy::print_stdout,
     reason = "progress report of a command-line tool"
 )]
-pub fn ensure_test_requirements() -> Result<()> {
-    let missing: Vec<&Requirement> = REQUIREMENTS.iter().filter(|r| !(r.present)()).collect();
+fn ensure(requirements: &[&Requirement], command: &str) -> Result<()> {
+    let missing: Vec<&Requirement> = requirements
+        .iter()
+        .copied()
+        .filter(|r| !(r.present)())
+        .collect();
     if missing.is_empty() {
         return Ok(());
     }
@@ -63,8 +80,8 @@ pub fn ensure_test_requirements() -> Result<()> {
         .join("; ");
     if !(is_debian_like() && is_root()) {
         bail!(
-            "missing: {needs}.\nInstall the Debian/Ubuntu packages: apt-get install {}\n\
-             (cargo xtask test installs them itself when run as root on Debian/Ubuntu)",
+            "missing: {needs}.\nInstall the Debian/Ubuntu packages: sudo apt-get install {}\n\
+             (cargo xtask {command} installs them itself when run as root on Debian/Ubuntu)",
             packages.join(" ")
         );
     }
@@ -73,13 +90,40 @@ pub fn ensure_test_requirements() -> Result<()> {
     let mut install = vec!["install", "-y", "--no-install-recommends"];
     install.extend(&packages);
     apt(&install)?;
-    if let Some(still) = REQUIREMENTS.iter().find(|r| !(r.present)()) {
+    if let Some(still) = missing.iter().find(|r| !(r.present)()) {
         bail!(
             "installed {} but still missing {}",
             packages.join(" "),
             still.what
         );
     }
+    Ok(())
+}
+
+/// Gives the process a private `XDG_RUNTIME_DIR` when it has none, so that Mesa does not print
+/// "XDG_RUNTIME_DIR is invalid or not set" on every device it opens. Child processes (the
+/// tests) inherit it. Call before any thread starts.
+pub fn private_runtime_dir() -> Result<()> {
+    if std::env::var_os("XDG_RUNTIME_DIR").is_some_and(|d| Path::new(&d).is_dir()) {
+        return Ok(());
+    }
+    #[cfg(unix)]
+    let user = {
+        use std::os::unix::fs::MetadataExt as _;
+        std::fs::metadata("/proc/self").map_or(0, |m| m.uid())
+    };
+    #[cfg(not(unix))]
+    let user = 0;
+    let dir = std::env::temp_dir().join(format!("xtask-runtime-{user}"));
+    std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt as _;
+        std::fs::set_permissions(&dir, std::fs::Permissions::from_mode(0o700))
+            .with_context(|| format!("making {} private", dir.display()))?;
+    }
+    // SAFETY: called first thing in `main`, before any other thread exists.
+    unsafe { std::env::set_var("XDG_RUNTIME_DIR", &dir) };
     Ok(())
 }
 

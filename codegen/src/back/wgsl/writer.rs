@@ -392,7 +392,7 @@ impl<'a> Writer<'a> {
     fn inclusive_loop(&mut self, var: usize, from: &'a Expr, end: &'a Expr, body: &'a Block) {
         let name = self.locals[var].name.clone();
         let ty = self.ty(&self.locals[var].ty);
-        let _ = write!(self.out, "{{\n");
+        self.out.push_str("{\n");
         self.indent += 1;
         self.line_start();
         let _ = write!(self.out, "var {name}: {ty} = ");
