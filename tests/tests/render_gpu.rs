@@ -1,6 +1,7 @@
-//! The renderer end to end on the committed glTF scene: culling never changes the image. For
-//! seeded light sets, the tiled, 2.5D and clustered Forward+ images equal the naive forward image
-//! (every light at every pixel) within a stated tolerance, at MSAA 1 and 4.
+//! The renderer end to end on the committed glTF scene and the built-in courtyard: culling never
+//! changes the image. For seeded light sets, the tiled, 2.5D and clustered Forward+ images equal
+//! the naive forward image (every light at every pixel) within a stated tolerance, at MSAA 1 and
+//! 4 (the courtyard at 4).
 
 use std::path::Path;
 
@@ -177,4 +178,45 @@ fn clustered_equals_naive_on_a_shared_scene_with_msaa() {
         .max()
         .unwrap_or(0);
     assert!(worst <= 1, "clustered differs from naive by {worst}");
+}
+
+#[test]
+fn the_built_in_courtyard_culled_equals_naive() {
+    use renderer::scene::procedural::{COURTYARD_LIGHT_REGION, courtyard};
+    let scene = courtyard();
+    let lights = procedural_lights(COURTYARD_LIGHT_REGION, 256, 7, 0.8, 2.6);
+    gpu_test(|gpu| {
+        let frame = |path| {
+            let config = RendererConfig {
+                width: 128,
+                height: 72,
+                msaa: 4,
+                path,
+                tile: 16,
+                ..Default::default()
+            };
+            let f = render_frame(gpu, &scene, config, &lights);
+            assert_eq!(
+                f.culling.map_or(0, |c| c.dropped),
+                0,
+                "{path:?} dropped lights"
+            );
+            f.rgba
+        };
+        let naive = frame(RenderPath::Naive);
+        for path in [
+            RenderPath::Tiled,
+            RenderPath::Depth25,
+            RenderPath::Clustered,
+        ] {
+            let culled = frame(path);
+            let worst = naive
+                .iter()
+                .zip(&culled)
+                .map(|(a, b)| a.abs_diff(*b))
+                .max()
+                .unwrap_or(0);
+            assert!(worst <= 1, "{path:?}: differs from naive by {worst}");
+        }
+    });
 }

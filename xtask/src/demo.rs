@@ -1,5 +1,5 @@
 //! `cargo xtask demo`: the main job, and the first command a new user runs. It installs the
-//! software Vulkan driver where it can, renders the demo scene with 1,024 lights (640×360,
+//! software Vulkan driver where it can, renders the built-in courtyard with 1,024 lights (640×360,
 //! MSAA 4 where supported, tiled Forward+), and writes `target/demo/frame.png`,
 //! `target/demo/heatmap.png` (lights per pixel, with its legend) and `target/demo/graph.dot`
 //! (the compiled frame graph), with a summary of at most about 20 lines.
@@ -14,6 +14,9 @@ pub struct Args {
     /// Use the adapter whose name contains this (case-insensitive); also `RENDERER_ADAPTER`.
     #[arg(long)]
     adapter: Option<String>,
+    /// Exposure in stops (2^EV before the tonemap); defaults to the courtyard's calibrated 0.5.
+    #[arg(long, allow_negative_numbers = true)]
+    exposure: Option<f32>,
     /// Output folder; defaults to target/demo.
     #[arg(long)]
     out_dir: Option<std::path::PathBuf>,
@@ -35,6 +38,7 @@ pub fn run(args: &Args) -> Result<()> {
         eye: None,
         target: None,
         view: "lit".into(),
+        exposure: args.exposure,
         out: None,
         adapter: args.adapter.clone(),
         msaa_fallback: true,
@@ -63,10 +67,7 @@ pub fn run(args: &Args) -> Result<()> {
 #[expect(clippy::print_stdout, reason = "the demo's report")]
 fn summary(s: &Setup, shot: &Shot, files: &[std::path::PathBuf], secs: f64) {
     let c = &s.config;
-    let name = s
-        .scene_path
-        .file_stem()
-        .map_or_else(|| "scene".into(), |n| n.to_string_lossy().into_owned());
+    let name = &s.scene_name;
     println!(
         "demo: {name} ({} triangles), {} lights, {}x{}, {:?} Forward+, MSAA {}, tile {}{}",
         s.scene.triangle_count(),

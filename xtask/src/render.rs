@@ -9,14 +9,23 @@ use renderer::culling::lists::CullCounters;
 use renderer::frame::setup::{create_target, framing_camera, procedural_lights, scene_camera};
 use renderer::frame::{FrameCamera, FrameReport, FrameView, Renderer, RendererConfig};
 use renderer::graph::PassTiming;
+use renderer::scene::procedural::{COURTYARD_LIGHT_REGION, courtyard};
 use renderer::scene::{Scene, SceneLight};
+
+/// The `--scene` name of the built-in scene.
+pub const BUILTIN_SCENE: &str = "courtyard";
+/// The courtyard's exposure, ambient (a dusk sky's fill light) and sky colour, chosen so that
+/// 1,024 lights read as pools of colour with the architecture still visible.
+const COURTYARD_EV: f32 = 0.5;
+const COURTYARD_AMBIENT: Vec3 = Vec3::new(0.05, 0.055, 0.07);
+const COURTYARD_SKY: Vec3 = Vec3::new(0.025, 0.03, 0.05);
 use renderer::{GpuContext, GpuOptions, readback};
 
 use crate::bench::matrix::{PathChoice, parse_size};
 
 #[derive(Debug, Clone, clap::Args)]
 pub struct Args {
-    /// glTF scene (.gltf or .glb); without it, the committed tests/scenes/AlphaBlendModeTest.
+    /// glTF scene (.gltf or .glb); without it (or with `courtyard`), the built-in courtyard.
     #[arg(long)]
     pub scene: Option<PathBuf>,
     /// Procedural point lights added to the scene's own.
@@ -25,8 +34,8 @@ pub struct Args {
     /// Seed of the procedural lights.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Range of light radii in scene units, MIN,MAX (0 < MIN <= MAX); defaults to 3%..20% of
-    /// the scene's size.
+    /// Range of light radii in scene units, MIN,MAX (0 < MIN <= MAX); defaults to 0.8,2.6 in
+    /// the courtyard, 3%..20% of a file scene's size.
     #[arg(long, value_parser = parse_radius_range)]
     pub light_radius: Option<(f32, f32)>,
     /// naive | naive-prez | tiled | 2.5d | clustered (naive: every light at every fragment, no
@@ -48,12 +57,17 @@ pub struct Args {
     /// Use the scene's camera with this index.
     #[arg(long, conflicts_with_all = ["eye", "target"])]
     pub camera: Option<usize>,
-    /// Camera position X,Y,Z (with --target); default: a camera framing the scene's bounds.
+    /// Camera position X,Y,Z (with --target); default: the scene's first camera, else one
+    /// framing the scene's bounds.
     #[arg(long, value_parser = parse_vec3, requires = "target")]
     pub eye: Option<Vec3>,
     /// Point the camera looks at, X,Y,Z (with --eye).
     #[arg(long, value_parser = parse_vec3, requires = "eye")]
     pub target: Option<Vec3>,
+    /// Exposure in stops (EV, the HDR colour is scaled by 2^EV before the ACES tonemap);
+    /// defaults to a value calibrated for the courtyard, 0 for file scenes.
+    #[arg(long, allow_negative_numbers = true, value_parser = parse_exposure)]
+    pub exposure: Option<f32>,
     /// lit | heatmap: the shaded image, or the light count of each pixel's list with a legend.
     #[arg(long, default_value = "lit")]
     pub view: String,
@@ -72,7 +86,8 @@ pub struct Args {
 pub struct Setup {
     pub gpu: GpuContext,
     pub scene: Scene,
-    pub scene_path: PathBuf,
+    /// The file, or the built-in scene's name.
+    pub scene_name: String,
     pub lights: Vec<SceneLight>,
     pub camera: FrameCamera,
     pub config: RendererConfig,
@@ -107,19 +122,24 @@ pub fn setup(args: &Args) -> Result<Setup> {
     if !matches!(args.scalarize.as_str(), "auto" | "on" | "off") {
         bail!("--scalarize {:?}: use auto, on or off", args.scalarize);
     }
-    let root = crate::workspace_root();
-    let scene_path = args
+    let builtin = args
         .scene
-        .clone()
-        .unwrap_or_else(|| root.join("tests/scenes/AlphaBlendModeTest/AlphaBlendModeTest.glb"));
-    if !scene_path.is_file() {
-        bail!(
-            "--scene {}: no such file (give a .gltf or .glb file)",
-            scene_path.display()
-        );
-    }
-    let scene = Scene::load(&scene_path)
-        .with_context(|| format!("--scene {}: cannot load it", scene_path.display()))?;
+        .as_ref()
+        .is_none_or(|p| p.as_os_str() == BUILTIN_SCENE);
+    let (scene, scene_name) = if builtin {
+        (courtyard(), BUILTIN_SCENE.to_string())
+    } else {
+        let path = args.scene.clone().expect("not built-in");
+        if !path.is_file() {
+            bail!(
+                "--scene {}: no such file (give a .gltf or .glb file, or {BUILTIN_SCENE})",
+                path.display()
+            );
+        }
+        let scene = Scene::load(&path)
+            .with_context(|| format!("--scene {}: cannot load it", path.display()))?;
+        (scene, path.display().to_string())
+    };
     let gpu =
         GpuContext::new_blocking(&GpuOptions::from_env().with_adapter_name(args.adapter.clone()))?;
     let max = gpu.device.limits().max_texture_dimension_2d;
@@ -149,13 +169,29 @@ pub fn setup(args: &Args) -> Result<Setup> {
         tile: args.tile,
         scalarize,
         view,
+        exposure: 2f32.powf(
+            args.exposure
+                .unwrap_or(if builtin { COURTYARD_EV } else { 0.0 }),
+        ),
+        ambient: if builtin {
+            COURTYARD_AMBIENT
+        } else {
+            RendererConfig::default().ambient
+        },
+        sky: if builtin { COURTYARD_SKY } else { Vec3::ZERO },
         ..Default::default()
     };
-    let size = (scene.bounds.max - scene.bounds.min).length();
-    let (rmin, rmax) = args.light_radius.unwrap_or((size * 0.03, size * 0.2));
+    // Lights fill the built-in courtyard's open space in pools; a file's scene, its bounds.
+    let (region, default_radius) = if builtin {
+        (COURTYARD_LIGHT_REGION, (0.8, 2.6))
+    } else {
+        let size = (scene.bounds.max - scene.bounds.min).length();
+        (scene.bounds, (size * 0.03, size * 0.2))
+    };
+    let (rmin, rmax) = args.light_radius.unwrap_or(default_radius);
     let mut lights = scene.lights.clone();
     lights.extend(procedural_lights(
-        scene.bounds,
+        region,
         args.lights,
         args.seed,
         rmin,
@@ -165,7 +201,7 @@ pub fn setup(args: &Args) -> Result<Setup> {
     Ok(Setup {
         gpu,
         scene,
-        scene_path,
+        scene_name,
         lights,
         camera,
         config,
@@ -238,7 +274,7 @@ pub fn run(args: &Args, default_out: &str) -> Result<()> {
     println!("adapter: {}", s.gpu.report);
     println!(
         "scene {} ({} triangles), {} lights, {}x{}, MSAA {}, path {}, tile {}, scalarize {}",
-        s.scene_path.display(),
+        s.scene_name,
         s.scene.triangle_count(),
         s.lights.len(),
         size.0,
@@ -307,7 +343,16 @@ fn pick_camera(args: &Args, scene: &Scene, aspect: f32) -> Result<FrameCamera> {
             far,
         ));
     }
-    Ok(framing_camera(scene.bounds, aspect))
+    match scene.cameras.first() {
+        Some(c) => Ok(scene_camera(
+            c.world_from_view,
+            c.yfov,
+            aspect,
+            c.znear,
+            c.zfar.unwrap_or(size * 10.0),
+        )),
+        None => Ok(framing_camera(scene.bounds, aspect)),
+    }
 }
 
 /// Comma-separated finite numbers, exactly `N` of them.
@@ -329,6 +374,16 @@ fn parse_radius_range(s: &str) -> Result<(f32, f32), String> {
         Ok((min, max))
     } else {
         Err(format!("{s:?}: give MIN,MAX with 0 < MIN <= MAX"))
+    }
+}
+
+/// An exposure in stops, within ±16.
+fn parse_exposure(s: &str) -> Result<f32, String> {
+    let [ev] = parse_numbers::<1>(s, "a number of stops (e.g. 0.5 or -1)")?;
+    if ev.abs() <= 16.0 {
+        Ok(ev)
+    } else {
+        Err(format!("{s:?}: give an exposure between -16 and 16 stops"))
     }
 }
 

@@ -56,6 +56,9 @@ pub struct RendererConfig {
     pub output_format: wgpu::TextureFormat,
     /// Ambient light, linear RGB.
     pub ambient: Vec3,
+    /// Background where no surface is drawn, linear HDR RGB (before exposure).
+    pub sky: Vec3,
+    /// Scale of the HDR colour before tonemapping (`2^EV`).
     pub exposure: f32,
     /// Shaded image or light-count heatmap.
     pub view: FrameView,
@@ -74,6 +77,7 @@ impl Default for RendererConfig {
             scalarize: false,
             output_format: wgpu::TextureFormat::Rgba8UnormSrgb,
             ambient: Vec3::splat(0.03),
+            sky: Vec3::ZERO,
             exposure: 1.0,
             view: FrameView::Lit,
             heatmap_max: 256,

@@ -229,6 +229,7 @@ impl ForwardPass {
         let lighting = self.lighting.clone();
         let lights = Arc::clone(&frame.lights);
         let eye = frame.camera.eye;
+        let sky = frame.config.sky;
         move |ctx| {
             let mut frame_resources = vec![
                 camera.as_entire_binding(),
@@ -259,7 +260,12 @@ impl ForwardPass {
                     depth_slice: None,
                     resolve_target: msaa_view.as_ref().map(|_| &resolved_view),
                     ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                        load: wgpu::LoadOp::Clear(wgpu::Color {
+                            r: f64::from(sky.x),
+                            g: f64::from(sky.y),
+                            b: f64::from(sky.z),
+                            a: 1.0,
+                        }),
                         store: wgpu::StoreOp::Store,
                     },
                 })],

@@ -1,9 +1,17 @@
-//! Scenes built in code rather than loaded: boxes and planes with flat PBR materials, for tests
-//! that need a particular geometry (a grazing floor, thin rails) and for built-in demo scenes.
+//! Scenes built in code rather than loaded: boxes, planes and spheres with PBR materials (flat
+//! or with procedural textures), for tests that need a particular geometry (a grazing floor,
+//! thin rails) and for the built-in demo scene, [`courtyard`].
 
-use glam::{Mat4, Vec2, Vec3, Vec4};
+mod courtyard;
+mod shapes;
+mod textures;
 
-use super::{Aabb, AlphaMode, Instance, Material, Mesh, Primitive, Scene};
+pub use courtyard::{LIGHT_REGION as COURTYARD_LIGHT_REGION, courtyard};
+
+use glam::{Mat4, Vec3};
+
+use super::{Aabb, AlphaMode, Image, Instance, Material, Mesh, Primitive, Scene, SceneCamera};
+use shapes::{cuboid, sphere};
 
 /// Builds a [`Scene`] one box at a time.
 #[derive(Debug, Default)]
@@ -42,14 +50,42 @@ impl SceneBuilder {
         scene.materials.len() - 1
     }
 
+    /// Adds any material; returns its index.
+    pub fn add_material(&mut self, material: Material) -> usize {
+        let scene = self.scene();
+        scene.materials.push(material);
+        scene.materials.len() - 1
+    }
+
+    /// Adds an RGBA8 image for materials to sample; returns its index.
+    pub fn image(&mut self, image: Image) -> usize {
+        let scene = self.scene();
+        scene.images.push(image);
+        scene.images.len() - 1
+    }
+
+    /// Adds a camera.
+    pub fn camera(&mut self, camera: SceneCamera) -> &mut Self {
+        self.scene().cameras.push(camera);
+        self
+    }
+
     /// Adds an axis-aligned box from `min` to `max` (a flat plane when one extent is zero: it
     /// then keeps only the two faces across that axis) with `material`.
     pub fn cuboid(&mut self, min: Vec3, max: Vec3, material: usize) -> &mut Self {
-        let primitive = cuboid(min, max, material);
+        self.primitive("box", cuboid(min, max, material))
+    }
+
+    /// Adds a sphere (a UV sphere of 16 rings × 32 segments).
+    pub fn sphere(&mut self, center: Vec3, radius: f32, material: usize) -> &mut Self {
+        self.primitive("sphere", sphere(center, radius, material))
+    }
+
+    fn primitive(&mut self, kind: &str, primitive: Primitive) -> &mut Self {
         let scene = self.scene();
         scene.bounds = scene.bounds.union(primitive.bounds);
         scene.meshes.push(Mesh {
-            name: format!("box {}", scene.meshes.len()),
+            name: format!("{kind} {}", scene.meshes.len()),
             primitives: vec![primitive],
         });
         scene.instances.push(Instance {
@@ -75,49 +111,6 @@ impl SceneBuilder {
     }
 }
 
-/// The faces of a box: outward normal, then the face's u and v axes (u × v = normal).
-const FACES: [[Vec3; 3]; 6] = [
-    [Vec3::X, Vec3::NEG_Z, Vec3::Y],
-    [Vec3::NEG_X, Vec3::Z, Vec3::Y],
-    [Vec3::Y, Vec3::X, Vec3::NEG_Z],
-    [Vec3::NEG_Y, Vec3::X, Vec3::Z],
-    [Vec3::Z, Vec3::X, Vec3::Y],
-    [Vec3::NEG_Z, Vec3::NEG_X, Vec3::Y],
-];
-
-fn cuboid(min: Vec3, max: Vec3, material: usize) -> Primitive {
-    let (center, half) = ((min + max) * 0.5, (max - min) * 0.5);
-    let flat_axis = (0..3).find(|&a| half[a] == 0.0);
-    let mut p = Primitive {
-        positions: Vec::new(),
-        normals: Vec::new(),
-        uvs: Vec::new(),
-        tangents: Vec::new(),
-        indices: Vec::new(),
-        material: Some(material),
-        bounds: Aabb { min, max },
-    };
-    for [n, u, v] in FACES {
-        // A plane keeps only its two faces across the flat axis.
-        if flat_axis.is_some_and(|a| n[a] == 0.0) {
-            continue;
-        }
-        let base = p.positions.len() as u32;
-        for (su, sv) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
-            let corner = n + u * su + v * sv;
-            p.positions.push(center + corner * half);
-            p.normals.push(n);
-            // UVs in world units, so textures and tangents keep their scale on long boxes.
-            let extent = Vec2::new((u * half).length(), (v * half).length());
-            p.uvs.push(Vec2::new(su, -sv) * extent);
-            p.tangents.push(Vec4::new(u.x, u.y, u.z, 1.0));
-        }
-        p.indices
-            .extend([base, base + 1, base + 2, base, base + 2, base + 3]);
-    }
-    p
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -140,6 +133,19 @@ mod tests {
                 let [a, b, c] = [0, 1, 2].map(|i| prim.positions[t[i] as usize]);
                 let geometric = (b - a).cross(c - a);
                 assert!(geometric.dot(prim.normals[t[0] as usize]) > 0.0);
+            }
+        }
+        let mut b = SceneBuilder::new();
+        let m = b.material("grey", Vec3::splat(0.5), 0.6);
+        b.sphere(Vec3::new(1.0, 2.0, 3.0), 0.5, m);
+        let ball = b.build();
+        let sphere = &ball.meshes[0].primitives[0];
+        for t in sphere.indices.chunks(3) {
+            let [a, b, c] = [0, 1, 2].map(|i| sphere.positions[t[i] as usize]);
+            let geometric = (b - a).cross(c - a);
+            // Pole triangles are degenerate (two vertices at the pole); the rest face out.
+            if geometric.length() > 1e-6 {
+                assert!(geometric.dot(a - Vec3::new(1.0, 2.0, 3.0)) > 0.0);
             }
         }
         assert_eq!(scene.bounds.min, Vec3::new(-5.0, 0.0, -5.0));
