@@ -24,7 +24,7 @@ pub fn render_frame(
 ) -> Frame {
     let mut renderer = Renderer::new(gpu, config).expect("renderer");
     renderer.prepare_scene(scene);
-    renderer.set_lights(lights);
+    renderer.set_lights(lights).expect("lights fit");
     let target = create_target(&gpu.device, &config);
     let camera = framing_camera(scene.bounds, config.width as f32 / config.height as f32);
     let report = renderer.render(&camera, &target).expect("frame");

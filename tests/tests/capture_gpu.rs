@@ -32,7 +32,7 @@ fn capture(path: RenderPath, msaa: u32, stride: u32) -> renderer::frame::capture
     gpu_test(|gpu| {
         let mut renderer = Renderer::new(gpu, config).expect("renderer");
         renderer.prepare_scene(&scene);
-        renderer.set_lights(&lights);
+        renderer.set_lights(&lights).expect("lights fit");
         let target = create_target(&gpu.device, &config);
         let camera = framing_camera(scene.bounds, 1.5);
         assert!(

@@ -89,7 +89,7 @@ fn render(scene: &Scene, path: RenderPath, msaa: u32) -> Vec<u8> {
         );
         let mut renderer = Renderer::new(gpu, config).expect("renderer");
         renderer.prepare_scene(scene);
-        renderer.set_lights(&lights);
+        renderer.set_lights(&lights).expect("lights fit");
         let target = create_target(&gpu.device, &config);
         renderer.render(&grazing_camera(), &target).expect("frame");
         renderer.finish();

@@ -121,7 +121,9 @@ fn a_pass_from_outside_the_renderer_joins_the_frame() {
         assert!(renderer.pass::<HdrSnapshot>().is_some());
 
         renderer.prepare_scene(&scene);
-        renderer.set_lights(&procedural_lights(scene.bounds, 32, 3, 0.5, 2.0));
+        renderer
+            .set_lights(&procedural_lights(scene.bounds, 32, 3, 0.5, 2.0))
+            .expect("lights fit");
         let target = create_target(&gpu.device, &config);
         let camera = framing_camera(scene.bounds, WIDTH as f32 / HEIGHT as f32);
         let report = renderer.render(&camera, &target).expect("frame");

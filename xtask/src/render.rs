@@ -8,6 +8,7 @@ use glam::Vec3;
 use renderer::culling::lists::CullCounters;
 use renderer::frame::setup::{create_target, framing_camera, procedural_lights, scene_camera};
 use renderer::frame::{FrameCamera, FrameReport, FrameView, Renderer, RendererConfig};
+use renderer::frame_data::LightSet;
 use renderer::graph::PassTiming;
 use renderer::scene::procedural::{COURTYARD_LIGHT_REGION, courtyard};
 use renderer::scene::{Scene, SceneLight};
@@ -146,6 +147,13 @@ pub fn setup(args: &Args) -> Result<Setup> {
     if w > max || h > max {
         bail!("--size {w}x{h}: this adapter's largest texture side is {max}");
     }
+    let most = LightSet::max_lights(&gpu.device);
+    if args.lights > most {
+        bail!(
+            "--lights {}: this device holds at most {most} lights",
+            args.lights
+        );
+    }
     let counts = gpu.capabilities().msaa_counts();
     if !counts.contains(&args.msaa) && !args.msaa_fallback {
         bail!(
@@ -213,7 +221,7 @@ pub fn shoot(s: &Setup, view: FrameView, efficiency: bool) -> Result<Shot> {
     let config = RendererConfig { view, ..s.config };
     let mut renderer = Renderer::new(&s.gpu, config)?;
     renderer.prepare_scene(&s.scene);
-    renderer.set_lights(&s.lights);
+    renderer.set_lights(&s.lights)?;
     let target = create_target(&s.gpu.device, &config);
     if efficiency {
         renderer.capture_next_frame(4)?;

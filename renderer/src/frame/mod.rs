@@ -22,7 +22,7 @@
 //! renderer.prepare_scene(&scene);
 //! let mut lights = scene.lights.clone();
 //! lights.extend(procedural_lights(scene.bounds, 4096, 1, 0.5, 3.0));
-//! renderer.set_lights(&lights);
+//! renderer.set_lights(&lights)?;
 //!
 //! // The engine's own target: any texture of `config.output_format` with RENDER_ATTACHMENT
 //! // (this helper makes one of the configured size).
@@ -139,8 +139,9 @@ impl Renderer {
     }
 
     /// Replaces the lights (scene lights and any procedural ones), effective next frame.
-    pub fn set_lights(&mut self, lights: &[SceneLight]) {
-        self.lights = Arc::new(LightSet::new(&self.gpu.device, lights));
+    pub fn set_lights(&mut self, lights: &[SceneLight]) -> Result<(), RenderError> {
+        self.lights = Arc::new(LightSet::checked(&self.gpu.device, lights)?);
+        Ok(())
     }
 
     /// Changes the frame size; passes rebuild what depends on it on the next frame.

@@ -44,4 +44,9 @@ pub enum RenderError {
     Readback(#[from] crate::GpuError),
     #[error("GPU timing failed: {0}")]
     Profiler(String),
+    #[error(
+        "{count} lights do not fit this device's light buffer (at most {max}: the storage \
+         binding size limit); use fewer lights"
+    )]
+    TooManyLights { count: usize, max: usize },
 }

@@ -26,6 +26,29 @@ pub struct LightSet {
 }
 
 impl LightSet {
+    /// The most lights `device` can hold in one binding: the light records (the largest per-light
+    /// buffer a pass binds) must fit the storage-binding and buffer size limits.
+    pub fn max_lights(device: &wgpu::Device) -> usize {
+        let limits = device.limits();
+        let bytes = u64::from(limits.max_storage_buffer_binding_size).min(limits.max_buffer_size);
+        (bytes / size_of::<forward::GpuLight>() as u64) as usize
+    }
+
+    /// [`LightSet::new`], or [`super::RenderError::TooManyLights`] past [`LightSet::max_lights`].
+    pub fn checked(
+        device: &wgpu::Device,
+        lights: &[SceneLight],
+    ) -> Result<Self, super::RenderError> {
+        let max = Self::max_lights(device);
+        if lights.len() > max {
+            return Err(super::RenderError::TooManyLights {
+                count: lights.len(),
+                max,
+            });
+        }
+        Ok(Self::new(device, lights))
+    }
+
     /// Converts scene lights (and any procedural ones) and uploads them.
     pub fn new(device: &wgpu::Device, lights: &[SceneLight]) -> Self {
         let mut punctual = Vec::new();

@@ -76,7 +76,7 @@ pub fn measure(
     let mut frame = 0u32;
     let mut dropped = 0;
     let render = |renderer: &mut Renderer, frame: &mut u32| -> Result<_> {
-        renderer.set_lights(&lights.at(*frame));
+        renderer.set_lights(&lights.at(*frame))?;
         *frame += 1;
         let report = renderer.render(camera, target)?;
         renderer.wait_for_frames_in_flight(1)?;
@@ -184,7 +184,7 @@ pub fn cull_efficiency(
     stride: u32,
     reaching: &mut Option<Reaching>,
 ) -> Result<Option<f64>> {
-    renderer.set_lights(&lights.at(0));
+    renderer.set_lights(&lights.at(0))?;
     renderer.capture_next_frame(stride)?;
     renderer.render(camera, target)?;
     let Some(capture) = renderer.take_capture()? else {
