@@ -30,7 +30,9 @@ impl LightSet {
     /// buffer a pass binds) must fit the storage-binding and buffer size limits.
     pub fn max_lights(device: &wgpu::Device) -> usize {
         let limits = device.limits();
-        let bytes = u64::from(limits.max_storage_buffer_binding_size).min(limits.max_buffer_size);
+        let bytes = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
         (bytes / size_of::<forward::GpuLight>() as u64) as usize
     }
 

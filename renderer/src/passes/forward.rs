@@ -229,7 +229,7 @@ impl ForwardPass {
         let lighting = self.lighting.clone();
         let lights = Arc::clone(&frame.lights);
         let eye = frame.camera.eye;
-        let sky = frame.config.sky;
+        let sky = sky_color(frame.config.sky);
         move |ctx| {
             let mut frame_resources = vec![
                 camera.as_entire_binding(),
@@ -260,12 +260,7 @@ impl ForwardPass {
                     depth_slice: None,
                     resolve_target: msaa_view.as_ref().map(|_| &resolved_view),
                     ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color {
-                            r: f64::from(sky.x),
-                            g: f64::from(sky.y),
-                            b: f64::from(sky.z),
-                            a: 1.0,
-                        }),
+                        load: wgpu::LoadOp::Clear(sky),
                         store: wgpu::StoreOp::Store,
                     },
                 })],
@@ -303,5 +298,15 @@ impl ForwardPass {
                 );
             }
         }
+    }
+}
+
+/// The HDR clear colour where no surface is drawn.
+fn sky_color(sky: glam::Vec3) -> wgpu::Color {
+    wgpu::Color {
+        r: f64::from(sky.x),
+        g: f64::from(sky.y),
+        b: f64::from(sky.z),
+        a: 1.0,
     }
 }

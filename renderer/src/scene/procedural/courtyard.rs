@@ -152,28 +152,47 @@ pub fn courtyard() -> Scene {
         Vec3::new(14.0, 4.0, 12.0),
         p.plaster,
     );
-    // The back arcade: six columns, five arches, an entablature.
+    arcades(&mut b, &p);
+    screens_and_rails(&mut b, &p);
+    fountain_and_spheres(&mut b, &p);
+    let eye = Vec3::new(9.0, 3.4, 11.0);
+    let target = Vec3::new(-2.5, 2.0, -5.0);
+    b.camera(SceneCamera {
+        world_from_view: glam::camera::rh::view::look_at_mat4(eye, target, Vec3::Y).inverse(),
+        yfov: 55f32.to_radians(),
+        aspect: None,
+        znear: 0.1,
+        zfar: Some(80.0),
+    });
+    b.build()
+}
+
+/// The back arcade (six columns, five arches, an entablature) and the left one.
+fn arcades(b: &mut SceneBuilder, p: &Palette) {
     let xs = [-10.0, -6.0, -2.0, 2.0, 6.0, 10.0];
     for x in xs {
-        column(&mut b, &p, x, -8.0);
+        column(b, p, x, -8.0);
     }
     for pair in xs.windows(2) {
-        arch(&mut b, &p, (pair[0] + pair[1]) * 0.5, -8.0, 3.2, false);
+        arch(b, p, (pair[0] + pair[1]) * 0.5, -8.0, 3.2, false);
     }
     b.cuboid(
         Vec3::new(-10.6, 7.1, -8.4),
         Vec3::new(10.6, 7.6, -7.6),
         p.column,
     );
-    // The left arcade, down the side.
     let zs = [-4.0, 0.0, 4.0, 8.0];
     for z in zs {
-        column(&mut b, &p, -10.0, z);
+        column(b, p, -10.0, z);
     }
     for pair in zs.windows(2) {
-        arch(&mut b, &p, -10.0, (pair[0] + pair[1]) * 0.5, 3.2, true);
+        arch(b, p, -10.0, (pair[0] + pair[1]) * 0.5, 3.2, true);
     }
-    // Between columns: a glass pane, an iron grille, and a leaf canopy over the far corner.
+}
+
+/// Between columns a glass pane and iron grilles, a leaf canopy over the far corner, and thin
+/// rails in front of the back wall.
+fn screens_and_rails(b: &mut SceneBuilder, p: &Palette) {
     b.cuboid(
         Vec3::new(-10.03, 0.4, 0.4),
         Vec3::new(-9.97, 3.4, 3.6),
@@ -194,7 +213,6 @@ pub fn courtyard() -> Scene {
         Vec3::new(13.4, 4.2, -8.6),
         p.leaves,
     );
-    // Thin rails in front of the back wall.
     for i in 0..25 {
         let x = -12.0 + i as f32;
         b.cuboid(
@@ -208,7 +226,11 @@ pub fn courtyard() -> Scene {
         Vec3::new(12.1, 1.12, -11.52),
         p.bronze,
     );
-    // A fountain: a basin of four low walls round a bronze pillar, and a glass cube.
+}
+
+/// A fountain (a basin of four low walls round a bronze pillar), a glass cube, and the PBR
+/// spheres on plinths at three depths.
+fn fountain_and_spheres(b: &mut SceneBuilder, p: &Palette) {
     let (fx, fz) = (1.5, -1.5);
     for (min, max) in [
         ((-1.6, -1.6), (1.6, -1.3)),
@@ -232,7 +254,6 @@ pub fn courtyard() -> Scene {
         Vec3::new(-4.0, 1.5, 4.5),
         p.glass,
     );
-    // PBR spheres on plinths at three depths.
     for (i, &m) in p.spheres.iter().enumerate() {
         let x = -7.0 + 2.6 * i as f32;
         let z = [5.0, -4.0, 1.5][i % 3];
@@ -243,16 +264,6 @@ pub fn courtyard() -> Scene {
         );
         b.sphere(Vec3::new(x, 1.45, z), 0.65, m);
     }
-    let eye = Vec3::new(9.0, 3.4, 11.0);
-    let target = Vec3::new(-2.5, 2.0, -5.0);
-    b.camera(SceneCamera {
-        world_from_view: glam::camera::rh::view::look_at_mat4(eye, target, Vec3::Y).inverse(),
-        yfov: 55f32.to_radians(),
-        aspect: None,
-        znear: 0.1,
-        zfar: Some(80.0),
-    });
-    b.build()
 }
 
 #[cfg(test)]
