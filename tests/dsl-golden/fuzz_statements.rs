@@ -8,6 +8,11 @@
 // - `for i in a..=u32::MAX` printed `i <= 4294967295u; i++`, which wraps and never ends. An
 //   inclusive range whose end is not a literal below the maximum is now a `loop` whose
 //   `continuing` block breaks after the last value.
+// - `x >>= n` with a runtime `n` was printed unmasked (undefined in SPIR-V for n >= 32, and a
+//   vector amount with a constant lane >= 32 did not compile); compound shifts are masked like
+//   `x >> n`.
+// - `i32` `abs`: lavapipe took SPIR-V's SAbs to be non-negative and folded
+//   `abs(abs(i32::MIN) >> n)` wrongly; it is printed through a `dsl_abs_i32` helper.
 #[shader_dsl::shader]
 pub mod fuzz_statements {
     pub struct Io {
@@ -38,6 +43,16 @@ pub mod fuzz_statements {
         for k in 1u32..=4u32 {
             top += k;
         }
-        IO.out = UVec4::new(select(flag, 1u32, 0u32), trips, n, top);
+        let mut bits = IO.a.x as i32;
+        bits >>= IO.a.y;
+        let mut lanes = UVec2::new(IO.a.z, IO.a.w);
+        lanes <<= UVec2::new(IO.a.x, 33u32);
+        let magnitude = (bits.abs() >> IO.a.z).abs() + IVec2::splat(bits).abs().x;
+        IO.out = UVec4::new(
+            select(flag, 1u32, 0u32) + lanes.x + lanes.y,
+            trips,
+            n + magnitude as u32,
+            top,
+        );
     }
 }

@@ -42,3 +42,47 @@ fn generated_statement_programs_match_the_host_interpreter() {
     assert!(report.failures.is_empty(), "{}", text.join("\n\n"));
     assert_eq!(report.expressions, cfg.cases);
 }
+
+/// Shrunk findings of `fuzz-dsl`, kept as fixed cases with the inputs that exposed them.
+#[test]
+fn fuzz_findings_stay_fixed_on_the_gpu() {
+    use tests::dsl_fuzz::ast::{E, Kind, Sc, T, Tol};
+    use tests::dsl_fuzz::run::{Outcome, ROWS, WORDS, compare, compile, run_gpu};
+    let leaf = |s: Sc, i: usize| E {
+        ty: T::scalar(s),
+        kind: Kind::Input(i),
+    };
+    let i32_ty = T::scalar(Sc::I32);
+    let abs = |x: E| E {
+        ty: i32_ty,
+        kind: Kind::Method("abs", Box::new(x), vec![]),
+    };
+    // `(i3.abs() >> u0).abs()` with i3 = i32::MIN: lavapipe took SPIR-V's SAbs to be
+    // non-negative and dropped the outer abs (-256 instead of 256). Printed through the
+    // `dsl_abs_i32` helper now.
+    let shifted = E {
+        ty: i32_ty,
+        kind: Kind::Bin(
+            ">>",
+            Box::new(abs(leaf(Sc::I32, 3))),
+            Box::new(leaf(Sc::U32, 0)),
+        ),
+    };
+    let x = abs(shifted);
+    let mut inputs = vec![0u32; ROWS * WORDS];
+    for row in 0..ROWS {
+        inputs[row * WORDS + 3] = i32::MIN as u32;
+        inputs[row * WORDS + 4] = row as u32 % 32;
+    }
+    gpu_test(|gpu| {
+        let c = compile(&[&x]).expect("compiles");
+        assert!(c.wgsl.contains("fn dsl_abs_i32"), "{}", c.wgsl);
+        let out = run_gpu(gpu, &c.wgsl, &inputs, 1);
+        let o = compare(&c, 0, i32_ty, Tol::Exact, &inputs, &out, 0, 1);
+        assert!(
+            matches!(o, Outcome::Agree { compared: ROWS, .. }),
+            "{}: {o:?}",
+            x.source()
+        );
+    });
+}

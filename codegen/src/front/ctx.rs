@@ -156,12 +156,23 @@ impl<'a> FnCtx<'a> {
     }
 
     /// Whether `e` has the same value wherever it is evaluated in the function: it reads no
-    /// mutable local, no static (a buffer the body may write) and calls no function.
+    /// mutable local, no writable static (a buffer or workgroup variable the body may write)
+    /// and calls no function.
     pub(crate) fn loop_invariant(&self, e: &Expr) -> bool {
         let children: Vec<&Expr> = match &e.kind {
             ExprKind::Lit(_) | ExprKind::Const(_) | ExprKind::Axis(_) => return true,
             ExprKind::Local(l) => return !self.locals[*l].mutable,
-            ExprKind::Global(_) | ExprKind::Call(..) | ExprKind::Deref(_) => return false,
+            // Uniforms and read-only buffers cannot change during the dispatch; writable buffers
+            // and workgroup memory can.
+            ExprKind::Global(g) => {
+                return matches!(
+                    self.m.module.globals[*g].space,
+                    ir::Space::Uniform
+                        | ir::Space::Storage { read_write: false }
+                        | ir::Space::Handle
+                );
+            }
+            ExprKind::Call(..) | ExprKind::Deref(_) => return false,
             // `arr.len()` of a runtime-sized buffer is fixed for the dispatch.
             ExprKind::Builtin(b, _) if b.wgsl == "arrayLength" => return true,
             ExprKind::Builtin(b, _) if b.pointer_first => return false,

@@ -43,10 +43,18 @@ fn is_float(e: &Expr) -> bool {
     e.ty.scalar().is_some_and(|s| s.is_float())
 }
 
+/// Whether `e` is float arithmetic, or carries it unchanged (through constructors, swizzles,
+/// indexing, negation and `select`): the compiler sees through those when it regroups.
 fn arithmetic(e: &Expr) -> bool {
     match &e.kind {
         ExprKind::Binary(op, ..) => matches!(op, BinOp::Add | BinOp::Sub | BinOp::Mul),
-        ExprKind::Builtin(b, _) => matches!(b.wgsl, "fma" | "dot"),
+        ExprKind::Builtin(b, args) => {
+            matches!(b.wgsl, "fma" | "dot") || (b.wgsl == "select" && args.iter().any(arithmetic))
+        }
+        ExprKind::Construct(args) => args.iter().any(arithmetic),
+        ExprKind::Swizzle(x, _) | ExprKind::Index(x, _) | ExprKind::Unary(UnOp::Neg, x) => {
+            arithmetic(x)
+        }
         _ => false,
     }
 }

@@ -82,6 +82,19 @@ fn leaf(rng: &mut Rng, ty: T) -> E {
     }
 }
 
+/// Whether a divisor may have a lane naga sees as a constant (a literal reached through
+/// constructors, splats and swizzles): a constant zero lane is a compile error, so divisors with
+/// any constant lane are replaced.
+pub fn has_constant_lane(x: &E) -> bool {
+    match &x.kind {
+        Kind::Lit(_) => true,
+        Kind::Input(_) | Kind::Var(_) => false,
+        Kind::New(parts) => parts.iter().any(has_constant_lane),
+        Kind::Splat(a) | Kind::Swizzle(a, _) | Kind::AsVec(a) => has_constant_lane(a),
+        _ => !x.has_input(),
+    }
+}
+
 /// Generation settings.
 #[derive(Debug, Clone, Copy)]
 pub struct GenConfig {
@@ -89,6 +102,21 @@ pub struct GenConfig {
     pub depth: u32,
     /// Allow shift amounts that are not masked to `0..32` (WGSL defines them modulo 32).
     pub raw_shifts: bool,
+    /// Let integer and `bool` expressions read floats (casts, comparisons, conversions).
+    /// Statement programs turn this off: a float comparison within the driver's regrouping
+    /// error could take the other branch, and their state has no error bound.
+    pub floats: bool,
+}
+
+impl GenConfig {
+    /// The numeric types an integer or `bool` expression may convert or compare from.
+    fn numeric_sources(self) -> &'static [Sc] {
+        if self.floats {
+            &[Sc::I32, Sc::U32, Sc::F32]
+        } else {
+            &[Sc::I32, Sc::U32]
+        }
+    }
 }
 
 /// Generates an expression of type `ty` and the tolerance its float components are compared
@@ -273,7 +301,7 @@ fn vector(rng: &mut Rng, ty: T, d: u32, cfg: GenConfig) -> E {
             )
         }
         5 if numeric => {
-            let from = *rng.pick(&[Sc::I32, Sc::U32, Sc::F32]);
+            let from = *rng.pick(cfg.numeric_sources());
             e(
                 ty,
                 Kind::AsVec(b(rgen(rng, T { n: ty.n, s: from }, d, cfg))),
@@ -313,11 +341,7 @@ fn numeric_op(rng: &mut Rng, ty: T, d: u32, cfg: GenConfig) -> E {
             };
             // A constant zero divisor, or a vector divisor with a constant zero component, is a
             // compile error (naga; see the guide).
-            let zero_part = |x: &E| matches!(&x.kind, Kind::Lit(l) if l.starts_with("0"));
-            let rhs = if matches!(op, "/" | "%")
-                && (!rhs.has_input()
-                    || matches!(&rhs.kind, Kind::New(parts) if parts.iter().any(zero_part)))
-            {
+            let rhs = if matches!(op, "/" | "%") && has_constant_lane(&rhs) {
                 input(rng, rhs.ty)
             } else {
                 rhs
@@ -382,7 +406,7 @@ fn scalar(rng: &mut Rng, s: Sc, d: u32, cfg: GenConfig) -> E {
     match s {
         Sc::Bool => match rng.below(5) {
             0 | 1 => {
-                let cs = *rng.pick(&[Sc::I32, Sc::U32, Sc::F32]);
+                let cs = *rng.pick(cfg.numeric_sources());
                 let op = *rng.pick(&["==", "!=", "<", "<=", ">", ">="]);
                 let a = rgen(rng, T::scalar(cs), d, cfg);
                 let c = rgen(rng, T::scalar(cs), d, cfg);
@@ -403,7 +427,9 @@ fn scalar(rng: &mut Rng, s: Sc, d: u32, cfg: GenConfig) -> E {
                 let from = if s == Sc::F32 {
                     *rng.pick(&[Sc::I32, Sc::U32])
                 } else {
-                    *rng.pick(&[Sc::I32, Sc::U32, Sc::F32, Sc::Bool])
+                    let mut from = cfg.numeric_sources().to_vec();
+                    from.push(Sc::Bool);
+                    *rng.pick(&from)
                 };
                 return e(ty, Kind::Cast(b(rgen(rng, T::scalar(from), d, cfg))));
             }

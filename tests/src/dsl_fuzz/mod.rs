@@ -116,6 +116,7 @@ pub fn programs(cfg: &Config) -> Vec<(E, Tol)> {
     let gc = GenConfig {
         depth: cfg.depth,
         raw_shifts: cfg.raw_shifts,
+        floats: true,
     };
     let strategy = proptest::num::u64::ANY.prop_map(move |s| {
         let mut rng = Rng::new(s);

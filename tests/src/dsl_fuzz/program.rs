@@ -6,12 +6,13 @@
 //! ends by construction. Expressions come from the expression generator, with some input
 //! leaves rebound to the variables in scope.
 //!
-//! State holds integers and `bool`s only: float state would compare the driver's float
-//! reassociation, not the printer (see the guide's Semantics section); float expressions
-//! still appear inside conditions and casts.
+//! Programs compute on integers and `bool`s only (no float reads either): a float comparison
+//! within the driver's regrouping error could send the GPU down the other branch (see the
+//! guide's Semantics section), and whole programs have no error bound. Floats are the
+//! expression test's job, row by row with [`super::bound`].
 
 use super::ast::{E, Kind, Sc, T};
-use super::generate::{GenConfig, Rng, input, rgen};
+use super::generate::{GenConfig, Rng, has_constant_lane, input, rgen};
 use std::fmt::Write as _;
 
 /// The shape of a state variable.
@@ -116,6 +117,7 @@ pub fn program(rng: &mut Rng, id: usize) -> Program {
     let cfg = GenConfig {
         depth: 2,
         raw_shifts: false,
+        floats: false,
     };
     let mut g = Gen {
         rng,
@@ -369,8 +371,9 @@ impl Gen<'_> {
             }
         } else {
             let value = self.expr(ty);
-            if (op == "/" || op == "%") && !value.has_input() {
-                // A constant divisor of zero is a compile error (see the guide).
+            // A constant zero divisor, or a vector divisor with a constant zero lane, is a
+            // compile error (naga; see the guide).
+            if (op == "/" || op == "%") && has_constant_lane(&value) {
                 input(self.rng, ty)
             } else {
                 value

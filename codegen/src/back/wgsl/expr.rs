@@ -61,7 +61,7 @@ impl Writer<'_> {
 
     /// Whether `e` is a constant of this variant (a literal, or folds to one): naga checks
     /// constant shift amounts itself.
-    fn is_constant(&self, e: &Expr) -> bool {
+    pub(super) fn is_constant(&self, e: &Expr) -> bool {
         matches!(
             e.kind,
             ExprKind::Lit(_) | ExprKind::Const(_) | ExprKind::Axis(_)
@@ -149,17 +149,9 @@ impl Writer<'_> {
                 self.operand(x);
             }
             ExprKind::Binary(op @ (BinOp::Shl | BinOp::Shr), a, b) if !self.is_constant(b) => {
-                // WGSL takes a runtime shift amount modulo the bit width, but SPIR-V leaves
-                // amounts of 32 or more undefined: mask them (the guide's "Semantics").
                 self.operand(a);
-                let _ = write!(self.out, " {} (", op.symbol());
-                self.operand(b);
-                match b.ty {
-                    Ty::Vector(n, _) => {
-                        let _ = write!(self.out, " & vec{n}<u32>(31u))");
-                    }
-                    _ => self.out.push_str(" & 31u)"),
-                }
+                let _ = write!(self.out, " {} ", op.symbol());
+                self.shift_amount(b);
             }
             ExprKind::Binary(op, a, b) => {
                 self.operand(a);
@@ -200,6 +192,21 @@ impl Writer<'_> {
                 self.args(args, false);
                 self.out.push(')');
             }
+            // `i32` abs through a helper (see `int_abs_helpers`); constants fold in naga.
+            ExprKind::Builtin(b, args)
+                if b.wgsl == "abs"
+                    && e.ty.scalar() == Some(Scalar::I32)
+                    && !self.is_constant(&args[0]) =>
+            {
+                let n = match e.ty {
+                    Ty::Vector(n, _) => n,
+                    _ => 1,
+                };
+                self.int_abs.insert(n);
+                let _ = write!(self.out, "{}(", super::writer::int_abs_names(n).0);
+                self.args(args, false);
+                self.out.push(')');
+            }
             ExprKind::Builtin(b, args) => {
                 let _ = write!(self.out, "{}(", b.wgsl);
                 self.args(args, b.pointer_first);
@@ -215,5 +222,18 @@ impl Writer<'_> {
             }
         }
         self.map.record(start..self.out.len(), e.span);
+    }
+
+    /// A runtime shift amount, masked: WGSL takes it modulo the bit width, but SPIR-V leaves
+    /// amounts of 32 or more undefined (the guide's "Semantics"). Also for `<<=` and `>>=`.
+    pub(super) fn shift_amount(&mut self, b: &Expr) {
+        self.out.push('(');
+        self.operand(b);
+        match b.ty {
+            Ty::Vector(n, _) => {
+                let _ = write!(self.out, " & vec{n}<u32>(31u))");
+            }
+            _ => self.out.push_str(" & 31u)"),
+        }
     }
 }

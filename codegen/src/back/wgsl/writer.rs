@@ -3,8 +3,8 @@
 use super::{Options, SourceMap};
 use crate::ir::is_subgroup_builtin;
 use crate::ir::{
-    Access, Block, Expr, ExprKind, Function, Io, Lit, Module, Scalar, Space, Stage, Stmt, TexKind,
-    Ty,
+    Access, BinOp, Block, Expr, ExprKind, Function, Io, Lit, Module, Scalar, Space, Stage, Stmt,
+    TexKind, Ty,
 };
 use crate::layout::{array_len, struct_layout};
 use crate::variants::{Branch, Env, branch, eval, reachable_functions};
@@ -20,6 +20,8 @@ pub(super) struct Writer<'a> {
     pub(super) indent: usize,
     /// Locals of the function being printed.
     pub(super) locals: &'a [crate::ir::Local],
+    /// Widths (1 for scalars) of the `i32` `abs` helpers the printed code calls.
+    pub(super) int_abs: std::collections::BTreeSet<u8>,
 }
 
 impl<'a> Writer<'a> {
@@ -32,6 +34,7 @@ impl<'a> Writer<'a> {
             map: SourceMap::default(),
             indent: 0,
             locals: &[],
+            int_abs: Default::default(),
         }
     }
 
@@ -144,6 +147,20 @@ impl<'a> Writer<'a> {
                 self.out.push('\n');
                 self.function(f);
             }
+        }
+        self.int_abs_helpers();
+    }
+
+    /// `abs` of `i32` values, without SPIR-V's `SAbs`: drivers take `SAbs` to be non-negative
+    /// (lavapipe folds `abs(abs(x) >> n)` to `abs(x) >> n`), which `abs(i32::MIN) == i32::MIN`
+    /// breaks. `(x ^ s) - s` with `s = x >> 31` wraps as WGSL defines.
+    fn int_abs_helpers(&mut self) {
+        for n in std::mem::take(&mut self.int_abs) {
+            let (name, ty, thirty_one) = int_abs_names(n);
+            let _ = write!(
+                self.out,
+                "\nfn {name}(x: {ty}) -> {ty} {{\n    let s = x >> {thirty_one};\n    return (x ^ s) - s;\n}}\n"
+            );
         }
     }
 
@@ -297,7 +314,12 @@ impl<'a> Writer<'a> {
             } => {
                 self.expr(place);
                 let _ = write!(self.out, " {}= ", op.map_or("", |o| o.symbol()));
-                self.expr(value);
+                match op {
+                    Some(BinOp::Shl | BinOp::Shr) if !self.is_constant(value) => {
+                        self.shift_amount(value);
+                    }
+                    _ => self.expr(value),
+                }
                 self.out.push(';');
                 *span
             }
@@ -478,5 +500,18 @@ fn below_max(end: &Expr) -> bool {
         (ExprKind::Lit(Lit::Int(v, _)), Some(Scalar::U32)) => *v < u32::MAX as i64,
         (ExprKind::Lit(Lit::Int(v, _)), _) => *v < i32::MAX as i64,
         _ => false,
+    }
+}
+
+/// The helper's name, its type and the shift amount `31` for an `i32` `abs` of width `n`.
+pub(super) fn int_abs_names(n: u8) -> (String, String, String) {
+    if n == 1 {
+        ("dsl_abs_i32".into(), "i32".into(), "31u".into())
+    } else {
+        (
+            format!("dsl_abs_vec{n}_i32"),
+            format!("vec{n}<i32>"),
+            format!("vec{n}<u32>(31u)"),
+        )
     }
 }
