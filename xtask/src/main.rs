@@ -14,6 +14,7 @@ mod render;
 mod shaders;
 mod system;
 mod test;
+mod view;
 mod workspace;
 
 use workspace::workspace_root;
@@ -37,6 +38,9 @@ enum Command {
     Demo(demo::Args),
     /// Render one frame of a glTF scene with every renderer option.
     Render(render::Args),
+    /// The renderer in a window: fly around (WASD, mouse), switch path, MSAA, tile size and
+    /// heatmap, add or remove lights, with per-pass GPU timings on screen.
+    View(view::Args),
     /// Run every check CI runs: formatting, clippy, architecture invariants, all tests.
     Test(test::Args),
     /// Print every GPU adapter with the capabilities this project uses.
@@ -63,6 +67,7 @@ fn main() -> anyhow::Result<()> {
         Command::Demo(args) => demo::run(&args),
         Command::Render(args) => render::run(&args, "target/render/frame.png"),
         Command::Test(args) => test::run(&args),
+        Command::View(args) => view::run(&args),
         Command::Info(args) => info::run(&args),
         Command::Shaders(args) => shaders::run(&args),
         Command::FuzzDsl(args) => fuzz_dsl::run(&args),

@@ -10,16 +10,14 @@ use renderer::frame::setup::{create_target, framing_camera, procedural_lights, s
 use renderer::frame::{FrameCamera, FrameReport, FrameView, Renderer, RendererConfig};
 use renderer::frame_data::LightSet;
 use renderer::graph::PassTiming;
-use renderer::scene::procedural::{COURTYARD_LIGHT_REGION, courtyard};
+use renderer::scene::procedural::{
+    COURTYARD_AMBIENT, COURTYARD_EV, COURTYARD_LIGHT_RADII, COURTYARD_LIGHT_REGION, COURTYARD_SKY,
+    courtyard,
+};
 use renderer::scene::{Scene, SceneLight};
 
 /// The `--scene` name of the built-in scene.
 pub const BUILTIN_SCENE: &str = "courtyard";
-/// The courtyard's exposure, ambient (a dusk sky's fill light) and sky colour, chosen so that
-/// 1,024 lights read as pools of colour with the architecture still visible.
-const COURTYARD_EV: f32 = 0.5;
-const COURTYARD_AMBIENT: Vec3 = Vec3::new(0.05, 0.055, 0.07);
-const COURTYARD_SKY: Vec3 = Vec3::new(0.025, 0.03, 0.05);
 use renderer::{GpuContext, GpuOptions, readback};
 
 use crate::bench::matrix::{PathChoice, parse_size};
@@ -191,7 +189,7 @@ pub fn setup(args: &Args) -> Result<Setup> {
     };
     // Lights fill the built-in courtyard's open space in pools; a file's scene, its bounds.
     let (region, default_radius) = if builtin {
-        (COURTYARD_LIGHT_REGION, (0.8, 2.6))
+        (COURTYARD_LIGHT_REGION, COURTYARD_LIGHT_RADII)
     } else {
         let size = (scene.bounds.max - scene.bounds.min).length();
         (scene.bounds, (size * 0.03, size * 0.2))

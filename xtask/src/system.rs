@@ -1,4 +1,5 @@
-//! System packages the tests need: a Vulkan driver, the Khronos validation layer and spirv-val.
+//! System packages the tests need: a Vulkan driver, the Khronos validation layer, spirv-val, Xvfb
+//! and a font.
 //!
 //! On a Debian/Ubuntu machine where we run as root, missing packages are installed with apt;
 //! anywhere else the command stops and names the packages to install.
@@ -31,6 +32,19 @@ const REQUIREMENTS: &[Requirement] = &[
         what: "spirv-val (SPIR-V validation of generated shaders)",
         packages: &["spirv-tools"],
         present: has_spirv_val,
+    },
+    Requirement {
+        what: "Xvfb and the X11 client libraries (the viewer's windowed test)",
+        packages: &[
+            "xvfb",
+            "xauth",
+            "libxcursor1",
+            "libxrandr2",
+            "libxi6",
+            "libx11-xcb1",
+            "libxkbcommon-x11-0",
+        ],
+        present: has_xvfb,
     },
     Requirement {
         what: "a TrueType font (the benchmark's charts and their tests)",
@@ -145,6 +159,28 @@ fn has_vulkan_adapter() -> bool {
         ..renderer::GpuOptions::default()
     };
     !pollster::block_on(renderer::gpu::enumerate_adapters(&options)).is_empty()
+}
+
+fn has_xvfb() -> bool {
+    let on_path = Command::new("xvfb-run")
+        .arg("--help")
+        .output()
+        .is_ok_and(|o| o.status.success() || !o.stdout.is_empty() || !o.stderr.is_empty());
+    let libraries = Command::new("ldconfig")
+        .arg("-p")
+        .output()
+        .map(|o| String::from_utf8_lossy(&o.stdout).into_owned())
+        .unwrap_or_default();
+    on_path
+        && [
+            "libxkbcommon-x11.so.0",
+            "libXcursor.so.1",
+            "libXrandr.so.2",
+            "libXi.so.6",
+            "libX11-xcb.so.1",
+        ]
+        .iter()
+        .all(|l| libraries.contains(l))
 }
 
 fn has_spirv_val() -> bool {

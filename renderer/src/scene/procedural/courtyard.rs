@@ -11,6 +11,17 @@ use super::SceneBuilder;
 use super::textures::{grille, leaves, stone_tiles};
 use crate::scene::{Aabb, AlphaMode, Material, Scene, SceneCamera, TextureRef};
 
+/// The courtyard's exposure in stops, its ambient (a dusk sky's fill light) and its sky colour
+/// (linear HDR), chosen so that 1,024 lights read as pools of colour with the architecture still
+/// visible.
+pub const LOOK_EV: f32 = 0.5;
+/// See [`LOOK_EV`].
+pub const LOOK_AMBIENT: Vec3 = Vec3::new(0.05, 0.055, 0.07);
+/// See [`LOOK_EV`].
+pub const LOOK_SKY: Vec3 = Vec3::new(0.025, 0.03, 0.05);
+/// Light radii (min, max) that make pools on the floor and columns.
+pub const LIGHT_RADII: (f32, f32) = (0.8, 2.6);
+
 /// Where the courtyard's point lights belong: the open floor and the arcades, up to 3 m.
 pub const LIGHT_REGION: Aabb = Aabb {
     min: Vec3::new(-12.5, 0.3, -11.0),

@@ -6,7 +6,11 @@ mod courtyard;
 mod shapes;
 mod textures;
 
-pub use courtyard::{LIGHT_REGION as COURTYARD_LIGHT_REGION, courtyard};
+pub use courtyard::{
+    LIGHT_RADII as COURTYARD_LIGHT_RADII, LIGHT_REGION as COURTYARD_LIGHT_REGION,
+    LOOK_AMBIENT as COURTYARD_AMBIENT, LOOK_EV as COURTYARD_EV, LOOK_SKY as COURTYARD_SKY,
+    courtyard,
+};
 
 use glam::{Mat4, Vec3};
 
