@@ -58,10 +58,10 @@ pub struct Args {
     /// Scalarization: off, on (on needs SUBGROUP; left out without it).
     #[arg(long, value_delimiter = ',', default_value = "off,on")]
     scalarize: Vec<String>,
-    /// glTF scenes measured after the built-in demo scene.
+    /// glTF scenes measured after the built-in courtyard.
     #[arg(long)]
     scene: Vec<PathBuf>,
-    /// Leave the built-in demo scene out (only the --scene files).
+    /// Leave the built-in courtyard out (only the --scene files).
     #[arg(long)]
     no_demo_scene: bool,
     /// Timed frames per cell.
@@ -147,31 +147,41 @@ struct BenchScene {
 }
 
 fn load_scenes(args: &Args) -> Result<Vec<BenchScene>> {
-    let mut paths = Vec::new();
+    let mut scenes = Vec::new();
     if !args.no_demo_scene {
-        let demo =
-            crate::workspace_root().join("tests/scenes/AlphaBlendModeTest/AlphaBlendModeTest.glb");
-        paths.push(("demo".to_string(), demo));
+        scenes.push(BenchScene {
+            name: crate::render::BUILTIN_SCENE.to_string(),
+            scene: renderer::scene::procedural::courtyard(),
+        });
     }
     for p in &args.scene {
-        let stem = p
+        let name = p
             .file_stem()
             .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
-        paths.push((stem, p.clone()));
+        scenes.push(BenchScene {
+            name,
+            scene: Scene::load(p)?,
+        });
     }
     anyhow::ensure!(
-        !paths.is_empty(),
+        !scenes.is_empty(),
         "no scene: drop --no-demo-scene or give --scene FILE"
     );
-    paths
-        .into_iter()
-        .map(|(name, path)| {
-            Ok(BenchScene {
-                name,
-                scene: Scene::load(&path)?,
-            })
-        })
-        .collect()
+    Ok(scenes)
+}
+
+/// The scene's first camera, else one framing its bounds.
+fn bench_camera(scene: &Scene, aspect: f32) -> renderer::frame::FrameCamera {
+    match scene.cameras.first() {
+        Some(c) => renderer::frame::setup::scene_camera(
+            c.world_from_view,
+            c.yfov,
+            aspect,
+            c.znear,
+            c.zfar.unwrap_or(100.0),
+        ),
+        None => framing_camera(scene.bounds, aspect),
+    }
 }
 
 fn axes(args: &Args, scenes: &[BenchScene]) -> Result<Axes> {
@@ -301,8 +311,8 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
         let mut renderer = Renderer::new(&gpu, config)?;
         renderer.prepare_scene(&bench_scene.scene);
         let target = create_target(&gpu.device, &config);
-        let camera = framing_camera(
-            bench_scene.scene.bounds,
+        let camera = bench_camera(
+            &bench_scene.scene,
             setup.width as f32 / setup.height as f32,
         );
         let mut previous: Option<(u32, Duration)> = None;
