@@ -17,7 +17,7 @@ use winit::event_loop::ActiveEventLoop;
 use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{Window, WindowId};
 
-use crate::Args;
+use crate::args::Args;
 use crate::overlay::Overlay;
 
 /// The viewer: its arguments and scene before the window opens, then the running state.

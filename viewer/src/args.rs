@@ -1,0 +1,68 @@
+//! The viewer's command line: scene, lights, window size, path and MSAA, and the unattended-run
+//! options (frames, script, screenshot) its test uses.
+
+use std::path::PathBuf;
+
+use clap::Parser;
+
+/// Command line of the viewer.
+#[derive(Debug, Clone, Parser)]
+#[command(
+    name = "viewer",
+    about = "The renderer in a window: fly around, switch paths, see GPU timings"
+)]
+pub struct Args {
+    /// glTF scene (.gltf or .glb); without it, the built-in courtyard.
+    #[arg(long)]
+    pub scene: Option<PathBuf>,
+    /// Procedural point lights.
+    #[arg(long, default_value_t = 1024)]
+    pub lights: usize,
+    /// Seed of the procedural lights.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Window size, WxH.
+    #[arg(long, default_value = "1280x720", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// naive | naive-prez | tiled | 2.5d | clustered.
+    #[arg(long, default_value = "tiled", value_parser = parse_path)]
+    pub path: renderer::frame::RenderPath,
+    /// MSAA sample count (1 where the adapter lacks it).
+    #[arg(long, default_value_t = 4)]
+    pub msaa: u32,
+    /// Quit after this many frames (with a fixed 1/60 s time step, for reproducible runs).
+    #[arg(long)]
+    pub frames: Option<u32>,
+    /// Scripted key presses, `FRAME:KEY[ xN],..` (see the viewer's `script` module).
+    #[arg(long, value_parser = viewer::script::parse_script)]
+    pub script: Option<viewer::script::Script>,
+    /// Write the last frame (before the overlay) to this PNG.
+    #[arg(long)]
+    pub screenshot: Option<PathBuf>,
+    /// Take the screenshot with the overlay drawn.
+    #[arg(long, requires = "screenshot")]
+    pub screenshot_overlay: bool,
+}
+
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    s.split_once('x')
+        .and_then(|(w, h)| Some((w.parse().ok()?, h.parse().ok()?)))
+        .filter(|&(w, h): &(u32, u32)| (16..=8192).contains(&w) && (16..=8192).contains(&h))
+        .ok_or_else(|| format!("{s:?}: use WxH with each side 16..=8192, e.g. 1280x720"))
+}
+
+fn parse_path(s: &str) -> Result<renderer::frame::RenderPath, String> {
+    use renderer::frame::RenderPath::*;
+    Ok(match s {
+        "naive" => Naive,
+        "naive-prez" => NaivePrez,
+        "tiled" => Tiled,
+        "2.5d" => Depth25,
+        "clustered" => Clustered,
+        other => {
+            return Err(format!(
+                "{other:?}: use naive, naive-prez, tiled, 2.5d or clustered"
+            ));
+        }
+    })
+}
