@@ -6,11 +6,12 @@
 //! operands is exact; only chains can move. This module computes a running error bound per
 //! node, on one input row:
 //!
-//! - `a ± b` where an operand is itself arithmetic: `err(a) + err(b) + ε·(|a| + |b|)`
-//!   (covers any regrouping of the chain and a fused product); `a * b`: `|a|·err(b) +
-//!   |b|·err(a) + err(a)·err(b)`, plus `ε·|a·b|` when an operand is a product (regrouped
-//!   constants). `dot` and `fma` (`mul_add`) may round their products or not and sum in any
-//!   order: `ε·Σ|products|` plus the propagated error.
+//! - `a ± b` where an operand is itself arithmetic: `err(a) + err(b) + ε·mass`, with `mass`
+//!   the sum of the magnitudes of every term of the chain (covers any regrouping of the chain,
+//!   across `floor` too, and a fused product); `a * b`: `|a|·err(b) + |b|·err(a) +
+//!   err(a)·err(b)`, plus `2ε·|a·b|` when an operand is inexact or a product (the product's
+//!   own rounding, factoring, regrouped constants). `dot` and `fma` (`mul_add`) may round their
+//!   products or not and sum in any order: `ε·Σ|products|` plus the propagated error.
 //! - Continuous functions (`abs`, `min`, `max`, `clamp`, `saturate`, negation, `select`,
 //!   swizzles, constructors) keep their operands' largest error.
 //! - Discontinuous ones (`floor`, `ceil`, `trunc`, `round`, `fract`, `step`, `sign`,
@@ -111,6 +112,25 @@ impl Bounds<'_> {
             .collect())
     }
 
+    /// The sum of the magnitudes of the terms a chain of `+`/`-` adds up (looking through
+    /// negation, constructors, swizzles and indexing): what regrouping the chain can round.
+    fn mass(&self, e: &Expr) -> Result<f32, String> {
+        Ok(match &e.kind {
+            ExprKind::Binary(BinOp::Add | BinOp::Sub, a, b) => self.mass(a)? + self.mass(b)?,
+            ExprKind::Unary(UnOp::Neg, x) | ExprKind::Swizzle(x, _) | ExprKind::Index(x, _) => {
+                self.mass(x)?
+            }
+            ExprKind::Construct(args) if args.iter().any(arithmetic) => {
+                let mut m: f32 = 0.0;
+                for a in args {
+                    m = m.max(self.mass(a)?);
+                }
+                m
+            }
+            _ => self.size(e)?,
+        })
+    }
+
     /// Exact when every value in `x ± err` gives the same `f`.
     fn step(&self, x: &Expr, f: impl Fn(f32) -> f32) -> Bound {
         let Some(err) = self.err(x)? else {
@@ -172,14 +192,23 @@ impl Bounds<'_> {
         };
         let (sa, sb) = (self.size(a)?, self.size(b)?);
         let chained = arithmetic(a) || arithmetic(b);
+        let inexact = ea + eb > 0.0;
         Ok(match op {
-            BinOp::Add | BinOp::Sub => Some(ea + eb + if chained { EPS * (sa + sb) } else { 0.0 }),
+            // A chain may be summed in any order: each level adds a rounding of the chain's
+            // whole mass (`(x + y) - y` may become `x + (y - y)`, or `100 + (x - floor(x))`
+            // become `(100 + x) - floor(x)`).
+            BinOp::Add | BinOp::Sub if chained => {
+                Some(ea + eb + EPS * (self.mass(a)? + self.mass(b)?))
+            }
+            BinOp::Add | BinOp::Sub => Some(ea + eb + if inexact { EPS * (sa + sb) } else { 0.0 }),
+            // Perturbed operands move the product, and its own rounding may then go either way;
+            // a product of a chain may also be factored (`a*b + a*c` as `a*(b + c)`).
             BinOp::Mul => Some(
                 sa * eb
                     + sb * ea
                     + ea * eb
-                    + if product(a) || product(b) {
-                        EPS * sa * sb
+                    + if inexact || product(a) || product(b) {
+                        2.0 * EPS * sa * sb
                     } else {
                         0.0
                     },

@@ -164,6 +164,10 @@ fn approx_root(rng: &mut Rng, ty: T, cfg: GenConfig) -> (E, Tol) {
     let flit = |x: &str| flit_n(x, n);
     let x = || T { n, s: Sc::F32 };
     let mut a = float_like(rng, n, cfg);
+    // A constant operand would make the whole root constant (`0.5 / 0.0` is a compile error).
+    if !a.has_input() {
+        a = input(rng, a.ty);
+    }
     let k = rng.below(if n == 1 { 10 } else { 13 });
     match k {
         0 => {
