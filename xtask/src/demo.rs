@@ -15,7 +15,7 @@ pub struct Args {
     #[arg(long)]
     adapter: Option<String>,
     /// Exposure in stops (2^EV before the tonemap); defaults to the courtyard's calibrated 0.5.
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_negative_numbers = true, value_parser = crate::render::parse_exposure)]
     exposure: Option<f32>,
     /// Output folder; defaults to target/demo.
     #[arg(long)]

@@ -384,7 +384,7 @@ fn parse_radius_range(s: &str) -> Result<(f32, f32), String> {
 }
 
 /// An exposure in stops, within ±16.
-fn parse_exposure(s: &str) -> Result<f32, String> {
+pub(crate) fn parse_exposure(s: &str) -> Result<f32, String> {
     let [ev] = parse_numbers::<1>(s, "a number of stops (e.g. 0.5 or -1)")?;
     if ev.abs() <= 16.0 {
         Ok(ev)

@@ -74,6 +74,28 @@ fn every_option_refuses_bad_values_with_a_clear_message() {
 }
 
 #[test]
+fn the_demo_refuses_bad_values_too() {
+    for (args, expected) in [
+        (
+            &["demo", "--exposure", "40"][..],
+            "between -16 and 16 stops",
+        ),
+        (&["demo", "--exposure", "bright"][..], "a number of stops"),
+        (
+            &["demo", "--adapter", "no-such-gpu-anywhere"][..],
+            "no-such-gpu-anywhere",
+        ),
+    ] {
+        let (code, text) = xtask(args);
+        assert_ne!(code, 0, "{args:?} must fail:\n{text}");
+        assert!(
+            text.contains(expected),
+            "{args:?}: want {expected:?} in:\n{text}"
+        );
+    }
+}
+
+#[test]
 fn a_malformed_scene_file_is_an_error_naming_it() {
     let dir = std::env::temp_dir().join(format!("xtask-bad-inputs-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
