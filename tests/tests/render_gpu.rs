@@ -44,6 +44,15 @@ fn render(path: RenderPath, msaa: u32, seed: u64) -> Vec<u8> {
     })
 }
 
+/// The largest difference of one 8-bit channel between two images.
+fn largest_difference(a: &[u8], b: &[u8]) -> u8 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| x.abs_diff(*y))
+        .max()
+        .unwrap_or(0)
+}
+
 #[test]
 fn culling_never_changes_the_image() {
     for msaa in [1, 4] {
@@ -67,12 +76,7 @@ fn culling_never_changes_the_image() {
                 // Tolerance: one 8-bit step per channel. Culled paths sum the same lights in a
                 // different order (f32 addition is not associative) and lights dropped as
                 // borderline by a plane test contribute less than the window's last 1e-4.
-                let worst = naive
-                    .iter()
-                    .zip(&culled)
-                    .map(|(a, b)| a.abs_diff(*b))
-                    .max()
-                    .unwrap_or(0);
+                let worst = largest_difference(&naive, &culled);
                 assert!(
                     worst <= 1,
                     "{path:?} at MSAA {msaa}, seed {seed}: differs from naive by {worst}"
@@ -171,12 +175,7 @@ fn clustered_equals_naive_on_a_shared_scene_with_msaa() {
     };
     let naive = frame(RenderPath::NaivePrez);
     let clustered = frame(RenderPath::Clustered);
-    let worst = naive
-        .iter()
-        .zip(&clustered)
-        .map(|(a, b)| a.abs_diff(*b))
-        .max()
-        .unwrap_or(0);
+    let worst = largest_difference(&naive, &clustered);
     assert!(worst <= 1, "clustered differs from naive by {worst}");
 }
 
@@ -210,12 +209,7 @@ fn the_built_in_courtyard_culled_equals_naive() {
             RenderPath::Clustered,
         ] {
             let culled = frame(path);
-            let worst = naive
-                .iter()
-                .zip(&culled)
-                .map(|(a, b)| a.abs_diff(*b))
-                .max()
-                .unwrap_or(0);
+            let worst = largest_difference(&naive, &culled);
             assert!(worst <= 1, "{path:?}: differs from naive by {worst}");
         }
     });

@@ -256,15 +256,8 @@ impl Running {
     /// A settings key: path, MSAA, tile, heatmap or light count; rebuilds the renderer.
     fn action(&mut self, key: char, shown: &Shown) -> Result<()> {
         let mut config = self.config;
-        let paths = [
-            RenderPath::Naive,
-            RenderPath::NaivePrez,
-            RenderPath::Tiled,
-            RenderPath::Depth25,
-            RenderPath::Clustered,
-        ];
         match key {
-            '1'..='5' => config.path = paths[key as usize - '1' as usize],
+            '1'..='5' => config.path = RenderPath::ALL[key as usize - '1' as usize],
             'm' => {
                 let counts = self.gpu.capabilities().msaa_counts();
                 let i = counts.iter().position(|&c| c == config.msaa).unwrap_or(0);

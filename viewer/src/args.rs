@@ -25,7 +25,7 @@ pub struct Args {
     #[arg(long, default_value = "1280x720", value_parser = parse_size)]
     pub size: (u32, u32),
     /// naive | naive-prez | tiled | 2.5d | clustered.
-    #[arg(long, default_value = "tiled", value_parser = parse_path)]
+    #[arg(long, default_value = "tiled")]
     pub path: renderer::frame::RenderPath,
     /// MSAA sample count (1 where the adapter lacks it).
     #[arg(long, default_value_t = 4)]
@@ -49,20 +49,4 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
         .and_then(|(w, h)| Some((w.parse().ok()?, h.parse().ok()?)))
         .filter(|&(w, h): &(u32, u32)| (16..=8192).contains(&w) && (16..=8192).contains(&h))
         .ok_or_else(|| format!("{s:?}: use WxH with each side 16..=8192, e.g. 1280x720"))
-}
-
-fn parse_path(s: &str) -> Result<renderer::frame::RenderPath, String> {
-    use renderer::frame::RenderPath::*;
-    Ok(match s {
-        "naive" => Naive,
-        "naive-prez" => NaivePrez,
-        "tiled" => Tiled,
-        "2.5d" => Depth25,
-        "clustered" => Clustered,
-        other => {
-            return Err(format!(
-                "{other:?}: use naive, naive-prez, tiled, 2.5d or clustered"
-            ));
-        }
-    })
 }

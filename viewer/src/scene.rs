@@ -6,11 +6,10 @@ use std::path::Path;
 
 use anyhow::{Context as _, Result};
 use renderer::frame::RendererConfig;
-use renderer::frame::setup::procedural_lights;
-use renderer::scene::procedural::{
-    COURTYARD_AMBIENT, COURTYARD_EV, COURTYARD_LIGHT_RADII, COURTYARD_LIGHT_REGION, COURTYARD_SKY,
-    courtyard,
+use renderer::frame::setup::{
+    FRAMING_YFOV_DEGREES, courtyard_look, default_camera, light_space, procedural_lights,
 };
+use renderer::scene::procedural::courtyard;
 use renderer::scene::{Aabb, Scene, SceneLight};
 
 use crate::fly::Fly;
@@ -31,28 +30,19 @@ pub struct Shown {
 
 /// The courtyard (`file == None`) or a glTF file, with `count` lights of `seed`.
 pub fn load(file: Option<&Path>, count: usize, seed: u64) -> Result<Shown> {
-    let (scene, light_region, light_radii) = match file {
-        None => (courtyard(), COURTYARD_LIGHT_REGION, COURTYARD_LIGHT_RADII),
-        Some(path) => {
-            let scene = Scene::load(path)
-                .with_context(|| format!("--scene {}: cannot load it", path.display()))?;
-            let size = (scene.bounds.max - scene.bounds.min).length();
-            let bounds = scene.bounds;
-            (scene, bounds, (size * 0.03, size * 0.2))
-        }
+    let scene = match file {
+        None => courtyard(),
+        Some(path) => Scene::load(path)
+            .with_context(|| format!("--scene {}: cannot load it", path.display()))?,
     };
-    let start = match scene.cameras.first() {
-        Some(c) => Fly::from_world_from_view(c.world_from_view, c.yfov),
-        None => {
-            let b = scene.bounds;
-            let size = (b.max - b.min).length().max(1e-3);
-            Fly::looking_at(
-                b.center() + glam::Vec3::new(0.0, 0.35, 1.0).normalize() * size,
-                b.center(),
-                45f32.to_radians(),
-            )
-        }
+    let (light_region, light_radii) = light_space(&scene, file.is_none());
+    // The camera the renderer's tools open on (the scene's own, else one framing it).
+    let opening = default_camera(&scene, 1.0);
+    let yfov = match scene.cameras.first() {
+        Some(c) => c.yfov,
+        None => FRAMING_YFOV_DEGREES.to_radians(),
     };
+    let start = Fly::from_world_from_view(opening.view.inverse(), yfov);
     let mut shown = Shown {
         scene,
         lights: vec![],
@@ -83,13 +73,9 @@ pub fn procedural(shown: &Shown, count: usize) -> Vec<SceneLight> {
 /// The renderer settings of the scene's look: the courtyard's exposure, ambient and sky, or the
 /// defaults for a file.
 pub fn look(shown: &Shown) -> RendererConfig {
-    if !shown.builtin {
-        return RendererConfig::default();
-    }
-    RendererConfig {
-        exposure: 2f32.powf(COURTYARD_EV),
-        ambient: COURTYARD_AMBIENT,
-        sky: COURTYARD_SKY,
-        ..RendererConfig::default()
+    if shown.builtin {
+        courtyard_look(RendererConfig::default())
+    } else {
+        RendererConfig::default()
     }
 }

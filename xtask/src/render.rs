@@ -6,14 +6,14 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context as _, Result, bail};
 use glam::Vec3;
 use renderer::culling::lists::CullCounters;
-use renderer::frame::setup::{create_target, framing_camera, procedural_lights, scene_camera};
+use renderer::frame::setup::{
+    camera_of, courtyard_look, create_target, default_camera, light_space, procedural_lights,
+    scene_camera,
+};
 use renderer::frame::{FrameCamera, FrameReport, FrameView, Renderer, RendererConfig};
 use renderer::frame_data::LightSet;
 use renderer::graph::PassTiming;
-use renderer::scene::procedural::{
-    COURTYARD_AMBIENT, COURTYARD_EV, COURTYARD_LIGHT_RADII, COURTYARD_LIGHT_REGION, COURTYARD_SKY,
-    courtyard,
-};
+use renderer::scene::procedural::courtyard;
 use renderer::scene::{Scene, SceneLight};
 
 /// The `--scene` name of the built-in scene.
@@ -175,25 +175,18 @@ pub fn setup(args: &Args) -> Result<Setup> {
         tile: args.tile,
         scalarize,
         view,
-        exposure: 2f32.powf(
-            args.exposure
-                .unwrap_or(if builtin { COURTYARD_EV } else { 0.0 }),
-        ),
-        ambient: if builtin {
-            COURTYARD_AMBIENT
-        } else {
-            RendererConfig::default().ambient
-        },
-        sky: if builtin { COURTYARD_SKY } else { Vec3::ZERO },
         ..Default::default()
     };
-    // Lights fill the built-in courtyard's open space in pools; a file's scene, its bounds.
-    let (region, default_radius) = if builtin {
-        (COURTYARD_LIGHT_REGION, COURTYARD_LIGHT_RADII)
+    let mut config = if builtin {
+        courtyard_look(config)
     } else {
-        let size = (scene.bounds.max - scene.bounds.min).length();
-        (scene.bounds, (size * 0.03, size * 0.2))
+        config
     };
+    if let Some(ev) = args.exposure {
+        config.exposure = 2f32.powf(ev);
+    }
+    // Lights fill the built-in courtyard's open space in pools; a file's scene, its bounds.
+    let (region, default_radius) = light_space(&scene, builtin);
     let (rmin, rmax) = args.light_radius.unwrap_or(default_radius);
     let mut lights = scene.lights.clone();
     lights.extend(procedural_lights(
@@ -322,23 +315,16 @@ pub fn run(args: &Args, default_out: &str) -> Result<()> {
 }
 
 fn pick_camera(args: &Args, scene: &Scene, aspect: f32) -> Result<FrameCamera> {
-    let size = (scene.bounds.max - scene.bounds.min).length().max(1e-3);
     if let Some(i) = args.camera {
-        let Some(c) = scene.cameras.get(i) else {
-            bail!(
+        return camera_of(scene, i, aspect).ok_or_else(|| {
+            anyhow::anyhow!(
                 "--camera {i}: the scene has {} camera(s)",
                 scene.cameras.len()
-            );
-        };
-        return Ok(scene_camera(
-            c.world_from_view,
-            c.yfov,
-            aspect,
-            c.znear,
-            c.zfar.unwrap_or(size * 10.0),
-        ));
+            )
+        });
     }
     if let (Some(eye), Some(target)) = (args.eye, args.target) {
+        let size = (scene.bounds.max - scene.bounds.min).length().max(1e-3);
         let (near, far) = (size * 0.01, size * 10.0);
         let world_from_view = glam::camera::rh::view::look_at_mat4(eye, target, Vec3::Y).inverse();
         return Ok(scene_camera(
@@ -349,16 +335,7 @@ fn pick_camera(args: &Args, scene: &Scene, aspect: f32) -> Result<FrameCamera> {
             far,
         ));
     }
-    match scene.cameras.first() {
-        Some(c) => Ok(scene_camera(
-            c.world_from_view,
-            c.yfov,
-            aspect,
-            c.znear,
-            c.zfar.unwrap_or(size * 10.0),
-        )),
-        None => Ok(framing_camera(scene.bounds, aspect)),
-    }
+    Ok(default_camera(scene, aspect))
 }
 
 /// Comma-separated finite numbers, exactly `N` of them.

@@ -1,10 +1,10 @@
-//! Frame set-up helpers for tools and tests: a camera that frames a scene, and seeded procedural
-//! lights around it.
+//! Frame set-up helpers for tools and tests: the camera a scene opens on (its own, or one that
+//! frames it), seeded procedural lights, and the built-in courtyard's look.
 
 use glam::{Mat4, Vec3, camera::rh};
 
-use super::FrameCamera;
-use crate::scene::{Aabb, LightKind, SceneLight};
+use super::{FrameCamera, RendererConfig};
+use crate::scene::{Aabb, LightKind, Scene, SceneLight};
 
 /// A tiny deterministic generator (SplitMix64), so seeded scenes never change between runs.
 #[derive(Debug, Clone)]
@@ -38,10 +38,61 @@ pub fn framing_camera(bounds: Aabb, aspect: f32) -> FrameCamera {
     let (near, far) = (radius * 0.05, radius * 8.0);
     FrameCamera {
         view: rh::view::look_at_mat4(eye, center, Vec3::Y),
-        projection: rh::proj::directx::perspective(45f32.to_radians(), aspect, near, far),
+        projection: rh::proj::directx::perspective(
+            FRAMING_YFOV_DEGREES.to_radians(),
+            aspect,
+            near,
+            far,
+        ),
         eye,
         near,
         far,
+    }
+}
+
+/// The field of view of [`framing_camera`].
+pub const FRAMING_YFOV_DEGREES: f32 = 45.0;
+
+/// The scene's camera `index` (its far plane, or ten scene sizes where the file sets none).
+pub fn camera_of(scene: &Scene, index: usize, aspect: f32) -> Option<FrameCamera> {
+    let size = (scene.bounds.max - scene.bounds.min).length().max(1e-3);
+    scene.cameras.get(index).map(|c| {
+        scene_camera(
+            c.world_from_view,
+            c.yfov,
+            aspect,
+            c.znear,
+            c.zfar.unwrap_or(size * 10.0),
+        )
+    })
+}
+
+/// The scene's first camera, else [`framing_camera`]: what tools open a scene on.
+pub fn default_camera(scene: &Scene, aspect: f32) -> FrameCamera {
+    camera_of(scene, 0, aspect).unwrap_or_else(|| framing_camera(scene.bounds, aspect))
+}
+
+/// Where tools put procedural lights in a scene, and their default radii: the courtyard's open
+/// space with radii that make pools of light (`builtin`), else a file scene's bounds with radii
+/// of 3–20% of its size.
+pub fn light_space(scene: &Scene, builtin: bool) -> (Aabb, (f32, f32)) {
+    use crate::scene::procedural::{COURTYARD_LIGHT_RADII, COURTYARD_LIGHT_REGION};
+    if builtin {
+        return (COURTYARD_LIGHT_REGION, COURTYARD_LIGHT_RADII);
+    }
+    let size = (scene.bounds.max - scene.bounds.min).length();
+    (scene.bounds, (size * 0.03, size * 0.2))
+}
+
+/// The built-in courtyard's look on top of `config`: its calibrated exposure, its ambient (a
+/// dusk sky's fill light) and its sky colour.
+pub fn courtyard_look(config: RendererConfig) -> RendererConfig {
+    use crate::scene::procedural::{COURTYARD_AMBIENT, COURTYARD_EV, COURTYARD_SKY};
+    RendererConfig {
+        exposure: 2f32.powf(COURTYARD_EV),
+        ambient: COURTYARD_AMBIENT,
+        sky: COURTYARD_SKY,
+        ..config
     }
 }
 
@@ -106,7 +157,7 @@ fn hue_to_rgb(h: f32) -> Vec3 {
 
 /// A texture the renderer can draw a frame into (`config.output_format`, the configured size),
 /// readable back with [`crate::readback::read_texture_rgba8`].
-pub fn create_target(device: &wgpu::Device, config: &super::RendererConfig) -> wgpu::Texture {
+pub fn create_target(device: &wgpu::Device, config: &RendererConfig) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some("frame target"),
         size: wgpu::Extent3d {

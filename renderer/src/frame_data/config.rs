@@ -19,6 +19,26 @@ pub enum RenderPath {
 }
 
 impl RenderPath {
+    /// Every path, in the order tools list them.
+    pub const ALL: [RenderPath; 5] = [
+        Self::Naive,
+        Self::NaivePrez,
+        Self::Tiled,
+        Self::Depth25,
+        Self::Clustered,
+    ];
+
+    /// The command-line name: `naive`, `naive-prez`, `tiled`, `2.5d`, `clustered`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Naive => "naive",
+            Self::NaivePrez => "naive-prez",
+            Self::Tiled => "tiled",
+            Self::Depth25 => "2.5d",
+            Self::Clustered => "clustered",
+        }
+    }
+
     /// Whether the path culls lights into per-cell lists.
     pub fn is_culled(self) -> bool {
         !matches!(self, Self::Naive | Self::NaivePrez)
@@ -64,6 +84,18 @@ pub struct RendererConfig {
     pub view: FrameView,
     /// Light count at which the heatmap saturates (red).
     pub heatmap_max: u32,
+}
+
+impl std::str::FromStr for RenderPath {
+    type Err = String;
+
+    /// Parses a [`RenderPath::name`].
+    fn from_str(s: &str) -> Result<Self, String> {
+        Self::ALL
+            .into_iter()
+            .find(|p| p.name() == s)
+            .ok_or_else(|| format!("path {s:?}: use naive, naive-prez, tiled, 2.5d or clustered"))
+    }
 }
 
 impl Default for RendererConfig {

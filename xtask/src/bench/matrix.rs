@@ -10,24 +10,11 @@ pub struct PathChoice(pub RenderPath);
 
 impl PathChoice {
     pub fn parse(s: &str) -> Result<Self> {
-        Ok(Self(match s {
-            "naive" => RenderPath::Naive,
-            "naive-prez" => RenderPath::NaivePrez,
-            "tiled" => RenderPath::Tiled,
-            "2.5d" => RenderPath::Depth25,
-            "clustered" => RenderPath::Clustered,
-            other => bail!("path {other:?}: use naive, naive-prez, tiled, 2.5d or clustered"),
-        }))
+        s.parse().map(Self).map_err(anyhow::Error::msg)
     }
 
     pub fn name(self) -> &'static str {
-        match self.0 {
-            RenderPath::Naive => "naive",
-            RenderPath::NaivePrez => "naive-prez",
-            RenderPath::Tiled => "tiled",
-            RenderPath::Depth25 => "2.5d",
-            RenderPath::Clustered => "clustered",
-        }
+        self.0.name()
     }
 
     fn has_tiles(self) -> bool {

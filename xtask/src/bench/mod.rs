@@ -25,7 +25,7 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use anyhow::{Context as _, Result};
-use renderer::frame::setup::{create_target, framing_camera};
+use renderer::frame::setup::{create_target, default_camera};
 use renderer::frame::{RenderPath, Renderer, RendererConfig};
 use renderer::scene::Scene;
 use renderer::{GpuContext, GpuOptions};
@@ -170,20 +170,6 @@ fn load_scenes(args: &Args) -> Result<Vec<BenchScene>> {
     Ok(scenes)
 }
 
-/// The scene's first camera, else one framing its bounds.
-fn bench_camera(scene: &Scene, aspect: f32) -> renderer::frame::FrameCamera {
-    match scene.cameras.first() {
-        Some(c) => renderer::frame::setup::scene_camera(
-            c.world_from_view,
-            c.yfov,
-            aspect,
-            c.znear,
-            c.zfar.unwrap_or(100.0),
-        ),
-        None => framing_camera(scene.bounds, aspect),
-    }
-}
-
 fn axes(args: &Args, scenes: &[BenchScene]) -> Result<Axes> {
     let mut axes = Axes {
         scenes: scenes.iter().map(|s| s.name.clone()).collect(),
@@ -311,7 +297,7 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
         let mut renderer = Renderer::new(&gpu, config)?;
         renderer.prepare_scene(&bench_scene.scene);
         let target = create_target(&gpu.device, &config);
-        let camera = bench_camera(&bench_scene.scene, setup.width as f32 / setup.height as f32);
+        let camera = default_camera(&bench_scene.scene, setup.width as f32 / setup.height as f32);
         let mut previous: Option<(u32, Duration)> = None;
         for &n in &axes.lights {
             let lights = lights::MovingLights::new(
