@@ -20,6 +20,7 @@ pub static MODULES: &[&codegen::rt::Module] = &[
     &bootstrap::test_pattern::MODULE,
     &bootstrap::square_plus_index::MODULE,
     &calibrate::fma_rate::MODULE,
+    &culling::cull_prepare::MODULE,
     &culling::tile_cull::MODULE,
     &culling::cluster_cull::MODULE,
     &forward::prez::MODULE,

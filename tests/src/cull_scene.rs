@@ -32,6 +32,19 @@ pub const FAR: f32 = 100.0;
 /// Builds the scene at `width`×`height` with `samples` per pixel and `random_lights` random lights
 /// (plus the fixed special cases).
 pub fn scene(seed: u64, width: u32, height: u32, samples: u32, random_lights: usize) -> CullScene {
+    scene_with_radii(seed, width, height, samples, random_lights, 0.2, 3.0)
+}
+
+/// [`scene`] with the random lights' radii drawn from `[min_radius, max_radius)`.
+pub fn scene_with_radii(
+    seed: u64,
+    width: u32,
+    height: u32,
+    samples: u32,
+    random_lights: usize,
+    min_radius: f32,
+    max_radius: f32,
+) -> CullScene {
     let view = rh::view::look_at_mat4(Vec3::new(0.0, 2.0, 8.0), Vec3::new(0.0, 1.0, 0.0), Vec3::Y);
     // wgpu's clip space is Direct3D's: y up, depth 0..1.
     let projection =
@@ -51,7 +64,7 @@ pub fn scene(seed: u64, width: u32, height: u32, samples: u32, random_lights: us
                 rng.range(-1.0, 6.0),
                 rng.range(-30.0, 10.0),
             ),
-            radius: rng.range(0.2, 3.0),
+            radius: rng.range(min_radius, max_radius),
         })
         .collect();
     let eye = Vec3::new(0.0, 2.0, 8.0);

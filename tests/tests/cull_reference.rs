@@ -10,15 +10,14 @@ use tests::cull_scene::{CullScene, FAR, NEAR, scene};
 
 fn methods() -> Vec<Method> {
     let grid = ClusterGrid {
-        x: 16,
-        y: 8,
-        z: 24,
+        tile: 16,
+        slices: 32,
         near: NEAR,
         far: FAR,
     };
     let mut m: Vec<Method> = [8, 16, 32]
         .into_iter()
-        .flat_map(|tile| [Method::Tiled { tile }, Method::Depth25 { tile }])
+        .flat_map(|tile| [Method::tiled(tile), Method::depth25(tile)])
         .collect();
     m.push(Method::Clustered {
         grid,
@@ -76,7 +75,7 @@ fn every_method_is_conservative_msaa1_and_msaa4() {
 fn special_lights_are_handled() {
     let s = scene(3, 128, 96, 1, 0);
     let lights = s.lights_view();
-    let lists = cull(&s.camera, &s.depth, &lights, Method::Tiled { tile: 16 });
+    let lists = cull(&s.camera, &s.depth, &lights, Method::tiled(16));
     let count = |light: u32| lists.lists.iter().filter(|l| l.contains(&light)).count();
     let (behind, _near, huge, zero) = (0, 1, 2, 3);
     assert_eq!(
@@ -111,12 +110,11 @@ fn depth_mask_and_clusters_beat_plain_tiles() {
             let lists = cull(&s.camera, &s.depth, &view_lights, method);
             cull_efficiency(&s.camera, &s.depth, &view_lights, method, &lists).ratio()
         };
-        let tiled = efficiency(Method::Tiled { tile: 16 });
-        let depth25 = efficiency(Method::Depth25 { tile: 16 });
+        let tiled = efficiency(Method::tiled(16));
+        let depth25 = efficiency(Method::depth25(16));
         let grid = ClusterGrid {
-            x: 12,
-            y: 8,
-            z: 24,
+            tile: 16,
+            slices: 32,
             near: NEAR,
             far: FAR,
         };
@@ -199,17 +197,16 @@ fn cull_efficiency_table() {
             e.ratio()
         };
         for tile in [8, 16, 32] {
-            let tiled = row("tiled", &tile.to_string(), Method::Tiled { tile });
-            let depth25 = row("2.5D", &tile.to_string(), Method::Depth25 { tile });
+            let tiled = row("tiled", &tile.to_string(), Method::tiled(tile));
+            let depth25 = row("2.5D", &tile.to_string(), Method::depth25(tile));
             assert!(
                 depth25 <= tiled,
                 "2.5D must not list more than tiled at tile {tile}"
             );
         }
         let grid = ClusterGrid {
-            x: 16,
-            y: 8,
-            z: 24,
+            tile: 16,
+            slices: 32,
             near: NEAR,
             far: FAR,
         };

@@ -7,7 +7,7 @@ mod forward_kernels;
 
 use forward_kernels::{ForwardInputs, draw_forward, draw_heatmap, draw_prez, draw_tonemap};
 use glam::camera::rh;
-use glam::{Mat4, UVec2, UVec3, Vec3, Vec4, Vec4Swizzles as _};
+use glam::{Mat4, UVec2, Vec3, Vec4, Vec4Swizzles as _};
 use shaders_gen::forward::{forward, heatmap, prez, tonemap};
 use tests::gpu::gpu_test;
 
@@ -230,9 +230,19 @@ fn quad() -> Vec<[f32; 12]> {
     ]
 }
 
-/// Clustered grid of the tests, with `near`/`far` as `cluster_cull` takes them.
-const GRID: UVec3 = UVec3::new(4, 4, 8);
+/// Clustered grid of the tests (the tiles × `SLICES` depth slices), with `near`/`far` as
+/// `cluster_cull` takes them.
+const SLICES: u32 = 8;
 const TILE: u32 = 16;
+/// Tiles across (and down: the target is square).
+const TILES_X: u32 = SIZE.div_ceil(TILE);
+/// Grid entries of the clustered lists.
+const FROXELS: u32 = TILES_X * TILES_X * SLICES;
+
+/// The clustered grid entry of pixel `(x, y)` in slice `k`.
+fn froxel(x: u32, y: u32, k: u32) -> u32 {
+    k * TILES_X * TILES_X + (y / TILE) * TILES_X + x / TILE
+}
 const NEAR: f32 = 0.5;
 const FAR: f32 = 50.0;
 
@@ -251,10 +261,10 @@ fn inputs<'a>(
         lighting: forward::Lighting::new(
             SURFACE.ambient,
             lights.len() as u32,
-            UVec2::splat(SIZE),
             tiles,
-            GRID,
             TILE,
+            SLICES,
+            0,
             NEAR,
             FAR,
             directional.len() as u32,
@@ -375,7 +385,7 @@ fn tiled_and_clustered_with_complete_lists_equal_naive() {
     let n = lights.len() as u32;
     let tiles = SIZE.div_ceil(TILE).pow(2);
     let (tile_grid, tile_indices) = complete_lists(n, tiles);
-    let (cluster_grid, cluster_indices) = complete_lists(n, GRID.x * GRID.y * GRID.z);
+    let (cluster_grid, cluster_indices) = complete_lists(n, FROXELS);
     let (naive, tiled, clustered, scalar) = gpu_test(|gpu| {
         let run = |k, grid: &[UVec2], indices: &[u32]| {
             draw_forward(
@@ -446,7 +456,7 @@ fn partial_lists(cells: u32, count: u32) -> (Vec<UVec2>, Vec<u32>) {
 /// `cluster_cull`'s slice of a view depth.
 fn slice_of(d: f32) -> u32 {
     let t = (d / NEAR).ln() / (FAR / NEAR).ln();
-    ((t * GRID.z as f32).floor().max(0.0) as u32).min(GRID.z - 1)
+    ((t * SLICES as f32).floor().max(0.0) as u32).min(SLICES - 1)
 }
 
 #[test]
@@ -457,7 +467,7 @@ fn tiled_and_clustered_read_their_partial_lists() {
     let n = lights.len() as u32;
     let tiles_x = SIZE.div_ceil(TILE);
     let (tile_grid, tile_indices) = partial_lists(tiles_x * tiles_x, n);
-    let (cluster_grid, cluster_indices) = partial_lists(GRID.x * GRID.y * GRID.z, n);
+    let (cluster_grid, cluster_indices) = partial_lists(FROXELS, n);
     let scalar = gpu_test(|gpu| gpu.capabilities().subgroup.is_some());
     for scalarize in [false, true].into_iter().filter(|&sc| !sc || scalar) {
         let (naive, tiled, clustered) = gpu_test(|gpu| {
@@ -504,13 +514,9 @@ fn tiled_and_clustered_read_their_partial_lists() {
         // The quad is at view depth 3 everywhere: slice 3 of 8 (t·8 = 3.11, far from an edge).
         let k = slice_of(3.0);
         assert_eq!(k, 3);
-        let column = |x: u32, count: u32| ((x + 1) * count - 1) / SIZE;
         assert_matches_cpu(
             &clustered,
-            |x, y| {
-                let cell = (k * GRID.y + column(y, GRID.y)) * GRID.x + column(x, GRID.x);
-                expected(cell, x, y)
-            },
+            |x, y| expected(froxel(x, y, k), x, y),
             &format!("clustered partial (scalarize {scalarize})"),
         );
     }
@@ -619,7 +625,7 @@ fn heatmap_colours_counts_on_the_ramp_with_a_legend() {
     let tiles_x = SIZE.div_ceil(TILE);
     // Tile t lists t lights (counts 0..15, saturating past 12).
     let tile_grid: Vec<UVec2> = (0..tiles_x * tiles_x).map(|t| UVec2::new(0, t)).collect();
-    let cells = GRID.x * GRID.y * GRID.z;
+    let cells = FROXELS;
     let cluster_grid: Vec<UVec2> = (0..cells).map(|c| UVec2::new(0, c % 13)).collect();
     // Depth of view distance 3 for the clustered variant: slice 3.
     let clip = s.projection * Vec4::new(0.0, 0.0, -3.0, 1.0);
@@ -628,8 +634,8 @@ fn heatmap_colours_counts_on_the_ramp_with_a_legend() {
         s.projection.inverse(),
         UVec2::splat(SIZE),
         UVec2::splat(tiles_x),
-        GRID,
         TILE,
+        SLICES,
         NEAR,
         FAR,
         max_count,
@@ -652,8 +658,7 @@ fn heatmap_colours_counts_on_the_ramp_with_a_legend() {
             let t = tile as f32 / max_count as f32;
             assert_ramp_pixel(&tiled, x, y, t, "tiled");
             let k = slice_of(3.0);
-            let column = |x: u32, count: u32| ((x + 1) * count - 1) / SIZE;
-            let cell = (k * GRID.y + column(y, GRID.y)) * GRID.x + column(x, GRID.x);
+            let cell = froxel(x, y, k);
             assert_ramp_pixel(
                 &clustered,
                 x,

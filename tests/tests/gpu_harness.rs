@@ -193,13 +193,12 @@ fn an_engines_own_device_reports_only_what_it_enabled() {
         assert!(!caps.timestamp_query);
         assert!(caps.msaa_depth32float.iter().all(|c| matches!(c, 1 | 4)));
         // Asking for a subgroup variant on it is a typed error, not a wgpu failure.
-        let key = shaders_gen::culling::tile_cull::VariantKey {
-            tile: shaders_gen::culling::tile_cull::Tile::T16,
-            msaa: shaders_gen::culling::tile_cull::Msaa::Msaa1,
+        let key = shaders_gen::forward::forward::VariantKey {
+            list: shaders_gen::forward::forward::List::List1,
+            blend: false,
             scalarize: true,
-            depth_mask: false,
         };
-        let variant = shaders_gen::culling::tile_cull::variant(key);
+        let variant = shaders_gen::forward::forward::variant(key).expect("a generated variant");
         let err = ShaderProgram::new(&wrapped.device, caps, variant).unwrap_err();
         assert!(err.to_string().contains("SUBGROUP"), "{err}");
     });

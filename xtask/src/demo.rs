@@ -98,10 +98,10 @@ fn summary(s: &Setup, shot: &Shot, files: &[std::path::PathBuf], secs: f64) {
     if let Some(k) = shot.counters {
         let cells = c.width.div_ceil(c.tile) * c.height.div_ceil(c.tile);
         println!(
-            "culling: {:.1} lights per tile on average, {} at most, {} cells over the per-cell limit, {} entries dropped",
+            "culling: {:.1} list entries per tile on average, {} in the longest list, {} super-tiles fell back to testing every light, {} entries dropped",
             f64::from(k.requested_entries) / f64::from(cells.max(1)),
             k.max_cell_items,
-            k.overflow_cells,
+            k.coarse_fallbacks,
             k.dropped,
         );
     }

@@ -297,8 +297,8 @@ pub fn run(args: &Args, default_out: &str) -> Result<()> {
     }
     if let Some(c) = shot.counters {
         println!(
-            "culling: {} list entries, most items in one cell {}, {} cells over the per-cell limit, {} entries dropped",
-            c.requested_entries, c.max_cell_items, c.overflow_cells, c.dropped
+            "culling: {} list entries, longest list {}, {} super-tiles fell back to testing every light, {} entries dropped",
+            c.requested_entries, c.max_cell_items, c.coarse_fallbacks, c.dropped
         );
         if c.dropped > 0 {
             println!(

@@ -16,11 +16,12 @@ pub const GUARD_WORDS: u32 = 64;
 pub struct CullCounters {
     /// Index-list entries requested by all cells (may exceed the capacity).
     pub requested_entries: u32,
-    /// Cells that found more items than their per-cell capacity.
-    pub overflow_cells: u32,
-    /// Entries dropped for lack of room.
+    /// Super-tiles whose candidates did not fit their slots, so their tiles tested every item
+    /// (slower, still complete).
+    pub coarse_fallbacks: u32,
+    /// Entries dropped because the index list was full (the host grows it for the next frame).
     pub dropped: u32,
-    /// The most items any cell found.
+    /// The longest list written.
     pub max_cell_items: u32,
 }
 
@@ -30,7 +31,7 @@ impl CullCounters {
     pub(crate) fn from_words(c: &[u32]) -> Self {
         Self {
             requested_entries: c[0],
-            overflow_cells: c[1],
+            coarse_fallbacks: c[1],
             dropped: c[2],
             max_cell_items: c[3],
         }

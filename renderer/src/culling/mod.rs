@@ -1,11 +1,14 @@
 //! Light culling: which lights (and later decals and probes) can touch each screen tile or
 //! froxel cluster.
 //!
-//! The GPU kernels live in `shaders_gen::culling`; this module holds their host side
-//! ([`tiled`], [`clustered`]), the output they share ([`lists`]), and the independent CPU
-//! reference ([`reference`]) that the kernels are proven against.
+//! The GPU kernels live in `shaders_gen::culling`; this module holds their host side: the
+//! hierarchy every method shares ([`hierarchy`]: tile depth, super-tile candidates, the fine
+//! dispatch), the methods ([`tiled`], [`clustered`]), the output they share ([`lists`]), overflow
+//! readback and index-list growth ([`overflow`]), and the independent CPU reference
+//! ([`reference`]) that the kernels are proven against.
 
 pub mod clustered;
+pub mod hierarchy;
 pub mod lists;
 pub mod overflow;
 pub mod reference;
@@ -22,9 +25,10 @@ pub enum CullError {
     TileSize(u32),
     #[error("MSAA sample count {0} is not supported; use 1, 2, 4 or 8")]
     SampleCount(u32),
-    #[error("a per-cell capacity of {asked} exceeds the kernel's limit of {limit}")]
-    PerCellCapacity { asked: u32, limit: u32 },
-    #[error("the cluster grid must be at least 1×1×1 with 0 < near < far, got {0}")]
+    #[error(
+        "the cluster grid needs 1 to 32 depth slices, a tile size of 8, 16 or 32 and \
+         0 < near < far, got {0}"
+    )]
     Grid(String),
     #[error(
         "{count} items do not fit the item buffer of {capacity}; create the culling pass with a \
@@ -87,19 +91,22 @@ fn item_buffer<T>(device: &wgpu::Device, capacity: u32) -> wgpu::Buffer {
     })
 }
 
-/// A bind group for group 0 of `program`, binding its entries in order to `resources`.
-fn bind_all(
+/// A bind group for group 0 of `program`: each of its bindings gets the resource numbered like
+/// it in `resources` (the culling modules share one numbering, each uses part of it).
+fn bind_by_number(
     device: &wgpu::Device,
     program: &ShaderProgram,
-    resources: &[wgpu::BindingResource<'_>],
+    resources: &[(u32, wgpu::BindingResource<'_>)],
 ) -> wgpu::BindGroup {
     let entries: Vec<wgpu::BindGroupEntry<'_>> = program
         .variant
         .group(0)
-        .zip(resources)
-        .map(|(b, r)| wgpu::BindGroupEntry {
-            binding: b.binding,
-            resource: r.clone(),
+        .filter_map(|b| {
+            let (_, r) = resources.iter().find(|(n, _)| *n == b.binding)?;
+            Some(wgpu::BindGroupEntry {
+                binding: b.binding,
+                resource: r.clone(),
+            })
         })
         .collect();
     device.create_bind_group(&wgpu::BindGroupDescriptor {

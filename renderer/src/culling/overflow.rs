@@ -121,104 +121,47 @@ impl CounterReadback {
     }
 }
 
-/// Capacities of a culling pass's lists.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Capacities {
-    /// Most items one cell may list.
-    pub per_cell: u32,
-    /// Entries of the index list.
-    pub index: u32,
-}
-
-/// The capacities to use next frame after a frame reported `counters`, or `None` if the current
-/// ones sufficed. The index list grows to a power of two with 25% headroom; the per-cell limit
-/// grows to a power of two up to the kernel's `per_cell_limit`, past which overflow remains and
-/// is reported (a smaller tile or the 2.5D / clustered method is the cure).
-pub fn grow_for(
-    counters: &CullCounters,
-    current: Capacities,
-    per_cell_limit: u32,
-) -> Option<Capacities> {
-    let mut next = current;
-    if counters.max_cell_items > current.per_cell && current.per_cell < per_cell_limit {
-        next.per_cell = counters
-            .max_cell_items
-            .next_power_of_two()
-            .min(per_cell_limit);
+/// The index-list capacity to use next frame after a frame reported `counters`, or `None` if
+/// the current one sufficed: what the frame requested with 25% headroom, as a power of two.
+/// Lists themselves have no per-cell limit, so the index list is the only thing that can run
+/// out.
+pub fn grow_for(counters: &CullCounters, current_index: u32) -> Option<u32> {
+    if counters.requested_entries <= current_index {
+        return None;
     }
-    // The entries the next frame will need with the new per-cell limit is at most what this
-    // frame requested scaled by how much the per-cell limit grew; requested already counts each
-    // cell up to the old limit.
-    let scale = f64::from(next.per_cell) / f64::from(current.per_cell.max(1));
-    let needed = (f64::from(counters.requested_entries) * scale * 1.25).ceil() as u64;
-    if counters.requested_entries > current.index
-        || (next.per_cell > current.per_cell && needed > u64::from(current.index))
-    {
-        next.index = u32::try_from(needed.next_power_of_two())
+    let needed = (f64::from(counters.requested_entries) * 1.25).ceil() as u64;
+    Some(
+        u32::try_from(needed.next_power_of_two())
             .unwrap_or(u32::MAX)
-            .max(current.index);
-    }
-    (next != current).then_some(next)
+            .max(current_index),
+    )
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn counters(requested: u32, max_cell: u32) -> CullCounters {
+    fn counters(requested: u32) -> CullCounters {
         CullCounters {
             requested_entries: requested,
-            overflow_cells: 0,
-            dropped: 0,
-            max_cell_items: max_cell,
+            ..CullCounters::default()
         }
     }
 
     #[test]
     fn enough_room_means_no_growth() {
-        let caps = Capacities {
-            per_cell: 256,
-            index: 4096,
-        };
-        assert_eq!(grow_for(&counters(4000, 200), caps, 1024), None);
+        assert_eq!(grow_for(&counters(4000), 4096), None);
+        assert_eq!(grow_for(&counters(4096), 4096), None);
     }
 
     #[test]
     fn index_list_grows_with_headroom() {
-        let caps = Capacities {
-            per_cell: 256,
-            index: 4096,
-        };
-        let next = grow_for(&counters(5000, 100), caps, 1024).expect("must grow");
-        assert_eq!(
-            next,
-            Capacities {
-                per_cell: 256,
-                index: 8192
-            }
-        );
+        assert_eq!(grow_for(&counters(5000), 4096), Some(8192));
+        assert_eq!(grow_for(&counters(7000), 4096), Some(16384), "25% headroom");
     }
 
     #[test]
-    fn per_cell_limit_grows_up_to_the_kernel_limit_and_index_follows() {
-        let caps = Capacities {
-            per_cell: 64,
-            index: 1 << 16,
-        };
-        let next = grow_for(&counters(60_000, 300), caps, 1024).expect("must grow");
-        assert_eq!(next.per_cell, 512);
-        assert!(
-            next.index >= 60_000 * 8,
-            "index list grows with the per-cell limit: {next:?}"
-        );
-        let at_limit = Capacities {
-            per_cell: 1024,
-            index: 1 << 20,
-        };
-        assert_eq!(
-            grow_for(&counters(1000, 5000), at_limit, 1024),
-            None,
-            "nothing more to grow"
-        );
+    fn growth_saturates_instead_of_wrapping() {
+        assert_eq!(grow_for(&counters(u32::MAX), 1 << 20), Some(u32::MAX));
     }
 }

@@ -1,13 +1,13 @@
-//! Host side of the tiled and 2.5D culling kernel (`shaders_gen::culling::tile_cull`): the
-//! variant for the frame's tile size / MSAA count / scalarization / depth mask, its buffers and
-//! its dispatch.
+//! Host side of tiled and 2.5D culling: the fine kernel `shaders_gen::culling::tile_cull` on top
+//! of the shared [`super::hierarchy`], with an opaque list per tile and, when blended surfaces
+//! are shaded, a transparent list.
 
 use glam::{Mat4, UVec2};
-use shaders_gen::culling::tile_cull::{self, CullParams, CullSphere, Msaa, Tile, VariantKey};
+use shaders_gen::culling::tile_cull::{self, CullSphere, Tile, VariantKey};
 
 use super::CullError;
+use super::hierarchy::{CullHierarchy, CullView, HierarchyShape, MethodParams};
 use super::lists::{CullReadback, LightLists};
-use crate::shader::ShaderProgram;
 use crate::{GpuContext, GpuError};
 
 /// Settings of the tiled culling pass.
@@ -17,22 +17,23 @@ pub struct TileCullConfig {
     pub tile: u32,
     /// MSAA sample count of the depth buffer: 1, 2, 4 or 8.
     pub msaa: u32,
-    /// Use the subgroup (scalarized) variant.
-    pub scalarize: bool,
     /// 2.5D culling: test items against the tile's 32-cell geometry depth mask too.
     pub depth_mask: bool,
-    /// Lists also serve blended surfaces, which the pre-Z depth does not hold: tiles span from
-    /// the near plane (see `tile_cull::CullParams::include_transparent`).
-    pub include_transparent: bool,
-    /// Most items one tile may list (at most [`tile_cull::MAX_PER_TILE`]).
-    pub max_per_tile: u32,
+    /// Blended surfaces, which the pre-Z depth does not hold, are shaded: write a second list
+    /// per tile, from the near plane to the tile's farthest opaque sample (grid entries
+    /// `tile_count..2·tile_count`). The opaque lists stay as tight as without.
+    pub transparent_lists: bool,
+    /// Skip the super-tile level: every tile tests every item (for comparison).
+    pub brute_force: bool,
+    /// Candidate slots per super-tile (see [`HierarchyShape::coarse_slots`]).
+    pub coarse_slots: Option<u32>,
     /// Entries the index list holds.
     pub index_capacity: u32,
     /// Items the item buffer holds.
     pub item_capacity: u32,
 }
 
-/// The kernel's variant key for a configuration.
+/// The fine kernel's variant key for a configuration.
 pub fn variant_key(config: &TileCullConfig) -> Result<VariantKey, CullError> {
     let tile = match config.tile {
         8 => Tile::T8,
@@ -40,17 +41,8 @@ pub fn variant_key(config: &TileCullConfig) -> Result<VariantKey, CullError> {
         32 => Tile::T32,
         t => return Err(CullError::TileSize(t)),
     };
-    let msaa = match config.msaa {
-        1 => Msaa::Msaa1,
-        2 => Msaa::Msaa2,
-        4 => Msaa::Msaa4,
-        8 => Msaa::Msaa8,
-        s => return Err(CullError::SampleCount(s)),
-    };
     Ok(VariantKey {
         tile,
-        msaa,
-        scalarize: config.scalarize,
         depth_mask: config.depth_mask,
     })
 }
@@ -60,11 +52,7 @@ pub fn variant_key(config: &TileCullConfig) -> Result<VariantKey, CullError> {
 pub struct TiledCulling {
     pub config: TileCullConfig,
     pub tiles: UVec2,
-    pub lists: LightLists,
-    program: ShaderProgram,
-    pipeline: wgpu::ComputePipeline,
-    params: wgpu::Buffer,
-    items: wgpu::Buffer,
+    pub levels: CullHierarchy,
 }
 
 impl TiledCulling {
@@ -74,27 +62,36 @@ impl TiledCulling {
         width: u32,
         height: u32,
     ) -> Result<Self, CullError> {
-        if config.max_per_tile > tile_cull::MAX_PER_TILE {
-            return Err(CullError::PerCellCapacity {
-                asked: config.max_per_tile,
-                limit: tile_cull::MAX_PER_TILE,
-            });
-        }
-        super::check_index_capacity(&gpu.device, config.index_capacity)?;
-        let variant = tile_cull::variant(variant_key(&config)?);
-        let program = ShaderProgram::new(&gpu.device, gpu.capabilities(), variant)?;
-        let pipeline = program.compute_pipeline(&gpu.device, "cull")?;
-        let tiles = UVec2::new(width.div_ceil(config.tile), height.div_ceil(config.tile));
-        let device = &gpu.device;
+        let shape = HierarchyShape {
+            tile: config.tile,
+            msaa: config.msaa,
+            lists_per_tile: 1 + u32::from(config.transparent_lists),
+            index_capacity: config.index_capacity,
+            item_capacity: config.item_capacity,
+            brute_force: config.brute_force,
+            coarse_slots: config.coarse_slots,
+        };
+        let fine = tile_cull::variant(variant_key(&config)?);
+        let levels = CullHierarchy::new(gpu, shape, fine, width, height)?;
         Ok(Self {
             config,
-            tiles,
-            lists: LightLists::new(device, tiles.x * tiles.y, config.index_capacity),
-            params: super::uniform_buffer::<CullParams>(device),
-            items: super::item_buffer::<CullSphere>(device, config.item_capacity),
-            program,
-            pipeline,
+            tiles: levels.tiles,
+            levels,
         })
+    }
+
+    /// The lists this culling writes.
+    pub fn lists(&self) -> &LightLists {
+        &self.levels.lists
+    }
+
+    /// Grid entries from a tile's opaque list to its transparent one (0 when there is none).
+    pub fn transparent_offset(&self) -> u32 {
+        if self.config.transparent_lists {
+            self.tiles.x * self.tiles.y
+        } else {
+            0
+        }
     }
 
     /// Uploads the camera and the items' world-space bounding spheres.
@@ -106,78 +103,37 @@ impl TiledCulling {
         screen: UVec2,
         items: &[CullSphere],
     ) -> Result<(), CullError> {
-        super::check_item_count(items.len(), self.config.item_capacity)?;
-        let params = CullParams::new(
+        let camera = CullView {
             view,
             projection,
-            projection.inverse(),
             screen,
-            self.tiles,
-            items.len() as u32,
-            self.config.max_per_tile,
-            self.config.index_capacity,
-            u32::from(self.config.include_transparent),
-        );
-        gpu.queue
-            .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
-        gpu.queue
-            .write_buffer(&self.items, 0, bytemuck::cast_slice(items));
-        Ok(())
+        };
+        let method = MethodParams {
+            transparent: self.config.transparent_lists,
+            ..MethodParams::default()
+        };
+        let params = self.levels.params(&camera, items.len() as u32, method);
+        self.levels.upload(gpu, &params, items)
     }
 
-    /// Records the culling dispatch reading `depth` (the pre-Z buffer, `config.msaa` samples).
+    /// Records the culling dispatches reading `depth` (the pre-Z buffer, `config.msaa` samples).
     pub fn encode(
         &self,
         device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,
         depth: &wgpu::TextureView,
     ) {
-        let resources = [
-            self.params.as_entire_binding(),
-            self.items.as_entire_binding(),
-            self.lists.grid.as_entire_binding(),
-            self.lists.indices.as_entire_binding(),
-            self.lists.counters.as_entire_binding(),
-            wgpu::BindingResource::TextureView(depth),
-        ];
-        let bind_group = super::bind_all(device, &self.program, &resources);
-        encoder.clear_buffer(&self.lists.counters, 0, None);
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("tile cull"),
-            timestamp_writes: None,
-        });
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &bind_group, &[]);
-        pass.dispatch_workgroups(self.tiles.x, self.tiles.y, 1);
+        self.levels.encode(device, encoder, depth);
     }
 
-    /// Per-tile capacity limit of the kernel.
-    pub const PER_CELL_LIMIT: u32 = tile_cull::MAX_PER_TILE;
-
-    /// The capacities in use.
-    pub fn capacities(&self) -> super::overflow::Capacities {
-        super::overflow::Capacities {
-            per_cell: self.config.max_per_tile,
-            index: self.config.index_capacity,
-        }
-    }
-
-    /// Takes new capacities (from [`super::overflow::grow_for`]) for the next frame. The index
-    /// list never grows past what one storage binding holds; beyond that, overflow stays counted.
-    pub fn grow(&mut self, device: &wgpu::Device, caps: super::overflow::Capacities) {
-        let caps = super::overflow::Capacities {
-            index: caps.index.min(super::max_index_entries(device)),
-            ..caps
-        };
-        self.config.max_per_tile = caps.per_cell.min(tile_cull::MAX_PER_TILE);
-        if caps.index != self.config.index_capacity {
-            self.config.index_capacity = caps.index;
-            self.lists = LightLists::new(device, self.tiles.x * self.tiles.y, caps.index);
-        }
+    /// Takes a new index capacity (from [`super::overflow::grow_for`]) for the next frame.
+    pub fn grow(&mut self, device: &wgpu::Device, index_capacity: u32) {
+        self.levels.grow(device, index_capacity);
+        self.config.index_capacity = self.levels.shape.index_capacity;
     }
 
     /// Blocking readback of the results (tests and tools).
     pub fn read_back(&self, gpu: &GpuContext) -> Result<CullReadback, GpuError> {
-        self.lists.read_back(gpu)
+        self.levels.read_back(gpu)
     }
 }

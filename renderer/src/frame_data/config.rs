@@ -14,7 +14,7 @@ pub enum RenderPath {
     Tiled,
     /// Tiled culling with the 2.5D depth mask.
     Depth25,
-    /// Clustered culling, 16×8×24 froxels.
+    /// Clustered culling: froxels of one tile × one of 32 exponential depth slices.
     Clustered,
 }
 
@@ -68,10 +68,12 @@ pub struct RendererConfig {
     /// 1, 2, 4 or 8, as the adapter supports for Depth32Float and Rgba16Float.
     pub msaa: u32,
     pub path: RenderPath,
-    /// Tile size of the tiled paths.
+    /// Tile size of the tiled and clustered paths (8, 16 or 32).
     pub tile: u32,
-    /// Use subgroup variants where the device has SUBGROUP.
+    /// Use subgroup variants of the forward shader where the device has SUBGROUP.
     pub scalarize: bool,
+    /// Cull without the super-tile level (every tile tests every light), for comparison.
+    pub cull_brute_force: bool,
     /// Format of the caller's target (an sRGB format gets sRGB output).
     pub output_format: wgpu::TextureFormat,
     /// Ambient light, linear RGB.
@@ -107,6 +109,7 @@ impl Default for RendererConfig {
             path: RenderPath::Tiled,
             tile: 16,
             scalarize: false,
+            cull_brute_force: false,
             output_format: wgpu::TextureFormat::Rgba8UnormSrgb,
             ambient: Vec3::splat(0.03),
             sky: Vec3::ZERO,

@@ -21,12 +21,15 @@ pub struct LightListHandles {
 /// How cells map to the screen, as the passes that look lists up need it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ListGeometry {
-    /// Tile size in pixels (tiled methods; the configured tile otherwise).
+    /// Tile size in pixels (the configured tile when there are no lists).
     pub tile: u32,
     /// Tiles across and down.
     pub tiles: glam::UVec2,
-    /// Froxels across, down and in depth (clustered; 1×1×1 otherwise).
-    pub grid: glam::UVec3,
+    /// Depth slices (clustered; 1 otherwise).
+    pub slices: u32,
+    /// Grid entries from a tile's opaque list to its transparent one (tiled with blended
+    /// surfaces; 0 otherwise).
+    pub blend_cell_offset: u32,
     /// View depths where slice 1 and the last slice start (the camera's planes otherwise).
     pub near: f32,
     pub far: f32,
@@ -39,21 +42,30 @@ impl ListGeometry {
         config: &super::RendererConfig,
         camera: &super::FrameCamera,
     ) -> Self {
-        let (mut tile, mut grid) = (config.tile, glam::UVec3::ONE);
+        let tile = method.map_or(config.tile, |m| m.tile());
+        let tiles = glam::UVec2::new(config.width.div_ceil(tile), config.height.div_ceil(tile));
+        let (mut slices, mut blend_cell_offset) = (1, 0);
         let (mut near, mut far) = (camera.near, camera.far);
         match method {
-            Some(Method::Tiled { tile: t } | Method::Depth25 { tile: t }) => tile = t,
+            Some(
+                Method::Tiled {
+                    transparent: true, ..
+                }
+                | Method::Depth25 {
+                    transparent: true, ..
+                },
+            ) => blend_cell_offset = tiles.x * tiles.y,
             Some(Method::Clustered { grid: g, .. }) => {
-                grid = glam::UVec3::new(g.x, g.y, g.z);
+                slices = g.slices;
                 (near, far) = (g.near, g.far);
             }
-            None => {}
+            _ => {}
         }
-        let tiles = glam::UVec2::new(config.width.div_ceil(tile), config.height.div_ceil(tile));
         Self {
             tile,
             tiles,
-            grid,
+            slices,
+            blend_cell_offset,
             near,
             far,
         }

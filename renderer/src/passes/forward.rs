@@ -69,10 +69,10 @@ impl ForwardPass {
         let lighting = forward::Lighting::new(
             c.ambient,
             frame.lights.punctual.len() as u32,
-            frame.screen(),
             g.tiles,
-            g.grid,
             g.tile,
+            g.slices,
+            g.blend_cell_offset,
             g.near,
             g.far,
             frame.lights.directional.len() as u32,

@@ -13,7 +13,7 @@ use crate::GpuContext;
 use crate::culling::clustered::{ClusterCullConfig, ClusteredCulling};
 use crate::culling::lists::{CullCounters, LightLists};
 use crate::culling::max_index_entries;
-use crate::culling::overflow::{Capacities, CounterReadback, grow_for};
+use crate::culling::overflow::{CounterReadback, grow_for};
 use crate::culling::reference::{ClusterGrid, Method};
 use crate::culling::tiled::{TileCullConfig, TiledCulling};
 use crate::frame_data::{
@@ -21,10 +21,8 @@ use crate::frame_data::{
 };
 use crate::graph::{BufferAccess, ImportAccess, RenderGraph, TextureAccess};
 
-/// Froxels across, down and in depth of the clustered path.
-pub const CLUSTER_GRID: [u32; 3] = [16, 8, 24];
-/// Most lights one tile or froxel lists (the kernels' workgroup memory).
-const MAX_PER_CELL: u32 = 1024;
+/// Depth slices of the clustered path (the kernels' limit, `cull_append::MAX_LISTS`).
+pub const CLUSTER_SLICES: u32 = 32;
 
 /// The light culler of the configured path.
 #[derive(Debug, Clone)]
@@ -38,20 +36,16 @@ impl Culler {
     /// The light lists this culler writes (none on the naive paths).
     pub fn lists(&self) -> Option<&LightLists> {
         match self {
-            Self::Tiled(c) => Some(&c.lists),
-            Self::Clustered(c) => Some(&c.lists),
+            Self::Tiled(c) => Some(c.lists()),
+            Self::Clustered(c) => Some(c.lists()),
             Self::Naive => None,
         }
     }
 
-    /// Whether the culling pass reads the depth buffer: tiled always; clustered only to skip
-    /// empty froxels.
+    /// Whether the culling pass reads the depth buffer (every culled path does: tile depth
+    /// bounds bound the super-tiles and tiles, and mark the occupied froxels).
     pub fn reads_depth(&self) -> bool {
-        match self {
-            Self::Tiled(_) => true,
-            Self::Clustered(c) => c.config.skip_empty,
-            Self::Naive => false,
-        }
+        !matches!(self, Self::Naive)
     }
 
     /// The culling method, as the CPU reference names it.
@@ -59,9 +53,11 @@ impl Culler {
         match self {
             Self::Tiled(t) if t.config.depth_mask => Some(Method::Depth25 {
                 tile: t.config.tile,
+                transparent: t.config.transparent_lists,
             }),
             Self::Tiled(t) => Some(Method::Tiled {
                 tile: t.config.tile,
+                transparent: t.config.transparent_lists,
             }),
             Self::Clustered(k) => Some(Method::Clustered {
                 grid: k.config.grid,
@@ -129,7 +125,11 @@ impl LightCullPass {
                 (Culler::Tiled(t), RenderPath::Tiled | RenderPath::Depth25) => {
                     t.config.item_capacity >= items
                         && t.config.index_capacity == self.index_capacity
-                        && t.config.include_transparent == has_blend
+                        && t.config.transparent_lists == has_blend
+                        && t.config.tile == c.tile
+                        && t.config.msaa == c.msaa
+                        && t.config.brute_force == c.cull_brute_force
+                        && t.config.depth_mask == (c.path == RenderPath::Depth25)
                 }
                 (Culler::Clustered(k), RenderPath::Clustered) => {
                     k.config.item_capacity >= items
@@ -137,6 +137,9 @@ impl LightCullPass {
                         && k.config.skip_empty == skip_empty
                         && k.config.grid.near == near
                         && k.config.grid.far == far
+                        && k.config.grid.tile == c.tile
+                        && k.config.msaa == c.msaa
+                        && k.config.brute_force == c.cull_brute_force
                 }
                 _ => false,
             };
@@ -150,10 +153,10 @@ impl LightCullPass {
                 let config = TileCullConfig {
                     tile: c.tile,
                     msaa: c.msaa,
-                    scalarize: c.scalarize,
                     depth_mask: c.path == RenderPath::Depth25,
-                    include_transparent: has_blend,
-                    max_per_tile: MAX_PER_CELL,
+                    transparent_lists: has_blend,
+                    brute_force: c.cull_brute_force,
+                    coarse_slots: None,
                     index_capacity: self.index_capacity,
                     item_capacity: items,
                 };
@@ -162,13 +165,18 @@ impl LightCullPass {
                 )?))
             }
             RenderPath::Clustered => {
-                let [x, y, z] = CLUSTER_GRID;
+                let grid = ClusterGrid {
+                    tile: c.tile,
+                    slices: CLUSTER_SLICES,
+                    near,
+                    far,
+                };
                 let config = ClusterCullConfig {
-                    grid: ClusterGrid { x, y, z, near, far },
+                    grid,
                     msaa: c.msaa,
-                    scalarize: c.scalarize,
                     skip_empty,
-                    max_per_cluster: MAX_PER_CELL,
+                    brute_force: c.cull_brute_force,
+                    coarse_slots: None,
                     index_capacity: self.index_capacity,
                     item_capacity: items,
                 };
@@ -190,25 +198,21 @@ impl LightCullPass {
         if counters.dropped == 0 {
             return;
         }
-        let current = Capacities {
-            per_cell: MAX_PER_CELL,
-            index: self.index_capacity,
-        };
         let limit = max_index_entries(&self.gpu.device);
-        let grown = grow_for(&counters, current, MAX_PER_CELL)
-            .map(|c| c.index.min(limit))
+        let grown = grow_for(&counters, self.index_capacity)
+            .map(|index| index.min(limit))
             .filter(|&index| index > self.index_capacity);
         log::warn!(
-            "light culling dropped {} list entries ({} cells over their {MAX_PER_CELL}-item limit, \
-             {} entries requested of {}); {}",
+            "light culling dropped {} list entries: {} entries were requested of an index list of \
+             {}; {}",
             counters.dropped,
-            counters.overflow_cells,
             counters.requested_entries,
             self.index_capacity,
             if grown.is_some() {
                 "growing the index list for the next frame"
             } else {
-                "the per-cell limit is reached: use smaller tiles, 2.5D or fewer lights per cell"
+                "the index list is as large as one storage binding: use the 2.5D or clustered \
+                 path, smaller light radii or fewer lights"
             }
         );
         if let Some(index) = grown {
@@ -236,7 +240,9 @@ impl Pass for LightCullPass {
             Culler::Tiled(t) => {
                 t.upload(gpu, camera.view, camera.projection, frame.screen(), &items)?;
             }
-            Culler::Clustered(k) => k.upload(gpu, camera.view, camera.projection, &items)?,
+            Culler::Clustered(k) => {
+                k.upload(gpu, camera.view, camera.projection, frame.screen(), &items)?;
+            }
             Culler::Naive => {}
         }
         Ok(())

@@ -1,154 +1,138 @@
-//! Clustered light culling: screen tiles × exponential depth slices (froxels), as in Olsson's
-//! clustered shading, Bevy and DOOM 2016 (16×8×24).
+//! Clustered light culling, the fine level: froxels of one screen tile × an exponential depth
+//! slice (Olsson's clustered shading; DOOM 2016 and Call of Duty slice depth exponentially).
 
-/// Clustered culling over a runtime `grid` of froxels.
+/// Clustered culling over the candidates `cull_prepare` left for the tile's super-tile: one
+/// workgroup per `tile`×`tile` screen tile, one list per depth slice.
 ///
-/// Froxel column `i` spans pixels `[i·w/X, (i+1)·w/X)` (integer division), and likewise for
-/// rows, so every sample of a pixel lies inside its froxel's planes. Depth slice `k` spans view
-/// depths `near·(far/near)^(k/Z)` to the next; slice 0 reaches the eye and the last slice goes to
-/// infinity, so every surface belongs to some froxel.
+/// Slice `k` of `slices` spans view depths `slice_near·(slice_far/slice_near)^(k/slices)` to the
+/// next; slice 0 reaches the eye and the last goes to infinity (`light_grid::slice_start`). The
+/// list of slice `k` is grid entry `tile + k · tile_count` (`light_grid::froxel_cell`).
 ///
-/// `mark_occupied` (optional, one invocation per pixel) flags the froxels that hold a depth
-/// sample; with `skip_empty` set, `cull` gives the other froxels empty lists. `cull` runs one
-/// workgroup per froxel and writes the same `(offset, count)` grid and index list as the tiled
-/// kernel, with the same overflow counters: the gather, the append, the output bindings and
-/// the counters are the `cull_append` library's, the froxel geometry `light_grid`'s.
+/// An item is listed in froxel `(tile, k)` when its sphere clears the tile's four side planes and
+/// the slice's two depth planes, and reaches the froxel's view-space bounding box (closest point
+/// of the box within the radius; the last slice, unbounded, has no box). Without `all_slices`,
+/// only the slices holding a depth sample of the tile (`TILE_DEPTH[tile].w`) get lists. Lists are
+/// counted, allocated with one atomic per tile and written (`cull_append`), so none is cut short.
 #[shader_dsl::shader(
-    axes(
-        msaa: u32 = [1, 2, 4, 8],
-        scalarize: bool = [false, true] => "scalar",
-    ),
-    requires(subgroup = scalarize),
+    axes(tile: u32 = [8, 16, 32] => "t"),
     uses(crate::shared::light_grid, crate::shared::cull_append),
 )]
 pub mod cluster_cull {
-    /// Camera, grid and capacities of the clustered pass.
-    pub struct ClusterParams {
-        pub view: Mat4,
-        pub projection: Mat4,
-        pub inv_projection: Mat4,
-        /// Target size in pixels.
-        pub screen: UVec2,
-        /// Froxels across, down and in depth.
-        pub grid: UVec3,
-        /// View depth where slice 1 starts.
-        pub near: f32,
-        /// View depth where the last slice starts.
-        pub far: f32,
-        pub item_count: u32,
-        /// Most items one froxel may list (at most `MAX_PER_CLUSTER`).
-        pub max_per_cluster: u32,
-        /// Entries `INDICES` may hold.
-        pub index_capacity: u32,
-        /// Non-zero: froxels not flagged by `mark_occupied` get no items.
-        pub skip_empty: u32,
-    }
-
-    /// Largest per-froxel list the workgroup can gather (workgroup memory).
-    pub const MAX_PER_CLUSTER: u32 = MAX_PER_CELL;
+    /// Invocations per tile.
     pub const WORKGROUP: u32 = 64;
-    /// `COUNTERS[OVERFLOW_CLUSTERS]`: froxels that found more items than `max_per_cluster`.
-    pub const OVERFLOW_CLUSTERS: u32 = OVERFLOW_CELLS;
-    /// `COUNTERS[MAX_CLUSTER_ITEMS]`: the most items any froxel found.
-    pub const MAX_CLUSTER_ITEMS: u32 = MAX_CELL_ITEMS;
 
-    #[uniform(group = 0, binding = 0)]
-    static PARAMS: ClusterParams;
-    #[storage(group = 0, binding = 5, read_write)]
-    static OCCUPIED: [u32];
-    #[texture(group = 0, binding = 6)]
-    #[when(msaa == 1)]
-    static DEPTH: TextureDepth2d;
-    #[texture(group = 0, binding = 6)]
-    #[when(msaa > 1)]
-    static DEPTH_MS: TextureDepthMultisampled2d;
-
-    /// The depth slice of view depth `d`.
-    fn slice_at(d: f32) -> u32 {
-        slice_of(d, PARAMS.near, PARAMS.far, PARAMS.grid.z)
+    /// The tile's column of froxels: side planes, the spread of its corner rays (view-space
+    /// `xy` at view depth 1) and the slices that get lists.
+    struct TileColumn {
+        sides: SidePlanes,
+        ray_min: Vec2,
+        ray_max: Vec2,
+        slices: u32,
     }
 
-    /// View depth where slice `k` starts.
-    fn start_of(k: u32) -> f32 {
-        slice_start(k, PARAMS.near, PARAMS.far, PARAMS.grid.z)
+    /// View-space direction through NDC `(x, y)`, scaled to view depth 1.
+    fn corner_ray(x: f32, y: f32) -> Vec2 {
+        let p = PARAMS.inv_projection * Vec4::new(x, y, 0.5, 1.0);
+        let v = p.xyz() / p.w;
+        v.xy() / -v.z
     }
 
-    /// Flags the froxel of every surface sample.
-    #[compute(workgroup_size(8, 8, 1))]
-    pub fn mark_occupied(#[builtin(global_invocation_id)] gid: UVec3) {
-        if gid.x < PARAMS.screen.x && gid.y < PARAMS.screen.y {
-            for s in 0u32..msaa {
-                let mut d = 1.0;
-                if msaa == 1 {
-                    d = DEPTH.load(gid.xy(), 0u32);
-                } else {
-                    d = DEPTH_MS.load(gid.xy(), s);
-                }
-                if d < 1.0 {
-                    let k = slice_at(view_depth(PARAMS.inv_projection, d));
-                    OCCUPIED[froxel_cell(gid.xy(), k, PARAMS.grid, PARAMS.screen)] = 1u32;
+    /// Whether a view-space sphere reaches the box around the froxel between view depths `zn`
+    /// and `zf`.
+    fn reaches_froxel_box(c: Vec3, r: f32, column: TileColumn, zn: f32, zf: f32) -> bool {
+        let lo = (column.ray_min * zn).min(column.ray_min * zf);
+        let hi = (column.ray_max * zn).max(column.ray_max * zf);
+        let closest = c.clamp(lo.extend(-zf), hi.extend(-zn));
+        (c - closest).length_squared() <= r * r
+    }
+
+    /// The slices (bit `k`) whose froxel of this tile item `item` reaches.
+    fn classify(item: u32, column: TileColumn) -> u32 {
+        let s = view_sphere(item);
+        let c = s.xyz();
+        let r = s.w;
+        let slices = PARAMS.slices;
+        let mut bits = 0u32;
+        let hi = -c.z + r;
+        if hi >= 0.0 && sphere_in_frustum(c, r, column.sides, 0.0, hi) {
+            // The slices the sphere's depth span touches, widened by one for rounding; the exact
+            // per-slice test decides.
+            let lo = -c.z - r;
+            let mut first = 0u32;
+            if lo > PARAMS.slice_near {
+                first = slice_of(lo, PARAMS.slice_near, PARAMS.slice_far, slices).max(1u32) - 1u32;
+            }
+            let mut last = slices - 1u32;
+            if hi > PARAMS.slice_near {
+                last = (slice_of(hi, PARAMS.slice_near, PARAMS.slice_far, slices) + 1u32)
+                    .min(slices - 1u32);
+            } else {
+                last = 1u32.min(slices - 1u32);
+            }
+            for k in first..last + 1u32 {
+                if (column.slices & (1u32 << k)) != 0u32 {
+                    let zn = slice_start(k, PARAMS.slice_near, PARAMS.slice_far, slices);
+                    let zf = slice_start(k + 1u32, PARAMS.slice_near, PARAMS.slice_far, slices);
+                    let mut hit = -c.z - zn >= -r && c.z + zf >= -r;
+                    if hit && k + 1u32 < slices {
+                        hit = reaches_froxel_box(c, r, column, zn, zf);
+                    }
+                    if hit {
+                        bits = bits | (1u32 << k);
+                    }
                 }
             }
         }
+        bits
     }
 
     #[compute(workgroup_size(64, 1, 1))]
-    pub fn cull(
-        #[builtin(local_invocation_index)] lid: u32,
-        #[builtin(workgroup_id)] wg: UVec3,
-        #[builtin(subgroup_invocation_id)] lane: u32,
-    ) {
-        let grid = PARAMS.grid;
-        let cluster = (wg.z * grid.y + wg.y) * grid.x + wg.x;
-        if PARAMS.skip_empty != 0u32 && OCCUPIED[cluster] == 0u32 {
+    pub fn cull(#[builtin(local_invocation_index)] lid: u32, #[builtin(workgroup_id)] wg: UVec3) {
+        let tile_index = wg.y * PARAMS.tiles.x + wg.x;
+        let lists = PARAMS.slices;
+        let mut slices = TILE_DEPTH[tile_index].w;
+        if PARAMS.all_slices != 0u32 {
+            slices = 0xffff_ffffu32 >> (MAX_LISTS - lists);
+        }
+        if slices == 0u32 {
+            // No sample in any slice: every froxel of the column stays empty.
             if lid == 0u32 {
-                GRID[cluster] = UVec2::new(0u32, 0u32);
+                lists_clear(tile_index, lists);
             }
             return;
         }
-        if lid == 0u32 {
-            gather_reset();
-        }
-        workgroup_barrier();
-
-        // Froxel planes: pixel-edge sides from the projection rows, slice bounds in depth.
         let size = PARAMS.screen.as_vec2();
-        let px0 = (wg.x * PARAMS.screen.x / grid.x) as f32;
-        let px1 = ((wg.x + 1u32) * PARAMS.screen.x / grid.x) as f32;
-        let py0 = (wg.y * PARAMS.screen.y / grid.y) as f32;
-        let py1 = ((wg.y + 1u32) * PARAMS.screen.y / grid.y) as f32;
-        let x0 = 2.0 * px0 / size.x - 1.0;
-        let x1 = 2.0 * px1 / size.x - 1.0;
-        let y1 = 1.0 - 2.0 * py0 / size.y;
-        let y0 = 1.0 - 2.0 * py1 / size.y;
-        let sides = side_planes(PARAMS.projection, x0, x1, y0, y1);
-        let near = start_of(wg.z);
-        let far = start_of(wg.z + 1u32);
+        let x0 = 2.0 * (wg.x * tile) as f32 / size.x - 1.0;
+        let x1 = 2.0 * ((wg.x + 1u32) * tile) as f32 / size.x - 1.0;
+        let y1 = 1.0 - 2.0 * (wg.y * tile) as f32 / size.y;
+        let y0 = 1.0 - 2.0 * ((wg.y + 1u32) * tile) as f32 / size.y;
+        let a = corner_ray(x0, y0);
+        let b = corner_ray(x1, y1);
+        let column = TileColumn {
+            sides: side_planes(PARAMS.projection, x0, x1, y0, y1),
+            ray_min: a.min(b),
+            ray_max: a.max(b),
+            slices,
+        };
 
-        // The subgroup lane exists only in scalarized variants.
-        let mut lane_id = 0u32;
-        if scalarize {
-            lane_id = lane;
-        }
-        let rounds = (PARAMS.item_count + WORKGROUP - 1u32) / WORKGROUP;
-        for round in 0u32..rounds {
-            let item = round * WORKGROUP + lid;
-            let mut visible = false;
-            if item < PARAMS.item_count {
-                let sphere = ITEMS[item];
-                let c = (PARAMS.view
-                    * Vec4::new(sphere.center.x, sphere.center.y, sphere.center.z, 1.0))
-                .xyz();
-                visible = sphere_in_frustum(c, sphere.radius, sides, near, far);
+        let st = super_tile_of(wg.xy(), tile);
+        let coarse = reads_coarse(st);
+        let n = candidate_count(st, coarse);
+        lists_reset(lid);
+        workgroup_barrier();
+        // Phase 0 counts, phase 1 writes into the allocated lists.
+        for phase in 0u32..2u32 {
+            let mut i = lid;
+            while i < n {
+                let item = candidate(st, coarse, i);
+                list_add(classify(item, column), item, phase);
+                i += WORKGROUP;
             }
-            gather(visible, item, lane_id, PARAMS.max_per_cluster);
+            workgroup_barrier();
+            if phase == 0u32 && lid == 0u32 {
+                lists_allocate(tile_index, lists);
+            }
+            workgroup_barrier();
         }
-        store_list(
-            cluster,
-            lid,
-            WORKGROUP,
-            PARAMS.max_per_cluster,
-            PARAMS.index_capacity,
-        );
     }
 }

@@ -1,5 +1,11 @@
 //! Light-culling kernels: which items (lights today; decals and probes later, in their own
-//! ranges of the item list) can touch each screen tile.
+//! ranges of the item list) can touch each screen tile or froxel.
+//!
+//! Culling is hierarchical, in three dispatches: `cull_prepare::tile_depth` (per tile: depth
+//! bounds, 2.5D mask, occupied slices), `cull_prepare::coarse_cull` (per 128×128-pixel
+//! super-tile: every item against the super-tile's frustum), then the fine level, `tile_cull`
+//! or `cluster_cull`, which tests only its super-tile's candidates. Lists are counted before
+//! they are written, so none is ever cut short.
 //!
 //! The conventions are those of the CPU reference in `renderer::culling::reference`:
 //! right-handed view space looking down −Z, wgpu depth (1.0 = far/sky), tile planes from the
@@ -9,7 +15,9 @@
 //! their own ranges), so a later item type extends the same lists without a redesign.
 
 pub mod clustered;
+pub mod prepare;
 pub mod tiled;
 
 pub use clustered::cluster_cull;
+pub use prepare::cull_prepare;
 pub use tiled::tile_cull;

@@ -6,7 +6,8 @@
 /// (saturating). The bottom 16 pixel rows are the legend: the same ramp from left (0) to right
 /// (`max_count`).
 ///
-/// `list` 1: tiled (cell from `tile_size`/`tiles`); `list` 2: clustered, whose depth slice comes
+/// `list` 1: tiled (cell from `tile_size`/`tiles`, the opaque list); `list` 2: clustered, whose
+/// depth slice comes
 /// from sample 0 of the depth buffer through `inv_projection` and `light_grid`'s `slice_of`
 /// (the cell lookups are the `light_grid` library's, like the culling kernels' and `forward`'s);
 /// sky pixels (depth 1) show 0. The colours are written as they are: draw into a `*Unorm`
@@ -21,12 +22,12 @@ pub mod heatmap {
         pub inv_projection: Mat4,
         /// Target size in pixels.
         pub screen: UVec2,
-        /// Tiles across and down (tiled).
+        /// Tiles across and down.
         pub tiles: UVec2,
-        /// Froxels across, down and in depth (clustered).
-        pub grid: UVec3,
-        /// Tile size in pixels (tiled).
+        /// Tile size in pixels.
         pub tile_size: u32,
+        /// Depth slices (clustered).
+        pub slices: u32,
         pub near: f32,
         pub far: f32,
         /// Count shown as full red.
@@ -90,10 +91,9 @@ pub mod heatmap {
                 d = DEPTH_MS.load(px, 0u32);
             }
             if d < 1.0 {
-                let g = PARAMS.grid;
                 let depth = view_depth(PARAMS.inv_projection, d);
-                let slice = slice_of(depth, PARAMS.near, PARAMS.far, g.z);
-                count = GRID[froxel_cell(px, slice, g, PARAMS.screen)].y;
+                let slice = slice_of(depth, PARAMS.near, PARAMS.far, PARAMS.slices);
+                count = GRID[froxel_cell(px, slice, PARAMS.tile_size, PARAMS.tiles)].y;
             }
         }
         if INDICES.len() == 0u32 {

@@ -8,9 +8,9 @@
 /// `list` picks how the punctual light list of a fragment is found:
 /// * `0` naive: every light `LIGHTS[0..light_count]`;
 /// * `1` tiled: `GRID[ty * tiles.x + tx]` with `(tx, ty) = floor(frag_coord.xy / tile_size)`;
-/// * `2` clustered: `GRID[(k * grid.y + j) * grid.x + i]` with `i = ((x + 1) * grid.x - 1) /
-///   screen.x` for pixel column `x` (rows likewise) and `k` the depth slice of the fragment's
-///   view depth by `light_grid`'s `slice_of`.
+///   blended draws (`blend`) read the transparent list, `blend_cell_offset` entries further;
+/// * `2` clustered: `GRID[k * tiles.x * tiles.y + ty * tiles.x + tx]` with `k` the depth slice
+///   of the fragment's view depth by `light_grid`'s `slice_of`.
 ///
 /// `GRID` entries are `(offset, count)` into `INDICES`, which index `LIGHTS`, as the culling
 /// kernels write them. Directional lights are never culled: they live in their own storage
@@ -42,14 +42,15 @@ pub mod forward {
         pub ambient: Vec3,
         /// Punctual lights in `LIGHTS` (naive loop bound).
         pub light_count: u32,
-        /// Target size in pixels (clustered column/row mapping).
-        pub screen: UVec2,
-        /// Tiles across and down (tiled).
+        /// Tiles across and down (tiled and clustered).
         pub tiles: UVec2,
-        /// Froxels across, down and in depth (clustered).
-        pub grid: UVec3,
-        /// Tile size in pixels (tiled).
+        /// Tile size in pixels (tiled and clustered).
         pub tile_size: u32,
+        /// Depth slices (clustered).
+        pub slices: u32,
+        /// Grid entries from a tile's opaque list to its transparent list (tiled; 0 when the
+        /// culling pass writes none).
+        pub blend_cell_offset: u32,
         /// View depth where slice 1 starts (clustered).
         pub near: f32,
         /// View depth where the last slice starts (clustered).
@@ -136,17 +137,19 @@ pub mod forward {
         }
     }
 
-    /// The `GRID` cell of a fragment: its tile, or its froxel (by `light_grid`, like the
+    /// The `GRID` cell of a fragment: its tile's list (opaque or transparent), or its froxel (by `light_grid`, like the
     /// culling kernels).
     fn cell_of(frag: Vec4, view_depth: f32) -> u32 {
         let px = frag.xy().floor().as_uvec2();
         let mut cell = 0u32;
         if list == 1 {
             cell = tile_cell(px, LIGHTING.tile_size, LIGHTING.tiles.x);
+            if blend {
+                cell += LIGHTING.blend_cell_offset;
+            }
         } else {
-            let g = LIGHTING.grid;
-            let slice = slice_of(view_depth, LIGHTING.near, LIGHTING.far, g.z);
-            cell = froxel_cell(px, slice, g, LIGHTING.screen);
+            let slice = slice_of(view_depth, LIGHTING.near, LIGHTING.far, LIGHTING.slices);
+            cell = froxel_cell(px, slice, LIGHTING.tile_size, LIGHTING.tiles);
         }
         cell
     }

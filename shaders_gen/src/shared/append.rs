@@ -1,19 +1,27 @@
-//! The output side of the culling kernels: gathering a cell's surviving items in workgroup
-//! memory and appending them to the global index list, with the overflow counters.
+//! What the three culling dispatches share: their parameters, the item and list bindings, the
+//! coarse candidate lists between the levels of the hierarchy, and the count-then-write append
+//! that makes every list complete whatever its length.
 
-/// The `(offset, count)` grid, the index list and the counters both culling kernels write
-/// (group 0, bindings 2, 3 and 4), the items they read (binding 1), and the two steps that fill
-/// the lists: `gather` (each invocation offers one item per round) and `store_list` (one global
-/// allocation per cell, then a parallel copy).
+/// The bindings and steps of the culling hierarchy (`cull_prepare` → `tile_cull` or
+/// `cluster_cull`):
 ///
-/// Capacities are runtime parameters (`max_per_cell` up to [`MAX_PER_CELL`],
-/// `index_capacity`); anything that does not fit is counted in `COUNTERS`, never written out of
-/// bounds. With `scalarize`, survivors are appended with a ballot and an exclusive add, one
-/// workgroup atomic per subgroup instead of one per survivor.
-#[shader_dsl::library(
-    axes(scalarize: bool = [false, true]),
-    requires(subgroup = scalarize),
-)]
+/// * `TILE_DEPTH` (binding 6): per screen tile, the depth bounds of its surface samples, the
+///   2.5D geometry mask and the occupied depth slices (written by `cull_prepare::tile_depth`);
+/// * `COARSE_COUNT` / `COARSE_ITEMS` (bindings 7, 8): per 128×128-pixel super-tile, the items
+///   that can touch it, `coarse_stride` slots each (written by `cull_prepare::coarse_cull`); a
+///   super-tile whose candidates do not fit is marked [`EVERY_ITEM`] and its tiles test every
+///   item, so nothing is ever lost;
+/// * the output: `GRID` (binding 2) holds `(offset, count)` per list, `INDICES` (binding 3) the
+///   items, `COUNTERS` (binding 4) the overflow counters.
+///
+/// A fine cell (a tile) owns up to [`MAX_LISTS`] lists: list `j` of tile `t` is grid entry
+/// `t + j · tile_count`. Tiled culling has the opaque list (`j = 0`) and, for blended surfaces,
+/// the transparent one (`j = 1`); clustered culling has one list per depth slice. A fine kernel
+/// classifies each candidate into a bit set of lists, counts (`list_add`, phase 0), allocates
+/// every list of the tile with one global atomic (`lists_allocate`), then classifies again and
+/// writes (phase 1). Lists have no per-cell limit; only the index list's capacity can run out,
+/// and then the tile's lists are dropped whole and counted, for the host to grow the list.
+#[shader_dsl::library]
 pub mod cull_append {
     /// An item's bounding sphere in world space.
     pub struct CullSphere {
@@ -21,19 +29,58 @@ pub mod cull_append {
         pub radius: f32,
     }
 
-    /// Largest per-cell list a workgroup can gather (workgroup memory).
-    pub const MAX_PER_CELL: u32 = 1024;
+    /// Camera, grid and capacities of the three culling dispatches.
+    pub struct CullParams {
+        pub view: Mat4,
+        pub projection: Mat4,
+        pub inv_projection: Mat4,
+        /// Target size in pixels.
+        pub screen: UVec2,
+        /// Tiles across and down.
+        pub tiles: UVec2,
+        /// Super-tiles across and down.
+        pub super_tiles: UVec2,
+        /// Items in `ITEMS`.
+        pub item_count: u32,
+        /// Entries `INDICES` may hold; the buffer may be larger (guard regions).
+        pub index_capacity: u32,
+        /// Candidate slots per super-tile in `COARSE_ITEMS`.
+        pub coarse_stride: u32,
+        /// Non-zero: skip the super-tile level, every tile tests every item (brute force).
+        pub brute_force: u32,
+        /// Non-zero when blended surfaces, which pre-Z does not hold, are shaded: tiled culling
+        /// writes a second list per tile spanning from the near plane to the tile's farthest
+        /// opaque sample (the far plane for sky-only tiles).
+        pub transparent: u32,
+        /// Non-zero: clustered culling lists every depth slice, not only those holding a sample.
+        pub all_slices: u32,
+        /// Depth slices of the clustered grid (at most `MAX_LISTS`).
+        pub slices: u32,
+        /// View depth where slice 1 starts.
+        pub slice_near: f32,
+        /// View depth where the last slice starts.
+        pub slice_far: f32,
+    }
+
+    /// Most lists one tile owns (and most depth slices of the clustered grid).
+    pub const MAX_LISTS: u32 = 32;
+    /// Edge of a super-tile in pixels.
+    pub const SUPER_TILE_PIXELS: u32 = 128;
+    /// `COARSE_COUNT` of a super-tile whose candidates did not fit: its tiles test every item.
+    pub const EVERY_ITEM: u32 = 0xffff_ffff;
     /// `COUNTERS[NEXT_INDEX]`: entries allocated in `INDICES` (may exceed the capacity).
     pub const NEXT_INDEX: u32 = 0;
-    /// `COUNTERS[OVERFLOW_CELLS]`: cells that found more items than their `max_per_cell`.
-    pub const OVERFLOW_CELLS: u32 = 1;
-    /// `COUNTERS[DROPPED]`: list entries dropped for lack of room (per cell or in total).
+    /// `COUNTERS[COARSE_FALLBACKS]`: super-tiles whose candidates did not fit their slots.
+    pub const COARSE_FALLBACKS: u32 = 1;
+    /// `COUNTERS[DROPPED]`: list entries dropped because the index list was full.
     pub const DROPPED: u32 = 2;
-    /// `COUNTERS[MAX_CELL_ITEMS]`: the most items any cell found.
+    /// `COUNTERS[MAX_CELL_ITEMS]`: the longest list written.
     pub const MAX_CELL_ITEMS: u32 = 3;
     /// Number of counters.
     pub const COUNTER_COUNT: u32 = 4;
 
+    #[uniform(group = 0, binding = 0)]
+    static PARAMS: CullParams;
     #[storage(group = 0, binding = 1)]
     static ITEMS: [CullSphere];
     #[storage(group = 0, binding = 2, read_write)]
@@ -42,85 +89,113 @@ pub mod cull_append {
     static INDICES: [u32];
     #[storage(group = 0, binding = 4, read_write)]
     static COUNTERS: [Atomic<u32>];
+    #[storage(group = 0, binding = 6, read_write)]
+    static TILE_DEPTH: [UVec4];
+    #[storage(group = 0, binding = 7, read_write)]
+    static COARSE_COUNT: [u32];
+    #[storage(group = 0, binding = 8, read_write)]
+    static COARSE_ITEMS: [u32];
 
     #[workgroup]
-    static CELL_COUNT: Atomic<u32>;
+    static LIST_COUNT: [Atomic<u32>; MAX_LISTS];
     #[workgroup]
-    static CELL_LIST: [u32; MAX_PER_CELL];
+    static LIST_BASE: [u32; MAX_LISTS];
     #[workgroup]
-    static CELL_BASE: u32;
-    #[workgroup]
-    static CELL_STORED: u32;
+    static LIST_ROOM: u32;
 
-    /// Empties the workgroup's list; one invocation calls it, before a barrier.
-    fn gather_reset() {
-        CELL_COUNT.store(0u32);
+    /// An item's bounding sphere in view space: centre in `xyz`, radius in `w`.
+    fn view_sphere(item: u32) -> Vec4 {
+        let sphere = ITEMS[item];
+        let c = (PARAMS.view * sphere.center.extend(1.0)).xyz();
+        c.extend(sphere.radius)
     }
 
-    /// Appends `item` to the workgroup's list when `visible` (slots past `max_per_cell` are
-    /// counted, not written). Every invocation of the workgroup calls it in uniform control flow.
-    fn gather(visible: bool, item: u32, lane: u32, max_per_cell: u32) {
-        if scalarize {
-            let ballot = subgroup_ballot(visible);
-            let total = ballot.x.count_ones()
-                + ballot.y.count_ones()
-                + ballot.z.count_ones()
-                + ballot.w.count_ones();
-            // `total` is the same on every lane, so this branch keeps the subgroup uniform;
-            // rounds where no lane sees an item (most of them) skip the scan and the atomic.
-            if total > 0u32 {
-                let rank = subgroup_exclusive_add(select(visible, 1u32, 0u32));
-                let mut base = 0u32;
-                if lane == 0u32 {
-                    base = CELL_COUNT.fetch_add(total);
-                }
-                base = subgroup_broadcast_first(base);
-                let slot = base + rank;
-                if visible && slot < max_per_cell {
-                    CELL_LIST[slot] = item;
-                }
-            }
-        } else {
-            if visible {
-                let slot = CELL_COUNT.fetch_add(1u32);
-                if slot < max_per_cell {
-                    CELL_LIST[slot] = item;
-                }
+    /// The super-tile holding tile `t` of `tile_size` pixels.
+    fn super_tile_of(t: UVec2, tile_size: u32) -> u32 {
+        let s = t / (SUPER_TILE_PIXELS / tile_size);
+        s.y * PARAMS.super_tiles.x + s.x
+    }
+
+    /// Whether the tiles of `super_tile` read its coarse list (not brute force, and the list
+    /// fitted); otherwise they test every item.
+    fn reads_coarse(super_tile: u32) -> bool {
+        PARAMS.brute_force == 0u32 && COARSE_COUNT[super_tile] != EVERY_ITEM
+    }
+
+    /// How many candidates the tiles of `super_tile` test.
+    fn candidate_count(super_tile: u32, coarse: bool) -> u32 {
+        let mut n = PARAMS.item_count;
+        if coarse {
+            n = COARSE_COUNT[super_tile];
+        }
+        n
+    }
+
+    /// Candidate `i` of `super_tile`.
+    fn candidate(super_tile: u32, coarse: bool, i: u32) -> u32 {
+        let mut item = i;
+        if coarse {
+            item = COARSE_ITEMS[super_tile * PARAMS.coarse_stride + i];
+        }
+        item
+    }
+
+    /// Zeroes the per-list counters; invocations `0..MAX_LISTS` call it, before a barrier.
+    fn lists_reset(lid: u32) {
+        if lid < MAX_LISTS {
+            LIST_COUNT[lid].store(0u32);
+        }
+    }
+
+    /// Phase 0 counts `item` in every list of `bits`; phase 1 writes it there.
+    fn list_add(bits: u32, item: u32, phase: u32) {
+        let mut rest = bits;
+        while rest != 0u32 {
+            let j = rest.trailing_zeros();
+            rest = rest & (rest - 1u32);
+            let slot = LIST_COUNT[j].fetch_add(1u32);
+            if phase == 1u32 && LIST_ROOM != 0u32 {
+                INDICES[LIST_BASE[j] + slot] = item;
             }
         }
     }
 
-    /// After the gather: one global allocation for grid cell `cell` (invocation 0), overflow
-    /// counted, never written; then the workgroup's `threads` invocations copy the list out.
-    fn store_list(cell: u32, lid: u32, threads: u32, max_per_cell: u32, index_capacity: u32) {
-        workgroup_barrier();
-        if lid == 0u32 {
-            let found = CELL_COUNT.load();
-            let kept = found.min(max_per_cell);
-            COUNTERS[MAX_CELL_ITEMS].fetch_max(found);
-            if found > kept {
-                COUNTERS[OVERFLOW_CELLS].fetch_add(1u32);
-            }
-            let offset = COUNTERS[NEXT_INDEX].fetch_add(kept);
-            let mut room = 0u32;
-            if offset < index_capacity {
-                room = index_capacity - offset;
-            }
-            let stored = kept.min(room);
-            if found > stored {
-                COUNTERS[DROPPED].fetch_add(found - stored);
-            }
-            CELL_BASE = offset;
-            CELL_STORED = stored;
-            GRID[cell] = UVec2::new(offset, stored);
+    /// Between the phases (invocation 0, after a barrier): one global allocation for the `lists`
+    /// lists of tile `tile`, their grid entries, and the counters reset for the write phase. A
+    /// tile whose lists do not fit the index list gets empty lists; its entries are counted as
+    /// dropped.
+    fn lists_allocate(tile: u32, lists: u32) {
+        let tile_count = PARAMS.tiles.x * PARAMS.tiles.y;
+        let mut total = 0u32;
+        let mut longest = 0u32;
+        for j in 0u32..lists {
+            let n = LIST_COUNT[j].load();
+            total += n;
+            longest = longest.max(n);
         }
-        workgroup_barrier();
-        let base = CELL_BASE;
-        let stored = CELL_STORED;
-        let mut j = lid;
-        while j < stored {
-            INDICES[base + j] = CELL_LIST[j];
-            j += threads;
+        let offset = COUNTERS[NEXT_INDEX].fetch_add(total);
+        COUNTERS[MAX_CELL_ITEMS].fetch_max(longest);
+        let mut room = 1u32;
+        if offset > PARAMS.index_capacity || PARAMS.index_capacity - offset < total {
+            room = 0u32;
+            COUNTERS[DROPPED].fetch_add(total);
+        }
+        let mut base = offset;
+        for j in 0u32..lists {
+            let n = LIST_COUNT[j].load();
+            LIST_BASE[j] = base;
+            GRID[tile + j * tile_count] = UVec2::new(base, n * room);
+            base += n;
+            LIST_COUNT[j].store(0u32);
+        }
+        LIST_ROOM = room;
+    }
+
+    /// Empty lists `0..lists` for tile `tile` (invocation 0).
+    fn lists_clear(tile: u32, lists: u32) {
+        let tile_count = PARAMS.tiles.x * PARAMS.tiles.y;
+        for j in 0u32..lists {
+            GRID[tile + j * tile_count] = UVec2::new(0u32, 0u32);
         }
     }
 }

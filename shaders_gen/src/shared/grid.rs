@@ -5,8 +5,8 @@
 /// Every function takes what it needs as parameters (no statics), so each module passes its
 /// own parameters uniform's fields.
 ///
-/// Conventions are those of the CPU reference: froxel column `i` of `count` spans pixels
-/// `[i·size/count, (i+1)·size/count)`; depth slice `k` of `slices` spans view depths
+/// Conventions are those of the CPU reference: a froxel is a screen tile in one depth slice;
+/// depth slice `k` of `slices` spans view depths
 /// `near·(far/near)^(k/slices)` to the next, slice 0 reaching the eye and the last going to
 /// infinity.
 #[shader_dsl::library]
@@ -46,22 +46,16 @@ pub mod light_grid {
         d
     }
 
-    /// The froxel column (or row) of pixel `x` when `count` columns share `size` pixels.
-    pub fn column_of(x: u32, count: u32, size: u32) -> u32 {
-        ((x + 1u32) * count - 1u32) / size
-    }
-
     /// The grid cell of pixel `px` in a tiled grid `tiles_x` tiles across.
     pub fn tile_cell(px: UVec2, tile_size: u32, tiles_x: u32) -> u32 {
         let t = px / tile_size;
         t.y * tiles_x + t.x
     }
 
-    /// The grid cell of pixel `px` in depth slice `slice` of a froxel `grid` over `screen`.
-    pub fn froxel_cell(px: UVec2, slice: u32, grid: UVec3, screen: UVec2) -> u32 {
-        let i = column_of(px.x, grid.x, screen.x);
-        let j = column_of(px.y, grid.y, screen.y);
-        (slice * grid.y + j) * grid.x + i
+    /// The grid cell of pixel `px` in depth slice `slice`: froxels are screen tiles × slices, and
+    /// slice `k`'s lists follow the `k` slices before it (`tiles.x · tiles.y` entries each).
+    pub fn froxel_cell(px: UVec2, slice: u32, tile_size: u32, tiles: UVec2) -> u32 {
+        slice * tiles.x * tiles.y + tile_cell(px, tile_size, tiles.x)
     }
 
     /// A plane `n · p + w = 0` from a combination of projection rows, normalised.

@@ -1,5 +1,7 @@
 //! The three culling methods on the CPU: tiled, 2.5D (tiled with a 32-cell depth mask) and
-//! clustered (froxels with exponential depth slices).
+//! clustered (screen tiles × exponential depth slices), each behind the same two-level
+//! hierarchy as the GPU: a light is listed in a cell only if it also passes its 128×128-pixel
+//! super-tile's frustum (which never removes a light that touches the cell, see [`cull`]).
 
 use glam::Vec3;
 
@@ -8,16 +10,16 @@ use super::{CullCamera, DepthBuffer, LightSphere};
 
 /// Number of depth cells in a 2.5D tile mask.
 pub const DEPTH_MASK_CELLS: u32 = 32;
+/// Edge of a super-tile in pixels.
+pub const SUPER_TILE_PIXELS: u32 = 128;
 
-/// A froxel grid: `x × y` screen tiles and `z` exponential depth slices between `near` and `far`
-/// (view depth). Samples nearer than `near` fall in slice 0, farther than `far` in slice `z − 1`.
-/// Column `i` spans pixels `[i·w/x, (i+1)·w/x)` in integer division (rows likewise), so a pixel's
-/// samples all lie inside its froxel whatever the screen size.
+/// A froxel grid: the screen tiles of `tile`×`tile` pixels × `slices` exponential depth slices
+/// between `near` and `far` (view depth). Samples nearer than `near` fall in slice 0, farther
+/// than `far` in slice `slices − 1`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ClusterGrid {
-    pub x: u32,
-    pub y: u32,
-    pub z: u32,
+    pub tile: u32,
+    pub slices: u32,
     pub near: f32,
     pub far: f32,
 }
@@ -26,26 +28,15 @@ impl ClusterGrid {
     /// The depth slice of view depth `d`.
     pub fn slice(&self, d: f32) -> u32 {
         let t = (d / self.near).ln() / (self.far / self.near).ln();
-        ((t * self.z as f32).floor().max(0.0) as u32).min(self.z - 1)
+        ((t * self.slices as f32).floor().max(0.0) as u32).min(self.slices - 1)
     }
 
-    /// The column (or row) holding pixel `p` when `count` columns share `size` pixels: the last
-    /// `i` with `i·size/count ≤ p`.
-    pub fn column_of(p: u32, count: u32, size: u32) -> u32 {
-        ((p + 1) * count - 1) / size
-    }
-
-    /// First pixel of column (or row) `i`.
-    pub fn column_start(i: u32, count: u32, size: u32) -> u32 {
-        i * size / count
-    }
-
-    /// View depth where slice `k` starts (slice 0 starts at 0; slice `z` means infinity).
+    /// View depth where slice `k` starts (slice 0 starts at 0; slice `slices` means infinity).
     pub fn slice_start(&self, k: u32) -> f32 {
         match k {
             0 => 0.0,
-            k if k >= self.z => f32::INFINITY,
-            k => self.near * (self.far / self.near).powf(k as f32 / self.z as f32),
+            k if k >= self.slices => f32::INFINITY,
+            k => self.near * (self.far / self.near).powf(k as f32 / self.slices as f32),
         }
     }
 }
@@ -53,35 +44,63 @@ impl ClusterGrid {
 /// A culling method and its parameters.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Method {
-    /// One frustum per `tile`×`tile` pixel tile, bounded by the tile's depth range.
-    Tiled { tile: u32 },
-    /// Tiled, plus a 32-cell depth mask per tile from the geometry, ANDed with each light's.
-    Depth25 { tile: u32 },
-    /// One frustum per froxel. With `skip_empty`, froxels holding no depth sample get no lights.
+    /// One frustum per `tile`×`tile` pixel tile, bounded by the tile's depth range. With
+    /// `transparent`, a second list per tile (cells `tiles..2·tiles`) for blended surfaces,
+    /// from the near plane to the tile's farthest sample (the far plane for sky-only tiles).
+    Tiled { tile: u32, transparent: bool },
+    /// Tiled, plus a 32-cell depth mask per tile from the geometry, ANDed with each light's
+    /// (opaque lists only).
+    Depth25 { tile: u32, transparent: bool },
+    /// One frustum per froxel, narrowed by the froxel's view-space bounding box. With
+    /// `skip_empty`, froxels holding no depth sample get no lights.
     Clustered { grid: ClusterGrid, skip_empty: bool },
 }
 
 impl Method {
-    /// Cell grid dimensions `[x, y, z]` for a `width`×`height` target.
-    pub fn dims(&self, width: u32, height: u32) -> [u32; 3] {
-        match *self {
-            Self::Tiled { tile } | Self::Depth25 { tile } => {
-                [width.div_ceil(tile), height.div_ceil(tile), 1]
-            }
-            Self::Clustered { grid, .. } => [grid.x, grid.y, grid.z],
+    /// Tiled without transparent lists.
+    pub fn tiled(tile: u32) -> Self {
+        Self::Tiled {
+            tile,
+            transparent: false,
         }
     }
 
-    /// The cell holding the sample at pixel `(x, y)` with view depth `view_depth`.
+    /// 2.5D without transparent lists.
+    pub fn depth25(tile: u32) -> Self {
+        Self::Depth25 {
+            tile,
+            transparent: false,
+        }
+    }
+
+    /// Tile edge in pixels.
+    pub fn tile(&self) -> u32 {
+        match *self {
+            Self::Tiled { tile, .. } | Self::Depth25 { tile, .. } => tile,
+            Self::Clustered { grid, .. } => grid.tile,
+        }
+    }
+
+    /// Cell grid dimensions `[tiles x, tiles y, lists per tile]` for a `width`×`height` target.
+    pub fn dims(&self, width: u32, height: u32) -> [u32; 3] {
+        let t = self.tile();
+        let lists = match *self {
+            Self::Tiled { transparent, .. } | Self::Depth25 { transparent, .. } => {
+                1 + u32::from(transparent)
+            }
+            Self::Clustered { grid, .. } => grid.slices,
+        };
+        [width.div_ceil(t), height.div_ceil(t), lists]
+    }
+
+    /// The cell holding the (opaque) sample at pixel `(x, y)` with view depth `view_depth`.
     pub fn cell_of(&self, width: u32, height: u32, x: u32, y: u32, view_depth: f32) -> usize {
         let [dx, dy, _] = self.dims(width, height);
+        let t = self.tile();
+        let tile = (y / t) * dx + x / t;
         match *self {
-            Self::Tiled { tile } | Self::Depth25 { tile } => ((y / tile) * dx + x / tile) as usize,
-            Self::Clustered { grid, .. } => {
-                let i = ClusterGrid::column_of(x, grid.x, width);
-                let j = ClusterGrid::column_of(y, grid.y, height);
-                ((grid.slice(view_depth) * dy + j) * dx + i) as usize
-            }
+            Self::Tiled { .. } | Self::Depth25 { .. } => tile as usize,
+            Self::Clustered { grid, .. } => (grid.slice(view_depth) * dx * dy + tile) as usize,
         }
     }
 }
@@ -121,46 +140,115 @@ pub fn tolerance(center: Vec3, radius: f32) -> f32 {
     1e-4 * (center.length() + radius).max(1.0)
 }
 
-/// Culls view-space `lights` for every cell of `method`.
+/// Culls view-space `lights` for every cell of `method`, through the hierarchy the GPU uses: a
+/// light is listed in a cell when it passes the cell's test and its super-tile's.
+///
+/// The super-tile test cannot remove a light that touches the cell: the super-tile's frustum
+/// contains each of its tiles' frusta (its depth range spans theirs), so a sphere outside one of
+/// its planes is outside the cell too. It only removes plane-test false positives.
 pub fn cull(
     camera: &CullCamera,
     depth: &DepthBuffer,
     lights_view: &[LightSphere],
     method: Method,
 ) -> CellLists {
+    cull_levels(camera, depth, lights_view, method, true)
+}
+
+/// [`cull`] without the super-tile level: every cell tests every light (the GPU's brute-force
+/// variant).
+pub fn cull_brute_force(
+    camera: &CullCamera,
+    depth: &DepthBuffer,
+    lights_view: &[LightSphere],
+    method: Method,
+) -> CellLists {
+    cull_levels(camera, depth, lights_view, method, false)
+}
+
+fn cull_levels(
+    camera: &CullCamera,
+    depth: &DepthBuffer,
+    lights_view: &[LightSphere],
+    method: Method,
+    hierarchical: bool,
+) -> CellLists {
     let dims = method.dims(camera.width, camera.height);
-    let cells = (dims[0] * dims[1] * dims[2]) as usize;
+    let tile_count = dims[0] * dims[1];
+    let cells = (tile_count * dims[2]) as usize;
     let mut out = CellLists {
         dims,
         lists: vec![Vec::new(); cells],
         borderline: vec![Vec::new(); cells],
     };
-    match method {
-        Method::Tiled { tile } | Method::Depth25 { tile } => {
-            let with_mask = matches!(method, Method::Depth25 { .. });
-            for j in 0..dims[1] {
-                for i in 0..dims[0] {
-                    let Some(bounds) = TileDepth::gather(camera, depth, tile, i, j) else {
-                        continue; // sky only: no surface, no lights
-                    };
-                    let planes = tile_planes(camera, tile, i, j, bounds.min, bounds.max);
-                    let mask = with_mask.then_some(&bounds);
-                    let cell = (j * dims[0] + i) as usize;
-                    test_lights(&planes, mask, lights_view, cell, &mut out);
-                }
+    let tile = method.tile();
+    let per_super = SUPER_TILE_PIXELS / tile;
+    let super_x = camera.width.div_ceil(SUPER_TILE_PIXELS);
+    let super_y = camera.height.div_ceil(SUPER_TILE_PIXELS);
+    let super_planes: Vec<Option<[Plane; 6]>> = (0..super_y)
+        .flat_map(|sj| (0..super_x).map(move |si| (si, sj)))
+        .map(|(si, sj)| {
+            if hierarchical {
+                super_tile_planes(camera, depth, method, si, sj)
+            } else {
+                None
             }
-        }
-        Method::Clustered { grid, skip_empty } => {
-            let occupied = skip_empty.then(|| cluster_occupancy(camera, depth, method, cells));
-            for k in 0..grid.z {
-                for j in 0..grid.y {
-                    for i in 0..grid.x {
-                        let cell = ((k * grid.y + j) * grid.x + i) as usize;
-                        if occupied.as_ref().is_some_and(|o| !o[cell]) {
+        })
+        .collect();
+    let (camera_near, camera_far) = camera_range(camera);
+    for j in 0..dims[1] {
+        for i in 0..dims[0] {
+            let tile_index = j * dims[0] + i;
+            let bounds = TileDepth::gather(camera, depth, tile, i, j);
+            let sides = side_planes(camera, tile, i, j);
+            // A super-tile without surfaces (and nothing else to list) has no candidates.
+            let super_planes = super_planes[((j / per_super) * super_x + i / per_super) as usize];
+            let candidates = Candidates {
+                coarse: super_planes.as_ref().map(|p| p.as_slice()),
+                none: hierarchical && super_planes.is_none(),
+            };
+            match method {
+                Method::Tiled { transparent, .. } | Method::Depth25 { transparent, .. } => {
+                    let mask = matches!(method, Method::Depth25 { .. });
+                    if let Some(b) = &bounds {
+                        let planes = with_depth(sides, b.min, b.max);
+                        let test = FineTest {
+                            planes: &planes,
+                            mask: mask.then_some(b),
+                            froxel: None,
+                        };
+                        let cell = tile_index as usize;
+                        test_lights(&test, &candidates, lights_view, cell, &mut out);
+                    }
+                    if transparent {
+                        let far = bounds.as_ref().map_or(camera_far, |b| b.max);
+                        let planes = with_depth(sides, camera_near, far);
+                        let test = FineTest {
+                            planes: &planes,
+                            mask: None,
+                            froxel: None,
+                        };
+                        let cell = (tile_count + tile_index) as usize;
+                        test_lights(&test, &candidates, lights_view, cell, &mut out);
+                    }
+                }
+                Method::Clustered { grid, skip_empty } => {
+                    let occupied = bounds.as_ref().map_or(0, |b| b.slices(grid));
+                    for k in 0..grid.slices {
+                        if skip_empty && occupied & (1 << k) == 0 {
                             continue;
                         }
-                        let planes = cluster_planes(camera, grid, i, j, k);
-                        test_lights(&planes, None, lights_view, cell, &mut out);
+                        let (zn, zf) = (grid.slice_start(k), grid.slice_start(k + 1));
+                        let planes = with_depth(sides, zn, zf.min(f32::MAX));
+                        let froxel =
+                            (k + 1 < grid.slices).then(|| froxel_box(camera, tile, i, j, zn, zf));
+                        let test = FineTest {
+                            planes: &planes,
+                            mask: None,
+                            froxel: froxel.as_ref(),
+                        };
+                        let cell = (k * tile_count + tile_index) as usize;
+                        test_lights(&test, &candidates, lights_view, cell, &mut out);
                     }
                 }
             }
@@ -169,19 +257,82 @@ pub fn cull(
     out
 }
 
+/// View depths of the near and far planes (wgpu depth 0 and 1).
+fn camera_range(camera: &CullCamera) -> (f32, f32) {
+    (
+        -camera.unproject(0.0, 0.0, 0.0).z,
+        -camera.unproject(0.0, 0.0, 1.0).z,
+    )
+}
+
+/// The planes of super-tile `(si, sj)` for `method`, or `None` when it lists nothing.
+fn super_tile_planes(
+    camera: &CullCamera,
+    depth: &DepthBuffer,
+    method: Method,
+    si: u32,
+    sj: u32,
+) -> Option<[Plane; 6]> {
+    let sides = side_planes(camera, SUPER_TILE_PIXELS, si, sj);
+    let (near, far) = match method {
+        // Every slice listed: no depth bound at all.
+        Method::Clustered {
+            skip_empty: false, ..
+        } => (0.0, f32::MAX),
+        Method::Tiled {
+            transparent: true, ..
+        }
+        | Method::Depth25 {
+            transparent: true, ..
+        } => camera_range(camera),
+        _ => {
+            let b = TileDepth::gather(camera, depth, SUPER_TILE_PIXELS, si, sj)?;
+            (b.min, b.max)
+        }
+    };
+    Some(with_depth(sides, near, far))
+}
+
+/// Which lights a cell may list: its super-tile's survivors (or all, without the hierarchy).
+struct Candidates<'a> {
+    coarse: Option<&'a [Plane]>,
+    /// The super-tile lists nothing.
+    none: bool,
+}
+
+/// A cell's own test: planes, and optionally the 2.5D mask or the froxel's bounding box.
+struct FineTest<'a> {
+    planes: &'a [Plane],
+    mask: Option<&'a TileDepth>,
+    froxel: Option<&'a FroxelBox>,
+}
+
 fn test_lights(
-    planes: &[Plane],
-    mask: Option<&TileDepth>,
+    test: &FineTest<'_>,
+    candidates: &Candidates<'_>,
     lights: &[LightSphere],
     cell: usize,
     out: &mut CellLists,
 ) {
+    if candidates.none {
+        return;
+    }
     for (index, light) in lights.iter().enumerate() {
         let eps = tolerance(light.center, light.radius);
-        let margin = sphere_margin(planes, light.center, light.radius);
+        // Every test's margin (≥ 0 passes); the light passes when all do, and is a close call
+        // when any of them is within the tolerance.
+        let mut margins = vec![sphere_margin(test.planes, light.center, light.radius)];
+        if let Some(coarse) = candidates.coarse {
+            margins.push(sphere_margin(coarse, light.center, light.radius));
+        }
+        if let Some(froxel) = test.froxel {
+            margins.push(light.radius - froxel.distance(light.center));
+        }
+        let margin = margins.iter().copied().fold(f32::INFINITY, f32::min);
+        let close_call = margins.iter().any(|m| m.abs() <= eps);
         let mut passes = margin >= 0.0;
-        let mut borderline = margin.abs() <= eps;
-        if let Some(tile) = mask.filter(|_| margin > -eps) {
+        let mut borderline = close_call;
+        if let Some(tile) = test.mask.filter(|_| margin > -eps) {
             let d = -light.center.z;
             passes &= tile.overlaps(d - light.radius, d + light.radius);
             // Would a slightly smaller or larger sphere flip the mask test?
@@ -201,46 +352,49 @@ fn test_lights(
     }
 }
 
-fn tile_planes(camera: &CullCamera, tile: u32, i: u32, j: u32, near: f32, far: f32) -> [Plane; 6] {
-    let (x0, y1) = camera.pixel_to_ndc((i * tile) as f32, (j * tile) as f32);
-    let (x1, y0) = camera.pixel_to_ndc(((i + 1) * tile) as f32, ((j + 1) * tile) as f32);
-    let [l, r, b, t] = tile_side_planes(camera.projection, x0, x1, y0, y1);
+/// The four side planes of the square cell `(i, j)` of `size` pixels (not clamped to the
+/// screen).
+fn side_planes(camera: &CullCamera, size: u32, i: u32, j: u32) -> [Plane; 4] {
+    let (x0, y1) = camera.pixel_to_ndc((i * size) as f32, (j * size) as f32);
+    let (x1, y0) = camera.pixel_to_ndc(((i + 1) * size) as f32, ((j + 1) * size) as f32);
+    tile_side_planes(camera.projection, x0, x1, y0, y1)
+}
+
+fn with_depth(sides: [Plane; 4], near: f32, far: f32) -> [Plane; 6] {
+    let [l, r, b, t] = sides;
     [l, r, b, t, Plane::near(near), Plane::far(far)]
 }
 
-fn cluster_planes(camera: &CullCamera, grid: ClusterGrid, i: u32, j: u32, k: u32) -> [Plane; 6] {
-    let (w, h) = (camera.width, camera.height);
-    let (x0, y1) = camera.pixel_to_ndc(
-        ClusterGrid::column_start(i, grid.x, w) as f32,
-        ClusterGrid::column_start(j, grid.y, h) as f32,
-    );
-    let (x1, y0) = camera.pixel_to_ndc(
-        ClusterGrid::column_start(i + 1, grid.x, w) as f32,
-        ClusterGrid::column_start(j + 1, grid.y, h) as f32,
-    );
-    let [l, r, b, t] = tile_side_planes(camera.projection, x0, x1, y0, y1);
-    let far = grid.slice_start(k + 1).min(f32::MAX);
-    [
-        l,
-        r,
-        b,
-        t,
-        Plane::near(grid.slice_start(k)),
-        Plane::far(far),
-    ]
+/// The view-space bounding box of a froxel: tile `(i, j)` between view depths `zn` and `zf`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct FroxelBox {
+    min: Vec3,
+    max: Vec3,
 }
 
-fn cluster_occupancy(
-    camera: &CullCamera,
-    depth: &DepthBuffer,
-    method: Method,
-    cells: usize,
-) -> Vec<bool> {
-    let mut occupied = vec![false; cells];
-    for_each_surface_sample(camera, depth, |x, y, p| {
-        occupied[method.cell_of(camera.width, camera.height, x, y, -p.z)] = true;
-    });
-    occupied
+fn froxel_box(camera: &CullCamera, tile: u32, i: u32, j: u32, zn: f32, zf: f32) -> FroxelBox {
+    let mut b = FroxelBox {
+        min: Vec3::splat(f32::INFINITY),
+        max: Vec3::splat(f32::NEG_INFINITY),
+    };
+    for (px, py) in [(i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)] {
+        let (nx, ny) = camera.pixel_to_ndc((px * tile) as f32, (py * tile) as f32);
+        let p = camera.unproject(nx, ny, 0.5);
+        // The corner's ray, scaled to view depth 1, at both depths.
+        let ray = p / -p.z;
+        for z in [zn, zf] {
+            b.min = b.min.min(ray * z);
+            b.max = b.max.max(ray * z);
+        }
+    }
+    b
+}
+
+impl FroxelBox {
+    /// Distance from `p` to the box (0 inside).
+    fn distance(&self, p: Vec3) -> f32 {
+        p.distance(p.clamp(self.min, self.max))
+    }
 }
 
 /// Calls `f(x, y, view_position)` for every sample that holds a surface.
@@ -263,12 +417,14 @@ pub fn for_each_surface_sample(
     }
 }
 
-/// A tile's view-depth range over its surface samples, and its 2.5D geometry mask.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// A tile's view-depth range over its surface samples, its 2.5D geometry mask and the samples'
+/// view depths.
+#[derive(Debug, Clone, PartialEq)]
 struct TileDepth {
     min: f32,
     max: f32,
     geometry_mask: u32,
+    depths: Vec<f32>,
 }
 
 impl TileDepth {
@@ -294,11 +450,20 @@ impl TileDepth {
             min,
             max,
             geometry_mask: 0,
+            depths: Vec::new(),
         };
-        for d in depths {
+        for &d in &depths {
             tile.geometry_mask |= 1 << tile.cell(d);
         }
+        tile.depths = depths;
         Some(tile)
+    }
+
+    /// The depth slices of `grid` holding a sample (bit `k` for slice `k`).
+    fn slices(&self, grid: ClusterGrid) -> u32 {
+        self.depths
+            .iter()
+            .fold(0, |bits, &d| bits | 1 << grid.slice(d))
     }
 
     /// The mask cell of view depth `d`, clamped to the tile's range.

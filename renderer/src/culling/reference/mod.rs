@@ -21,7 +21,9 @@ mod methods;
 
 pub use depth::{DepthBuffer, standard_sample_offset};
 pub use frustum::{Plane, tile_side_planes};
-pub use methods::{Borderline, CellLists, ClusterGrid, Method, cull};
+pub use methods::{
+    Borderline, CellLists, ClusterGrid, Method, SUPER_TILE_PIXELS, cull, cull_brute_force,
+};
 
 use glam::{Mat4, Vec3, Vec4};
 

@@ -1,0 +1,259 @@
+//! The culling hierarchy every method shares: per-tile depth information and per-super-tile
+//! candidate lists (`shaders_gen::culling::cull_prepare`), then a fine kernel (tiled, 2.5D or
+//! clustered) that tests only its super-tile's candidates and writes complete lists.
+//!
+//! This module owns what the levels share: the parameters, the items, the tile-depth and coarse
+//! buffers, the output lists, and the three dispatches. [`super::tiled`] and
+//! [`super::clustered`] choose the fine kernel and fill in the parameters.
+
+use glam::{Mat4, UVec2};
+use shaders_gen::culling::cull_prepare::{self, CullParams, CullSphere, Msaa, Tile};
+
+use super::CullError;
+use super::lists::{CullReadback, LightLists};
+use crate::shader::ShaderProgram;
+use crate::{GpuContext, GpuError};
+
+/// Edge of a super-tile in pixels (`cull_append::SUPER_TILE_PIXELS`).
+pub const SUPER_TILE_PIXELS: u32 = cull_prepare::SUPER_TILE_PIXELS;
+
+/// The size-dependent shape of a culling hierarchy.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct HierarchyShape {
+    /// Tile edge in pixels: 8, 16 or 32.
+    pub tile: u32,
+    /// MSAA sample count of the depth buffer: 1, 2, 4 or 8.
+    pub msaa: u32,
+    /// Lists per tile (tiled: 1, or 2 with a transparent list; clustered: the depth slices).
+    pub lists_per_tile: u32,
+    /// Entries the index list holds.
+    pub index_capacity: u32,
+    /// Items the item buffer holds.
+    pub item_capacity: u32,
+    /// Skip the super-tile level: every tile tests every item (for comparison).
+    pub brute_force: bool,
+    /// Candidate slots per super-tile; `None` gives every super-tile room for every item (as far
+    /// as one storage binding allows). A super-tile with more candidates than slots falls back
+    /// to testing every item: slower, never incomplete.
+    pub coarse_slots: Option<u32>,
+}
+
+/// The camera as culling sees it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CullView {
+    pub view: Mat4,
+    pub projection: Mat4,
+    /// Target size in pixels.
+    pub screen: UVec2,
+}
+
+/// What the fine level's method adds to the parameters.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct MethodParams {
+    /// Tiled: write a second list per tile for blended surfaces.
+    pub transparent: bool,
+    /// Clustered: list every depth slice, not only those holding a sample.
+    pub all_slices: bool,
+    /// Clustered: depth slices (0 for tiled).
+    pub slices: u32,
+    /// Clustered: view depth where slice 1 starts.
+    pub slice_near: f32,
+    /// Clustered: view depth where the last slice starts.
+    pub slice_far: f32,
+}
+
+/// The buffers and pipelines of one culling hierarchy for one target size.
+#[derive(Debug)]
+pub struct CullHierarchy {
+    pub shape: HierarchyShape,
+    pub tiles: UVec2,
+    pub super_tiles: UVec2,
+    /// Candidate slots per super-tile.
+    pub coarse_stride: u32,
+    pub lists: LightLists,
+    prepare: ShaderProgram,
+    tile_depth: wgpu::ComputePipeline,
+    coarse: wgpu::ComputePipeline,
+    fine: ShaderProgram,
+    fine_cull: wgpu::ComputePipeline,
+    params: wgpu::Buffer,
+    items: wgpu::Buffer,
+    tile_info: wgpu::Buffer,
+    coarse_count: wgpu::Buffer,
+    coarse_items: wgpu::Buffer,
+}
+
+/// The `cull_prepare` variant key of a tile size and sample count.
+fn prepare_key(tile: u32, msaa: u32) -> Result<cull_prepare::VariantKey, CullError> {
+    let tile = match tile {
+        8 => Tile::T8,
+        16 => Tile::T16,
+        32 => Tile::T32,
+        t => return Err(CullError::TileSize(t)),
+    };
+    let msaa = match msaa {
+        1 => Msaa::Msaa1,
+        2 => Msaa::Msaa2,
+        4 => Msaa::Msaa4,
+        8 => Msaa::Msaa8,
+        s => return Err(CullError::SampleCount(s)),
+    };
+    Ok(cull_prepare::VariantKey { tile, msaa })
+}
+
+fn storage(device: &wgpu::Device, label: &str, bytes: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: bytes.max(16),
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+impl CullHierarchy {
+    /// Builds the hierarchy for a `width`×`height` target with `fine` as the last level.
+    pub fn new(
+        gpu: &GpuContext,
+        shape: HierarchyShape,
+        fine: &'static codegen::rt::Variant,
+        width: u32,
+        height: u32,
+    ) -> Result<Self, CullError> {
+        super::check_index_capacity(&gpu.device, shape.index_capacity)?;
+        let device = &gpu.device;
+        let prepare = ShaderProgram::new(
+            device,
+            gpu.capabilities(),
+            cull_prepare::variant(prepare_key(shape.tile, shape.msaa)?),
+        )?;
+        let fine = ShaderProgram::new(device, gpu.capabilities(), fine)?;
+        let tiles = UVec2::new(width.div_ceil(shape.tile), height.div_ceil(shape.tile));
+        let super_tiles = UVec2::new(
+            width.div_ceil(SUPER_TILE_PIXELS),
+            height.div_ceil(SUPER_TILE_PIXELS),
+        );
+        let super_count = super_tiles.x * super_tiles.y;
+        // Every super-tile can hold every item, up to what one binding holds; a super-tile with
+        // more survivors than its slots falls back to testing every item.
+        let binding_words = super::max_index_entries(device);
+        let coarse_stride = shape
+            .coarse_slots
+            .unwrap_or(shape.item_capacity)
+            .min(binding_words / super_count.max(1))
+            .max(1);
+        let tile_count = tiles.x * tiles.y;
+        Ok(Self {
+            lists: LightLists::new(
+                device,
+                tile_count * shape.lists_per_tile,
+                shape.index_capacity,
+            ),
+            tile_depth: prepare.compute_pipeline(device, "tile_depth")?,
+            coarse: prepare.compute_pipeline(device, "coarse_cull")?,
+            fine_cull: fine.compute_pipeline(device, "cull")?,
+            params: super::uniform_buffer::<CullParams>(device),
+            items: super::item_buffer::<CullSphere>(device, shape.item_capacity),
+            tile_info: storage(device, "tile depth", u64::from(tile_count) * 16),
+            coarse_count: storage(device, "coarse counts", u64::from(super_count) * 4),
+            coarse_items: storage(
+                device,
+                "coarse candidates",
+                u64::from(super_count) * u64::from(coarse_stride) * 4,
+            ),
+            prepare,
+            fine,
+            shape,
+            tiles,
+            super_tiles,
+            coarse_stride,
+        })
+    }
+
+    /// The parameters of a frame: the camera, the item count and the method's settings.
+    pub fn params(&self, camera: &CullView, item_count: u32, method: MethodParams) -> CullParams {
+        CullParams::new(
+            camera.view,
+            camera.projection,
+            camera.projection.inverse(),
+            camera.screen,
+            self.tiles,
+            self.super_tiles,
+            item_count,
+            self.shape.index_capacity,
+            self.coarse_stride,
+            u32::from(self.shape.brute_force),
+            u32::from(method.transparent),
+            u32::from(method.all_slices),
+            method.slices,
+            method.slice_near,
+            method.slice_far,
+        )
+    }
+
+    /// Uploads the parameters and the items' world-space bounding spheres.
+    pub fn upload(
+        &self,
+        gpu: &GpuContext,
+        params: &CullParams,
+        items: &[CullSphere],
+    ) -> Result<(), CullError> {
+        super::check_item_count(items.len(), self.shape.item_capacity)?;
+        gpu.queue
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(params));
+        gpu.queue
+            .write_buffer(&self.items, 0, bytemuck::cast_slice(items));
+        Ok(())
+    }
+
+    /// Records the three dispatches reading `depth` (the pre-Z buffer, `shape.msaa` samples).
+    pub fn encode(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        depth: &wgpu::TextureView,
+    ) {
+        let resources = [
+            (0, self.params.as_entire_binding()),
+            (1, self.items.as_entire_binding()),
+            (2, self.lists.grid.as_entire_binding()),
+            (3, self.lists.indices.as_entire_binding()),
+            (4, self.lists.counters.as_entire_binding()),
+            (5, wgpu::BindingResource::TextureView(depth)),
+            (6, self.tile_info.as_entire_binding()),
+            (7, self.coarse_count.as_entire_binding()),
+            (8, self.coarse_items.as_entire_binding()),
+        ];
+        let prepare = super::bind_by_number(device, &self.prepare, &resources);
+        let fine = super::bind_by_number(device, &self.fine, &resources);
+        encoder.clear_buffer(&self.lists.counters, 0, None);
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("light cull"),
+            timestamp_writes: None,
+        });
+        pass.set_bind_group(0, &prepare, &[]);
+        pass.set_pipeline(&self.tile_depth);
+        pass.dispatch_workgroups(self.tiles.x, self.tiles.y, 1);
+        if !self.shape.brute_force {
+            pass.set_pipeline(&self.coarse);
+            pass.dispatch_workgroups(self.super_tiles.x, self.super_tiles.y, 1);
+        }
+        pass.set_bind_group(0, &fine, &[]);
+        pass.set_pipeline(&self.fine_cull);
+        pass.dispatch_workgroups(self.tiles.x, self.tiles.y, 1);
+    }
+
+    /// Takes a new index capacity for the next frame (at most what one storage binding holds;
+    /// beyond that, overflow stays counted).
+    pub fn grow(&mut self, device: &wgpu::Device, index_capacity: u32) {
+        let index = index_capacity.min(super::max_index_entries(device));
+        if index != self.shape.index_capacity {
+            self.shape.index_capacity = index;
+            self.lists = LightLists::new(device, self.lists.cells, index);
+        }
+    }
+
+    /// Blocking readback of the results (tests and tools).
+    pub fn read_back(&self, gpu: &GpuContext) -> Result<CullReadback, GpuError> {
+        self.lists.read_back(gpu)
+    }
+}
