@@ -415,7 +415,13 @@ fn clustered_kernel_matches_cpu_reference_in_every_variant() {
                         let close_call = reference.borderline[c].iter().any(|b| b.light == light);
                         assert!(
                             close_call,
-                            "froxel {c} ({method:?}, MSAA {msaa}, brute force {brute_force}): light {light} differs from the reference"
+                            "froxel {c} ({method:?}, MSAA {msaa}, brute force {brute_force}): light {light} ({:?}) is {} on the GPU but the reference is sure",
+                            s.lights_view()[light as usize],
+                            if got.contains(&light) {
+                                "listed"
+                            } else {
+                                "missing"
+                            }
                         );
                         close_calls += 1;
                     }

@@ -9,9 +9,12 @@
 /// list of slice `k` is grid entry `tile + k · tile_count` (`light_grid::froxel_cell`).
 ///
 /// An item is listed in froxel `(tile, k)` when its sphere clears the tile's four side planes and
-/// the slice's two depth planes, and reaches the froxel's view-space bounding box (closest point
-/// of the box within the radius; the last slice, unbounded, has no box). Without `all_slices`,
-/// only the slices holding a depth sample of the tile (`TILE_DEPTH[tile].w`) get lists. Lists are
+/// the slice's two depth planes. Without `all_slices`, only the slices holding a depth sample of
+/// the tile (`TILE_DEPTH[tile].w`) get lists, and the item must also reach the froxel's
+/// view-space bounding box (closest point of the box within the radius; the last slice,
+/// unbounded, has none). With `all_slices` (MSAA, or blended surfaces) the box test is left out:
+/// an MSAA edge fragment is shaded at its pixel centre, extrapolated past its triangle, and the
+/// box test measurably missed lights there (grazing test, MSAA 4) where the planes do not. Lists are
 /// counted, allocated with one atomic per tile and written (`cull_append`), so none is cut short.
 #[shader_dsl::shader(
     axes(tile: u32 = [8, 16, 32] => "t"),
@@ -74,7 +77,7 @@ pub mod cluster_cull {
                     let zn = slice_start(k, PARAMS.slice_near, PARAMS.slice_far, slices);
                     let zf = slice_start(k + 1u32, PARAMS.slice_near, PARAMS.slice_far, slices);
                     let mut hit = -c.z - zn >= -r && c.z + zf >= -r;
-                    if hit && k + 1u32 < slices {
+                    if hit && k + 1u32 < slices && PARAMS.all_slices == 0u32 {
                         hit = reaches_froxel_box(c, r, column, zn, zf);
                     }
                     if hit {

@@ -534,6 +534,7 @@ mod tests {
             path: path.into(),
             tile,
             scalarize,
+            brute_force: false,
             lights,
             frames: 64,
             prez_median_ms: (path != "naive").then_some(0.1),

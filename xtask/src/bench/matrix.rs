@@ -18,11 +18,11 @@ impl PathChoice {
     }
 
     fn has_tiles(self) -> bool {
-        matches!(self.0, RenderPath::Tiled | RenderPath::Depth25)
+        self.0.is_culled()
     }
 
-    /// Whether the scalarize axis changes anything: the culling kernels and the culled forward
-    /// shader have subgroup variants; the naive loop has none.
+    /// Whether the scalarize axis changes anything: the culled forward shader has subgroup
+    /// variants; the naive loop has none.
     fn has_scalarize(self) -> bool {
         !matches!(self.0, RenderPath::Naive | RenderPath::NaivePrez)
     }
@@ -37,6 +37,8 @@ pub struct Axes {
     pub paths: Vec<PathChoice>,
     pub tiles: Vec<u32>,
     pub scalarize: Vec<bool>,
+    /// Culling without the super-tile level (brute force): `false`, `true` or both.
+    pub brute_force: Vec<bool>,
     pub lights: Vec<u32>,
 }
 
@@ -52,6 +54,8 @@ pub struct Setup {
     /// 0 for paths without tiles.
     pub tile: u32,
     pub scalarize: bool,
+    /// Every tile tests every light (no super-tile level).
+    pub brute_force: bool,
 }
 
 /// What the adapter can run; cells outside it are left out (and said so).
@@ -91,17 +95,25 @@ pub fn expand(axes: &Axes, support: &Support) -> (Vec<Setup>, Vec<String>) {
                     } else {
                         vec![false]
                     };
+                    let brute: &[bool] = if path.has_tiles() {
+                        &axes.brute_force
+                    } else {
+                        &[false]
+                    };
                     for &tile in tiles {
                         for &scalarize in &scalar {
-                            setups.push(Setup {
-                                scene,
-                                width,
-                                height,
-                                msaa,
-                                path,
-                                tile,
-                                scalarize,
-                            });
+                            for &brute_force in brute {
+                                setups.push(Setup {
+                                    scene,
+                                    width,
+                                    height,
+                                    msaa,
+                                    path,
+                                    tile,
+                                    scalarize,
+                                    brute_force,
+                                });
+                            }
                         }
                     }
                 }
@@ -140,6 +152,15 @@ pub fn parse_size(s: &str) -> Result<(u32, u32)> {
         })
 }
 
+/// Parses a culling level choice: `hierarchical` or `brute-force` (whether brute force).
+pub fn parse_cull(s: &str) -> Result<bool> {
+    match s {
+        "hierarchical" => Ok(false),
+        "brute-force" => Ok(true),
+        other => bail!("cull {other:?}: use hierarchical, brute-force or both"),
+    }
+}
+
 /// Parses `on` / `off`.
 pub fn parse_on_off(s: &str) -> Result<bool> {
     match s {
@@ -164,6 +185,7 @@ mod tests {
                 .collect(),
             tiles: vec![8, 16, 32],
             scalarize: vec![false, true],
+            brute_force: vec![false],
             lights: vec![1024, 4096],
         }
     }
@@ -175,8 +197,8 @@ mod tests {
             subgroup: true,
         };
         let (setups, left_out) = expand(&axes(), &support);
-        // Per size and MSAA: naive, naive-prez, tiled 3×2, 2.5D 3×2, clustered ×2.
-        assert_eq!(setups.len(), 2 * 4 * 16);
+        // Per size and MSAA: naive, naive-prez, tiled 3×2, 2.5D 3×2, clustered 3×2.
+        assert_eq!(setups.len(), 2 * 4 * 20);
         assert!(left_out.is_empty());
         assert!(setups.iter().all(|s| s.tile == 0 || s.path.has_tiles()));
     }
@@ -188,7 +210,7 @@ mod tests {
             subgroup: false,
         };
         let (setups, left_out) = expand(&axes(), &support);
-        assert_eq!(setups.len(), 2 * 2 * 9);
+        assert_eq!(setups.len(), 2 * 2 * 11);
         assert!(
             setups
                 .iter()
@@ -208,6 +230,12 @@ mod tests {
         );
         assert!(parse_size("1920").is_err());
         assert!(parse_on_off("maybe").is_err());
+        assert!(
+            parse_cull("fast")
+                .unwrap_err()
+                .to_string()
+                .contains("brute-force")
+        );
         assert_eq!(parse_size("64x32").unwrap(), (64, 32));
     }
 }

@@ -52,9 +52,13 @@ pub struct Args {
         default_value = "naive,naive-prez,tiled,2.5d,clustered"
     )]
     paths: Vec<String>,
-    /// Tile sizes of the tiled and 2.5D paths.
+    /// Tile sizes of the culled paths (tiled, 2.5D, and the clustered froxels' screen cells).
     #[arg(long, value_delimiter = ',', default_value = "8,16,32")]
     tiles: Vec<u32>,
+    /// Culling levels: hierarchical (super-tiles, then tiles), brute-force (every tile tests
+    /// every light), or both to compare.
+    #[arg(long, value_delimiter = ',', default_value = "hierarchical")]
+    cull: Vec<String>,
     /// Scalarization: off, on (on needs SUBGROUP; left out without it).
     #[arg(long, value_delimiter = ',', default_value = "off,on")]
     scalarize: Vec<String>,
@@ -190,6 +194,11 @@ fn axes(args: &Args, scenes: &[BenchScene]) -> Result<Axes> {
             .iter()
             .map(|s| matrix::parse_on_off(s))
             .collect::<Result<_>>()?,
+        brute_force: args
+            .cull
+            .iter()
+            .map(|s| matrix::parse_cull(s))
+            .collect::<Result<_>>()?,
         lights: args.lights.clone(),
     };
     if args.quick {
@@ -292,6 +301,7 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
             path: setup.path.0,
             tile: setup.tile.max(8),
             scalarize: setup.scalarize,
+            cull_brute_force: setup.brute_force,
             ..Default::default()
         };
         let mut renderer = Renderer::new(&gpu, config)?;
@@ -458,6 +468,7 @@ fn empty_record(scene: &str, setup: &Setup, lights: u32) -> CellRecord {
         path: setup.path.name().to_string(),
         tile: setup.tile,
         scalarize: setup.scalarize,
+        brute_force: setup.brute_force,
         lights,
         frames: 0,
         prez_median_ms: None,

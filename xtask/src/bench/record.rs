@@ -21,9 +21,13 @@ pub struct CellRecord {
     pub msaa: u32,
     /// `naive`, `naive-prez`, `tiled`, `2.5d` or `clustered`.
     pub path: String,
-    /// Tile size of the tiled paths; 0 for the others.
+    /// Tile size of the culled paths; 0 for the others.
     pub tile: u32,
     pub scalarize: bool,
+    /// Culled without the super-tile level (every tile tests every light). Absent in CSVs
+    /// written before the hierarchy existed, which were all brute force.
+    #[serde(default = "brute_force_before_the_hierarchy")]
+    pub brute_force: bool,
     /// Lights culled and shaded (procedural plus the scene's own punctual lights).
     pub lights: u32,
     /// Timed frames behind the medians (fewer than asked only when the cell's time budget ran
@@ -70,6 +74,9 @@ impl CellRecord {
         if self.scalarize {
             s += " scalar";
         }
+        if self.brute_force && self.tile > 0 {
+            s += " brute";
+        }
         s
     }
 
@@ -77,6 +84,10 @@ impl CellRecord {
     pub fn cull_ratio_to_floor(&self) -> Option<f64> {
         Some(self.cull_median_ms? * 1e3 / self.cull_floor_us?)
     }
+}
+
+fn brute_force_before_the_hierarchy() -> bool {
+    true
 }
 
 /// Writes records to a CSV file, one row per cell, header first.

@@ -51,8 +51,8 @@ pub enum Method {
     /// Tiled, plus a 32-cell depth mask per tile from the geometry, ANDed with each light's
     /// (opaque lists only).
     Depth25 { tile: u32, transparent: bool },
-    /// One frustum per froxel, narrowed by the froxel's view-space bounding box. With
-    /// `skip_empty`, froxels holding no depth sample get no lights.
+    /// One frustum per froxel. With `skip_empty`, froxels holding no depth sample get no lights
+    /// and the others are narrowed by the froxel's view-space bounding box.
     Clustered { grid: ClusterGrid, skip_empty: bool },
 }
 
@@ -240,8 +240,8 @@ fn cull_levels(
                         }
                         let (zn, zf) = (grid.slice_start(k), grid.slice_start(k + 1));
                         let planes = with_depth(sides, zn, zf.min(f32::MAX));
-                        let froxel =
-                            (k + 1 < grid.slices).then(|| froxel_box(camera, tile, i, j, zn, zf));
+                        let froxel = (k + 1 < grid.slices && skip_empty)
+                            .then(|| froxel_box(camera, tile, i, j, zn, zf));
                         let test = FineTest {
                             planes: &planes,
                             mask: None,
