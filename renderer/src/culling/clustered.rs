@@ -117,6 +117,17 @@ impl ClusteredCulling {
         self.levels.encode(device, encoder, depth);
     }
 
+    /// [`Self::encode`] with each dispatch timed by `profiler`, when given.
+    pub fn encode_timed(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        depth: &wgpu::TextureView,
+        profiler: Option<&wgpu_profiler::GpuProfiler>,
+    ) {
+        self.levels.encode_timed(device, encoder, depth, profiler);
+    }
+
     /// Takes a new index capacity (from [`super::overflow::grow_for`]) for the next frame.
     pub fn grow(&mut self, device: &wgpu::Device, index_capacity: u32) {
         self.levels.grow(device, index_capacity);

@@ -126,6 +126,17 @@ impl TiledCulling {
         self.levels.encode(device, encoder, depth);
     }
 
+    /// [`Self::encode`] with each dispatch timed by `profiler`, when given.
+    pub fn encode_timed(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        depth: &wgpu::TextureView,
+        profiler: Option<&wgpu_profiler::GpuProfiler>,
+    ) {
+        self.levels.encode_timed(device, encoder, depth, profiler);
+    }
+
     /// Takes a new index capacity (from [`super::overflow::grow_for`]) for the next frame.
     pub fn grow(&mut self, device: &wgpu::Device, index_capacity: u32) {
         self.levels.grow(device, index_capacity);

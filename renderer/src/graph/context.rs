@@ -11,22 +11,36 @@ pub(crate) enum PoolObject {
 }
 
 /// What a pass's recording function gets: the encoder and its resources' GPU objects.
-#[derive(Debug)]
 pub struct PassContext<'a> {
     pub encoder: &'a mut wgpu::CommandEncoder,
     pub device: &'a wgpu::Device,
+    /// The frame's profiler, for passes that time their dispatches separately (each pass is
+    /// already timed as a whole).
+    pub profiler: &'a wgpu_profiler::GpuProfiler,
     objects: &'a [Option<PoolObject>],
+}
+
+impl std::fmt::Debug for PassContext<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("PassContext")
+            .field("encoder", &self.encoder)
+            .field("device", &self.device)
+            .field("objects", &self.objects)
+            .finish_non_exhaustive()
+    }
 }
 
 impl<'a> PassContext<'a> {
     pub(super) fn new(
         encoder: &'a mut wgpu::CommandEncoder,
         device: &'a wgpu::Device,
+        profiler: &'a wgpu_profiler::GpuProfiler,
         objects: &'a [Option<PoolObject>],
     ) -> Self {
         Self {
             encoder,
             device,
+            profiler,
             objects,
         }
     }

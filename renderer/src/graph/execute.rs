@@ -95,7 +95,7 @@ impl CompiledGraph {
             let pass = &mut self.passes[p];
             let mut scope = profiler.scope(pass.name.clone(), &mut *encoder);
             if let Some(record) = pass.execute.take() {
-                let mut ctx = PassContext::new(&mut scope, device, &objects);
+                let mut ctx = PassContext::new(&mut scope, device, profiler, &objects);
                 record(&mut ctx);
             }
         }

@@ -251,7 +251,7 @@ impl Pass for LightCullPass {
     fn add_to_graph(
         &self,
         graph: &mut RenderGraph,
-        _frame: &FrameInputs,
+        frame: &FrameInputs,
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
         let (Some(lists), Some(method)) = (self.culler.lists(), self.culler.method()) else {
@@ -270,6 +270,7 @@ impl Pass for LightCullPass {
             ImportAccess::ReadWrite,
         );
         let culler = self.culler.clone();
+        let timed = frame.config.time_cull_dispatches;
         graph
             .add_pass(self.name())
             .read_texture(depth, TextureAccess::Sampled)
@@ -277,9 +278,12 @@ impl Pass for LightCullPass {
             .write_buffer(&mut indices, BufferAccess::StorageWrite)
             .execute(move |ctx| {
                 let view = ctx.texture(depth).create_view(&Default::default());
+                let profiler = timed.then_some(ctx.profiler);
                 match &culler {
-                    Culler::Tiled(c) => c.encode(ctx.device, ctx.encoder, &view),
-                    Culler::Clustered(c) => c.encode(ctx.device, ctx.encoder, &view),
+                    Culler::Tiled(c) => c.encode_timed(ctx.device, ctx.encoder, &view, profiler),
+                    Culler::Clustered(c) => {
+                        c.encode_timed(ctx.device, ctx.encoder, &view, profiler);
+                    }
                     Culler::Naive => {}
                 }
             });

@@ -24,6 +24,11 @@ pub mod cluster_cull {
     /// Invocations per tile.
     pub const WORKGROUP: u32 = 64;
 
+    /// View depth where each slice starts, and `slices` → unbounded (computed once per
+    /// workgroup: `powf` per candidate and slice would dominate the kernel).
+    #[workgroup]
+    static SLICE_START: [f32; MAX_LISTS + 1u32];
+
     /// The tile's column of froxels: side planes, the spread of its corner rays (view-space
     /// `xy` at view depth 1) and the slices that get lists.
     struct TileColumn {
@@ -51,7 +56,7 @@ pub mod cluster_cull {
 
     /// The slices (bit `k`) whose froxel of this tile item `item` reaches.
     fn classify(item: u32, column: TileColumn) -> u32 {
-        let s = view_sphere(item);
+        let s = candidate_sphere(item);
         let c = s.xyz();
         let r = s.w;
         let slices = PARAMS.slices;
@@ -74,8 +79,8 @@ pub mod cluster_cull {
             }
             for k in first..last + 1u32 {
                 if (column.slices & (1u32 << k)) != 0u32 {
-                    let zn = slice_start(k, PARAMS.slice_near, PARAMS.slice_far, slices);
-                    let zf = slice_start(k + 1u32, PARAMS.slice_near, PARAMS.slice_far, slices);
+                    let zn = SLICE_START[k];
+                    let zf = SLICE_START[k + 1u32];
                     let mut hit = -c.z - zn >= -r && c.z + zf >= -r;
                     if hit && k + 1u32 < slices && PARAMS.all_slices == 0u32 {
                         hit = reaches_froxel_box(c, r, column, zn, zf);
@@ -122,20 +127,30 @@ pub mod cluster_cull {
         let coarse = reads_coarse(st);
         let n = candidate_count(st, coarse);
         lists_reset(lid);
+        if lid <= lists {
+            SLICE_START[lid] = slice_start(lid, PARAMS.slice_near, PARAMS.slice_far, lists);
+        }
         workgroup_barrier();
-        // Phase 0 counts, phase 1 writes into the allocated lists.
-        for phase in 0u32..2u32 {
+        // Count every list and keep the hits; allocate; write the hits (or, when they did not
+        // fit in workgroup memory, classify again and write).
+        let mut i = lid;
+        while i < n {
+            let item = candidate(st, coarse, i);
+            hit_add(classify(item, column), item);
+            i += WORKGROUP;
+        }
+        workgroup_barrier();
+        if lid == 0u32 {
+            lists_allocate(tile_index, lists);
+        }
+        workgroup_barrier();
+        if !hits_write(lid, WORKGROUP) {
             let mut i = lid;
             while i < n {
                 let item = candidate(st, coarse, i);
-                list_add(classify(item, column), item, phase);
+                list_add(classify(item, column), item, 1u32);
                 i += WORKGROUP;
             }
-            workgroup_barrier();
-            if phase == 0u32 && lid == 0u32 {
-                lists_allocate(tile_index, lists);
-            }
-            workgroup_barrier();
         }
     }
 }

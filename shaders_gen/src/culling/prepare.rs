@@ -7,13 +7,16 @@
 /// a sample (Harada 2012); the slice set has bit `k` when a sample lies in clustered depth slice
 /// `k` (`light_grid::slice_of`). A sky-only tile has min > max.
 ///
-/// `coarse_cull` (one workgroup per 128×128-pixel super-tile) takes the depth range of its tiles,
-/// builds the super-tile's frustum and tests every item against it; the survivors are its tiles'
-/// candidates. With blended surfaces (`transparent`) the range is the whole view depth range,
-/// and with `all_slices` (clustered lists for every slice) it is unbounded, so the candidates are
-/// a superset of whatever the fine level lists. A super-tile with more survivors than its
-/// `coarse_stride` slots is marked `EVERY_ITEM` (counted in `COUNTERS[COARSE_FALLBACKS]`): its
-/// tiles then test every item, slower but complete.
+/// `coarse_cull` (one workgroup per 128×128-pixel super-tile and chunk of `COARSE_CHUNK` items,
+/// so that even a few super-tiles fill the GPU) takes the depth range of the super-tile's tiles,
+/// builds its frustum and tests the chunk's items against it; the survivors, appended with a
+/// global atomic on `COARSE_COUNT` (cleared by the host), are its tiles' candidates. The
+/// workgroups of super-tile 0 also write every item's view-space sphere to `VIEW_SPHERES`. With
+/// blended surfaces (`transparent`) the range is the whole view depth range, and with
+/// `all_slices` (clustered lists for every slice) it is unbounded, so the candidates are a
+/// superset of whatever the fine level lists. A super-tile with more survivors than its
+/// `coarse_stride` slots (counted once in `COUNTERS[COARSE_FALLBACKS]`) has its tiles test every
+/// item: slower, but complete.
 #[shader_dsl::shader(
     axes(
         tile: u32 = [8, 16, 32] => "t",
@@ -27,7 +30,8 @@ pub mod cull_prepare {
     const TILE_THREADS: u32 = tile * tile;
     /// Tiles across one super-tile.
     const TILES_PER_SUPER: u32 = SUPER_TILE_PIXELS / tile;
-    const COARSE_THREADS: u32 = 256;
+    /// Stands for an unbounded view depth (as `light_grid`'s own).
+    const UNBOUNDED: f32 = 3.0e38;
     const INFINITY_BITS: u32 = 0x7f80_0000;
 
     #[texture(group = 0, binding = 5)]
@@ -45,8 +49,6 @@ pub mod cull_prepare {
     static TILE_MASK: Atomic<u32>;
     #[workgroup]
     static TILE_SLICES: Atomic<u32>;
-    #[workgroup]
-    static SURVIVORS: Atomic<u32>;
 
     /// Depth-buffer value of sample `s` of pixel `p`.
     fn sample_depth(p: UVec2, s: u32) -> f32 {
@@ -141,7 +143,6 @@ pub mod cull_prepare {
         if lid == 0u32 {
             RANGE_MIN.store(INFINITY_BITS);
             RANGE_MAX.store(0u32);
-            SURVIVORS.store(0u32);
         }
         workgroup_barrier();
         // 1. The depth range of the super-tile's tiles.
@@ -165,7 +166,7 @@ pub mod cull_prepare {
         if PARAMS.all_slices != 0u32 {
             active = true;
             near = 0.0;
-            far = FAR_AWAY;
+            far = UNBOUNDED;
         } else if PARAMS.transparent != 0u32 {
             active = true;
             near = depth_to_view(0.0);
@@ -181,32 +182,21 @@ pub mod cull_prepare {
         let y0 = 1.0 - 2.0 * (wg.y + 1u32) as f32 * edge / size.y;
         let sides = side_planes(PARAMS.projection, x0, x1, y0, y1);
 
-        // 3. Every item against it; survivors go to the super-tile's slots.
+        // 3. This workgroup's chunk of items against it.
         let st = wg.y * PARAMS.super_tiles.x + wg.x;
-        let mut rounds = (PARAMS.item_count + COARSE_THREADS - 1u32) / COARSE_THREADS;
-        if !active {
-            rounds = 0u32;
-        }
-        for round in 0u32..rounds {
-            let item = round * COARSE_THREADS + lid;
-            if item < PARAMS.item_count {
-                let s = view_sphere(item);
-                if sphere_in_frustum(s.xyz(), s.w, sides, near, far) {
-                    let slot = SURVIVORS.fetch_add(1u32);
-                    if slot < PARAMS.coarse_stride {
-                        COARSE_ITEMS[st * PARAMS.coarse_stride + slot] = item;
-                    }
-                }
+        let item = wg.z * COARSE_CHUNK + lid;
+        if item < PARAMS.item_count {
+            let s = view_sphere(item);
+            if wg.x == 0u32 && wg.y == 0u32 {
+                VIEW_SPHERES[item] = s;
             }
-        }
-        workgroup_barrier();
-        if lid == 0u32 {
-            let n = SURVIVORS.load();
-            if n > PARAMS.coarse_stride {
-                COARSE_COUNT[st] = EVERY_ITEM;
-                COUNTERS[COARSE_FALLBACKS].fetch_add(1u32);
-            } else {
-                COARSE_COUNT[st] = n;
+            if active && sphere_in_frustum(s.xyz(), s.w, sides, near, far) {
+                let slot = COARSE_COUNT[st].fetch_add(1u32);
+                if slot < PARAMS.coarse_stride {
+                    COARSE_ITEMS[st * PARAMS.coarse_stride + slot] = item;
+                } else if slot == PARAMS.coarse_stride {
+                    COUNTERS[COARSE_FALLBACKS].fetch_add(1u32);
+                }
             }
         }
     }

@@ -68,7 +68,7 @@ pub mod tile_cull {
 
     /// The lists (bit 0 opaque, bit 1 transparent) item `item` belongs to.
     fn classify(item: u32, sides: SidePlanes, range: TileRange) -> u32 {
-        let s = view_sphere(item);
+        let s = candidate_sphere(item);
         let c = s.xyz();
         let r = s.w;
         let mut bits = 0u32;
@@ -133,19 +133,26 @@ pub mod tile_cull {
         let n = candidate_count(st, coarse);
         lists_reset(lid);
         workgroup_barrier();
-        // Phase 0 counts, phase 1 writes into the allocated lists.
-        for phase in 0u32..2u32 {
+        // Count every list and keep the hits; allocate; write the hits (or, when they did not
+        // fit in workgroup memory, classify again and write).
+        let mut i = lid;
+        while i < n {
+            let item = candidate(st, coarse, i);
+            hit_add(classify(item, sides, range), item);
+            i += WORKGROUP;
+        }
+        workgroup_barrier();
+        if lid == 0u32 {
+            lists_allocate(tile_index, lists);
+        }
+        workgroup_barrier();
+        if !hits_write(lid, WORKGROUP) {
             let mut i = lid;
             while i < n {
                 let item = candidate(st, coarse, i);
-                list_add(classify(item, sides, range), item, phase);
+                list_add(classify(item, sides, range), item, 1u32);
                 i += WORKGROUP;
             }
-            workgroup_barrier();
-            if phase == 0u32 && lid == 0u32 {
-                lists_allocate(tile_index, lists);
-            }
-            workgroup_barrier();
         }
     }
 }

@@ -9,17 +9,19 @@
 ///   2.5D geometry mask and the occupied depth slices (written by `cull_prepare::tile_depth`);
 /// * `COARSE_COUNT` / `COARSE_ITEMS` (bindings 7, 8): per 128×128-pixel super-tile, the items
 ///   that can touch it, `coarse_stride` slots each (written by `cull_prepare::coarse_cull`); a
-///   super-tile whose candidates do not fit is marked [`EVERY_ITEM`] and its tiles test every
-///   item, so nothing is ever lost;
+///   super-tile whose count exceeds its slots has its tiles test every item, so nothing is ever
+///   lost; `VIEW_SPHERES` (binding 9): every item's view-space sphere, written once by the same
+///   pass;
 /// * the output: `GRID` (binding 2) holds `(offset, count)` per list, `INDICES` (binding 3) the
 ///   items, `COUNTERS` (binding 4) the overflow counters.
 ///
 /// A fine cell (a tile) owns up to [`MAX_LISTS`] lists: list `j` of tile `t` is grid entry
 /// `t + j · tile_count`. Tiled culling has the opaque list (`j = 0`) and, for blended surfaces,
 /// the transparent one (`j = 1`); clustered culling has one list per depth slice. A fine kernel
-/// classifies each candidate into a bit set of lists, counts (`list_add`, phase 0), allocates
-/// every list of the tile with one global atomic (`lists_allocate`), then classifies again and
-/// writes (phase 1). Lists have no per-cell limit; only the index list's capacity can run out,
+/// classifies each candidate into a bit set of lists and counts it (`hit_add`), allocates every
+/// list of the tile with one global atomic (`lists_allocate`), then writes its hits from
+/// workgroup memory (`hits_write`), or, when more than [`MAX_HITS`] did not fit there,
+/// classifies its candidates again and writes (`list_add` phase 1). Lists have no per-cell limit; only the index list's capacity can run out,
 /// and then the tile's lists are dropped whole and counted, for the host to grow the list.
 #[shader_dsl::library]
 pub mod cull_append {
@@ -64,10 +66,14 @@ pub mod cull_append {
 
     /// Most lists one tile owns (and most depth slices of the clustered grid).
     pub const MAX_LISTS: u32 = 32;
+    /// Items a tile keeps with their list bits between counting and writing (workgroup
+    /// memory); a tile with more re-tests its candidates instead.
+    pub const MAX_HITS: u32 = 512;
     /// Edge of a super-tile in pixels.
     pub const SUPER_TILE_PIXELS: u32 = 128;
-    /// `COARSE_COUNT` of a super-tile whose candidates did not fit: its tiles test every item.
-    pub const EVERY_ITEM: u32 = 0xffff_ffff;
+    /// Items one super-tile workgroup tests (the super-tile pass runs one workgroup per
+    /// super-tile and chunk of this many items).
+    pub const COARSE_CHUNK: u32 = 256;
     /// `COUNTERS[NEXT_INDEX]`: entries allocated in `INDICES` (may exceed the capacity).
     pub const NEXT_INDEX: u32 = 0;
     /// `COUNTERS[COARSE_FALLBACKS]`: super-tiles whose candidates did not fit their slots.
@@ -92,9 +98,11 @@ pub mod cull_append {
     #[storage(group = 0, binding = 6, read_write)]
     static TILE_DEPTH: [UVec4];
     #[storage(group = 0, binding = 7, read_write)]
-    static COARSE_COUNT: [u32];
+    static COARSE_COUNT: [Atomic<u32>];
     #[storage(group = 0, binding = 8, read_write)]
     static COARSE_ITEMS: [u32];
+    #[storage(group = 0, binding = 9, read_write)]
+    static VIEW_SPHERES: [Vec4];
 
     #[workgroup]
     static LIST_COUNT: [Atomic<u32>; MAX_LISTS];
@@ -102,6 +110,10 @@ pub mod cull_append {
     static LIST_BASE: [u32; MAX_LISTS];
     #[workgroup]
     static LIST_ROOM: u32;
+    #[workgroup]
+    static HIT_COUNT: Atomic<u32>;
+    #[workgroup]
+    static HITS: [UVec2; MAX_HITS];
 
     /// An item's bounding sphere in view space: centre in `xyz`, radius in `w`.
     fn view_sphere(item: u32) -> Vec4 {
@@ -119,14 +131,14 @@ pub mod cull_append {
     /// Whether the tiles of `super_tile` read its coarse list (not brute force, and the list
     /// fitted); otherwise they test every item.
     fn reads_coarse(super_tile: u32) -> bool {
-        PARAMS.brute_force == 0u32 && COARSE_COUNT[super_tile] != EVERY_ITEM
+        PARAMS.brute_force == 0u32 && COARSE_COUNT[super_tile].load() <= PARAMS.coarse_stride
     }
 
     /// How many candidates the tiles of `super_tile` test.
     fn candidate_count(super_tile: u32, coarse: bool) -> u32 {
         let mut n = PARAMS.item_count;
         if coarse {
-            n = COARSE_COUNT[super_tile];
+            n = COARSE_COUNT[super_tile].load();
         }
         n
     }
@@ -140,11 +152,56 @@ pub mod cull_append {
         item
     }
 
-    /// Zeroes the per-list counters; invocations `0..MAX_LISTS` call it, before a barrier.
+    /// Item `item`'s view-space sphere: from `VIEW_SPHERES`, which the super-tile pass fills,
+    /// or transformed here when that pass does not run (brute force).
+    fn candidate_sphere(item: u32) -> Vec4 {
+        let mut s = Vec4::ZERO;
+        if PARAMS.brute_force != 0u32 {
+            s = view_sphere(item);
+        } else {
+            s = VIEW_SPHERES[item];
+        }
+        s
+    }
+
+    /// Zeroes the per-list counters and the hit cache; invocations `0..MAX_LISTS` call it,
+    /// before a barrier.
     fn lists_reset(lid: u32) {
         if lid < MAX_LISTS {
             LIST_COUNT[lid].store(0u32);
         }
+        if lid == 0u32 {
+            HIT_COUNT.store(0u32);
+        }
+    }
+
+    /// Counting phase: counts `item` in the lists of `bits` and keeps it, with its bits, in
+    /// the hit cache while there is room.
+    fn hit_add(bits: u32, item: u32) {
+        if bits != 0u32 {
+            list_add(bits, item, 0u32);
+            let h = HIT_COUNT.fetch_add(1u32);
+            if h < MAX_HITS {
+                HITS[h] = UVec2::new(item, bits);
+            }
+        }
+    }
+
+    /// Writing phase from the hit cache (after `lists_allocate` and a barrier), spread over
+    /// `threads` invocations. Returns `false`, writing nothing, when the hits did not fit: the
+    /// caller then classifies its candidates again with `list_add(.., 1)`.
+    fn hits_write(lid: u32, threads: u32) -> bool {
+        let n = HIT_COUNT.load();
+        let fits = n <= MAX_HITS;
+        if fits {
+            let mut i = lid;
+            while i < n {
+                let h = HITS[i];
+                list_add(h.y, h.x, 1u32);
+                i += threads;
+            }
+        }
+        fits
     }
 
     /// Phase 0 counts `item` in every list of `bits`; phase 1 writes it there.

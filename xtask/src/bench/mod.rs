@@ -59,6 +59,10 @@ pub struct Args {
     /// every light), or both to compare.
     #[arg(long, value_delimiter = ',', default_value = "hierarchical")]
     cull: Vec<String>,
+    /// Time each culling dispatch on its own (the `cull_depth/coarse/fine` columns); separate
+    /// passes add to the culling total, so take totals from a run without it.
+    #[arg(long)]
+    cull_dispatch_times: bool,
     /// Scalarization: off, on (on needs SUBGROUP; left out without it).
     #[arg(long, value_delimiter = ',', default_value = "off,on")]
     scalarize: Vec<String>,
@@ -302,6 +306,7 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
             tile: setup.tile.max(8),
             scalarize: setup.scalarize,
             cull_brute_force: setup.brute_force,
+            time_cull_dispatches: args.cull_dispatch_times,
             ..Default::default()
         };
         let mut renderer = Renderer::new(&gpu, config)?;
@@ -475,6 +480,9 @@ fn empty_record(scene: &str, setup: &Setup, lights: u32) -> CellRecord {
         prez_p90_ms: None,
         cull_median_ms: None,
         cull_p90_ms: None,
+        cull_depth_median_ms: None,
+        cull_coarse_median_ms: None,
+        cull_fine_median_ms: None,
         forward_median_ms: None,
         forward_p90_ms: None,
         tonemap_median_ms: None,
@@ -500,6 +508,9 @@ fn fill(record: &mut CellRecord, m: &measure::Measured, renderer: &Renderer) {
     record.prez_p90_ms = pass("pre-z").and_then(|s| s.p90());
     record.cull_median_ms = pass("light culling").and_then(|s| s.median());
     record.cull_p90_ms = pass("light culling").and_then(|s| s.p90());
+    record.cull_depth_median_ms = pass("cull: tile depth").and_then(|s| s.median());
+    record.cull_coarse_median_ms = pass("cull: super-tiles").and_then(|s| s.median());
+    record.cull_fine_median_ms = pass("cull: tiles").and_then(|s| s.median());
     record.forward_median_ms = pass("forward").and_then(|s| s.median());
     record.forward_p90_ms = pass("forward").and_then(|s| s.p90());
     record.tonemap_median_ms = pass("tonemap").and_then(|s| s.median());

@@ -37,6 +37,13 @@ pub struct CellRecord {
     pub prez_p90_ms: Option<f64>,
     pub cull_median_ms: Option<f64>,
     pub cull_p90_ms: Option<f64>,
+    /// The culling pass's dispatches: per-tile depth, super-tile candidates, tile lists.
+    #[serde(default)]
+    pub cull_depth_median_ms: Option<f64>,
+    #[serde(default)]
+    pub cull_coarse_median_ms: Option<f64>,
+    #[serde(default)]
+    pub cull_fine_median_ms: Option<f64>,
     pub forward_median_ms: Option<f64>,
     pub forward_p90_ms: Option<f64>,
     pub tonemap_median_ms: Option<f64>,
