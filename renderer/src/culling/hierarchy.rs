@@ -79,9 +79,10 @@ pub struct CullHierarchy {
     params: wgpu::Buffer,
     items: wgpu::Buffer,
     tile_info: wgpu::Buffer,
-    coarse_count: wgpu::Buffer,
-    coarse_items: wgpu::Buffer,
-    view_spheres: wgpu::Buffer,
+    /// `COARSE`: the super-tiles' counts, then their candidate slots.
+    candidates: wgpu::Buffer,
+    /// `SPHERES`: the candidates' view-space spheres, then every item's.
+    spheres: wgpu::Buffer,
     /// Items of the last upload (the super-tile pass dispatches one workgroup per chunk).
     item_count: std::sync::atomic::AtomicU32,
 }
@@ -138,11 +139,16 @@ impl CullHierarchy {
         let super_count = super_tiles.x * super_tiles.y;
         // Every super-tile can hold every item, up to what one binding holds; a super-tile with
         // more survivors than its slots falls back to testing every item.
-        let binding_words = super::max_index_entries(device);
+        // Slots hold a sphere (16 bytes) each in `SPHERES`, the largest of the buffers, which
+        // also holds every item's sphere after them.
+        let binding_spheres = (device.limits().max_storage_buffer_binding_size / 16)
+            .saturating_sub(u64::from(shape.item_capacity));
+        let per_super =
+            u32::try_from(binding_spheres / u64::from(super_count.max(1))).unwrap_or(u32::MAX);
         let coarse_stride = shape
             .coarse_slots
             .unwrap_or(shape.item_capacity)
-            .min(binding_words / super_count.max(1))
+            .min(per_super)
             .max(1);
         let tile_count = tiles.x * tiles.y;
         Ok(Self {
@@ -157,13 +163,18 @@ impl CullHierarchy {
             params: super::uniform_buffer::<CullParams>(device),
             items: super::item_buffer::<CullSphere>(device, shape.item_capacity),
             tile_info: storage(device, "tile depth", u64::from(tile_count) * 16),
-            coarse_count: storage(device, "coarse counts", u64::from(super_count) * 4),
-            coarse_items: storage(
+            candidates: storage(
                 device,
                 "coarse candidates",
-                u64::from(super_count) * u64::from(coarse_stride) * 4,
+                u64::from(super_count) * (1 + u64::from(coarse_stride)) * 4,
             ),
-            view_spheres: storage(device, "view spheres", u64::from(shape.item_capacity) * 16),
+            spheres: storage(
+                device,
+                "view spheres",
+                (u64::from(super_count) * u64::from(coarse_stride)
+                    + u64::from(shape.item_capacity))
+                    * 16,
+            ),
             item_count: std::sync::atomic::AtomicU32::new(0),
             prepare,
             fine,
@@ -241,14 +252,14 @@ impl CullHierarchy {
             (4, self.lists.counters.as_entire_binding()),
             (5, wgpu::BindingResource::TextureView(depth)),
             (6, self.tile_info.as_entire_binding()),
-            (7, self.coarse_count.as_entire_binding()),
-            (8, self.coarse_items.as_entire_binding()),
-            (9, self.view_spheres.as_entire_binding()),
+            (7, self.candidates.as_entire_binding()),
+            (8, self.spheres.as_entire_binding()),
         ];
         let prepare = super::bind_by_number(device, &self.prepare, &resources);
         let fine = super::bind_by_number(device, &self.fine, &resources);
         encoder.clear_buffer(&self.lists.counters, 0, None);
-        encoder.clear_buffer(&self.coarse_count, 0, None);
+        let counts = u64::from(self.super_tiles.x * self.super_tiles.y) * 4;
+        encoder.clear_buffer(&self.candidates, 0, Some(counts));
         let chunks = self
             .item_count
             .load(std::sync::atomic::Ordering::Relaxed)

@@ -54,9 +54,8 @@ pub mod cluster_cull {
         (c - closest).length_squared() <= r * r
     }
 
-    /// The slices (bit `k`) whose froxel of this tile item `item` reaches.
-    fn classify(item: u32, column: TileColumn) -> u32 {
-        let s = candidate_sphere(item);
+    /// The slices (bit `k`) whose froxel of this tile the view-space sphere `s` reaches.
+    fn classify(s: Vec4, column: TileColumn) -> u32 {
         let c = s.xyz();
         let r = s.w;
         let slices = PARAMS.slices;
@@ -135,8 +134,8 @@ pub mod cluster_cull {
         // fit in workgroup memory, classify again and write).
         let mut i = lid;
         while i < n {
-            let item = candidate(st, coarse, i);
-            hit_add(classify(item, column), item);
+            let s = candidate_sphere(st, coarse, i);
+            hit_add(classify(s, column), st, coarse, i);
             i += WORKGROUP;
         }
         workgroup_barrier();
@@ -147,8 +146,11 @@ pub mod cluster_cull {
         if !hits_write(lid, WORKGROUP) {
             let mut i = lid;
             while i < n {
-                let item = candidate(st, coarse, i);
-                list_add(classify(item, column), item, 1u32);
+                let s = candidate_sphere(st, coarse, i);
+                let bits = classify(s, column);
+                if bits != 0u32 {
+                    list_add(bits, candidate_item(st, coarse, i), 1u32);
+                }
                 i += WORKGROUP;
             }
         }

@@ -9,9 +9,10 @@
 ///
 /// `coarse_cull` (one workgroup per 128×128-pixel super-tile and chunk of `COARSE_CHUNK` items,
 /// so that even a few super-tiles fill the GPU) takes the depth range of the super-tile's tiles,
-/// builds its frustum and tests the chunk's items against it; the survivors, appended with a
-/// global atomic on `COARSE_COUNT` (cleared by the host), are its tiles' candidates. The
-/// workgroups of super-tile 0 also write every item's view-space sphere to `VIEW_SPHERES`. With
+/// builds its frustum and tests the chunk's items against it; the survivors, gathered in
+/// workgroup memory and appended, with their view-space spheres, through one global atomic on
+/// the super-tile's count in `COARSE` per workgroup (counts cleared by the host), are its tiles'
+/// candidates. The workgroups of super-tile 0 also write every item's view-space sphere. With
 /// blended surfaces (`transparent`) the range is the whole view depth range, and with
 /// `all_slices` (clustered lists for every slice) it is unbounded, so the candidates are a
 /// superset of whatever the fine level lists. A super-tile with more survivors than its
@@ -30,6 +31,7 @@ pub mod cull_prepare {
     const TILE_THREADS: u32 = tile * tile;
     /// Tiles across one super-tile.
     const TILES_PER_SUPER: u32 = SUPER_TILE_PIXELS / tile;
+    const COARSE_THREADS: u32 = 256;
     /// Stands for an unbounded view depth (as `light_grid`'s own).
     const UNBOUNDED: f32 = 3.0e38;
     const INFINITY_BITS: u32 = 0x7f80_0000;
@@ -49,6 +51,14 @@ pub mod cull_prepare {
     static TILE_MASK: Atomic<u32>;
     #[workgroup]
     static TILE_SLICES: Atomic<u32>;
+    #[workgroup]
+    static LOCAL_COUNT: Atomic<u32>;
+    #[workgroup]
+    static LOCAL_BASE: u32;
+    #[workgroup]
+    static LOCAL_ITEMS: [u32; COARSE_CHUNK];
+    #[workgroup]
+    static LOCAL_SPHERES: [Vec4; COARSE_CHUNK];
 
     /// Depth-buffer value of sample `s` of pixel `p`.
     fn sample_depth(p: UVec2, s: u32) -> f32 {
@@ -143,6 +153,7 @@ pub mod cull_prepare {
         if lid == 0u32 {
             RANGE_MIN.store(INFINITY_BITS);
             RANGE_MAX.store(0u32);
+            LOCAL_COUNT.store(0u32);
         }
         workgroup_barrier();
         // 1. The depth range of the super-tile's tiles.
@@ -182,22 +193,41 @@ pub mod cull_prepare {
         let y0 = 1.0 - 2.0 * (wg.y + 1u32) as f32 * edge / size.y;
         let sides = side_planes(PARAMS.projection, x0, x1, y0, y1);
 
-        // 3. This workgroup's chunk of items against it.
+        // 3. This workgroup's chunk of items against it, survivors gathered in workgroup
+        //    memory.
         let st = wg.y * PARAMS.super_tiles.x + wg.x;
-        let item = wg.z * COARSE_CHUNK + lid;
-        if item < PARAMS.item_count {
-            let s = view_sphere(item);
-            if wg.x == 0u32 && wg.y == 0u32 {
-                VIEW_SPHERES[item] = s;
-            }
-            if active && sphere_in_frustum(s.xyz(), s.w, sides, near, far) {
-                let slot = COARSE_COUNT[st].fetch_add(1u32);
-                if slot < PARAMS.coarse_stride {
-                    COARSE_ITEMS[st * PARAMS.coarse_stride + slot] = item;
-                } else if slot == PARAMS.coarse_stride {
-                    COUNTERS[COARSE_FALLBACKS].fetch_add(1u32);
+        for j in 0u32..COARSE_CHUNK / COARSE_THREADS {
+            let item = wg.z * COARSE_CHUNK + j * COARSE_THREADS + lid;
+            if item < PARAMS.item_count {
+                let s = view_sphere(item);
+                if wg.x == 0u32 && wg.y == 0u32 {
+                    SPHERES[view_sphere_slot(item)] = s;
+                }
+                if active && sphere_in_frustum(s.xyz(), s.w, sides, near, far) {
+                    let slot = LOCAL_COUNT.fetch_add(1u32);
+                    LOCAL_ITEMS[slot] = item;
+                    LOCAL_SPHERES[slot] = s;
                 }
             }
+        }
+        workgroup_barrier();
+        // 4. One global allocation per workgroup in the super-tile's slots, then the copy.
+        let found = LOCAL_COUNT.load();
+        if lid == 0u32 {
+            let base = COARSE[st].fetch_add(found);
+            LOCAL_BASE = base;
+            if base <= PARAMS.coarse_stride && base + found > PARAMS.coarse_stride {
+                // The first workgroup past the slots counts the super-tile's fallback, once.
+                COUNTERS[COARSE_FALLBACKS].fetch_add(1u32);
+            }
+        }
+        workgroup_barrier();
+        let base = LOCAL_BASE;
+        let mut k = lid;
+        while k < found && base + k < PARAMS.coarse_stride {
+            COARSE[coarse_slot(st, base + k)].store(LOCAL_ITEMS[k]);
+            SPHERES[st * PARAMS.coarse_stride + base + k] = LOCAL_SPHERES[k];
+            k += COARSE_THREADS;
         }
     }
 }

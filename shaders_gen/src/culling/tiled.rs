@@ -66,9 +66,8 @@ pub mod tile_cull {
         transparent_far: f32,
     }
 
-    /// The lists (bit 0 opaque, bit 1 transparent) item `item` belongs to.
-    fn classify(item: u32, sides: SidePlanes, range: TileRange) -> u32 {
-        let s = candidate_sphere(item);
+    /// The lists (bit 0 opaque, bit 1 transparent) the view-space sphere `s` belongs to.
+    fn classify(s: Vec4, sides: SidePlanes, range: TileRange) -> u32 {
         let c = s.xyz();
         let r = s.w;
         let mut bits = 0u32;
@@ -137,8 +136,8 @@ pub mod tile_cull {
         // fit in workgroup memory, classify again and write).
         let mut i = lid;
         while i < n {
-            let item = candidate(st, coarse, i);
-            hit_add(classify(item, sides, range), item);
+            let s = candidate_sphere(st, coarse, i);
+            hit_add(classify(s, sides, range), st, coarse, i);
             i += WORKGROUP;
         }
         workgroup_barrier();
@@ -149,8 +148,11 @@ pub mod tile_cull {
         if !hits_write(lid, WORKGROUP) {
             let mut i = lid;
             while i < n {
-                let item = candidate(st, coarse, i);
-                list_add(classify(item, sides, range), item, 1u32);
+                let s = candidate_sphere(st, coarse, i);
+                let bits = classify(s, sides, range);
+                if bits != 0u32 {
+                    list_add(bits, candidate_item(st, coarse, i), 1u32);
+                }
                 i += WORKGROUP;
             }
         }

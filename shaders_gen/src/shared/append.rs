@@ -7,11 +7,13 @@
 ///
 /// * `TILE_DEPTH` (binding 6): per screen tile, the depth bounds of its surface samples, the
 ///   2.5D geometry mask and the occupied depth slices (written by `cull_prepare::tile_depth`);
-/// * `COARSE_COUNT` / `COARSE_ITEMS` (bindings 7, 8): per 128×128-pixel super-tile, the items
-///   that can touch it, `coarse_stride` slots each (written by `cull_prepare::coarse_cull`); a
-///   super-tile whose count exceeds its slots has its tiles test every item, so nothing is ever
-///   lost; `VIEW_SPHERES` (binding 9): every item's view-space sphere, written once by the same
-///   pass;
+/// * `COARSE` (binding 7): per 128×128-pixel super-tile, the count and `coarse_stride` slots of
+///   the items that can touch it (written by `cull_prepare::coarse_cull`); a super-tile whose
+///   count exceeds its slots has its tiles test every item, so nothing is ever lost;
+/// * `SPHERES` (binding 8): the candidates' view-space spheres, slot for slot, so a tile loads an
+///   item index only for the candidates it keeps; after them every item's view-space sphere,
+///   written once by the same pass, for the fallback. (Seven storage buffers in all: WebGPU's
+///   default limit is eight per stage.)
 /// * the output: `GRID` (binding 2) holds `(offset, count)` per list, `INDICES` (binding 3) the
 ///   items, `COUNTERS` (binding 4) the overflow counters.
 ///
@@ -46,7 +48,7 @@ pub mod cull_append {
         pub item_count: u32,
         /// Entries `INDICES` may hold; the buffer may be larger (guard regions).
         pub index_capacity: u32,
-        /// Candidate slots per super-tile in `COARSE_ITEMS`.
+        /// Candidate slots per super-tile in `COARSE`.
         pub coarse_stride: u32,
         /// Non-zero: skip the super-tile level, every tile tests every item (brute force).
         pub brute_force: u32,
@@ -73,7 +75,7 @@ pub mod cull_append {
     pub const SUPER_TILE_PIXELS: u32 = 128;
     /// Items one super-tile workgroup tests (the super-tile pass runs one workgroup per
     /// super-tile and chunk of this many items).
-    pub const COARSE_CHUNK: u32 = 256;
+    pub const COARSE_CHUNK: u32 = 1024;
     /// `COUNTERS[NEXT_INDEX]`: entries allocated in `INDICES` (may exceed the capacity).
     pub const NEXT_INDEX: u32 = 0;
     /// `COUNTERS[COARSE_FALLBACKS]`: super-tiles whose candidates did not fit their slots.
@@ -97,12 +99,13 @@ pub mod cull_append {
     static COUNTERS: [Atomic<u32>];
     #[storage(group = 0, binding = 6, read_write)]
     static TILE_DEPTH: [UVec4];
+    /// Per super-tile its candidate count (the first `super_tiles.x · super_tiles.y` words,
+    /// cleared by the host), then its `coarse_stride` candidate slots.
     #[storage(group = 0, binding = 7, read_write)]
-    static COARSE_COUNT: [Atomic<u32>];
+    static COARSE: [Atomic<u32>];
+    /// The candidates' view-space spheres, slot for slot, then every item's view-space sphere.
     #[storage(group = 0, binding = 8, read_write)]
-    static COARSE_ITEMS: [u32];
-    #[storage(group = 0, binding = 9, read_write)]
-    static VIEW_SPHERES: [Vec4];
+    static SPHERES: [Vec4];
 
     #[workgroup]
     static LIST_COUNT: [Atomic<u32>; MAX_LISTS];
@@ -131,35 +134,53 @@ pub mod cull_append {
     /// Whether the tiles of `super_tile` read its coarse list (not brute force, and the list
     /// fitted); otherwise they test every item.
     fn reads_coarse(super_tile: u32) -> bool {
-        PARAMS.brute_force == 0u32 && COARSE_COUNT[super_tile].load() <= PARAMS.coarse_stride
+        PARAMS.brute_force == 0u32 && COARSE[super_tile].load() <= PARAMS.coarse_stride
     }
 
     /// How many candidates the tiles of `super_tile` test.
     fn candidate_count(super_tile: u32, coarse: bool) -> u32 {
         let mut n = PARAMS.item_count;
         if coarse {
-            n = COARSE_COUNT[super_tile].load();
+            n = COARSE[super_tile].load();
         }
         n
     }
 
-    /// Candidate `i` of `super_tile`.
-    fn candidate(super_tile: u32, coarse: bool, i: u32) -> u32 {
+    /// Super-tiles of the frame.
+    fn super_tile_count() -> u32 {
+        PARAMS.super_tiles.x * PARAMS.super_tiles.y
+    }
+
+    /// Where candidate slot `i` of `super_tile` lives in `COARSE`.
+    fn coarse_slot(super_tile: u32, i: u32) -> u32 {
+        super_tile_count() + super_tile * PARAMS.coarse_stride + i
+    }
+
+    /// Where item `item`'s view-space sphere lives in `SPHERES`.
+    fn view_sphere_slot(item: u32) -> u32 {
+        super_tile_count() * PARAMS.coarse_stride + item
+    }
+
+    /// The item of candidate `i` of `super_tile` (loaded only for candidates that are kept).
+    fn candidate_item(super_tile: u32, coarse: bool, i: u32) -> u32 {
         let mut item = i;
         if coarse {
-            item = COARSE_ITEMS[super_tile * PARAMS.coarse_stride + i];
+            item = COARSE[coarse_slot(super_tile, i)].load();
         }
         item
     }
 
-    /// Item `item`'s view-space sphere: from `VIEW_SPHERES`, which the super-tile pass fills,
-    /// or transformed here when that pass does not run (brute force).
-    fn candidate_sphere(item: u32) -> Vec4 {
+    /// The view-space sphere of candidate `i` of `super_tile`: stored next to it in the coarse
+    /// list, or, without one, from the items' spheres (which the super-tile pass fills) or
+    /// transformed here (brute force, where that pass does not run).
+    fn candidate_sphere(super_tile: u32, coarse: bool, i: u32) -> Vec4 {
         let mut s = Vec4::ZERO;
-        if PARAMS.brute_force != 0u32 {
-            s = view_sphere(item);
+        if coarse {
+            s = SPHERES[super_tile * PARAMS.coarse_stride + i];
+        } else if PARAMS.brute_force != 0u32 {
+            s = view_sphere(i);
         } else {
-            s = VIEW_SPHERES[item];
+            s = SPHERES[view_sphere_slot(i)];
         }
         s
     }
@@ -175,10 +196,11 @@ pub mod cull_append {
         }
     }
 
-    /// Counting phase: counts `item` in the lists of `bits` and keeps it, with its bits, in
-    /// the hit cache while there is room.
-    fn hit_add(bits: u32, item: u32) {
+    /// Counting phase: counts candidate `i` of `super_tile` in the lists of `bits` and keeps
+    /// its item, with its bits, in the hit cache while there is room.
+    fn hit_add(bits: u32, super_tile: u32, coarse: bool, i: u32) {
         if bits != 0u32 {
+            let item = candidate_item(super_tile, coarse, i);
             list_add(bits, item, 0u32);
             let h = HIT_COUNT.fetch_add(1u32);
             if h < MAX_HITS {
@@ -204,7 +226,7 @@ pub mod cull_append {
         fits
     }
 
-    /// Phase 0 counts `item` in every list of `bits`; phase 1 writes it there.
+    /// Phase 0 counts `item` in every list of `bits`; phase 1 writes it there (`bits` 0: nothing).
     fn list_add(bits: u32, item: u32, phase: u32) {
         let mut rest = bits;
         while rest != 0u32 {
