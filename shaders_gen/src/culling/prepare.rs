@@ -7,15 +7,16 @@
 /// a sample (Harada 2012); the slice set has bit `k` when a sample lies in clustered depth slice
 /// `k` (`light_grid::slice_of`). A sky-only tile has min > max.
 ///
-/// `coarse_cull` (one workgroup per 128×128-pixel super-tile and chunk of `COARSE_CHUNK` items,
-/// so that even a few super-tiles fill the GPU) takes the depth range of the super-tile's tiles,
-/// builds its frustum and tests the chunk's items against it; the survivors, gathered in
-/// workgroup memory and appended, with their view-space spheres, through one global atomic on
-/// the super-tile's count in `COARSE` per workgroup (counts cleared by the host), are its tiles'
-/// candidates. The workgroups of super-tile 0 also write every item's view-space sphere. With
-/// blended surfaces (`transparent`) the range is the whole view depth range, and with
-/// `all_slices` (clustered lists for every slice) it is unbounded, so the candidates are a
-/// superset of whatever the fine level lists. A super-tile with more survivors than its
+/// It also folds the tile's range into its 128×128-pixel super-tile's (two words of `COARSE`).
+///
+/// `coarse_cull` (one invocation per item) scatters each item to the super-tiles whose frustum
+/// it reaches: the sides are separable (a column's planes and a row's), so an item tests each
+/// column and, within the columns it reaches, each row, then the super-tile's depth range, and
+/// appends itself, with its view-space sphere, to the super-tile's candidates (one global atomic
+/// per item and super-tile; counts cleared by the host). It also writes every item's view-space
+/// sphere for the fallback. With blended surfaces (`transparent`) the depth range is the whole
+/// view depth range, and with `all_slices` (clustered lists for every slice) it is unbounded, so
+/// the candidates are a superset of whatever the fine level lists. A super-tile with more survivors than its
 /// `coarse_stride` slots (counted once in `COUNTERS[COARSE_FALLBACKS]`) has its tiles test every
 /// item: slower, but complete.
 #[shader_dsl::shader(
@@ -31,7 +32,6 @@ pub mod cull_prepare {
     const TILE_THREADS: u32 = tile * tile;
     /// Tiles across one super-tile.
     const TILES_PER_SUPER: u32 = SUPER_TILE_PIXELS / tile;
-    const COARSE_THREADS: u32 = 256;
     /// Stands for an unbounded view depth (as `light_grid`'s own).
     const UNBOUNDED: f32 = 3.0e38;
     const INFINITY_BITS: u32 = 0x7f80_0000;
@@ -51,14 +51,6 @@ pub mod cull_prepare {
     static TILE_MASK: Atomic<u32>;
     #[workgroup]
     static TILE_SLICES: Atomic<u32>;
-    #[workgroup]
-    static LOCAL_COUNT: Atomic<u32>;
-    #[workgroup]
-    static LOCAL_BASE: u32;
-    #[workgroup]
-    static LOCAL_ITEMS: [u32; COARSE_CHUNK];
-    #[workgroup]
-    static LOCAL_SPHERES: [Vec4; COARSE_CHUNK];
 
     /// Depth-buffer value of sample `s` of pixel `p`.
     fn sample_depth(p: UVec2, s: u32) -> f32 {
@@ -142,92 +134,87 @@ pub mod cull_prepare {
         if lid == 0u32 {
             let t = wg.y * PARAMS.tiles.x + wg.x;
             TILE_DEPTH[t] = UVec4::new(min_bits, max_bits, TILE_MASK.load(), TILE_SLICES.load());
+            if min_bits <= max_bits {
+                // The super-tile's range: the words start at 0 (cleared), so the minimum is
+                // kept inverted and both are maxima.
+                let st = super_tile_of(wg.xy(), tile);
+                COARSE[super_range_slot(st)].fetch_max(0xffff_ffffu32 - min_bits);
+                COARSE[super_range_slot(st) + 1u32].fetch_max(max_bits);
+            }
         }
     }
 
-    #[compute(workgroup_size(256, 1, 1))]
-    pub fn coarse_cull(
-        #[builtin(local_invocation_index)] lid: u32,
-        #[builtin(workgroup_id)] wg: UVec3,
-    ) {
-        if lid == 0u32 {
-            RANGE_MIN.store(INFINITY_BITS);
-            RANGE_MAX.store(0u32);
-            LOCAL_COUNT.store(0u32);
-        }
-        workgroup_barrier();
-        // 1. The depth range of the super-tile's tiles.
-        if lid < TILES_PER_SUPER * TILES_PER_SUPER {
-            let t = wg.xy() * TILES_PER_SUPER
-                + UVec2::new(lid % TILES_PER_SUPER, lid / TILES_PER_SUPER);
-            if t.x < PARAMS.tiles.x && t.y < PARAMS.tiles.y {
-                let bounds = TILE_DEPTH[t.y * PARAMS.tiles.x + t.x];
-                if bounds.x <= bounds.y {
-                    RANGE_MIN.fetch_min(bounds.x);
-                    RANGE_MAX.fetch_max(bounds.y);
-                }
-            }
-        }
-        workgroup_barrier();
-        let min_bits = RANGE_MIN.load();
-        let max_bits = RANGE_MAX.load();
-        let mut active = min_bits <= max_bits;
-        let mut near = depth_to_view(f32::from_bits(min_bits));
-        let mut far = depth_to_view(f32::from_bits(max_bits));
+    /// A super-tile's depth range `(near, far)` in view depth, or `None`-like `(1, 0)` when it
+    /// lists nothing (no surface, nothing blended, not every slice).
+    fn super_range(st: u32) -> Vec2 {
+        let inverted_min = COARSE[super_range_slot(st)].load();
+        let max_bits = COARSE[super_range_slot(st) + 1u32].load();
+        let mut range = Vec2::new(1.0, 0.0);
         if PARAMS.all_slices != 0u32 {
-            active = true;
-            near = 0.0;
-            far = UNBOUNDED;
+            range = Vec2::new(0.0, UNBOUNDED);
         } else if PARAMS.transparent != 0u32 {
-            active = true;
-            near = depth_to_view(0.0);
-            far = depth_to_view(1.0);
+            range = Vec2::new(depth_to_view(0.0), depth_to_view(1.0));
+        } else if inverted_min != 0u32 {
+            let min_bits = 0xffff_ffffu32 - inverted_min;
+            range = Vec2::new(
+                depth_to_view(f32::from_bits(min_bits)),
+                depth_to_view(f32::from_bits(max_bits)),
+            );
         }
+        range
+    }
 
-        // 2. The super-tile frustum (pixel edges, not clamped to the screen, like tiles).
-        let size = PARAMS.screen.as_vec2();
-        let edge = SUPER_TILE_PIXELS as f32;
-        let x0 = 2.0 * wg.x as f32 * edge / size.x - 1.0;
-        let x1 = 2.0 * (wg.x + 1u32) as f32 * edge / size.x - 1.0;
-        let y1 = 1.0 - 2.0 * wg.y as f32 * edge / size.y;
-        let y0 = 1.0 - 2.0 * (wg.y + 1u32) as f32 * edge / size.y;
-        let sides = side_planes(PARAMS.projection, x0, x1, y0, y1);
+    /// NDC `x` of super-tile column boundary `i` (pixel `i · SUPER_TILE_PIXELS`).
+    fn column_ndc(i: u32) -> f32 {
+        2.0 * i as f32 * SUPER_TILE_PIXELS as f32 / PARAMS.screen.x as f32 - 1.0
+    }
 
-        // 3. This workgroup's chunk of items against it, survivors gathered in workgroup
-        //    memory.
-        let st = wg.y * PARAMS.super_tiles.x + wg.x;
-        for j in 0u32..COARSE_CHUNK / COARSE_THREADS {
-            let item = wg.z * COARSE_CHUNK + j * COARSE_THREADS + lid;
-            if item < PARAMS.item_count {
-                let s = view_sphere(item);
-                if wg.x == 0u32 && wg.y == 0u32 {
-                    SPHERES[view_sphere_slot(item)] = s;
-                }
-                if active && sphere_in_frustum(s.xyz(), s.w, sides, near, far) {
-                    let slot = LOCAL_COUNT.fetch_add(1u32);
-                    LOCAL_ITEMS[slot] = item;
-                    LOCAL_SPHERES[slot] = s;
+    /// NDC `y` of super-tile row boundary `j`.
+    fn row_ndc(j: u32) -> f32 {
+        1.0 - 2.0 * j as f32 * SUPER_TILE_PIXELS as f32 / PARAMS.screen.y as f32
+    }
+
+    #[compute(workgroup_size(256, 1, 1))]
+    pub fn coarse_cull(#[builtin(global_invocation_id)] gid: UVec3) {
+        let item = gid.x;
+        if item >= PARAMS.item_count {
+            return;
+        }
+        let s = view_sphere(item);
+        SPHERES[view_sphere_slot(item)] = s;
+        let c = s.xyz();
+        let r = s.w;
+        // The super-tile frustum test is separable: a column's two side planes depend only on
+        // the column, a row's only on the row (the planes are `light_grid::side_planes`'s, so
+        // the result is that of testing each super-tile's frustum in full).
+        let m = PARAMS.projection;
+        let row0 = Vec4::new(m.x_axis.x, m.y_axis.x, m.z_axis.x, m.w_axis.x);
+        let row1 = Vec4::new(m.x_axis.y, m.y_axis.y, m.z_axis.y, m.w_axis.y);
+        let row3 = Vec4::new(m.x_axis.w, m.y_axis.w, m.z_axis.w, m.w_axis.w);
+        for i in 0u32..PARAMS.super_tiles.x {
+            let left = normalized_plane(row0 - column_ndc(i) * row3);
+            let right = normalized_plane(column_ndc(i + 1u32) * row3 - row0);
+            let column = left.xyz().dot(c) + left.w >= -r && right.xyz().dot(c) + right.w >= -r;
+            if column {
+                for j in 0u32..PARAMS.super_tiles.y {
+                    let bottom = normalized_plane(row1 - row_ndc(j + 1u32) * row3);
+                    let top = normalized_plane(row_ndc(j) * row3 - row1);
+                    let row =
+                        bottom.xyz().dot(c) + bottom.w >= -r && top.xyz().dot(c) + top.w >= -r;
+                    let st = j * PARAMS.super_tiles.x + i;
+                    let range = super_range(st);
+                    let depth = -c.z - range.x >= -r && c.z + range.y >= -r;
+                    if row && range.x <= range.y && depth {
+                        let slot = COARSE[st].fetch_add(1u32);
+                        if slot < PARAMS.coarse_stride {
+                            COARSE[coarse_slot(st, slot)].store(item);
+                            SPHERES[st * PARAMS.coarse_stride + slot] = s;
+                        } else if slot == PARAMS.coarse_stride {
+                            COUNTERS[COARSE_FALLBACKS].fetch_add(1u32);
+                        }
+                    }
                 }
             }
-        }
-        workgroup_barrier();
-        // 4. One global allocation per workgroup in the super-tile's slots, then the copy.
-        let found = LOCAL_COUNT.load();
-        if lid == 0u32 {
-            let base = COARSE[st].fetch_add(found);
-            LOCAL_BASE = base;
-            if base <= PARAMS.coarse_stride && base + found > PARAMS.coarse_stride {
-                // The first workgroup past the slots counts the super-tile's fallback, once.
-                COUNTERS[COARSE_FALLBACKS].fetch_add(1u32);
-            }
-        }
-        workgroup_barrier();
-        let base = LOCAL_BASE;
-        let mut k = lid;
-        while k < found && base + k < PARAMS.coarse_stride {
-            COARSE[coarse_slot(st, base + k)].store(LOCAL_ITEMS[k]);
-            SPHERES[st * PARAMS.coarse_stride + base + k] = LOCAL_SPHERES[k];
-            k += COARSE_THREADS;
         }
     }
 }

@@ -7,9 +7,11 @@
 ///
 /// * `TILE_DEPTH` (binding 6): per screen tile, the depth bounds of its surface samples, the
 ///   2.5D geometry mask and the occupied depth slices (written by `cull_prepare::tile_depth`);
-/// * `COARSE` (binding 7): per 128×128-pixel super-tile, the count and `coarse_stride` slots of
-///   the items that can touch it (written by `cull_prepare::coarse_cull`); a super-tile whose
-///   count exceeds its slots has its tiles test every item, so nothing is ever lost;
+/// * `COARSE` (binding 7): per 128×128-pixel super-tile its candidate count, its depth range
+///   (two words, from `cull_prepare::tile_depth`) and `coarse_stride` slots of the items that can
+///   touch it (written by `cull_prepare::coarse_cull`); the host clears counts and ranges each
+///   frame. A super-tile whose count exceeds its slots has its tiles test every item, so
+///   nothing is ever lost;
 /// * `SPHERES` (binding 8): the candidates' view-space spheres, slot for slot, so a tile loads an
 ///   item index only for the candidates it keeps; after them every item's view-space sphere,
 ///   written once by the same pass, for the fallback. (Seven storage buffers in all: WebGPU's
@@ -73,9 +75,8 @@ pub mod cull_append {
     pub const MAX_HITS: u32 = 512;
     /// Edge of a super-tile in pixels.
     pub const SUPER_TILE_PIXELS: u32 = 128;
-    /// Items one super-tile workgroup tests (the super-tile pass runs one workgroup per
-    /// super-tile and chunk of this many items).
-    pub const COARSE_CHUNK: u32 = 1024;
+    /// Invocations per workgroup of the super-tile pass (one per item).
+    pub const COARSE_CHUNK: u32 = 256;
     /// `COUNTERS[NEXT_INDEX]`: entries allocated in `INDICES` (may exceed the capacity).
     pub const NEXT_INDEX: u32 = 0;
     /// `COUNTERS[COARSE_FALLBACKS]`: super-tiles whose candidates did not fit their slots.
@@ -151,9 +152,14 @@ pub mod cull_append {
         PARAMS.super_tiles.x * PARAMS.super_tiles.y
     }
 
-    /// Where candidate slot `i` of `super_tile` lives in `COARSE`.
+    /// Where the two depth-range words of `super_tile` live in `COARSE` (after the counts).
+    fn super_range_slot(super_tile: u32) -> u32 {
+        super_tile_count() + 2u32 * super_tile
+    }
+
+    /// Where candidate slot `i` of `super_tile` lives in `COARSE` (after counts and ranges).
     fn coarse_slot(super_tile: u32, i: u32) -> u32 {
-        super_tile_count() + super_tile * PARAMS.coarse_stride + i
+        3u32 * super_tile_count() + super_tile * PARAMS.coarse_stride + i
     }
 
     /// Where item `item`'s view-space sphere lives in `SPHERES`.
