@@ -166,7 +166,7 @@ impl CullHierarchy {
             candidates: storage(
                 device,
                 "coarse candidates",
-                u64::from(super_count) * (3 + u64::from(coarse_stride)) * 4,
+                u64::from(super_count) * (4 + u64::from(coarse_stride)) * 4,
             ),
             spheres: storage(
                 device,
@@ -258,8 +258,8 @@ impl CullHierarchy {
         let prepare = super::bind_by_number(device, &self.prepare, &resources);
         let fine = super::bind_by_number(device, &self.fine, &resources);
         encoder.clear_buffer(&self.lists.counters, 0, None);
-        // Counts and depth ranges: three words per super-tile at the start of `COARSE`.
-        let counts = u64::from(self.super_tiles.x * self.super_tiles.y) * 12;
+        // Counts and depth ranges: four words per super-tile at the start of `COARSE`.
+        let counts = u64::from(self.super_tiles.x * self.super_tiles.y) * 16;
         encoder.clear_buffer(&self.candidates, 0, Some(counts));
         let chunks = self
             .item_count
@@ -276,7 +276,7 @@ impl CullHierarchy {
                 "cull: super-tiles",
                 &prepare,
                 &self.coarse,
-                glam::UVec3::new(chunks, 1, 1),
+                self.super_tiles.extend(chunks),
             ),
             ("cull: tiles", &fine, &self.fine_cull, self.tiles.extend(1)),
         ];

@@ -2,21 +2,23 @@
 //! buffer, then per-super-tile candidate lists.
 
 /// `tile_depth` (one workgroup per `tile`×`tile` tile) reduces the tile's surface samples (sky,
-/// depth 1, excluded) to `TILE_DEPTH[tile] = (min depth bits, max depth bits, 2.5D mask, occupied
-/// slices)`: the 2.5D mask cuts the tile's view-depth range into 32 cells and sets those holding
-/// a sample (Harada 2012); the slice set has bit `k` when a sample lies in clustered depth slice
-/// `k` (`light_grid::slice_of`). A sky-only tile has min > max.
+/// depth 1, excluded) to `TILE_DEPTH[tile] = (min depth bits, max depth bits, 2.5D mask, last)`:
+/// the 2.5D mask cuts the tile's view-depth range into 32 cells and sets those holding a sample
+/// (Harada 2012); `last` is, for clustered culling, the set of occupied slices (bit `k` when a
+/// sample lies in depth slice `k`, `light_grid::slice_of`) and, for tiled culling, the depth
+/// bits blended surfaces can reach (the far plane when a sample is sky, else the max). A
+/// sky-only tile has min > max.
 ///
 /// It also folds the tile's range into its 128×128-pixel super-tile's (two words of `COARSE`).
 ///
-/// `coarse_cull` (one invocation per item) scatters each item to the super-tiles whose frustum
-/// it reaches: the sides are separable (a column's planes and a row's), so an item tests each
-/// column and, within the columns it reaches, each row, then the super-tile's depth range, and
-/// appends itself, with its view-space sphere, to the super-tile's candidates (one global atomic
-/// per item and super-tile; counts cleared by the host). It also writes every item's view-space
-/// sphere for the fallback. With blended surfaces (`transparent`) the depth range is the whole
-/// view depth range, and with `all_slices` (clustered lists for every slice) it is unbounded, so
-/// the candidates are a superset of whatever the fine level lists. A super-tile with more survivors than its
+/// `coarse_cull` (one workgroup per super-tile and chunk of `COARSE_CHUNK` items, so that even a
+/// few super-tiles fill the GPU) tests each item against the super-tile's frustum and appends
+/// the survivors, with their view-space spheres, to the super-tile's candidates (a global atomic
+/// on its count; counts cleared by the host). Super-tile 0's workgroups also write every item's
+/// view-space sphere, for the fallback. The depth range is the super-tile's opaque range; with
+/// blended surfaces (`transparent`) it runs from the near plane to the farthest depth its
+/// blended surfaces can reach, and with `all_slices` (clustered lists for every slice) it is
+/// unbounded, so the candidates are a superset of whatever the fine level lists. A super-tile with more survivors than its
 /// `coarse_stride` slots (counted once in `COUNTERS[COARSE_FALLBACKS]`) has its tiles test every
 /// item: slower, but complete.
 #[shader_dsl::shader(
@@ -51,6 +53,8 @@ pub mod cull_prepare {
     static TILE_MASK: Atomic<u32>;
     #[workgroup]
     static TILE_SLICES: Atomic<u32>;
+    #[workgroup]
+    static TILE_SKY: Atomic<u32>;
 
     /// Depth-buffer value of sample `s` of pixel `p`.
     fn sample_depth(p: UVec2, s: u32) -> f32 {
@@ -89,6 +93,7 @@ pub mod cull_prepare {
             RANGE_MAX.store(0u32);
             TILE_MASK.store(0u32);
             TILE_SLICES.store(0u32);
+            TILE_SKY.store(0u32);
         }
         workgroup_barrier();
         let pixel = wg.xy() * tile + UVec2::new(lid % tile, lid / tile);
@@ -101,6 +106,8 @@ pub mod cull_prepare {
                 if d < 1.0 {
                     dmin = dmin.min(d);
                     dmax = dmax.max(d);
+                } else {
+                    TILE_SKY.store(1u32);
                 }
             }
         }
@@ -133,14 +140,25 @@ pub mod cull_prepare {
         workgroup_barrier();
         if lid == 0u32 {
             let t = wg.y * PARAMS.tiles.x + wg.x;
-            TILE_DEPTH[t] = UVec4::new(min_bits, max_bits, TILE_MASK.load(), TILE_SLICES.load());
+            // Blended surfaces reach the far plane above a sky sample, else the farthest opaque
+            // one (they are depth-tested against pre-Z).
+            let mut blend_far_bits = max_bits;
+            if TILE_SKY.load() != 0u32 || min_bits > max_bits {
+                blend_far_bits = 1.0f32.to_bits();
+            }
+            let mut last = TILE_SLICES.load();
+            if PARAMS.slices == 0u32 {
+                last = blend_far_bits;
+            }
+            TILE_DEPTH[t] = UVec4::new(min_bits, max_bits, TILE_MASK.load(), last);
+            // The super-tile's ranges: the words start at 0 (cleared), so the minimum is kept
+            // inverted and all three are maxima.
+            let st = super_tile_of(wg.xy(), tile);
             if min_bits <= max_bits {
-                // The super-tile's range: the words start at 0 (cleared), so the minimum is
-                // kept inverted and both are maxima.
-                let st = super_tile_of(wg.xy(), tile);
                 COARSE[super_range_slot(st)].fetch_max(0xffff_ffffu32 - min_bits);
                 COARSE[super_range_slot(st) + 1u32].fetch_max(max_bits);
             }
+            COARSE[super_range_slot(st) + 2u32].fetch_max(blend_far_bits);
         }
     }
 
@@ -153,7 +171,11 @@ pub mod cull_prepare {
         if PARAMS.all_slices != 0u32 {
             range = Vec2::new(0.0, UNBOUNDED);
         } else if PARAMS.transparent != 0u32 {
-            range = Vec2::new(depth_to_view(0.0), depth_to_view(1.0));
+            let blend_far_bits = COARSE[super_range_slot(st) + 2u32].load();
+            range = Vec2::new(
+                depth_to_view(0.0),
+                depth_to_view(f32::from_bits(blend_far_bits)),
+            );
         } else if inverted_min != 0u32 {
             let min_bits = 0xffff_ffffu32 - inverted_min;
             range = Vec2::new(
@@ -164,56 +186,39 @@ pub mod cull_prepare {
         range
     }
 
-    /// NDC `x` of super-tile column boundary `i` (pixel `i · SUPER_TILE_PIXELS`).
-    fn column_ndc(i: u32) -> f32 {
-        2.0 * i as f32 * SUPER_TILE_PIXELS as f32 / PARAMS.screen.x as f32 - 1.0
-    }
-
-    /// NDC `y` of super-tile row boundary `j`.
-    fn row_ndc(j: u32) -> f32 {
-        1.0 - 2.0 * j as f32 * SUPER_TILE_PIXELS as f32 / PARAMS.screen.y as f32
-    }
-
     #[compute(workgroup_size(256, 1, 1))]
-    pub fn coarse_cull(#[builtin(global_invocation_id)] gid: UVec3) {
-        let item = gid.x;
+    pub fn coarse_cull(
+        #[builtin(local_invocation_index)] lid: u32,
+        #[builtin(workgroup_id)] wg: UVec3,
+    ) {
+        let item = wg.z * COARSE_CHUNK + lid;
+        let st = wg.y * PARAMS.super_tiles.x + wg.x;
         if item >= PARAMS.item_count {
             return;
         }
         let s = view_sphere(item);
-        SPHERES[view_sphere_slot(item)] = s;
-        let c = s.xyz();
-        let r = s.w;
-        // The super-tile frustum test is separable: a column's two side planes depend only on
-        // the column, a row's only on the row (the planes are `light_grid::side_planes`'s, so
-        // the result is that of testing each super-tile's frustum in full).
-        let m = PARAMS.projection;
-        let row0 = Vec4::new(m.x_axis.x, m.y_axis.x, m.z_axis.x, m.w_axis.x);
-        let row1 = Vec4::new(m.x_axis.y, m.y_axis.y, m.z_axis.y, m.w_axis.y);
-        let row3 = Vec4::new(m.x_axis.w, m.y_axis.w, m.z_axis.w, m.w_axis.w);
-        for i in 0u32..PARAMS.super_tiles.x {
-            let left = normalized_plane(row0 - column_ndc(i) * row3);
-            let right = normalized_plane(column_ndc(i + 1u32) * row3 - row0);
-            let column = left.xyz().dot(c) + left.w >= -r && right.xyz().dot(c) + right.w >= -r;
-            if column {
-                for j in 0u32..PARAMS.super_tiles.y {
-                    let bottom = normalized_plane(row1 - row_ndc(j + 1u32) * row3);
-                    let top = normalized_plane(row_ndc(j) * row3 - row1);
-                    let row =
-                        bottom.xyz().dot(c) + bottom.w >= -r && top.xyz().dot(c) + top.w >= -r;
-                    let st = j * PARAMS.super_tiles.x + i;
-                    let range = super_range(st);
-                    let depth = -c.z - range.x >= -r && c.z + range.y >= -r;
-                    if row && range.x <= range.y && depth {
-                        let slot = COARSE[st].fetch_add(1u32);
-                        if slot < PARAMS.coarse_stride {
-                            COARSE[coarse_slot(st, slot)].store(item);
-                            SPHERES[st * PARAMS.coarse_stride + slot] = s;
-                        } else if slot == PARAMS.coarse_stride {
-                            COUNTERS[COARSE_FALLBACKS].fetch_add(1u32);
-                        }
-                    }
-                }
+        if st == 0u32 {
+            SPHERES[view_sphere_slot(item)] = s;
+        }
+        let range = super_range(st);
+        if range.x > range.y {
+            return;
+        }
+        // The super-tile frustum (pixel edges, not clamped to the screen, like tiles).
+        let size = PARAMS.screen.as_vec2();
+        let edge = SUPER_TILE_PIXELS as f32;
+        let x0 = 2.0 * wg.x as f32 * edge / size.x - 1.0;
+        let x1 = 2.0 * (wg.x + 1u32) as f32 * edge / size.x - 1.0;
+        let y1 = 1.0 - 2.0 * wg.y as f32 * edge / size.y;
+        let y0 = 1.0 - 2.0 * (wg.y + 1u32) as f32 * edge / size.y;
+        let sides = side_planes(PARAMS.projection, x0, x1, y0, y1);
+        if sphere_in_frustum(s.xyz(), s.w, sides, range.x, range.y) {
+            let slot = COARSE[st].fetch_add(1u32);
+            if slot < PARAMS.coarse_stride {
+                COARSE[coarse_slot(st, slot)].store(item);
+                SPHERES[st * PARAMS.coarse_stride + slot] = s;
+            } else if slot == PARAMS.coarse_stride {
+                COUNTERS[COARSE_FALLBACKS].fetch_add(1u32);
             }
         }
     }

@@ -8,7 +8,8 @@
 /// * list 0, for opaque and alpha-masked surfaces (the pre-Z depth): the frustum bounded by the
 ///   tile's depth range and, with `depth_mask`, a 2.5D mask sharing a cell with the geometry's;
 /// * list 1, only with `transparent`, for blended surfaces (absent from pre-Z): the frustum from
-///   the near plane to the tile's farthest opaque sample (the far plane for sky-only tiles).
+///   the near plane to the tile's farthest opaque sample, or to the far plane when any sample of
+///   the tile is sky (`TILE_DEPTH[tile].w`).
 ///
 /// Lists are counted, allocated with one atomic per tile and then written (`cull_append`), so
 /// no list is ever cut short. Planes and the sphere test are `light_grid`'s.
@@ -106,10 +107,7 @@ pub mod tile_cull {
             return;
         }
         let far = depth_to_view(f32::from_bits(bounds.y));
-        let mut transparent_far = far;
-        if !opaque {
-            transparent_far = depth_to_view(1.0);
-        }
+        let transparent_far = depth_to_view(f32::from_bits(bounds.w));
         let range = TileRange {
             opaque,
             near: depth_to_view(f32::from_bits(bounds.x)),

@@ -7,8 +7,8 @@
 ///
 /// * `TILE_DEPTH` (binding 6): per screen tile, the depth bounds of its surface samples, the
 ///   2.5D geometry mask and the occupied depth slices (written by `cull_prepare::tile_depth`);
-/// * `COARSE` (binding 7): per 128×128-pixel super-tile its candidate count, its depth range
-///   (two words, from `cull_prepare::tile_depth`) and `coarse_stride` slots of the items that can
+/// * `COARSE` (binding 7): per 128×128-pixel super-tile its candidate count, its depth ranges
+///   (three words, from `cull_prepare::tile_depth`) and `coarse_stride` slots of the items that can
 ///   touch it (written by `cull_prepare::coarse_cull`); the host clears counts and ranges each
 ///   frame. A super-tile whose count exceeds its slots has its tiles test every item, so
 ///   nothing is ever lost;
@@ -152,14 +152,15 @@ pub mod cull_append {
         PARAMS.super_tiles.x * PARAMS.super_tiles.y
     }
 
-    /// Where the two depth-range words of `super_tile` live in `COARSE` (after the counts).
+    /// Where the three depth words of `super_tile` live in `COARSE` (after the counts): the
+    /// inverted min and the max of its opaque depth bits, and the max its blended surfaces reach.
     fn super_range_slot(super_tile: u32) -> u32 {
-        super_tile_count() + 2u32 * super_tile
+        super_tile_count() + 3u32 * super_tile
     }
 
     /// Where candidate slot `i` of `super_tile` lives in `COARSE` (after counts and ranges).
     fn coarse_slot(super_tile: u32, i: u32) -> u32 {
-        3u32 * super_tile_count() + super_tile * PARAMS.coarse_stride + i
+        4u32 * super_tile_count() + super_tile * PARAMS.coarse_stride + i
     }
 
     /// Where item `item`'s view-space sphere lives in `SPHERES`.

@@ -46,7 +46,8 @@ impl ClusterGrid {
 pub enum Method {
     /// One frustum per `tile`×`tile` pixel tile, bounded by the tile's depth range. With
     /// `transparent`, a second list per tile (cells `tiles..2·tiles`) for blended surfaces,
-    /// from the near plane to the tile's farthest sample (the far plane for sky-only tiles).
+    /// from the near plane to the tile's farthest sample (the far plane when any of its samples
+    /// is sky).
     Tiled { tile: u32, transparent: bool },
     /// Tiled, plus a 32-cell depth mask per tile from the geometry, ANDed with each light's
     /// (opaque lists only).
@@ -221,7 +222,11 @@ fn cull_levels(
                         test_lights(&test, &candidates, lights_view, cell, &mut out);
                     }
                     if transparent {
-                        let far = bounds.as_ref().map_or(camera_far, |b| b.max);
+                        // Blended surfaces above a sky sample can be as far as the far plane.
+                        let far = match &bounds {
+                            Some(b) if !has_sky(depth, tile, i, j) => b.max,
+                            _ => camera_far,
+                        };
                         let planes = with_depth(sides, camera_near, far);
                         let test = FineTest {
                             planes: &planes,
@@ -257,6 +262,16 @@ fn cull_levels(
     out
 }
 
+/// Whether any sample of the square cell `(i, j)` of `size` pixels (inside the screen) is sky.
+fn has_sky(depth: &DepthBuffer, size: u32, i: u32, j: u32) -> bool {
+    let xs = (i * size)..((i + 1) * size).min(depth.width);
+    xs.flat_map(|x| {
+        ((j * size)..((j + 1) * size).min(depth.height))
+            .flat_map(move |y| (0..depth.samples).map(move |s| (x, y, s)))
+    })
+    .any(|(x, y, s)| !DepthBuffer::is_surface(depth.get(x, y, s)))
+}
+
 /// View depths of the near and far planes (wgpu depth 0 and 1).
 fn camera_range(camera: &CullCamera) -> (f32, f32) {
     (
@@ -284,7 +299,14 @@ fn super_tile_planes(
         }
         | Method::Depth25 {
             transparent: true, ..
-        } => camera_range(camera),
+        } => {
+            // From the near plane to the farthest depth its tiles' blended surfaces reach.
+            let (near, far) = camera_range(camera);
+            match TileDepth::gather(camera, depth, SUPER_TILE_PIXELS, si, sj) {
+                Some(b) if !has_sky(depth, SUPER_TILE_PIXELS, si, sj) => (near, b.max),
+                _ => (near, far),
+            }
+        }
         _ => {
             let b = TileDepth::gather(camera, depth, SUPER_TILE_PIXELS, si, sj)?;
             (b.min, b.max)
