@@ -55,6 +55,10 @@ pub mod cull_prepare {
     static TILE_SLICES: Atomic<u32>;
     #[workgroup]
     static TILE_SKY: Atomic<u32>;
+    #[workgroup]
+    static SUPER_SIDES: SidePlanes;
+    #[workgroup]
+    static SUPER_RANGE: Vec2;
 
     /// Depth-buffer value of sample `s` of pixel `p`.
     fn sample_depth(p: UVec2, s: u32) -> f32 {
@@ -100,9 +104,12 @@ pub mod cull_prepare {
         let in_screen = pixel.x < PARAMS.screen.x && pixel.y < PARAMS.screen.y;
         let mut dmin = 2.0;
         let mut dmax = -1.0;
+        // The pixel's samples, read once.
+        let mut depths = [1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0];
         if in_screen {
             for s in 0u32..msaa {
                 let d = sample_depth(pixel, s);
+                depths[s] = d;
                 if d < 1.0 {
                     dmin = dmin.min(d);
                     dmax = dmax.max(d);
@@ -124,7 +131,7 @@ pub mod cull_prepare {
         let mut slices = 0u32;
         if in_screen && min_bits <= max_bits {
             for s in 0u32..msaa {
-                let d = sample_depth(pixel, s);
+                let d = depths[s];
                 if d < 1.0 {
                     let v = depth_to_view(d);
                     mask = mask | (1u32 << mask_cell(v, near, far));
@@ -191,34 +198,36 @@ pub mod cull_prepare {
         #[builtin(local_invocation_index)] lid: u32,
         #[builtin(workgroup_id)] wg: UVec3,
     ) {
-        let item = wg.z * COARSE_CHUNK + lid;
         let st = wg.y * PARAMS.super_tiles.x + wg.x;
-        if item >= PARAMS.item_count {
-            return;
+        if lid == 0u32 {
+            // The super-tile frustum (pixel edges, not clamped to the screen, like tiles),
+            // once per workgroup.
+            let size = PARAMS.screen.as_vec2();
+            let edge = SUPER_TILE_PIXELS as f32;
+            let x0 = 2.0 * wg.x as f32 * edge / size.x - 1.0;
+            let x1 = 2.0 * (wg.x + 1u32) as f32 * edge / size.x - 1.0;
+            let y1 = 1.0 - 2.0 * wg.y as f32 * edge / size.y;
+            let y0 = 1.0 - 2.0 * (wg.y + 1u32) as f32 * edge / size.y;
+            SUPER_SIDES = side_planes(PARAMS.projection, x0, x1, y0, y1);
+            SUPER_RANGE = super_range(st);
         }
-        let s = view_sphere(item);
-        if st == 0u32 {
-            SPHERES[view_sphere_slot(item)] = s;
-        }
-        let range = super_range(st);
-        if range.x > range.y {
-            return;
-        }
-        // The super-tile frustum (pixel edges, not clamped to the screen, like tiles).
-        let size = PARAMS.screen.as_vec2();
-        let edge = SUPER_TILE_PIXELS as f32;
-        let x0 = 2.0 * wg.x as f32 * edge / size.x - 1.0;
-        let x1 = 2.0 * (wg.x + 1u32) as f32 * edge / size.x - 1.0;
-        let y1 = 1.0 - 2.0 * wg.y as f32 * edge / size.y;
-        let y0 = 1.0 - 2.0 * (wg.y + 1u32) as f32 * edge / size.y;
-        let sides = side_planes(PARAMS.projection, x0, x1, y0, y1);
-        if sphere_in_frustum(s.xyz(), s.w, sides, range.x, range.y) {
-            let slot = COARSE[st].fetch_add(1u32);
-            if slot < PARAMS.coarse_stride {
-                COARSE[coarse_slot(st, slot)].store(item);
-                SPHERES[st * PARAMS.coarse_stride + slot] = s;
-            } else if slot == PARAMS.coarse_stride {
-                COUNTERS[COARSE_FALLBACKS].fetch_add(1u32);
+        workgroup_barrier();
+        let item = wg.z * COARSE_CHUNK + lid;
+        if item < PARAMS.item_count {
+            let s = view_sphere(item);
+            if st == 0u32 {
+                SPHERES[view_sphere_slot(item)] = s;
+            }
+            let range = SUPER_RANGE;
+            if range.x <= range.y && sphere_in_frustum(s.xyz(), s.w, SUPER_SIDES, range.x, range.y)
+            {
+                let slot = COARSE[st].fetch_add(1u32);
+                if slot < PARAMS.coarse_stride {
+                    COARSE[coarse_slot(st, slot)].store(item);
+                    SPHERES[st * PARAMS.coarse_stride + slot] = s;
+                } else if slot == PARAMS.coarse_stride {
+                    COUNTERS[COARSE_FALLBACKS].fetch_add(1u32);
+                }
             }
         }
     }
