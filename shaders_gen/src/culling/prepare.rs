@@ -104,12 +104,9 @@ pub mod cull_prepare {
         let in_screen = pixel.x < PARAMS.screen.x && pixel.y < PARAMS.screen.y;
         let mut dmin = 2.0;
         let mut dmax = -1.0;
-        // The pixel's samples, read once.
-        let mut depths = [1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0];
         if in_screen {
             for s in 0u32..msaa {
                 let d = sample_depth(pixel, s);
-                depths[s] = d;
                 if d < 1.0 {
                     dmin = dmin.min(d);
                     dmax = dmax.max(d);
@@ -131,7 +128,7 @@ pub mod cull_prepare {
         let mut slices = 0u32;
         if in_screen && min_bits <= max_bits {
             for s in 0u32..msaa {
-                let d = depths[s];
+                let d = sample_depth(pixel, s);
                 if d < 1.0 {
                     let v = depth_to_view(d);
                     mask = mask | (1u32 << mask_cell(v, near, far));

@@ -245,6 +245,7 @@ fn cull_levels(
                         }
                         let (zn, zf) = (grid.slice_start(k), grid.slice_start(k + 1));
                         let planes = with_depth(sides, zn, zf.min(f32::MAX));
+                        // The box only where shading points are depth samples (see `Method`).
                         let froxel = (k + 1 < grid.slices && skip_empty)
                             .then(|| froxel_box(camera, tile, i, j, zn, zf));
                         let test = FineTest {
