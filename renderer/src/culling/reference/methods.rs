@@ -185,17 +185,7 @@ fn cull_levels(
     let tile = method.tile();
     let per_super = SUPER_TILE_PIXELS / tile;
     let super_x = camera.width.div_ceil(SUPER_TILE_PIXELS);
-    let super_y = camera.height.div_ceil(SUPER_TILE_PIXELS);
-    let super_planes: Vec<Option<[Plane; 6]>> = (0..super_y)
-        .flat_map(|sj| (0..super_x).map(move |si| (si, sj)))
-        .map(|(si, sj)| {
-            if hierarchical {
-                super_tile_planes(camera, depth, method, si, sj)
-            } else {
-                None
-            }
-        })
-        .collect();
+    let super_planes = every_super_tile_planes(camera, depth, method, hierarchical);
     let (camera_near, camera_far) = camera_range(camera);
     for j in 0..dims[1] {
         for i in 0..dims[0] {
@@ -279,6 +269,27 @@ fn camera_range(camera: &CullCamera) -> (f32, f32) {
         -camera.unproject(0.0, 0.0, 0.0).z,
         -camera.unproject(0.0, 0.0, 1.0).z,
     )
+}
+
+/// [`super_tile_planes`] of every super-tile, row by row (all `None` without the hierarchy).
+fn every_super_tile_planes(
+    camera: &CullCamera,
+    depth: &DepthBuffer,
+    method: Method,
+    hierarchical: bool,
+) -> Vec<Option<[Plane; 6]>> {
+    let super_x = camera.width.div_ceil(SUPER_TILE_PIXELS);
+    let super_y = camera.height.div_ceil(SUPER_TILE_PIXELS);
+    (0..super_y)
+        .flat_map(|sj| (0..super_x).map(move |si| (si, sj)))
+        .map(|(si, sj)| {
+            if hierarchical {
+                super_tile_planes(camera, depth, method, si, sj)
+            } else {
+                None
+            }
+        })
+        .collect()
 }
 
 /// The planes of super-tile `(si, sj)` for `method`, or `None` when it lists nothing.
