@@ -13,8 +13,10 @@ fn every_shaders_gen_variant_matches_its_wgsl_snapshot() {
             seen += 1;
         }
     }
+    // 45 since the culling hierarchy: cull_prepare 12, tile_cull 6, cluster_cull 3 (the
+    // scalarized culling variants are gone: they measured slower, BENCHMARKS.md).
     assert!(
-        seen >= 58,
+        seen >= 45,
         "every module's variants are snapshotted ({seen})"
     );
 }
