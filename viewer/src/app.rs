@@ -123,7 +123,10 @@ impl App {
             height: surface_config.height,
             msaa,
             path: self.args.path,
-            scalarize: gpu.capabilities().subgroup.is_some(),
+            scalarize: renderer::gpu::scalarize_auto(
+                &gpu,
+                renderer::gpu::ScalarizedKernel::Forward,
+            ),
             output_format: format,
             ..viewer::scene::look(&self.shown)
         };

@@ -47,10 +47,11 @@ pub struct Args {
     /// Frame size, WxH.
     #[arg(long, default_value = "640x360")]
     pub size: String,
-    /// Tile size of the tiled paths: 8, 16 or 32.
+    /// Tile size of the culled paths (tiled, 2.5D, clustered froxels): 8, 16 or 32.
     #[arg(long, default_value_t = 16)]
     pub tile: u32,
-    /// auto | on | off: subgroup (scalarized) variants; auto uses them when SUBGROUP exists.
+    /// auto | on | off: the scalarized forward shader; auto uses it where a benchmark recorded
+    /// it faster for this adapter (`renderer::gpu::SCALARIZE_RECORDS`) and SUBGROUP exists.
     #[arg(long, default_value = "auto")]
     pub scalarize: String,
     /// Use the scene's camera with this index.
@@ -160,7 +161,7 @@ pub fn setup(args: &Args) -> Result<Setup> {
         );
     }
     let scalarize = match args.scalarize.as_str() {
-        "auto" => gpu.capabilities().subgroup.is_some(),
+        "auto" => renderer::gpu::scalarize_auto(&gpu, renderer::gpu::ScalarizedKernel::Forward),
         other => other == "on",
     };
     let config = RendererConfig {

@@ -9,10 +9,14 @@ mod adapter;
 mod error;
 mod options;
 pub mod requirements;
+mod scalarize;
 
 pub use adapter::{AdapterReport, Capabilities, SubgroupSize, enumerate_adapters, rank_adapters};
 pub use error::GpuError;
 pub use options::{ADAPTER_ENV, GpuOptions};
+pub use scalarize::{
+    RECORDS as SCALARIZE_RECORDS, ScalarizeRecord, ScalarizedKernel, scalarize_auto,
+};
 
 /// A headless wgpu instance, the chosen adapter, and its device and queue.
 #[derive(Debug, Clone)]
