@@ -203,6 +203,7 @@ impl CullHierarchy {
             method.slices,
             method.slice_near,
             method.slice_far,
+            u32::from(self.shape.msaa == 1),
         )
     }
 

@@ -9,13 +9,11 @@
 /// list of slice `k` is grid entry `tile + k · tile_count` (`light_grid::froxel_cell`).
 ///
 /// An item is listed in froxel `(tile, k)` when its sphere clears the tile's four side planes and
-/// the slice's two depth planes. Without `all_slices`, only the slices holding a depth sample of
-/// the tile (`TILE_DEPTH[tile].w`) get lists, and the item must also reach the froxel's
-/// view-space bounding box (closest point of the box within the radius; the last slice,
-/// unbounded, has none). With `all_slices` (MSAA, or blended surfaces) the box test is left out:
-/// an MSAA edge fragment is shaded at its pixel centre, extrapolated past its triangle, and the
-/// box test measurably missed lights there (grazing test, MSAA 4) where the planes do not. Lists are
-/// counted, allocated with one atomic per tile and written (`cull_append`), so none is cut short.
+/// the slice's two depth planes and, with `box_test` (single-sample frames), reaches the
+/// froxel's view-space bounding box (closest point of the box within the radius; the last slice,
+/// unbounded, has none). Without `all_slices`, only the slices holding a depth sample of the
+/// tile (`TILE_DEPTH[tile].w`) get lists. Lists are counted, allocated with one atomic per tile
+/// and written (`cull_append`), so none is cut short.
 #[shader_dsl::shader(
     axes(tile: u32 = [8, 16, 32] => "t"),
     uses(crate::shared::light_grid, crate::shared::cull_append),
@@ -29,29 +27,12 @@ pub mod cluster_cull {
     #[workgroup]
     static SLICE_START: [f32; MAX_LISTS + 1u32];
 
-    /// The tile's column of froxels: side planes, the spread of its corner rays (view-space
-    /// `xy` at view depth 1) and the slices that get lists.
+    /// The tile's column of froxels: side planes, its corner rays and the slices that get
+    /// lists.
     struct TileColumn {
         sides: SidePlanes,
-        ray_min: Vec2,
-        ray_max: Vec2,
+        rays: TileRays,
         slices: u32,
-    }
-
-    /// View-space direction through NDC `(x, y)`, scaled to view depth 1.
-    fn corner_ray(x: f32, y: f32) -> Vec2 {
-        let p = PARAMS.inv_projection * Vec4::new(x, y, 0.5, 1.0);
-        let v = p.xyz() / p.w;
-        v.xy() / -v.z
-    }
-
-    /// Whether a view-space sphere reaches the box around the froxel between view depths `zn`
-    /// and `zf`.
-    fn reaches_froxel_box(c: Vec3, r: f32, column: TileColumn, zn: f32, zf: f32) -> bool {
-        let lo = (column.ray_min * zn).min(column.ray_min * zf);
-        let hi = (column.ray_max * zn).max(column.ray_max * zf);
-        let closest = c.clamp(lo.extend(-zf), hi.extend(-zn));
-        (c - closest).length_squared() <= r * r
     }
 
     /// The slices (bit `k`) whose froxel of this tile the view-space sphere `s` reaches.
@@ -81,8 +62,8 @@ pub mod cluster_cull {
                     let zn = SLICE_START[k];
                     let zf = SLICE_START[k + 1u32];
                     let mut hit = -c.z - zn >= -r && c.z + zf >= -r;
-                    if hit && k + 1u32 < slices && PARAMS.all_slices == 0u32 {
-                        hit = reaches_froxel_box(c, r, column, zn, zf);
+                    if hit && k + 1u32 < slices && PARAMS.box_test != 0u32 {
+                        hit = sphere_reaches_box(c, r, column.rays, zn, zf);
                     }
                     if hit {
                         bits = bits | (1u32 << k);
@@ -113,12 +94,9 @@ pub mod cluster_cull {
         let x1 = 2.0 * ((wg.x + 1u32) * tile) as f32 / size.x - 1.0;
         let y1 = 1.0 - 2.0 * (wg.y * tile) as f32 / size.y;
         let y0 = 1.0 - 2.0 * ((wg.y + 1u32) * tile) as f32 / size.y;
-        let a = corner_ray(x0, y0);
-        let b = corner_ray(x1, y1);
         let column = TileColumn {
             sides: side_planes(PARAMS.projection, x0, x1, y0, y1),
-            ray_min: a.min(b),
-            ray_max: a.max(b),
+            rays: tile_rays(PARAMS.inv_projection, x0, x1, y0, y1),
             slices,
         };
 

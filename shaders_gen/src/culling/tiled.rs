@@ -68,11 +68,14 @@ pub mod tile_cull {
     }
 
     /// The lists (bit 0 opaque, bit 1 transparent) the view-space sphere `s` belongs to.
-    fn classify(s: Vec4, sides: SidePlanes, range: TileRange) -> u32 {
+    fn classify(s: Vec4, sides: SidePlanes, rays: TileRays, range: TileRange) -> u32 {
         let c = s.xyz();
         let r = s.w;
         let mut bits = 0u32;
-        if range.opaque && sphere_in_frustum(c, r, sides, range.near, range.far) {
+        if range.opaque
+            && sphere_in_frustum(c, r, sides, range.near, range.far)
+            && (PARAMS.box_test == 0u32 || sphere_reaches_box(c, r, rays, range.near, range.far))
+        {
             let mut kept = true;
             if depth_mask {
                 let light = sphere_mask(-c.z - r, -c.z + r, range.near, range.far);
@@ -82,8 +85,11 @@ pub mod tile_cull {
                 bits = 1u32;
             }
         }
+        let tn = range.transparent_near;
+        let tf = range.transparent_far;
         if PARAMS.transparent != 0u32
-            && sphere_in_frustum(c, r, sides, range.transparent_near, range.transparent_far)
+            && sphere_in_frustum(c, r, sides, tn, tf)
+            && (PARAMS.box_test == 0u32 || sphere_reaches_box(c, r, rays, tn, tf))
         {
             bits = bits | 2u32;
         }
@@ -124,6 +130,7 @@ pub mod tile_cull {
         let y1 = 1.0 - 2.0 * (wg.y * tile) as f32 / size.y;
         let y0 = 1.0 - 2.0 * ((wg.y + 1u32) * tile) as f32 / size.y;
         let sides = side_planes(PARAMS.projection, x0, x1, y0, y1);
+        let rays = tile_rays(PARAMS.inv_projection, x0, x1, y0, y1);
 
         let st = super_tile_of(wg.xy(), tile);
         let coarse = reads_coarse(st);
@@ -135,7 +142,7 @@ pub mod tile_cull {
         let mut i = lid;
         while i < n {
             let s = candidate_sphere(st, coarse, i);
-            hit_add(classify(s, sides, range), st, coarse, i);
+            hit_add(classify(s, sides, rays, range), st, coarse, i);
             i += WORKGROUP;
         }
         workgroup_barrier();
@@ -147,7 +154,7 @@ pub mod tile_cull {
             let mut i = lid;
             while i < n {
                 let s = candidate_sphere(st, coarse, i);
-                let bits = classify(s, sides, range);
+                let bits = classify(s, sides, rays, range);
                 if bits != 0u32 {
                     list_add(bits, candidate_item(st, coarse, i), 1u32);
                 }

@@ -19,6 +19,12 @@ pub mod light_grid {
         pub top: Vec4,
     }
 
+    /// The spread of a screen rectangle's corner rays: view-space `xy` at view depth 1.
+    pub struct TileRays {
+        pub min: Vec2,
+        pub max: Vec2,
+    }
+
     /// Stands for infinity in plane distances (WGSL has no infinite literal).
     const FAR_AWAY: f32 = 3.0e38;
 
@@ -88,5 +94,32 @@ pub mod light_grid {
         inside = inside && -c.z - near >= -r;
         inside = inside && c.z + far >= -r;
         inside
+    }
+
+    /// View-space direction through NDC `(x, y)`, scaled to view depth 1.
+    pub fn view_ray(inv_projection: Mat4, x: f32, y: f32) -> Vec2 {
+        let p = inv_projection * Vec4::new(x, y, 0.5, 1.0);
+        let v = p.xyz() / p.w;
+        v.xy() / -v.z
+    }
+
+    /// The corner rays of the screen rectangle `[x0, x1] × [y0, y1]` in NDC (a perspective
+    /// projection maps NDC `x` to view `x / −z` alone, and `y` likewise, so two corners do).
+    pub fn tile_rays(inv_projection: Mat4, x0: f32, x1: f32, y0: f32, y1: f32) -> TileRays {
+        let a = view_ray(inv_projection, x0, y0);
+        let b = view_ray(inv_projection, x1, y1);
+        TileRays {
+            min: a.min(b),
+            max: a.max(b),
+        }
+    }
+
+    /// Whether a view-space sphere reaches the view-space bounding box of the rectangle's
+    /// frustum between view depths `zn` and `zf` (the box's closest point within the radius).
+    pub fn sphere_reaches_box(c: Vec3, r: f32, rays: TileRays, zn: f32, zf: f32) -> bool {
+        let lo = (rays.min * zn).min(rays.min * zf);
+        let hi = (rays.max * zn).max(rays.max * zf);
+        let closest = c.clamp(lo.extend(-zf), hi.extend(-zn));
+        (c - closest).length_squared() <= r * r
     }
 }

@@ -44,7 +44,8 @@ impl ClusterGrid {
 /// A culling method and its parameters.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Method {
-    /// One frustum per `tile`×`tile` pixel tile, bounded by the tile's depth range. With
+    /// One frustum per `tile`×`tile` pixel tile, bounded by the tile's depth range (and, without
+    /// MSAA, by the view-space box of that frustum). With
     /// `transparent`, a second list per tile (cells `tiles..2·tiles`) for blended surfaces,
     /// from the near plane to the tile's farthest sample (the far plane when any of its samples
     /// is sky).
@@ -52,8 +53,8 @@ pub enum Method {
     /// Tiled, plus a 32-cell depth mask per tile from the geometry, ANDed with each light's
     /// (opaque lists only).
     Depth25 { tile: u32, transparent: bool },
-    /// One frustum per froxel. With `skip_empty`, froxels holding no depth sample get no lights
-    /// and the others are narrowed by the froxel's view-space bounding box.
+    /// One frustum per froxel (without MSAA narrowed by the froxel's view-space bounding box).
+    /// With `skip_empty`, froxels holding no depth sample get no lights.
     Clustered { grid: ClusterGrid, skip_empty: bool },
 }
 
@@ -187,6 +188,9 @@ fn cull_levels(
     let super_x = camera.width.div_ceil(SUPER_TILE_PIXELS);
     let super_planes = every_super_tile_planes(camera, depth, method, hierarchical);
     let (camera_near, camera_far) = camera_range(camera);
+    // The view-space box of each cell narrows its list only where every shaded point is a
+    // sample position: without MSAA (see `box_test` in the kernels' parameters).
+    let boxes = depth.samples == 1;
     for j in 0..dims[1] {
         for i in 0..dims[0] {
             let tile_index = j * dims[0] + i;
@@ -203,10 +207,11 @@ fn cull_levels(
                     let mask = matches!(method, Method::Depth25 { .. });
                     if let Some(b) = &bounds {
                         let planes = with_depth(sides, b.min, b.max);
+                        let frustum_box = froxel_box(camera, tile, i, j, b.min, b.max);
                         let test = FineTest {
                             planes: &planes,
                             mask: mask.then_some(b),
-                            froxel: None,
+                            froxel: boxes.then_some(&frustum_box),
                         };
                         let cell = tile_index as usize;
                         test_lights(&test, &candidates, lights_view, cell, &mut out);
@@ -218,10 +223,11 @@ fn cull_levels(
                             _ => camera_far,
                         };
                         let planes = with_depth(sides, camera_near, far);
+                        let frustum_box = froxel_box(camera, tile, i, j, camera_near, far);
                         let test = FineTest {
                             planes: &planes,
                             mask: None,
-                            froxel: None,
+                            froxel: boxes.then_some(&frustum_box),
                         };
                         let cell = (tile_count + tile_index) as usize;
                         test_lights(&test, &candidates, lights_view, cell, &mut out);
@@ -235,8 +241,7 @@ fn cull_levels(
                         }
                         let (zn, zf) = (grid.slice_start(k), grid.slice_start(k + 1));
                         let planes = with_depth(sides, zn, zf.min(f32::MAX));
-                        // The box only where shading points are depth samples (see `Method`).
-                        let froxel = (k + 1 < grid.slices && skip_empty)
+                        let froxel = (k + 1 < grid.slices && boxes)
                             .then(|| froxel_box(camera, tile, i, j, zn, zf));
                         let test = FineTest {
                             planes: &planes,
