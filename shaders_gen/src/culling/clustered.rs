@@ -12,7 +12,9 @@
 /// the slice's two depth planes and, with `box_test` (single-sample frames), reaches the
 /// froxel's view-space bounding box (closest point of the box within the radius; the last slice,
 /// unbounded, has none). Without `all_slices`, only the slices holding a depth sample of the
-/// tile (`TILE_DEPTH[tile].w`) get lists. Lists are counted, allocated with one atomic per tile
+/// tile (`TILE_DEPTH[tile].w`) get lists, and each froxel is clipped to the tile's sample depth
+/// range (every shaded point is then a sample), so a froxel's list is never longer than its
+/// tile's would be. Lists are counted, allocated with one atomic per tile
 /// and written (`cull_append`), so none is cut short.
 #[shader_dsl::shader(
     axes(tile: u32 = [8, 16, 32] => "t"),
@@ -21,6 +23,8 @@
 pub mod cluster_cull {
     /// Invocations per tile.
     pub const WORKGROUP: u32 = 64;
+    /// Stands for an unbounded view depth (`light_grid::slice_start` past the last slice).
+    const UNBOUNDED: f32 = 3.0e38;
 
     /// View depth where each slice starts, and `slices` → unbounded (computed once per
     /// workgroup: `powf` per candidate and slice would dominate the kernel).
@@ -33,6 +37,10 @@ pub mod cluster_cull {
         sides: SidePlanes,
         rays: TileRays,
         slices: u32,
+        /// The view depths the froxels are clipped to: the tile's sample range when only
+        /// occupied slices are listed (every shaded point is then a sample), else unbounded.
+        depth_lo: f32,
+        depth_hi: f32,
     }
 
     /// The slices (bit `k`) whose froxel of this tile the view-space sphere `s` reaches.
@@ -59,10 +67,10 @@ pub mod cluster_cull {
             }
             for k in first..last + 1u32 {
                 if (column.slices & (1u32 << k)) != 0u32 {
-                    let zn = SLICE_START[k];
-                    let zf = SLICE_START[k + 1u32];
+                    let zn = SLICE_START[k].max(column.depth_lo);
+                    let zf = SLICE_START[k + 1u32].min(column.depth_hi);
                     let mut hit = -c.z - zn >= -r && c.z + zf >= -r;
-                    if hit && k + 1u32 < slices && PARAMS.box_test != 0u32 {
+                    if hit && zf < UNBOUNDED && PARAMS.box_test != 0u32 {
                         hit = sphere_reaches_box(c, r, column.rays, zn, zf);
                     }
                     if hit {
@@ -78,9 +86,15 @@ pub mod cluster_cull {
     pub fn cull(#[builtin(local_invocation_index)] lid: u32, #[builtin(workgroup_id)] wg: UVec3) {
         let tile_index = wg.y * PARAMS.tiles.x + wg.x;
         let lists = PARAMS.slices;
-        let mut slices = TILE_DEPTH[tile_index].w;
+        let bounds = TILE_DEPTH[tile_index];
+        let mut slices = bounds.w;
+        let mut depth_lo = 0.0;
+        let mut depth_hi = UNBOUNDED;
         if PARAMS.all_slices != 0u32 {
             slices = 0xffff_ffffu32 >> (MAX_LISTS - lists);
+        } else if slices != 0u32 {
+            depth_lo = view_depth(PARAMS.inv_projection, f32::from_bits(bounds.x));
+            depth_hi = view_depth(PARAMS.inv_projection, f32::from_bits(bounds.y));
         }
         if slices == 0u32 {
             // No sample in any slice: every froxel of the column stays empty.
@@ -98,6 +112,8 @@ pub mod cluster_cull {
             sides: side_planes(PARAMS.projection, x0, x1, y0, y1),
             rays: tile_rays(PARAMS.inv_projection, x0, x1, y0, y1),
             slices,
+            depth_lo,
+            depth_hi,
         };
 
         let st = super_tile_of(wg.xy(), tile);

@@ -54,7 +54,8 @@ pub enum Method {
     /// (opaque lists only).
     Depth25 { tile: u32, transparent: bool },
     /// One frustum per froxel (without MSAA narrowed by the froxel's view-space bounding box).
-    /// With `skip_empty`, froxels holding no depth sample get no lights.
+    /// With `skip_empty`, froxels holding no depth sample get no lights, and the others are
+    /// clipped to their tile's sample depth range.
     Clustered { grid: ClusterGrid, skip_empty: bool },
 }
 
@@ -239,9 +240,13 @@ fn cull_levels(
                         if skip_empty && occupied & (1 << k) == 0 {
                             continue;
                         }
-                        let (zn, zf) = (grid.slice_start(k), grid.slice_start(k + 1));
+                        let (mut zn, mut zf) = (grid.slice_start(k), grid.slice_start(k + 1));
+                        if let (true, Some(b)) = (skip_empty, &bounds) {
+                            // Only samples are shaded here: clip the froxel to their range.
+                            (zn, zf) = (zn.max(b.min), zf.min(b.max));
+                        }
                         let planes = with_depth(sides, zn, zf.min(f32::MAX));
-                        let froxel = (k + 1 < grid.slices && boxes)
+                        let froxel = (zf.is_finite() && boxes)
                             .then(|| froxel_box(camera, tile, i, j, zn, zf));
                         let test = FineTest {
                             planes: &planes,
