@@ -214,3 +214,51 @@ fn the_built_in_courtyard_culled_equals_naive() {
         }
     });
 }
+
+/// The demo's own frame (courtyard, its camera and look, 1,024 lights, 640×360) in a
+/// single-sample frame, where every list is narrowed by its tile's or froxel's view-space box:
+/// every culled path equals the naive path with pre-Z. This frame found the BRDF's NaN (`pow` of
+/// `1 − v·h` rounded below 0) that blackened a few naive pixels through lights that do not reach
+/// them, and it checks the transparent lists on the glass.
+#[test]
+fn the_demo_frame_culled_equals_naive_without_msaa() {
+    use renderer::frame::setup::{courtyard_look, create_target, default_camera, light_space};
+    use renderer::readback::read_texture_rgba8;
+    use renderer::scene::procedural::courtyard;
+    let scene = courtyard();
+    let (region, (rmin, rmax)) = light_space(&scene, true);
+    let mut lights = scene.lights.clone();
+    lights.extend(procedural_lights(region, 1024, 1, rmin, rmax));
+    gpu_test(|gpu| {
+        let frame = |path| {
+            let config = courtyard_look(RendererConfig {
+                width: 640,
+                height: 360,
+                msaa: 1,
+                path,
+                tile: 16,
+                ..Default::default()
+            });
+            let mut renderer = Renderer::new(gpu, config).expect("renderer");
+            renderer.prepare_scene(&scene);
+            renderer.set_lights(&lights).expect("lights fit");
+            let target = create_target(&gpu.device, &config);
+            let camera = default_camera(&scene, 640.0 / 360.0);
+            renderer.render(&camera, &target).expect("frame");
+            renderer.finish();
+            let dropped = renderer.culling_counters().map_or(0, |c| c.dropped);
+            assert_eq!(dropped, 0, "{path:?} dropped lights");
+            read_texture_rgba8(&gpu.device, &gpu.queue, &target).expect("readback")
+        };
+        let naive = frame(RenderPath::NaivePrez);
+        for path in [
+            RenderPath::Tiled,
+            RenderPath::Depth25,
+            RenderPath::Clustered,
+        ] {
+            let culled = frame(path);
+            let worst = largest_difference(&naive, &culled);
+            assert!(worst <= 1, "{path:?}: differs from naive by {worst}");
+        }
+    });
+}

@@ -58,7 +58,10 @@ pub mod pbr {
             }
         }
         let nl = n.dot(l).max(0.0);
-        let h = (l + v).normalize();
+        // The half vector; when the light sits straight behind the point (l = −v) it is
+        // undefined, and any unit vector does (the terms it feeds are then multiplied by 0).
+        let lv = l + v;
+        let h = lv / lv.length().max(1.0e-6);
         let nv = n.dot(v).max(0.0001);
         let nh = n.dot(h).max(0.0);
         let vh = v.dot(h).max(0.0);
@@ -69,7 +72,9 @@ pub mod pbr {
         let k = (roughness + 1.0) * (roughness + 1.0) / 8.0;
         let geometry = nv / (nv * (1.0 - k) + k) * (nl / (nl * (1.0 - k) + k));
         let f0 = Vec3::splat(0.04).lerp(albedo, metallic);
-        let fresnel = f0 + (Vec3::ONE - f0) * (1.0 - vh).powf(5.0);
+        // `v · h` can round past 1, and `pow` of a negative base is NaN (WGSL), which would
+        // poison the sum even for a light whose window is 0 here.
+        let fresnel = f0 + (Vec3::ONE - f0) * (1.0 - vh.min(1.0)).powf(5.0);
         let specular = fresnel * (distribution * geometry / (4.0 * nv * nl).max(0.0001));
         let diffuse = (Vec3::ONE - fresnel) * (1.0 - metallic) * albedo / PI;
         (diffuse + specular) * light.color * (light.intensity * attenuation * nl)
