@@ -3,7 +3,7 @@
 
 use renderer::culling::lists::CullCounters;
 use renderer::frame::setup::{create_target, framing_camera};
-use renderer::frame::{FrameReport, Renderer, RendererConfig};
+use renderer::frame::{FrameCamera, FrameReport, Renderer, RendererConfig};
 use renderer::scene::{Scene, SceneLight};
 use renderer::{GpuContext, readback};
 
@@ -22,12 +22,23 @@ pub fn render_frame(
     config: RendererConfig,
     lights: &[SceneLight],
 ) -> Frame {
+    let camera = framing_camera(scene.bounds, config.width as f32 / config.height as f32);
+    render_frame_from(gpu, scene, config, lights, &camera)
+}
+
+/// [`render_frame`] from `camera`.
+pub fn render_frame_from(
+    gpu: &GpuContext,
+    scene: &Scene,
+    config: RendererConfig,
+    lights: &[SceneLight],
+    camera: &FrameCamera,
+) -> Frame {
     let mut renderer = Renderer::new(gpu, config).expect("renderer");
     renderer.prepare_scene(scene);
     renderer.set_lights(lights).expect("lights fit");
     let target = create_target(&gpu.device, &config);
-    let camera = framing_camera(scene.bounds, config.width as f32 / config.height as f32);
-    let report = renderer.render(&camera, &target).expect("frame");
+    let report = renderer.render(camera, &target).expect("frame");
     renderer.finish();
     let culling = renderer.culling_counters();
     let rgba = readback::read_texture_rgba8(&gpu.device, &gpu.queue, &target).expect("readback");

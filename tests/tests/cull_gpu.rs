@@ -65,9 +65,9 @@ fn run_method(s: &CullScene, method: GpuMethod) -> CullReadback {
                 culling
                     .upload(gpu, cam.view, cam.projection, screen, &items)
                     .expect("upload");
-                culling.encode(d, &mut encoder, &view);
+                culling.levels.encode(d, &mut encoder, &view, None);
                 gpu.queue.submit([encoder.finish()]);
-                culling.read_back(gpu)
+                culling.levels.lists.read_back(gpu)
             }
             GpuMethod::Clustered(config) => {
                 // Both kernels take the one `CullSphere` of the `cull_append` library.
@@ -75,9 +75,9 @@ fn run_method(s: &CullScene, method: GpuMethod) -> CullReadback {
                 culling
                     .upload(gpu, cam.view, cam.projection, UVec2::new(w, h), &items)
                     .expect("upload");
-                culling.encode(d, &mut encoder, &view);
+                culling.levels.encode(d, &mut encoder, &view, None);
                 gpu.queue.submit([encoder.finish()]);
-                culling.read_back(gpu)
+                culling.levels.lists.read_back(gpu)
             }
         };
         result.expect("readback")
@@ -464,8 +464,10 @@ fn overflow_reported_asynchronously_then_buffers_grow_for_the_next_frame() {
                 )
                 .expect("upload");
             let mut encoder = gpu.device.create_command_encoder(&Default::default());
-            culling.encode(&gpu.device, &mut encoder, &view);
-            assert!(readback.record(&mut encoder, &culling.lists().counters, n));
+            culling
+                .levels
+                .encode(&gpu.device, &mut encoder, &view, None);
+            assert!(readback.record(&mut encoder, &culling.levels.lists.counters, n));
             gpu.queue.submit([encoder.finish()]);
             readback.after_submit();
         };
@@ -481,11 +483,15 @@ fn overflow_reported_asynchronously_then_buffers_grow_for_the_next_frame() {
         }
         let (n, first) = arrived.expect("the counters arrive within 2 s");
         assert_eq!(n, 1);
-        let caps = grow_for(&first, culling.config.index_capacity)
+        let caps = grow_for(&first, culling.levels.shape.index_capacity)
             .expect("an overflowing frame must grow the index list");
-        culling.grow(&gpu.device, caps);
+        culling.levels.grow(&gpu.device, caps);
         frame(&mut culling, &mut readback, 2);
-        (first, culling.read_back(gpu).expect("readback"), caps)
+        (
+            first,
+            culling.levels.lists.read_back(gpu).expect("readback"),
+            caps,
+        )
     });
     assert!(first.dropped > 0, "frame 1 overflows: {first:?}");
     assert!(grown >= first.requested_entries);

@@ -8,7 +8,7 @@ use std::path::Path;
 use renderer::frame::setup::procedural_lights;
 use renderer::frame::{RenderPath, Renderer, RendererConfig};
 use renderer::scene::{Scene, SceneLight};
-use tests::frames::render_frame;
+use tests::frames::{render_frame, render_frame_from};
 use tests::gpu::gpu_test;
 
 fn committed_scene() -> Scene {
@@ -222,13 +222,13 @@ fn the_built_in_courtyard_culled_equals_naive() {
 /// them, and it checks the transparent lists on the glass.
 #[test]
 fn the_demo_frame_culled_equals_naive_without_msaa() {
-    use renderer::frame::setup::{courtyard_look, create_target, default_camera, light_space};
-    use renderer::readback::read_texture_rgba8;
+    use renderer::frame::setup::{courtyard_look, default_camera, light_space};
     use renderer::scene::procedural::courtyard;
     let scene = courtyard();
     let (region, (rmin, rmax)) = light_space(&scene, true);
     let mut lights = scene.lights.clone();
     lights.extend(procedural_lights(region, 1024, 1, rmin, rmax));
+    let camera = default_camera(&scene, 640.0 / 360.0);
     gpu_test(|gpu| {
         let frame = |path| {
             let config = courtyard_look(RendererConfig {
@@ -239,16 +239,10 @@ fn the_demo_frame_culled_equals_naive_without_msaa() {
                 tile: 16,
                 ..Default::default()
             });
-            let mut renderer = Renderer::new(gpu, config).expect("renderer");
-            renderer.prepare_scene(&scene);
-            renderer.set_lights(&lights).expect("lights fit");
-            let target = create_target(&gpu.device, &config);
-            let camera = default_camera(&scene, 640.0 / 360.0);
-            renderer.render(&camera, &target).expect("frame");
-            renderer.finish();
-            let dropped = renderer.culling_counters().map_or(0, |c| c.dropped);
+            let f = render_frame_from(gpu, &scene, config, &lights, &camera);
+            let dropped = f.culling.map_or(0, |c| c.dropped);
             assert_eq!(dropped, 0, "{path:?} dropped lights");
-            read_texture_rgba8(&gpu.device, &gpu.queue, &target).expect("readback")
+            f.rgba
         };
         let naive = frame(RenderPath::NaivePrez);
         for path in [

@@ -6,9 +6,8 @@ use shaders_gen::culling::cluster_cull::{self, CullSphere, MAX_LISTS, Tile, Vari
 
 use super::CullError;
 use super::hierarchy::{CullHierarchy, CullView, HierarchyShape, MethodParams};
-use super::lists::{CullReadback, LightLists};
 use super::reference::ClusterGrid;
-use crate::{GpuContext, GpuError};
+use crate::GpuContext;
 
 /// Settings of the clustered culling pass.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -22,25 +21,25 @@ pub struct ClusterCullConfig {
     pub brute_force: bool,
     /// Candidate slots per super-tile (see [`HierarchyShape::coarse_slots`]).
     pub coarse_slots: Option<u32>,
+    /// Entries the index list holds at creation (`levels.shape.index_capacity` after
+    /// `levels.grow`).
     pub index_capacity: u32,
     pub item_capacity: u32,
 }
 
 /// The fine kernel's variant key for a configuration.
 pub fn variant_key(config: &ClusterCullConfig) -> Result<VariantKey, CullError> {
-    let tile = match config.grid.tile {
-        8 => Tile::T8,
-        16 => Tile::T16,
-        32 => Tile::T32,
-        t => return Err(CullError::TileSize(t)),
-    };
-    Ok(VariantKey { tile })
+    let tile = config.grid.tile;
+    Ok(VariantKey {
+        tile: Tile::from_value(tile).ok_or(CullError::TileSize(tile))?,
+    })
 }
 
 /// Clustered light culling for one target size and configuration.
 #[derive(Debug)]
 pub struct ClusteredCulling {
     pub config: ClusterCullConfig,
+    /// The buffers and dispatches (tiles, lists, capacities now in use).
     pub levels: CullHierarchy,
 }
 
@@ -71,16 +70,6 @@ impl ClusteredCulling {
         })
     }
 
-    /// The lists this culling writes.
-    pub fn lists(&self) -> &LightLists {
-        &self.levels.lists
-    }
-
-    /// Tiles across and down (froxel columns).
-    pub fn tiles(&self) -> UVec2 {
-        self.levels.tiles
-    }
-
     /// Uploads the camera and the items' world-space bounding spheres.
     pub fn upload(
         &self,
@@ -105,37 +94,5 @@ impl ClusteredCulling {
         };
         let params = self.levels.params(&camera, items.len() as u32, method);
         self.levels.upload(gpu, &params, items)
-    }
-
-    /// Records the culling dispatches.
-    pub fn encode(
-        &self,
-        device: &wgpu::Device,
-        encoder: &mut wgpu::CommandEncoder,
-        depth: &wgpu::TextureView,
-    ) {
-        self.levels.encode(device, encoder, depth);
-    }
-
-    /// [`Self::encode`] with each dispatch timed by `profiler`, when given.
-    pub fn encode_timed(
-        &self,
-        device: &wgpu::Device,
-        encoder: &mut wgpu::CommandEncoder,
-        depth: &wgpu::TextureView,
-        profiler: Option<&wgpu_profiler::GpuProfiler>,
-    ) {
-        self.levels.encode_timed(device, encoder, depth, profiler);
-    }
-
-    /// Takes a new index capacity (from [`super::overflow::grow_for`]) for the next frame.
-    pub fn grow(&mut self, device: &wgpu::Device, index_capacity: u32) {
-        self.levels.grow(device, index_capacity);
-        self.config.index_capacity = self.levels.shape.index_capacity;
-    }
-
-    /// Blocking readback of the results (tests and tools).
-    pub fn read_back(&self, gpu: &GpuContext) -> Result<CullReadback, GpuError> {
-        self.levels.read_back(gpu)
     }
 }

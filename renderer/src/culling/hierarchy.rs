@@ -10,9 +10,9 @@ use glam::{Mat4, UVec2};
 use shaders_gen::culling::cull_prepare::{self, CullParams, CullSphere, Msaa, Tile};
 
 use super::CullError;
-use super::lists::{CullReadback, LightLists};
+use super::lists::LightLists;
+use crate::GpuContext;
 use crate::shader::ShaderProgram;
-use crate::{GpuContext, GpuError};
 
 /// Edge of a super-tile in pixels (`cull_append::SUPER_TILE_PIXELS`).
 pub const SUPER_TILE_PIXELS: u32 = cull_prepare::SUPER_TILE_PIXELS;
@@ -89,20 +89,10 @@ pub struct CullHierarchy {
 
 /// The `cull_prepare` variant key of a tile size and sample count.
 fn prepare_key(tile: u32, msaa: u32) -> Result<cull_prepare::VariantKey, CullError> {
-    let tile = match tile {
-        8 => Tile::T8,
-        16 => Tile::T16,
-        32 => Tile::T32,
-        t => return Err(CullError::TileSize(t)),
-    };
-    let msaa = match msaa {
-        1 => Msaa::Msaa1,
-        2 => Msaa::Msaa2,
-        4 => Msaa::Msaa4,
-        8 => Msaa::Msaa8,
-        s => return Err(CullError::SampleCount(s)),
-    };
-    Ok(cull_prepare::VariantKey { tile, msaa })
+    Ok(cull_prepare::VariantKey {
+        tile: Tile::from_value(tile).ok_or(CullError::TileSize(tile))?,
+        msaa: Msaa::from_value(msaa).ok_or(CullError::SampleCount(msaa))?,
+    })
 }
 
 fn storage(device: &wgpu::Device, label: &str, bytes: u64) -> wgpu::Buffer {
@@ -161,7 +151,11 @@ impl CullHierarchy {
             coarse: prepare.compute_pipeline(device, "coarse_cull")?,
             fine_cull: fine.compute_pipeline(device, "cull")?,
             params: super::uniform_buffer::<CullParams>(device),
-            items: super::item_buffer::<CullSphere>(device, shape.item_capacity),
+            items: storage(
+                device,
+                "cull items",
+                u64::from(shape.item_capacity) * size_of::<CullSphere>() as u64,
+            ),
             tile_info: storage(device, "tile depth", u64::from(tile_count) * 16),
             candidates: storage(
                 device,
@@ -224,21 +218,12 @@ impl CullHierarchy {
         Ok(())
     }
 
-    /// Records the three dispatches reading `depth` (the pre-Z buffer, `shape.msaa` samples).
+    /// Records the three dispatches reading `depth` (the pre-Z buffer, `shape.msaa` samples), in
+    /// one compute pass; with a `profiler`, each in its own compute pass timed as
+    /// `cull: tile depth`, `cull: super-tiles` and `cull: tiles`. Separate passes cost time of
+    /// their own (about 30 µs per frame on the H100 at 1080p), so frames time their dispatches
+    /// only when asked (`RendererConfig::time_cull_dispatches`).
     pub fn encode(
-        &self,
-        device: &wgpu::Device,
-        encoder: &mut wgpu::CommandEncoder,
-        depth: &wgpu::TextureView,
-    ) {
-        self.encode_timed(device, encoder, depth, None);
-    }
-
-    /// [`Self::encode`], each dispatch in its own compute pass timed by `profiler` (as
-    /// `cull: tile depth`, `cull: super-tiles` and `cull: tiles`) when one is given. Separate
-    /// passes cost time of their own (about 25 µs per frame on the H100 at 1080p), so frames
-    /// time their dispatches only when asked (`RendererConfig::time_cull_dispatches`).
-    pub fn encode_timed(
         &self,
         device: &wgpu::Device,
         encoder: &mut wgpu::CommandEncoder,
@@ -321,10 +306,5 @@ impl CullHierarchy {
             self.shape.index_capacity = index;
             self.lists = LightLists::new(device, self.lists.cells, index);
         }
-    }
-
-    /// Blocking readback of the results (tests and tools).
-    pub fn read_back(&self, gpu: &GpuContext) -> Result<CullReadback, GpuError> {
-        self.lists.read_back(gpu)
     }
 }

@@ -82,15 +82,6 @@ fn uniform_buffer<T>(device: &wgpu::Device) -> wgpu::Buffer {
     })
 }
 
-fn item_buffer<T>(device: &wgpu::Device, capacity: u32) -> wgpu::Buffer {
-    device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("cull items"),
-        size: (u64::from(capacity) * size_of::<T>() as u64).max(16),
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    })
-}
-
 /// A bind group for group 0 of `program`: each of its bindings gets the resource numbered like
 /// it in `resources` (the culling modules share one numbering, each uses part of it).
 fn bind_by_number(

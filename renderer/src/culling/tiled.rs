@@ -7,8 +7,7 @@ use shaders_gen::culling::tile_cull::{self, CullSphere, Tile, VariantKey};
 
 use super::CullError;
 use super::hierarchy::{CullHierarchy, CullView, HierarchyShape, MethodParams};
-use super::lists::{CullReadback, LightLists};
-use crate::{GpuContext, GpuError};
+use crate::GpuContext;
 
 /// Settings of the tiled culling pass.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -28,6 +27,8 @@ pub struct TileCullConfig {
     /// Candidate slots per super-tile (see [`HierarchyShape::coarse_slots`]).
     pub coarse_slots: Option<u32>,
     /// Entries the index list holds.
+    /// Entries the index list holds at creation (`levels.shape.index_capacity` after
+    /// `levels.grow`).
     pub index_capacity: u32,
     /// Items the item buffer holds.
     pub item_capacity: u32,
@@ -35,14 +36,8 @@ pub struct TileCullConfig {
 
 /// The fine kernel's variant key for a configuration.
 pub fn variant_key(config: &TileCullConfig) -> Result<VariantKey, CullError> {
-    let tile = match config.tile {
-        8 => Tile::T8,
-        16 => Tile::T16,
-        32 => Tile::T32,
-        t => return Err(CullError::TileSize(t)),
-    };
     Ok(VariantKey {
-        tile,
+        tile: Tile::from_value(config.tile).ok_or(CullError::TileSize(config.tile))?,
         depth_mask: config.depth_mask,
     })
 }
@@ -51,7 +46,7 @@ pub fn variant_key(config: &TileCullConfig) -> Result<VariantKey, CullError> {
 #[derive(Debug)]
 pub struct TiledCulling {
     pub config: TileCullConfig,
-    pub tiles: UVec2,
+    /// The buffers and dispatches (tiles, lists, capacities now in use).
     pub levels: CullHierarchy,
 }
 
@@ -72,26 +67,10 @@ impl TiledCulling {
             coarse_slots: config.coarse_slots,
         };
         let fine = tile_cull::variant(variant_key(&config)?);
-        let levels = CullHierarchy::new(gpu, shape, fine, width, height)?;
         Ok(Self {
             config,
-            tiles: levels.tiles,
-            levels,
+            levels: CullHierarchy::new(gpu, shape, fine, width, height)?,
         })
-    }
-
-    /// The lists this culling writes.
-    pub fn lists(&self) -> &LightLists {
-        &self.levels.lists
-    }
-
-    /// Grid entries from a tile's opaque list to its transparent one (0 when there is none).
-    pub fn transparent_offset(&self) -> u32 {
-        if self.config.transparent_lists {
-            self.tiles.x * self.tiles.y
-        } else {
-            0
-        }
     }
 
     /// Uploads the camera and the items' world-space bounding spheres.
@@ -114,37 +93,5 @@ impl TiledCulling {
         };
         let params = self.levels.params(&camera, items.len() as u32, method);
         self.levels.upload(gpu, &params, items)
-    }
-
-    /// Records the culling dispatches reading `depth` (the pre-Z buffer, `config.msaa` samples).
-    pub fn encode(
-        &self,
-        device: &wgpu::Device,
-        encoder: &mut wgpu::CommandEncoder,
-        depth: &wgpu::TextureView,
-    ) {
-        self.levels.encode(device, encoder, depth);
-    }
-
-    /// [`Self::encode`] with each dispatch timed by `profiler`, when given.
-    pub fn encode_timed(
-        &self,
-        device: &wgpu::Device,
-        encoder: &mut wgpu::CommandEncoder,
-        depth: &wgpu::TextureView,
-        profiler: Option<&wgpu_profiler::GpuProfiler>,
-    ) {
-        self.levels.encode_timed(device, encoder, depth, profiler);
-    }
-
-    /// Takes a new index capacity (from [`super::overflow::grow_for`]) for the next frame.
-    pub fn grow(&mut self, device: &wgpu::Device, index_capacity: u32) {
-        self.levels.grow(device, index_capacity);
-        self.config.index_capacity = self.levels.shape.index_capacity;
-    }
-
-    /// Blocking readback of the results (tests and tools).
-    pub fn read_back(&self, gpu: &GpuContext) -> Result<CullReadback, GpuError> {
-        self.levels.read_back(gpu)
     }
 }

@@ -44,22 +44,15 @@ impl ListGeometry {
     ) -> Self {
         let tile = method.map_or(config.tile, |m| m.tile());
         let tiles = glam::UVec2::new(config.width.div_ceil(tile), config.height.div_ceil(tile));
-        let (mut slices, mut blend_cell_offset) = (1, 0);
-        let (mut near, mut far) = (camera.near, camera.far);
-        match method {
-            Some(
-                Method::Tiled {
-                    transparent: true, ..
-                }
-                | Method::Depth25 {
-                    transparent: true, ..
-                },
-            ) => blend_cell_offset = tiles.x * tiles.y,
-            Some(Method::Clustered { grid: g, .. }) => {
-                slices = g.slices;
-                (near, far) = (g.near, g.far);
-            }
-            _ => {}
+        let blend_cell_offset = if method.is_some_and(|m| m.transparent_lists()) {
+            tiles.x * tiles.y
+        } else {
+            0
+        };
+        let (mut slices, mut near, mut far) = (1, camera.near, camera.far);
+        if let Some(Method::Clustered { grid: g, .. }) = method {
+            slices = g.slices;
+            (near, far) = (g.near, g.far);
         }
         Self {
             tile,

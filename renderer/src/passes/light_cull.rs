@@ -11,6 +11,7 @@ use shaders_gen::culling::tile_cull::CullSphere;
 use super::Pass;
 use crate::GpuContext;
 use crate::culling::clustered::{ClusterCullConfig, ClusteredCulling};
+use crate::culling::hierarchy::CullHierarchy;
 use crate::culling::lists::{CullCounters, LightLists};
 use crate::culling::max_index_entries;
 use crate::culling::overflow::{CounterReadback, grow_for};
@@ -33,13 +34,18 @@ pub enum Culler {
 }
 
 impl Culler {
-    /// The light lists this culler writes (none on the naive paths).
-    pub fn lists(&self) -> Option<&LightLists> {
+    /// The culling hierarchy of this culler (none on the naive paths).
+    pub fn levels(&self) -> Option<&CullHierarchy> {
         match self {
-            Self::Tiled(c) => Some(c.lists()),
-            Self::Clustered(c) => Some(c.lists()),
+            Self::Tiled(c) => Some(&c.levels),
+            Self::Clustered(c) => Some(&c.levels),
             Self::Naive => None,
         }
+    }
+
+    /// The light lists this culler writes (none on the naive paths).
+    pub fn lists(&self) -> Option<&LightLists> {
+        self.levels().map(|l| &l.lists)
     }
 
     /// Whether the culling pass reads the depth buffer (every culled path does: tile depth
@@ -278,13 +284,9 @@ impl Pass for LightCullPass {
             .write_buffer(&mut indices, BufferAccess::StorageWrite)
             .execute(move |ctx| {
                 let view = ctx.texture(depth).create_view(&Default::default());
-                let profiler = timed.then_some(ctx.profiler);
-                match &culler {
-                    Culler::Tiled(c) => c.encode_timed(ctx.device, ctx.encoder, &view, profiler),
-                    Culler::Clustered(c) => {
-                        c.encode_timed(ctx.device, ctx.encoder, &view, profiler);
-                    }
-                    Culler::Naive => {}
+                if let Some(levels) = culler.levels() {
+                    let profiler = timed.then_some(ctx.profiler);
+                    levels.encode(ctx.device, ctx.encoder, &view, profiler);
                 }
             });
         resources.light_lists = Some(LightListHandles {

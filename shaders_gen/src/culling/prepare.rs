@@ -29,8 +29,6 @@
     uses(crate::shared::light_grid, crate::shared::cull_append),
 )]
 pub mod cull_prepare {
-    /// Cells of the 2.5D depth mask.
-    pub const MASK_CELLS: u32 = 32;
     const TILE_THREADS: u32 = tile * tile;
     /// Tiles across one super-tile.
     const TILES_PER_SUPER: u32 = SUPER_TILE_PIXELS / tile;
@@ -74,17 +72,6 @@ pub mod cull_prepare {
     /// View depth (distance along −Z) of a depth-buffer value.
     fn depth_to_view(d: f32) -> f32 {
         view_depth(PARAMS.inv_projection, d)
-    }
-
-    /// The 2.5D mask cell of view depth `d` in the tile's range `[near, far]`.
-    fn mask_cell(d: f32, near: f32, far: f32) -> u32 {
-        let span = far - near;
-        let mut cell = 0u32;
-        if span > 0.0 {
-            let t = ((d - near) / span * 32.0).floor().max(0.0);
-            cell = (t as u32).min(MASK_CELLS - 1u32);
-        }
-        cell
     }
 
     #[compute(workgroup_size(tile * tile, 1, 1))]

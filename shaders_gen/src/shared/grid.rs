@@ -1,7 +1,8 @@
 //! Light-grid geometry shared by the culling kernels and the passes that read their lists:
 //! view depth, depth slices, tile and froxel cells, frustum planes and the sphere test.
 
-/// The cell lookups and frustum tests of `tile_cull`, `cluster_cull`, `forward` and `heatmap`.
+/// The cell lookups, frustum tests and 2.5D mask cells of the culling kernels, `forward` and
+/// `heatmap`.
 /// Every function takes what it needs as parameters (no statics), so each module passes its
 /// own parameters uniform's fields.
 ///
@@ -24,6 +25,9 @@ pub mod light_grid {
         pub min: Vec2,
         pub max: Vec2,
     }
+
+    /// Cells of the 2.5D depth mask of a tile.
+    pub const MASK_CELLS: u32 = 32;
 
     /// Stands for infinity in plane distances (WGSL has no infinite literal).
     const FAR_AWAY: f32 = 3.0e38;
@@ -121,5 +125,16 @@ pub mod light_grid {
         let hi = (rays.max * zn).max(rays.max * zf);
         let closest = c.clamp(lo.extend(-zf), hi.extend(-zn));
         (c - closest).length_squared() <= r * r
+    }
+
+    /// The 2.5D mask cell of view depth `d` in a tile's range `[near, far]` (clamped).
+    pub fn mask_cell(d: f32, near: f32, far: f32) -> u32 {
+        let span = far - near;
+        let mut cell = 0u32;
+        if span > 0.0 {
+            let t = ((d - near) / span * MASK_CELLS as f32).floor().max(0.0);
+            cell = (t as u32).min(MASK_CELLS - 1u32);
+        }
+        cell
     }
 }

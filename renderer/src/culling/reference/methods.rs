@@ -76,6 +76,21 @@ impl Method {
         }
     }
 
+    /// Whether the method writes a second, transparent list per tile (tiled and 2.5D with
+    /// blended surfaces).
+    pub fn transparent_lists(&self) -> bool {
+        matches!(
+            *self,
+            Self::Tiled {
+                transparent: true,
+                ..
+            } | Self::Depth25 {
+                transparent: true,
+                ..
+            }
+        )
+    }
+
     /// Tile edge in pixels.
     pub fn tile(&self) -> u32 {
         match *self {
@@ -316,12 +331,7 @@ fn super_tile_planes(
         Method::Clustered {
             skip_empty: false, ..
         } => (0.0, f32::MAX),
-        Method::Tiled {
-            transparent: true, ..
-        }
-        | Method::Depth25 {
-            transparent: true, ..
-        } => {
+        m if m.transparent_lists() => {
             // From the near plane to the farthest depth its tiles' blended surfaces reach.
             let (near, far) = camera_range(camera);
             match TileDepth::gather(camera, depth, SUPER_TILE_PIXELS, si, sj) {
