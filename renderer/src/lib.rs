@@ -16,6 +16,7 @@ pub mod graph;
 pub mod passes;
 pub mod readback;
 pub mod scene;
+pub mod shadow;
 pub mod shader;
 pub mod test_pattern;
 

@@ -13,6 +13,7 @@ pub mod calibrate;
 pub mod culling;
 pub mod forward;
 pub mod inspect;
+pub mod shadow;
 pub mod shared;
 
 /// Every generated module, for tools that walk them all.
@@ -28,4 +29,6 @@ pub static MODULES: &[&codegen::rt::Module] = &[
     &forward::heatmap::MODULE,
     &forward::tonemap::MODULE,
     &inspect::depth_probe::MODULE,
+    &shadow::shadow_caster::MODULE,
+    &shadow::shadow_compose::MODULE,
 ];

@@ -10,3 +10,4 @@ pub mod depth_upload;
 pub mod dsl_fuzz;
 pub mod frames;
 pub mod gpu;
+pub mod shadow_scene;

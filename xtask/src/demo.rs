@@ -27,6 +27,8 @@ pub fn run(args: &Args) -> Result<()> {
     let render = crate::render::Args {
         scene: None,
         lights: 1024,
+        shadowed: 16,
+        shadow_atlas: 4096,
         seed: 1,
         light_radius: None,
         path: "tiled".into(),

@@ -7,7 +7,8 @@ use anyhow::{Context as _, Result, bail};
 use glam::Vec3;
 use renderer::culling::lists::CullCounters;
 use renderer::frame::setup::{
-    camera_of, courtyard_look, create_target, default_camera, light_space, procedural_lights,
+    camera_of, courtyard_look, create_target, default_camera, light_space, pick_shadowed,
+    procedural_lights,
     scene_camera,
 };
 use renderer::frame::{FrameCamera, FrameReport, FrameView, Renderer, RendererConfig};
@@ -30,6 +31,13 @@ pub struct Args {
     /// Procedural point lights added to the scene's own.
     #[arg(long, default_value_t = 1024)]
     pub lights: usize,
+    /// Of the procedural lights, this many (those covering the most of the screen) cast shadows;
+    /// the scene's own lights always do.
+    #[arg(long, default_value_t = 0)]
+    pub shadowed: usize,
+    /// Side of the shadow atlas in texels (a power of two up to the device's largest texture).
+    #[arg(long, default_value_t = 4096)]
+    pub shadow_atlas: u32,
     /// Seed of the procedural lights.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -198,6 +206,9 @@ pub fn setup(args: &Args) -> Result<Setup> {
         rmax,
     ));
     let camera = pick_camera(args, &scene, w as f32 / h as f32)?;
+    let shadowed_from = scene.lights.len();
+    pick_shadowed(&mut lights[shadowed_from..], &camera, h as f32, args.shadowed);
+    config.shadows.atlas_size = args.shadow_atlas;
     Ok(Setup {
         gpu,
         scene,

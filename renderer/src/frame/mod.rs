@@ -43,6 +43,7 @@
 
 mod access;
 pub mod capture;
+mod motion;
 mod pass_list;
 pub mod setup;
 
@@ -57,7 +58,7 @@ pub use crate::frame_data::{
 pub use crate::passes::light_cull::Culler;
 
 use crate::GpuContext;
-use crate::frame_data::{CameraUniform, FrameInputs, FrameResources, LightSet};
+use crate::frame_data::{CameraUniform, FrameInputs, FrameResources, InstanceState, LightSet};
 use crate::graph::{ImportAccess, PassTiming, RenderGraph, TextureDesc, TransientPool};
 use crate::passes::Pass;
 use crate::scene::{Scene, SceneLight};
@@ -74,6 +75,8 @@ pub struct Renderer {
     config: RendererConfig,
     passes: Vec<Box<dyn Pass>>,
     scene: Option<Arc<PreparedScene>>,
+    /// Where each instance of the scene is, and which move (`motion`).
+    instances: Arc<Vec<InstanceState>>,
     lights: Arc<LightSet>,
     camera_uniform: CameraUniform,
     pool: TransientPool,
@@ -118,6 +121,7 @@ impl Renderer {
             gpu: gpu.clone(),
             config,
             scene: None,
+            instances: Arc::new(Vec::new()),
             lights: Arc::new(LightSet::new(&gpu.device, &[])),
             camera_uniform: CameraUniform::new(&gpu.device),
             pool: TransientPool::new(),
@@ -136,6 +140,7 @@ impl Renderer {
     /// Uploads a scene; it replaces the previous one.
     pub fn prepare_scene(&mut self, scene: &Scene) {
         self.scene = Some(PreparedScene::new(&self.gpu.device, &self.gpu.queue, scene));
+        self.instances = Arc::new(InstanceState::of_scene(scene));
     }
 
     /// Replaces the lights (scene lights and any procedural ones), effective next frame.
@@ -163,6 +168,7 @@ impl Renderer {
             config: self.config,
             camera: *camera,
             scene,
+            instances: Arc::clone(&self.instances),
             lights: Arc::clone(&self.lights),
             camera_uniform: self.camera_uniform.clone(),
             capture: self.capture_request.take(),

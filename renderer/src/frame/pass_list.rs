@@ -8,15 +8,16 @@ use crate::passes::forward::ForwardPass;
 use crate::passes::heatmap::HeatmapPass;
 use crate::passes::light_cull::LightCullPass;
 use crate::passes::prez::PrezPass;
+use crate::passes::shadow::ShadowPass;
 use crate::passes::tonemap::TonemapPass;
 
 /// The ordered passes of `config`:
 ///
 /// | path | passes |
 /// |---|---|
-/// | naive | forward (own depth) → tonemap |
-/// | naive-prez | pre-Z → forward → tonemap → depth probe |
-/// | tiled, 2.5D, clustered | pre-Z → light culling → forward → tonemap → depth probe |
+/// | naive | shadow atlas → forward (own depth) → tonemap |
+/// | naive-prez | pre-Z → shadow atlas → forward → tonemap → depth probe |
+/// | tiled, 2.5D, clustered | pre-Z → light culling → shadow atlas → forward → tonemap → depth probe |
 /// | heatmap view (culled paths) | pre-Z → light culling → light heatmap → depth probe |
 ///
 /// The depth probe adds work only to frames a tool asked to capture.
@@ -34,6 +35,7 @@ pub fn passes_for(
     match config.view {
         FrameView::Heatmap => passes.push(Box::new(HeatmapPass::new(gpu, config)?)),
         FrameView::Lit => {
+            passes.push(Box::new(ShadowPass::new(gpu, config)?));
             passes.push(Box::new(ForwardPass::new(gpu, config)?));
             passes.push(Box::new(TonemapPass::new(gpu, config)?));
         }

@@ -141,9 +141,44 @@ pub fn procedural_lights(
                 color: hue_to_rgb(hue),
                 intensity: range * range * 0.08,
                 range: Some(range),
+                casts_shadow: false,
             }
         })
         .collect()
+}
+
+/// Marks the `count` punctual lights that matter most to `camera` as shadow casters: those
+/// whose influence (range sphere) covers the most of a `viewport_height`-pixel screen.
+/// Directional lights and lights already casting are left as they are; returns how many
+/// lights were marked (fewer than `count` when fewer are visible).
+pub fn pick_shadowed(
+    lights: &mut [SceneLight],
+    camera: &FrameCamera,
+    viewport_height: f32,
+    count: usize,
+) -> usize {
+    let fovy = 2.0 * (1.0 / camera.projection.y_axis.y).atan();
+    let mut ranked: Vec<(f32, usize)> = lights
+        .iter()
+        .enumerate()
+        .filter(|(_, l)| l.kind != LightKind::Directional && !l.casts_shadow)
+        .filter_map(|(i, l)| {
+            let radius = l.range?;
+            let px = crate::shadow::resolution::screen_radius_px(
+                l.position,
+                radius,
+                camera.view,
+                fovy,
+                viewport_height,
+            );
+            (px > 0.0).then_some((px, i))
+        })
+        .collect();
+    ranked.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+    for &(_, i) in ranked.iter().take(count) {
+        lights[i].casts_shadow = true;
+    }
+    ranked.len().min(count)
 }
 
 /// A saturated colour around the hue wheel.

@@ -89,6 +89,8 @@ pub struct RendererConfig {
     pub view: FrameView,
     /// Light count at which the heatmap saturates (red).
     pub heatmap_max: u32,
+    /// The shadow atlas: size, resolutions, caching.
+    pub shadows: crate::shadow::ShadowConfig,
 }
 
 impl std::str::FromStr for RenderPath {
@@ -120,6 +122,7 @@ impl Default for RendererConfig {
             exposure: 1.0,
             view: FrameView::Lit,
             heatmap_max: 256,
+            shadows: crate::shadow::ShadowConfig::default(),
         }
     }
 }

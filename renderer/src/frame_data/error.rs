@@ -49,4 +49,14 @@ pub enum RenderError {
          binding size limit); use fewer lights"
     )]
     TooManyLights { count: usize, max: usize },
+    #[error(
+        "instance {index} does not exist: the prepared scene has {count} instances (nodes with \
+         a mesh, in `Scene::instances` order); call prepare_scene first"
+    )]
+    NoSuchInstance { index: usize, count: usize },
+    #[error(
+        "shadow atlas of {asked}² texels: use a size from {min} to this device's largest \
+         texture side, {max}"
+    )]
+    ShadowAtlasSize { asked: u32, min: u32, max: u32 },
 }

@@ -3,7 +3,7 @@
 
 use std::sync::Arc;
 
-use super::{CameraUniform, FrameCamera, LightSet, PreparedScene, RendererConfig};
+use super::{CameraUniform, FrameCamera, InstanceState, LightSet, PreparedScene, RendererConfig};
 use crate::GpuContext;
 
 /// One frame's inputs.
@@ -13,6 +13,8 @@ pub struct FrameInputs {
     pub config: RendererConfig,
     pub camera: FrameCamera,
     pub scene: Arc<PreparedScene>,
+    /// Where each scene instance is this frame (index = `DrawItem::instance`).
+    pub instances: Arc<Vec<InstanceState>>,
     pub lights: Arc<LightSet>,
     /// The camera uniform, already written for this frame.
     pub camera_uniform: CameraUniform,

@@ -3,6 +3,7 @@
 
 use glam::Vec3;
 use shaders_gen::forward::forward;
+use shaders_gen::shared::shadow_atlas::NO_SHADOW;
 use wgpu::util::DeviceExt as _;
 
 use crate::culling::reference::LightSphere;
@@ -19,6 +20,10 @@ pub struct LightSet {
     pub directional: Vec<forward::GpuLight>,
     /// One bounding sphere per punctual light, in the same order.
     pub spheres: Vec<LightSphere>,
+    /// The scene lights behind `punctual` and `directional`, in their orders (what the shadow
+    /// pass needs: `casts_shadow`, cone angles, infinite ranges).
+    pub punctual_sources: Vec<SceneLight>,
+    pub directional_sources: Vec<SceneLight>,
     /// `punctual` on the GPU (one placeholder element when empty).
     pub punctual_buffer: wgpu::Buffer,
     /// `directional` on the GPU (one placeholder element when empty).
@@ -56,12 +61,15 @@ impl LightSet {
         let mut punctual = Vec::new();
         let mut directional = Vec::new();
         let mut spheres = Vec::new();
+        let (mut punctual_sources, mut directional_sources) = (Vec::new(), Vec::new());
         for l in lights {
             let gpu_light = gpu_light(l);
             if l.kind == LightKind::Directional {
                 directional.push(gpu_light);
+                directional_sources.push(*l);
                 continue;
             }
+            punctual_sources.push(*l);
             let reach = l.range.unwrap_or(INFINITE_RANGE);
             spheres.push(match l.kind {
                 LightKind::Spot { outer_cone, .. } => {
@@ -80,6 +88,8 @@ impl LightSet {
             punctual,
             directional,
             spheres,
+            punctual_sources,
+            directional_sources,
         }
     }
 }
@@ -102,6 +112,7 @@ fn gpu_light(l: &SceneLight) -> forward::GpuLight {
         kind,
         cos_inner,
         cos_outer,
+        NO_SHADOW,
     )
 }
 
@@ -116,6 +127,7 @@ fn light_storage(device: &wgpu::Device, label: &str, lights: &[forward::GpuLight
         0,
         1.0,
         1.0,
+        NO_SHADOW,
     )];
     let contents = if lights.is_empty() {
         &placeholder[..]
@@ -125,6 +137,7 @@ fn light_storage(device: &wgpu::Device, label: &str, lights: &[forward::GpuLight
     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some(label),
         contents: bytemuck::cast_slice(contents),
-        usage: wgpu::BufferUsages::STORAGE,
+        // COPY_DST: the shadow pass writes each light's `shadow` index as its atlas changes.
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
     })
 }

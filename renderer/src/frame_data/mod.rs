@@ -22,5 +22,5 @@ pub use formats::{DEPTH_FORMAT, HDR_FORMAT};
 pub use inputs::FrameInputs;
 pub use lights::LightSet;
 pub use report::FrameReport;
-pub use resources::{FrameResources, LightListHandles, ListGeometry};
-pub use scene::{DrawItem, PreparedMaterial, PreparedScene};
+pub use resources::{FrameResources, LightListHandles, ListGeometry, ShadowResources};
+pub use scene::{DrawItem, InstanceState, PreparedMaterial, PreparedScene};

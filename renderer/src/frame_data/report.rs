@@ -20,4 +20,6 @@ pub struct FrameReport {
     /// `dropped > 0` means lights were left out of some lists that frame; the renderer logs a
     /// warning and grows the index list for the next frame where the device allows.
     pub culling: Option<CullCounters>,
+    /// What the shadow pass decided and drew this frame (absent without one).
+    pub shadows: Option<crate::shadow::ShadowReport>,
 }

@@ -65,6 +65,19 @@ impl ListGeometry {
     }
 }
 
+/// The shadow atlas as shading passes bind it (`shadow_atlas` library, group 0 bindings 6–8).
+#[derive(Debug, Clone)]
+pub struct ShadowResources {
+    /// The atlas in the graph: read it so the shadow pass runs first.
+    pub atlas: Handle<Texture>,
+    /// `SHADOW_VIEWS`: the views lights' `shadow` indices point at.
+    pub views: wgpu::Buffer,
+    /// `SHADOW_ATLAS`.
+    pub atlas_view: wgpu::TextureView,
+    /// `SHADOW_SAMPLER`: the comparison sampler.
+    pub sampler: wgpu::Sampler,
+}
+
 /// What the passes of one frame have produced so far.
 #[derive(Debug)]
 pub struct FrameResources {
@@ -76,7 +89,10 @@ pub struct FrameResources {
     pub light_lists: Option<LightListHandles>,
     /// The resolved linear HDR colour.
     pub hdr: Option<Handle<Texture>>,
+    /// The shadow atlas (absent when the frame has no shadow pass).
+    pub shadows: Option<ShadowResources>,
     imports: Vec<(Handle<Buffer>, wgpu::Buffer)>,
+    texture_imports: Vec<(Handle<Texture>, wgpu::Texture)>,
 }
 
 impl FrameResources {
@@ -86,7 +102,9 @@ impl FrameResources {
             depth: None,
             light_lists: None,
             hdr: None,
+            shadows: None,
             imports: Vec::new(),
+            texture_imports: Vec::new(),
         }
     }
 
@@ -106,10 +124,34 @@ impl FrameResources {
         handle
     }
 
-    /// Binds every buffer imported through [`Self::import_buffer`].
+    /// Imports a texture a pass owns across frames; it is bound when the graph is compiled.
+    pub fn import_texture(
+        &mut self,
+        graph: &mut RenderGraph,
+        name: &str,
+        texture: &wgpu::Texture,
+        access: ImportAccess,
+    ) -> Handle<Texture> {
+        let mut desc = crate::graph::TextureDesc::new_2d(
+            texture.width(),
+            texture.height(),
+            texture.format(),
+        );
+        desc.sample_count = texture.sample_count();
+        desc.layers = texture.depth_or_array_layers();
+        let handle = graph.import_texture(name, desc, access);
+        self.texture_imports.push((handle, texture.clone()));
+        handle
+    }
+
+    /// Binds every buffer and texture imported through [`Self::import_buffer`] and
+    /// [`Self::import_texture`].
     pub fn bind_imports(&self, compiled: &mut CompiledGraph) {
         for (handle, buffer) in &self.imports {
             compiled.bind_buffer(*handle, buffer);
+        }
+        for (handle, texture) in &self.texture_imports {
+            compiled.bind_texture(*handle, texture);
         }
     }
 }

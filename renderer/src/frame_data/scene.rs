@@ -3,11 +3,11 @@
 
 use std::sync::Arc;
 
-use glam::Vec3;
+use glam::{Mat4, Vec3};
 use shaders_gen::forward::forward;
 use wgpu::util::DeviceExt as _;
 
-use crate::scene::{AlphaMode, GpuScene, Material, Scene, TextureRef};
+use crate::scene::{Aabb, AlphaMode, GpuScene, Material, Scene, TextureRef};
 use crate::shader::bind_group_layout_entries;
 
 /// One primitive of one instance.
@@ -17,8 +17,51 @@ pub struct DrawItem {
     pub primitive: usize,
     pub material: usize,
     pub bind_group: wgpu::BindGroup,
-    /// Distance from the camera's eye, for sorting blended draws (set each frame).
+    /// The `Draw` uniform behind `bind_group` (rewritten when its instance moves).
+    pub buffer: wgpu::Buffer,
+    /// The scene instance (node) the draw belongs to.
+    pub instance: usize,
+    /// The primitive's bounds in mesh space.
+    pub local_bounds: Aabb,
+    /// Centre of the world bounds where the scene placed it, for sorting blended draws.
     pub center: Vec3,
+}
+
+/// Where a scene instance (a node with a mesh) is this frame, and whether it moves.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InstanceState {
+    pub world_from_mesh: Mat4,
+    /// Dynamic instances are drawn over the static shadow cache every frame they can shadow a
+    /// region; static ones are cached.
+    pub dynamic: bool,
+    /// Bumped whenever `world_from_mesh` changes.
+    pub version: u64,
+}
+
+impl InstanceState {
+    /// The instances of `scene`, static, where the file placed them.
+    pub fn of_scene(scene: &Scene) -> Vec<Self> {
+        scene
+            .instances
+            .iter()
+            .map(|i| Self {
+                world_from_mesh: i.world_from_mesh,
+                dynamic: false,
+                version: 0,
+            })
+            .collect()
+    }
+}
+
+impl DrawItem {
+    /// The uniform of this draw at `world_from_mesh`.
+    pub fn uniform(&self, world_from_mesh: Mat4) -> forward::Draw {
+        forward::Draw::new(
+            world_from_mesh,
+            world_from_mesh.inverse().transpose(),
+            self.material as u32,
+        )
+    }
 }
 
 /// What a material draws with.
@@ -72,7 +115,7 @@ impl PreparedScene {
             &Material::gltf_default(),
         ));
         let mut draws = Vec::new();
-        for instance in &scene.instances {
+        for (instance_index, instance) in scene.instances.iter().enumerate() {
             for (p, primitive) in scene.meshes[instance.mesh].primitives.iter().enumerate() {
                 let material = primitive.material.unwrap_or(default_material);
                 let world = instance.world_from_mesh;
@@ -80,7 +123,7 @@ impl PreparedScene {
                 let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                     label: Some("draw"),
                     contents: bytemuck::bytes_of(&draw),
-                    usage: wgpu::BufferUsages::UNIFORM,
+                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 });
                 let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("draw"),
@@ -95,6 +138,9 @@ impl PreparedScene {
                     primitive: p,
                     material,
                     bind_group,
+                    buffer,
+                    instance: instance_index,
+                    local_bounds: primitive.bounds,
                     center: primitive.bounds.transformed(world).center(),
                 });
             }

@@ -12,7 +12,7 @@ use super::{MeshPipeline, Pass, depth_state, draw_primitive, mesh_pipeline};
 use crate::GpuContext;
 use crate::frame_data::{
     DEPTH_FORMAT, FrameInputs, FrameResources, HDR_FORMAT, LightListHandles, ListGeometry,
-    PreparedScene, RenderError, RendererConfig,
+    PreparedScene, RenderError, RendererConfig, ShadowResources,
 };
 use crate::graph::{BufferAccess, Handle, RenderGraph, Texture, TextureAccess, TextureDesc};
 use crate::scene::AlphaMode;
@@ -204,7 +204,12 @@ impl Pass for ForwardPass {
             pass.read_buffer(l.grid, BufferAccess::StorageRead)
                 .read_buffer(l.indices, BufferAccess::StorageRead);
         }
-        let record = self.recorder(frame, targets, lists);
+        let shadows = resources.shadows.clone().ok_or(RenderError::MissingInput {
+            pass: "forward",
+            input: "shadow atlas",
+        })?;
+        pass.read_texture(shadows.atlas, TextureAccess::Sampled);
+        let record = self.recorder(frame, targets, lists, shadows);
         pass.execute(record);
         resources.hdr = Some(hdr);
         if resources.depth.is_none() {
@@ -221,6 +226,7 @@ impl ForwardPass {
         frame: &FrameInputs,
         targets: Targets,
         lists: Option<LightListHandles>,
+        shadows: ShadowResources,
     ) -> impl FnOnce(&mut crate::graph::PassContext<'_>) + 'static {
         let layout = self.program.bind_group_layouts[0].clone();
         let pipelines = Arc::clone(&self.pipelines);
@@ -241,10 +247,20 @@ impl ForwardPass {
                 frame_resources.push(ctx.buffer(l.grid).as_entire_binding());
                 frame_resources.push(ctx.buffer(l.indices).as_entire_binding());
             }
+            let mut entries = super::entries(&frame_resources);
+            // The `shadow_atlas` library's bindings.
+            let shadow_resources = [
+                shadows.views.as_entire_binding(),
+                wgpu::BindingResource::TextureView(&shadows.atlas_view),
+                wgpu::BindingResource::Sampler(&shadows.sampler),
+            ];
+            for (binding, resource) in (6..).zip(shadow_resources) {
+                entries.push(wgpu::BindGroupEntry { binding, resource });
+            }
             let frame_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("forward frame"),
                 layout: &layout,
-                entries: &super::entries(&frame_resources),
+                entries: &entries,
             });
             let depth_view = ctx.texture(targets.depth).create_view(&Default::default());
             let resolved_view = ctx

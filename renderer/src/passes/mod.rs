@@ -15,6 +15,7 @@ pub mod forward;
 pub mod heatmap;
 pub mod light_cull;
 pub mod prez;
+pub mod shadow;
 pub mod tonemap;
 
 use crate::frame_data::{FrameInputs, FrameReport, FrameResources, RenderError};
@@ -66,11 +67,21 @@ pub(crate) fn draw_primitive<'a>(
     primitive: &'a crate::scene::GpuPrimitive,
     streams: &[&'a wgpu::Buffer],
 ) {
+    draw_primitive_instances(pass, primitive, streams, 0..1);
+}
+
+/// [`draw_primitive`] with the instance range `instances` (a shader may index by it).
+pub(crate) fn draw_primitive_instances<'a>(
+    pass: &mut wgpu::RenderPass<'a>,
+    primitive: &'a crate::scene::GpuPrimitive,
+    streams: &[&'a wgpu::Buffer],
+    instances: std::ops::Range<u32>,
+) {
     for (slot, buffer) in streams.iter().enumerate() {
         pass.set_vertex_buffer(slot as u32, buffer.slice(..));
     }
     pass.set_index_buffer(primitive.indices.slice(..), wgpu::IndexFormat::Uint32);
-    pass.draw_indexed(0..primitive.index_count, 0, 0..1);
+    pass.draw_indexed(0..primitive.index_count, 0, instances);
 }
 
 /// Vertex buffer layouts of tightly packed attributes at locations 0.., one buffer each.

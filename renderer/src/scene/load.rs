@@ -318,5 +318,6 @@ fn light_of(light: &gltf::khr_lights_punctual::Light<'_>, world: Mat4) -> SceneL
         color: Vec3::from(light.color()),
         intensity: light.intensity(),
         range: light.range(),
+        casts_shadow: true,
     }
 }

@@ -168,6 +168,10 @@ pub struct SceneLight {
     pub intensity: f32,
     /// `None`: infinite range (the file set none).
     pub range: Option<f32>,
+    /// Whether the light casts a shadow (glTF lights do; procedural ones only when picked,
+    /// `frame::setup::pick_shadowed`). The shadow pass may still degrade or drop a shadow
+    /// when the atlas is full, and reports it.
+    pub casts_shadow: bool,
 }
 
 /// A loaded glTF scene.

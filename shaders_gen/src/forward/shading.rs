@@ -17,7 +17,9 @@
 /// array `DIRECTIONAL` and the first `directional_count` of them shade every fragment. `LIGHTS`
 /// holds the punctual (point and spot) lights, in the culling pass's item order.
 ///
-/// Falloff and spot cone: see the `pbr` library.
+/// Falloff and spot cone: see the `pbr` library. Every light with a shadow (`GpuLight::shadow`)
+/// is attenuated by the `shadow_atlas` library's `shadow_visibility`, the one PCF path of every
+/// light type, on every list and blend variant alike.
 ///
 /// With `blend` the output alpha is the material's (alpha blend); otherwise 1. Alpha mask: a
 /// material with a positive `alpha_cutoff` discards texels below it.
@@ -33,7 +35,12 @@
     ),
     exclude(list == 0 && scalarize),
     requires(subgroup = scalarize),
-    uses(crate::shared::view, crate::shared::pbr, crate::shared::light_grid),
+    uses(
+        crate::shared::view,
+        crate::shared::pbr,
+        crate::shared::light_grid,
+        crate::shared::shadow_atlas,
+    ),
 )]
 pub mod forward {
     /// Light counts and the light-grid geometry of the frame.
@@ -69,6 +76,20 @@ pub mod forward {
         pub occlusion_strength: f32,
         /// Kept for the masked pre-pass; unused here (no `discard` in the DSL).
         pub alpha_cutoff: f32,
+    }
+
+    /// What the light loop needs of the shaded point.
+    struct Surface {
+        p: Vec3,
+        n: Vec3,
+        v: Vec3,
+        albedo: Vec3,
+        metallic: f32,
+        roughness: f32,
+        /// Unit normal of the geometry (not normal-mapped): the shadow lookup's normal offset.
+        geometric_normal: Vec3,
+        view_depth: f32,
+        dither: f32,
     }
 
     pub struct VsOut {
@@ -137,6 +158,19 @@ pub mod forward {
         }
     }
 
+    /// Radiance `light` reflects from `s` towards the eye, shadowed.
+    fn light_contribution(light: GpuLight, s: Surface) -> Vec3 {
+        let visibility = shadow_visibility(
+            light.shadow,
+            light.position,
+            s.p,
+            s.geometric_normal,
+            s.view_depth,
+            s.dither,
+        );
+        shade_light(light, s.p, s.n, s.v, s.albedo, s.metallic, s.roughness) * visibility
+    }
+
     /// The `GRID` cell of a fragment: its tile's list (opaque or transparent), or its froxel (by `light_grid`, like the
     /// culling kernels).
     fn cell_of(frag: Vec4, view_depth: f32) -> u32 {
@@ -185,16 +219,28 @@ pub mod forward {
         let p = input.world;
         let v = (CAMERA.eye - p).normalize();
 
+        let view_depth = -(CAMERA.view * p.extend(1.0)).z;
+        let s = Surface {
+            p,
+            n,
+            v,
+            albedo,
+            metallic,
+            roughness,
+            geometric_normal: nn,
+            view_depth,
+            dither: dither_noise(input.clip.xy()),
+        };
+
         let mut color = LIGHTING.ambient * albedo * occlusion + emissive;
         for i in 0u32..LIGHTING.directional_count {
-            color += shade_light(DIRECTIONAL[i], p, n, v, albedo, metallic, roughness);
+            color += light_contribution(DIRECTIONAL[i], s);
         }
         if list == 0 {
             for i in 0u32..LIGHTING.light_count {
-                color += shade_light(LIGHTS[i], p, n, v, albedo, metallic, roughness);
+                color += light_contribution(LIGHTS[i], s);
             }
         } else {
-            let view_depth = -(CAMERA.view * p.extend(1.0)).z;
             let cell = cell_of(input.clip, view_depth);
             let mut done = false;
             if scalarize {
@@ -204,7 +250,7 @@ pub mod forward {
                     let range = subgroup_broadcast_first(GRID[first]);
                     for j in 0u32..range.y {
                         let index = subgroup_broadcast_first(INDICES[range.x + j]);
-                        color += shade_light(LIGHTS[index], p, n, v, albedo, metallic, roughness);
+                        color += light_contribution(LIGHTS[index], s);
                     }
                     done = true;
                 }
@@ -213,7 +259,7 @@ pub mod forward {
                 let range = GRID[cell];
                 for j in 0u32..range.y {
                     let index = INDICES[range.x + j];
-                    color += shade_light(LIGHTS[index], p, n, v, albedo, metallic, roughness);
+                    color += light_contribution(LIGHTS[index], s);
                 }
             }
         }

@@ -21,6 +21,9 @@ pub mod pbr {
         pub kind: u32,
         pub cos_inner: f32,
         pub cos_outer: f32,
+        /// The light's first view in the shadow atlas (`shadow_atlas::SHADOW_VIEWS`), or
+        /// `shadow_atlas::NO_SHADOW`.
+        pub shadow: u32,
     }
 
     pub const KIND_POINT: u32 = 0;

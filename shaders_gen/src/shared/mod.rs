@@ -9,8 +9,10 @@ pub mod append;
 pub mod brdf;
 pub mod camera;
 pub mod grid;
+pub mod shadow;
 
 pub use append::cull_append;
 pub use brdf::pbr;
 pub use camera::view;
 pub use grid::light_grid;
+pub use shadow::shadow_atlas;

@@ -1,0 +1,354 @@
+//! The shadow pass's GPU objects: the shadow atlas and its static cache (both
+//! [`SHADOW_FORMAT`], reversed Z), the caster, clear and copy pipelines, the view buffers, and
+//! the recording of a frame's region work.
+
+use std::sync::Arc;
+
+use shaders_gen::shadow::{shadow_caster, shadow_compose};
+
+use super::super::{MeshPipeline, draw_primitive_instances, mesh_pipeline};
+use crate::frame_data::{PreparedScene, RenderError};
+use crate::shader::ShaderProgram;
+use crate::shadow::atlas::AtlasRect;
+use crate::shadow::cache::{RegionPlan, RegionWork};
+
+/// The atlas format: 32-bit float depth (reversed Z keeps its precision where it matters).
+pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// Slope-scaled depth bias of casters (reversed Z: negative pushes them away from the light).
+const SLOPE_BIAS: f32 = -1.5;
+/// Constant depth bias of casters, in units of the depth format's precision at the caster.
+const CONSTANT_BIAS: i32 = -8;
+
+/// Pipelines and layouts, shared by every frame.
+#[derive(Debug)]
+pub struct ShadowPipelines {
+    caster_program: ShaderProgram,
+    compose_program: ShaderProgram,
+    pub caster: wgpu::RenderPipeline,
+    pub clear: wgpu::RenderPipeline,
+    pub copy: wgpu::RenderPipeline,
+}
+
+impl ShadowPipelines {
+    pub fn new(gpu: &crate::GpuContext) -> Result<Self, RenderError> {
+        let device = &gpu.device;
+        let caps = gpu.capabilities();
+        let caster_program = ShaderProgram::new(device, caps, &shadow_caster::VARIANTS[0])?;
+        let compose_program = ShaderProgram::new(device, caps, &shadow_compose::VARIANTS[0])?;
+        let mut depth = region_depth(wgpu::CompareFunction::Greater);
+        depth.bias = wgpu::DepthBiasState {
+            constant: CONSTANT_BIAS,
+            slope_scale: SLOPE_BIAS,
+            clamp: 0.0,
+        };
+        let caster = mesh_pipeline(
+            device,
+            &caster_program,
+            &MeshPipeline {
+                label: "shadow casters",
+                vertex_entry: "vs_caster",
+                streams: &[wgpu::VertexFormat::Float32x3],
+                // Both faces cast: thin and open meshes must not leak light.
+                double_sided: true,
+                depth,
+                msaa: 1,
+                fragment: None,
+            },
+        );
+        // The clear draw binds nothing (its layout is empty), so it can run on either atlas.
+        let empty = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("shadow clear"),
+            bind_group_layouts: &[],
+            immediate_size: 0,
+        });
+        let clear = region_pipeline(device, &compose_program.module, &empty, None);
+        let copy = region_pipeline(
+            device,
+            &compose_program.module,
+            &compose_program.pipeline_layout,
+            Some("fs_copy_static"),
+        );
+        Ok(Self {
+            caster_program,
+            compose_program,
+            caster,
+            clear,
+            copy,
+        })
+    }
+}
+
+/// Depth state of atlas drawing: writes, `compare`.
+fn region_depth(compare: wgpu::CompareFunction) -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState {
+        format: SHADOW_FORMAT,
+        depth_write_enabled: Some(true),
+        depth_compare: Some(compare),
+        stencil: Default::default(),
+        bias: Default::default(),
+    }
+}
+
+/// A pipeline covering the viewport with `vs_region` at depth 0, writing depth always: a
+/// clear without a fragment stage, a copy with `fs_copy_static`.
+fn region_pipeline(
+    device: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    layout: &wgpu::PipelineLayout,
+    fragment: Option<&str>,
+) -> wgpu::RenderPipeline {
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(fragment.unwrap_or("shadow clear")),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs_region"),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: Some(region_depth(wgpu::CompareFunction::Always)),
+        multisample: wgpu::MultisampleState::default(),
+        fragment: fragment.map(|entry| wgpu::FragmentState {
+            module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            targets: &[],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+/// The atlases and the per-frame buffers and bind groups.
+#[derive(Debug)]
+pub struct ShadowTargets {
+    /// Sampled by shading, drawn by the pass.
+    pub atlas: wgpu::Texture,
+    pub atlas_view: wgpu::TextureView,
+    /// Static casters' depth (cached mode only).
+    pub static_atlas: Option<wgpu::Texture>,
+    pub sampler: wgpu::Sampler,
+    /// `SHADOW_VIEWS` for shading.
+    pub views: wgpu::Buffer,
+    /// `VIEWS` of the caster pipeline (one clip matrix per region).
+    pub caster_views: wgpu::Buffer,
+    pub caster_group: wgpu::BindGroup,
+    /// Group 0 of the copy pipeline (the static atlas).
+    pub copy_group: Option<wgpu::BindGroup>,
+    /// Views `views` and `caster_views` hold.
+    pub capacity: usize,
+}
+
+impl ShadowTargets {
+    /// Atlases of `size`² texels (the static cache when `cached`) and buffers for `capacity`
+    /// views.
+    pub fn new(
+        device: &wgpu::Device,
+        pipelines: &ShadowPipelines,
+        size: u32,
+        cached: bool,
+        capacity: usize,
+    ) -> Self {
+        let atlas = atlas_texture(device, "shadow atlas", size);
+        let static_atlas = cached.then(|| atlas_texture(device, "shadow static cache", size));
+        let capacity = capacity.max(1);
+        let (views, caster_views, caster_group) = view_buffers(device, pipelines, capacity);
+        let copy_group = static_atlas.as_ref().map(|t| {
+            let view = t.create_view(&Default::default());
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("shadow static cache"),
+                layout: &pipelines.compose_program.bind_group_layouts[0],
+                entries: &super::super::entries(&[wgpu::BindingResource::TextureView(&view)]),
+            })
+        });
+        Self {
+            atlas_view: atlas.create_view(&Default::default()),
+            atlas,
+            static_atlas,
+            sampler: device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some("shadow comparison"),
+                mag_filter: wgpu::FilterMode::Linear,
+                min_filter: wgpu::FilterMode::Linear,
+                compare: Some(wgpu::CompareFunction::GreaterEqual),
+                ..Default::default()
+            }),
+            views,
+            caster_views,
+            caster_group,
+            copy_group,
+            capacity,
+        }
+    }
+}
+
+impl ShadowTargets {
+    /// Replaces the view buffers with ones for `capacity` views (the atlases stay).
+    pub fn grow(&mut self, device: &wgpu::Device, pipelines: &ShadowPipelines, capacity: usize) {
+        (self.views, self.caster_views, self.caster_group) =
+            view_buffers(device, pipelines, capacity);
+        self.capacity = capacity;
+    }
+}
+
+/// `SHADOW_VIEWS`, the casters' `VIEWS` and the caster bind group, for `capacity` views.
+fn view_buffers(
+    device: &wgpu::Device,
+    pipelines: &ShadowPipelines,
+    capacity: usize,
+) -> (wgpu::Buffer, wgpu::Buffer, wgpu::BindGroup) {
+    let views = storage(
+        device,
+        "shadow views",
+        capacity * size_of::<shaders_gen::forward::forward::ShadowView>(),
+    );
+    let caster_views = storage(
+        device,
+        "shadow caster views",
+        capacity * size_of::<shadow_caster::CasterView>(),
+    );
+    let caster_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("shadow caster views"),
+        layout: &pipelines.caster_program.bind_group_layouts[0],
+        entries: &super::super::entries(&[caster_views.as_entire_binding()]),
+    });
+    (views, caster_views, caster_group)
+}
+
+fn atlas_texture(device: &wgpu::Device, label: &str, size: u32) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: size,
+            height: size,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: SHADOW_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    })
+}
+
+fn storage(device: &wgpu::Device, label: &str, bytes: usize) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: bytes as u64,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+/// What the recording of one frame needs.
+pub struct Recording {
+    pub regions: Vec<RegionPlan>,
+    pub scene: Arc<PreparedScene>,
+    pub caster: wgpu::RenderPipeline,
+    pub clear: wgpu::RenderPipeline,
+    pub copy: wgpu::RenderPipeline,
+    pub caster_group: wgpu::BindGroup,
+    pub copy_group: Option<wgpu::BindGroup>,
+    pub static_atlas: Option<wgpu::TextureView>,
+}
+
+impl Recording {
+    /// Records the static-cache redraws, then the shadow atlas's compositions and direct draws.
+    pub fn record(&self, encoder: &mut wgpu::CommandEncoder, atlas: &wgpu::TextureView) {
+        let redraws: Vec<(u32, &RegionPlan)> = self
+            .indexed()
+            .filter(|(_, r)| matches!(r.work, RegionWork::Compose { redraw_static: true, .. }))
+            .collect();
+        if let (Some(static_view), false) = (&self.static_atlas, redraws.is_empty()) {
+            let mut pass = depth_pass(encoder, "shadow static cache", static_view);
+            for (view, r) in &redraws {
+                if let RegionWork::Compose { static_casters, .. } = &r.work {
+                    self.clear_region(&mut pass, r.region.rect);
+                    self.draw_casters(&mut pass, *view, static_casters);
+                }
+            }
+        }
+        let mut pass = depth_pass(encoder, "shadow atlas", atlas);
+        for (view, r) in self.indexed() {
+            match &r.work {
+                RegionWork::Untouched => {}
+                RegionWork::Compose {
+                    dynamic_casters, ..
+                } => {
+                    set_region(&mut pass, r.region.rect);
+                    pass.set_pipeline(&self.copy);
+                    if let Some(g) = &self.copy_group {
+                        pass.set_bind_group(0, g, &[]);
+                    }
+                    pass.draw(0..3, 0..1);
+                    self.draw_casters(&mut pass, view, dynamic_casters);
+                }
+                RegionWork::Direct { casters } => {
+                    self.clear_region(&mut pass, r.region.rect);
+                    self.draw_casters(&mut pass, view, casters);
+                }
+            }
+        }
+    }
+
+    fn indexed(&self) -> impl Iterator<Item = (u32, &RegionPlan)> {
+        self.regions.iter().enumerate().map(|(i, r)| (i as u32, r))
+    }
+
+    fn clear_region(&self, pass: &mut wgpu::RenderPass<'_>, rect: AtlasRect) {
+        set_region(pass, rect);
+        pass.set_pipeline(&self.clear);
+        pass.draw(0..3, 0..1);
+    }
+
+    /// Draws `casters` into region `view` (the viewport is set): instance `view` selects the
+    /// region's clip matrix in the caster shader.
+    fn draw_casters<'a>(&'a self, pass: &mut wgpu::RenderPass<'a>, view: u32, casters: &[u32]) {
+        if casters.is_empty() {
+            return;
+        }
+        pass.set_pipeline(&self.caster);
+        pass.set_bind_group(0, &self.caster_group, &[]);
+        for &c in casters {
+            let Some(draw) = self.scene.draws.get(c as usize) else {
+                continue;
+            };
+            pass.set_bind_group(1, &draw.bind_group, &[]);
+            let p = &self.scene.gpu.meshes[draw.mesh][draw.primitive];
+            draw_primitive_instances(pass, p, &[&p.positions], view..view + 1);
+        }
+    }
+}
+
+fn set_region(pass: &mut wgpu::RenderPass<'_>, rect: AtlasRect) {
+    let (x, y, s) = (rect.x as f32, rect.y as f32, rect.side as f32);
+    pass.set_viewport(x, y, s, s, 0.0, 1.0);
+    pass.set_scissor_rect(rect.x, rect.y, rect.side, rect.side);
+}
+
+/// A depth-only render pass over `view` that keeps its contents.
+fn depth_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    label: &str,
+    view: &wgpu::TextureView,
+) -> wgpu::RenderPass<'e> {
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: &[],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view,
+            depth_ops: Some(wgpu::Operations {
+                load: wgpu::LoadOp::Load,
+                store: wgpu::StoreOp::Store,
+            }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
+}

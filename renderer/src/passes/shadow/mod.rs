@@ -1,0 +1,246 @@
+//! The shadow-atlas pass: every shadowed light's depth in one atlas, at a resolution chosen per
+//! light and frame, with static casters cached and only what changed redrawn.
+//!
+//! Each frame, `prepare` plans on the CPU ([`crate::shadow::frame::ShadowPlanner`]: requests,
+//! allocation, views, cache decisions), uploads the view records shading reads
+//! (`shadow_atlas::SHADOW_VIEWS`) and the casters' clip matrices, and writes the `shadow` index
+//! of every light whose shadow changed into the light buffers. `add_to_graph` publishes the atlas
+//! for shading ([`FrameResources::shadows`]) and adds a graph node only when some region needs
+//! a draw or a copy: a frame where nothing changed runs no shadow work at all.
+
+mod gpu;
+
+pub use gpu::SHADOW_FORMAT;
+
+use std::sync::Arc;
+
+use shaders_gen::forward::forward;
+use shaders_gen::shadow::shadow_caster;
+
+use super::Pass;
+use crate::frame_data::{
+    FrameInputs, FrameReport, FrameResources, LightSet, RenderError, RendererConfig,
+    ShadowResources,
+};
+use crate::graph::{ImportAccess, RenderGraph, TextureAccess};
+use crate::scene::{Aabb, AlphaMode};
+use crate::shadow::cache::Caster;
+use crate::shadow::frame::{FramePlan, PlanInputs, ShadowPlanner, ViewRecord};
+use gpu::{Recording, ShadowPipelines, ShadowTargets};
+use shaders_gen::shared::shadow_atlas::NO_SHADOW;
+
+/// The shadow pass.
+#[derive(Debug)]
+pub struct ShadowPass {
+    pipelines: ShadowPipelines,
+    targets: ShadowTargets,
+    planner: ShadowPlanner,
+    plan: FramePlan,
+    /// The light set whose `shadow` indices the buffers hold, and those indices.
+    written: Option<(Arc<LightSet>, Vec<u32>, Vec<u32>)>,
+}
+
+impl ShadowPass {
+    /// The pass for `config.shadows`; its atlas size must fit the device.
+    pub fn new(gpu: &crate::GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
+        let s = &config.shadows;
+        let max = gpu.device.limits().max_texture_dimension_2d;
+        let min = s.min_resolution.max(s.cascade_resolution.min(s.max_resolution));
+        if s.enabled && !(min..=max).contains(&s.atlas_size) {
+            return Err(RenderError::ShadowAtlasSize {
+                asked: s.atlas_size,
+                min,
+                max,
+            });
+        }
+        let pipelines = ShadowPipelines::new(gpu)?;
+        let size = if s.enabled { s.atlas_size } else { 1 };
+        let targets = ShadowTargets::new(&gpu.device, &pipelines, size, s.cache, 64);
+        Ok(Self {
+            pipelines,
+            targets,
+            planner: ShadowPlanner::default(),
+            plan: FramePlan::default(),
+            written: None,
+        })
+    }
+
+    /// This frame's plan (after `prepare`).
+    pub fn plan(&self) -> &FramePlan {
+        &self.plan
+    }
+
+    /// The atlas texture (for debug views and tools).
+    pub fn atlas(&self) -> &wgpu::Texture {
+        &self.targets.atlas
+    }
+
+    /// Writes the view records and the casters' matrices of the plan.
+    fn upload_views(&mut self, frame: &FrameInputs) {
+        let views = &self.plan.views;
+        if views.len() > self.targets.capacity {
+            let capacity = views.len().next_power_of_two();
+            self.targets
+                .grow(&frame.gpu.device, &self.pipelines, capacity);
+        }
+        if views.is_empty() {
+            return;
+        }
+        let records: Vec<forward::ShadowView> = views.iter().map(view_record).collect();
+        let casters: Vec<shadow_caster::CasterView> = views
+            .iter()
+            .map(|v| shadow_caster::CasterView::new(v.view.clip_from_world))
+            .collect();
+        let queue = &frame.gpu.queue;
+        queue.write_buffer(&self.targets.views, 0, bytemuck::cast_slice(&records));
+        queue.write_buffer(
+            &self.targets.caster_views,
+            0,
+            bytemuck::cast_slice(&casters),
+        );
+    }
+
+    /// Writes the `shadow` field of every light whose first view changed.
+    fn write_light_indices(&mut self, frame: &FrameInputs) {
+        let index = |s: &Option<u32>| s.unwrap_or(NO_SHADOW);
+        let punctual: Vec<u32> = self.plan.punctual_shadow.iter().map(index).collect();
+        let directional: Vec<u32> = self.plan.directional_shadow.iter().map(index).collect();
+        let same_set = self
+            .written
+            .as_ref()
+            .is_some_and(|(set, ..)| Arc::ptr_eq(set, &frame.lights));
+        let (old_p, old_d) = match (&self.written, same_set) {
+            (Some((_, p, d)), true) => (p.clone(), d.clone()),
+            // A new light set starts with every light at NO_SHADOW.
+            _ => (
+                vec![NO_SHADOW; punctual.len()],
+                vec![NO_SHADOW; directional.len()],
+            ),
+        };
+        let queue = &frame.gpu.queue;
+        let field = std::mem::offset_of!(forward::GpuLight, shadow) as u64;
+        let stride = size_of::<forward::GpuLight>() as u64;
+        let buffers = [
+            (&frame.lights.punctual_buffer, &punctual, &old_p),
+            (&frame.lights.directional_buffer, &directional, &old_d),
+        ];
+        for (buffer, new, old) in buffers {
+            for (i, (n, o)) in new.iter().zip(old.iter()).enumerate() {
+                if n != o {
+                    let at = i as u64 * stride + field;
+                    queue.write_buffer(buffer, at, bytemuck::bytes_of(n));
+                }
+            }
+        }
+        self.written = Some((Arc::clone(&frame.lights), punctual, directional));
+    }
+}
+
+/// The GPU record of a view.
+fn view_record(v: &ViewRecord) -> forward::ShadowView {
+    forward::ShadowView::new(
+        v.view.clip_from_world,
+        v.rect_uv,
+        v.view.texel_world,
+        u32::from(v.view.orthographic),
+        v.view.split_far,
+        v.faces,
+    )
+}
+
+/// The frame's shadow casters: every draw that is not blended, where its instance is now.
+fn casters(frame: &FrameInputs) -> Vec<Caster> {
+    let scene = &frame.scene;
+    scene
+        .draws
+        .iter()
+        .enumerate()
+        .filter(|(_, d)| scene.materials[d.material].alpha_mode != AlphaMode::Blend)
+        .filter_map(|(i, d)| {
+            let state = frame.instances.get(d.instance)?;
+            Some(Caster {
+                draw: i as u32,
+                bounds: d.local_bounds.transformed(state.world_from_mesh),
+                dynamic: state.dynamic,
+                version: state.version,
+            })
+        })
+        .collect()
+}
+
+impl Pass for ShadowPass {
+    fn name(&self) -> &'static str {
+        "shadow atlas"
+    }
+
+    fn prepare(&mut self, frame: &FrameInputs) -> Result<(), RenderError> {
+        let config = &frame.config.shadows;
+        if !config.enabled {
+            self.plan = FramePlan::default();
+            return Ok(());
+        }
+        let casters = casters(frame);
+        let scene_bounds = casters
+            .iter()
+            .fold(Aabb::EMPTY, |b, c| b.union(c.bounds));
+        let inputs = PlanInputs {
+            config,
+            punctual: &frame.lights.punctual_sources,
+            directional: &frame.lights.directional_sources,
+            camera_view: frame.camera.view,
+            camera_projection: frame.camera.projection,
+            camera_near: frame.camera.near,
+            viewport_height: frame.config.height as f32,
+            scene_bounds,
+            casters: &casters,
+        };
+        self.plan = self.planner.plan(&inputs);
+        self.upload_views(frame);
+        self.write_light_indices(frame);
+        Ok(())
+    }
+
+    fn add_to_graph(
+        &self,
+        graph: &mut RenderGraph,
+        frame: &FrameInputs,
+        resources: &mut FrameResources,
+    ) -> Result<(), RenderError> {
+        let t = &self.targets;
+        let mut atlas =
+            resources.import_texture(graph, "shadow atlas", &t.atlas, ImportAccess::ReadWrite);
+        if self.plan.has_work() {
+            let recording = Recording {
+                regions: self.plan.regions.clone(),
+                scene: Arc::clone(&frame.scene),
+                caster: self.pipelines.caster.clone(),
+                clear: self.pipelines.clear.clone(),
+                copy: self.pipelines.copy.clone(),
+                caster_group: t.caster_group.clone(),
+                copy_group: t.copy_group.clone(),
+                static_atlas: t
+                    .static_atlas
+                    .as_ref()
+                    .map(|s| s.create_view(&Default::default())),
+            };
+            let target = t.atlas_view.clone();
+            graph
+                .add_pass(self.name())
+                .write_texture(&mut atlas, TextureAccess::DepthWrite)
+                .execute(move |ctx| recording.record(ctx.encoder, &target));
+        }
+        resources.shadows = Some(ShadowResources {
+            atlas,
+            views: t.views.clone(),
+            atlas_view: t.atlas_view.clone(),
+            sampler: t.sampler.clone(),
+        });
+        Ok(())
+    }
+
+    fn after_submit(&mut self, frame: &FrameInputs, report: &mut FrameReport) {
+        if frame.config.shadows.enabled {
+            report.shadows = Some(self.plan.report.clone());
+        }
+    }
+}
