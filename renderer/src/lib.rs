@@ -16,8 +16,8 @@ pub mod graph;
 pub mod passes;
 pub mod readback;
 pub mod scene;
-pub mod shadow;
 pub mod shader;
+pub mod shadow;
 pub mod test_pattern;
 
 pub use gpu::{AdapterReport, Capabilities, GpuContext, GpuError, GpuOptions};

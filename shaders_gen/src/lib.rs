@@ -29,6 +29,7 @@ pub static MODULES: &[&codegen::rt::Module] = &[
     &forward::heatmap::MODULE,
     &forward::tonemap::MODULE,
     &inspect::depth_probe::MODULE,
+    &shadow::shadow_atlas_view::MODULE,
     &shadow::shadow_caster::MODULE,
     &shadow::shadow_compose::MODULE,
 ];

@@ -38,6 +38,7 @@ impl Light {
             self.kind,
             self.cos_inner,
             self.cos_outer,
+            shaders_gen::shared::shadow_atlas::NO_SHADOW,
         )
     }
 }

@@ -256,7 +256,8 @@ fn screenshot(gpu: &GpuContext, texture: &wgpu::Texture, path: &std::path::Path)
 }
 
 impl Running {
-    /// A settings key: path, MSAA, tile, heatmap or light count; rebuilds the renderer.
+    /// A settings key: path, MSAA, tile, heatmap, shadow atlas or light count; rebuilds the
+    /// renderer.
     fn action(&mut self, key: char, shown: &Shown) -> Result<()> {
         let mut config = self.config;
         match key {
@@ -276,8 +277,14 @@ impl Running {
             }
             'h' => {
                 config.view = match config.view {
-                    FrameView::Lit => FrameView::Heatmap,
                     FrameView::Heatmap => FrameView::Lit,
+                    _ => FrameView::Heatmap,
+                }
+            }
+            'v' => {
+                config.view = match config.view {
+                    FrameView::ShadowAtlas => FrameView::Lit,
+                    _ => FrameView::ShadowAtlas,
                 }
             }
             '+' => self.light_count = (self.light_count * 2).clamp(1, 65_536),
@@ -329,6 +336,7 @@ impl Running {
             KeyCode::KeyM => self.action('m', shown)?,
             KeyCode::KeyT => self.action('t', shown)?,
             KeyCode::KeyH => self.action('h', shown)?,
+            KeyCode::KeyV => self.action('v', shown)?,
             KeyCode::Equal | KeyCode::NumpadAdd => self.action('+', shown)?,
             KeyCode::Minus | KeyCode::NumpadSubtract => self.action('-', shown)?,
             _ => {}

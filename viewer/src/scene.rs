@@ -7,7 +7,8 @@ use std::path::Path;
 use anyhow::{Context as _, Result};
 use renderer::frame::RendererConfig;
 use renderer::frame::setup::{
-    FRAMING_YFOV_DEGREES, courtyard_look, default_camera, light_space, procedural_lights,
+    FRAMING_YFOV_DEGREES, courtyard_look, default_camera, light_space, pick_shadowed,
+    procedural_lights,
 };
 use renderer::scene::procedural::courtyard;
 use renderer::scene::{Aabb, Scene, SceneLight};
@@ -67,8 +68,15 @@ pub fn procedural(shown: &Shown, count: usize) -> Vec<SceneLight> {
         min,
         max,
     ));
+    // The lights that matter most from the starting camera cast shadows.
+    let camera = default_camera(&shown.scene, 16.0 / 9.0);
+    let first = shown.scene.lights.len();
+    pick_shadowed(&mut lights[first..], &camera, 720.0, SHADOWED_LIGHTS);
     lights
 }
+
+/// Procedural lights that cast shadows in the viewer.
+pub const SHADOWED_LIGHTS: usize = 16;
 
 /// The renderer settings of the scene's look: the courtyard's exposure, ambient and sky, or the
 /// defaults for a file.

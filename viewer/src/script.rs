@@ -1,7 +1,7 @@
 //! Scripted input for unattended runs (`--script`): keys pressed at given frames, parsed from
 //! `FRAME:KEY[xN],...` (for example `2:w x10,12:h`: hold W for ten frames from frame 2, then
 //! press H at frame 12). Key names are the viewer's own: `w a s d q e` move, `1`-`5` choose
-//! the path, `m` MSAA, `t` tile size, `h` heatmap, `+`/`-` lights.
+//! the path, `m` MSAA, `t` tile size, `h` heatmap, `v` shadow atlas, `+`/`-` lights.
 
 use anyhow::{Result, bail};
 
@@ -25,7 +25,7 @@ pub fn parse_script(s: &str) -> Result<Script> {
 }
 
 /// Keys the viewer understands.
-pub const KEYS: &str = "wasdqe12345mth+-";
+pub const KEYS: &str = "wasdqe12345mthv+-";
 
 /// Parses a script.
 pub fn parse(s: &str) -> Result<Vec<Press>> {

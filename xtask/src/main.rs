@@ -4,6 +4,7 @@
 //! `test` (everything CI checks); `info` describes the GPU adapters, and `check-invariants` enforces
 //! the architecture rules of ARCHITECTURE.md.
 
+mod atlas_labels;
 mod bench;
 mod bench_codegen;
 mod demo;

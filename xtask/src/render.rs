@@ -8,8 +8,7 @@ use glam::Vec3;
 use renderer::culling::lists::CullCounters;
 use renderer::frame::setup::{
     camera_of, courtyard_look, create_target, default_camera, light_space, pick_shadowed,
-    procedural_lights,
-    scene_camera,
+    procedural_lights, scene_camera,
 };
 use renderer::frame::{FrameCamera, FrameReport, FrameView, Renderer, RendererConfig};
 use renderer::frame_data::LightSet;
@@ -76,7 +75,9 @@ pub struct Args {
     /// defaults to a value calibrated for the courtyard, 0 for file scenes.
     #[arg(long, allow_negative_numbers = true, value_parser = parse_exposure)]
     pub exposure: Option<f32>,
-    /// lit | heatmap: the shaded image, or the light count of each pixel's list with a legend.
+    /// lit | heatmap | shadow-atlas: the shaded image, the light count of each pixel's list with
+    /// a legend, or the shadow atlas (depth as grey, regions outlined and labelled with their
+    /// light and side).
     #[arg(long, default_value = "lit")]
     pub view: String,
     /// Output PNG; defaults to target/render/frame.png.
@@ -125,7 +126,8 @@ pub fn setup(args: &Args) -> Result<Setup> {
     let view = match args.view.as_str() {
         "lit" => FrameView::Lit,
         "heatmap" => FrameView::Heatmap,
-        other => bail!("--view {other:?}: use lit or heatmap"),
+        "shadow-atlas" => FrameView::ShadowAtlas,
+        other => bail!("--view {other:?}: use lit, heatmap or shadow-atlas"),
     };
     if !matches!(args.scalarize.as_str(), "auto" | "on" | "off") {
         bail!("--scalarize {:?}: use auto, on or off", args.scalarize);
@@ -207,8 +209,15 @@ pub fn setup(args: &Args) -> Result<Setup> {
     ));
     let camera = pick_camera(args, &scene, w as f32 / h as f32)?;
     let shadowed_from = scene.lights.len();
-    pick_shadowed(&mut lights[shadowed_from..], &camera, h as f32, args.shadowed);
+    pick_shadowed(
+        &mut lights[shadowed_from..],
+        &camera,
+        h as f32,
+        args.shadowed,
+    );
     config.shadows.atlas_size = args.shadow_atlas;
+    // Four cascades take a quarter of the atlas at most.
+    config.shadows.cascade_resolution = (args.shadow_atlas / 4).clamp(64, 2048);
     Ok(Setup {
         gpu,
         scene,
@@ -242,7 +251,15 @@ pub fn shoot(s: &Setup, view: FrameView, efficiency: bool) -> Result<Shot> {
         }
         None => None,
     };
-    let rgba = readback::read_texture_rgba8(&s.gpu.device, &s.gpu.queue, &target)?;
+    let mut rgba = readback::read_texture_rgba8(&s.gpu.device, &s.gpu.queue, &target)?;
+    if let (FrameView::ShadowAtlas, Some(shadows)) = (view, &report.shadows) {
+        let size = (config.width, config.height);
+        if let Err(e) =
+            crate::atlas_labels::label(&mut rgba, size, config.shadows.atlas_size, shadows)
+        {
+            eprintln!("note: shadow atlas labels left out: {e:#}");
+        }
+    }
     Ok(Shot {
         rgba,
         report,
@@ -259,6 +276,33 @@ pub fn save_png(out: &Path, rgba: &[u8], (w, h): (u32, u32)) -> Result<()> {
     }
     image::save_buffer(out, rgba, w, h, image::ExtendedColorType::Rgba8)
         .with_context(|| format!("writing {}", out.display()))
+}
+
+/// One line on what the shadow pass did.
+pub fn shadow_summary(r: &renderer::shadow::ShadowReport) -> String {
+    let histogram: Vec<String> = r
+        .resolution_histogram
+        .iter()
+        .map(|(side, n)| format!("{n}×{side}²"))
+        .collect();
+    let c = r.cache;
+    format!(
+        "shadows: {} of {} lights shadowed (regions {}), {} degraded, {} evicted{}; regions: {} redrawn, {} copied, {} untouched; {} caster draws",
+        r.shadowed,
+        r.requested,
+        if histogram.is_empty() {
+            "none".into()
+        } else {
+            histogram.join(" ")
+        },
+        r.degraded.len(),
+        r.evicted.len(),
+        if r.repacked { ", atlas repacked" } else { "" },
+        c.redrawn,
+        c.copied,
+        c.untouched,
+        c.draws,
+    )
 }
 
 /// Writes a text file, creating its folder.
@@ -306,6 +350,9 @@ pub fn run(args: &Args, default_out: &str) -> Result<()> {
             }
         }
         None => println!("GPU time: unavailable (no timestamp queries on this adapter)"),
+    }
+    if let Some(r) = &shot.report.shadows {
+        println!("{}", shadow_summary(r));
     }
     if let Some(c) = shot.counters {
         println!(

@@ -8,7 +8,7 @@ use crate::passes::forward::ForwardPass;
 use crate::passes::heatmap::HeatmapPass;
 use crate::passes::light_cull::LightCullPass;
 use crate::passes::prez::PrezPass;
-use crate::passes::shadow::ShadowPass;
+use crate::passes::shadow::{ShadowAtlasViewPass, ShadowPass};
 use crate::passes::tonemap::TonemapPass;
 
 /// The ordered passes of `config`:
@@ -19,6 +19,7 @@ use crate::passes::tonemap::TonemapPass;
 /// | naive-prez | pre-Z → shadow atlas → forward → tonemap → depth probe |
 /// | tiled, 2.5D, clustered | pre-Z → light culling → shadow atlas → forward → tonemap → depth probe |
 /// | heatmap view (culled paths) | pre-Z → light culling → light heatmap → depth probe |
+/// | shadow-atlas view | (pre-Z → light culling →) shadow atlas → shadow atlas view |
 ///
 /// The depth probe adds work only to frames a tool asked to capture.
 pub fn passes_for(
@@ -34,6 +35,10 @@ pub fn passes_for(
     }
     match config.view {
         FrameView::Heatmap => passes.push(Box::new(HeatmapPass::new(gpu, config)?)),
+        FrameView::ShadowAtlas => {
+            passes.push(Box::new(ShadowPass::new(gpu, config)?));
+            passes.push(Box::new(ShadowAtlasViewPass::new(gpu, config)?));
+        }
         FrameView::Lit => {
             passes.push(Box::new(ShadowPass::new(gpu, config)?));
             passes.push(Box::new(ForwardPass::new(gpu, config)?));

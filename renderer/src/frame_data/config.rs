@@ -58,6 +58,8 @@ pub enum FrameView {
     Lit,
     /// The light-count heatmap of the culled path's lists, with a legend.
     Heatmap,
+    /// The shadow atlas: depth as grey, each region outlined in its light's colour.
+    ShadowAtlas,
 }
 
 /// Renderer settings.

@@ -76,6 +76,25 @@ pub struct ShadowResources {
     pub atlas_view: wgpu::TextureView,
     /// `SHADOW_SAMPLER`: the comparison sampler.
     pub sampler: wgpu::Sampler,
+    /// The regions of this frame: `(x, y, side, light id)` in atlas texels (debug views).
+    pub regions: std::sync::Arc<Vec<[u32; 4]>>,
+}
+
+impl ShadowResources {
+    /// The `shadow_atlas` library's bindings of group 0 (6: views, 7: atlas, 8: sampler), for
+    /// every pass that shades with shadows.
+    pub fn entries(&self) -> [wgpu::BindGroupEntry<'_>; 3] {
+        let resources = [
+            self.views.as_entire_binding(),
+            wgpu::BindingResource::TextureView(&self.atlas_view),
+            wgpu::BindingResource::Sampler(&self.sampler),
+        ];
+        let mut binding = 5;
+        resources.map(|resource| {
+            binding += 1;
+            wgpu::BindGroupEntry { binding, resource }
+        })
+    }
 }
 
 /// What the passes of one frame have produced so far.
@@ -132,11 +151,8 @@ impl FrameResources {
         texture: &wgpu::Texture,
         access: ImportAccess,
     ) -> Handle<Texture> {
-        let mut desc = crate::graph::TextureDesc::new_2d(
-            texture.width(),
-            texture.height(),
-            texture.format(),
-        );
+        let mut desc =
+            crate::graph::TextureDesc::new_2d(texture.width(), texture.height(), texture.format());
         desc.sample_count = texture.sample_count();
         desc.layers = texture.depth_or_array_layers();
         let handle = graph.import_texture(name, desc, access);

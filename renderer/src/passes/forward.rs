@@ -248,15 +248,7 @@ impl ForwardPass {
                 frame_resources.push(ctx.buffer(l.indices).as_entire_binding());
             }
             let mut entries = super::entries(&frame_resources);
-            // The `shadow_atlas` library's bindings.
-            let shadow_resources = [
-                shadows.views.as_entire_binding(),
-                wgpu::BindingResource::TextureView(&shadows.atlas_view),
-                wgpu::BindingResource::Sampler(&shadows.sampler),
-            ];
-            for (binding, resource) in (6..).zip(shadow_resources) {
-                entries.push(wgpu::BindGroupEntry { binding, resource });
-            }
+            entries.extend(shadows.entries());
             let frame_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("forward frame"),
                 layout: &layout,

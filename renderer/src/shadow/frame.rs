@@ -139,6 +139,7 @@ impl ShadowPlanner {
             evicted: atlas_plan.evicted,
             repacked: atlas_plan.repacked,
             cache: CacheCounts::of(&plan.regions),
+            regions: regions.iter().map(|r| (r.key, r.rect)).collect(),
         };
         plan
     }
@@ -196,7 +197,10 @@ impl ShadowPlanner {
 /// The views of a granted light, face for face.
 fn light_views(input: &PlanInputs<'_>, grant: &ShadowGrant) -> Vec<LightView> {
     if grant.light >= DIRECTIONAL_ID {
-        let Some(l) = input.directional.get((grant.light - DIRECTIONAL_ID) as usize) else {
+        let Some(l) = input
+            .directional
+            .get((grant.light - DIRECTIONAL_ID) as usize)
+        else {
             return Vec::new();
         };
         let world_from_view = input.camera_view.inverse();
@@ -219,7 +223,13 @@ fn light_views(input: &PlanInputs<'_>, grant: &ShadowGrant) -> Vec<LightView> {
     let range = reach(l, &input.scene_bounds);
     match l.kind {
         LightKind::Spot { outer_cone, .. } => {
-            vec![spot_view(l.position, l.direction, outer_cone, range, grant.side)]
+            vec![spot_view(
+                l.position,
+                l.direction,
+                outer_cone,
+                range,
+                grant.side,
+            )]
         }
         _ => cube_views(l.position, range, grant.side, CUBE_GUARD).to_vec(),
     }

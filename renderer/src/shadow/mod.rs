@@ -66,4 +66,6 @@ pub struct ShadowReport {
     pub repacked: bool,
     /// Region work and caster draws.
     pub cache: cache::CacheCounts,
+    /// Every region of the frame: its light, its face and where it is.
+    pub regions: Vec<(cache::RegionKey, atlas::AtlasRect)>,
 }

@@ -19,10 +19,7 @@ pub mod shadow_caster {
     static DRAW: Draw;
 
     #[vertex]
-    pub fn vs_caster(
-        #[location(0)] position: Vec3,
-        #[builtin(instance_index)] view: u32,
-    ) -> Vec4 {
+    pub fn vs_caster(#[location(0)] position: Vec3, #[builtin(instance_index)] view: u32) -> Vec4 {
         clip_position(VIEWS[view].clip_from_world, DRAW.world_from_mesh, position)
     }
 }

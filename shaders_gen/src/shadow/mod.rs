@@ -1,6 +1,8 @@
-//! The shadow-atlas pass's own shaders: drawing casters into atlas regions, and composing a
-//! region from the static cache.
+//! The shadow-atlas pass's own shaders: drawing casters into atlas regions, composing a region
+//! from the static cache, and the atlas debug view.
 
+pub mod atlas_view;
 pub mod casters;
 
+pub use atlas_view::shadow_atlas_view;
 pub use casters::{shadow_caster, shadow_compose};

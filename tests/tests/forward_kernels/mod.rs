@@ -199,6 +199,30 @@ pub fn draw_forward(
         group0.push((4, grid.as_entire_binding()));
         group0.push((5, indices.as_entire_binding()));
     }
+    // No light has a shadow here (`NO_SHADOW`): a placeholder atlas and view record.
+    let shadow_views = storage(gpu, &[0u8; size_of::<forward::ShadowView>()]);
+    let shadow_atlas = gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("placeholder shadow atlas"),
+        size: wgpu::Extent3d {
+            width: 1,
+            height: 1,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Depth32Float,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING,
+        view_formats: &[],
+    });
+    let shadow_view = shadow_atlas.create_view(&Default::default());
+    let shadow_sampler = gpu.device.create_sampler(&wgpu::SamplerDescriptor {
+        compare: Some(wgpu::CompareFunction::GreaterEqual),
+        ..Default::default()
+    });
+    group0.push((6, shadow_views.as_entire_binding()));
+    group0.push((7, wgpu::BindingResource::TextureView(&shadow_view)));
+    group0.push((8, wgpu::BindingResource::Sampler(&shadow_sampler)));
     let g0 = bind_group(gpu, &p, 0, group0);
     let draw = uniform(gpu, &inputs.draw);
     let g1 = bind_group(gpu, &p, 1, vec![(0, draw.as_entire_binding())]);

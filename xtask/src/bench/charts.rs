@@ -22,7 +22,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use super::record::CellRecord;
 
 /// The family name the loaded font is registered under (plotters' default family).
-const FONT: &str = "sans-serif";
+pub(crate) const FONT: &str = "sans-serif";
 
 /// Where a sans-serif TrueType font usually lives: Debian/Ubuntu, Fedora, Arch, macOS.
 pub(crate) const FONT_PATHS: &[&str] = &[
@@ -398,7 +398,7 @@ fn render_png(
 }
 
 /// Loads the first font of [`FONT_PATHS`] and registers it for plotters, once per process.
-fn register_font() -> Result<()> {
+pub(crate) fn register_font() -> Result<()> {
     static REGISTERED: OnceLock<Result<(), String>> = OnceLock::new();
     let registered = REGISTERED.get_or_init(|| {
         for path in FONT_PATHS {

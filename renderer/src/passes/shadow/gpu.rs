@@ -261,7 +261,15 @@ impl Recording {
     pub fn record(&self, encoder: &mut wgpu::CommandEncoder, atlas: &wgpu::TextureView) {
         let redraws: Vec<(u32, &RegionPlan)> = self
             .indexed()
-            .filter(|(_, r)| matches!(r.work, RegionWork::Compose { redraw_static: true, .. }))
+            .filter(|(_, r)| {
+                matches!(
+                    r.work,
+                    RegionWork::Compose {
+                        redraw_static: true,
+                        ..
+                    }
+                )
+            })
             .collect();
         if let (Some(static_view), false) = (&self.static_atlas, redraws.is_empty()) {
             let mut pass = depth_pass(encoder, "shadow static cache", static_view);

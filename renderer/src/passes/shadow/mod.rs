@@ -9,8 +9,10 @@
 //! a draw or a copy: a frame where nothing changed runs no shadow work at all.
 
 mod gpu;
+mod view;
 
 pub use gpu::SHADOW_FORMAT;
+pub use view::ShadowAtlasViewPass;
 
 use std::sync::Arc;
 
@@ -45,7 +47,9 @@ impl ShadowPass {
     pub fn new(gpu: &crate::GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
         let s = &config.shadows;
         let max = gpu.device.limits().max_texture_dimension_2d;
-        let min = s.min_resolution.max(s.cascade_resolution.min(s.max_resolution));
+        let min = s
+            .min_resolution
+            .max(s.cascade_resolution.min(s.max_resolution));
         if s.enabled && !(min..=max).contains(&s.atlas_size) {
             return Err(RenderError::ShadowAtlasSize {
                 asked: s.atlas_size,
@@ -180,9 +184,7 @@ impl Pass for ShadowPass {
             return Ok(());
         }
         let casters = casters(frame);
-        let scene_bounds = casters
-            .iter()
-            .fold(Aabb::EMPTY, |b, c| b.union(c.bounds));
+        let scene_bounds = casters.iter().fold(Aabb::EMPTY, |b, c| b.union(c.bounds));
         let inputs = PlanInputs {
             config,
             punctual: &frame.lights.punctual_sources,
@@ -234,6 +236,16 @@ impl Pass for ShadowPass {
             views: t.views.clone(),
             atlas_view: t.atlas_view.clone(),
             sampler: t.sampler.clone(),
+            regions: Arc::new(
+                self.plan
+                    .regions
+                    .iter()
+                    .map(|r| {
+                        let (rect, light) = (r.region.rect, r.region.key.light);
+                        [rect.x, rect.y, rect.side, light]
+                    })
+                    .collect(),
+            ),
         });
         Ok(())
     }

@@ -1,0 +1,104 @@
+//! The shadow-atlas debug view ([`crate::frame_data::FrameView::ShadowAtlas`]): the atlas
+//! drawn into the output, letterboxed, depth as grey, each region outlined in its light's
+//! colour. Tools label the regions from [`crate::shadow::ShadowReport::regions`].
+
+use shaders_gen::shadow::shadow_atlas_view;
+use wgpu::util::DeviceExt as _;
+
+use super::super::{Pass, color_pass, entries, fullscreen_pipeline};
+use crate::GpuContext;
+use crate::frame_data::{FrameInputs, FrameResources, RenderError, RendererConfig};
+use crate::graph::{RenderGraph, TextureAccess};
+use crate::shader::ShaderProgram;
+
+/// The atlas view pass.
+#[derive(Debug)]
+pub struct ShadowAtlasViewPass {
+    program: ShaderProgram,
+    pipeline: wgpu::RenderPipeline,
+    params: wgpu::Buffer,
+}
+
+impl ShadowAtlasViewPass {
+    pub fn new(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
+        let program = ShaderProgram::new(
+            &gpu.device,
+            gpu.capabilities(),
+            &shadow_atlas_view::VARIANTS[0],
+        )?;
+        Ok(Self {
+            pipeline: fullscreen_pipeline(&gpu.device, &program, "fs_atlas", config.output_format),
+            program,
+            params: gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("shadow atlas view"),
+                size: size_of::<shadow_atlas_view::AtlasViewParams>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+        })
+    }
+}
+
+impl Pass for ShadowAtlasViewPass {
+    fn name(&self) -> &'static str {
+        "shadow atlas view"
+    }
+
+    fn add_to_graph(
+        &self,
+        graph: &mut RenderGraph,
+        frame: &FrameInputs,
+        resources: &mut FrameResources,
+    ) -> Result<(), RenderError> {
+        let shadows = resources.shadows.clone().ok_or(RenderError::MissingInput {
+            pass: "shadow atlas view",
+            input: "shadow atlas",
+        })?;
+        let mut regions: Vec<[u32; 4]> = shadows.regions.to_vec();
+        let count = regions.len() as u32;
+        if regions.is_empty() {
+            regions.push([0; 4]);
+        }
+        let params = shadow_atlas_view::AtlasViewParams::new(
+            frame.screen(),
+            shadows.atlas_view.texture().width(),
+            count,
+        );
+        let queue = &frame.gpu.queue;
+        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+        let region_buffer =
+            frame
+                .gpu
+                .device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("shadow atlas view regions"),
+                    contents: bytemuck::cast_slice(&regions),
+                    usage: wgpu::BufferUsages::STORAGE,
+                });
+        let target = resources.output;
+        let layout = self.program.bind_group_layouts[0].clone();
+        let (pipeline, params) = (self.pipeline.clone(), self.params.clone());
+        graph
+            .add_pass(self.name())
+            .read_texture(shadows.atlas, TextureAccess::Sampled)
+            .write_texture(&mut resources.output, TextureAccess::ColorAttachment)
+            .execute(move |ctx| {
+                let out_view = ctx.texture(target).create_view(&Default::default());
+                let bound = [
+                    params.as_entire_binding(),
+                    wgpu::BindingResource::TextureView(&shadows.atlas_view),
+                    region_buffer.as_entire_binding(),
+                ];
+                let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("shadow atlas view"),
+                    layout: &layout,
+                    entries: &entries(&bound),
+                });
+                let mut pass = color_pass(ctx.encoder, "shadow atlas view", &out_view);
+                pass.set_pipeline(&pipeline);
+                pass.set_bind_group(0, &bind_group, &[]);
+                pass.draw(0..3, 0..1);
+            });
+        Ok(())
+    }
+}
