@@ -112,6 +112,7 @@ fn a_pass_from_outside_the_renderer_joins_the_frame() {
             [
                 "pre-z",
                 "light culling",
+                "shadow atlas",
                 "forward",
                 "hdr snapshot",
                 "tonemap",

@@ -299,7 +299,10 @@ fn an_unchanged_frame_does_no_shadow_work() {
         let mut s = Session::new(gpu, cache_config(true), &shadow_scene::lights());
         let (first, r1) = s.frame();
         let (second, r2) = s.frame();
-        eprintln!("frame 1: {r1:?}\nframe 2: {r2:?}");
+        eprintln!(
+            "frame 1: {:?}, {:?}\nframe 2: {:?}",
+            r1.resolution_histogram, r1.cache, r2.cache
+        );
         assert_eq!((r1.requested, r1.shadowed), (3, 3), "{r1:?}");
         let total = regions(&r1);
         assert_eq!(total, 1 + 6 + 4);
@@ -462,7 +465,10 @@ fn a_full_atlas_degrades_and_evicts_but_renders() {
     gpu_test(|gpu| {
         let f = render_frame_from(gpu, &scene, c, &lights, &camera());
         let r = f.report.shadows.expect("shadow report");
-        eprintln!("{r:?}");
+        eprintln!(
+            "full atlas: {} requested, {} shadowed, degraded {:?}, evicted {:?}, regions {:?}",
+            r.requested, r.shadowed, r.degraded, r.evicted, r.resolution_histogram
+        );
         assert!(r.requested > 2, "{r:?}");
         assert!(!r.evicted.is_empty() || !r.degraded.is_empty(), "{r:?}");
         for &(light, asked, granted) in &r.degraded {

@@ -48,7 +48,10 @@ fn every_option_refuses_bad_values_with_a_clear_message() {
         &["--path", "warp"],
         "path \"warp\": use naive, naive-prez, tiled, 2.5d or clustered",
     );
-    refused(&["--view", "x"], "--view \"x\": use lit or heatmap");
+    refused(
+        &["--view", "x"],
+        "--view \"x\": use lit, heatmap or shadow-atlas",
+    );
     refused(
         &["--scalarize", "maybe"],
         "--scalarize \"maybe\": use auto, on or off",
