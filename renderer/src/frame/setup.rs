@@ -157,7 +157,7 @@ pub fn pick_shadowed(
     viewport_height: f32,
     count: usize,
 ) -> usize {
-    let fovy = 2.0 * (1.0 / camera.projection.y_axis.y).atan();
+    let fovy = crate::shadow::resolution::projection_fovy(camera.projection);
     let mut ranked: Vec<(f32, usize)> = lights
         .iter()
         .enumerate()

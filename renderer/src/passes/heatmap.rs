@@ -4,7 +4,7 @@
 
 use shaders_gen::forward::heatmap;
 
-use super::{Pass, color_pass, entries, fullscreen_pipeline};
+use super::{Pass, draw_fullscreen, fullscreen_pipeline};
 use crate::GpuContext;
 use crate::culling::reference::Method;
 use crate::frame_data::{
@@ -119,23 +119,25 @@ impl Pass for HeatmapPass {
             let depth_view =
                 needs_depth.then(|| ctx.texture(depth).create_view(&Default::default()));
             let out_view = ctx.texture(target).create_view(&Default::default());
+            let (grid, indices) = (
+                ctx.buffer(lists.grid).clone(),
+                ctx.buffer(lists.indices).clone(),
+            );
             let mut bound = vec![
                 params.as_entire_binding(),
-                ctx.buffer(lists.grid).as_entire_binding(),
-                ctx.buffer(lists.indices).as_entire_binding(),
+                grid.as_entire_binding(),
+                indices.as_entire_binding(),
             ];
             if let Some(view) = &depth_view {
                 bound.push(wgpu::BindingResource::TextureView(view));
             }
-            let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("light heatmap"),
-                layout: &layout,
-                entries: &entries(&bound),
-            });
-            let mut pass = color_pass(ctx.encoder, "light heatmap", &out_view);
-            pass.set_pipeline(&pipeline);
-            pass.set_bind_group(0, &bind_group, &[]);
-            pass.draw(0..3, 0..1);
+            draw_fullscreen(
+                ctx,
+                "light heatmap",
+                (&layout, &pipeline),
+                &bound,
+                &out_view,
+            );
         });
         Ok(())
     }

@@ -3,7 +3,7 @@
 
 use shaders_gen::forward::tonemap;
 
-use super::{Pass, color_pass, entries, fullscreen_pipeline};
+use super::{Pass, draw_fullscreen, fullscreen_pipeline};
 use crate::GpuContext;
 use crate::frame_data::{FrameInputs, FrameResources, RenderError, RendererConfig};
 use crate::graph::{RenderGraph, TextureAccess};
@@ -75,18 +75,11 @@ impl Pass for TonemapPass {
             .execute(move |ctx| {
                 let hdr_view = ctx.texture(hdr).create_view(&Default::default());
                 let out_view = ctx.texture(target).create_view(&Default::default());
-                let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("tonemap"),
-                    layout: &layout,
-                    entries: &entries(&[
-                        params.as_entire_binding(),
-                        wgpu::BindingResource::TextureView(&hdr_view),
-                    ]),
-                });
-                let mut pass = color_pass(ctx.encoder, "tonemap", &out_view);
-                pass.set_pipeline(&pipeline);
-                pass.set_bind_group(0, &bind_group, &[]);
-                pass.draw(0..3, 0..1);
+                let bound = [
+                    params.as_entire_binding(),
+                    wgpu::BindingResource::TextureView(&hdr_view),
+                ];
+                draw_fullscreen(ctx, "tonemap", (&layout, &pipeline), &bound, &out_view);
             });
         Ok(())
     }

@@ -9,7 +9,7 @@ use glam::{Mat4, Vec4};
 
 use super::atlas::{AtlasRect, ShadowAtlas, ShadowGrant, ShadowRequest};
 use super::cache::{CacheCounts, Caster, RegionInput, RegionKey, RegionPlan, ShadowCache};
-use super::resolution::{Hysteresis, desired_log2, screen_radius_px};
+use super::resolution::{Hysteresis, desired_log2, projection_fovy, screen_radius_px};
 use super::views::{LightView, cascade_views, cube_views, spot_view};
 use super::{ShadowConfig, ShadowReport};
 use crate::scene::{Aabb, LightKind, SceneLight};
@@ -148,7 +148,7 @@ impl ShadowPlanner {
     /// something, sized by its influence on screen (with hysteresis).
     fn requests(&mut self, input: &PlanInputs<'_>) -> Vec<ShadowRequest> {
         let c = input.config;
-        let fovy = fovy_of(input.camera_projection);
+        let fovy = projection_fovy(input.camera_projection);
         let mut requests = Vec::new();
         for (i, l) in input.punctual.iter().enumerate() {
             if !l.casts_shadow {
@@ -207,7 +207,7 @@ fn light_views(input: &PlanInputs<'_>, grant: &ShadowGrant) -> Vec<LightView> {
         let proj = input.camera_projection;
         return cascade_views(
             world_from_view,
-            fovy_of(proj),
+            projection_fovy(proj),
             proj.y_axis.y / proj.x_axis.x,
             input.camera_near,
             input.config.directional_distance,
@@ -246,11 +246,6 @@ pub fn reach(l: &SceneLight, scene: &Aabb) -> f32 {
     })
 }
 
-/// The vertical field of view of a perspective projection.
-fn fovy_of(projection: Mat4) -> f32 {
-    2.0 * (1.0 / projection.y_axis.y).atan()
-}
-
 /// `rect` in UV of an `atlas`-texel atlas.
 fn rect_uv(rect: AtlasRect, atlas: u32) -> Vec4 {
     let s = atlas.max(1) as f32;
@@ -260,9 +255,4 @@ fn rect_uv(rect: AtlasRect, atlas: u32) -> Vec4 {
         rect.side as f32 / s,
         rect.side as f32 / s,
     )
-}
-
-/// World bounds of a caster placed by `world_from_mesh`.
-pub fn caster_bounds(local: Aabb, world_from_mesh: Mat4) -> Aabb {
-    local.transformed(world_from_mesh)
 }

@@ -14,6 +14,11 @@ pub const HYSTERESIS_LOG2: f32 = 0.75;
 /// Highest level [`Hysteresis`] returns (`1 << 31` is the largest power of two in a `u32`).
 const MAX_LEVEL: u32 = 31;
 
+/// The vertical field of view (radians) of a perspective projection.
+pub fn projection_fovy(projection: Mat4) -> f32 {
+    2.0 * (1.0 / projection.y_axis.y).atan()
+}
+
 /// Projected radius, in pixels, of the sphere of influence (`center`, `radius`, world space) of
 /// a light seen through a perspective camera.
 ///

@@ -134,27 +134,27 @@ pub mod shadow_atlas {
     ) -> f32 {
         let mut lit = 1.0;
         if shadow != NO_SHADOW {
-            let head = SHADOW_VIEWS[shadow];
-            // Every view of a light has the same texel size: offset first, then pick the face
-            // from the offset point, so the lookup never leaves the chosen face's region.
-            let mut texel = head.texel_world;
-            if head.orthographic == 0u32 {
-                texel = texel * (p - light_position).length();
-            }
-            let q = p + geometric_normal * (texel * NORMAL_OFFSET);
+            let faces = SHADOW_VIEWS[shadow].faces;
             let mut index = shadow;
             let mut inside = true;
-            if head.faces == 6u32 {
-                index = shadow + cube_face(q - light_position);
-            } else if head.faces == 4u32 {
+            if faces == 4u32 {
                 let c = cascade_of(shadow, view_depth, dither);
                 inside = c < 4u32;
                 index = shadow + c.min(3u32);
-                texel = SHADOW_VIEWS[index].texel_world;
+            }
+            // The offset point, in texels of the chosen view (all six cube faces share one
+            // texel size). A cube face is picked from the offset point, so the lookup never
+            // leaves that face's region.
+            let mut texel = SHADOW_VIEWS[index].texel_world;
+            if SHADOW_VIEWS[index].orthographic == 0u32 {
+                texel = texel * (p - light_position).length();
+            }
+            let q = p + geometric_normal * (texel * NORMAL_OFFSET);
+            if faces == 6u32 {
+                index = shadow + cube_face(q - light_position);
             }
             if inside {
-                let view = SHADOW_VIEWS[index];
-                lit = filtered(view, p + geometric_normal * (texel * NORMAL_OFFSET));
+                lit = filtered(SHADOW_VIEWS[index], q);
             }
         }
         lit

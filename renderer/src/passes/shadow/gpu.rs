@@ -128,7 +128,7 @@ pub struct ShadowTargets {
     pub atlas: wgpu::Texture,
     pub atlas_view: wgpu::TextureView,
     /// Static casters' depth (cached mode only).
-    pub static_atlas: Option<wgpu::Texture>,
+    pub static_atlas: Option<wgpu::TextureView>,
     pub sampler: wgpu::Sampler,
     /// `SHADOW_VIEWS` for shading.
     pub views: wgpu::Buffer,
@@ -152,15 +152,16 @@ impl ShadowTargets {
         capacity: usize,
     ) -> Self {
         let atlas = atlas_texture(device, "shadow atlas", size);
-        let static_atlas = cached.then(|| atlas_texture(device, "shadow static cache", size));
+        let static_atlas = cached.then(|| {
+            atlas_texture(device, "shadow static cache", size).create_view(&Default::default())
+        });
         let capacity = capacity.max(1);
         let (views, caster_views, caster_group) = view_buffers(device, pipelines, capacity);
-        let copy_group = static_atlas.as_ref().map(|t| {
-            let view = t.create_view(&Default::default());
+        let copy_group = static_atlas.as_ref().map(|view| {
             device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("shadow static cache"),
                 layout: &pipelines.compose_program.bind_group_layouts[0],
-                entries: &super::super::entries(&[wgpu::BindingResource::TextureView(&view)]),
+                entries: &super::super::entries(&[wgpu::BindingResource::TextureView(view)]),
             })
         });
         Self {

@@ -74,11 +74,6 @@ impl ShadowPass {
         &self.plan
     }
 
-    /// The atlas texture (for debug views and tools).
-    pub fn atlas(&self) -> &wgpu::Texture {
-        &self.targets.atlas
-    }
-
     /// Writes the view records and the casters' matrices of the plan.
     fn upload_views(&mut self, frame: &FrameInputs) {
         let views = &self.plan.views;
@@ -109,12 +104,8 @@ impl ShadowPass {
         let index = |s: &Option<u32>| s.unwrap_or(NO_SHADOW);
         let punctual: Vec<u32> = self.plan.punctual_shadow.iter().map(index).collect();
         let directional: Vec<u32> = self.plan.directional_shadow.iter().map(index).collect();
-        let same_set = self
-            .written
-            .as_ref()
-            .is_some_and(|(set, ..)| Arc::ptr_eq(set, &frame.lights));
-        let (old_p, old_d) = match (&self.written, same_set) {
-            (Some((_, p, d)), true) => (p.clone(), d.clone()),
+        let (old_p, old_d) = match self.written.take() {
+            Some((set, p, d)) if Arc::ptr_eq(&set, &frame.lights) => (p, d),
             // A new light set starts with every light at NO_SHADOW.
             _ => (
                 vec![NO_SHADOW; punctual.len()],
@@ -220,10 +211,7 @@ impl Pass for ShadowPass {
                 copy: self.pipelines.copy.clone(),
                 caster_group: t.caster_group.clone(),
                 copy_group: t.copy_group.clone(),
-                static_atlas: t
-                    .static_atlas
-                    .as_ref()
-                    .map(|s| s.create_view(&Default::default())),
+                static_atlas: t.static_atlas.clone(),
             };
             let target = t.atlas_view.clone();
             graph

@@ -5,7 +5,7 @@
 use shaders_gen::shadow::shadow_atlas_view;
 use wgpu::util::DeviceExt as _;
 
-use super::super::{Pass, color_pass, entries, fullscreen_pipeline};
+use super::super::{Pass, draw_fullscreen, fullscreen_pipeline};
 use crate::GpuContext;
 use crate::frame_data::{FrameInputs, FrameResources, RenderError, RendererConfig};
 use crate::graph::{RenderGraph, TextureAccess};
@@ -89,15 +89,8 @@ impl Pass for ShadowAtlasViewPass {
                     wgpu::BindingResource::TextureView(&shadows.atlas_view),
                     region_buffer.as_entire_binding(),
                 ];
-                let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("shadow atlas view"),
-                    layout: &layout,
-                    entries: &entries(&bound),
-                });
-                let mut pass = color_pass(ctx.encoder, "shadow atlas view", &out_view);
-                pass.set_pipeline(&pipeline);
-                pass.set_bind_group(0, &bind_group, &[]);
-                pass.draw(0..3, 0..1);
+                let label = "shadow atlas view";
+                draw_fullscreen(ctx, label, (&layout, &pipeline), &bound, &out_view);
             });
         Ok(())
     }
