@@ -9,7 +9,7 @@
 
 use anyhow::{Context as _, Result};
 use glam::{Mat4, Vec3};
-use renderer::frame::setup::create_target;
+use renderer::frame::setup::{create_target, moving_instance};
 use renderer::frame::{FrameView, Renderer};
 use renderer::scene::{LightKind, SceneLight};
 use renderer::shadow::ShadowReport;
@@ -98,12 +98,7 @@ fn moving_sphere(s: &Setup) -> Result<[ShadowReport; 3]> {
     let mut renderer = Renderer::new(&s.gpu, s.config)?;
     renderer.prepare_scene(&s.scene);
     renderer.set_lights(&s.lights)?;
-    let sphere = s
-        .scene
-        .instances
-        .iter()
-        .rposition(|i| s.scene.meshes[i.mesh].name.starts_with("sphere"))
-        .context("the courtyard has spheres")?;
+    let sphere = moving_instance(&s.scene).context("the courtyard has instances")?;
     renderer.set_instance_dynamic(sphere, true)?;
     let target = create_target(&s.gpu.device, &s.config);
     let start = s.scene.instances[sphere].world_from_mesh;

@@ -181,6 +181,16 @@ pub fn pick_shadowed(
     ranked.len().min(count)
 }
 
+/// The instance tools move to exercise dynamic shadows: the scene's last sphere (the built-in
+/// courtyard has several), else its last instance; `None` for a scene without instances.
+pub fn moving_instance(scene: &Scene) -> Option<usize> {
+    scene
+        .instances
+        .iter()
+        .rposition(|i| scene.meshes[i.mesh].name.starts_with("sphere"))
+        .or_else(|| scene.instances.len().checked_sub(1))
+}
+
 /// A saturated colour around the hue wheel.
 fn hue_to_rgb(h: f32) -> Vec3 {
     let k = |n: f32| {

@@ -140,6 +140,7 @@ impl ShadowPlanner {
             repacked: atlas_plan.repacked,
             cache: CacheCounts::of(&plan.regions),
             regions: regions.iter().map(|r| (r.key, r.rect)).collect(),
+            cpu_plan_ms: 0.0,
         };
         plan
     }

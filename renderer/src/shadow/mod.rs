@@ -68,4 +68,7 @@ pub struct ShadowReport {
     pub cache: cache::CacheCounts,
     /// Every region of the frame: its light, its face and where it is.
     pub regions: Vec<(cache::RegionKey, atlas::AtlasRect)>,
+    /// CPU time of the frame's shadow planning and uploads (requests, allocation, views,
+    /// caster culling, cache decisions, view records), in milliseconds.
+    pub cpu_plan_ms: f64,
 }

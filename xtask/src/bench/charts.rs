@@ -63,7 +63,12 @@ const COLORS: [RGBColor; 10] = [
 /// skipped; empty `records` write nothing.
 pub fn write_charts(records: &[CellRecord], out_dir: &Path) -> Result<Vec<PathBuf>> {
     let mut written = Vec::new();
-    for (group, records) in groups(records) {
+    let matrix: Vec<CellRecord> = records
+        .iter()
+        .filter(|r| !r.is_shadow_cell())
+        .cloned()
+        .collect();
+    for (group, records) in groups(&matrix) {
         let gpu = out_dir.join(format!("gpu_{}.png", group.file_stem()));
         if write_gpu_chart(&group, &records, &gpu)? {
             written.push(gpu);
@@ -559,6 +564,7 @@ mod tests {
             cull_floor_us: None,
             dropped: 0,
             note: String::new(),
+            ..Default::default()
         }
     }
 

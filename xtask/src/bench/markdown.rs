@@ -1,5 +1,6 @@
 //! The Markdown report of a run: a table per scene, size and MSAA, and the comparisons the
-//! benchmark exists for (Forward+ against naive forward, scalarized against not).
+//! benchmark exists for (Forward+ against naive forward, scalarized against not, shadows
+//! against none).
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -37,13 +38,21 @@ fn groups(records: &[CellRecord]) -> BTreeMap<GroupKey, Vec<&CellRecord>> {
     g
 }
 
-/// The whole report: `meta` (adapter, command, calibration) first, then the tables.
-pub fn report(meta: &str, records: &[CellRecord]) -> String {
+/// The whole report: `meta` (adapter, command, calibration) first, then the tables of the light
+/// matrix, then the shadow axis.
+pub fn report(meta: &str, all: &[CellRecord]) -> String {
+    let matrix: Vec<CellRecord> = all
+        .iter()
+        .filter(|r| !r.is_shadow_cell())
+        .cloned()
+        .collect();
+    let records = &matrix[..];
     let mut out = String::new();
     out += meta;
     out += "\n";
     out += &speedups(records);
     out += &scalarization(records);
+    out += &super::shadows::markdown(all);
     for ((scene, w, h, msaa), rows) in groups(records) {
         let _ = writeln!(out, "\n### {scene}, {w}×{h}, MSAA {msaa}\n");
         out += "GPU ms, median (p90); floor and ratio for the culling pass; CPU = build + \

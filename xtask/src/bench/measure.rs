@@ -1,7 +1,10 @@
 //! Measuring one cell: warm-up frames, then timed frames back to back (at most one frame in
-//! flight ahead of the CPU), each with freshly moved lights; per-pass GPU timestamps, the CPU
-//! time of the frame graph, and the overflow counters. Then one captured frame for the cull
-//! efficiency.
+//! flight ahead of the CPU), each after the cell's own change of scene (moved lights, a moved
+//! object, or none); per-pass GPU timestamps, the CPU time of the frame graph and of shadow
+//! planning, and the overflow counters. Then one captured frame for the cull efficiency.
+//!
+//! A pass that a frame skipped (the shadow pass when nothing changed) counts as 0 ms in that
+//! frame, so its median is the cost per frame, not per frame that ran it.
 
 use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
@@ -10,6 +13,7 @@ use anyhow::{Result, ensure};
 use renderer::frame::capture::SurfaceProbe;
 use renderer::frame::{FrameCamera, Renderer};
 use renderer::graph::PassTiming;
+use renderer::shadow::ShadowReport;
 
 use super::calibrate::percentile;
 use super::lights::MovingLights;
@@ -53,6 +57,10 @@ pub struct Measured {
     pub total: Samples,
     pub cpu_graph_ms: Samples,
     pub cpu_upload_ms: Samples,
+    /// CPU ms of shadow planning (empty without a shadow pass).
+    pub shadow_cpu_ms: Samples,
+    /// The shadow pass's report of the last timed frame.
+    pub shadows: Option<ShadowReport>,
     /// Frames whose timestamps came back.
     pub frames: u32,
     /// Most list entries dropped in any measured frame.
@@ -65,18 +73,21 @@ pub struct Measured {
     pub wall_per_frame: Duration,
 }
 
-/// Renders the cell's frames and collects their figures.
+/// What changes before frame `n` of a cell (`n` counts warm-up frames too).
+pub type Advance<'a> = dyn FnMut(&mut Renderer, u32) -> Result<()> + 'a;
+
+/// Renders the cell's frames, each after `advance`, and collects their figures.
 pub fn measure(
     renderer: &mut Renderer,
     target: &wgpu::Texture,
     camera: &FrameCamera,
-    lights: &MovingLights,
+    advance: &mut Advance<'_>,
     plan: FramePlan,
 ) -> Result<Measured> {
     let mut frame = 0u32;
     let mut dropped = 0;
-    let render = |renderer: &mut Renderer, frame: &mut u32| -> Result<_> {
-        renderer.set_lights(&lights.at(*frame))?;
+    let mut render = |renderer: &mut Renderer, frame: &mut u32| -> Result<_> {
+        advance(renderer, *frame)?;
         *frame += 1;
         let report = renderer.render(camera, target)?;
         renderer.wait_for_frames_in_flight(1)?;
@@ -96,6 +107,8 @@ pub fn measure(
     let mut timings: Vec<Vec<PassTiming>> = Vec::new();
     let mut cpu = Vec::new();
     let mut upload = Vec::new();
+    let mut shadow_cpu = Vec::new();
+    let mut shadows = None;
     let mut note = String::new();
     let timed = Instant::now();
     let mut rendered = 0;
@@ -104,6 +117,10 @@ pub fn measure(
         rendered += 1;
         cpu.push(report.cpu_graph_ms);
         upload.push(report.cpu_upload_ms);
+        if let Some(s) = report.shadows {
+            shadow_cpu.push(s.cpu_plan_ms);
+            shadows = Some(s);
+        }
         timings.extend(report.timings);
         timings.extend(renderer.drain_timings());
         if let Some(c) = report.culling {
@@ -135,14 +152,7 @@ pub fn measure(
     if let Some(c) = counters {
         dropped = dropped.max(c.dropped);
     }
-    let mut passes: BTreeMap<String, Vec<f64>> = BTreeMap::new();
-    let mut total = Vec::new();
-    for frame in &timings {
-        for t in frame {
-            passes.entry(t.pass.clone()).or_default().push(t.gpu_ms);
-        }
-        total.push(frame.iter().map(|t| t.gpu_ms).sum());
-    }
+    let (passes, total) = per_pass(&timings);
     Ok(Measured {
         passes: passes
             .into_iter()
@@ -151,12 +161,39 @@ pub fn measure(
         total: Samples::from(total),
         cpu_graph_ms: Samples::from(cpu),
         cpu_upload_ms: Samples::from(upload),
+        shadow_cpu_ms: Samples::from(shadow_cpu),
+        shadows,
         frames: timings.len() as u32,
         dropped,
         requested_entries: counters.map_or(0, |c| c.requested_entries),
         note,
         wall_per_frame,
     })
+}
+
+/// GPU ms per pass over `frames` (0 in a frame that skipped a pass some other frame ran), and
+/// the sum of all passes per frame.
+fn per_pass(frames: &[Vec<PassTiming>]) -> (BTreeMap<String, Vec<f64>>, Vec<f64>) {
+    let mut passes: BTreeMap<String, Vec<f64>> = BTreeMap::new();
+    for t in frames.iter().flatten() {
+        passes.entry(t.pass.clone()).or_default();
+    }
+    for frame in frames {
+        for (name, samples) in &mut passes {
+            samples.push(
+                frame
+                    .iter()
+                    .filter(|t| &t.pass == name)
+                    .map(|t| t.gpu_ms)
+                    .sum(),
+            );
+        }
+    }
+    let total = frames
+        .iter()
+        .map(|f| f.iter().map(|t| t.gpu_ms).sum())
+        .collect();
+    (passes, total)
 }
 
 /// Surface probes of a frame and the lights reaching each: the same for every culled path of a

@@ -8,9 +8,13 @@
 //! run writes `bench.csv` (one row per cell, written as it goes), `bench.md` and PNG charts.
 //! `--report CSV` re-renders the Markdown and charts from a CSV, e.g. one from a GPU machine.
 //!
-//! Module map: [`matrix`] (axes → set-ups), [`lights`] (the moving light set), [`measure`]
-//! (frames of one cell), [`calibrate`] (ceilings and floors), [`record`] (the CSV row),
-//! [`markdown`] and [`charts`] (reports).
+//! `--shadowed 16,64,256` turns the run into the shadow benchmark: every set-up and light count
+//! is measured with that many shadowed lights, per kind and per mode (static, one object moving,
+//! every light moving, cache off), beside the same frame without shadows ([`shadows`]).
+//!
+//! Module map: [`matrix`] (axes → set-ups), [`lights`] (the moving light set), [`shadows`] (the
+//! shadow axis), [`measure`] (frames of one cell), [`calibrate`] (ceilings and floors),
+//! [`record`] (the CSV row), [`markdown`] and [`charts`] (reports).
 
 mod calibrate;
 pub(crate) mod charts;
@@ -19,6 +23,7 @@ mod markdown;
 pub(crate) mod matrix;
 mod measure;
 mod record;
+mod shadows;
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -33,6 +38,7 @@ use renderer::{GpuContext, GpuOptions};
 use matrix::{Axes, PathChoice, Setup, Support};
 use measure::{FramePlan, Reaching};
 use record::{CellRecord, CsvSink};
+use shadows::{ShadowAxes, ShadowKind, ShadowMode};
 
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -109,6 +115,21 @@ pub struct Args {
     /// Internal: the parent's calibration, bytes/s and FLOP/s.
     #[arg(long, hide = true, value_delimiter = ',')]
     ceilings: Option<Vec<f64>>,
+    /// Shadowed light counts: with it, the run is the shadow benchmark (each count of the
+    /// procedural lights casts shadows, picked by screen influence; 0 adds the frame without
+    /// shadows). Each count must be at most every --lights count.
+    #[arg(long, value_delimiter = ',')]
+    shadowed: Vec<u32>,
+    /// What the shadowed lights are: point (six cube faces each), spot (pointing down).
+    #[arg(long, value_delimiter = ',', default_value = "point,spot")]
+    shadow_kinds: Vec<String>,
+    /// What changes between frames: static (everything cached), moving (one dynamic object
+    /// moves), lights-moving (every light moves), uncached (static, cache off).
+    #[arg(long, value_delimiter = ',', default_value = "static,moving,uncached")]
+    shadow_modes: Vec<String>,
+    /// Side of the shadow atlas in texels.
+    #[arg(long, default_value_t = 8192)]
+    shadow_atlas: u32,
     /// Output folder for bench.csv, bench.md and the charts.
     #[arg(long, default_value = "target/bench")]
     out: PathBuf,
@@ -219,10 +240,52 @@ fn axes(args: &Args, scenes: &[BenchScene]) -> Result<Axes> {
     Ok(axes)
 }
 
+/// The shadow axis; empty without `--shadowed`.
+fn shadow_axes(args: &Args, axes: &Axes) -> Result<ShadowAxes> {
+    let fewest = axes.lights.iter().copied().min().unwrap_or(0);
+    for &n in &args.shadowed {
+        anyhow::ensure!(
+            n <= fewest,
+            "--shadowed {n}: more than the {fewest} lights of --lights; give --lights {n} or more"
+        );
+    }
+    Ok(ShadowAxes {
+        counts: args.shadowed.clone(),
+        kinds: args
+            .shadow_kinds
+            .iter()
+            .map(|k| ShadowKind::parse(k))
+            .collect::<Result<_>>()?,
+        modes: args
+            .shadow_modes
+            .iter()
+            .map(|m| ShadowMode::parse(m))
+            .collect::<Result<_>>()?,
+    })
+}
+
+/// The renderer configuration of a set-up.
+fn renderer_config(args: &Args, setup: &Setup) -> RendererConfig {
+    let mut config = RendererConfig {
+        width: setup.width,
+        height: setup.height,
+        msaa: setup.msaa,
+        path: setup.path.0,
+        tile: setup.tile.max(8),
+        scalarize: setup.scalarize,
+        cull_brute_force: setup.brute_force,
+        time_cull_dispatches: args.cull_dispatch_times,
+        ..Default::default()
+    };
+    config.shadows.atlas_size = args.shadow_atlas;
+    config
+}
+
 #[expect(clippy::print_stdout, reason = "command-line report")]
 fn sweep(args: &Args, out: &Path) -> Result<()> {
     let scenes = load_scenes(args)?;
     let axes = axes(args, &scenes)?;
+    let shadow_cells = shadows::cells(&shadow_axes(args, &axes)?);
     let options = GpuOptions::from_env().with_adapter_name(args.adapter.clone());
     let gpu = GpuContext::new_blocking(&options)?;
     let caps = gpu.capabilities().clone();
@@ -288,7 +351,7 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
         std::fs::write(out.join("meta.md"), &meta)?;
     }
     let mut csv = CsvSink::create(&out.join(&csv_name))?;
-    let cells = (setups.len() * axes.lights.len()) as u64;
+    let cells = (setups.len() * axes.lights.len() * shadow_cells.len().max(1)) as u64;
     let bar =
         indicatif::ProgressBar::new(cells).with_style(indicatif::ProgressStyle::with_template(
             "{bar:40} {pos}/{len} cells, {elapsed_precise} elapsed, ETA {eta_precise}  {msg}",
@@ -298,17 +361,41 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
     let mut reaching: HashMap<(usize, u32, u32, u32, u32), Reaching> = HashMap::new();
     for setup in &setups {
         let bench_scene = &scenes[setup.scene];
-        let config = RendererConfig {
-            width: setup.width,
-            height: setup.height,
-            msaa: setup.msaa,
-            path: setup.path.0,
-            tile: setup.tile.max(8),
-            scalarize: setup.scalarize,
-            cull_brute_force: setup.brute_force,
-            time_cull_dispatches: args.cull_dispatch_times,
-            ..Default::default()
-        };
+        let config = renderer_config(args, setup);
+        if !shadow_cells.is_empty() {
+            for &n in &axes.lights {
+                let lights = lights::MovingLights::new(
+                    bench_scene.scene.bounds,
+                    n as usize,
+                    args.light_density,
+                    args.seed,
+                );
+                for &cell in &shadow_cells {
+                    bar.set_message(format!(
+                        "{} {}x{} msaa{} {} {n} lights, {}",
+                        bench_scene.name,
+                        setup.width,
+                        setup.height,
+                        setup.msaa,
+                        setup.path.name(),
+                        cell.label()
+                    ));
+                    let record = shadows::measure_cell(
+                        &gpu,
+                        bench_scene,
+                        setup,
+                        &lights,
+                        cell,
+                        config,
+                        plan,
+                    )?;
+                    csv.push(&record)?;
+                    records.push(record);
+                    bar.inc(1);
+                }
+            }
+            continue;
+        }
         let mut renderer = Renderer::new(&gpu, config)?;
         renderer.prepare_scene(&bench_scene.scene);
         let target = create_target(&gpu.device, &config);
@@ -342,7 +429,10 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
                     );
                 }
                 None => {
-                    let m = measure::measure(&mut renderer, &target, &camera, &lights, plan)?;
+                    let mut advance = |r: &mut Renderer, frame: u32| -> Result<()> {
+                        Ok(r.set_lights(&lights.at(frame))?)
+                    };
+                    let m = measure::measure(&mut renderer, &target, &camera, &mut advance, plan)?;
                     previous = Some((n, m.wall_per_frame));
                     fill(&mut record, &m, &renderer);
                     if setup.path.0 != RenderPath::Naive && setup.path.0 != RenderPath::NaivePrez {
@@ -498,6 +588,7 @@ fn empty_record(scene: &str, setup: &Setup, lights: u32) -> CellRecord {
         cull_floor_us: None,
         dropped: 0,
         note: String::new(),
+        ..Default::default()
     }
 }
 

@@ -12,7 +12,7 @@ use serde::{Deserialize, Serialize};
 /// One row of `bench.csv`: a cell of the matrix and what was measured for it. Times are GPU
 /// timestamps in milliseconds (median and p90 over `frames` timed frames); a pass the path does
 /// not run is empty.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 pub struct CellRecord {
     /// Scene name (file stem), `demo` for the built-in scene.
     pub scene: String,
@@ -69,6 +69,46 @@ pub struct CellRecord {
     /// List entries dropped in the measured frames (0 means the image is exact).
     pub dropped: u32,
     pub note: String,
+    /// Shadow axis (`--shadowed`): empty for a cell of the light matrix; otherwise `none` (no
+    /// light casts a shadow: the baseline), `static` (nothing moves: everything cached),
+    /// `moving` (one dynamic object moves every frame), `lights-moving` (every light moves every
+    /// frame) or `uncached` (nothing moves, the cache is off: every region redrawn every frame).
+    #[serde(default)]
+    pub shadow_mode: String,
+    /// `point` or `spot`: what the shadowed lights are (the others stay point lights).
+    #[serde(default)]
+    pub shadow_kind: String,
+    /// Lights asked to cast shadows.
+    #[serde(default)]
+    pub shadowed: u32,
+    /// Lights that got a shadow in the last timed frame (the atlas degrades, then evicts).
+    #[serde(default)]
+    pub shadows_granted: u32,
+    /// Atlas regions (spot lights, cube faces) and their work in the last timed frame.
+    #[serde(default)]
+    pub shadow_regions: u32,
+    #[serde(default)]
+    pub shadow_redrawn: u32,
+    #[serde(default)]
+    pub shadow_copied: u32,
+    #[serde(default)]
+    pub shadow_untouched: u32,
+    /// Caster draw calls of the last timed frame.
+    #[serde(default)]
+    pub shadow_draws: u32,
+    /// Lights the full atlas degraded or evicted in the last timed frame.
+    #[serde(default)]
+    pub shadow_degraded: u32,
+    #[serde(default)]
+    pub shadow_evicted: u32,
+    /// GPU ms of the shadow pass per frame (0 in frames that skipped it).
+    #[serde(default)]
+    pub shadow_median_ms: Option<f64>,
+    #[serde(default)]
+    pub shadow_p90_ms: Option<f64>,
+    /// CPU ms of shadow planning per frame.
+    #[serde(default)]
+    pub shadow_cpu_median_ms: Option<f64>,
 }
 
 impl CellRecord {
@@ -85,6 +125,11 @@ impl CellRecord {
             s += " brute";
         }
         s
+    }
+
+    /// Whether the cell belongs to the shadow axis (else to the light matrix).
+    pub fn is_shadow_cell(&self) -> bool {
+        !self.shadow_mode.is_empty()
     }
 
     /// Culling median over its floor, where both exist.

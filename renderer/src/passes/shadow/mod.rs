@@ -40,6 +40,8 @@ pub struct ShadowPass {
     plan: FramePlan,
     /// The light set whose `shadow` indices the buffers hold, and those indices.
     written: Option<(Arc<LightSet>, Vec<u32>, Vec<u32>)>,
+    /// The view records in the views buffer.
+    uploaded: Vec<forward::ShadowView>,
 }
 
 impl ShadowPass {
@@ -66,6 +68,7 @@ impl ShadowPass {
             planner: ShadowPlanner::default(),
             plan: FramePlan::default(),
             written: None,
+            uploaded: Vec::new(),
         })
     }
 
@@ -81,11 +84,18 @@ impl ShadowPass {
             let capacity = views.len().next_power_of_two();
             self.targets
                 .grow(&frame.gpu.device, &self.pipelines, capacity);
+            // New buffers hold nothing yet.
+            self.uploaded.clear();
         }
         if views.is_empty() {
             return;
         }
         let records: Vec<forward::ShadowView> = views.iter().map(view_record).collect();
+        // A frame whose views did not change (every region cached) uploads nothing.
+        if bytemuck::cast_slice::<_, u8>(&records) == bytemuck::cast_slice::<_, u8>(&self.uploaded)
+        {
+            return;
+        }
         let casters: Vec<shadow_caster::CasterView> = views
             .iter()
             .map(|v| shadow_caster::CasterView::new(v.view.clip_from_world))
@@ -97,6 +107,7 @@ impl ShadowPass {
             0,
             bytemuck::cast_slice(&casters),
         );
+        self.uploaded = records;
     }
 
     /// Writes the `shadow` field of every light whose first view changed.
@@ -174,6 +185,7 @@ impl Pass for ShadowPass {
             self.plan = FramePlan::default();
             return Ok(());
         }
+        let started = std::time::Instant::now();
         let casters = casters(frame);
         let scene_bounds = casters.iter().fold(Aabb::EMPTY, |b, c| b.union(c.bounds));
         let inputs = PlanInputs {
@@ -190,6 +202,7 @@ impl Pass for ShadowPass {
         self.plan = self.planner.plan(&inputs);
         self.upload_views(frame);
         self.write_light_indices(frame);
+        self.plan.report.cpu_plan_ms = started.elapsed().as_secs_f64() * 1e3;
         Ok(())
     }
 
