@@ -158,17 +158,23 @@ pub mod forward {
         }
     }
 
-    /// Radiance `light` reflects from `s` towards the eye, shadowed.
+    /// Radiance `light` reflects from `s` towards the eye, shadowed. The shadow lookup runs only
+    /// where the light reaches the surface at all: a listed light out of range or behind the
+    /// surface costs no atlas taps.
     fn light_contribution(light: GpuLight, s: Surface) -> Vec3 {
-        let visibility = shadow_visibility(
-            light.shadow,
-            light.position,
-            s.p,
-            s.geometric_normal,
-            s.view_depth,
-            s.dither,
-        );
-        shade_light(light, s.p, s.n, s.v, s.albedo, s.metallic, s.roughness) * visibility
+        let radiance = shade_light(light, s.p, s.n, s.v, s.albedo, s.metallic, s.roughness);
+        let mut visibility = 1.0;
+        if radiance.x + radiance.y + radiance.z > 0.0 {
+            visibility = shadow_visibility(
+                light.shadow,
+                light.position,
+                s.p,
+                s.geometric_normal,
+                s.view_depth,
+                s.dither,
+            );
+        }
+        radiance * visibility
     }
 
     /// The `GRID` cell of a fragment: its tile's list (opaque or transparent), or its froxel (by `light_grid`, like the
