@@ -319,8 +319,24 @@ mod tests {
     use glam::Vec3;
 
     use super::*;
-    use crate::frame::setup::Rng;
     use crate::shadow::views::cube_views;
+
+    /// A small seeded generator (a 64-bit LCG), uniform floats in `[lo, hi)`.
+    struct Lcg(u64);
+
+    impl Lcg {
+        fn next(&mut self) -> u64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            self.0 >> 33
+        }
+
+        fn range(&mut self, lo: f32, hi: f32) -> f32 {
+            lo + (hi - lo) * (self.next() as f32 / (1u64 << 31) as f32)
+        }
+    }
 
     /// The six faces of a point light at the origin with range 10, side by side.
     fn faces() -> Vec<RegionInput> {
@@ -452,7 +468,11 @@ mod tests {
         assert_eq!(counts(&plans).redrawn, 2);
         assert_eq!(counts(&plans).untouched, 3);
         let back = cache.plan(&regions, &casters(), true);
-        assert_eq!(counts(&back).redrawn, 1, "face 5 was forgotten, so it is new");
+        assert_eq!(
+            counts(&back).redrawn,
+            1,
+            "face 5 was forgotten, so it is new"
+        );
     }
 
     #[test]
@@ -462,7 +482,11 @@ mod tests {
             let plans = cache.plan(&faces(), &casters(), false);
             assert_eq!(counts(&plans).redrawn, 6);
             let down = &plans[3].work;
-            assert_eq!(down, &RegionWork::Direct { casters: vec![0] }, "−Y sees the floor");
+            assert_eq!(
+                down,
+                &RegionWork::Direct { casters: vec![0] },
+                "−Y sees the floor"
+            );
         }
     }
 
@@ -470,7 +494,7 @@ mod tests {
     /// every caster afresh.
     #[test]
     fn incremental_culling_equals_culling_afresh() {
-        let mut rng = Rng::new(7);
+        let mut rng = Lcg(7);
         let regions = faces();
         let mut casters: Vec<Caster> = (0..40)
             .map(|i| {
@@ -485,7 +509,7 @@ mod tests {
         let mut incremental = ShadowCache::default();
         for frame in 0..60 {
             for _ in 0..(frame % 4) {
-                let i = (rng.next_u64() % casters.len() as u64) as usize;
+                let i = (rng.next() % casters.len() as u64) as usize;
                 let c = &mut casters[i];
                 let step = Vec3::new(rng.range(-3.0, 3.0), rng.range(-3.0, 3.0), 0.0);
                 c.bounds = Aabb {

@@ -382,7 +382,7 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
                     ));
                     let record = shadows::measure_cell(
                         &gpu,
-                        bench_scene,
+                        (&bench_scene.name, &bench_scene.scene),
                         setup,
                         &lights,
                         cell,
@@ -408,7 +408,7 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
                 args.light_density,
                 args.seed,
             );
-            let mut record = empty_record(&bench_scene.name, setup, n);
+            let mut record = CellRecord::empty(&bench_scene.name, setup, n);
             bar.set_message(format!(
                 "{} {}x{} msaa{} {} {n}",
                 record.scene,
@@ -434,7 +434,7 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
                     };
                     let m = measure::measure(&mut renderer, &target, &camera, &mut advance, plan)?;
                     previous = Some((n, m.wall_per_frame));
-                    fill(&mut record, &m, &renderer);
+                    record.fill(&m, &renderer);
                     if setup.path.0 != RenderPath::Naive && setup.path.0 != RenderPath::NaivePrez {
                         let stride = probe_stride(setup.width, setup.height, args.probes);
                         let key = (setup.scene, setup.width, setup.height, setup.msaa, n);
@@ -552,70 +552,6 @@ fn write_charts(records: &[CellRecord], out: &Path) -> Result<()> {
 fn probe_stride(width: u32, height: u32, probes: u32) -> u32 {
     let area = f64::from(width) * f64::from(height);
     ((area / f64::from(probes.max(1))).sqrt().ceil() as u32).max(1)
-}
-
-fn empty_record(scene: &str, setup: &Setup, lights: u32) -> CellRecord {
-    CellRecord {
-        scene: scene.to_string(),
-        width: setup.width,
-        height: setup.height,
-        msaa: setup.msaa,
-        path: setup.path.name().to_string(),
-        tile: setup.tile,
-        scalarize: setup.scalarize,
-        brute_force: setup.brute_force,
-        lights,
-        frames: 0,
-        prez_median_ms: None,
-        prez_p90_ms: None,
-        cull_median_ms: None,
-        cull_p90_ms: None,
-        cull_depth_median_ms: None,
-        cull_coarse_median_ms: None,
-        cull_fine_median_ms: None,
-        forward_median_ms: None,
-        forward_p90_ms: None,
-        tonemap_median_ms: None,
-        tonemap_p90_ms: None,
-        gpu_total_median_ms: 0.0,
-        cpu_graph_median_ms: 0.0,
-        cpu_upload_median_ms: 0.0,
-        grid_bytes: 0,
-        index_bytes_used: 0,
-        index_bytes_allocated: 0,
-        cull_efficiency: None,
-        lights_reaching_mean: None,
-        cull_floor_us: None,
-        dropped: 0,
-        note: String::new(),
-        ..Default::default()
-    }
-}
-
-fn fill(record: &mut CellRecord, m: &measure::Measured, renderer: &Renderer) {
-    let pass = |name: &str| m.passes.get(name);
-    record.frames = m.frames;
-    record.prez_median_ms = pass("pre-z").and_then(|s| s.median());
-    record.prez_p90_ms = pass("pre-z").and_then(|s| s.p90());
-    record.cull_median_ms = pass("light culling").and_then(|s| s.median());
-    record.cull_p90_ms = pass("light culling").and_then(|s| s.p90());
-    record.cull_depth_median_ms = pass("cull: tile depth").and_then(|s| s.median());
-    record.cull_coarse_median_ms = pass("cull: super-tiles").and_then(|s| s.median());
-    record.cull_fine_median_ms = pass("cull: tiles").and_then(|s| s.median());
-    record.forward_median_ms = pass("forward").and_then(|s| s.median());
-    record.forward_p90_ms = pass("forward").and_then(|s| s.p90());
-    record.tonemap_median_ms = pass("tonemap").and_then(|s| s.median());
-    record.tonemap_p90_ms = pass("tonemap").and_then(|s| s.p90());
-    record.gpu_total_median_ms = m.total.median().unwrap_or(0.0);
-    record.cpu_graph_median_ms = m.cpu_graph_ms.median().unwrap_or(0.0);
-    record.cpu_upload_median_ms = m.cpu_upload_ms.median().unwrap_or(0.0);
-    if let Some((grid, index)) = renderer.culler().lists().map(|l| l.bytes()) {
-        record.grid_bytes = grid;
-        record.index_bytes_allocated = index;
-        record.index_bytes_used = (u64::from(m.requested_entries) * 4).min(index);
-    }
-    record.dropped = m.dropped;
-    record.note.clone_from(&m.note);
 }
 
 /// The run's header: adapter, driver, date, command, calibration, frame plan.

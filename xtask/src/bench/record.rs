@@ -7,7 +7,11 @@
 use std::path::Path;
 
 use anyhow::{Context as _, Result};
+use renderer::frame::Renderer;
 use serde::{Deserialize, Serialize};
+
+use super::matrix::Setup;
+use super::measure::Measured;
 
 /// One row of `bench.csv`: a cell of the matrix and what was measured for it. Times are GPU
 /// timestamps in milliseconds (median and p90 over `frames` timed frames); a pass the path does
@@ -125,6 +129,73 @@ impl CellRecord {
             s += " brute";
         }
         s
+    }
+
+    /// The record of a cell before it is measured.
+    pub fn empty(scene: &str, setup: &Setup, lights: u32) -> Self {
+        Self {
+            scene: scene.to_string(),
+            width: setup.width,
+            height: setup.height,
+            msaa: setup.msaa,
+            path: setup.path.name().to_string(),
+            tile: setup.tile,
+            scalarize: setup.scalarize,
+            brute_force: setup.brute_force,
+            lights,
+            frames: 0,
+            prez_median_ms: None,
+            prez_p90_ms: None,
+            cull_median_ms: None,
+            cull_p90_ms: None,
+            cull_depth_median_ms: None,
+            cull_coarse_median_ms: None,
+            cull_fine_median_ms: None,
+            forward_median_ms: None,
+            forward_p90_ms: None,
+            tonemap_median_ms: None,
+            tonemap_p90_ms: None,
+            gpu_total_median_ms: 0.0,
+            cpu_graph_median_ms: 0.0,
+            cpu_upload_median_ms: 0.0,
+            grid_bytes: 0,
+            index_bytes_used: 0,
+            index_bytes_allocated: 0,
+            cull_efficiency: None,
+            lights_reaching_mean: None,
+            cull_floor_us: None,
+            dropped: 0,
+            note: String::new(),
+            ..Default::default()
+        }
+    }
+
+    /// Fills in what the timed frames of the cell measured.
+    pub fn fill(&mut self, m: &Measured, renderer: &Renderer) {
+        let record = self;
+        let pass = |name: &str| m.passes.get(name);
+        record.frames = m.frames;
+        record.prez_median_ms = pass("pre-z").and_then(|s| s.median());
+        record.prez_p90_ms = pass("pre-z").and_then(|s| s.p90());
+        record.cull_median_ms = pass("light culling").and_then(|s| s.median());
+        record.cull_p90_ms = pass("light culling").and_then(|s| s.p90());
+        record.cull_depth_median_ms = pass("cull: tile depth").and_then(|s| s.median());
+        record.cull_coarse_median_ms = pass("cull: super-tiles").and_then(|s| s.median());
+        record.cull_fine_median_ms = pass("cull: tiles").and_then(|s| s.median());
+        record.forward_median_ms = pass("forward").and_then(|s| s.median());
+        record.forward_p90_ms = pass("forward").and_then(|s| s.p90());
+        record.tonemap_median_ms = pass("tonemap").and_then(|s| s.median());
+        record.tonemap_p90_ms = pass("tonemap").and_then(|s| s.p90());
+        record.gpu_total_median_ms = m.total.median().unwrap_or(0.0);
+        record.cpu_graph_median_ms = m.cpu_graph_ms.median().unwrap_or(0.0);
+        record.cpu_upload_median_ms = m.cpu_upload_ms.median().unwrap_or(0.0);
+        if let Some((grid, index)) = renderer.culler().lists().map(|l| l.bytes()) {
+            record.grid_bytes = grid;
+            record.index_bytes_allocated = index;
+            record.index_bytes_used = (u64::from(m.requested_entries) * 4).min(index);
+        }
+        record.dropped = m.dropped;
+        record.note.clone_from(&m.note);
     }
 
     /// Whether the cell belongs to the shadow axis (else to the light matrix).
