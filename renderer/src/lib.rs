@@ -9,6 +9,7 @@
 #![warn(clippy::too_many_lines)]
 
 pub mod culling;
+pub mod decals;
 pub mod frame;
 pub mod frame_data;
 pub mod gpu;

@@ -1,0 +1,23 @@
+//! Decals: textures projected through oriented boxes onto whatever surfaces lie inside them
+//! (DOOM 2016's clustered decals, reference 004). GPU-free: the decal items ([`Decal`], their
+//! boxes and the separating-axis tests the culling reference needs), the decal atlas
+//! ([`DecalAtlas`]: every material's channels packed with `etagere`, mip levels and gutters), the
+//! built-in procedural materials, PNG loading, the JSON sidecar and seeded placement on a
+//! scene's surfaces.
+//!
+//! Not yet on the GPU: decals are not culled into the cell lists or applied by forward shading.
+
+mod atlas;
+mod decal;
+mod error;
+mod image;
+pub mod obb;
+pub mod placement;
+pub mod procedural;
+pub mod sidecar;
+
+pub use atlas::{AtlasEntry, DecalAtlas, DecalAtlasConfig};
+pub use decal::{Decal, DecalSet, box_on_surface};
+pub use error::DecalError;
+pub use image::{Channel, DecalImage, DecalMaterial, MAX_DECAL_IMAGE};
+pub use obb::OrientedBox;
