@@ -177,12 +177,8 @@ impl ShadowCache {
                 old => {
                     let old = old.map(|o| &*o);
                     let (work, state) =
-                        region_work(region, old, casters, changed.as_deref(), cached);
+                        region_work(region, old, casters, changed.as_deref(), cached, self.frame);
                     if cached {
-                        let state = RegionState {
-                            frame: self.frame,
-                            ..state
-                        };
                         self.regions.insert(region.key, state);
                     }
                     work
@@ -208,28 +204,37 @@ fn region_work(
     casters: &[Caster],
     changed: Option<&[bool]>,
     cached: bool,
+    frame: u64,
 ) -> (RegionWork, RegionState) {
     let reaching = reaching(region, old, casters, changed);
     let (statics, dynamics): (Vec<&Caster>, Vec<&Caster>) = reaching
         .iter()
         .map(|&i| &casters[i as usize])
         .partition(|c| !c.dynamic);
-    let state = RegionState {
-        rect: region.rect,
-        clip_from_world: region.view.clip_from_world,
-        static_signature: signature(&statics),
-        dynamic_signature: signature(&dynamics),
-        reaching: Vec::new(),
-        frame: 0,
-    };
+    let (static_signature, dynamic_signature) = (signature(&statics), signature(&dynamics));
     let work = if cached {
-        cached_work(old, &state, &statics, &dynamics)
+        cached_work(
+            old,
+            region,
+            static_signature,
+            dynamic_signature,
+            &statics,
+            &dynamics,
+        )
     } else {
         RegionWork::Direct {
             casters: reaching.iter().map(|&i| casters[i as usize].draw).collect(),
         }
     };
-    (work, RegionState { reaching, ..state })
+    let state = RegionState {
+        rect: region.rect,
+        clip_from_world: region.view.clip_from_world,
+        reaching,
+        static_signature,
+        dynamic_signature,
+        frame,
+    };
+    (work, state)
 }
 
 /// Which casters differ from the last frame's, as a mask; `None` when the list itself changed
@@ -278,17 +283,19 @@ fn reaching(
 /// A cached region's work, from its old state (if it had one) and its new one.
 fn cached_work(
     old: Option<&RegionState>,
-    state: &RegionState,
+    region: &RegionInput,
+    static_signature: u64,
+    dynamic_signature: u64,
     statics: &[&Caster],
     dynamics: &[&Caster],
 ) -> RegionWork {
     let static_valid = old.is_some_and(|o| {
-        o.rect == state.rect
-            && o.clip_from_world == state.clip_from_world
-            && o.static_signature == state.static_signature
+        o.rect == region.rect
+            && o.clip_from_world == region.view.clip_from_world
+            && o.static_signature == static_signature
     });
     let composed_valid =
-        static_valid && old.is_some_and(|o| o.dynamic_signature == state.dynamic_signature);
+        static_valid && old.is_some_and(|o| o.dynamic_signature == dynamic_signature);
     if composed_valid {
         return RegionWork::Untouched;
     }

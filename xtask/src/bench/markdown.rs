@@ -5,11 +5,7 @@
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
-use super::record::CellRecord;
-
-fn ms(v: Option<f64>) -> String {
-    v.map_or_else(|| "–".into(), |v| format!("{v:.3}"))
-}
+use super::record::{CellRecord, ms};
 
 fn med_p90(m: Option<f64>, p: Option<f64>) -> String {
     match (m, p) {

@@ -202,28 +202,12 @@ fn load_scenes(args: &Args) -> Result<Vec<BenchScene>> {
 fn axes(args: &Args, scenes: &[BenchScene]) -> Result<Axes> {
     let mut axes = Axes {
         scenes: scenes.iter().map(|s| s.name.clone()).collect(),
-        sizes: args
-            .sizes
-            .iter()
-            .map(|s| matrix::parse_size(s))
-            .collect::<Result<_>>()?,
+        sizes: parse_list(&args.sizes, matrix::parse_size)?,
         msaa: args.msaa.clone(),
-        paths: args
-            .paths
-            .iter()
-            .map(|p| PathChoice::parse(p))
-            .collect::<Result<_>>()?,
+        paths: parse_list(&args.paths, PathChoice::parse)?,
         tiles: args.tiles.clone(),
-        scalarize: args
-            .scalarize
-            .iter()
-            .map(|s| matrix::parse_on_off(s))
-            .collect::<Result<_>>()?,
-        brute_force: args
-            .cull
-            .iter()
-            .map(|s| matrix::parse_cull(s))
-            .collect::<Result<_>>()?,
+        scalarize: parse_list(&args.scalarize, matrix::parse_on_off)?,
+        brute_force: parse_list(&args.cull, matrix::parse_cull)?,
         lights: args.lights.clone(),
     };
     if args.quick {
@@ -240,6 +224,11 @@ fn axes(args: &Args, scenes: &[BenchScene]) -> Result<Axes> {
     Ok(axes)
 }
 
+/// Every value of a list option, parsed; the first bad one is the error.
+fn parse_list<T>(values: &[String], parse: impl Fn(&str) -> Result<T>) -> Result<Vec<T>> {
+    values.iter().map(|v| parse(v)).collect()
+}
+
 /// The shadow axis; empty without `--shadowed`.
 fn shadow_axes(args: &Args, axes: &Axes) -> Result<ShadowAxes> {
     let fewest = axes.lights.iter().copied().min().unwrap_or(0);
@@ -251,16 +240,8 @@ fn shadow_axes(args: &Args, axes: &Axes) -> Result<ShadowAxes> {
     }
     Ok(ShadowAxes {
         counts: args.shadowed.clone(),
-        kinds: args
-            .shadow_kinds
-            .iter()
-            .map(|k| ShadowKind::parse(k))
-            .collect::<Result<_>>()?,
-        modes: args
-            .shadow_modes
-            .iter()
-            .map(|m| ShadowMode::parse(m))
-            .collect::<Result<_>>()?,
+        kinds: parse_list(&args.shadow_kinds, ShadowKind::parse)?,
+        modes: parse_list(&args.shadow_modes, ShadowMode::parse)?,
     })
 }
 

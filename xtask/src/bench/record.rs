@@ -209,6 +209,11 @@ impl CellRecord {
     }
 }
 
+/// Milliseconds to three decimals for the reports, `–` when absent.
+pub fn ms(v: Option<f64>) -> String {
+    v.map_or_else(|| "–".into(), |v| format!("{v:.3}"))
+}
+
 fn brute_force_before_the_hierarchy() -> bool {
     true
 }

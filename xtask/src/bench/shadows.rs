@@ -19,7 +19,7 @@ use renderer::{GpuContext, frame::RendererConfig};
 use super::lights::MovingLights;
 use super::matrix::Setup;
 use super::measure::{self, FramePlan};
-use super::record::CellRecord;
+use super::record::{CellRecord, ms};
 
 /// What the shadowed lights are.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -235,10 +235,6 @@ pub fn measure_cell(
     Ok(record)
 }
 
-fn ms(v: Option<f64>) -> String {
-    v.map_or_else(|| "–".into(), |v| format!("{v:.3}"))
-}
-
 /// The baseline (no shadows) of `r`'s scene, size, MSAA, path and light count.
 fn baseline<'a>(
     records: impl IntoIterator<Item = &'a CellRecord>,
@@ -275,11 +271,12 @@ pub fn markdown(records: &[CellRecord]) -> String {
         } else {
             format!("{} {} ({})", r.shadowed, r.shadow_kind, r.shadows_granted)
         };
-        let share = match r.shadow_median_ms.or(Some(0.0)) {
-            Some(s) if r.gpu_total_median_ms > 0.0 && r.shadow_mode != "none" => {
-                format!("{:.1}%", 100.0 * s / r.gpu_total_median_ms)
-            }
-            _ => "–".into(),
+        // A cell whose frames all skipped the shadow pass has no samples of it: 0 ms.
+        let shadow = r.shadow_median_ms.unwrap_or(0.0);
+        let share = if r.gpu_total_median_ms > 0.0 && r.shadow_mode != "none" {
+            format!("{:.1}%", 100.0 * shadow / r.gpu_total_median_ms)
+        } else {
+            "–".into()
         };
         let added = baseline(records, r)
             .filter(|b| r.shadow_mode != "none" && b.frames > 0)
@@ -303,8 +300,8 @@ pub fn markdown(records: &[CellRecord]) -> String {
             r.shadow_draws,
             r.shadow_degraded,
             r.shadow_evicted,
-            ms(r.shadow_median_ms.or(Some(0.0))),
-            ms(r.shadow_p90_ms.or(Some(0.0))),
+            ms(Some(shadow)),
+            ms(Some(r.shadow_p90_ms.unwrap_or(0.0))),
             ms(r.shadow_cpu_median_ms),
             ms(r.forward_median_ms),
             r.gpu_total_median_ms,
@@ -339,7 +336,7 @@ fn goal(rows: &[&CellRecord]) -> String {
             let _ = write!(
                 out,
                 " {mode}: {} ms GPU, {} regions redrawn, {} copied, {} draws.",
-                ms(r.shadow_median_ms.or(Some(0.0))),
+                ms(Some(r.shadow_median_ms.unwrap_or(0.0))),
                 r.shadow_redrawn,
                 r.shadow_copied,
                 r.shadow_draws
