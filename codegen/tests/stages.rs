@@ -1,5 +1,6 @@
-//! Stage-level tests of the compiler, without the proc-macro: front-end errors, variant
-//! enumeration, naming, pruning and dedup, the source map, layouts and reflection.
+//! Stage-level tests of the compiler, without the proc-macro: front-end errors, texture
+//! sampling methods, variant enumeration, naming, pruning and dedup, the source map, layouts
+//! and reflection.
 
 use codegen::rt::{BindingKind, SampleType};
 
@@ -303,4 +304,97 @@ fn naga_errors_map_back_and_name_the_variant() {
     let msg = e.to_string();
     assert!(msg.contains("variant `n0`"), "{msg}");
     assert_eq!(e.span().start().line, 7);
+}
+
+/// A fragment shader with one texture and sampler of each kind `sample_grad` must refuse or
+/// accept; `body` is its first statement, at line 19 (the function returns `Vec4::ZERO`).
+fn sampling(body: &str) -> String {
+    format!(
+        "#[shader]\nmod m {{\n    #[texture(group = 0, binding = 0)]\n    static T: Texture2d<f32>;\n    #[texture(group = 0, binding = 1)]\n    static ARR: Texture2dArray<f32>;\n    #[texture(group = 0, binding = 2)]\n    static DEPTH: TextureDepth2d;\n    #[texture(group = 0, binding = 3)]\n    static MS: TextureMultisampled2d<f32>;\n    #[texture(group = 0, binding = 4, unfilterable)]\n    static IDS: Texture2d<u32>;\n    #[sampler(group = 0, binding = 5)]\n    static S: Sampler;\n    #[sampler(group = 0, binding = 6)]\n    static CMP: SamplerComparison;\n    #[fragment]\n    fn fs(#[location(0)] uv: Vec2, #[location(1)] #[interpolate(flat)] layer: u32) -> Vec4 {{\n{body}\n        Vec4::ZERO\n    }}\n}}\n"
+    )
+}
+
+#[test]
+fn sample_grad_prints_texture_sample_grad() {
+    let c = compile(&sampling(
+        "        let a = T.sample_grad(S, uv, dpdx(uv), dpdy(uv)) + ARR.sample_grad(S, uv, layer, Vec2::X, Vec2::Y);",
+    ));
+    let wgsl = &c.variants[0].wgsl;
+    assert!(
+        wgsl.contains("textureSampleGrad(T, S, uv, dpdx(uv), dpdy(uv))"),
+        "{wgsl}"
+    );
+    assert!(
+        wgsl.contains(
+            "textureSampleGrad(ARR, S, uv, layer, vec2<f32>(1.0f, 0.0f), vec2<f32>(0.0f, 1.0f))"
+        ),
+        "{wgsl}"
+    );
+}
+
+#[test]
+fn sample_grad_refuses_what_wgsl_has_no_overload_for() {
+    for (body, msg, column) in [
+        (
+            "DEPTH.sample_grad(S, uv, uv, uv)",
+            "`TextureDepth2d` cannot be sampled with `sample_grad` (WGSL has no gradient sampling of depth textures); use `sample_level`",
+            22,
+        ),
+        (
+            "MS.sample_grad(S, uv, uv, uv)",
+            "`TextureMultisampled2d<f32>` cannot be sampled with `sample_grad`; use `load`",
+            19,
+        ),
+        (
+            "IDS.sample_grad(S, uv, uv, uv)",
+            "`Texture2d<u32>` cannot be sampled with `sample_grad`; use `load`",
+            20,
+        ),
+        (
+            "T.sample_grad(CMP, uv, uv, uv)",
+            "expected a `Sampler` static, found `SamplerComparison`",
+            30,
+        ),
+        (
+            "T.sample_grad(S, uv, uv)",
+            "expected `sample_grad(sampler, uv: Vec2, ddx: Vec2, ddy: Vec2)` for `Texture2d<f32>`",
+            16,
+        ),
+        (
+            "T.sample_grad(S, uv, 1.0, 1.0)",
+            "expected `sample_grad(sampler, uv: Vec2, ddx: Vec2, ddy: Vec2)` for `Texture2d<f32>`",
+            16,
+        ),
+        (
+            "ARR.sample_grad(S, uv, uv, uv)",
+            "expected `sample_grad(sampler, uv: Vec2, layer: u32, ddx: Vec2, ddy: Vec2)` for `Texture2dArray<f32>`",
+            16,
+        ),
+        (
+            "ARR.sample_grad(S, uv, 0.5, uv, uv)",
+            "expected `sample_grad(sampler, uv: Vec2, layer: u32, ddx: Vec2, ddy: Vec2)` for `Texture2dArray<f32>`",
+            16,
+        ),
+    ] {
+        check_err(
+            &sampling(&format!("        let c = {body};")),
+            msg,
+            19,
+            column,
+        );
+    }
+}
+
+#[test]
+fn sample_grad_needs_no_fragment_stage_but_sample_does() {
+    let src = |call: &str| {
+        format!(
+            "#[shader]\nmod m {{\n    #[texture(group = 0, binding = 0)]\n    static T: Texture2d<f32>;\n    #[sampler(group = 0, binding = 1)]\n    static S: Sampler;\n    #[storage(group = 0, binding = 2, read_write)]\n    static OUT: [Vec4];\n    #[compute(workgroup_size(1))]\n    fn main(#[builtin(global_invocation_id)] gid: UVec3) {{\n        OUT[gid.x] = {call};\n    }}\n}}\n"
+        )
+    };
+    let c = compile(&src("T.sample_grad(S, Vec2::ZERO, Vec2::X, Vec2::Y)"));
+    assert!(c.variants[0].wgsl.contains("textureSampleGrad("));
+    // Implicit derivatives exist only in fragment shaders: naga refuses the entry point.
+    let e = codegen::compile_source(&src("T.sample(S, Vec2::ZERO)")).expect_err("compute stage");
+    assert!(e.to_string().contains("forbidden at this stage"), "{e}");
 }

@@ -13,6 +13,9 @@ mod expressions_mod {
 mod subgroups_mod {
     include!("../../tests/dsl-golden/subgroups.rs");
 }
+mod sample_grad_mod {
+    include!("../../tests/dsl-golden/sample_grad.rs");
+}
 
 use tile_cull_mod::tile_cull;
 
@@ -58,4 +61,14 @@ fn graphics_entry_points_reflect_locations() {
     assert_eq!(fs.outputs.len(), 1);
     assert_eq!(expressions_mod::expressions::VARIANTS.len(), 1);
     assert_eq!(subgroups_mod::subgroups::VARIANTS.len(), 2);
+}
+
+#[test]
+fn sample_grad_textures_are_visible_to_fragment_and_compute() {
+    let v = &sample_grad_mod::sample_grad::VARIANTS[0];
+    assert!(v.wgsl.contains("textureSampleGrad(LAYERS, LINEAR"));
+    for name in ["ALBEDO", "LAYERS", "LINEAR"] {
+        let b = v.bindings.iter().find(|b| b.name == name).expect("binding");
+        assert!(b.visibility.fragment && b.visibility.compute && !b.visibility.vertex);
+    }
 }

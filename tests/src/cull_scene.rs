@@ -3,8 +3,9 @@
 //! that break culling (behind the camera, straddling the near plane, huge, zero radius, many in
 //! one tile).
 
-use glam::{Vec3, camera::rh};
+use glam::{Mat4, Quat, Vec3, camera::rh};
 use renderer::culling::reference::{CullCamera, DepthBuffer, LightSphere};
+use renderer::decals::OrientedBox;
 
 pub use renderer::frame::setup::Rng;
 
@@ -17,6 +18,14 @@ pub struct CullScene {
 }
 
 impl CullScene {
+    /// World-space boxes in view space, as the reference's box culling takes them.
+    pub fn boxes_view(&self, boxes: &[OrientedBox]) -> Vec<OrientedBox> {
+        boxes
+            .iter()
+            .map(|b| b.transformed(self.camera.view))
+            .collect()
+    }
+
     /// The lights in view space, as the culling methods take them.
     pub fn lights_view(&self) -> Vec<LightSphere> {
         self.lights
@@ -103,6 +112,75 @@ pub fn scene_with_radii(
         depth,
         lights,
     }
+}
+
+/// `random` seeded decal boxes on and around the scene's surfaces (rotated every way, 0.05 to
+/// 4 units a side, some long and thin so their bounding spheres are much larger than they are),
+/// plus the awkward ones: tiny, huge, behind the camera, straddling the near plane, and `crowd`
+/// boxes overlapping one spot on the floor.
+pub fn decal_boxes(seed: u64, random: usize, crowd: usize) -> Vec<OrientedBox> {
+    let mut rng = Rng::new(seed ^ 0xDEC4_1500);
+    let boxed = |center: Vec3, rotation: Quat, size: Vec3| {
+        let m = Mat4::from_scale_rotation_translation(size, rotation, center);
+        OrientedBox::from_matrix(m).expect("a valid box")
+    };
+    let mut boxes: Vec<OrientedBox> = (0..random)
+        .map(|k| {
+            let center = Vec3::new(
+                rng.range(-12.0, 12.0),
+                rng.range(-0.5, 4.0),
+                rng.range(-30.0, 8.0),
+            );
+            let axis = Vec3::new(
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+            );
+            let rotation = Quat::from_axis_angle(axis.normalize_or(Vec3::Y), rng.range(0.0, 6.3));
+            let mut size = Vec3::new(
+                rng.range(0.05, 4.0),
+                rng.range(0.05, 4.0),
+                rng.range(0.05, 2.0),
+            );
+            if k % 5 == 0 {
+                // Long and thin: a plank whose sphere covers far more than the box.
+                size = Vec3::new(rng.range(4.0, 10.0), 0.1, 0.1);
+            }
+            boxed(center, rotation, size)
+        })
+        .collect();
+    let eye = Vec3::new(0.0, 2.0, 8.0);
+    boxes.extend([
+        boxed(
+            Vec3::new(0.3, 0.0, 1.0),
+            Quat::from_rotation_y(0.4),
+            Vec3::splat(1.0e-3),
+        ),
+        boxed(
+            Vec3::new(0.0, 0.0, -10.0),
+            Quat::from_rotation_x(0.3),
+            Vec3::splat(200.0),
+        ),
+        boxed(
+            eye + Vec3::new(0.0, 0.0, 3.0),
+            Quat::IDENTITY,
+            Vec3::splat(1.0),
+        ),
+        boxed(
+            eye + Vec3::new(0.4, -0.4, 0.0),
+            Quat::from_rotation_z(0.7),
+            Vec3::new(2.0, 1.0, 1.0),
+        ),
+    ]);
+    for k in 0..crowd {
+        let a = k as f32 * 0.37;
+        boxes.push(boxed(
+            Vec3::new(0.1 * a.cos(), 0.0, 0.1 * a.sin()),
+            Quat::from_rotation_y(a),
+            Vec3::new(0.6, 0.6, 0.3),
+        ));
+    }
+    boxes
 }
 
 /// Ray-casts the scene's surfaces for every sample and stores wgpu depth (1.0 = sky).

@@ -10,78 +10,19 @@
 //! reaches a sample may be missing from the sample's GPU list.
 
 use glam::UVec2;
-use renderer::culling::clustered::{ClusterCullConfig, ClusteredCulling};
+use renderer::culling::clustered::ClusterCullConfig;
+use renderer::culling::hierarchy::CullItems;
 use renderer::culling::lists::{CullReadback, GUARD_WORD, GUARD_WORDS};
 use renderer::culling::reference::{CellLists, ClusterGrid, Method, cull, cull_brute_force, exact};
 use renderer::culling::tiled::{TileCullConfig, TiledCulling};
 use shaders_gen::culling::tile_cull::CullSphere;
+use tests::cull_run::{GpuMethod, msaa_cases, run_method, symmetric_difference};
 use tests::cull_scene::{CullScene, scene};
 use tests::depth_upload::write_msaa_depth;
 use tests::gpu::gpu_test;
 
-/// `(seed, sample count)` for every MSAA count the adapter supports for `Depth32Float`: 1 and 4
-/// on lavapipe, 1/2/4/8 on the NVIDIA machines. The variants for the other counts are still
-/// validated by naga and spirv-val at build time.
-fn msaa_cases(seed: u64) -> Vec<(u64, u32)> {
-    let counts = gpu_test(|gpu| gpu.capabilities().msaa_depth32float.clone());
-    assert!(
-        counts.contains(&1) && counts.contains(&4),
-        "WebGPU guarantees MSAA 1 and 4: {counts:?}"
-    );
-    counts
-        .into_iter()
-        .filter(|c| [1, 2, 4, 8].contains(c))
-        .map(|c| (seed + u64::from(c), c))
-        .collect()
-}
-
-/// A GPU culling method and its configuration.
-#[derive(Debug, Clone, Copy)]
-enum GpuMethod {
-    Tiled(TileCullConfig),
-    Clustered(ClusterCullConfig),
-}
-
 fn run_gpu(s: &CullScene, config: TileCullConfig) -> CullReadback {
     run_method(s, GpuMethod::Tiled(config))
-}
-
-fn run_method(s: &CullScene, method: GpuMethod) -> CullReadback {
-    gpu_test(|gpu| {
-        let (w, h) = (s.camera.width, s.camera.height);
-        let depth = write_msaa_depth(gpu, w, h, s.depth.samples, &s.depth.depth);
-        let view = depth.create_view(&Default::default());
-        let items: Vec<CullSphere> = s
-            .lights
-            .iter()
-            .map(|l| CullSphere::new(l.center, l.radius))
-            .collect();
-        let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        let (cam, d) = (&s.camera, &gpu.device);
-        let result = match method {
-            GpuMethod::Tiled(config) => {
-                let culling = TiledCulling::new(gpu, config, w, h).expect("culling setup");
-                let screen = UVec2::new(w, h);
-                culling
-                    .upload(gpu, cam.view, cam.projection, screen, &items)
-                    .expect("upload");
-                culling.levels.encode(d, &mut encoder, &view, None);
-                gpu.queue.submit([encoder.finish()]);
-                culling.levels.lists.read_back(gpu)
-            }
-            GpuMethod::Clustered(config) => {
-                // Both kernels take the one `CullSphere` of the `cull_append` library.
-                let culling = ClusteredCulling::new(gpu, config, w, h).expect("culling setup");
-                culling
-                    .upload(gpu, cam.view, cam.projection, UVec2::new(w, h), &items)
-                    .expect("upload");
-                culling.levels.encode(d, &mut encoder, &view, None);
-                gpu.queue.submit([encoder.finish()]);
-                culling.levels.lists.read_back(gpu)
-            }
-        };
-        result.expect("readback")
-    })
 }
 
 fn config(tile: u32, msaa: u32, brute_force: bool) -> TileCullConfig {
@@ -173,30 +114,6 @@ fn check_against_reference(depth_mask: bool) {
             }
         }
     }
-}
-
-/// Items in exactly one of two sorted lists, sorted.
-fn symmetric_difference(a: &[u32], b: &[u32]) -> Vec<u32> {
-    let (mut i, mut j, mut d) = (0, 0, Vec::new());
-    while i < a.len() || j < b.len() {
-        match (a.get(i), b.get(j)) {
-            (Some(x), Some(y)) if x == y => (i, j) = (i + 1, j + 1),
-            (Some(x), Some(y)) if x < y => {
-                d.push(*x);
-                i += 1;
-            }
-            (Some(_), Some(y)) | (None, Some(y)) => {
-                d.push(*y);
-                j += 1;
-            }
-            (Some(x), None) => {
-                d.push(*x);
-                i += 1;
-            }
-            (None, None) => break,
-        }
-    }
-    d
 }
 
 /// Every light whose sphere contains a sample's surface point is in that sample's GPU list.
@@ -460,7 +377,7 @@ fn overflow_reported_asynchronously_then_buffers_grow_for_the_next_frame() {
                     s.camera.view,
                     s.camera.projection,
                     UVec2::new(w, h),
-                    &items,
+                    CullItems::lights(&items),
                 )
                 .expect("upload");
             let mut encoder = gpu.device.create_command_encoder(&Default::default());

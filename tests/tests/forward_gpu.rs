@@ -269,6 +269,8 @@ fn inputs<'a>(
             NEAR,
             FAR,
             directional.len() as u32,
+            0,
+            0,
         ),
         lights,
         directional,
@@ -640,6 +642,7 @@ fn heatmap_colours_counts_on_the_ramp_with_a_legend() {
         NEAR,
         FAR,
         max_count,
+        0,
     );
     let (tiled, clustered, sky) = gpu_test(|gpu| {
         let k = |list| heatmap::VariantKey {

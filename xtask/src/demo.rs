@@ -2,7 +2,8 @@
 //! software Vulkan driver where it can, renders the built-in courtyard with 1,024 lights, 16 of
 //! them and a moonlight casting shadows (640×360, MSAA 4 where supported, tiled Forward+), and
 //! writes `target/demo/frame.png`, `target/demo/heatmap.png` (lights per pixel, with its legend),
-//! `target/demo/shadow_atlas.png` (the shadow atlas, regions labelled) and
+//! `target/demo/shadow_atlas.png` (the shadow atlas, regions labelled), `target/demo/decals.png`
+//! (decals per pixel: 96 procedural decals lie on the courtyard, applied before lighting) and
 //! `target/demo/graph.dot` (the compiled frame graph), then moves a sphere marked dynamic over
 //! three frames and reports what the shadow cache redrew, with a summary of at most about 20
 //! lines.
@@ -29,6 +30,9 @@ pub struct Args {
     out_dir: Option<std::path::PathBuf>,
 }
 
+/// Procedural decals (scorch marks, stains, painted signs) on the courtyard's surfaces.
+const DEMO_DECALS: usize = 96;
+
 pub fn run(args: &Args) -> Result<()> {
     crate::system::ensure_vulkan_adapter()?;
     let render = crate::render::Args {
@@ -37,6 +41,8 @@ pub fn run(args: &Args) -> Result<()> {
         shadowed: 16,
         shadow_atlas: 4096,
         seed: 1,
+        decals: DEMO_DECALS,
+        decals_file: None,
         light_radius: None,
         path: "tiled".into(),
         msaa: 4,
@@ -57,6 +63,7 @@ pub fn run(args: &Args) -> Result<()> {
     s.lights.push(moonlight());
     let lit = shoot(&s, FrameView::Lit, true)?;
     let heat = shoot(&s, FrameView::Heatmap, false)?;
+    let decal_heat = shoot(&s, FrameView::DecalHeatmap, false)?;
     let atlas = shoot(&s, FrameView::ShadowAtlas, false)?;
     let moving = moving_sphere(&s)?;
     let dir = args
@@ -68,12 +75,14 @@ pub fn run(args: &Args) -> Result<()> {
         dir.join("frame.png"),
         dir.join("heatmap.png"),
         dir.join("shadow_atlas.png"),
+        dir.join("decals.png"),
         dir.join("graph.dot"),
     ];
     save_png(&files[0], &lit.rgba, size)?;
     save_png(&files[1], &heat.rgba, size)?;
     save_png(&files[2], &atlas.rgba, size)?;
-    save_text(&files[3], &lit.report.graph_dot)?;
+    save_png(&files[3], &decal_heat.rgba, size)?;
+    save_text(&files[4], &lit.report.graph_dot)?;
     summary(&s, &lit, &files, started.elapsed().as_secs_f64());
     print_moving(&moving);
     Ok(())
@@ -137,9 +146,10 @@ fn summary(s: &Setup, shot: &Shot, files: &[std::path::PathBuf], secs: f64) {
     let c = &s.config;
     let name = &s.scene_name;
     println!(
-        "demo: {name} ({} triangles), {} lights, {}x{}, {:?} Forward+, MSAA {}, tile {}{}",
+        "demo: {name} ({} triangles), {} lights, {} decals, {}x{}, {:?} Forward+, MSAA {}, tile {}{}",
         s.scene.triangle_count(),
         s.lights.len(),
+        s.decals.decals.len(),
         c.width,
         c.height,
         c.path,
@@ -166,7 +176,7 @@ fn summary(s: &Setup, shot: &Shot, files: &[std::path::PathBuf], secs: f64) {
     if let Some(k) = shot.counters {
         let cells = c.width.div_ceil(c.tile) * c.height.div_ceil(c.tile);
         println!(
-            "culling: {:.1} list entries per tile on average, {} in the longest list, {} super-tiles fell back to testing every light, {} entries dropped",
+            "culling: {:.1} list entries (lights and decals) per tile on average, {} in the longest list, {} super-tiles fell back to testing every item, {} entries dropped",
             f64::from(k.requested_entries) / f64::from(cells.max(1)),
             k.max_cell_items,
             k.coarse_fallbacks,

@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context as _, Result, bail};
 use glam::Vec3;
 use renderer::culling::lists::CullCounters;
+use renderer::decals::DecalSet;
 use renderer::frame::setup::{
     camera_of, courtyard_look, create_target, default_camera, light_space, pick_shadowed,
     procedural_lights, scene_camera,
@@ -37,9 +38,17 @@ pub struct Args {
     /// Side of the shadow atlas in texels (a power of two up to the device's largest texture).
     #[arg(long, default_value_t = 4096)]
     pub shadow_atlas: u32,
-    /// Seed of the procedural lights.
+    /// Seed of the procedural lights and decals.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Procedural decals (the built-in scorch, stain and sign materials) scattered over the
+    /// scene's surfaces by area.
+    #[arg(long, default_value_t = 0)]
+    pub decals: usize,
+    /// JSON decal file (materials from PNG files or the built-ins, and placed decals); the
+    /// procedural `--decals` are added to it.
+    #[arg(long)]
+    pub decals_file: Option<PathBuf>,
     /// Range of light radii in scene units, MIN,MAX (0 < MIN <= MAX); defaults to 0.8,2.6 in
     /// the courtyard, 3%..20% of a file scene's size.
     #[arg(long, value_parser = parse_radius_range)]
@@ -75,9 +84,9 @@ pub struct Args {
     /// defaults to a value calibrated for the courtyard, 0 for file scenes.
     #[arg(long, allow_negative_numbers = true, value_parser = parse_exposure)]
     pub exposure: Option<f32>,
-    /// lit | heatmap | shadow-atlas: the shaded image, the light count of each pixel's list with
-    /// a legend, or the shadow atlas (depth as grey, regions outlined and labelled with their
-    /// light and side).
+    /// lit | heatmap | decals | shadow-atlas: the shaded image, the light (or decal) count of
+    /// each pixel's list with a legend, or the shadow atlas (depth as grey, regions outlined and
+    /// labelled with their light and side).
     #[arg(long, default_value = "lit")]
     pub view: String,
     /// Output PNG; defaults to target/render/frame.png.
@@ -100,6 +109,8 @@ pub struct Setup {
     pub lights: Vec<SceneLight>,
     pub camera: FrameCamera,
     pub config: RendererConfig,
+    /// The file's decals and the procedural ones.
+    pub decals: DecalSet,
 }
 
 /// One rendered frame and what the renderer reported about it.
@@ -126,8 +137,9 @@ pub fn setup(args: &Args) -> Result<Setup> {
     let view = match args.view.as_str() {
         "lit" => FrameView::Lit,
         "heatmap" => FrameView::Heatmap,
+        "decals" => FrameView::DecalHeatmap,
         "shadow-atlas" => FrameView::ShadowAtlas,
-        other => bail!("--view {other:?}: use lit, heatmap or shadow-atlas"),
+        other => bail!("--view {other:?}: use lit, heatmap, decals or shadow-atlas"),
     };
     if !matches!(args.scalarize.as_str(), "auto" | "on" | "off") {
         bail!("--scalarize {:?}: use auto, on or off", args.scalarize);
@@ -208,6 +220,7 @@ pub fn setup(args: &Args) -> Result<Setup> {
         rmax,
     ));
     let camera = pick_camera(args, &scene, w as f32 / h as f32)?;
+    let decals = decal_set(args, &scene)?;
     let shadowed_from = scene.lights.len();
     pick_shadowed(
         &mut lights[shadowed_from..],
@@ -225,7 +238,32 @@ pub fn setup(args: &Args) -> Result<Setup> {
         lights,
         camera,
         config,
+        decals,
     })
+}
+
+/// The `--decals-file` set (or the built-in materials alone) with `--decals` procedural decals
+/// added, validated.
+fn decal_set(args: &Args, scene: &Scene) -> Result<DecalSet> {
+    let mut set = match &args.decals_file {
+        Some(path) => renderer::decals::sidecar::load(path)
+            .with_context(|| format!("--decals-file {}", path.display()))?,
+        None => DecalSet {
+            materials: renderer::decals::procedural::materials(),
+            decals: Vec::new(),
+        },
+    };
+    let scattered =
+        renderer::decals::placement::scatter(scene, args.decals, set.materials.len(), args.seed);
+    if scattered.len() < args.decals {
+        bail!(
+            "--decals {}: the scene has no surface to place them on",
+            args.decals
+        );
+    }
+    set.decals.extend(scattered);
+    set.validate().context("decals")?;
+    Ok(set)
 }
 
 /// Renders one frame of `view` (and measures the cull efficiency when `efficiency`).
@@ -234,6 +272,7 @@ pub fn shoot(s: &Setup, view: FrameView, efficiency: bool) -> Result<Shot> {
     let mut renderer = Renderer::new(&s.gpu, config)?;
     renderer.prepare_scene(&s.scene);
     renderer.set_lights(&s.lights)?;
+    renderer.set_decals(&s.decals)?;
     let target = create_target(&s.gpu.device, &config);
     if efficiency {
         renderer.capture_next_frame(4)?;

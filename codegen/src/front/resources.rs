@@ -52,7 +52,11 @@ impl FnCtx<'_> {
             } else {
                 "a `Sampler` static"
             };
-            return Err(Error::new(e.span, format!("expected {want}")));
+            let found = self.ty_name(&e.ty);
+            return Err(Error::new(
+                e.span,
+                format!("expected {want}, found `{found}`"),
+            ));
         }
         Ok(())
     }
@@ -101,15 +105,31 @@ impl FnCtx<'_> {
                         all.extend(args);
                         Ok(call(plain("textureLoad"), all, texel, span))
                     }
-                    "sample" | "sample_level" | "sample_compare" | "sample_compare_level" => {
+                    "sample"
+                    | "sample_level"
+                    | "sample_grad"
+                    | "sample_compare"
+                    | "sample_compare_level" => {
                         let compare = m.starts_with("sample_compare");
-                        let extra = usize::from(m != "sample");
+                        let grad = m == "sample_grad";
+                        // Arguments after the sampler, the coordinates and the layer.
+                        let extra = match m.as_str() {
+                            "sample" => 0,
+                            "sample_grad" => 2,
+                            _ => 1,
+                        };
                         let sig = match (m.as_str(), t.arrayed) {
                             ("sample", false) => "sample(sampler, uv: Vec2)",
                             ("sample", true) => "sample(sampler, uv: Vec2, layer: u32)",
                             ("sample_level", false) => "sample_level(sampler, uv: Vec2, level)",
                             ("sample_level", true) => {
                                 "sample_level(sampler, uv: Vec2, layer: u32, level)"
+                            }
+                            ("sample_grad", false) => {
+                                "sample_grad(sampler, uv: Vec2, ddx: Vec2, ddy: Vec2)"
+                            }
+                            ("sample_grad", true) => {
+                                "sample_grad(sampler, uv: Vec2, layer: u32, ddx: Vec2, ddy: Vec2)"
                             }
                             (_, false) => "sample_compare(sampler, uv: Vec2, depth_ref: f32)",
                             (_, true) => {
@@ -125,6 +145,15 @@ impl FnCtx<'_> {
                                 format!("`{tyname}` cannot be sampled with `{m}`; use `load`"),
                             ));
                         }
+                        if grad && t.kind == TexKind::Depth {
+                            // WGSL's `textureSampleGrad` has no depth overloads.
+                            return Err(Error::new(
+                                method.span(),
+                                format!(
+                                    "`{tyname}` cannot be sampled with `sample_grad` (WGSL has no gradient sampling of depth textures); use `sample_level`"
+                                ),
+                            ));
+                        }
                         if args.len() != 2 + layer + extra
                             || !uv_ok(&args[1])
                             || (t.arrayed && !int(&args[2]))
@@ -132,21 +161,22 @@ impl FnCtx<'_> {
                             return Err(usage(sig));
                         }
                         self.sampler_arg(&args[0], compare)?;
-                        if extra == 1 {
-                            let last = args.last().expect("len checked");
-                            let want_int = t.kind == TexKind::Depth && m == "sample_level";
-                            let ok = if want_int {
-                                int(last)
-                            } else {
-                                last.ty.converts_to(&Ty::F32)
-                            };
-                            if !ok {
-                                return Err(usage(sig));
-                            }
+                        let trailing = &args[2 + layer..];
+                        let ok = if grad {
+                            // `ddx` and `ddy`: the derivatives of `uv`.
+                            trailing.iter().all(uv_ok)
+                        } else if t.kind == TexKind::Depth && m == "sample_level" {
+                            trailing.iter().all(int)
+                        } else {
+                            trailing.iter().all(|e| e.ty.converts_to(&Ty::F32))
+                        };
+                        if !ok {
+                            return Err(usage(sig));
                         }
                         let w = match m.as_str() {
                             "sample" => "textureSample",
                             "sample_level" => "textureSampleLevel",
+                            "sample_grad" => "textureSampleGrad",
                             "sample_compare" => "textureSampleCompare",
                             _ => "textureSampleCompareLevel",
                         };

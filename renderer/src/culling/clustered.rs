@@ -2,10 +2,10 @@
 //! of the shared [`super::hierarchy`]. Froxels are the screen tiles × exponential depth slices.
 
 use glam::{Mat4, UVec2};
-use shaders_gen::culling::cluster_cull::{self, CullSphere, MAX_LISTS, Tile, VariantKey};
+use shaders_gen::culling::cluster_cull::{self, MAX_LISTS, Tile, VariantKey};
 
 use super::CullError;
-use super::hierarchy::{CullHierarchy, CullView, HierarchyShape, MethodParams};
+use super::hierarchy::{CullHierarchy, CullItems, CullView, HierarchyShape, MethodParams};
 use super::reference::ClusterGrid;
 use crate::GpuContext;
 
@@ -77,7 +77,7 @@ impl ClusteredCulling {
         view: Mat4,
         projection: Mat4,
         screen: UVec2,
-        items: &[CullSphere],
+        items: CullItems<'_>,
     ) -> Result<(), CullError> {
         let g = self.config.grid;
         let camera = CullView {
@@ -92,7 +92,7 @@ impl ClusteredCulling {
             slice_near: g.near,
             slice_far: g.far,
         };
-        let params = self.levels.params(&camera, items.len() as u32, method);
-        self.levels.upload(gpu, &params, items)
+        let params = self.levels.params(&camera, &items, method);
+        self.levels.upload(gpu, &params, &items)
     }
 }

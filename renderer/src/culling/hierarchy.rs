@@ -6,8 +6,9 @@
 //! buffers, the output lists, and the three dispatches. [`super::tiled`] and
 //! [`super::clustered`] choose the fine kernel and fill in the parameters.
 
-use glam::{Mat4, UVec2};
-use shaders_gen::culling::cull_prepare::{self, CullParams, CullSphere, Msaa, Tile};
+use glam::{Mat4, UVec2, Vec3};
+use shaders_gen::culling::cull_prepare::{self, CullParams, Msaa, Tile};
+pub use shaders_gen::culling::cull_prepare::{CullBox, CullSphere, ITEM_TYPES};
 
 use super::CullError;
 use super::lists::LightLists;
@@ -47,6 +48,48 @@ pub struct CullView {
     pub screen: UVec2,
 }
 
+/// What one frame culls: the lights as world-space spheres, then the decals as world-space
+/// boxes. Item `i < lights.len()` is light `i`; the decals follow, and a cell's decal list
+/// holds decal indices in ascending order, so give them in the order they are applied.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct CullItems<'a> {
+    pub lights: &'a [CullSphere],
+    pub decals: &'a [CullBox],
+}
+
+impl<'a> CullItems<'a> {
+    /// Lights only.
+    pub fn lights(lights: &'a [CullSphere]) -> Self {
+        Self {
+            lights,
+            decals: &[],
+        }
+    }
+
+    /// Every item.
+    pub fn len(&self) -> usize {
+        self.lights.len() + self.decals.len()
+    }
+
+    /// Whether there is nothing to cull.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Every item's bounding sphere: the lights', then each box's around its corners.
+    fn spheres(&self) -> Vec<CullSphere> {
+        let boxes = self.decals.iter().map(|b| {
+            let [x, y, z] = [b.axis_x, b.axis_y, b.axis_z].map(|a| a.truncate());
+            let radius = [x + y + z, x + y - z, x - y + z, -x + y + z]
+                .into_iter()
+                .map(Vec3::length)
+                .fold(0.0, f32::max);
+            CullSphere::new(b.center.truncate(), radius)
+        });
+        self.lights.iter().copied().chain(boxes).collect()
+    }
+}
+
 /// What the fine level's method adds to the parameters.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct MethodParams {
@@ -78,6 +121,8 @@ pub struct CullHierarchy {
     fine_cull: wgpu::ComputePipeline,
     params: wgpu::Buffer,
     items: wgpu::Buffer,
+    /// `BOXES`: the decals' boxes.
+    boxes: wgpu::Buffer,
     tile_info: wgpu::Buffer,
     /// `COARSE`: the super-tiles' counts and depth ranges, then their candidate slots.
     candidates: wgpu::Buffer,
@@ -156,6 +201,11 @@ impl CullHierarchy {
                 "cull items",
                 u64::from(shape.item_capacity) * size_of::<CullSphere>() as u64,
             ),
+            boxes: storage(
+                device,
+                "cull boxes",
+                u64::from(shape.item_capacity) * size_of::<CullBox>() as u64,
+            ),
             tile_info: storage(device, "tile depth", u64::from(tile_count) * 16),
             candidates: storage(
                 device,
@@ -179,8 +229,8 @@ impl CullHierarchy {
         })
     }
 
-    /// The parameters of a frame: the camera, the item count and the method's settings.
-    pub fn params(&self, camera: &CullView, item_count: u32, method: MethodParams) -> CullParams {
+    /// The parameters of a frame: the camera, the items and the method's settings.
+    pub fn params(&self, camera: &CullView, items: &CullItems, method: MethodParams) -> CullParams {
         CullParams::new(
             camera.view,
             camera.projection,
@@ -188,7 +238,9 @@ impl CullHierarchy {
             camera.screen,
             self.tiles,
             self.super_tiles,
-            item_count,
+            items.len() as u32,
+            items.lights.len() as u32,
+            self.lists.cells,
             self.shape.index_capacity,
             self.coarse_stride,
             u32::from(self.shape.brute_force),
@@ -201,12 +253,12 @@ impl CullHierarchy {
         )
     }
 
-    /// Uploads the parameters and the items' world-space bounding spheres.
+    /// Uploads the parameters, the items' world-space bounding spheres and the decals' boxes.
     pub fn upload(
         &self,
         gpu: &GpuContext,
         params: &CullParams,
-        items: &[CullSphere],
+        items: &CullItems,
     ) -> Result<(), CullError> {
         super::check_item_count(items.len(), self.shape.item_capacity)?;
         self.item_count
@@ -214,7 +266,11 @@ impl CullHierarchy {
         gpu.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(params));
         gpu.queue
-            .write_buffer(&self.items, 0, bytemuck::cast_slice(items));
+            .write_buffer(&self.items, 0, bytemuck::cast_slice(&items.spheres()));
+        if !items.decals.is_empty() {
+            gpu.queue
+                .write_buffer(&self.boxes, 0, bytemuck::cast_slice(items.decals));
+        }
         Ok(())
     }
 
@@ -240,6 +296,7 @@ impl CullHierarchy {
             (6, self.tile_info.as_entire_binding()),
             (7, self.candidates.as_entire_binding()),
             (8, self.spheres.as_entire_binding()),
+            (9, self.boxes.as_entire_binding()),
         ];
         let prepare = super::bind_by_number(device, &self.prepare, &resources);
         let fine = super::bind_by_number(device, &self.fine, &resources);

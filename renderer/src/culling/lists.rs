@@ -1,9 +1,11 @@
-//! The output every culling method shares: a grid of `(offset, count)` per cell, one index list
-//! with a capacity and a guard region, and the overflow counters.
+//! The output every culling method shares: a grid of `(offset, count)` per cell and item type
+//! (lights, then decals), one index list with a capacity and a guard region, and the overflow
+//! counters.
 
 use glam::UVec2;
 use wgpu::util::DeviceExt as _;
 
+use super::hierarchy::ITEM_TYPES;
 use crate::{GpuContext, GpuError, readback};
 
 /// Word written past the index capacity, to prove kernels never write there.
@@ -41,34 +43,55 @@ impl CullCounters {
 /// The grid, index list and counters read back from the GPU.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct CullReadback {
-    /// `(offset, count)` per cell.
+    /// `(offset, count)` per cell: the light lists of every cell, then the decal lists.
     pub grid: Vec<UVec2>,
+    /// Cells per item type (the decal list of cell `c` is grid entry `cells + c`).
+    pub cells: usize,
     /// The whole index buffer, guard region included.
     pub indices: Vec<u32>,
     pub counters: CullCounters,
 }
 
 impl CullReadback {
-    /// The sorted item list of cell `c`.
-    pub fn cell_items(&self, c: usize) -> Vec<u32> {
+    /// Grid entry `e`'s entries, in the order the GPU wrote them.
+    fn entries(&self, e: usize) -> &[u32] {
         let UVec2 {
             x: offset,
             y: count,
-        } = self.grid[c];
-        let mut items = self.indices[offset as usize..(offset + count) as usize].to_vec();
+        } = self.grid[e];
+        &self.indices[offset as usize..(offset + count) as usize]
+    }
+
+    /// The sorted light list of cell `c`.
+    pub fn cell_items(&self, c: usize) -> Vec<u32> {
+        let mut items = self.entries(c).to_vec();
         items.sort_unstable();
         items
     }
 
-    /// Every cell's sorted list.
+    /// Every cell's sorted light list.
     pub fn all_lists(&self) -> Vec<Vec<u32>> {
-        (0..self.grid.len()).map(|c| self.cell_items(c)).collect()
+        (0..self.cells).map(|c| self.cell_items(c)).collect()
+    }
+
+    /// The decal list of cell `c` as written: decal indices, in the order shading applies them
+    /// (ascending).
+    pub fn cell_decals(&self, c: usize) -> &[u32] {
+        self.entries(self.cells + c)
+    }
+
+    /// Every cell's decal list, as written.
+    pub fn all_decal_lists(&self) -> Vec<Vec<u32>> {
+        (0..self.cells)
+            .map(|c| self.cell_decals(c).to_vec())
+            .collect()
     }
 }
 
 /// GPU buffers of a culling result.
 #[derive(Debug)]
 pub struct LightLists {
+    /// Cells per item type; the grid holds `ITEM_TYPES` entries per cell.
     pub cells: u32,
     pub index_capacity: u32,
     pub grid: wgpu::Buffer,
@@ -87,7 +110,7 @@ impl LightLists {
             index_capacity,
             grid: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("light grid"),
-                size: u64::from(cells.max(1)) * 8,
+                size: u64::from(cells.max(1)) * 8 * u64::from(ITEM_TYPES),
                 usage,
                 mapped_at_creation: false,
             }),
@@ -108,7 +131,7 @@ impl LightLists {
     /// Bytes of the grid and of the usable index list.
     pub fn bytes(&self) -> (u64, u64) {
         (
-            u64::from(self.cells) * 8,
+            u64::from(self.cells) * 8 * u64::from(ITEM_TYPES),
             u64::from(self.index_capacity) * 4,
         )
     }
@@ -119,7 +142,8 @@ impl LightLists {
         let indices = readback::read_buffer::<u32>(&gpu.device, &gpu.queue, &self.indices)?;
         let counters = readback::read_buffer::<u32>(&gpu.device, &gpu.queue, &self.counters)?;
         Ok(CullReadback {
-            grid: grid[..self.cells as usize].to_vec(),
+            grid: grid[..(self.cells * ITEM_TYPES) as usize].to_vec(),
+            cells: self.cells as usize,
             indices,
             counters: CullCounters::from_words(&counters),
         })

@@ -3,10 +3,10 @@
 //! are shaded, a transparent list.
 
 use glam::{Mat4, UVec2};
-use shaders_gen::culling::tile_cull::{self, CullSphere, Tile, VariantKey};
+use shaders_gen::culling::tile_cull::{self, Tile, VariantKey};
 
 use super::CullError;
-use super::hierarchy::{CullHierarchy, CullView, HierarchyShape, MethodParams};
+use super::hierarchy::{CullHierarchy, CullItems, CullView, HierarchyShape, MethodParams};
 use crate::GpuContext;
 
 /// Settings of the tiled culling pass.
@@ -80,7 +80,7 @@ impl TiledCulling {
         view: Mat4,
         projection: Mat4,
         screen: UVec2,
-        items: &[CullSphere],
+        items: CullItems<'_>,
     ) -> Result<(), CullError> {
         let camera = CullView {
             view,
@@ -91,7 +91,7 @@ impl TiledCulling {
             transparent: self.config.transparent_lists,
             ..MethodParams::default()
         };
-        let params = self.levels.params(&camera, items.len() as u32, method);
-        self.levels.upload(gpu, &params, items)
+        let params = self.levels.params(&camera, &items, method);
+        self.levels.upload(gpu, &params, &items)
     }
 }

@@ -27,6 +27,11 @@ pub enum DecalError {
     Image { path: PathBuf, reason: String },
     #[error("decal {index}: {reason}")]
     Decal { index: usize, reason: String },
+    #[error(
+        "{count} decals do not fit one storage binding of decal records on this device (at \
+         most {max}): use fewer decals"
+    )]
+    TooMany { count: usize, max: usize },
     #[error("decal file {path}: {reason}")]
     Sidecar { path: PathBuf, reason: String },
 }

@@ -58,7 +58,10 @@ pub use crate::frame_data::{
 pub use crate::passes::light_cull::Culler;
 
 use crate::GpuContext;
-use crate::frame_data::{CameraUniform, FrameInputs, FrameResources, InstanceState, LightSet};
+use crate::decals::{DecalAtlasConfig, DecalSet};
+use crate::frame_data::{
+    CameraUniform, FrameInputs, FrameResources, GpuDecals, InstanceState, LightSet,
+};
 use crate::graph::{ImportAccess, PassTiming, RenderGraph, TextureDesc, TransientPool};
 use crate::passes::Pass;
 use crate::scene::{Scene, SceneLight};
@@ -78,6 +81,7 @@ pub struct Renderer {
     /// Where each instance of the scene is, and which move (`motion`).
     instances: Arc<Vec<InstanceState>>,
     lights: Arc<LightSet>,
+    decals: Arc<GpuDecals>,
     camera_uniform: CameraUniform,
     pool: TransientPool,
     profiler: wgpu_profiler::GpuProfiler,
@@ -95,6 +99,7 @@ impl std::fmt::Debug for Renderer {
             .field("passes", &self.pass_names())
             .field("lights", &self.lights.punctual.len())
             .field("directional", &self.lights.directional.len())
+            .field("decals", &self.decals.count())
             .finish_non_exhaustive()
     }
 }
@@ -123,6 +128,7 @@ impl Renderer {
             scene: None,
             instances: Arc::new(Vec::new()),
             lights: Arc::new(LightSet::new(&gpu.device, &[])),
+            decals: Arc::new(GpuDecals::empty(&gpu.device, &gpu.queue)),
             camera_uniform: CameraUniform::new(&gpu.device),
             pool: TransientPool::new(),
             profiler: wgpu_profiler::GpuProfiler::new(&gpu.device, settings)
@@ -149,6 +155,25 @@ impl Renderer {
         Ok(())
     }
 
+    /// Replaces the decals (validated, their atlas packed with the default
+    /// [`DecalAtlasConfig`]), effective next frame. Decals are culled into the same cell lists
+    /// as lights and applied by forward shading before lighting, in their layer order
+    /// ([`DecalSet::layer_order`]).
+    pub fn set_decals(&mut self, decals: &DecalSet) -> Result<(), RenderError> {
+        self.set_decals_with(decals, DecalAtlasConfig::default())
+    }
+
+    /// [`Renderer::set_decals`] with an atlas configuration.
+    pub fn set_decals_with(
+        &mut self,
+        decals: &DecalSet,
+        atlas: DecalAtlasConfig,
+    ) -> Result<(), RenderError> {
+        let gpu = &self.gpu;
+        self.decals = Arc::new(GpuDecals::new(&gpu.device, &gpu.queue, decals, atlas)?);
+        Ok(())
+    }
+
     /// Changes the frame size; passes rebuild what depends on it on the next frame.
     pub fn resize(&mut self, width: u32, height: u32) {
         self.config.width = width;
@@ -170,6 +195,7 @@ impl Renderer {
             scene,
             instances: Arc::clone(&self.instances),
             lights: Arc::clone(&self.lights),
+            decals: Arc::clone(&self.decals),
             camera_uniform: self.camera_uniform.clone(),
             capture: self.capture_request.take(),
             index: self.frame_index,

@@ -34,7 +34,9 @@ pub fn passes_for(
         passes.push(Box::new(LightCullPass::new(gpu)));
     }
     match config.view {
-        FrameView::Heatmap => passes.push(Box::new(HeatmapPass::new(gpu, config)?)),
+        FrameView::Heatmap | FrameView::DecalHeatmap => {
+            passes.push(Box::new(HeatmapPass::new(gpu, config)?));
+        }
         FrameView::ShadowAtlas => {
             passes.push(Box::new(ShadowPass::new(gpu, config)?));
             passes.push(Box::new(ShadowAtlasViewPass::new(gpu, config)?));

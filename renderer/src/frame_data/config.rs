@@ -60,6 +60,9 @@ pub enum FrameView {
     Heatmap,
     /// The shadow atlas: depth as grey, each region outlined in its light's colour.
     ShadowAtlas,
+    /// The decal-count heatmap: the same ramp and legend as [`FrameView::Heatmap`], over the
+    /// cells' decal lists.
+    DecalHeatmap,
 }
 
 /// Renderer settings.
@@ -91,6 +94,8 @@ pub struct RendererConfig {
     pub view: FrameView,
     /// Light count at which the heatmap saturates (red).
     pub heatmap_max: u32,
+    /// Decal count shown as full red in the decal heatmap.
+    pub decal_heatmap_max: u32,
     /// The shadow atlas: size, resolutions, caching.
     pub shadows: crate::shadow::ShadowConfig,
 }
@@ -124,6 +129,7 @@ impl Default for RendererConfig {
             exposure: 1.0,
             view: FrameView::Lit,
             heatmap_max: 256,
+            decal_heatmap_max: 16,
             shadows: crate::shadow::ShadowConfig::default(),
         }
     }

@@ -59,4 +59,6 @@ pub enum RenderError {
          texture side, {max}"
     )]
     ShadowAtlasSize { asked: u32, min: u32, max: u32 },
+    #[error(transparent)]
+    Decals(#[from] crate::decals::DecalError),
 }

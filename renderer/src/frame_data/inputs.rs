@@ -3,7 +3,9 @@
 
 use std::sync::Arc;
 
-use super::{CameraUniform, FrameCamera, InstanceState, LightSet, PreparedScene, RendererConfig};
+use super::{
+    CameraUniform, FrameCamera, GpuDecals, InstanceState, LightSet, PreparedScene, RendererConfig,
+};
 use crate::GpuContext;
 
 /// One frame's inputs.
@@ -16,6 +18,8 @@ pub struct FrameInputs {
     /// Where each scene instance is this frame (index = `DrawItem::instance`).
     pub instances: Arc<Vec<InstanceState>>,
     pub lights: Arc<LightSet>,
+    /// Decals in layer order, with their atlas.
+    pub decals: Arc<GpuDecals>,
     /// The camera uniform, already written for this frame.
     pub camera_uniform: CameraUniform,
     /// Probe stride when a tool asked this frame to capture its depth and light grid.

@@ -1,5 +1,5 @@
 //! What every pass of a frame may read, below the passes: the renderer's configuration, the
-//! camera, the prepared scene and its draw lists, the lights, the shared texture formats, the
+//! camera, the prepared scene and its draw lists, the lights, the decals, the shared texture formats, the
 //! graph resources passes hand each other ([`FrameResources`]) and the frame report.
 //!
 //! Passes (`crate::passes`) import this module and never `crate::frame`; `frame` orchestrates
@@ -7,6 +7,7 @@
 
 mod camera;
 mod config;
+mod decals;
 mod error;
 mod formats;
 mod inputs;
@@ -17,6 +18,7 @@ mod scene;
 
 pub use camera::{CameraUniform, FrameCamera};
 pub use config::{FrameView, RenderPath, RendererConfig};
+pub use decals::{GpuDecals, cull_box};
 pub use error::RenderError;
 pub use formats::{DEPTH_FORMAT, HDR_FORMAT};
 pub use inputs::FrameInputs;

@@ -33,6 +33,9 @@ pub struct ListGeometry {
     /// View depths where slice 1 and the last slice start (the camera's planes otherwise).
     pub near: f32,
     pub far: f32,
+    /// Grid entries from a cell's light list to its decal list: the lists of one item type
+    /// (tiles × lists per tile; 0 without lists).
+    pub decal_section: u32,
 }
 
 impl ListGeometry {
@@ -54,7 +57,13 @@ impl ListGeometry {
             slices = g.slices;
             (near, far) = (g.near, g.far);
         }
+        let lists_per_tile = match method {
+            Some(Method::Clustered { grid, .. }) => grid.slices,
+            Some(m) => 1 + u32::from(m.transparent_lists()),
+            None => 0,
+        };
         Self {
+            decal_section: tiles.x * tiles.y * lists_per_tile,
             tile,
             tiles,
             slices,

@@ -76,6 +76,8 @@ impl ForwardPass {
             g.near,
             g.far,
             frame.lights.directional.len() as u32,
+            frame.decals.count(),
+            g.decal_section,
         );
         frame
             .gpu
@@ -234,6 +236,7 @@ impl ForwardPass {
         let camera = frame.camera_uniform.buffer.clone();
         let lighting = self.lighting.clone();
         let lights = Arc::clone(&frame.lights);
+        let decals = Arc::clone(&frame.decals);
         let eye = frame.camera.eye;
         let sky = sky_color(frame.config.sky);
         move |ctx| {
@@ -249,6 +252,7 @@ impl ForwardPass {
             }
             let mut entries = super::entries(&frame_resources);
             entries.extend(shadows.entries());
+            entries.extend(decals.entries());
             let frame_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("forward frame"),
                 layout: &layout,

@@ -1,6 +1,6 @@
-//! Light-count heatmap debug view: each pixel coloured by how many lights its tile or froxel
-//! lists (reference 000's "Visualize Light Count"), with a legend strip along the bottom. It
-//! replaces forward shading and tonemapping in the frame's pass list.
+//! Light-count and decal-count heatmap debug views: each pixel coloured by how many lights (or
+//! decals) its tile or froxel lists (reference 000's "Visualize Light Count"), with a legend
+//! strip along the bottom. It replaces forward shading and tonemapping in the frame's pass list.
 
 use shaders_gen::forward::heatmap;
 
@@ -21,6 +21,8 @@ pub struct HeatmapPass {
     params: wgpu::Buffer,
     /// Clustered lists need the depth buffer to find a pixel's slice.
     needs_depth: bool,
+    /// Show the decal lists rather than the light lists.
+    decals: bool,
 }
 
 impl HeatmapPass {
@@ -59,6 +61,7 @@ impl HeatmapPass {
                 mapped_at_creation: false,
             }),
             needs_depth: clustered,
+            decals: config.view == crate::frame_data::FrameView::DecalHeatmap,
         })
     }
 
@@ -74,7 +77,12 @@ impl HeatmapPass {
             g.slices,
             g.near,
             g.far,
-            c.heatmap_max,
+            if self.decals {
+                c.decal_heatmap_max
+            } else {
+                c.heatmap_max
+            },
+            if self.decals { g.decal_section } else { 0 },
         );
         frame
             .gpu
@@ -85,7 +93,11 @@ impl HeatmapPass {
 
 impl Pass for HeatmapPass {
     fn name(&self) -> &'static str {
-        "light heatmap"
+        if self.decals {
+            "decal heatmap"
+        } else {
+            "light heatmap"
+        }
     }
 
     fn add_to_graph(

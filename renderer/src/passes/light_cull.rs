@@ -1,17 +1,15 @@
 //! Light culling: the tiled / 2.5D or clustered kernel over the pre-Z depth, writing the light
-//! grid and index list the shading passes read. It owns the culler of the configured path (built
+//! and decal lists of the grid and index list the shading passes read. It owns the culler of the configured path (built
 //! on the first frame and rebuilt when the size, light count, scene or camera range call for
 //! it), reads the overflow counters back asynchronously, and grows the index list after an
 //! overflow. The naive paths have no culling pass.
 
 use std::sync::Arc;
 
-use shaders_gen::culling::tile_cull::CullSphere;
-
 use super::Pass;
 use crate::GpuContext;
 use crate::culling::clustered::{ClusterCullConfig, ClusteredCulling};
-use crate::culling::hierarchy::CullHierarchy;
+use crate::culling::hierarchy::{CullHierarchy, CullItems, CullSphere};
 use crate::culling::lists::{CullCounters, LightLists};
 use crate::culling::max_index_entries;
 use crate::culling::overflow::{CounterReadback, grow_for};
@@ -112,7 +110,7 @@ impl LightCullPass {
     /// Rebuilds the culler when the frame no longer fits it.
     fn ensure_culler(&mut self, frame: &FrameInputs) -> Result<(), RenderError> {
         let c = &frame.config;
-        let items = (frame.lights.spheres.len() as u32)
+        let items = (frame.lights.spheres.len() as u32 + frame.decals.count())
             .max(1)
             .next_power_of_two();
         let has_blend = frame
@@ -235,20 +233,21 @@ impl Pass for LightCullPass {
     fn prepare(&mut self, frame: &FrameInputs) -> Result<(), RenderError> {
         self.ensure_culler(frame)?;
         let (camera, gpu) = (&frame.camera, &frame.gpu);
-        // Both kernels take the `CullSphere` of the shared `cull_append` library.
-        let items: Vec<CullSphere> = frame
+        // Both kernels take the `CullSphere` and `CullBox` of the shared `cull_append` library.
+        let spheres: Vec<CullSphere> = frame
             .lights
             .spheres
             .iter()
             .map(|s| CullSphere::new(s.center, s.radius))
             .collect();
+        let items = CullItems {
+            lights: &spheres,
+            decals: &frame.decals.boxes,
+        };
+        let (view, projection, screen) = (camera.view, camera.projection, frame.screen());
         match &self.culler {
-            Culler::Tiled(t) => {
-                t.upload(gpu, camera.view, camera.projection, frame.screen(), &items)?;
-            }
-            Culler::Clustered(k) => {
-                k.upload(gpu, camera.view, camera.projection, frame.screen(), &items)?;
-            }
+            Culler::Tiled(t) => t.upload(gpu, view, projection, screen, items)?,
+            Culler::Clustered(k) => k.upload(gpu, view, projection, screen, items)?,
             Culler::Naive => {}
         }
         Ok(())

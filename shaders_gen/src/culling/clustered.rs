@@ -14,7 +14,8 @@
 /// unbounded, has none). Without `all_slices`, only the slices holding a depth sample of the
 /// tile (`TILE_DEPTH[tile].w`) get lists, and each froxel is clipped to the tile's sample depth
 /// range (every shaded point is then a sample), so a froxel's list is never longer than its
-/// tile's would be. Lists are counted, allocated with one atomic per tile
+/// tile's would be. A box item (decal) must also reach the froxel as a box: its corners against
+/// the planes and, with `box_test`, its axis-aligned box against the froxel's. Lists are counted, allocated with one atomic per tile
 /// and written (`cull_append`), so none is cut short.
 #[shader_dsl::shader(
     axes(tile: u32 = [8, 16, 32] => "t"),
@@ -82,6 +83,46 @@ pub mod cluster_cull {
         bits
     }
 
+    /// Of the slices `bits` (those the box's bounding sphere reaches), the ones whose froxel of
+    /// this tile the view-space box `b` reaches: its corners against the planes, and with
+    /// `box_test` its axis-aligned box against the froxel's.
+    fn classify_box(b: ViewBox, column: TileColumn, bits: u32) -> u32 {
+        let c = b.center;
+        let e = box_extent(b.x, b.y, b.z);
+        let mut kept = 0u32;
+        if box_in_frustum(c, b.x, b.y, b.z, column.sides, 0.0, UNBOUNDED) {
+            let mut rest = bits;
+            while rest != 0u32 {
+                let k = rest.trailing_zeros();
+                rest = rest & (rest - 1u32);
+                let zn = SLICE_START[k].max(column.depth_lo);
+                let zf = SLICE_START[k + 1u32].min(column.depth_hi);
+                let mut hit = -c.z - zn >= -e.z && c.z + zf >= -e.z;
+                if hit && zf < UNBOUNDED && PARAMS.box_test != 0u32 {
+                    hit = box_reaches_box(c, e, column.rays, zn, zf);
+                }
+                if hit {
+                    kept = kept | (1u32 << k);
+                }
+            }
+        }
+        kept
+    }
+
+    /// Candidate `i`'s item (`x`) and its slices (`y`): its bounding sphere decides, and a box
+    /// item must pass its box's test as well. The item index is loaded only for a hit.
+    fn candidate_lists(st: u32, coarse: bool, i: u32, column: TileColumn) -> UVec2 {
+        let mut bits = classify(candidate_sphere(st, coarse, i), column);
+        let mut item = 0u32;
+        if bits != 0u32 {
+            item = candidate_item(st, coarse, i);
+            if is_box(item) {
+                bits = classify_box(view_box(item), column, bits);
+            }
+        }
+        UVec2::new(item, bits)
+    }
+
     #[compute(workgroup_size(64, 1, 1))]
     pub fn cull(#[builtin(local_invocation_index)] lid: u32, #[builtin(workgroup_id)] wg: UVec3) {
         let tile_index = wg.y * PARAMS.tiles.x + wg.x;
@@ -128,8 +169,8 @@ pub mod cluster_cull {
         // fit in workgroup memory, classify again and write).
         let mut i = lid;
         while i < n {
-            let s = candidate_sphere(st, coarse, i);
-            hit_add(classify(s, column), st, coarse, i);
+            let hit = candidate_lists(st, coarse, i, column);
+            hit_add(hit.y, hit.x);
             i += WORKGROUP;
         }
         workgroup_barrier();
@@ -137,16 +178,15 @@ pub mod cluster_cull {
             lists_allocate(tile_index, lists);
         }
         workgroup_barrier();
-        if !hits_write(lid, WORKGROUP) {
+        let cached = hits_write(lid, WORKGROUP);
+        if !cached {
             let mut i = lid;
             while i < n {
-                let s = candidate_sphere(st, coarse, i);
-                let bits = classify(s, column);
-                if bits != 0u32 {
-                    list_add(bits, candidate_item(st, coarse, i), 1u32);
-                }
+                let hit = candidate_lists(st, coarse, i, column);
+                list_add(hit.y, hit.x, 1u32);
                 i += WORKGROUP;
             }
         }
+        box_lists_order(lid, lists, WORKGROUP);
     }
 }

@@ -11,8 +11,11 @@
 ///   the near plane to the tile's farthest opaque sample, or to the far plane when any sample of
 ///   the tile is sky (`TILE_DEPTH[tile].w`).
 ///
+/// Box items (decals) are tested as boxes: planes against the box's corners, the frustum's
+/// bounding box against the box's, the box's depth span against the 2.5D mask.
+///
 /// Lists are counted, allocated with one atomic per tile and then written (`cull_append`), so
-/// no list is ever cut short. Planes and the sphere test are `light_grid`'s.
+/// no list is ever cut short. Planes and the sphere and box tests are `light_grid`'s.
 #[shader_dsl::shader(
     axes(
         tile: u32 = [8, 16, 32] => "t",
@@ -83,6 +86,58 @@ pub mod tile_cull {
         bits
     }
 
+    /// The lists (bit 0 opaque, bit 1 transparent) the view-space box `b` belongs to: the same
+    /// cells as `classify`, with the box's planes test, its axis-aligned box against the
+    /// frustum's box, and its depth span for the 2.5D mask.
+    fn classify_box(b: ViewBox, sides: SidePlanes, rays: TileRays, range: TileRange) -> u32 {
+        let c = b.center;
+        let e = box_extent(b.x, b.y, b.z);
+        let mut bits = 0u32;
+        if range.opaque
+            && box_in_frustum(c, b.x, b.y, b.z, sides, range.near, range.far)
+            && (PARAMS.box_test == 0u32 || box_reaches_box(c, e, rays, range.near, range.far))
+        {
+            let mut kept = true;
+            if depth_mask {
+                let span = sphere_mask(-c.z - e.z, -c.z + e.z, range.near, range.far);
+                kept = (span & range.mask) != 0u32;
+            }
+            if kept {
+                bits = 1u32;
+            }
+        }
+        let tn = range.transparent_near;
+        let tf = range.transparent_far;
+        if PARAMS.transparent != 0u32
+            && box_in_frustum(c, b.x, b.y, b.z, sides, tn, tf)
+            && (PARAMS.box_test == 0u32 || box_reaches_box(c, e, rays, tn, tf))
+        {
+            bits = bits | 2u32;
+        }
+        bits
+    }
+
+    /// Candidate `i`'s item (`x`) and its lists (`y`): its bounding sphere decides, and a box
+    /// item must pass its box's test as well. The item index is loaded only for a hit.
+    fn candidate_lists(
+        st: u32,
+        coarse: bool,
+        i: u32,
+        sides: SidePlanes,
+        rays: TileRays,
+        range: TileRange,
+    ) -> UVec2 {
+        let mut bits = classify(candidate_sphere(st, coarse, i), sides, rays, range);
+        let mut item = 0u32;
+        if bits != 0u32 {
+            item = candidate_item(st, coarse, i);
+            if is_box(item) {
+                bits = bits & classify_box(view_box(item), sides, rays, range);
+            }
+        }
+        UVec2::new(item, bits)
+    }
+
     #[compute(workgroup_size(64, 1, 1))]
     pub fn cull(#[builtin(local_invocation_index)] lid: u32, #[builtin(workgroup_id)] wg: UVec3) {
         let tile_index = wg.y * PARAMS.tiles.x + wg.x;
@@ -128,8 +183,8 @@ pub mod tile_cull {
         // fit in workgroup memory, classify again and write).
         let mut i = lid;
         while i < n {
-            let s = candidate_sphere(st, coarse, i);
-            hit_add(classify(s, sides, rays, range), st, coarse, i);
+            let hit = candidate_lists(st, coarse, i, sides, rays, range);
+            hit_add(hit.y, hit.x);
             i += WORKGROUP;
         }
         workgroup_barrier();
@@ -137,16 +192,15 @@ pub mod tile_cull {
             lists_allocate(tile_index, lists);
         }
         workgroup_barrier();
-        if !hits_write(lid, WORKGROUP) {
+        let cached = hits_write(lid, WORKGROUP);
+        if !cached {
             let mut i = lid;
             while i < n {
-                let s = candidate_sphere(st, coarse, i);
-                let bits = classify(s, sides, rays, range);
-                if bits != 0u32 {
-                    list_add(bits, candidate_item(st, coarse, i), 1u32);
-                }
+                let hit = candidate_lists(st, coarse, i, sides, rays, range);
+                list_add(hit.y, hit.x, 1u32);
                 i += WORKGROUP;
             }
         }
+        box_lists_order(lid, lists, WORKGROUP);
     }
 }

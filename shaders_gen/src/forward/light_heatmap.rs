@@ -1,7 +1,8 @@
-//! The light-count heatmap debug view.
+//! The light-count and decal-count heatmap debug view.
 
-/// Full-screen debug view: each pixel is coloured by the number of lights in its tile's or
-/// froxel's list (`GRID[cell].y`, the lists `tile_cull`/`cluster_cull` write), on a ramp black
+/// Full-screen debug view: each pixel is coloured by the number of lights (or, with `section`
+/// set to the grid's decal section, decals) in its tile's or froxel's list
+/// (`GRID[section + cell].y`, the lists `tile_cull`/`cluster_cull` write), on a ramp black
 /// → blue → green → yellow → red with stops at counts 0, ¼, ½, ¾ and 1 × `max_count`
 /// (saturating). The bottom 16 pixel rows are the legend: the same ramp from left (0) to right
 /// (`max_count`).
@@ -32,6 +33,8 @@ pub mod heatmap {
         pub far: f32,
         /// Count shown as full red.
         pub max_count: u32,
+        /// Grid entries before the lists shown: 0 for lights, the decal section for decals.
+        pub section: u32,
     }
 
     /// Rows of the legend strip at the bottom.
@@ -82,7 +85,7 @@ pub mod heatmap {
         }
         let mut count = 0u32;
         if list == 1 {
-            count = GRID[tile_cell(px, PARAMS.tile_size, PARAMS.tiles.x)].y;
+            count = GRID[PARAMS.section + tile_cell(px, PARAMS.tile_size, PARAMS.tiles.x)].y;
         } else {
             let mut d = 1.0;
             if msaa == 1 {
@@ -93,7 +96,8 @@ pub mod heatmap {
             if d < 1.0 {
                 let depth = view_depth(PARAMS.inv_projection, d);
                 let slice = slice_of(depth, PARAMS.near, PARAMS.far, PARAMS.slices);
-                count = GRID[froxel_cell(px, slice, PARAMS.tile_size, PARAMS.tiles)].y;
+                count =
+                    GRID[PARAMS.section + froxel_cell(px, slice, PARAMS.tile_size, PARAMS.tiles)].y;
             }
         }
         if INDICES.len() == 0u32 {

@@ -21,6 +21,11 @@
 /// is attenuated by the `shadow_atlas` library's `shadow_visibility`, the one PCF path of every
 /// light type, on every list and blend variant alike.
 ///
+/// Decals (`decal_apply`) are blended into the material before lighting, in layer order: on the
+/// naive path every decal `DECALS[0..decal_count]`, on the culled paths the cell's decal list
+/// (grid entry `cell + decal_section`, ascending decal indices). Derivatives of the world
+/// position are taken once, before any list loop, so decals filter right in any control flow.
+///
 /// With `blend` the output alpha is the material's (alpha blend); otherwise 1. Alpha mask: a
 /// material with a positive `alpha_cutoff` discards texels below it.
 ///
@@ -40,6 +45,7 @@
         crate::shared::pbr,
         crate::shared::light_grid,
         crate::shared::shadow_atlas,
+        crate::shared::decal_apply,
     ),
 )]
 pub mod forward {
@@ -64,6 +70,11 @@ pub mod forward {
         pub far: f32,
         /// Directional lights at the start of `DIRECTIONAL`.
         pub directional_count: u32,
+        /// Decals in `DECALS` (naive loop bound).
+        pub decal_count: u32,
+        /// Grid entries from a cell's light list to its decal list (the culling pass's grid
+        /// section).
+        pub decal_section: u32,
     }
 
     /// glTF metallic-roughness factors; each multiplies its texture.
@@ -194,6 +205,23 @@ pub mod forward {
         cell
     }
 
+    /// `material` with the decals that reach the shaded point applied, in layer order: every
+    /// decal on the naive path, the decal list of `cell` on the culled paths.
+    fn with_decals(material: DecalSurface, frame: DecalFrame, cell: u32) -> DecalSurface {
+        let mut m = material;
+        if list == 0 {
+            for d in 0u32..LIGHTING.decal_count {
+                m = apply_decal(d, m, frame);
+            }
+        } else {
+            let range = GRID[cell + LIGHTING.decal_section];
+            for j in 0u32..range.y {
+                m = apply_decal(INDICES[range.x + j], m, frame);
+            }
+        }
+        m
+    }
+
     #[fragment]
     pub fn fs_forward(input: VsOut, #[builtin(front_facing)] front: bool) -> Vec4 {
         let base = MATERIAL.base_color * BASE_COLOR_TEX.sample(MATERIAL_SAMPLER, input.uv);
@@ -218,27 +246,45 @@ pub mod forward {
         );
         let n = (t * ts.x + b * ts.y + nn * ts.z).normalize();
 
-        let albedo = base.xyz();
-        let metallic = (MATERIAL.metallic * mr.z).saturate();
-        let roughness = (MATERIAL.roughness * mr.y).clamp(MIN_ROUGHNESS, 1.0);
-        let occlusion = 1.0 + MATERIAL.occlusion_strength * (occlusion_texel - 1.0);
         let p = input.world;
-        let v = (CAMERA.eye - p).normalize();
-
         let view_depth = -(CAMERA.view * p.extend(1.0)).z;
+        let frame = DecalFrame {
+            position: p,
+            dpdx: dpdx(p),
+            dpdy: dpdy(p),
+            geometric_normal: nn,
+            distance: (CAMERA.eye - p).length(),
+        };
+        let material = DecalSurface {
+            albedo: base.xyz(),
+            normal: n,
+            occlusion: 1.0 + MATERIAL.occlusion_strength * (occlusion_texel - 1.0),
+            roughness: MATERIAL.roughness * mr.y,
+            metallic: MATERIAL.metallic * mr.z,
+            emissive,
+        };
+        let mut cell = 0u32;
+        if list > 0 {
+            cell = cell_of(input.clip, view_depth);
+        }
+        let m = with_decals(material, frame, cell);
+
+        let albedo = m.albedo;
+        let occlusion = m.occlusion;
+        let v = (CAMERA.eye - p).normalize();
         let s = Surface {
             p,
-            n,
+            n: m.normal,
             v,
             albedo,
-            metallic,
-            roughness,
+            metallic: m.metallic.saturate(),
+            roughness: m.roughness.clamp(MIN_ROUGHNESS, 1.0),
             geometric_normal: nn,
             view_depth,
             dither: dither_noise(input.clip.xy()),
         };
 
-        let mut color = LIGHTING.ambient * albedo * occlusion + emissive;
+        let mut color = LIGHTING.ambient * albedo * occlusion + m.emissive;
         for i in 0u32..LIGHTING.directional_count {
             color += light_contribution(DIRECTIONAL[i], s);
         }
@@ -247,7 +293,6 @@ pub mod forward {
                 color += light_contribution(LIGHTS[i], s);
             }
         } else {
-            let cell = cell_of(input.clip, view_depth);
             let mut done = false;
             if scalarize {
                 let first = subgroup_broadcast_first(cell);

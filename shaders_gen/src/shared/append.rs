@@ -16,8 +16,19 @@
 ///   item index only for the candidates it keeps; after them every item's view-space sphere,
 ///   written once by the same pass, for the fallback. (Seven storage buffers in all: WebGPU's
 ///   default limit is eight per stage.)
+/// * `BOXES` (binding 9): the oriented boxes of the box items (decals). Items `first_box..` are
+///   boxes: their `ITEMS` sphere bounds the box (the super-tile level tests that), and the fine
+///   level tests the box itself (`light_grid::box_in_frustum`, `box_reaches_box`). The eighth
+///   storage buffer of the fine kernels.
 /// * the output: `GRID` (binding 2) holds `(offset, count)` per list, `INDICES` (binding 3) the
 ///   items, `COUNTERS` (binding 4) the overflow counters.
+///
+/// Item types: every list exists once per type, lights (spheres) first, then decals (boxes);
+/// the decal list of grid entry `e` is entry `e + grid_section`. A cell's two ranges are
+/// adjacent in `INDICES` (its lights, then its decals), and decal entries hold the decal's
+/// index (`item − first_box`), in ascending order: the host orders decals by layer, so a
+/// cell's decals come in the order they are applied. Adding a third item type (environment
+/// probes) is a third section, not a new list.
 ///
 /// A fine cell (a tile) owns up to [`MAX_LISTS`] lists: list `j` of tile `t` is grid entry
 /// `t + j · tile_count`. Tiled culling has the opaque list (`j = 0`) and, for blended surfaces,
@@ -35,6 +46,23 @@ pub mod cull_append {
         pub radius: f32,
     }
 
+    /// An oriented box in world space: its centre (`w` unused) and its three axes, each scaled by
+    /// the box's half extent along it.
+    pub struct CullBox {
+        pub center: Vec4,
+        pub axis_x: Vec4,
+        pub axis_y: Vec4,
+        pub axis_z: Vec4,
+    }
+
+    /// A box item's box in view space: centre and half-extent axes.
+    pub struct ViewBox {
+        pub center: Vec3,
+        pub x: Vec3,
+        pub y: Vec3,
+        pub z: Vec3,
+    }
+
     /// Camera, grid and capacities of the three culling dispatches.
     pub struct CullParams {
         pub view: Mat4,
@@ -48,6 +76,11 @@ pub mod cull_append {
         pub super_tiles: UVec2,
         /// Items in `ITEMS`.
         pub item_count: u32,
+        /// The first box item (decal): items `first_box..item_count` are `BOXES[item −
+        /// first_box]`; `item_count` when there are none.
+        pub first_box: u32,
+        /// `GRID` entries per item type: a cell's decal list is its light list's entry plus this.
+        pub grid_section: u32,
         /// Entries `INDICES` may hold; the buffer may be larger (guard regions).
         pub index_capacity: u32,
         /// Candidate slots per super-tile in `COARSE`.
@@ -93,6 +126,8 @@ pub mod cull_append {
     pub const MAX_CELL_ITEMS: u32 = 3;
     /// Number of counters.
     pub const COUNTER_COUNT: u32 = 4;
+    /// Item types with lists of their own in every cell: lights, then decals.
+    pub const ITEM_TYPES: u32 = 2;
 
     #[uniform(group = 0, binding = 0)]
     static PARAMS: CullParams;
@@ -113,15 +148,22 @@ pub mod cull_append {
     /// The candidates' view-space spheres, slot for slot, then every item's view-space sphere.
     #[storage(group = 0, binding = 8, read_write)]
     static SPHERES: [Vec4];
+    #[storage(group = 0, binding = 9)]
+    static BOXES: [CullBox];
 
+    /// Per list `j`, its light count at `j` and its decal count at `MAX_LISTS + j`.
     #[workgroup]
-    static LIST_COUNT: [Atomic<u32>; MAX_LISTS];
+    static LIST_COUNT: [Atomic<u32>; ITEM_TYPES * MAX_LISTS];
     #[workgroup]
-    static LIST_BASE: [u32; MAX_LISTS];
+    static LIST_BASE: [u32; ITEM_TYPES * MAX_LISTS];
     #[workgroup]
     static LIST_ROOM: u32;
+    /// Light hits cached from the front of `HITS`.
     #[workgroup]
     static HIT_COUNT: Atomic<u32>;
+    /// Decal hits cached from the back of `HITS` (`HITS[MAX_HITS − 1 − h]`).
+    #[workgroup]
+    static BOX_HIT_COUNT: Atomic<u32>;
     #[workgroup]
     static HITS: [UVec2; MAX_HITS];
 
@@ -198,36 +240,63 @@ pub mod cull_append {
         s
     }
 
-    /// Zeroes the per-list counters and the hit cache; invocations `0..MAX_LISTS` call it,
-    /// before a barrier.
+    /// Whether `item` is a box (decal) rather than a sphere (light).
+    fn is_box(item: u32) -> bool {
+        item >= PARAMS.first_box
+    }
+
+    /// Box item `item`'s box in view space.
+    fn view_box(item: u32) -> ViewBox {
+        let b = BOXES[item - PARAMS.first_box];
+        ViewBox {
+            center: (PARAMS.view * b.center.xyz().extend(1.0)).xyz(),
+            x: (PARAMS.view * b.axis_x.xyz().extend(0.0)).xyz(),
+            y: (PARAMS.view * b.axis_y.xyz().extend(0.0)).xyz(),
+            z: (PARAMS.view * b.axis_z.xyz().extend(0.0)).xyz(),
+        }
+    }
+
+    /// Zeroes the per-list counters and the hit cache; invocations `0..ITEM_TYPES · MAX_LISTS`
+    /// call it (the kernels' workgroups are that large), before a barrier.
     fn lists_reset(lid: u32) {
-        if lid < MAX_LISTS {
+        if lid < ITEM_TYPES * MAX_LISTS {
             LIST_COUNT[lid].store(0u32);
         }
         if lid == 0u32 {
             HIT_COUNT.store(0u32);
+            BOX_HIT_COUNT.store(0u32);
         }
     }
 
-    /// Counting phase: counts candidate `i` of `super_tile` in the lists of `bits` and keeps
-    /// its item, with its bits, in the hit cache while there is room.
-    fn hit_add(bits: u32, super_tile: u32, coarse: bool, i: u32) {
+    /// Counting phase: counts `item` in the lists of `bits` and keeps it, with its bits, in the
+    /// hit cache while there is room (lights from the front, boxes from the back).
+    fn hit_add(bits: u32, item: u32) {
         if bits != 0u32 {
-            let item = candidate_item(super_tile, coarse, i);
             list_add(bits, item, 0u32);
-            let h = HIT_COUNT.fetch_add(1u32);
-            if h < MAX_HITS {
-                HITS[h] = UVec2::new(item, bits);
+            if is_box(item) {
+                let h = BOX_HIT_COUNT.fetch_add(1u32);
+                if h < MAX_HITS {
+                    HITS[MAX_HITS - 1u32 - h] = UVec2::new(item, bits);
+                }
+            } else {
+                let h = HIT_COUNT.fetch_add(1u32);
+                if h < MAX_HITS {
+                    HITS[h] = UVec2::new(item, bits);
+                }
             }
         }
     }
 
     /// Writing phase from the hit cache (after `lists_allocate` and a barrier), spread over
-    /// `threads` invocations. Returns `false`, writing nothing, when the hits did not fit: the
-    /// caller then classifies its candidates again with `list_add(.., 1)`.
+    /// `threads` invocations. Lights take slots in arrival order; each box takes its rank among
+    /// the tile's boxes of the same list, so decal lists come out in item (layer) order.
+    /// Returns `false`, writing nothing, when the hits did not fit: the caller then classifies
+    /// its candidates again with `list_add(.., 1)` and orders the decal lists with
+    /// `box_lists_order`.
     fn hits_write(lid: u32, threads: u32) -> bool {
         let n = HIT_COUNT.load();
-        let fits = n <= MAX_HITS;
+        let boxes = BOX_HIT_COUNT.load();
+        let fits = n <= MAX_HITS && boxes <= MAX_HITS - n;
         if fits {
             let mut i = lid;
             while i < n {
@@ -235,35 +304,99 @@ pub mod cull_append {
                 list_add(h.y, h.x, 1u32);
                 i += threads;
             }
+            let mut i = lid;
+            while i < boxes {
+                box_write_ranked(HITS[MAX_HITS - 1u32 - i], boxes);
+                i += threads;
+            }
         }
         fits
     }
 
-    /// Phase 0 counts `item` in every list of `bits`; phase 1 writes it there (`bits` 0: nothing).
-    fn list_add(bits: u32, item: u32, phase: u32) {
-        let mut rest = bits;
+    /// Writes the cached box hit `hit` into each of its lists at its rank there: the number of
+    /// the tile's `boxes` cached box hits in that list with a smaller item.
+    fn box_write_ranked(hit: UVec2, boxes: u32) {
+        let mut rest = hit.y;
         while rest != 0u32 {
             let j = rest.trailing_zeros();
             rest = rest & (rest - 1u32);
+            let bit = 1u32 << j;
+            let mut rank = 0u32;
+            for k in 0u32..boxes {
+                let other = HITS[MAX_HITS - 1u32 - k];
+                if (other.y & bit) != 0u32 && other.x < hit.x {
+                    rank += 1u32;
+                }
+            }
+            if LIST_ROOM != 0u32 {
+                INDICES[LIST_BASE[MAX_LISTS + j] + rank] = hit.x - PARAMS.first_box;
+            }
+        }
+    }
+
+    /// Phase 0 counts `item` in every list of `bits` (its type's lists); phase 1 writes it
+    /// there, a light as its item index, a box as its decal index (`bits` 0: nothing).
+    fn list_add(bits: u32, item: u32, phase: u32) {
+        let mut first = 0u32;
+        let mut entry = item;
+        if is_box(item) {
+            first = MAX_LISTS;
+            entry = item - PARAMS.first_box;
+        }
+        let mut rest = bits;
+        while rest != 0u32 {
+            let j = first + rest.trailing_zeros();
+            rest = rest & (rest - 1u32);
             let slot = LIST_COUNT[j].fetch_add(1u32);
             if phase == 1u32 && LIST_ROOM != 0u32 {
-                INDICES[LIST_BASE[j] + slot] = item;
+                INDICES[LIST_BASE[j] + slot] = entry;
+            }
+        }
+    }
+
+    /// After the write phase, in uniform control flow, spread over `threads` invocations: a
+    /// tile that wrote without the hit cache put its decal entries in arrival order, so each of
+    /// its decal lists is sorted in place (odd-even transposition: one round per entry, each
+    /// round's compare-swaps spread over the workgroup). A tile that wrote from the cache
+    /// counted no decal entry in the write phase (`box_write_ranked` places them by rank), so
+    /// its lists are left as they are. Nothing to do in frames without boxes.
+    fn box_lists_order(lid: u32, lists: u32, threads: u32) {
+        if PARAMS.first_box < PARAMS.item_count {
+            workgroup_barrier();
+            storage_barrier();
+            for j in 0u32..lists {
+                let base = LIST_BASE[MAX_LISTS + j];
+                let n = LIST_COUNT[MAX_LISTS + j].load() * LIST_ROOM;
+                for round in 0u32..n {
+                    let mut p = 2u32 * lid + (round & 1u32);
+                    while p + 1u32 < n {
+                        let lo = INDICES[base + p];
+                        let hi = INDICES[base + p + 1u32];
+                        if lo > hi {
+                            INDICES[base + p] = hi;
+                            INDICES[base + p + 1u32] = lo;
+                        }
+                        p += 2u32 * threads;
+                    }
+                    storage_barrier();
+                }
             }
         }
     }
 
     /// Between the phases (invocation 0, after a barrier): one global allocation for the `lists`
-    /// lists of tile `tile`, their grid entries, and the counters reset for the write phase. A
-    /// tile whose lists do not fit the index list gets empty lists; its entries are counted as
-    /// dropped.
+    /// lists of tile `tile` of every item type, their grid entries, and the counters reset for
+    /// the write phase. A list's decals follow its lights in `INDICES`. A tile whose lists do
+    /// not fit the index list gets empty lists; its entries are counted as dropped.
     fn lists_allocate(tile: u32, lists: u32) {
         let tile_count = PARAMS.tiles.x * PARAMS.tiles.y;
         let mut total = 0u32;
         let mut longest = 0u32;
         for j in 0u32..lists {
             let n = LIST_COUNT[j].load();
-            total += n;
-            longest = longest.max(n);
+            let boxes = LIST_COUNT[MAX_LISTS + j].load();
+            total += n + boxes;
+            longest = longest.max(n).max(boxes);
         }
         let offset = COUNTERS[NEXT_INDEX].fetch_add(total);
         COUNTERS[MAX_CELL_ITEMS].fetch_max(longest);
@@ -275,19 +408,25 @@ pub mod cull_append {
         let mut base = offset;
         for j in 0u32..lists {
             let n = LIST_COUNT[j].load();
+            let boxes = LIST_COUNT[MAX_LISTS + j].load();
+            let cell = tile + j * tile_count;
             LIST_BASE[j] = base;
-            GRID[tile + j * tile_count] = UVec2::new(base, n * room);
-            base += n;
+            LIST_BASE[MAX_LISTS + j] = base + n;
+            GRID[cell] = UVec2::new(base, n * room);
+            GRID[cell + PARAMS.grid_section] = UVec2::new(base + n, boxes * room);
+            base += n + boxes;
             LIST_COUNT[j].store(0u32);
+            LIST_COUNT[MAX_LISTS + j].store(0u32);
         }
         LIST_ROOM = room;
     }
 
-    /// Empty lists `0..lists` for tile `tile` (invocation 0).
+    /// Empty lists `0..lists` of every item type for tile `tile` (invocation 0).
     fn lists_clear(tile: u32, lists: u32) {
         let tile_count = PARAMS.tiles.x * PARAMS.tiles.y;
         for j in 0u32..lists {
             GRID[tile + j * tile_count] = UVec2::new(0u32, 0u32);
+            GRID[tile + j * tile_count + PARAMS.grid_section] = UVec2::new(0u32, 0u32);
         }
     }
 }

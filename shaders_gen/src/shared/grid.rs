@@ -1,5 +1,6 @@
 //! Light-grid geometry shared by the culling kernels and the passes that read their lists:
-//! view depth, depth slices, tile and froxel cells, frustum planes and the sphere test.
+//! view depth, depth slices, tile and froxel cells, frustum planes, and the sphere and
+//! oriented-box tests.
 
 /// The cell lookups, frustum tests and 2.5D mask cells of the culling kernels, `forward` and
 /// `heatmap`.
@@ -98,6 +99,52 @@ pub mod light_grid {
         inside = inside && -c.z - near >= -r;
         inside = inside && c.z + far >= -r;
         inside
+    }
+
+    /// Half the extent along unit `n` of a box with half-extent axes `x`, `y`, `z`: how far its
+    /// corners reach from its centre towards `n`.
+    pub fn box_radius_along(x: Vec3, y: Vec3, z: Vec3, n: Vec3) -> f32 {
+        n.dot(x).abs() + n.dot(y).abs() + n.dot(z).abs()
+    }
+
+    /// Whether a view-space oriented box (centre `c`, half-extent axes `x`, `y`, `z`) clears all
+    /// six planes: no plane has all eight corners behind it (the box's extent along each plane's
+    /// normal against the centre's distance).
+    pub fn box_in_frustum(
+        c: Vec3,
+        x: Vec3,
+        y: Vec3,
+        z: Vec3,
+        sides: SidePlanes,
+        near: f32,
+        far: f32,
+    ) -> bool {
+        let l = sides.left.xyz();
+        let r = sides.right.xyz();
+        let b = sides.bottom.xyz();
+        let t = sides.top.xyz();
+        let rz = x.z.abs() + y.z.abs() + z.z.abs();
+        let mut inside = l.dot(c) + sides.left.w >= -box_radius_along(x, y, z, l);
+        inside = inside && r.dot(c) + sides.right.w >= -box_radius_along(x, y, z, r);
+        inside = inside && b.dot(c) + sides.bottom.w >= -box_radius_along(x, y, z, b);
+        inside = inside && t.dot(c) + sides.top.w >= -box_radius_along(x, y, z, t);
+        inside = inside && -c.z - near >= -rz;
+        inside = inside && c.z + far >= -rz;
+        inside
+    }
+
+    /// Half extents of the view-space axis-aligned box around an oriented box.
+    pub fn box_extent(x: Vec3, y: Vec3, z: Vec3) -> Vec3 {
+        x.abs() + y.abs() + z.abs()
+    }
+
+    /// Whether the axis-aligned box at `c` with half extents `e` overlaps the view-space
+    /// bounding box of the rectangle's frustum between view depths `zn` and `zf`.
+    pub fn box_reaches_box(c: Vec3, e: Vec3, rays: TileRays, zn: f32, zf: f32) -> bool {
+        let lo = (rays.min * zn).min(rays.min * zf).extend(-zf);
+        let hi = (rays.max * zn).max(rays.max * zf).extend(-zn);
+        let gap = (lo - (c + e)).max((c - e) - hi);
+        gap.x <= 0.0 && gap.y <= 0.0 && gap.z <= 0.0
     }
 
     /// View-space direction through NDC `(x, y)`, scaled to view depth 1.

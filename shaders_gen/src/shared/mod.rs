@@ -8,11 +8,13 @@
 pub mod append;
 pub mod brdf;
 pub mod camera;
+pub mod decal;
 pub mod grid;
 pub mod shadow;
 
 pub use append::cull_append;
 pub use brdf::pbr;
 pub use camera::view;
+pub use decal::decal_apply;
 pub use grid::light_grid;
 pub use shadow::shadow_atlas;

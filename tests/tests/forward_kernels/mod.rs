@@ -184,10 +184,16 @@ pub fn draw_forward(
     let variant = forward::variant(key).expect("not excluded");
     let p = program(gpu, variant);
     let camera = uniform(gpu, &inputs.camera);
-    let lighting = uniform(gpu, &inputs.lighting);
+    // No decals: every cell's decal list is an empty entry after the light lists.
+    let mut lighting = inputs.lighting;
+    lighting.decal_count = 0;
+    lighting.decal_section = inputs.grid.len() as u32;
+    let lighting = uniform(gpu, &lighting);
     let lights = storage(gpu, inputs.lights);
     let directional = storage(gpu, inputs.directional);
-    let grid = storage(gpu, inputs.grid);
+    let mut grid_entries = inputs.grid.to_vec();
+    grid_entries.resize(inputs.grid.len() * 2, glam::UVec2::ZERO);
+    let grid = storage(gpu, &grid_entries);
     let indices = storage(gpu, inputs.indices);
     let mut group0 = vec![
         (0, camera.as_entire_binding()),
@@ -223,6 +229,14 @@ pub fn draw_forward(
     group0.push((6, shadow_views.as_entire_binding()));
     group0.push((7, wgpu::BindingResource::TextureView(&shadow_view)));
     group0.push((8, wgpu::BindingResource::Sampler(&shadow_sampler)));
+    let decal_records = storage(gpu, &[0u8; size_of::<forward::GpuDecal>()]);
+    let decal_texel = texel(gpu, [0.0; 4]).create_view(&Default::default());
+    let decal_sampler = gpu.device.create_sampler(&Default::default());
+    group0.push((9, decal_records.as_entire_binding()));
+    for binding in 10..14 {
+        group0.push((binding, wgpu::BindingResource::TextureView(&decal_texel)));
+    }
+    group0.push((14, wgpu::BindingResource::Sampler(&decal_sampler)));
     let g0 = bind_group(gpu, &p, 0, group0);
     let draw = uniform(gpu, &inputs.draw);
     let g1 = bind_group(gpu, &p, 1, vec![(0, draw.as_entire_binding())]);

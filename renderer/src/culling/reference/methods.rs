@@ -2,11 +2,13 @@
 //! clustered (screen tiles × exponential depth slices), each behind the same two-level
 //! hierarchy as the GPU: a light is listed in a cell only if it also passes its 128×128-pixel
 //! super-tile's frustum (which never removes a light that touches the cell, see [`cull`]).
+//! Decals are oriented boxes ([`cull_boxes`]): tested as their bounding sphere and as a box.
 
 use glam::Vec3;
 
 use super::frustum::{Plane, sphere_margin, tile_side_planes};
 use super::{CullCamera, DepthBuffer, LightSphere};
+use crate::decals::OrientedBox;
 
 /// Number of depth cells in a 2.5D tile mask.
 pub const DEPTH_MASK_CELLS: u32 = 32;
@@ -158,6 +160,27 @@ pub fn tolerance(center: Vec3, radius: f32) -> f32 {
     1e-4 * (center.length() + radius).max(1.0)
 }
 
+/// What a cell lists: a light's sphere, or a decal's box (both in view space).
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Shape {
+    Sphere(LightSphere),
+    Box(OrientedBox),
+}
+
+impl Shape {
+    /// The sphere every level tests (a box's bounding sphere: the super-tile level and the
+    /// first test of the fine level).
+    fn sphere(&self) -> LightSphere {
+        match *self {
+            Self::Sphere(s) => s,
+            Self::Box(b) => {
+                let (center, radius) = b.bounding_sphere();
+                LightSphere { center, radius }
+            }
+        }
+    }
+}
+
 /// Culls view-space `lights` for every cell of `method`, through the hierarchy the GPU uses: a
 /// light is listed in a cell when it passes the cell's test and its super-tile's.
 ///
@@ -170,7 +193,27 @@ pub fn cull(
     lights_view: &[LightSphere],
     method: Method,
 ) -> CellLists {
-    cull_levels(camera, depth, lights_view, method, true)
+    cull_levels(camera, depth, &spheres(lights_view), method, true)
+}
+
+/// Culls view-space decal boxes for every cell of `method`, with the lights' hierarchy: a box
+/// is listed in a cell when its bounding sphere would be (as a light) and the box itself
+/// reaches the cell: no cell plane has all its corners behind it, its axis-aligned bounds meet
+/// the cell's view-space box where lights are tested against that box (no MSAA), and its depth
+/// span meets the 2.5D mask. Lists hold box indices in ascending order.
+pub fn cull_boxes(
+    camera: &CullCamera,
+    depth: &DepthBuffer,
+    boxes_view: &[OrientedBox],
+    method: Method,
+    hierarchical: bool,
+) -> CellLists {
+    let shapes: Vec<Shape> = boxes_view.iter().copied().map(Shape::Box).collect();
+    cull_levels(camera, depth, &shapes, method, hierarchical)
+}
+
+fn spheres(lights: &[LightSphere]) -> Vec<Shape> {
+    lights.iter().copied().map(Shape::Sphere).collect()
 }
 
 /// [`cull`] without the super-tile level: every cell tests every light (the GPU's brute-force
@@ -181,13 +224,13 @@ pub fn cull_brute_force(
     lights_view: &[LightSphere],
     method: Method,
 ) -> CellLists {
-    cull_levels(camera, depth, lights_view, method, false)
+    cull_levels(camera, depth, &spheres(lights_view), method, false)
 }
 
 fn cull_levels(
     camera: &CullCamera,
     depth: &DepthBuffer,
-    lights_view: &[LightSphere],
+    items: &[Shape],
     method: Method,
     hierarchical: bool,
 ) -> CellLists {
@@ -230,7 +273,7 @@ fn cull_levels(
                             froxel: boxes.then_some(&frustum_box),
                         };
                         let cell = tile_index as usize;
-                        test_lights(&test, &candidates, lights_view, cell, &mut out);
+                        test_lights(&test, &candidates, items, cell, &mut out);
                     }
                     if transparent {
                         // Blended surfaces above a sky sample can be as far as the far plane.
@@ -246,7 +289,7 @@ fn cull_levels(
                             froxel: boxes.then_some(&frustum_box),
                         };
                         let cell = (tile_count + tile_index) as usize;
-                        test_lights(&test, &candidates, lights_view, cell, &mut out);
+                        test_lights(&test, &candidates, items, cell, &mut out);
                     }
                 }
                 Method::Clustered { grid, skip_empty } => {
@@ -269,7 +312,7 @@ fn cull_levels(
                             froxel: froxel.as_ref(),
                         };
                         let cell = (k * tile_count + tile_index) as usize;
-                        test_lights(&test, &candidates, lights_view, cell, &mut out);
+                        test_lights(&test, &candidates, items, cell, &mut out);
                     }
                 }
             }
@@ -364,16 +407,17 @@ struct FineTest<'a> {
 fn test_lights(
     test: &FineTest<'_>,
     candidates: &Candidates<'_>,
-    lights: &[LightSphere],
+    shapes: &[Shape],
     cell: usize,
     out: &mut CellLists,
 ) {
     if candidates.none {
         return;
     }
-    for (index, light) in lights.iter().enumerate() {
+    for (index, shape) in shapes.iter().enumerate() {
+        let light = shape.sphere();
         let eps = tolerance(light.center, light.radius);
-        // Every test's margin (≥ 0 passes); the light passes when all do, and is a close call
+        // Every test's margin (≥ 0 passes); the item passes when all do, and is a close call
         // when any of them is within the tolerance.
         let mut margins = vec![sphere_margin(test.planes, light.center, light.radius)];
         if let Some(coarse) = candidates.coarse {
@@ -382,16 +426,25 @@ fn test_lights(
         if let Some(froxel) = test.froxel {
             margins.push(light.radius - froxel.distance(light.center));
         }
+        // A box's depth span for the mask: the sphere's, or the box's own.
+        let mut half_depth = light.radius;
+        if let Shape::Box(b) = shape {
+            margins.push(box_margin(test.planes, b));
+            if let Some(froxel) = test.froxel {
+                margins.push(froxel.box_margin(b));
+            }
+            half_depth = b.radius_along(Vec3::Z);
+        }
         let margin = margins.iter().copied().fold(f32::INFINITY, f32::min);
         let close_call = margins.iter().any(|m| m.abs() <= eps);
         let mut passes = margin >= 0.0;
         let mut borderline = close_call;
         if let Some(tile) = test.mask.filter(|_| margin > -eps) {
             let d = -light.center.z;
-            passes &= tile.overlaps(d - light.radius, d + light.radius);
-            // Would a slightly smaller or larger sphere flip the mask test?
-            let shrunk = tile.overlaps(d - light.radius + eps, d + light.radius - eps);
-            let grown = tile.overlaps(d - light.radius - eps, d + light.radius + eps);
+            passes &= tile.overlaps(d - half_depth, d + half_depth);
+            // Would a slightly smaller or larger item flip the mask test?
+            let shrunk = tile.overlaps(d - half_depth + eps, d + half_depth - eps);
+            let grown = tile.overlaps(d - half_depth - eps, d + half_depth + eps);
             borderline |= shrunk != grown;
         }
         if passes {
@@ -449,6 +502,27 @@ impl FroxelBox {
     fn distance(&self, p: Vec3) -> f32 {
         p.distance(p.clamp(self.min, self.max))
     }
+
+    /// How far the oriented box's axis-aligned bounds reach into this box along the axis where
+    /// they overlap least (negative: the gap where they miss).
+    fn box_margin(&self, b: &OrientedBox) -> f32 {
+        let extent = Vec3::new(
+            b.radius_along(Vec3::X),
+            b.radius_along(Vec3::Y),
+            b.radius_along(Vec3::Z),
+        );
+        let gap = (self.min - (b.center + extent)).max((b.center - extent) - self.max);
+        -gap.max_element()
+    }
+}
+
+/// The smallest margin by which an oriented box clears the planes: `min(n · c + d + r_n)` with
+/// `r_n` the box's extent along `n`; negative when some plane has every corner behind it.
+fn box_margin(planes: &[Plane], b: &OrientedBox) -> f32 {
+    planes
+        .iter()
+        .map(|p| p.distance(b.center) + b.radius_along(p.normal))
+        .fold(f32::INFINITY, f32::min)
 }
 
 /// Calls `f(x, y, view_position)` for every sample that holds a surface.

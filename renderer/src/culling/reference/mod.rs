@@ -7,12 +7,14 @@
 //!   belongs to no surface;
 //! - pixel `(x, y)` has NDC `x = 2 (x / w) − 1`, `y = 1 − 2 (y / h)`; tile `(i, j)` of size `t`
 //!   spans pixels `[i t, (i + 1) t)` without clamping to the screen edge;
-//! - every light is a sphere in view space (spot lights use their cone's bounding sphere).
+//! - every light is a sphere in view space (spot lights use their cone's bounding sphere); every
+//!   decal an oriented box in view space.
 //!
 //! [`cull`] gives each tile or cluster its sorted list of lights that pass the method's test,
 //! plus the lights whose test was too close to call in `f32` (see [`Borderline`]).
 //! [`exact`] gives, per sample, the lights whose sphere really contains the sample's surface
-//! point, and [`exact::cull_efficiency`] compares the two.
+//! point, and [`exact::cull_efficiency`] compares the two. [`cull_boxes`] does the same for
+//! decal boxes; a box that contains a sample's point must be in the sample's cell.
 
 mod depth;
 pub mod exact;
@@ -22,7 +24,8 @@ mod methods;
 pub use depth::{DepthBuffer, standard_sample_offset};
 pub use frustum::{Plane, tile_side_planes};
 pub use methods::{
-    Borderline, CellLists, ClusterGrid, Method, SUPER_TILE_PIXELS, cull, cull_brute_force,
+    Borderline, CellLists, ClusterGrid, Method, SUPER_TILE_PIXELS, cull, cull_boxes,
+    cull_brute_force,
 };
 
 use glam::{Mat4, Vec3, Vec4};

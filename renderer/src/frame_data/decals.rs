@@ -1,0 +1,239 @@
+//! The frame's decals on the GPU: the records shading reads and the boxes culling tests, both in
+//! layer order (the order cell lists keep and shading applies), and the decal atlas's four
+//! textures with their sampler.
+
+use bytemuck::Zeroable as _;
+use glam::{Mat4, Vec4};
+use shaders_gen::forward::forward::GpuDecal;
+use wgpu::util::DeviceExt as _;
+
+use crate::culling::hierarchy::CullBox;
+use crate::decals::{Channel, Decal, DecalAtlas, DecalAtlasConfig, DecalError, DecalSet};
+
+/// Stands for "never" in distance fades (beyond any camera distance, finite in `f32` maths).
+const FAR_DISTANCE: f32 = 1.0e30;
+/// Steepest fade slope: a fade whose start equals its end is a step.
+const STEP_SLOPE: f32 = 1.0e6;
+
+/// Decals uploaded for shading and culling.
+#[derive(Debug)]
+pub struct GpuDecals {
+    /// Each record's decal in the [`DecalSet`] it came from, in layer order.
+    pub order: Vec<usize>,
+    /// The decals' boxes for culling, in layer order.
+    pub boxes: Vec<CullBox>,
+    /// `GpuDecal` records in layer order (one placeholder when there are none).
+    pub records: wgpu::Buffer,
+    /// Base colour, normal, occlusion-roughness-metalness, emissive ([`Channel`] order).
+    pub views: [wgpu::TextureView; Channel::COUNT],
+    pub sampler: wgpu::Sampler,
+    /// Atlas side in texels and mip levels (1×1 and 1 without decals).
+    pub atlas_size: u32,
+    pub mip_levels: u32,
+}
+
+impl GpuDecals {
+    /// No decals: a placeholder record and 1×1 textures, so shading binds the same layout.
+    pub fn empty(device: &wgpu::Device, queue: &wgpu::Queue) -> Self {
+        let neutral = Channel::ALL.map(|c| vec![c.neutral().to_vec()]);
+        Self {
+            order: Vec::new(),
+            boxes: Vec::new(),
+            records: records_buffer(device, &[GpuDecal::zeroed()]),
+            views: Channel::ALL.map(|c| upload_channel(device, queue, c, 1, &neutral[c as usize])),
+            sampler: sampler(device),
+            atlas_size: 1,
+            mip_levels: 1,
+        }
+    }
+
+    /// Validates `set`, packs its atlas and uploads it with the decals in layer order.
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        set: &DecalSet,
+        config: DecalAtlasConfig,
+    ) -> Result<Self, DecalError> {
+        set.validate()?;
+        let max = Self::max_decals(device);
+        if set.decals.len() > max {
+            return Err(DecalError::TooMany {
+                count: set.decals.len(),
+                max,
+            });
+        }
+        if set.decals.is_empty() {
+            return Ok(Self::empty(device, queue));
+        }
+        let atlas = DecalAtlas::build(&set.materials, config)?;
+        let order = set.layer_order();
+        let records: Vec<GpuDecal> = order
+            .iter()
+            .map(|&i| record(&set.decals[i], &atlas))
+            .collect();
+        let boxes = order.iter().map(|&i| cull_box(&set.decals[i])).collect();
+        Ok(Self {
+            order,
+            boxes,
+            records: records_buffer(device, &records),
+            views: Channel::ALL
+                .map(|c| upload_channel(device, queue, c, atlas.size, &atlas.levels[c as usize])),
+            sampler: sampler(device),
+            atlas_size: atlas.size,
+            mip_levels: atlas.mip_levels,
+        })
+    }
+
+    /// How many decals one storage binding of records holds on `device`.
+    pub fn max_decals(device: &wgpu::Device) -> usize {
+        let limits = device.limits();
+        let bytes = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
+        (bytes / size_of::<GpuDecal>() as u64) as usize
+    }
+
+    /// Decals uploaded.
+    pub fn count(&self) -> u32 {
+        self.boxes.len() as u32
+    }
+
+    /// The `decal_apply` library's bindings of group 0 (9: records, 10–13: the atlas channels,
+    /// 14: the sampler), for every pass that shades with decals.
+    pub fn entries(&self) -> Vec<wgpu::BindGroupEntry<'_>> {
+        let mut entries = vec![wgpu::BindGroupEntry {
+            binding: 9,
+            resource: self.records.as_entire_binding(),
+        }];
+        entries.extend(
+            self.views
+                .iter()
+                .zip(10..)
+                .map(|(view, binding)| wgpu::BindGroupEntry {
+                    binding,
+                    resource: wgpu::BindingResource::TextureView(view),
+                }),
+        );
+        entries.push(wgpu::BindGroupEntry {
+            binding: 14,
+            resource: wgpu::BindingResource::Sampler(&self.sampler),
+        });
+        entries
+    }
+}
+
+/// The culling box of a decal: its centre and its axes scaled by the half extents.
+pub fn cull_box(decal: &Decal) -> CullBox {
+    let m = decal.world_from_box;
+    CullBox::new(
+        m.w_axis.truncate().extend(1.0),
+        (m.x_axis.truncate() * 0.5).extend(0.0),
+        (m.y_axis.truncate() * 0.5).extend(0.0),
+        (m.z_axis.truncate() * 0.5).extend(0.0),
+    )
+}
+
+/// The shading record of a validated decal.
+fn record(decal: &Decal, atlas: &DecalAtlas) -> GpuDecal {
+    // World → the unit cube [−0.5, 0.5]³ → [−1, 1]³.
+    let box_from_world = Mat4::from_scale(glam::Vec3::splat(2.0)) * decal.world_from_box.inverse();
+    let entry = &atlas.entries[decal.material];
+    let [angle_start, angle_end] = decal.angle_fade;
+    let (cos_start, cos_end) = (angle_start.cos(), angle_end.cos());
+    let [distance_start, distance_end] = decal.distance_fade.map(|d| d.min(FAR_DISTANCE));
+    GpuDecal::new(
+        box_from_world.row(0),
+        box_from_world.row(1),
+        box_from_world.row(2),
+        entry.uv,
+        Vec4::new(
+            cos_end,
+            slope(cos_start - cos_end),
+            distance_end,
+            slope(distance_end - distance_start),
+        ),
+        decal.blend,
+        entry.channels,
+    )
+}
+
+/// `1 / span`, or a step for an empty span.
+fn slope(span: f32) -> f32 {
+    if span > 1.0 / STEP_SLOPE {
+        1.0 / span
+    } else {
+        STEP_SLOPE
+    }
+}
+
+fn records_buffer(device: &wgpu::Device, records: &[GpuDecal]) -> wgpu::Buffer {
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("decals"),
+        contents: bytemuck::cast_slice(records),
+        usage: wgpu::BufferUsages::STORAGE,
+    })
+}
+
+/// One atlas channel as a texture: `levels[k]` is level `k`, `size >> k` texels square.
+fn upload_channel(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    channel: Channel,
+    size: u32,
+    levels: &[Vec<u8>],
+) -> wgpu::TextureView {
+    let format = if channel.is_srgb() {
+        wgpu::TextureFormat::Rgba8UnormSrgb
+    } else {
+        wgpu::TextureFormat::Rgba8Unorm
+    };
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(channel.name()),
+        size: wgpu::Extent3d {
+            width: size,
+            height: size,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: levels.len() as u32,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    for (level, texels) in levels.iter().enumerate() {
+        let side = (size >> level).max(1);
+        queue.write_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture: &texture,
+                mip_level: level as u32,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            texels,
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(side * 4),
+                rows_per_image: Some(side),
+            },
+            wgpu::Extent3d {
+                width: side,
+                height: side,
+                depth_or_array_layers: 1,
+            },
+        );
+    }
+    texture.create_view(&Default::default())
+}
+
+/// Trilinear, clamped: the atlas's gutters make every level safe to filter. No anisotropy: its
+/// longer footprint at grazing angles could reach past a gutter.
+fn sampler(device: &wgpu::Device) -> wgpu::Sampler {
+    device.create_sampler(&wgpu::SamplerDescriptor {
+        label: Some("decal atlas"),
+        mag_filter: wgpu::FilterMode::Linear,
+        min_filter: wgpu::FilterMode::Linear,
+        mipmap_filter: wgpu::MipmapFilterMode::Linear,
+        ..Default::default()
+    })
+}

@@ -1,0 +1,116 @@
+//! Running one culling kernel on a [`CullScene`]: its depth written sample by sample, its lights
+//! (and decal boxes) uploaded, the three dispatches, and the lists read back; and the helpers
+//! the culling tests compare lists with.
+
+use glam::UVec2;
+use renderer::culling::clustered::{ClusterCullConfig, ClusteredCulling};
+use renderer::culling::hierarchy::{CullBox, CullItems, CullSphere};
+use renderer::culling::lists::CullReadback;
+use renderer::culling::tiled::{TileCullConfig, TiledCulling};
+use renderer::decals::OrientedBox;
+
+use crate::cull_scene::CullScene;
+use crate::depth_upload::write_msaa_depth;
+use crate::gpu::gpu_test;
+
+/// A GPU culling method and its configuration.
+#[derive(Debug, Clone, Copy)]
+pub enum GpuMethod {
+    Tiled(TileCullConfig),
+    Clustered(ClusterCullConfig),
+}
+
+/// `(seed, sample count)` for every MSAA count the adapter supports for `Depth32Float`: 1 and 4
+/// on lavapipe, 1/2/4/8 on the NVIDIA machines. The variants for the other counts are still
+/// validated by naga and spirv-val at build time.
+pub fn msaa_cases(seed: u64) -> Vec<(u64, u32)> {
+    let counts = gpu_test(|gpu| gpu.capabilities().msaa_depth32float.clone());
+    assert!(
+        counts.contains(&1) && counts.contains(&4),
+        "WebGPU guarantees MSAA 1 and 4: {counts:?}"
+    );
+    counts
+        .into_iter()
+        .filter(|c| [1, 2, 4, 8].contains(c))
+        .map(|c| (seed + u64::from(c), c))
+        .collect()
+}
+
+/// The culling box of a world-space oriented box (centre, axes scaled by the half extents).
+pub fn cull_box(b: &OrientedBox) -> CullBox {
+    CullBox::new(
+        b.center.extend(1.0),
+        (b.axes[0] * b.half.x).extend(0.0),
+        (b.axes[1] * b.half.y).extend(0.0),
+        (b.axes[2] * b.half.z).extend(0.0),
+    )
+}
+
+/// Culls the scene's lights and `boxes` (world space) with `method` and reads the lists back.
+pub fn run_with_boxes(s: &CullScene, method: GpuMethod, boxes: &[OrientedBox]) -> CullReadback {
+    gpu_test(|gpu| {
+        let (w, h) = (s.camera.width, s.camera.height);
+        let depth = write_msaa_depth(gpu, w, h, s.depth.samples, &s.depth.depth);
+        let view = depth.create_view(&Default::default());
+        let spheres: Vec<CullSphere> = s
+            .lights
+            .iter()
+            .map(|l| CullSphere::new(l.center, l.radius))
+            .collect();
+        let decals: Vec<CullBox> = boxes.iter().map(cull_box).collect();
+        let items = CullItems {
+            lights: &spheres,
+            decals: &decals,
+        };
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        let (cam, d, screen) = (&s.camera, &gpu.device, UVec2::new(w, h));
+        let levels = match method {
+            GpuMethod::Tiled(config) => {
+                let culling = TiledCulling::new(gpu, config, w, h).expect("culling setup");
+                culling
+                    .upload(gpu, cam.view, cam.projection, screen, items)
+                    .expect("upload");
+                culling.levels
+            }
+            GpuMethod::Clustered(config) => {
+                let culling = ClusteredCulling::new(gpu, config, w, h).expect("culling setup");
+                culling
+                    .upload(gpu, cam.view, cam.projection, screen, items)
+                    .expect("upload");
+                culling.levels
+            }
+        };
+        levels.encode(d, &mut encoder, &view, None);
+        gpu.queue.submit([encoder.finish()]);
+        levels.lists.read_back(gpu).expect("readback")
+    })
+}
+
+/// Culls the scene's lights with `method` and reads the lists back.
+pub fn run_method(s: &CullScene, method: GpuMethod) -> CullReadback {
+    run_with_boxes(s, method, &[])
+}
+
+/// Items in exactly one of two sorted lists, sorted.
+pub fn symmetric_difference(a: &[u32], b: &[u32]) -> Vec<u32> {
+    let (mut i, mut j, mut d) = (0, 0, Vec::new());
+    while i < a.len() || j < b.len() {
+        match (a.get(i), b.get(j)) {
+            (Some(x), Some(y)) if x == y => (i, j) = (i + 1, j + 1),
+            (Some(x), Some(y)) if x < y => {
+                d.push(*x);
+                i += 1;
+            }
+            (Some(_), Some(y)) | (None, Some(y)) => {
+                d.push(*y);
+                j += 1;
+            }
+            (Some(x), None) => {
+                d.push(*x);
+                i += 1;
+            }
+            (None, None) => break,
+        }
+    }
+    d
+}
