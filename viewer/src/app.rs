@@ -50,7 +50,7 @@ struct Running {
 
 impl App {
     pub fn new(args: Args) -> Result<App> {
-        let shown = load(args.scene.as_deref(), args.lights, args.seed)?;
+        let shown = load(args.scene.as_deref(), args.lights, args.decals, args.seed)?;
         Ok(App {
             args,
             shown,
@@ -228,6 +228,7 @@ fn build(
     let mut r = Renderer::new(gpu, config)?;
     r.prepare_scene(&shown.scene);
     r.set_lights(lights)?;
+    r.set_decals(&shown.decals)?;
     Ok(r)
 }
 
@@ -256,7 +257,8 @@ fn screenshot(gpu: &GpuContext, texture: &wgpu::Texture, path: &std::path::Path)
 }
 
 impl Running {
-    /// A settings key: path, MSAA, tile, heatmap, shadow atlas or light count; rebuilds the
+    /// A settings key: path, MSAA, tile, heatmap, decal heatmap, shadow atlas or light count;
+    /// rebuilds the
     /// renderer.
     fn action(&mut self, key: char, shown: &Shown) -> Result<()> {
         let mut config = self.config;
@@ -285,6 +287,12 @@ impl Running {
                 config.view = match config.view {
                     FrameView::ShadowAtlas => FrameView::Lit,
                     _ => FrameView::ShadowAtlas,
+                }
+            }
+            'c' => {
+                config.view = match config.view {
+                    FrameView::DecalHeatmap => FrameView::Lit,
+                    _ => FrameView::DecalHeatmap,
                 }
             }
             '+' => self.light_count = (self.light_count * 2).clamp(1, 65_536),

@@ -18,7 +18,10 @@ pub struct Args {
     /// Procedural point lights.
     #[arg(long, default_value_t = 1024)]
     pub lights: usize,
-    /// Seed of the procedural lights.
+    /// Procedural decals (scorch marks, stains, painted signs) on the scene's surfaces.
+    #[arg(long, default_value_t = 96)]
+    pub decals: usize,
+    /// Seed of the procedural lights and decals.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Window size, WxH.

@@ -1,10 +1,11 @@
-//! What the viewer shows: the built-in courtyard (or a glTF file) with seeded procedural lights,
-//! its look (exposure, ambient, sky) and the camera it starts from; built the same way by the
+//! What the viewer shows: the built-in courtyard (or a glTF file) with seeded procedural lights
+//! and decals, its look (exposure, ambient, sky) and the camera it starts from; built the same way by the
 //! window and by headless checks.
 
 use std::path::Path;
 
 use anyhow::{Context as _, Result};
+use renderer::decals::{DecalSet, placement, procedural};
 use renderer::frame::RendererConfig;
 use renderer::frame::setup::{
     FRAMING_YFOV_DEGREES, courtyard_look, default_camera, light_space, pick_shadowed,
@@ -20,6 +21,8 @@ use crate::fly::Fly;
 pub struct Shown {
     pub scene: Scene,
     pub lights: Vec<SceneLight>,
+    /// Procedural decals (built-in materials) on the scene's surfaces.
+    pub decals: DecalSet,
     pub start: Fly,
     /// Where procedural lights go, their radii and seed.
     pub light_region: Aabb,
@@ -29,8 +32,9 @@ pub struct Shown {
     pub builtin: bool,
 }
 
-/// The courtyard (`file == None`) or a glTF file, with `count` lights of `seed`.
-pub fn load(file: Option<&Path>, count: usize, seed: u64) -> Result<Shown> {
+/// The courtyard (`file == None`) or a glTF file, with `count` lights and `decals` decals of
+/// `seed`.
+pub fn load(file: Option<&Path>, count: usize, decals: usize, seed: u64) -> Result<Shown> {
     let scene = match file {
         None => courtyard(),
         Some(path) => Scene::load(path)
@@ -44,7 +48,13 @@ pub fn load(file: Option<&Path>, count: usize, seed: u64) -> Result<Shown> {
         None => FRAMING_YFOV_DEGREES.to_radians(),
     };
     let start = Fly::from_world_from_view(opening.view.inverse(), yfov);
+    let materials = procedural::materials();
+    let placed = placement::scatter(&scene, decals, materials.len(), seed);
     let mut shown = Shown {
+        decals: DecalSet {
+            materials,
+            decals: placed,
+        },
         scene,
         lights: vec![],
         start,

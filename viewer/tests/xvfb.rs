@@ -14,9 +14,11 @@ use viewer::scene::{load, look};
 
 const SIZE: (u32, u32) = (160, 90);
 const LIGHTS: usize = 64;
+/// Decals in both renders (the viewer's and the headless reference), so the comparison covers them.
+const DECALS: usize = 48;
 
 fn headless(steps: u32) -> Vec<u8> {
-    let shown = load(None, LIGHTS, 1).expect("the courtyard");
+    let shown = load(None, LIGHTS, DECALS, 1).expect("the courtyard");
     let mut fly = shown.start;
     for _ in 0..steps {
         let held = Held {
@@ -41,6 +43,7 @@ fn headless(steps: u32) -> Vec<u8> {
     let mut r = Renderer::new(&gpu, config).expect("renderer");
     r.prepare_scene(&shown.scene);
     r.set_lights(&shown.lights).expect("lights fit");
+    r.set_decals(&shown.decals).expect("decals fit");
     let target = create_target(&gpu.device, &config);
     r.render(&fly.camera(SIZE.0 as f32 / SIZE.1 as f32), &target)
         .expect("frame");
@@ -57,6 +60,7 @@ fn the_viewer_under_xvfb_shows_what_the_headless_renderer_renders() {
         .arg(env!("CARGO_BIN_EXE_viewer"))
         .args(["--size", &format!("{}x{}", SIZE.0, SIZE.1)])
         .args(["--lights", &LIGHTS.to_string()])
+        .args(["--decals", &DECALS.to_string()])
         .args(["--frames", "6", "--script", "1:w x3"])
         .arg("--screenshot")
         .arg(&shot)

@@ -35,11 +35,11 @@ fn groups(records: &[CellRecord]) -> BTreeMap<GroupKey, Vec<&CellRecord>> {
 }
 
 /// The whole report: `meta` (adapter, command, calibration) first, then the tables of the light
-/// matrix, then the shadow axis.
+/// matrix, then the shadow and decal axes.
 pub fn report(meta: &str, all: &[CellRecord]) -> String {
     let matrix: Vec<CellRecord> = all
         .iter()
-        .filter(|r| !r.is_shadow_cell())
+        .filter(|r| !r.is_shadow_cell() && r.decals == 0)
         .cloned()
         .collect();
     let records = &matrix[..];
@@ -49,6 +49,7 @@ pub fn report(meta: &str, all: &[CellRecord]) -> String {
     out += &speedups(records);
     out += &scalarization(records);
     out += &super::shadows::markdown(all);
+    out += &super::decals::markdown(all);
     for ((scene, w, h, msaa), rows) in groups(records) {
         let _ = writeln!(out, "\n### {scene}, {w}×{h}, MSAA {msaa}\n");
         out += "GPU ms, median (p90); floor and ratio for the culling pass; CPU = build + \

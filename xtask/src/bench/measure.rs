@@ -29,6 +29,9 @@ pub struct FramePlan {
     pub min_frames: u32,
 }
 
+/// Extra warm-up frames at most while the light lists grow after an overflow.
+const MAX_GROWTH_FRAMES: u32 = 16;
+
 /// Sorted samples of one quantity.
 #[derive(Debug, Clone, Default)]
 pub struct Samples(Vec<f64>);
@@ -94,11 +97,27 @@ pub fn measure(
         Ok(report)
     };
     let started = Instant::now();
+    let mut last = None;
     for _ in 0..plan.warmup.max(1) {
-        render(renderer, &mut frame)?;
+        last = Some(render(renderer, &mut frame)?);
         if started.elapsed() > plan.budget / 4 {
             break;
         }
+    }
+    // A list that overflowed grows for the next frame once its counters arrive (a frame or two
+    // later): warm up until a frame reports no drop, so timed frames shade complete lists.
+    let culled = renderer.culler().lists().is_some();
+    for _ in 0..MAX_GROWTH_FRAMES {
+        // Counters arrive a frame or more late: none yet is not yet a clean frame.
+        let clean = last
+            .as_ref()
+            .and_then(|r| r.culling)
+            .is_some_and(|c| c.dropped == 0);
+        if !culled || clean {
+            break;
+        }
+        renderer.wait_for_frames_in_flight(0)?;
+        last = Some(render(renderer, &mut frame)?);
     }
     // Timings of warm-up frames are dropped: everything collected from here on is timed.
     renderer.wait_for_frames_in_flight(0)?;

@@ -12,12 +12,16 @@
 //! is measured with that many shadowed lights, per kind and per mode (static, one object moving,
 //! every light moving, cache off), beside the same frame without shadows ([`shadows`]).
 //!
+//! `--decals 0,256,1024,4096` measures each cell of the light matrix again with that many
+//! procedural decals, beside the same frame without ([`decals`]).
+//!
 //! Module map: [`matrix`] (axes → set-ups), [`lights`] (the moving light set), [`shadows`] (the
 //! shadow axis), [`measure`] (frames of one cell), [`calibrate`] (ceilings and floors),
 //! [`record`] (the CSV row), [`markdown`] and [`charts`] (reports).
 
 mod calibrate;
 pub(crate) mod charts;
+pub(crate) mod decals;
 mod lights;
 mod markdown;
 pub(crate) mod matrix;
@@ -127,6 +131,10 @@ pub struct Args {
     /// moves), lights-moving (every light moves), uncached (static, cache off).
     #[arg(long, value_delimiter = ',', default_value = "static,moving,uncached")]
     shadow_modes: Vec<String>,
+    /// Decal counts: each cell of the light matrix with that many procedural decals on the
+    /// scene's surfaces (0: none).
+    #[arg(long, value_delimiter = ',', default_value = "0")]
+    decals: Vec<u32>,
     /// Side of the shadow atlas in texels.
     #[arg(long, default_value_t = 8192)]
     shadow_atlas: u32,
@@ -267,6 +275,10 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
     let scenes = load_scenes(args)?;
     let axes = axes(args, &scenes)?;
     let shadow_cells = shadows::cells(&shadow_axes(args, &axes)?);
+    anyhow::ensure!(
+        shadow_cells.is_empty() || args.decals == [0],
+        "--decals and --shadowed are separate benchmarks: run them one at a time"
+    );
     let options = GpuOptions::from_env().with_adapter_name(args.adapter.clone());
     let gpu = GpuContext::new_blocking(&options)?;
     let caps = gpu.capabilities().clone();
@@ -332,7 +344,12 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
         std::fs::write(out.join("meta.md"), &meta)?;
     }
     let mut csv = CsvSink::create(&out.join(&csv_name))?;
-    let cells = (setups.len() * axes.lights.len() * shadow_cells.len().max(1)) as u64;
+    let per_light_count = if shadow_cells.is_empty() {
+        args.decals.len()
+    } else {
+        shadow_cells.len()
+    };
+    let cells = (setups.len() * axes.lights.len() * per_light_count) as u64;
     let bar =
         indicatif::ProgressBar::new(cells).with_style(indicatif::ProgressStyle::with_template(
             "{bar:40} {pos}/{len} cells, {elapsed_precise} elapsed, ETA {eta_precise}  {msg}",
@@ -389,64 +406,73 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
                 args.light_density,
                 args.seed,
             );
-            let mut record = CellRecord::empty(&bench_scene.name, setup, n);
-            bar.set_message(format!(
-                "{} {}x{} msaa{} {} {n}",
-                record.scene,
-                record.width,
-                record.height,
-                record.msaa,
-                record.label()
-            ));
-            let estimate = previous.map(|(m, wall)| wall.mul_f64(f64::from(n) / f64::from(m)));
-            let naive = !setup.path.0.has_prepass() || setup.path.0 == RenderPath::NaivePrez;
-            match estimate.filter(|e| naive && *e * (plan.min_frames + 1) > plan.budget * 2) {
-                Some(e) => {
-                    record.note = format!(
-                        "skipped: about {:.1} s per frame (estimated from {} lights); raise \
+            for &d in &args.decals {
+                renderer.set_decals(&decals::decal_set(&bench_scene.scene, d, args.seed))?;
+                let mut record = CellRecord::empty(&bench_scene.name, setup, n);
+                record.decals = d;
+                bar.set_message(format!(
+                    "{} {}x{} msaa{} {} {n} lights {d} decals",
+                    record.scene,
+                    record.width,
+                    record.height,
+                    record.msaa,
+                    record.label()
+                ));
+                let estimate = previous.map(|(m, wall)| wall.mul_f64(f64::from(n) / f64::from(m)));
+                let naive = !setup.path.0.has_prepass() || setup.path.0 == RenderPath::NaivePrez;
+                match estimate.filter(|e| naive && *e * (plan.min_frames + 1) > plan.budget * 2) {
+                    Some(e) => {
+                        record.note = format!(
+                            "skipped: about {:.1} s per frame (estimated from {} lights); raise \
                          --cell-budget to run it",
-                        e.as_secs_f64(),
-                        previous.map_or(0, |p| p.0)
-                    );
-                }
-                None => {
-                    let mut advance = |r: &mut Renderer, frame: u32| -> Result<()> {
-                        Ok(r.set_lights(&lights.at(frame))?)
-                    };
-                    let m = measure::measure(&mut renderer, &target, &camera, &mut advance, plan)?;
-                    previous = Some((n, m.wall_per_frame));
-                    record.fill(&m, &renderer);
-                    if setup.path.0 != RenderPath::Naive && setup.path.0 != RenderPath::NaivePrez {
-                        let stride = probe_stride(setup.width, setup.height, args.probes);
-                        let key = (setup.scene, setup.width, setup.height, setup.msaa, n);
-                        let mut cached = reaching.remove(&key);
-                        record.cull_efficiency = measure::cull_efficiency(
-                            &mut renderer,
-                            &target,
-                            &camera,
-                            &lights,
-                            stride,
-                            &mut cached,
-                        )?;
-                        record.lights_reaching_mean = cached.as_ref().map(Reaching::mean);
-                        if let Some(c) = cached {
-                            reaching.insert(key, c);
-                        }
-                        let culler = renderer.culler();
-                        let depth_bytes = if culler.reads_depth() {
-                            u64::from(setup.width * setup.height * setup.msaa) * 4
-                        } else {
-                            0
+                            e.as_secs_f64(),
+                            previous.map_or(0, |p| p.0)
+                        );
+                    }
+                    None => {
+                        let mut advance = |r: &mut Renderer, frame: u32| -> Result<()> {
+                            Ok(r.set_lights(&lights.at(frame))?)
                         };
-                        let cells = culler.lists().map_or(0, |l| u64::from(l.cells));
-                        record.cull_floor_us = ceilings
-                            .map(|c| c.cull_floor_us(depth_bytes, cells, u64::from(record.lights)));
+                        let m =
+                            measure::measure(&mut renderer, &target, &camera, &mut advance, plan)?;
+                        previous = Some((n, m.wall_per_frame));
+                        record.fill(&m, &renderer);
+                        let culled = setup.path.0 != RenderPath::Naive
+                            && setup.path.0 != RenderPath::NaivePrez;
+                        // Cull efficiency is a property of the lights: measured once, without decals.
+                        if culled && d == args.decals[0] {
+                            let stride = probe_stride(setup.width, setup.height, args.probes);
+                            let key = (setup.scene, setup.width, setup.height, setup.msaa, n);
+                            let mut cached = reaching.remove(&key);
+                            record.cull_efficiency = measure::cull_efficiency(
+                                &mut renderer,
+                                &target,
+                                &camera,
+                                &lights,
+                                stride,
+                                &mut cached,
+                            )?;
+                            record.lights_reaching_mean = cached.as_ref().map(Reaching::mean);
+                            if let Some(c) = cached {
+                                reaching.insert(key, c);
+                            }
+                            let culler = renderer.culler();
+                            let depth_bytes = if culler.reads_depth() {
+                                u64::from(setup.width * setup.height * setup.msaa) * 4
+                            } else {
+                                0
+                            };
+                            let cells = culler.lists().map_or(0, |l| u64::from(l.cells));
+                            record.cull_floor_us = ceilings.map(|c| {
+                                c.cull_floor_us(depth_bytes, cells, u64::from(record.lights))
+                            });
+                        }
                     }
                 }
+                csv.push(&record)?;
+                records.push(record);
+                bar.inc(1);
             }
-            csv.push(&record)?;
-            records.push(record);
-            bar.inc(1);
         }
     }
     bar.finish_and_clear();

@@ -113,6 +113,9 @@ pub struct CellRecord {
     /// CPU ms of shadow planning per frame.
     #[serde(default)]
     pub shadow_cpu_median_ms: Option<f64>,
+    /// Decal axis (`--decals`): procedural decals on the scene's surfaces (0: none).
+    #[serde(default)]
+    pub decals: u32,
 }
 
 impl CellRecord {
