@@ -5,7 +5,9 @@
 //! built-in procedural materials, PNG loading, the JSON sidecar and seeded placement on a
 //! scene's surfaces.
 //!
-//! Not yet on the GPU: decals are not culled into the cell lists or applied by forward shading.
+//! On the GPU, `crate::frame_data::GpuDecals` holds the records and culling boxes in layer order
+//! and the atlas textures; `crate::culling` lists the boxes in the cell lists beside the lights
+//! and forward shading applies them before lighting (`shaders_gen::shared::decal_apply`).
 
 mod atlas;
 mod decal;
