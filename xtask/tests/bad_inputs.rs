@@ -50,7 +50,7 @@ fn every_option_refuses_bad_values_with_a_clear_message() {
     );
     refused(
         &["--view", "x"],
-        "--view \"x\": use lit, heatmap or shadow-atlas",
+        "--view \"x\": use lit, heatmap, decals or shadow-atlas",
     );
     refused(
         &["--scalarize", "maybe"],
@@ -70,6 +70,11 @@ fn every_option_refuses_bad_values_with_a_clear_message() {
     refused(&["--camera", "3"], "--camera 3: the scene has 1 camera(s)");
     refused(&["--lights", "many"], "invalid value 'many' for '--lights");
     refused(&["--scene", "/nonexistent/scene.glb"], "no such file");
+    refused(
+        &["--decals-file", "/nonexistent/decals.json"],
+        "--decals-file /nonexistent/decals.json",
+    );
+    refused(&["--decals", "lots"], "invalid value 'lots' for '--decals");
     refused(
         &["--adapter", "no-such-gpu-anywhere"],
         "no-such-gpu-anywhere",
