@@ -6,6 +6,7 @@ use glam::UVec2;
 use renderer::culling::clustered::{ClusterCullConfig, ClusteredCulling};
 use renderer::culling::hierarchy::{CullBox, CullItems, CullSphere};
 use renderer::culling::lists::CullReadback;
+use renderer::culling::reference::Method;
 use renderer::culling::tiled::{TileCullConfig, TiledCulling};
 use renderer::decals::OrientedBox;
 
@@ -33,6 +34,22 @@ pub fn msaa_cases(seed: u64) -> Vec<(u64, u32)> {
         .into_iter()
         .filter(|c| [1, 2, 4, 8].contains(c))
         .map(|c| (seed + u64::from(c), c))
+        .collect()
+}
+
+/// The tiled (with `depth_mask`, 2.5D) methods the culling tests cover: tiles of 8, 16 and 32
+/// pixels, and transparent lists (blended surfaces) with the 16-pixel tile only, to bound the
+/// run time.
+pub fn tiled_methods(depth_mask: bool) -> Vec<Method> {
+    [(8, false), (16, false), (16, true), (32, false)]
+        .into_iter()
+        .map(|(tile, transparent)| {
+            if depth_mask {
+                Method::Depth25 { tile, transparent }
+            } else {
+                Method::Tiled { tile, transparent }
+            }
+        })
         .collect()
 }
 

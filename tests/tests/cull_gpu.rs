@@ -16,7 +16,7 @@ use renderer::culling::lists::{CullReadback, GUARD_WORD, GUARD_WORDS};
 use renderer::culling::reference::{CellLists, ClusterGrid, Method, cull, cull_brute_force, exact};
 use renderer::culling::tiled::{TileCullConfig, TiledCulling};
 use shaders_gen::culling::tile_cull::CullSphere;
-use tests::cull_run::{GpuMethod, msaa_cases, run_method, symmetric_difference};
+use tests::cull_run::{GpuMethod, msaa_cases, run_method, symmetric_difference, tiled_methods};
 use tests::cull_scene::{CullScene, scene};
 use tests::depth_upload::write_msaa_depth;
 use tests::gpu::gpu_test;
@@ -84,33 +84,25 @@ fn depth_mask_kernel_matches_cpu_reference_in_every_variant() {
 fn check_against_reference(depth_mask: bool) {
     for (seed, msaa) in msaa_cases(11) {
         let s = scene(seed, 160, 96, msaa, 300);
-        for tile in [8u32, 16, 32] {
-            // Transparent lists (blended surfaces) with the 16-pixel tile, to bound the run time.
-            let transparencies: &[bool] = if tile == 16 { &[false, true] } else { &[false] };
-            for &transparent in transparencies {
-                let method = if depth_mask {
-                    Method::Depth25 { tile, transparent }
-                } else {
-                    Method::Tiled { tile, transparent }
-                };
-                for brute_force in [false, true] {
-                    let gpu = run_gpu(
-                        &s,
-                        TileCullConfig {
-                            depth_mask,
-                            transparent_lists: transparent,
-                            ..config(tile, msaa, brute_force)
-                        },
-                    );
-                    assert_eq!(gpu.counters.coarse_fallbacks, 0);
-                    assert_eq!(gpu.counters.dropped, 0);
-                    let lists = gpu.all_lists();
-                    let what = format!("{method:?}, MSAA {msaa}, brute force {brute_force}");
-                    let reference = reference_for(&s, method, brute_force);
-                    let close_calls = assert_matches_reference(&lists, &reference, &what);
-                    assert!(close_calls < 10, "too many close calls: {close_calls}");
-                    assert_conservative(&s, &lists, method);
-                }
+        for method in tiled_methods(depth_mask) {
+            let (tile, transparent) = (method.tile(), method.transparent_lists());
+            for brute_force in [false, true] {
+                let gpu = run_gpu(
+                    &s,
+                    TileCullConfig {
+                        depth_mask,
+                        transparent_lists: transparent,
+                        ..config(tile, msaa, brute_force)
+                    },
+                );
+                assert_eq!(gpu.counters.coarse_fallbacks, 0);
+                assert_eq!(gpu.counters.dropped, 0);
+                let lists = gpu.all_lists();
+                let what = format!("{method:?}, MSAA {msaa}, brute force {brute_force}");
+                let reference = reference_for(&s, method, brute_force);
+                let close_calls = assert_matches_reference(&lists, &reference, &what);
+                assert!(close_calls < 10, "too many close calls: {close_calls}");
+                assert_conservative(&s, &lists, method);
             }
         }
     }

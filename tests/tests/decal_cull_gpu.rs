@@ -14,7 +14,9 @@ use renderer::culling::lists::CullReadback;
 use renderer::culling::reference::{CellLists, ClusterGrid, Method, cull, cull_boxes, exact};
 use renderer::culling::tiled::TileCullConfig;
 use renderer::decals::OrientedBox;
-use tests::cull_run::{GpuMethod, msaa_cases, run_method, run_with_boxes, symmetric_difference};
+use tests::cull_run::{
+    GpuMethod, msaa_cases, run_method, run_with_boxes, symmetric_difference, tiled_methods,
+};
 use tests::cull_scene::{CullScene, decal_boxes, scene};
 
 fn tiled(tile: u32, msaa: u32, depth_mask: bool, transparent: bool, brute: bool) -> GpuMethod {
@@ -173,27 +175,20 @@ fn decal_boxes_match_the_reference_in_every_tiled_and_depth_mask_variant() {
         let s = scene(seed, 160, 96, msaa, 200);
         let boxes = decal_boxes(seed, 120, 12);
         for depth_mask in [false, true] {
-            for tile in [8u32, 16, 32] {
-                let transparencies: &[bool] = if tile == 16 { &[false, true] } else { &[false] };
-                for &transparent in transparencies {
-                    let method = if depth_mask {
-                        Method::Depth25 { tile, transparent }
-                    } else {
-                        Method::Tiled { tile, transparent }
-                    };
-                    for brute in [false, true] {
-                        let gpu = tiled(tile, msaa, depth_mask, transparent, brute);
-                        let found = check(&s, &boxes, gpu, method, brute);
-                        assert!(found.close_calls < 10, "{gpu:?}: {}", found.close_calls);
-                        if !brute && !transparent {
-                            let spheres = sphere_entries(&s, &boxes, method);
-                            assert!(
-                                found.decal_entries * 10 < spheres * 9,
-                                "{method:?}: boxes must be tested as boxes: {} entries, their \
+            for method in tiled_methods(depth_mask) {
+                let (tile, transparent) = (method.tile(), method.transparent_lists());
+                for brute in [false, true] {
+                    let gpu = tiled(tile, msaa, depth_mask, transparent, brute);
+                    let found = check(&s, &boxes, gpu, method, brute);
+                    assert!(found.close_calls < 10, "{gpu:?}: {}", found.close_calls);
+                    if !brute && !transparent {
+                        let spheres = sphere_entries(&s, &boxes, method);
+                        assert!(
+                            found.decal_entries * 10 < spheres * 9,
+                            "{method:?}: boxes must be tested as boxes: {} entries, their \
                                  spheres {spheres}",
-                                found.decal_entries
-                            );
-                        }
+                            found.decal_entries
+                        );
                     }
                 }
             }
@@ -290,7 +285,7 @@ fn a_full_index_list_drops_decal_lists_whole_and_counts_them() {
     let stored: u32 = cut.grid.iter().map(|g| g.y).sum();
     assert_eq!(stored + cut.counters.dropped, total, "nothing lost unseen");
     assert!(cut.counters.dropped > 0 && stored > 0);
-    let cells = cut.cells;
+    let cells = cut.cells();
     for c in 0..cells {
         let (lights, decals) = (cut.grid[c].y, cut.grid[cells + c].y);
         let (all_lights, all_decals) = (roomy.grid[c].y, roomy.grid[cells + c].y);

@@ -76,17 +76,20 @@ impl<'a> CullItems<'a> {
         self.len() == 0
     }
 
-    /// Every item's bounding sphere: the lights', then each box's around its corners.
-    fn spheres(&self) -> Vec<CullSphere> {
-        let boxes = self.decals.iter().map(|b| {
-            let [x, y, z] = [b.axis_x, b.axis_y, b.axis_z].map(|a| a.truncate());
-            let radius = [x + y + z, x + y - z, x - y + z, -x + y + z]
-                .into_iter()
-                .map(Vec3::length)
-                .fold(0.0, f32::max);
-            CullSphere::new(b.center.truncate(), radius)
-        });
-        self.lights.iter().copied().chain(boxes).collect()
+    /// The decals' bounding spheres (around their corners), which follow the lights' in the
+    /// item buffer.
+    fn box_spheres(&self) -> Vec<CullSphere> {
+        self.decals
+            .iter()
+            .map(|b| {
+                let [x, y, z] = [b.axis_x, b.axis_y, b.axis_z].map(|a| a.truncate());
+                let radius = [x + y + z, x + y - z, x - y + z, -x + y + z]
+                    .into_iter()
+                    .map(Vec3::length)
+                    .fold(0.0, f32::max);
+                CullSphere::new(b.center.truncate(), radius)
+            })
+            .collect()
     }
 }
 
@@ -266,8 +269,12 @@ impl CullHierarchy {
         gpu.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(params));
         gpu.queue
-            .write_buffer(&self.items, 0, bytemuck::cast_slice(&items.spheres()));
+            .write_buffer(&self.items, 0, bytemuck::cast_slice(items.lights));
         if !items.decals.is_empty() {
+            let after_lights = size_of_val(items.lights) as u64;
+            let spheres = items.box_spheres();
+            gpu.queue
+                .write_buffer(&self.items, after_lights, bytemuck::cast_slice(&spheres));
             gpu.queue
                 .write_buffer(&self.boxes, 0, bytemuck::cast_slice(items.decals));
         }

@@ -45,14 +45,17 @@ impl CullCounters {
 pub struct CullReadback {
     /// `(offset, count)` per cell: the light lists of every cell, then the decal lists.
     pub grid: Vec<UVec2>,
-    /// Cells per item type (the decal list of cell `c` is grid entry `cells + c`).
-    pub cells: usize,
     /// The whole index buffer, guard region included.
     pub indices: Vec<u32>,
     pub counters: CullCounters,
 }
 
 impl CullReadback {
+    /// Cells per item type (the decal list of cell `c` is grid entry `cells() + c`).
+    pub fn cells(&self) -> usize {
+        self.grid.len() / ITEM_TYPES as usize
+    }
+
     /// Grid entry `e`'s entries, in the order the GPU wrote them.
     fn entries(&self, e: usize) -> &[u32] {
         let UVec2 {
@@ -71,18 +74,18 @@ impl CullReadback {
 
     /// Every cell's sorted light list.
     pub fn all_lists(&self) -> Vec<Vec<u32>> {
-        (0..self.cells).map(|c| self.cell_items(c)).collect()
+        (0..self.cells()).map(|c| self.cell_items(c)).collect()
     }
 
     /// The decal list of cell `c` as written: decal indices, in the order shading applies them
     /// (ascending).
     pub fn cell_decals(&self, c: usize) -> &[u32] {
-        self.entries(self.cells + c)
+        self.entries(self.cells() + c)
     }
 
     /// Every cell's decal list, as written.
     pub fn all_decal_lists(&self) -> Vec<Vec<u32>> {
-        (0..self.cells)
+        (0..self.cells())
             .map(|c| self.cell_decals(c).to_vec())
             .collect()
     }
@@ -143,7 +146,6 @@ impl LightLists {
         let counters = readback::read_buffer::<u32>(&gpu.device, &gpu.queue, &self.counters)?;
         Ok(CullReadback {
             grid: grid[..(self.cells * ITEM_TYPES) as usize].to_vec(),
-            cells: self.cells as usize,
             indices,
             counters: CullCounters::from_words(&counters),
         })

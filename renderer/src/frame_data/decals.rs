@@ -18,8 +18,6 @@ const STEP_SLOPE: f32 = 1.0e6;
 /// Decals uploaded for shading and culling.
 #[derive(Debug)]
 pub struct GpuDecals {
-    /// Each record's decal in the [`DecalSet`] it came from, in layer order.
-    pub order: Vec<usize>,
     /// The decals' boxes for culling, in layer order.
     pub boxes: Vec<CullBox>,
     /// `GpuDecal` records in layer order (one placeholder when there are none).
@@ -37,7 +35,6 @@ impl GpuDecals {
     pub fn empty(device: &wgpu::Device, queue: &wgpu::Queue) -> Self {
         let neutral = Channel::ALL.map(|c| vec![c.neutral().to_vec()]);
         Self {
-            order: Vec::new(),
             boxes: Vec::new(),
             records: records_buffer(device, &[GpuDecal::zeroed()]),
             views: Channel::ALL.map(|c| upload_channel(device, queue, c, 1, &neutral[c as usize])),
@@ -73,7 +70,6 @@ impl GpuDecals {
             .collect();
         let boxes = order.iter().map(|&i| cull_box(&set.decals[i])).collect();
         Ok(Self {
-            order,
             boxes,
             records: records_buffer(device, &records),
             views: Channel::ALL

@@ -57,64 +57,60 @@ pub mod tile_cull {
         transparent_far: f32,
     }
 
-    /// The lists (bit 0 opaque, bit 1 transparent) the view-space sphere `s` belongs to.
-    fn classify(s: Vec4, sides: SidePlanes, rays: TileRays, range: TileRange) -> u32 {
-        let c = s.xyz();
-        let r = s.w;
-        let mut bits = 0u32;
-        if range.opaque
-            && sphere_in_frustum(c, r, sides, range.near, range.far)
-            && (PARAMS.box_test == 0u32 || sphere_reaches_box(c, r, rays, range.near, range.far))
-        {
-            let mut kept = true;
-            if depth_mask {
-                let light = sphere_mask(-c.z - r, -c.z + r, range.near, range.far);
-                kept = (light & range.mask) != 0u32;
-            }
-            if kept {
-                bits = 1u32;
-            }
+    /// The lists (bit 0 opaque, bit 1 transparent) of an item that reaches the tile's opaque
+    /// frustum (`opaque`) and its transparent one (`transparent`) and spans view depths
+    /// `[lo, hi]`: with `depth_mask`, the opaque list also needs a 2.5D cell shared with the
+    /// geometry's.
+    fn lists_of(opaque: bool, transparent: bool, lo: f32, hi: f32, range: TileRange) -> u32 {
+        let mut kept = opaque;
+        if depth_mask && kept {
+            kept = (sphere_mask(lo, hi, range.near, range.far) & range.mask) != 0u32;
         }
-        let tn = range.transparent_near;
-        let tf = range.transparent_far;
-        if PARAMS.transparent != 0u32
-            && sphere_in_frustum(c, r, sides, tn, tf)
-            && (PARAMS.box_test == 0u32 || sphere_reaches_box(c, r, rays, tn, tf))
-        {
+        let mut bits = 0u32;
+        if kept {
+            bits = 1u32;
+        }
+        if transparent {
             bits = bits | 2u32;
         }
         bits
     }
 
-    /// The lists (bit 0 opaque, bit 1 transparent) the view-space box `b` belongs to: the same
-    /// cells as `classify`, with the box's planes test, its axis-aligned box against the
-    /// frustum's box, and its depth span for the 2.5D mask.
+    /// The lists the view-space sphere `s` belongs to: its planes test and, with `box_test`, its
+    /// distance to the frustum's box.
+    fn classify(s: Vec4, sides: SidePlanes, rays: TileRays, range: TileRange) -> u32 {
+        let c = s.xyz();
+        let r = s.w;
+        let near = range.near;
+        let far = range.far;
+        let tn = range.transparent_near;
+        let tf = range.transparent_far;
+        let opaque = range.opaque
+            && sphere_in_frustum(c, r, sides, near, far)
+            && (PARAMS.box_test == 0u32 || sphere_reaches_box(c, r, rays, near, far));
+        let transparent = PARAMS.transparent != 0u32
+            && sphere_in_frustum(c, r, sides, tn, tf)
+            && (PARAMS.box_test == 0u32 || sphere_reaches_box(c, r, rays, tn, tf));
+        lists_of(opaque, transparent, -c.z - r, -c.z + r, range)
+    }
+
+    /// The lists the view-space box `b` belongs to: the same cells as `classify`, with the box's
+    /// planes test, its axis-aligned box against the frustum's box, and its depth span for the
+    /// 2.5D mask.
     fn classify_box(b: ViewBox, sides: SidePlanes, rays: TileRays, range: TileRange) -> u32 {
         let c = b.center;
         let e = box_extent(b.x, b.y, b.z);
-        let mut bits = 0u32;
-        if range.opaque
-            && box_in_frustum(c, b.x, b.y, b.z, sides, range.near, range.far)
-            && (PARAMS.box_test == 0u32 || box_reaches_box(c, e, rays, range.near, range.far))
-        {
-            let mut kept = true;
-            if depth_mask {
-                let span = sphere_mask(-c.z - e.z, -c.z + e.z, range.near, range.far);
-                kept = (span & range.mask) != 0u32;
-            }
-            if kept {
-                bits = 1u32;
-            }
-        }
+        let near = range.near;
+        let far = range.far;
         let tn = range.transparent_near;
         let tf = range.transparent_far;
-        if PARAMS.transparent != 0u32
+        let opaque = range.opaque
+            && box_in_frustum(c, b.x, b.y, b.z, sides, near, far)
+            && (PARAMS.box_test == 0u32 || box_reaches_box(c, e, rays, near, far));
+        let transparent = PARAMS.transparent != 0u32
             && box_in_frustum(c, b.x, b.y, b.z, sides, tn, tf)
-            && (PARAMS.box_test == 0u32 || box_reaches_box(c, e, rays, tn, tf))
-        {
-            bits = bits | 2u32;
-        }
-        bits
+            && (PARAMS.box_test == 0u32 || box_reaches_box(c, e, rays, tn, tf));
+        lists_of(opaque, transparent, -c.z - e.z, -c.z + e.z, range)
     }
 
     /// Candidate `i`'s item (`x`) and its lists (`y`): its bounding sphere decides, and a box
