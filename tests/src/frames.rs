@@ -2,6 +2,7 @@
 //! image tests.
 
 use renderer::culling::lists::CullCounters;
+use renderer::decals::DecalSet;
 use renderer::frame::setup::{create_target, framing_camera};
 use renderer::frame::{FrameCamera, FrameReport, Renderer, RendererConfig};
 use renderer::scene::{Scene, SceneLight};
@@ -34,13 +35,39 @@ pub fn render_frame_from(
     lights: &[SceneLight],
     camera: &FrameCamera,
 ) -> Frame {
+    render_frame_with(gpu, scene, config, lights, &DecalSet::default(), camera)
+}
+
+/// Frames a culled path may render before its index list has grown to hold every cell's items:
+/// the renderer counts the entries a full list drops and grows it for the next frame.
+const MAX_GROWTH_FRAMES: usize = 4;
+
+/// [`render_frame_from`] with `decals`. When a frame drops list entries (the list starts small and
+/// grows to what the frame asked for), the same frame is rendered again, up to
+/// [`MAX_GROWTH_FRAMES`] times; the returned counters say whether the last one was complete.
+pub fn render_frame_with(
+    gpu: &GpuContext,
+    scene: &Scene,
+    config: RendererConfig,
+    lights: &[SceneLight],
+    decals: &DecalSet,
+    camera: &FrameCamera,
+) -> Frame {
     let mut renderer = Renderer::new(gpu, config).expect("renderer");
     renderer.prepare_scene(scene);
     renderer.set_lights(lights).expect("lights fit");
+    renderer.set_decals(decals).expect("decals fit");
     let target = create_target(&gpu.device, &config);
-    let report = renderer.render(camera, &target).expect("frame");
-    renderer.finish();
-    let culling = renderer.culling_counters();
+    let mut frames = 0;
+    let (report, culling) = loop {
+        let report = renderer.render(camera, &target).expect("frame");
+        renderer.finish();
+        let culling = renderer.culling_counters();
+        frames += 1;
+        if culling.is_none_or(|c| c.dropped == 0) || frames == MAX_GROWTH_FRAMES {
+            break (report, culling);
+        }
+    };
     let rgba = readback::read_texture_rgba8(&gpu.device, &gpu.queue, &target).expect("readback");
     Frame {
         rgba,

@@ -7,6 +7,7 @@
 
 pub mod cull_run;
 pub mod cull_scene;
+pub mod decal_stage;
 pub mod depth_upload;
 pub mod dsl_fuzz;
 pub mod frames;

@@ -75,9 +75,15 @@ impl SceneBuilder {
     }
 
     /// Adds an axis-aligned box from `min` to `max` (a flat plane when one extent is zero: it
-    /// then keeps only the two faces across that axis) with `material`.
+    /// then keeps only the two faces across that axis, or one when `material` is double-sided)
+    /// with `material`.
     pub fn cuboid(&mut self, min: Vec3, max: Vec3, material: usize) -> &mut Self {
-        self.primitive("box", cuboid(min, max, material))
+        let double_sided = self
+            .scene()
+            .materials
+            .get(material)
+            .is_some_and(|m| m.double_sided);
+        self.primitive("box", cuboid(min, max, material, double_sided))
     }
 
     /// Adds a sphere (a UV sphere of 16 rings × 32 segments).
@@ -155,5 +161,25 @@ mod tests {
         assert_eq!(scene.bounds.min, Vec3::new(-5.0, 0.0, -5.0));
         assert_eq!(scene.bounds.max, Vec3::new(5.0, 1.0, 5.0));
         assert_eq!(scene.triangle_count(), 12 + 4);
+    }
+
+    #[test]
+    fn a_double_sided_plane_has_one_face_so_nothing_fights_it() {
+        let mut b = SceneBuilder::new();
+        let leaves = b.add_material(Material {
+            double_sided: true,
+            ..Material::gltf_default()
+        });
+        b.cuboid(Vec3::new(-1.0, 2.0, -1.0), Vec3::new(1.0, 2.0, 1.0), leaves);
+        b.cuboid(Vec3::ZERO, Vec3::ONE, leaves);
+        let scene = b.build();
+        let plane = &scene.meshes[0].primitives[0];
+        assert_eq!(plane.indices.len(), 6);
+        assert!(plane.normals.iter().all(|&n| n == Vec3::Y));
+        assert_eq!(
+            scene.meshes[1].primitives[0].indices.len(),
+            36,
+            "boxes keep six"
+        );
     }
 }

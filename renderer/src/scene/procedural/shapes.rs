@@ -15,7 +15,11 @@ const FACES: [[Vec3; 3]; 6] = [
     [Vec3::NEG_Z, Vec3::NEG_X, Vec3::Y],
 ];
 
-pub(super) fn cuboid(min: Vec3, max: Vec3, material: usize) -> Primitive {
+/// A box from `min` to `max`. A plane (one extent zero) keeps its two faces across the flat axis,
+/// or only the one facing along the positive axis when `double_sided`: such a face already shows
+/// from both sides, and a second at the same depth would fight it (which face wins would then
+/// depend on the depth test and the draw order).
+pub(super) fn cuboid(min: Vec3, max: Vec3, material: usize, double_sided: bool) -> Primitive {
     let (center, half) = ((min + max) * 0.5, (max - min) * 0.5);
     let flat_axis = (0..3).find(|&a| half[a] == 0.0);
     let mut p = Primitive {
@@ -28,8 +32,8 @@ pub(super) fn cuboid(min: Vec3, max: Vec3, material: usize) -> Primitive {
         bounds: Aabb { min, max },
     };
     for [n, u, v] in FACES {
-        // A plane keeps only its two faces across the flat axis.
-        if flat_axis.is_some_and(|a| n[a] == 0.0) {
+        let dropped = flat_axis.is_some_and(|a| n[a] == 0.0 || (double_sided && n[a] < 0.0));
+        if dropped {
             continue;
         }
         let base = p.positions.len() as u32;
