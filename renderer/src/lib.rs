@@ -14,6 +14,7 @@ pub mod frame;
 pub mod frame_data;
 pub mod gpu;
 pub mod graph;
+pub mod particles;
 pub mod passes;
 pub mod readback;
 pub mod scene;

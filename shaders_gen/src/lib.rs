@@ -13,6 +13,7 @@ pub mod calibrate;
 pub mod culling;
 pub mod forward;
 pub mod inspect;
+pub mod particles;
 pub mod shadow;
 pub mod shared;
 
@@ -29,6 +30,8 @@ pub static MODULES: &[&codegen::rt::Module] = &[
     &forward::heatmap::MODULE,
     &forward::tonemap::MODULE,
     &inspect::depth_probe::MODULE,
+    &particles::particle_sim::MODULE,
+    &particles::particle_sort::MODULE,
     &shadow::shadow_atlas_view::MODULE,
     &shadow::shadow_caster::MODULE,
     &shadow::shadow_compose::MODULE,

@@ -61,4 +61,6 @@ pub enum RenderError {
     ShadowAtlasSize { asked: u32, min: u32, max: u32 },
     #[error(transparent)]
     Decals(#[from] crate::decals::DecalError),
+    #[error(transparent)]
+    Particles(#[from] crate::particles::ParticleError),
 }

@@ -14,6 +14,7 @@ pub mod depth_probe;
 pub mod forward;
 pub mod heatmap;
 pub mod light_cull;
+pub mod particles;
 pub mod prez;
 pub mod shadow;
 pub mod tonemap;

@@ -1,0 +1,17 @@
+//! GPU particles, the GPU-free half: emitters and the particle systems an engine hands the
+//! renderer (`ParticleSystem`, validated with typed errors), the built-in smoke, sparks and dust
+//! emitters, the fixed-step spawn schedule both simulations follow, the seeded hash of a birth,
+//! and the CPU reference simulation (`reference`) that the GPU one is tested against.
+//!
+//! On the GPU, `crate::passes::particles` simulates (`shaders_gen::particles::particle_sim`)
+//! and sorts (`particle_sort`) them.
+
+mod builtin;
+mod emitter;
+pub mod random;
+pub mod reference;
+pub mod schedule;
+
+pub use builtin::{builtin_emitters, dust, smoke, sparks};
+pub use emitter::{Emitter, ParticleError, ParticleSystem, ParticleTexture};
+pub use schedule::FIXED_STEP;
