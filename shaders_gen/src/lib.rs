@@ -30,6 +30,7 @@ pub static MODULES: &[&codegen::rt::Module] = &[
     &forward::heatmap::MODULE,
     &forward::tonemap::MODULE,
     &inspect::depth_probe::MODULE,
+    &particles::particle_atlas::MODULE,
     &particles::particle_sim::MODULE,
     &particles::particle_sort::MODULE,
     &shadow::shadow_atlas_view::MODULE,

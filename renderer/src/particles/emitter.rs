@@ -62,6 +62,11 @@ pub enum ParticleError {
     TooMany { asked: u32, max: u32 },
     #[error("a particle system needs at least one slot (capacity is 0)")]
     NoCapacity,
+    #[error(
+        "a particle lighting atlas of {asked}² texels cannot hold every particle at its smallest \
+         region: use a power of two from {min} to this device's largest texture side, {max}"
+    )]
+    AtlasSize { asked: u32, min: u32, max: u32 },
 }
 
 impl Emitter {

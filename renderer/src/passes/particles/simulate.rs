@@ -32,6 +32,8 @@ pub struct ParticleSimulation {
     bind_group: wgpu::BindGroup,
     params: wgpu::Buffer,
     batches: wgpu::Buffer,
+    /// `GpuEmitter` per emitter (one zeroed record when there are none).
+    pub emitters: wgpu::Buffer,
     /// `GpuParticle` per slot.
     pub particles: wgpu::Buffer,
     /// Counters (`i32`): dead-list length, live-list length, refused births.
@@ -129,19 +131,12 @@ impl ParticleSimulation {
         let resources = [
             &params, &emitters, &batches, &particles, &dead, &counters, &alive,
         ];
-        let entries: Vec<_> = resources
-            .iter()
-            .zip(0..)
-            .map(|(b, binding)| wgpu::BindGroupEntry {
-                binding,
-                resource: b.as_entire_binding(),
-            })
-            .collect();
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("particle simulation"),
-            layout: &program.bind_group_layouts[0],
-            entries: &entries,
-        });
+        let bind_group = super::bind::whole_buffers(
+            device,
+            "particle simulation",
+            &program.bind_group_layouts[0],
+            &resources,
+        );
         Ok(Self {
             update: program.compute_pipeline(device, "update")?,
             spawn: program.compute_pipeline(device, "spawn")?,
@@ -151,6 +146,7 @@ impl ParticleSimulation {
             bind_group,
             params,
             batches,
+            emitters,
             particles,
             counters,
             alive,
@@ -236,10 +232,18 @@ impl ParticleSimulation {
         })
     }
 
+    /// Reads every slot back (blocking; for tools and tests).
+    pub fn read_slots(&self, gpu: &GpuContext) -> Result<Vec<GpuParticle>, RenderError> {
+        Ok(crate::readback::read_buffer(
+            &gpu.device,
+            &gpu.queue,
+            &self.particles,
+        )?)
+    }
+
     /// Reads every live particle back (blocking; for tools and tests), in slot order.
     pub fn read_alive(&self, gpu: &GpuContext) -> Result<Vec<GpuParticle>, RenderError> {
-        let all: Vec<GpuParticle> =
-            crate::readback::read_buffer(&gpu.device, &gpu.queue, &self.particles)?;
+        let all = self.read_slots(gpu)?;
         Ok(all.into_iter().filter(|p| p.alive != 0).collect())
     }
 }
