@@ -7,6 +7,7 @@
 mod atlas_labels;
 mod bench;
 mod bench_codegen;
+mod bench_particles;
 mod demo;
 mod fuzz_dsl;
 mod info;
@@ -59,6 +60,9 @@ enum Command {
     /// Speed of the shader DSL's code generation: per variant, all of shaders_gen, the
     /// incremental rebuild after a one-line kernel change, and the output sizes.
     BenchCodegen(bench_codegen::Args),
+    /// GPU time of the particle pipeline at full pools of 10k to 1M particles: simulation step,
+    /// lighting-atlas layout and back-to-front sort.
+    BenchParticles(bench_particles::Args),
 }
 
 fn main() -> anyhow::Result<()> {
@@ -75,5 +79,6 @@ fn main() -> anyhow::Result<()> {
         Command::CheckInvariants => invariants::run(),
         Command::Bench(args) => bench::run(&args),
         Command::BenchCodegen(args) => bench_codegen::run(&args),
+        Command::BenchParticles(args) => bench_particles::run(&args),
     }
 }

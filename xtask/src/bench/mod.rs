@@ -19,7 +19,7 @@
 //! shadow axis), [`measure`] (frames of one cell), [`calibrate`] (ceilings and floors),
 //! [`record`] (the CSV row), [`markdown`] and [`charts`] (reports).
 
-mod calibrate;
+pub mod calibrate;
 pub(crate) mod charts;
 pub(crate) mod decals;
 mod lights;
