@@ -3,7 +3,6 @@
 //! pixel shows and where, so a test can tell the pixels a decal box may touch from those it must
 //! leave alone.
 
-use glam::camera::rh;
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use renderer::decals::{DecalImage, DecalMaterial, OrientedBox};
 use renderer::frame::FrameCamera;
@@ -72,20 +71,15 @@ pub fn scene() -> Scene {
 
 /// Looking down at the origin from 7 up and 4.5 back.
 pub fn camera() -> FrameCamera {
-    let eye = Vec3::new(0.0, 7.0, 4.5);
-    let (near, far) = (0.1, 50.0);
-    FrameCamera {
-        view: rh::view::look_at_mat4(eye, Vec3::ZERO, Vec3::Y),
-        projection: rh::proj::directx::perspective(
-            55f32.to_radians(),
-            WIDTH as f32 / HEIGHT as f32,
-            near,
-            far,
-        ),
+    let (eye, aspect) = (Vec3::new(0.0, 7.0, 4.5), WIDTH as f32 / HEIGHT as f32);
+    FrameCamera::look_at(
         eye,
-        near,
-        far,
-    }
+        Vec3::ZERO,
+        Vec3::Y,
+        55f32.to_radians(),
+        aspect,
+        (0.1, 50.0),
+    )
 }
 
 /// A white light straight above and a little behind, reaching everything on the stage.

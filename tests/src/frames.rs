@@ -6,6 +6,22 @@ use renderer::decals::DecalSet;
 use renderer::frame::setup::{create_target, framing_camera};
 use renderer::frame::{FrameCamera, FrameReport, Renderer, RendererConfig};
 use renderer::scene::{Scene, SceneLight};
+
+/// The glTF scene committed with the tests (every alpha mode: opaque, masked, blended).
+pub fn committed_scene() -> Scene {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes/AlphaBlendModeTest/AlphaBlendModeTest.glb");
+    Scene::load(path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The largest difference of one 8-bit channel between two images.
+pub fn largest_difference(a: &[u8], b: &[u8]) -> u8 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| x.abs_diff(*y))
+        .max()
+        .unwrap_or(0)
+}
 use renderer::{GpuContext, readback};
 
 /// One rendered frame: its RGBA8 pixels, the frame report and the culling counters.

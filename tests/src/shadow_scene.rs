@@ -2,7 +2,7 @@
 //! directional light, seen from above; and an independent CPU ray cast that says which floor
 //! points each light reaches.
 
-use glam::{Vec3, camera::rh};
+use glam::Vec3;
 use renderer::frame::FrameCamera;
 use renderer::scene::procedural::SceneBuilder;
 use renderer::scene::{Aabb, LightKind, Scene, SceneLight};
@@ -82,14 +82,14 @@ pub fn lights() -> [SceneLight; 3] {
 /// The camera looking down at the floor from above and to the side.
 pub fn camera(aspect: f32) -> FrameCamera {
     let eye = Vec3::new(0.0, 9.0, 7.0);
-    let (near, far) = (0.1, 60.0);
-    FrameCamera {
-        view: rh::view::look_at_mat4(eye, Vec3::ZERO, Vec3::Y),
-        projection: rh::proj::directx::perspective(45f32.to_radians(), aspect, near, far),
+    FrameCamera::look_at(
         eye,
-        near,
-        far,
-    }
+        Vec3::ZERO,
+        Vec3::Y,
+        45f32.to_radians(),
+        aspect,
+        (0.1, 60.0),
+    )
 }
 
 /// Whether the segment from `a` to `b` passes through `boxes` (slab test).

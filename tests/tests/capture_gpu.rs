@@ -3,19 +3,11 @@
 //! reaches a probed surface sample is counted in that sample's cell list (culling is
 //! conservative), so the efficiency is at least 1.
 
-use std::path::Path;
-
 use renderer::culling::reference::exact::Efficiency;
 use renderer::frame::setup::{create_target, framing_camera, procedural_lights};
 use renderer::frame::{RenderError, RenderPath, Renderer, RendererConfig};
-use renderer::scene::Scene;
+use tests::frames::committed_scene;
 use tests::gpu::gpu_test;
-
-fn committed_scene() -> Scene {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes/AlphaBlendModeTest/AlphaBlendModeTest.glb");
-    Scene::load(path).unwrap_or_else(|e| panic!("{e}"))
-}
 
 fn capture(path: RenderPath, msaa: u32, stride: u32) -> renderer::frame::capture::FrameCapture {
     let scene = committed_scene();

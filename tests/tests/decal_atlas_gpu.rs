@@ -4,14 +4,13 @@
 //! level from filtering one decal into the next. And the gradients taken from the box projection
 //! pick blurred levels for a fine pattern seen from afar, where level 0 would alias.
 
-use glam::camera::rh;
 use glam::{Vec3, Vec3Swizzles as _};
 use renderer::decals::{Decal, DecalAtlas, DecalAtlasConfig, DecalImage, DecalMaterial, DecalSet};
 use renderer::frame::{FrameCamera, RenderPath, RendererConfig};
 use renderer::scene::Scene;
 use renderer::scene::procedural::SceneBuilder;
 use tests::decal_stage::{flat_box, solid};
-use tests::frames::render_frame_with;
+use tests::frames::{largest_difference, render_frame_with};
 use tests::gpu::gpu_test;
 
 /// A floor `half` units each way from the origin, of linear `color`.
@@ -24,14 +23,7 @@ fn floor(half: f32, color: Vec3) -> Scene {
 
 /// A camera at `eye` looking at `target`, 50° vertical field of view.
 fn camera(eye: Vec3, target: Vec3, up: Vec3, aspect: f32) -> FrameCamera {
-    let (near, far) = (0.1, 400.0);
-    FrameCamera {
-        view: rh::view::look_at_mat4(eye, target, up),
-        projection: rh::proj::directx::perspective(50f32.to_radians(), aspect, near, far),
-        eye,
-        near,
-        far,
-    }
+    FrameCamera::look_at(eye, target, up, 50f32.to_radians(), aspect, (0.1, 400.0))
 }
 
 fn render(scene: &Scene, set: &DecalSet, camera: &FrameCamera, size: (u32, u32)) -> Vec<u8> {
@@ -106,8 +98,8 @@ fn atlas_neighbours_never_bleed_into_a_decal_at_a_grazing_angle() {
         .filter(|(p, q)| q[1] > p[1] + 1)
         .count();
     assert_eq!(greener, 0, "pixels with green bled in from a neighbour");
-    let worst = a.iter().zip(&b).map(|(x, y)| x.abs_diff(*y)).max();
-    assert!(worst <= Some(1), "alone vs among neighbours: {worst:?}");
+    let worst = largest_difference(&a, &b);
+    assert!(worst <= 1, "alone vs among neighbours: {worst}");
 }
 
 /// A black and white checkerboard of one-texel squares.

@@ -4,16 +4,14 @@
 //! reach blended surfaces, and never a surface outside their box (the stage's CPU ray cast says
 //! which pixels show a surface inside a box).
 
-use std::path::Path;
-
 use glam::{Mat4, Quat, Vec3};
 use renderer::decals::placement::scatter;
 use renderer::decals::{Decal, DecalSet, OrientedBox, box_on_surface, procedural};
-use renderer::frame::setup::{framing_camera, procedural_lights, scene_camera};
+use renderer::frame::setup::{default_camera, procedural_lights};
 use renderer::frame::{FrameCamera, RenderPath, RendererConfig};
 use renderer::scene::{Scene, SceneLight};
 use tests::decal_stage::{self, HEIGHT, Reach, WIDTH, flat_box, solid};
-use tests::frames::render_frame_with;
+use tests::frames::{committed_scene, largest_difference, render_frame_with};
 use tests::gpu::gpu_test;
 
 const CULLED: [RenderPath; 4] = [
@@ -22,21 +20,6 @@ const CULLED: [RenderPath; 4] = [
     RenderPath::Depth25,
     RenderPath::Clustered,
 ];
-
-fn committed_scene() -> Scene {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes/AlphaBlendModeTest/AlphaBlendModeTest.glb");
-    Scene::load(path).unwrap_or_else(|e| panic!("{e}"))
-}
-
-/// The largest difference of one 8-bit channel between two images.
-fn largest_difference(a: &[u8], b: &[u8]) -> u8 {
-    a.iter()
-        .zip(b)
-        .map(|(x, y)| x.abs_diff(*y))
-        .max()
-        .unwrap_or(0)
-}
 
 /// Pixels whose colour differs between two RGBA8 images by more than `by` in some channel.
 fn changed_pixels(a: &[u8], b: &[u8], by: u8) -> usize {
@@ -102,17 +85,6 @@ fn decal_set(scene: &Scene, seed: u64) -> DecalSet {
     DecalSet { materials, decals }
 }
 
-/// The scene's own first camera (the courtyard's looks into it), else one framing its bounds.
-fn view_of(scene: &Scene, aspect: f32) -> FrameCamera {
-    match scene.cameras.first() {
-        Some(c) => {
-            let far = c.zfar.unwrap_or(c.znear * 1.0e4);
-            scene_camera(c.world_from_view, c.yfov, aspect, c.znear, far)
-        }
-        None => framing_camera(scene.bounds, aspect),
-    }
-}
-
 /// Renders `scene` with `lights` and `decals` on every path, and checks each culled image
 /// against the naive one and the decals against an image without them.
 fn assert_culled_equals_naive(
@@ -122,7 +94,7 @@ fn assert_culled_equals_naive(
     (width, height, msaa): (u32, u32, u32),
     what: &str,
 ) {
-    let camera = view_of(scene, width as f32 / height as f32);
+    let camera = default_camera(scene, width as f32 / height as f32);
     let config = |path| RendererConfig {
         width,
         height,

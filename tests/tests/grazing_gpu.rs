@@ -6,7 +6,6 @@
 //! writes and tests its own depth) at 960×540, MSAA 1 and 4.
 
 use glam::Vec3;
-use glam::camera::rh;
 use renderer::frame::setup::{create_target, procedural_lights};
 use renderer::frame::{FrameCamera, RenderPath, Renderer, RendererConfig};
 use renderer::readback;
@@ -55,19 +54,15 @@ fn grazing_camera() -> FrameCamera {
     let pitch = 10f32.to_radians();
     let eye = Vec3::new(0.3, 1.5, 10.0);
     let target = eye + Vec3::new(0.0, -pitch.sin(), -pitch.cos());
-    let (near, far) = (0.1, 400.0);
-    FrameCamera {
-        view: rh::view::look_at_mat4(eye, target, Vec3::Y),
-        projection: rh::proj::directx::perspective(
-            50f32.to_radians(),
-            WIDTH as f32 / HEIGHT as f32,
-            near,
-            far,
-        ),
+    let aspect = WIDTH as f32 / HEIGHT as f32;
+    FrameCamera::look_at(
         eye,
-        near,
-        far,
-    }
+        target,
+        Vec3::Y,
+        50f32.to_radians(),
+        aspect,
+        (0.1, 400.0),
+    )
 }
 
 fn render(scene: &Scene, path: RenderPath, msaa: u32) -> Vec<u8> {

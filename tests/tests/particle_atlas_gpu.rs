@@ -4,7 +4,6 @@
 //! atlas too small for the frame shrinks every region, reports it, and still drops nothing.
 
 use glam::Vec3;
-use glam::camera::rh;
 use renderer::frame::FrameCamera;
 use renderer::particles::{ParticleSystem, dust, smoke, sparks};
 use renderer::passes::particles::{AtlasReport, GpuSort, ParticleAtlas, ParticleSimulation};
@@ -28,15 +27,15 @@ fn system() -> ParticleSystem {
 }
 
 fn camera(distance: f32) -> FrameCamera {
-    let eye = Vec3::new(0.0, 1.0, distance);
-    let (near, far) = (0.1, 100.0);
-    FrameCamera {
-        view: rh::view::look_at_mat4(eye, Vec3::new(0.0, 1.0, 0.0), Vec3::Y),
-        projection: rh::proj::directx::perspective(60f32.to_radians(), 16.0 / 9.0, near, far),
+    let (eye, target) = (Vec3::new(0.0, 1.0, distance), Vec3::new(0.0, 1.0, 0.0));
+    FrameCamera::look_at(
         eye,
-        near,
-        far,
-    }
+        target,
+        Vec3::Y,
+        60f32.to_radians(),
+        16.0 / 9.0,
+        (0.1, 100.0),
+    )
 }
 
 /// The rule, on the CPU: the side class (side `2 << class`) for a particle, or `None` when it

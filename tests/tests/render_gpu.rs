@@ -8,14 +8,8 @@ use std::path::Path;
 use renderer::frame::setup::procedural_lights;
 use renderer::frame::{RenderPath, Renderer, RendererConfig};
 use renderer::scene::{Scene, SceneLight};
-use tests::frames::{render_frame, render_frame_from};
+use tests::frames::{committed_scene, largest_difference, render_frame, render_frame_from};
 use tests::gpu::gpu_test;
-
-fn committed_scene() -> Scene {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes/AlphaBlendModeTest/AlphaBlendModeTest.glb");
-    Scene::load(path).unwrap_or_else(|e| panic!("{e}"))
-}
 
 /// `count` seeded lights with ranges of 5–30% of the scene's size.
 fn lights(scene: &Scene, count: usize, seed: u64, min: f32, max: f32) -> Vec<SceneLight> {
@@ -42,15 +36,6 @@ fn render(path: RenderPath, msaa: u32, seed: u64) -> Vec<u8> {
         );
         frame.rgba
     })
-}
-
-/// The largest difference of one 8-bit channel between two images.
-fn largest_difference(a: &[u8], b: &[u8]) -> u8 {
-    a.iter()
-        .zip(b)
-        .map(|(x, y)| x.abs_diff(*y))
-        .max()
-        .unwrap_or(0)
 }
 
 #[test]

@@ -30,7 +30,7 @@ use renderer::passes::shadow::ShadowPass;
 use renderer::scene::{Aabb, LightKind, SceneLight};
 use renderer::shadow::ShadowReport;
 use renderer::shadow::cache::RegionWork;
-use tests::frames::render_frame_from;
+use tests::frames::{largest_difference, render_frame_from};
 use tests::gpu::gpu_test;
 use tests::shadow_scene::{self, Comparison};
 
@@ -275,14 +275,6 @@ impl Session {
 /// Regions of a frame, from its resolution histogram.
 fn regions(report: &ShadowReport) -> u32 {
     report.resolution_histogram.iter().map(|(_, n)| n).sum()
-}
-
-fn largest_difference(a: &[u8], b: &[u8]) -> u8 {
-    a.iter()
-        .zip(b)
-        .map(|(x, y)| x.abs_diff(*y))
-        .max()
-        .unwrap_or(0)
 }
 
 /// The scene's three lights, with cascades small enough that all three fit a 2048 atlas.

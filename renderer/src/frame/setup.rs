@@ -35,19 +35,14 @@ pub fn framing_camera(bounds: Aabb, aspect: f32) -> FrameCamera {
     let center = bounds.center();
     let radius = ((bounds.max - bounds.min).length() * 0.5).max(1e-3);
     let eye = center + Vec3::new(0.0, 0.35, 1.0).normalize() * radius * 2.4;
-    let (near, far) = (radius * 0.05, radius * 8.0);
-    FrameCamera {
-        view: rh::view::look_at_mat4(eye, center, Vec3::Y),
-        projection: rh::proj::directx::perspective(
-            FRAMING_YFOV_DEGREES.to_radians(),
-            aspect,
-            near,
-            far,
-        ),
+    FrameCamera::look_at(
         eye,
-        near,
-        far,
-    }
+        center,
+        Vec3::Y,
+        FRAMING_YFOV_DEGREES.to_radians(),
+        aspect,
+        (radius * 0.05, radius * 8.0),
+    )
 }
 
 /// The field of view of [`framing_camera`].

@@ -13,6 +13,29 @@ pub struct FrameCamera {
     pub far: f32,
 }
 
+impl FrameCamera {
+    /// A perspective camera at `eye` looking at `target`, `up` roughly up, with a vertical field
+    /// of view of `yfov` radians, an `aspect` (width / height) and wgpu depth from `near` to
+    /// `far`.
+    pub fn look_at(
+        eye: glam::Vec3,
+        target: glam::Vec3,
+        up: glam::Vec3,
+        yfov: f32,
+        aspect: f32,
+        (near, far): (f32, f32),
+    ) -> Self {
+        use glam::camera::rh;
+        Self {
+            view: rh::view::look_at_mat4(eye, target, up),
+            projection: rh::proj::directx::perspective(yfov, aspect, near, far),
+            eye,
+            near,
+            far,
+        }
+    }
+}
+
 /// The camera uniform (`Camera` of the pre-Z and forward programs), rewritten each frame.
 #[derive(Debug, Clone)]
 pub struct CameraUniform {

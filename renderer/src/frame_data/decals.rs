@@ -82,11 +82,7 @@ impl GpuDecals {
 
     /// How many decals one storage binding of records holds on `device`.
     pub fn max_decals(device: &wgpu::Device) -> usize {
-        let limits = device.limits();
-        let bytes = limits
-            .max_storage_buffer_binding_size
-            .min(limits.max_buffer_size);
-        (bytes / size_of::<GpuDecal>() as u64) as usize
+        crate::gpu::requirements::storage_binding_records(device, size_of::<GpuDecal>()) as usize
     }
 
     /// Decals uploaded.

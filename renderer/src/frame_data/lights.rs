@@ -34,11 +34,8 @@ impl LightSet {
     /// The most lights `device` can hold in one binding: the light records (the largest per-light
     /// buffer a pass binds) must fit the storage-binding and buffer size limits.
     pub fn max_lights(device: &wgpu::Device) -> usize {
-        let limits = device.limits();
-        let bytes = limits
-            .max_storage_buffer_binding_size
-            .min(limits.max_buffer_size);
-        (bytes / size_of::<forward::GpuLight>() as u64) as usize
+        crate::gpu::requirements::storage_binding_records(device, size_of::<forward::GpuLight>())
+            as usize
     }
 
     /// [`LightSet::new`], or [`super::RenderError::TooManyLights`] past [`LightSet::max_lights`].

@@ -19,6 +19,16 @@ pub const WANTED_WORKGROUP_INVOCATIONS: u32 = 32 * 32;
 /// Largest storage binding the light lists use (index lists for 65,536 lights at 4K).
 pub const WANTED_STORAGE_BINDING_BYTES: u64 = 1 << 30;
 
+/// How many `element_size`-byte records one storage binding holds on `device`: the smaller of
+/// its storage-binding and buffer size limits, divided by the record size.
+pub fn storage_binding_records(device: &wgpu::Device, element_size: usize) -> u64 {
+    let limits = device.limits();
+    let bytes = limits
+        .max_storage_buffer_binding_size
+        .min(limits.max_buffer_size);
+    bytes / element_size as u64
+}
+
 /// The optional features this adapter has.
 pub fn optional_features(adapter: &wgpu::Adapter) -> wgpu::Features {
     adapter.features() & OPTIONAL_FEATURES

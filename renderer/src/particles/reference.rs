@@ -82,11 +82,6 @@ impl CpuSimulation {
         }
     }
 
-    /// Steps taken.
-    pub fn steps(&self) -> u64 {
-        self.steps
-    }
-
     /// One fixed step: age and move the live particles and drop the dead, then bear this
     /// step's births (they first move in the next step).
     pub fn step(&mut self) {

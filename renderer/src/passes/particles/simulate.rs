@@ -6,6 +6,7 @@ use wgpu::util::DeviceExt as _;
 
 use crate::GpuContext;
 use crate::frame_data::RenderError;
+use crate::gpu::requirements::storage_binding_records;
 use crate::particles::ParticleSystem;
 use crate::particles::schedule::{FIXED_STEP, spawn_batches};
 use crate::shader::ShaderProgram;
@@ -63,15 +64,10 @@ impl ParticleSimulation {
     /// The most slots a pool may have on `device`: what one storage binding of particles holds,
     /// and what one dispatch of a thread per slot reaches.
     pub fn max_capacity(device: &wgpu::Device) -> u32 {
-        let limits = device.limits();
-        let bytes = limits
-            .max_storage_buffer_binding_size
-            .min(limits.max_buffer_size);
-        let threads = u64::from(limits.max_compute_workgroups_per_dimension)
+        let records = storage_binding_records(device, size_of::<GpuParticle>());
+        let threads = u64::from(device.limits().max_compute_workgroups_per_dimension)
             * u64::from(particle_sim::WORKGROUP);
-        (bytes / size_of::<GpuParticle>() as u64)
-            .min(threads)
-            .min(u64::from(u32::MAX)) as u32
+        records.min(threads).min(u64::from(u32::MAX)) as u32
     }
 
     /// Validates `system` and uploads an empty pool (every slot on the dead list).
@@ -156,11 +152,6 @@ impl ParticleSimulation {
     /// The system simulated.
     pub fn system(&self) -> &ParticleSystem {
         &self.system
-    }
-
-    /// Steps recorded so far.
-    pub fn steps(&self) -> u64 {
-        self.steps
     }
 
     /// Records the next fixed step into `encoder`, then rebuilds the live list. Its parameters
