@@ -17,6 +17,7 @@ pub mod graph;
 pub mod particles;
 pub mod passes;
 pub mod readback;
+pub mod readback_ring;
 pub mod scene;
 pub mod shader;
 pub mod shadow;

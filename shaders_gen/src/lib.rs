@@ -31,6 +31,8 @@ pub static MODULES: &[&codegen::rt::Module] = &[
     &forward::tonemap::MODULE,
     &inspect::depth_probe::MODULE,
     &particles::particle_atlas::MODULE,
+    &particles::particle_draw::MODULE,
+    &particles::particle_light::MODULE,
     &particles::particle_sim::MODULE,
     &particles::particle_sort::MODULE,
     &shadow::shadow_atlas_view::MODULE,

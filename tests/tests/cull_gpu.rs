@@ -344,7 +344,9 @@ fn clustered_kernel_matches_cpu_reference_in_every_variant() {
 
 #[test]
 fn overflow_reported_asynchronously_then_buffers_grow_for_the_next_frame() {
-    use renderer::culling::overflow::{CounterReadback, grow_for};
+    use renderer::culling::lists::CullCounters;
+    use renderer::culling::overflow::grow_for;
+    use renderer::readback_ring::ReadbackRing;
     let s = scene(41, 128, 96, 1, 400);
     let reference = run_gpu(&s, config(16, 1, false)).all_lists();
     let (first, second, grown) = gpu_test(|gpu| {
@@ -361,8 +363,8 @@ fn overflow_reported_asynchronously_then_buffers_grow_for_the_next_frame() {
             .iter()
             .map(|l| CullSphere::new(l.center, l.radius))
             .collect();
-        let mut readback = CounterReadback::new(&gpu.device);
-        let frame = |culling: &mut TiledCulling, readback: &mut CounterReadback, n: u64| {
+        let mut readback = ReadbackRing::new(&gpu.device, "counters", CullCounters::WORDS);
+        let frame = |culling: &mut TiledCulling, readback: &mut ReadbackRing, n: u64| {
             culling
                 .upload(
                     gpu,
@@ -376,7 +378,8 @@ fn overflow_reported_asynchronously_then_buffers_grow_for_the_next_frame() {
             culling
                 .levels
                 .encode(&gpu.device, &mut encoder, &view, None);
-            assert!(readback.record(&mut encoder, &culling.levels.lists.counters, n));
+            let counters = (&culling.levels.lists.counters, CullCounters::WORDS * 4);
+            assert!(readback.record(&mut encoder, &[counters], n));
             gpu.queue.submit([encoder.finish()]);
             readback.after_submit();
         };
@@ -390,7 +393,8 @@ fn overflow_reported_asynchronously_then_buffers_grow_for_the_next_frame() {
             }
             std::thread::sleep(std::time::Duration::from_millis(2));
         }
-        let (n, first) = arrived.expect("the counters arrive within 2 s");
+        let (n, words) = arrived.expect("the counters arrive within 2 s");
+        let first = CullCounters::from_words(&words);
         assert_eq!(n, 1);
         let caps = grow_for(&first, culling.levels.shape.index_capacity)
             .expect("an overflowing frame must grow the index list");

@@ -68,7 +68,7 @@ fn layout(
     steps: u32,
 ) -> (Vec<GpuParticle>, Vec<u32>, AtlasReport) {
     gpu_test(|gpu| {
-        let mut sim = ParticleSimulation::new(gpu, system()).expect("simulation");
+        let sim = ParticleSimulation::new(gpu, system()).expect("simulation");
         sim.advance(gpu, steps);
         let sort = GpuSort::new(gpu, 2000, wgpu::BufferUsages::empty()).expect("sort");
         let atlas = ParticleAtlas::new(gpu, &sim, &sort, side).expect("atlas");

@@ -39,7 +39,7 @@ fn gpu_simulation_equals_the_cpu_reference_particle_for_particle() {
         cpu.step();
     }
     let gpu_particles = gpu_test(|gpu| {
-        let mut sim = ParticleSimulation::new(gpu, system(20_000)).expect("simulation");
+        let sim = ParticleSimulation::new(gpu, system(20_000)).expect("simulation");
         sim.advance(gpu, steps);
         let counters = sim.read_counters(gpu).expect("counters");
         let alive = sim.read_alive(gpu).expect("particles");
@@ -111,7 +111,7 @@ fn a_full_pool_refuses_the_same_number_of_births() {
     }
     assert!(cpu.starved > 0, "the test needs a pool that fills");
     gpu_test(|gpu| {
-        let mut sim = ParticleSimulation::new(gpu, system(100)).expect("simulation");
+        let sim = ParticleSimulation::new(gpu, system(100)).expect("simulation");
         sim.advance(gpu, 29);
         let counters = sim.read_counters(gpu).expect("counters");
         assert_eq!(counters.alive, 100);

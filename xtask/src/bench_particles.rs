@@ -76,7 +76,7 @@ pub fn run(args: &Args) -> Result<()> {
 }
 
 fn measure(gpu: &GpuContext, count: u32, frames: u32) -> Result<String> {
-    let mut sim = ParticleSimulation::new(gpu, system(count))?;
+    let sim = ParticleSimulation::new(gpu, system(count))?;
     let sort = GpuSort::new(gpu, count, wgpu::BufferUsages::empty())?;
     // Four times the cells the pool needs at 2×2 texels each (the largest side regions can address).
     let side = (ParticleAtlas::min_side(count) * 2).min(4096);

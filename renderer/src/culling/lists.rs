@@ -30,7 +30,7 @@ pub struct CullCounters {
 impl CullCounters {
     pub const WORDS: u64 = 4;
 
-    pub(crate) fn from_words(c: &[u32]) -> Self {
+    pub fn from_words(c: &[u32]) -> Self {
         Self {
             requested_entries: c[0],
             coarse_fallbacks: c[1],

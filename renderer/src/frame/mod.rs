@@ -52,18 +52,20 @@ use std::sync::Arc;
 use std::time::Instant;
 
 pub use crate::frame_data::{
-    DrawItem, FrameCamera, FrameReport, FrameView, PreparedMaterial, PreparedScene, RenderError,
-    RenderPath, RendererConfig,
+    DrawItem, FrameCamera, FrameReport, FrameView, ParticleLighting, ParticleReport,
+    PreparedMaterial, PreparedScene, RenderError, RenderPath, RendererConfig,
 };
 pub use crate::passes::light_cull::Culler;
 
 use crate::GpuContext;
 use crate::decals::{DecalAtlasConfig, DecalSet};
 use crate::frame_data::{
-    CameraUniform, FrameInputs, FrameResources, GpuDecals, InstanceState, LightSet,
+    CameraUniform, FrameInputs, FrameResources, GpuDecals, InstanceState, LightSet, ParticleInput,
 };
 use crate::graph::{ImportAccess, PassTiming, RenderGraph, TextureDesc, TransientPool};
+use crate::particles::ParticleSystem;
 use crate::passes::Pass;
+use crate::passes::particles::ParticleSimulation;
 use crate::scene::{Scene, SceneLight};
 
 /// Submissions the renderer remembers for `wait_for_frames_in_flight`.
@@ -82,6 +84,7 @@ pub struct Renderer {
     instances: Arc<Vec<InstanceState>>,
     lights: Arc<LightSet>,
     decals: Arc<GpuDecals>,
+    particles: Option<ParticleInput>,
     camera_uniform: CameraUniform,
     pool: TransientPool,
     profiler: wgpu_profiler::GpuProfiler,
@@ -129,6 +132,7 @@ impl Renderer {
             instances: Arc::new(Vec::new()),
             lights: Arc::new(LightSet::new(&gpu.device, &[])),
             decals: Arc::new(GpuDecals::empty(&gpu.device, &gpu.queue)),
+            particles: None,
             camera_uniform: CameraUniform::new(&gpu.device),
             pool: TransientPool::new(),
             profiler: wgpu_profiler::GpuProfiler::new(&gpu.device, settings)
@@ -174,6 +178,31 @@ impl Renderer {
         Ok(())
     }
 
+    /// Replaces the particle systems (validated against this device), effective next frame.
+    /// The next frame builds their GPU state and simulates `warmup_steps` fixed steps
+    /// (`particles::FIXED_STEP` each) first, so they appear already under way; every frame
+    /// after that advances them one fixed step. They are lit and drawn per
+    /// [`RendererConfig::particle_lighting`]; [`FrameReport::particles`] counts them.
+    pub fn set_particles(
+        &mut self,
+        system: &ParticleSystem,
+        warmup_steps: u32,
+    ) -> Result<(), RenderError> {
+        system.validate(ParticleSimulation::max_capacity(&self.gpu.device))?;
+        let generation = self.particles.as_ref().map_or(1, |p| p.generation + 1);
+        self.particles = Some(ParticleInput {
+            system: Arc::new(system.clone()),
+            warmup_steps,
+            generation,
+        });
+        Ok(())
+    }
+
+    /// Removes the particle systems.
+    pub fn clear_particles(&mut self) {
+        self.particles = None;
+    }
+
     /// Changes the frame size; passes rebuild what depends on it on the next frame.
     pub fn resize(&mut self, width: u32, height: u32) {
         self.config.width = width;
@@ -196,6 +225,7 @@ impl Renderer {
             instances: Arc::clone(&self.instances),
             lights: Arc::clone(&self.lights),
             decals: Arc::clone(&self.decals),
+            particles: self.particles.clone(),
             camera_uniform: self.camera_uniform.clone(),
             capture: self.capture_request.take(),
             index: self.frame_index,

@@ -1,12 +1,13 @@
 //! Which passes a configuration runs, in order. Adding a pass to a path is one entry here.
 
 use crate::GpuContext;
-use crate::frame_data::{FrameView, RenderError, RenderPath, RendererConfig};
+use crate::frame_data::{FrameView, ParticleLighting, RenderError, RenderPath, RendererConfig};
 use crate::passes::Pass;
 use crate::passes::depth_probe::DepthProbePass;
 use crate::passes::forward::ForwardPass;
 use crate::passes::heatmap::HeatmapPass;
 use crate::passes::light_cull::LightCullPass;
+use crate::passes::particles::{ParticleDrawPass, ParticleLightPass, ParticleSimPass};
 use crate::passes::prez::PrezPass;
 use crate::passes::shadow::{ShadowAtlasViewPass, ShadowPass};
 use crate::passes::tonemap::TonemapPass;
@@ -15,13 +16,16 @@ use crate::passes::tonemap::TonemapPass;
 ///
 /// | path | passes |
 /// |---|---|
-/// | naive | shadow atlas → forward (own depth) → tonemap |
-/// | naive-prez | pre-Z → shadow atlas → forward → tonemap → depth probe |
-/// | tiled, 2.5D, clustered | pre-Z → light culling → shadow atlas → forward → tonemap → depth probe |
+/// | naive | shadow atlas → particles* → forward (own depth) → particle draw → tonemap |
+/// | naive-prez | pre-Z → shadow atlas → particles* → forward → particle draw → tonemap → depth probe |
+/// | tiled, 2.5D, clustered | pre-Z → light culling → shadow atlas → particles* → forward → particle draw → tonemap → depth probe |
+/// | particle-atlas view | as the path, the tonemap showing the lit atlas |
 /// | heatmap view (culled paths) | pre-Z → light culling → light heatmap → depth probe |
 /// | shadow-atlas view | (pre-Z → light culling →) shadow atlas → shadow atlas view |
 ///
-/// The depth probe adds work only to frames a tool asked to capture.
+/// `particles*` is the particle simulation and layout, then (atlas lighting, or the atlas
+/// view) the particle lighting; the particle passes add work only when the renderer has
+/// particles. The depth probe adds work only to frames a tool asked to capture.
 pub fn passes_for(
     gpu: &GpuContext,
     config: &RendererConfig,
@@ -41,9 +45,15 @@ pub fn passes_for(
             passes.push(Box::new(ShadowPass::new(gpu, config)?));
             passes.push(Box::new(ShadowAtlasViewPass::new(gpu, config)?));
         }
-        FrameView::Lit => {
+        FrameView::Lit | FrameView::ParticleAtlas => {
             passes.push(Box::new(ShadowPass::new(gpu, config)?));
+            passes.push(Box::new(ParticleSimPass::new(gpu)));
+            let atlas_lit = config.particle_lighting == ParticleLighting::Atlas;
+            if atlas_lit || config.view == FrameView::ParticleAtlas {
+                passes.push(Box::new(ParticleLightPass::new(gpu, config)?));
+            }
             passes.push(Box::new(ForwardPass::new(gpu, config)?));
+            passes.push(Box::new(ParticleDrawPass::new(gpu, config)?));
             passes.push(Box::new(TonemapPass::new(gpu, config)?));
         }
     }

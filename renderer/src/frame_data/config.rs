@@ -63,6 +63,41 @@ pub enum FrameView {
     /// The decal-count heatmap: the same ramp and legend as [`FrameView::Heatmap`], over the
     /// cells' decal lists.
     DecalHeatmap,
+    /// The particle lighting atlas of the frame, exposed like the image.
+    ParticleAtlas,
+}
+
+/// How particles are lit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ParticleLighting {
+    /// Once per frame into the lighting atlas, at a few texels per particle; the draw samples
+    /// it bicubically (DOOM 2016).
+    #[default]
+    Atlas,
+    /// In the particle fragment shader, per pixel of every overlapping particle: the reference
+    /// the atlas is measured against.
+    PerPixel,
+}
+
+impl ParticleLighting {
+    /// The command-line name: `atlas` or `per-pixel`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Atlas => "atlas",
+            Self::PerPixel => "per-pixel",
+        }
+    }
+}
+
+impl std::str::FromStr for ParticleLighting {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        [Self::Atlas, Self::PerPixel]
+            .into_iter()
+            .find(|l| l.name() == s)
+            .ok_or_else(|| format!("particle lighting {s:?}: use atlas or per-pixel"))
+    }
 }
 
 /// Renderer settings.
@@ -96,6 +131,14 @@ pub struct RendererConfig {
     pub heatmap_max: u32,
     /// Decal count shown as full red in the decal heatmap.
     pub decal_heatmap_max: u32,
+    /// How particles are lit (when the renderer has particles).
+    pub particle_lighting: ParticleLighting,
+    /// Side of the particle lighting atlas, texels (a power of two); 0 picks 2048, or more
+    /// when the particle capacity needs it.
+    pub particle_atlas_side: u32,
+    /// View-depth distance over which particles fade out in front of a surface (soft
+    /// particles); 0 turns the fade off.
+    pub soft_particle_distance: f32,
     /// The shadow atlas: size, resolutions, caching.
     pub shadows: crate::shadow::ShadowConfig,
 }
@@ -130,6 +173,9 @@ impl Default for RendererConfig {
             view: FrameView::Lit,
             heatmap_max: 256,
             decal_heatmap_max: 16,
+            particle_lighting: ParticleLighting::Atlas,
+            particle_atlas_side: 0,
+            soft_particle_distance: 0.3,
             shadows: crate::shadow::ShadowConfig::default(),
         }
     }

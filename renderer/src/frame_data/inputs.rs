@@ -8,6 +8,16 @@ use super::{
 };
 use crate::GpuContext;
 
+/// The particle systems a renderer was given ([`crate::frame::Renderer::set_particles`]).
+#[derive(Debug, Clone)]
+pub struct ParticleInput {
+    pub system: Arc<crate::particles::ParticleSystem>,
+    /// Fixed steps simulated before the first frame that shows them.
+    pub warmup_steps: u32,
+    /// Changes whenever the systems are replaced (the particle passes rebuild then).
+    pub generation: u64,
+}
+
 /// One frame's inputs.
 #[derive(Debug, Clone)]
 pub struct FrameInputs {
@@ -20,6 +30,8 @@ pub struct FrameInputs {
     pub lights: Arc<LightSet>,
     /// Decals in layer order, with their atlas.
     pub decals: Arc<GpuDecals>,
+    /// The particle systems, when the renderer has any.
+    pub particles: Option<ParticleInput>,
     /// The camera uniform, already written for this frame.
     pub camera_uniform: CameraUniform,
     /// Probe stride when a tool asked this frame to capture its depth and light grid.

@@ -1,5 +1,6 @@
 //! What every pass of a frame may read, below the passes: the renderer's configuration, the
-//! camera, the prepared scene and its draw lists, the lights, the decals, the shared texture formats, the
+//! camera, the prepared scene and its draw lists, the lights, the decals, the particle systems, the
+//! shared texture formats, the
 //! graph resources passes hand each other ([`FrameResources`]) and the frame report.
 //!
 //! Passes (`crate::passes`) import this module and never `crate::frame`; `frame` orchestrates
@@ -17,12 +18,14 @@ mod resources;
 mod scene;
 
 pub use camera::{CameraUniform, FrameCamera};
-pub use config::{FrameView, RenderPath, RendererConfig};
+pub use config::{FrameView, ParticleLighting, RenderPath, RendererConfig};
 pub use decals::{GpuDecals, cull_box};
 pub use error::RenderError;
 pub use formats::{DEPTH_FORMAT, HDR_FORMAT};
-pub use inputs::FrameInputs;
+pub use inputs::{FrameInputs, ParticleInput};
 pub use lights::LightSet;
-pub use report::FrameReport;
-pub use resources::{FrameResources, LightListHandles, ListGeometry, ShadowResources};
+pub use report::{FrameReport, ParticleReport};
+pub use resources::{
+    FrameResources, LightListHandles, ListGeometry, ParticleResources, ShadowResources,
+};
 pub use scene::{DrawItem, InstanceState, PreparedMaterial, PreparedScene};

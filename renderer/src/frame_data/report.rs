@@ -22,4 +22,25 @@ pub struct FrameReport {
     pub culling: Option<CullCounters>,
     /// What the shadow pass decided and drew this frame (absent without one).
     pub shadows: Option<crate::shadow::ShadowReport>,
+    /// The particles of the newest frame whose counters have arrived (read asynchronously;
+    /// absent without particles).
+    pub particles: Option<ParticleReport>,
+}
+
+/// What the particle passes counted in one frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct ParticleReport {
+    /// Live particles.
+    pub alive: u32,
+    /// Births refused since the start because every slot was taken (raise the capacity).
+    pub starved: u32,
+    /// Particles in front of the camera, drawn and lit.
+    pub visible: u32,
+    /// Classes every atlas region was shrunk by this frame so that all fit (0: none); the
+    /// renderer logs a warning when it is not 0.
+    pub atlas_shrink: u32,
+    /// Frames so far whose atlas had to shrink.
+    pub shrunk_frames: u32,
+    /// 2×2-texel atlas cells lit this frame.
+    pub atlas_cells: u32,
 }

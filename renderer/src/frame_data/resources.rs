@@ -106,6 +106,44 @@ impl ShadowResources {
     }
 }
 
+/// The particle systems' buffers of a frame, as the particle lighting, draw and view passes
+/// bind them (`particle_light`, `particle_draw`).
+#[derive(Debug, Clone)]
+pub struct ParticleResources {
+    /// The particle slots after this frame's simulation step.
+    pub simulated: Handle<Buffer>,
+    /// The layout after this frame's sizing, allocation and sort (the sorted keys stand for
+    /// regions, owners, state and draw arguments too, which the same pass writes).
+    pub laid_out: Handle<Buffer>,
+    /// `GpuEmitter` per emitter.
+    pub emitters: wgpu::Buffer,
+    /// `GpuParticle` per slot.
+    pub particles: wgpu::Buffer,
+    /// Packed region per slot.
+    pub regions: wgpu::Buffer,
+    /// Sorted `(key, slot)` pairs, visible particles first, back to front.
+    pub keys: wgpu::Buffer,
+    /// The layout's counters and plan (`particle_atlas::STATE`), ending with the indirect
+    /// arguments of the draw and of the lighting dispatch.
+    pub state: wgpu::Buffer,
+    /// Region owners, class by class.
+    pub owners: wgpu::Buffer,
+    /// The camera, lights and grid the particle passes read (`ParticleView`).
+    pub view: wgpu::Buffer,
+    /// Atlas side, texels.
+    pub atlas_side: u32,
+    /// The lighting kernel's output: the atlas's texels as rows of `u32`.
+    pub lit_texels: wgpu::Buffer,
+    /// The atlas texture (`Rg11b10Ufloat`) the texels are copied into.
+    pub atlas_texture: wgpu::Texture,
+    /// The atlas in the graph, once the lighting pass has written it this frame.
+    pub lit_atlas: Option<Handle<Texture>>,
+    /// The sprite texture array (`SPRITES`).
+    pub sprites: wgpu::TextureView,
+    /// The sampler of the sprites and of the atlas's bilinear taps.
+    pub sampler: wgpu::Sampler,
+}
+
 /// What the passes of one frame have produced so far.
 #[derive(Debug)]
 pub struct FrameResources {
@@ -119,6 +157,14 @@ pub struct FrameResources {
     pub hdr: Option<Handle<Texture>>,
     /// The shadow atlas (absent when the frame has no shadow pass).
     pub shadows: Option<ShadowResources>,
+    /// The multisampled HDR colour the forward pass resolved into `hdr` (MSAA only), for passes
+    /// that draw more over it.
+    pub hdr_multisampled: Option<Handle<Texture>>,
+    /// Light lists covering every depth slice, for particles: the frame's clustered lists, or
+    /// on the tiled paths lists of their own (absent on the naive paths and without particles).
+    pub particle_lists: Option<LightListHandles>,
+    /// The particles of this frame (absent without particles).
+    pub particles: Option<ParticleResources>,
     imports: Vec<(Handle<Buffer>, wgpu::Buffer)>,
     texture_imports: Vec<(Handle<Texture>, wgpu::Texture)>,
 }
@@ -131,6 +177,9 @@ impl FrameResources {
             light_lists: None,
             hdr: None,
             shadows: None,
+            hdr_multisampled: None,
+            particle_lists: None,
+            particles: None,
             imports: Vec::new(),
             texture_imports: Vec::new(),
         }

@@ -29,6 +29,11 @@ pub fn storage_binding_records(device: &wgpu::Device, element_size: usize) -> u6
     bytes / element_size as u64
 }
 
+/// Storage buffers one shader stage binds at most: the particle lighting kernel's ten (the
+/// light lists and shadow views, and the particle records, layout and output). Above the
+/// WebGPU default of 8; every Vulkan, Metal and D3D12 desktop adapter has at least 16.
+pub const STORAGE_BUFFERS_PER_STAGE: u32 = 10;
+
 /// The optional features this adapter has.
 pub fn optional_features(adapter: &wgpu::Adapter) -> wgpu::Features {
     adapter.features() & OPTIONAL_FEATURES
@@ -55,7 +60,7 @@ pub fn for_adapter(adapter: &wgpu::Adapter) -> Result<(wgpu::Features, wgpu::Lim
         ),
         (
             "max_storage_buffers_per_shader_stage",
-            base.max_storage_buffers_per_shader_stage.into(),
+            STORAGE_BUFFERS_PER_STAGE.into(),
             have.max_storage_buffers_per_shader_stage.into(),
         ),
         (
@@ -81,6 +86,7 @@ pub fn for_adapter(adapter: &wgpu::Adapter) -> Result<(wgpu::Features, wgpu::Lim
             .max_storage_buffer_binding_size
             .min(WANTED_STORAGE_BINDING_BYTES),
         max_buffer_size: have.max_buffer_size.min(WANTED_STORAGE_BINDING_BYTES),
+        max_storage_buffers_per_shader_stage: STORAGE_BUFFERS_PER_STAGE,
         ..base
     }
     .using_resolution(have.clone())

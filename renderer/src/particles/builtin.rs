@@ -23,6 +23,7 @@ pub fn smoke(position: Vec3, rate: f32) -> Emitter {
             Vec4::new(0.55, 0.55, 0.55, 0.5),
             Vec4::new(0.7, 0.7, 0.72, 0.0),
         ],
+        emissive: 0.0,
         texture: ParticleTexture::Smoke,
     }
 }
@@ -44,6 +45,7 @@ pub fn sparks(position: Vec3, rate: f32) -> Emitter {
             Vec4::new(4.0, 2.0, 0.6, 1.0),
             Vec4::new(1.5, 0.3, 0.05, 0.0),
         ],
+        emissive: 1.0,
         texture: ParticleTexture::Spark,
     }
 }
@@ -65,6 +67,7 @@ pub fn dust(position: Vec3, rate: f32) -> Emitter {
             Vec4::new(0.8, 0.75, 0.6, 0.6),
             Vec4::new(0.8, 0.75, 0.6, 0.0),
         ],
+        emissive: 0.0,
         texture: ParticleTexture::Dust,
     }
 }

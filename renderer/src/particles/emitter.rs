@@ -37,6 +37,8 @@ pub struct Emitter {
     pub size: [f32; 2],
     /// Linear RGB and alpha at birth and at death.
     pub color: [Vec4; 2],
+    /// Radiance given off unlit, as a multiple of the colour (0: lit only; sparks glow).
+    pub emissive: f32,
     pub texture: ParticleTexture,
 }
 
@@ -83,7 +85,7 @@ impl Emitter {
             self.speed_jitter,
             self.texture as u32,
             self.size.into(),
-            0,
+            self.emissive,
             0,
             self.color[0],
             self.color[1],
@@ -104,6 +106,7 @@ impl Emitter {
             ("spread", self.spread, 0.0, std::f32::consts::PI),
             ("speed_jitter", self.speed_jitter, 0.0, 1.0),
             ("drag", self.drag, 0.0, 60.0),
+            ("emissive", self.emissive, 0.0, 1.0e4),
         ];
         for (name, value, lo, hi) in ranges {
             if !(lo..=hi).contains(&value) {

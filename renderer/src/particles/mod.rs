@@ -11,6 +11,7 @@ mod emitter;
 pub mod random;
 pub mod reference;
 pub mod schedule;
+pub mod sprites;
 
 pub use builtin::{builtin_emitters, dust, smoke, sparks};
 pub use emitter::{Emitter, ParticleError, ParticleSystem, ParticleTexture};

@@ -214,6 +214,7 @@ impl Pass for ForwardPass {
         let record = self.recorder(frame, targets, lists, shadows);
         pass.execute(record);
         resources.hdr = Some(hdr);
+        resources.hdr_multisampled = hdr_msaa;
         if resources.depth.is_none() {
             resources.depth = own_depth;
         }

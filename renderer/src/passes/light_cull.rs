@@ -12,13 +12,14 @@ use crate::culling::clustered::{ClusterCullConfig, ClusteredCulling};
 use crate::culling::hierarchy::{CullHierarchy, CullItems, CullSphere};
 use crate::culling::lists::{CullCounters, LightLists};
 use crate::culling::max_index_entries;
-use crate::culling::overflow::{CounterReadback, grow_for};
+use crate::culling::overflow::grow_for;
 use crate::culling::reference::{ClusterGrid, Method};
 use crate::culling::tiled::{TileCullConfig, TiledCulling};
 use crate::frame_data::{
     FrameInputs, FrameReport, FrameResources, LightListHandles, RenderError, RenderPath,
 };
 use crate::graph::{BufferAccess, ImportAccess, RenderGraph, TextureAccess};
+use crate::readback_ring::ReadbackRing;
 
 /// Depth slices of the clustered path (the kernels' limit, `cull_append::MAX_LISTS`).
 pub const CLUSTER_SLICES: u32 = 32;
@@ -77,9 +78,12 @@ impl Culler {
 pub struct LightCullPass {
     gpu: GpuContext,
     culler: Culler,
+    /// On the tiled paths with particles: clustered lists over every depth slice for the
+    /// particle passes (particles float where no tile list reaches).
+    particle_culler: Option<Arc<ClusteredCulling>>,
     /// The size the culler was built for.
     built_for: (u32, u32),
-    counters: CounterReadback,
+    counters: ReadbackRing,
     index_capacity: u32,
     last_counters: Option<CullCounters>,
 }
@@ -89,8 +93,13 @@ impl LightCullPass {
         Self {
             gpu: gpu.clone(),
             culler: Culler::Naive,
+            particle_culler: None,
             built_for: (0, 0),
-            counters: CounterReadback::new(&gpu.device),
+            counters: ReadbackRing::new(
+                &gpu.device,
+                "cull counters readback",
+                2 * CullCounters::WORDS,
+            ),
             index_capacity: max_index_entries(&gpu.device).min(1 << 22),
             last_counters: None,
         }
@@ -121,7 +130,14 @@ impl LightCullPass {
         // Skipping froxels without a depth sample is exact only when every shaded point is a
         // depth sample: no blended surfaces (absent from pre-Z) and no MSAA (an edge fragment is
         // shaded at the pixel centre, which may lie in a froxel no visible sample occupies).
-        let skip_empty = !has_blend && c.msaa == 1;
+        // Particles are lit in every slice in front of the surfaces, so they need every list.
+        let particles = frame.particles.is_some();
+        let skip_empty = !has_blend && c.msaa == 1 && !particles;
+        self.ensure_particle_culler(
+            frame,
+            particles && c.path.is_culled() && c.path != RenderPath::Clustered,
+            items,
+        )?;
         let (near, far) = (frame.camera.near, frame.camera.far);
         let same_size = self.built_for == (c.width, c.height);
         let ok = same_size
@@ -169,36 +185,83 @@ impl LightCullPass {
                 )?))
             }
             RenderPath::Clustered => {
-                let grid = ClusterGrid {
-                    tile: c.tile,
-                    slices: CLUSTER_SLICES,
-                    near,
-                    far,
-                };
-                let config = ClusterCullConfig {
-                    grid,
-                    msaa: c.msaa,
-                    skip_empty,
-                    brute_force: c.cull_brute_force,
-                    coarse_slots: None,
-                    index_capacity: self.index_capacity,
-                    item_capacity: items,
-                };
-                Culler::Clustered(Arc::new(ClusteredCulling::new(
-                    &self.gpu, config, c.width, c.height,
-                )?))
+                Culler::Clustered(Arc::new(self.clustered(frame, skip_empty, items)?))
             }
         };
+        Ok(())
+    }
+
+    /// A clustered culler for `frame` (32 slices over the camera's range).
+    fn clustered(
+        &self,
+        frame: &FrameInputs,
+        skip_empty: bool,
+        items: u32,
+    ) -> Result<ClusteredCulling, RenderError> {
+        let c = &frame.config;
+        let grid = ClusterGrid {
+            tile: c.tile,
+            slices: CLUSTER_SLICES,
+            near: frame.camera.near,
+            far: frame.camera.far,
+        };
+        let config = ClusterCullConfig {
+            grid,
+            msaa: c.msaa,
+            skip_empty,
+            brute_force: c.cull_brute_force,
+            coarse_slots: None,
+            index_capacity: self.index_capacity,
+            item_capacity: items,
+        };
+        Ok(ClusteredCulling::new(&self.gpu, config, c.width, c.height)?)
+    }
+
+    /// Builds, keeps or drops the particles' own clustered culler (`wanted` on the tiled paths
+    /// with particles).
+    fn ensure_particle_culler(
+        &mut self,
+        frame: &FrameInputs,
+        wanted: bool,
+        items: u32,
+    ) -> Result<(), RenderError> {
+        if !wanted {
+            self.particle_culler = None;
+            return Ok(());
+        }
+        let c = &frame.config;
+        let fits = self.particle_culler.as_ref().is_some_and(|k| {
+            k.levels.tiles == glam::UVec2::new(c.width.div_ceil(c.tile), c.height.div_ceil(c.tile))
+                && k.config.item_capacity >= items
+                && k.config.index_capacity == self.index_capacity
+                && k.config.grid.near == frame.camera.near
+                && k.config.grid.far == frame.camera.far
+                && k.config.grid.tile == c.tile
+                && k.config.msaa == c.msaa
+                && k.config.brute_force == c.cull_brute_force
+        });
+        if !fits {
+            self.particle_culler = Some(Arc::new(self.clustered(frame, false, items)?));
+        }
         Ok(())
     }
 
     /// Picks up culling counters that have arrived; on overflow, warns and grows the index list
     /// for the next frame (up to one storage binding; past that the overflow stays reported).
     fn poll_counters(&mut self) {
-        let Some((_, counters)) = self.counters.poll(&self.gpu.device) else {
+        let Some((_, words)) = self.counters.poll(&self.gpu.device) else {
             return;
         };
+        let (frame_words, particle_words) = words.split_at(CullCounters::WORDS as usize);
+        let counters = CullCounters::from_words(frame_words);
         self.last_counters = Some(counters);
+        // The index list both cullers share grows for whichever asked more.
+        let particle = CullCounters::from_words(particle_words);
+        let counters = if particle.requested_entries > counters.requested_entries {
+            particle
+        } else {
+            counters
+        };
         if counters.dropped == 0 {
             return;
         }
@@ -221,6 +284,50 @@ impl LightCullPass {
         );
         if let Some(index) = grown {
             self.index_capacity = index;
+        }
+    }
+}
+
+impl LightCullPass {
+    /// The particles' own clustered culling on a tiled path, as a graph pass of its own.
+    fn add_particle_culling(
+        &self,
+        graph: &mut RenderGraph,
+        resources: &mut FrameResources,
+        culler: &Arc<ClusteredCulling>,
+        depth: crate::graph::Handle<crate::graph::Texture>,
+    ) -> LightListHandles {
+        let lists = &culler.levels.lists;
+        let mut grid = resources.import_buffer(
+            graph,
+            "particle light grid",
+            &lists.grid,
+            ImportAccess::ReadWrite,
+        );
+        let mut indices = resources.import_buffer(
+            graph,
+            "particle light indices",
+            &lists.indices,
+            ImportAccess::ReadWrite,
+        );
+        let k = Arc::clone(culler);
+        graph
+            .add_pass("particle light culling")
+            .read_texture(depth, TextureAccess::Sampled)
+            .write_buffer(&mut grid, BufferAccess::StorageWrite)
+            .write_buffer(&mut indices, BufferAccess::StorageWrite)
+            .execute(move |ctx| {
+                let view = ctx.texture(depth).create_view(&Default::default());
+                k.levels.encode(ctx.device, ctx.encoder, &view, None);
+            });
+        LightListHandles {
+            grid,
+            indices,
+            method: Method::Clustered {
+                grid: culler.config.grid,
+                skip_empty: false,
+            },
+            grid_buffer: lists.grid.clone(),
         }
     }
 }
@@ -249,6 +356,9 @@ impl Pass for LightCullPass {
             Culler::Tiled(t) => t.upload(gpu, view, projection, screen, items)?,
             Culler::Clustered(k) => k.upload(gpu, view, projection, screen, items)?,
             Culler::Naive => {}
+        }
+        if let Some(k) = &self.particle_culler {
+            k.upload(gpu, view, projection, screen, items)?;
         }
         Ok(())
     }
@@ -288,12 +398,19 @@ impl Pass for LightCullPass {
                     levels.encode(ctx.device, ctx.encoder, &view, profiler);
                 }
             });
-        resources.light_lists = Some(LightListHandles {
+        let handles = LightListHandles {
             grid,
             indices,
             method,
             grid_buffer: lists.grid.clone(),
-        });
+        };
+        if frame.particles.is_some() {
+            resources.particle_lists = match &self.particle_culler {
+                Some(k) => Some(self.add_particle_culling(graph, resources, k, depth)),
+                None => Some(handles.clone()),
+            };
+        }
+        resources.light_lists = Some(handles);
         Ok(())
     }
 
@@ -303,8 +420,18 @@ impl Pass for LightCullPass {
         _resources: &FrameResources,
         encoder: &mut wgpu::CommandEncoder,
     ) {
+        // The frame's counters, then the particle culler's (the frame's again without one).
         if let Some(l) = self.culler.lists() {
-            self.counters.record(encoder, &l.counters, frame.index);
+            let particle = self
+                .particle_culler
+                .as_ref()
+                .map_or(&l.counters, |k| &k.levels.lists.counters);
+            let bytes = CullCounters::WORDS * 4;
+            self.counters.record(
+                encoder,
+                &[(&l.counters, bytes), (particle, bytes)],
+                frame.index,
+            );
         }
     }
 

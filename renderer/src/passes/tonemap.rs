@@ -5,7 +5,7 @@ use shaders_gen::forward::tonemap;
 
 use super::{Pass, draw_fullscreen, fullscreen_pipeline};
 use crate::GpuContext;
-use crate::frame_data::{FrameInputs, FrameResources, RenderError, RendererConfig};
+use crate::frame_data::{FrameInputs, FrameResources, FrameView, RenderError, RendererConfig};
 use crate::graph::{RenderGraph, TextureAccess};
 use crate::shader::ShaderProgram;
 
@@ -46,25 +46,36 @@ impl Pass for TonemapPass {
         "tonemap"
     }
 
-    fn prepare(&mut self, frame: &FrameInputs) -> Result<(), RenderError> {
-        let params = tonemap::TonemapParams::new(frame.config.exposure);
+    fn add_to_graph(
+        &self,
+        graph: &mut RenderGraph,
+        frame: &FrameInputs,
+        resources: &mut FrameResources,
+    ) -> Result<(), RenderError> {
+        let c = &frame.config;
+        // The particle-atlas view shows the lit atlas, fitted to the target's shorter side.
+        let atlas = resources
+            .particles
+            .as_ref()
+            .filter(|_| c.view == FrameView::ParticleAtlas)
+            .and_then(|p| p.lit_atlas.map(|a| (a, p.atlas_side)));
+        let (source, scale) = match atlas {
+            Some((a, side)) => (Some(a), side as f32 / c.width.min(c.height) as f32),
+            None => (resources.hdr, 1.0),
+        };
+        let hdr = source.ok_or(RenderError::MissingInput {
+            pass: "tonemap",
+            input: if c.view == FrameView::ParticleAtlas {
+                "particle lighting atlas (the frame has no particles)"
+            } else {
+                "HDR colour"
+            },
+        })?;
+        let params = tonemap::TonemapParams::new(c.exposure, scale);
         frame
             .gpu
             .queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
-        Ok(())
-    }
-
-    fn add_to_graph(
-        &self,
-        graph: &mut RenderGraph,
-        _frame: &FrameInputs,
-        resources: &mut FrameResources,
-    ) -> Result<(), RenderError> {
-        let hdr = resources.hdr.ok_or(RenderError::MissingInput {
-            pass: "tonemap",
-            input: "HDR colour",
-        })?;
         let target = resources.output;
         let layout = self.program.bind_group_layouts[0].clone();
         let (pipeline, params) = (self.pipeline.clone(), self.params.clone());

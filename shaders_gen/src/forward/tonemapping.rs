@@ -1,6 +1,7 @@
 //! Tonemapping: HDR linear colour to an sRGB 8-bit target.
 
-/// Full-screen pass: loads the resolved HDR texel of each pixel (same size as the target),
+/// Full-screen pass: loads the resolved HDR texel of each pixel (same size as the target, or
+/// scaled by `source_scale`),
 /// multiplies by `exposure` and tonemaps it, writing linear colour for an `Rgba8UnormSrgb`
 /// target (the format encodes sRGB).
 ///
@@ -11,6 +12,10 @@ pub mod tonemap {
     pub struct TonemapParams {
         /// Linear scale applied before the curve.
         pub exposure: f32,
+        /// Source texels per target pixel: 1 for the frame; a debug view of a texture of
+        /// another size (the particle lighting atlas) shows it scaled from the top-left
+        /// corner, black beyond its edges.
+        pub source_scale: f32,
     }
 
     #[uniform(group = 0, binding = 0)]
@@ -52,7 +57,12 @@ pub mod tonemap {
 
     #[fragment]
     pub fn fs_tonemap(#[builtin(position)] position: Vec4) -> Vec4 {
-        let hdr = HDR.load(position.xy().floor().as_uvec2(), 0u32).xyz();
+        let texel = (position.xy() * PARAMS.source_scale).floor().as_uvec2();
+        let size = HDR.dimensions();
+        let mut hdr = Vec3::ZERO;
+        if texel.x < size.x && texel.y < size.y {
+            hdr = HDR.load(texel, 0u32).xyz();
+        }
         let c = hdr.max(Vec3::ZERO) * PARAMS.exposure;
         let mut mapped = c;
         if curve == 0 {

@@ -13,7 +13,14 @@
 ///
 /// `STATE` (`u32` atomics): `[0..5)` regions per side class, `[5..10)` allocation cursors,
 /// `[10..15)` each class's first cell, `[15]` the shrink (classes dropped, 0 to 4), `[16]` cells
-/// used, `[17]` visible particles, `[18]` frames that had to shrink (reported).
+/// used, `[17]` visible particles, `[18]` frames that had to shrink (reported), `[19..24)` each
+/// shrunk class's first entry in `OWNERS`.
+///
+/// `OWNERS` lists the slot of every region, class by class (largest first) in allocation
+/// order, so a texel finds its particle from its cell alone (`particle_light`). `STATE` ends
+/// with the frame's indirect arguments: `[24..28)` the billboard draw (6 vertices × visible
+/// particles), `[28..31)` the lighting dispatch (`LIGHT_WORKGROUP` texels a workgroup, rows of
+/// `LIGHT_ROW_GROUPS` workgroups).
 #[shader_dsl::shader(uses(crate::particles::common::particle_common))]
 pub mod particle_atlas {
     pub const WORKGROUP: u32 = 64;
@@ -21,6 +28,10 @@ pub mod particle_atlas {
     pub const CLASSES: u32 = 5;
     /// `REGIONS` entry of a particle outside the view.
     pub const HIDDEN: u32 = 0xFFFFFFFFu32;
+    /// Texels a workgroup of `particle_light` lights.
+    pub const LIGHT_WORKGROUP: u32 = 64;
+    /// Workgroups in one row of the lighting dispatch.
+    pub const LIGHT_ROW_GROUPS: u32 = 32768;
 
     pub struct AtlasParams {
         pub view: Mat4,
@@ -50,12 +61,8 @@ pub mod particle_atlas {
     static REGIONS: [u32];
     #[storage(group = 0, binding = 7, read_write)]
     static STATE: [Atomic<u32>];
-
-    /// A particle's world half-width now.
-    pub fn particle_size(p: GpuParticle) -> f32 {
-        let e = EMITTERS[p.emitter];
-        e.size.x + (e.size.y - e.size.x) * life(p)
-    }
+    #[storage(group = 0, binding = 8, read_write)]
+    static OWNERS: [u32];
 
     /// The side class (side `2 << class`) of a region for a particle `pixels` wide on screen.
     pub fn side_class(pixels: f32) -> u32 {
@@ -65,17 +72,6 @@ pub mod particle_atlas {
             class = class + 1u32;
         }
         class
-    }
-
-    /// Cell (x, y) of Morton index `m`: the even bits are x, the odd bits y.
-    pub fn morton_cell(m: u32) -> UVec2 {
-        let mut x = 0u32;
-        let mut y = 0u32;
-        for bit in 0u32..16u32 {
-            x = x | (((m >> (2u32 * bit)) & 1u32) << bit);
-            y = y | (((m >> (2u32 * bit + 1u32)) & 1u32) << bit);
-        }
-        UVec2::new(x, y)
     }
 
     /// Per sort entry: a live, visible particle's class and key; `u32::MAX` keys elsewhere.
@@ -91,7 +87,8 @@ pub mod particle_atlas {
                 let depth = -(PARAMS.view * p.position.extend(1.0)).z;
                 let mut region = HIDDEN;
                 if depth > PARAMS.near {
-                    let pixels = 2.0 * particle_size(p) * PARAMS.pixels_per_unit / depth;
+                    let pixels =
+                        2.0 * half_width(EMITTERS[p.emitter], p) * PARAMS.pixels_per_unit / depth;
                     let class = side_class(pixels);
                     STATE[class].fetch_add(1u32);
                     STATE[17].fetch_add(1u32);
@@ -129,8 +126,10 @@ pub mod particle_atlas {
         if shrink > 0u32 {
             STATE[18].fetch_add(1u32);
         }
-        // Regions per shrunk class, then bases from the largest class down.
+        // Regions per shrunk class, then bases (in cells and in `OWNERS`) from the largest
+        // class down.
         let mut next = 0u32;
+        let mut owners = 0u32;
         for step in 0u32..CLASSES {
             let target = CLASSES - 1u32 - step;
             let mut count = 0u32;
@@ -141,8 +140,19 @@ pub mod particle_atlas {
                 }
             }
             STATE[10u32 + target].store(next);
+            STATE[19u32 + target].store(owners);
             next = next + count * (1u32 << (2u32 * target));
+            owners = owners + count;
         }
+        let visible = STATE[17].load();
+        STATE[24].store(6u32);
+        STATE[25].store(visible);
+        STATE[26].store(0u32);
+        STATE[27].store(0u32);
+        let groups = (STATE[16].load() * 4u32 + LIGHT_WORKGROUP - 1u32) / LIGHT_WORKGROUP;
+        STATE[28].store(groups.min(LIGHT_ROW_GROUPS));
+        STATE[29].store((groups + LIGHT_ROW_GROUPS - 1u32) / LIGHT_ROW_GROUPS);
+        STATE[30].store(1u32);
     }
 
     /// Per live particle: its region, packed as `x | y << 12 | class << 24` (texels).
@@ -160,6 +170,7 @@ pub mod particle_atlas {
                 let cell = STATE[10u32 + shrunk].load() + at * (1u32 << (2u32 * shrunk));
                 let corner = morton_cell(cell) * 2u32;
                 REGIONS[slot] = corner.x | (corner.y << 12u32) | (shrunk << 24u32);
+                OWNERS[STATE[19u32 + shrunk].load() + at] = slot;
             }
         }
     }

@@ -1,7 +1,10 @@
-//! Physically based shading of one light: the light record and the metallic-roughness BRDF.
+//! Physically based shading of one light: the light record, the metallic-roughness BRDF, and
+//! the half-Lambert response of particles.
 
-/// `GpuLight` (the record in the light buffers), its `KIND_*` values, and `shade_light`: GGX
-/// distribution, Smith/Schlick-GGX geometry, Schlick Fresnel and Lambert diffuse.
+/// `GpuLight` (the record in the light buffers), its `KIND_*` values, `light_incidence` (the
+/// direction and attenuation every response shares), `shade_light`: GGX distribution,
+/// Smith/Schlick-GGX geometry, Schlick Fresnel and Lambert diffuse; and `particle_light`, the
+/// view-independent half-Lambert response of particles.
 ///
 /// Falloff: `saturate(1 - (d / range)^4)^2 / max(d², 0.01²)`, with no window when `range` is 0
 /// (infinite). Spot cone: `smoothstep(cos_outer, cos_inner, cos θ)`.
@@ -33,16 +36,10 @@ pub mod pbr {
     pub const MIN_ROUGHNESS: f32 = 0.045;
     const PI: f32 = core::f32::consts::PI;
 
-    /// Radiance one light reflects towards `v` (GGX / Smith-Schlick / Schlick / Lambert).
-    pub fn shade_light(
-        light: GpuLight,
-        p: Vec3,
-        n: Vec3,
-        v: Vec3,
-        albedo: Vec3,
-        metallic: f32,
-        roughness: f32,
-    ) -> Vec3 {
+    /// Where `light` comes from at `p` and how much of it arrives: `xyz` the unit direction
+    /// towards the light, `w` its attenuation (falloff, window and spot cone; 1 for a
+    /// directional light).
+    pub fn light_incidence(light: GpuLight, p: Vec3) -> Vec4 {
         let mut l = -light.direction;
         let mut attenuation = 1.0;
         if light.kind != KIND_DIRECTIONAL {
@@ -60,6 +57,32 @@ pub mod pbr {
                 attenuation = attenuation * cos_angle.smoothstep(light.cos_outer, light.cos_inner);
             }
         }
+        l.extend(attenuation)
+    }
+
+    /// The view-independent response of a particle at `p` to one light: Valve's half-Lambert,
+    /// `((n · l + 1) / 2)² / π`, on the particle's rounded normal `n`, times the light's arriving
+    /// radiance (the `1 / π` of a Lambert albedo; the draw multiplies by the particle's colour). Light wraps around a puff instead of cutting off at its terminator, and no
+    /// term depends on the eye, so it can be lit once per atlas texel.
+    pub fn particle_light(light: GpuLight, p: Vec3, n: Vec3) -> Vec3 {
+        let incidence = light_incidence(light, p);
+        let wrap = 0.5 * n.dot(incidence.xyz()) + 0.5;
+        light.color * (light.intensity * incidence.w * wrap * wrap / PI)
+    }
+
+    /// Radiance one light reflects towards `v` (GGX / Smith-Schlick / Schlick / Lambert).
+    pub fn shade_light(
+        light: GpuLight,
+        p: Vec3,
+        n: Vec3,
+        v: Vec3,
+        albedo: Vec3,
+        metallic: f32,
+        roughness: f32,
+    ) -> Vec3 {
+        let incidence = light_incidence(light, p);
+        let l = incidence.xyz();
+        let attenuation = incidence.w;
         let nl = n.dot(l).max(0.0);
         // The half vector; when the light sits straight behind the point (l = −v) it is
         // undefined, and any unit vector does (the terms it feeds are then multiplied by 0).

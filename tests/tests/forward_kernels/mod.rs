@@ -404,7 +404,7 @@ pub fn draw_tonemap(
     hdr: &[[f32; 4]],
 ) -> Vec<u8> {
     let p = program(gpu, tonemap::variant(key));
-    let params = uniform(gpu, &tonemap::TonemapParams::new(exposure));
+    let params = uniform(gpu, &tonemap::TonemapParams::new(exposure, 1.0));
     let input = texture_with(
         gpu,
         size,

@@ -12,7 +12,11 @@ use crate::particles::ParticleError;
 use crate::shader::ShaderProgram;
 
 /// Words of the `STATE` buffer (see `particle_atlas`).
-const STATE_WORDS: usize = 19;
+pub const STATE_WORDS: usize = 32;
+/// Byte offset of the draw's indirect arguments in `STATE`.
+pub const DRAW_ARGS_OFFSET: u64 = 24 * 4;
+/// Byte offset of the lighting dispatch's indirect arguments in `STATE`.
+pub const DISPATCH_ARGS_OFFSET: u64 = 28 * 4;
 
 /// What one frame's atlas layout came to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -26,6 +30,19 @@ pub struct AtlasReport {
     pub visible: u32,
     /// Frames so far that had to shrink.
     pub shrunk_frames: u32,
+}
+
+impl AtlasReport {
+    /// The report in `STATE`'s words (at least [`STATE_WORDS`]).
+    pub fn from_words(s: &[u32]) -> Self {
+        Self {
+            per_class: [s[0], s[1], s[2], s[3], s[4]],
+            shrink: s[15],
+            cells_used: s[16],
+            visible: s[17],
+            shrunk_frames: s[18],
+        }
+    }
 }
 
 /// Sizing, planning and allocation of the particle lighting atlas.
@@ -42,6 +59,8 @@ pub struct ParticleAtlas {
     pub regions: wgpu::Buffer,
     /// The kernels' counters and plan (see `particle_atlas`).
     pub state: wgpu::Buffer,
+    /// Region owners, class by class (see `particle_atlas`).
+    pub owners: wgpu::Buffer,
     key_count: u32,
     capacity: u32,
 }
@@ -91,7 +110,14 @@ impl ParticleAtlas {
             })
         };
         let regions = new_buffer("particle regions", u64::from(capacity) * 4);
-        let state = new_buffer("particle atlas state", STATE_WORDS as u64 * 4);
+        // The state ends with the draw's and the lighting's indirect arguments.
+        let state = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("particle atlas state"),
+            size: STATE_WORDS as u64 * 4,
+            usage: storage | wgpu::BufferUsages::INDIRECT,
+            mapped_at_creation: false,
+        });
+        let owners = new_buffer("particle region owners", u64::from(capacity) * 4);
         let params = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("particle atlas"),
             size: size_of::<AtlasParams>() as u64,
@@ -107,6 +133,7 @@ impl ParticleAtlas {
             &sort.keys,
             &regions,
             &state,
+            &owners,
         ];
         let bind_group = super::bind::whole_buffers(
             device,
@@ -123,6 +150,7 @@ impl ParticleAtlas {
             params,
             regions,
             state,
+            owners,
             key_count: sort.count,
             capacity,
         })
@@ -137,6 +165,12 @@ impl ParticleAtlas {
         camera: &FrameCamera,
         height: u32,
     ) {
+        self.write_params(queue, camera, height);
+        self.encode(encoder);
+    }
+
+    /// Writes the frame's layout parameters for [`Self::encode`].
+    pub fn write_params(&self, queue: &wgpu::Queue, camera: &FrameCamera, height: u32) {
         let params = AtlasParams::new(
             camera.view,
             camera.projection.y_axis.y * height as f32 * 0.5,
@@ -145,8 +179,13 @@ impl ParticleAtlas {
             self.key_count,
         );
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
-        // Everything but the shrunk-frames count (the last word).
-        encoder.clear_buffer(&self.state, 0, Some((STATE_WORDS as u64 - 1) * 4));
+    }
+
+    /// Records sizing, planning and allocation with the parameters last written.
+    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder) {
+        // The counters and plan, not the shrunk-frames count (word 18) nor the owner bases
+        // after it, which every plan writes.
+        encoder.clear_buffer(&self.state, 0, Some(18 * 4));
         let groups = |threads: u32| threads.div_ceil(particle_atlas::WORKGROUP);
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("particle atlas layout"),
@@ -164,12 +203,6 @@ impl ParticleAtlas {
     /// Reads the layout's report back (blocking; for tools and tests).
     pub fn read_report(&self, gpu: &GpuContext) -> Result<AtlasReport, RenderError> {
         let s: Vec<u32> = crate::readback::read_buffer(&gpu.device, &gpu.queue, &self.state)?;
-        Ok(AtlasReport {
-            per_class: [s[0], s[1], s[2], s[3], s[4]],
-            shrink: s[15],
-            cells_used: s[16],
-            visible: s[17],
-            shrunk_frames: s[18],
-        })
+        Ok(AtlasReport::from_words(&s))
     }
 }

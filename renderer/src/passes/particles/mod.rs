@@ -1,15 +1,28 @@
-//! The particle passes' GPU parts: the fixed-step simulation of a [`ParticleSystem`] in
-//! compute (`simulate`), the lighting atlas's layout (`atlas`: region sizes from projected
-//! size, allocated on the GPU, shrunk and reported when full) and the bitonic back-to-front
-//! sort (`sort`).
+//! The particle passes and their GPU parts. Passes, in frame order:
+//! * [`ParticleSimPass`] (`simulate_pass`): one fixed step of the simulation (`simulate`), then
+//!   the lighting atlas's layout (`atlas`: region sizes from projected size, allocated on the
+//!   GPU, shrunk and reported when full) and the bitonic back-to-front sort (`sort`);
+//! * [`ParticleLightPass`] (`light_pass`): every atlas texel lit with the clustered lists,
+//!   shadows and ambient (atlas lighting only);
+//! * [`ParticleDrawPass`] (`draw_pass`): the blended billboards, lit from the atlas or per
+//!   pixel.
+//!
+//! What they share for one [`ParticleSystem`] is `system::ParticleGpu`.
 //!
 //! [`ParticleSystem`]: crate::particles::ParticleSystem
 
 pub mod atlas;
 mod bind;
+pub mod draw_pass;
+pub mod light_pass;
 pub mod simulate;
+pub mod simulate_pass;
 pub mod sort;
+pub mod system;
 
 pub use atlas::{AtlasReport, ParticleAtlas};
+pub use draw_pass::ParticleDrawPass;
+pub use light_pass::ParticleLightPass;
 pub use simulate::{ParticleSimulation, SimCounters};
+pub use simulate_pass::ParticleSimPass;
 pub use sort::GpuSort;

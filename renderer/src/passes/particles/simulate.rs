@@ -26,7 +26,8 @@ pub struct SimCounters {
 #[derive(Debug)]
 pub struct ParticleSimulation {
     system: ParticleSystem,
-    steps: u64,
+    /// Steps recorded so far (the spawn schedule's clock).
+    steps: std::sync::atomic::AtomicU64,
     update: wgpu::ComputePipeline,
     spawn: wgpu::ComputePipeline,
     compact: wgpu::ComputePipeline,
@@ -138,7 +139,7 @@ impl ParticleSimulation {
             spawn: program.compute_pipeline(device, "spawn")?,
             compact: program.compute_pipeline(device, "compact")?,
             system,
-            steps: 0,
+            steps: std::sync::atomic::AtomicU64::new(0),
             bind_group,
             params,
             batches,
@@ -156,12 +157,20 @@ impl ParticleSimulation {
 
     /// Records the next fixed step into `encoder`, then rebuilds the live list. Its parameters
     /// go through `queue.write_buffer`, so record at most one step per submission.
-    pub fn record_step(&mut self, queue: &wgpu::Queue, encoder: &mut wgpu::CommandEncoder) {
-        let batches = spawn_batches(&self.system.emitters, self.steps);
+    pub fn record_step(&self, queue: &wgpu::Queue, encoder: &mut wgpu::CommandEncoder) {
+        let births = self.write_step(queue);
+        self.encode_step(encoder, births);
+    }
+
+    /// Writes the next fixed step's parameters and births, and advances the step clock;
+    /// returns the step's births for [`Self::encode_step`].
+    pub fn write_step(&self, queue: &wgpu::Queue) -> u32 {
+        use std::sync::atomic::Ordering;
+        let step = self.steps.fetch_add(1, Ordering::Relaxed);
+        let batches = spawn_batches(&self.system.emitters, step);
         let spawn_total: u32 = batches.iter().map(|b| b.count).sum();
-        let capacity = self.system.capacity;
         let params = SimParams::new(
-            capacity,
+            self.system.capacity,
             spawn_total,
             batches.len() as u32,
             self.system.seed,
@@ -174,6 +183,13 @@ impl ParticleSimulation {
         if !batches.is_empty() {
             queue.write_buffer(&self.batches, 0, bytemuck::cast_slice(&batches));
         }
+        spawn_total
+    }
+
+    /// Records the step [`Self::write_step`] prepared (`spawn_total` births): update and
+    /// spawn, then the live list.
+    pub fn encode_step(&self, encoder: &mut wgpu::CommandEncoder, spawn_total: u32) {
+        let capacity = self.system.capacity;
         let groups = |threads: u32| threads.div_ceil(particle_sim::WORKGROUP);
         {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -196,12 +212,10 @@ impl ParticleSimulation {
         pass.set_bind_group(0, &self.bind_group, &[]);
         pass.set_pipeline(&self.compact);
         pass.dispatch_workgroups(groups(capacity), 1, 1);
-        drop(pass);
-        self.steps += 1;
     }
 
     /// Records and submits `steps` steps, one submission each.
-    pub fn advance(&mut self, gpu: &GpuContext, steps: u32) {
+    pub fn advance(&self, gpu: &GpuContext, steps: u32) {
         for _ in 0..steps {
             let mut encoder = gpu
                 .device

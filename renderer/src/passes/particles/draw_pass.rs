@@ -1,0 +1,214 @@
+//! The particle draw: camera-facing billboards, back to front (the sorted keys), blended over the
+//! forward pass's HDR colour (its multisampled target under MSAA, resolved again), tested per
+//! sample against the pre-Z depth in the shader and faded against it (soft particles). Lit from the atlas
+//! or, on the reference path, per pixel with the same lights and shadows.
+
+use shaders_gen::particles::particle_draw::{self, Lit, VariantKey};
+
+use crate::GpuContext;
+use crate::frame_data::{
+    FrameInputs, FrameResources, HDR_FORMAT, ParticleLighting, RenderError, RendererConfig,
+};
+use crate::graph::{BufferAccess, RenderGraph, TextureAccess};
+use crate::passes::Pass;
+use crate::shader::ShaderProgram;
+
+/// The particle draw pass.
+#[derive(Debug)]
+pub struct ParticleDrawPass {
+    program: ShaderProgram,
+    pipeline: wgpu::RenderPipeline,
+    lit: Lit,
+}
+
+impl ParticleDrawPass {
+    pub fn new(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
+        let lit = match (config.particle_lighting, config.path.is_culled()) {
+            (ParticleLighting::Atlas, _) => Lit::Lit0,
+            (ParticleLighting::PerPixel, false) => Lit::Lit1,
+            (ParticleLighting::PerPixel, true) => Lit::Lit2,
+        };
+        let key = VariantKey {
+            lit,
+            msaa: config.msaa > 1,
+        };
+        let program =
+            ShaderProgram::new(&gpu.device, gpu.capabilities(), particle_draw::variant(key))?;
+        let pipeline = pipeline(&gpu.device, &program, config.msaa);
+        Ok(Self {
+            program,
+            pipeline,
+            lit,
+        })
+    }
+}
+
+fn pipeline(device: &wgpu::Device, program: &ShaderProgram, msaa: u32) -> wgpu::RenderPipeline {
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("particles"),
+        layout: Some(&program.pipeline_layout),
+        vertex: wgpu::VertexState {
+            module: &program.module,
+            entry_point: Some("vs_particle"),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
+        primitive: wgpu::PrimitiveState::default(),
+        // The fragment tests its samples against the sampled pre-Z depth itself.
+        depth_stencil: None,
+        multisample: wgpu::MultisampleState {
+            count: msaa,
+            ..Default::default()
+        },
+        fragment: Some(wgpu::FragmentState {
+            module: &program.module,
+            entry_point: Some("fs_particle"),
+            compilation_options: Default::default(),
+            targets: &[Some(wgpu::ColorTargetState {
+                format: HDR_FORMAT,
+                blend: Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
+                write_mask: wgpu::ColorWrites::ALL,
+            })],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+impl Pass for ParticleDrawPass {
+    fn name(&self) -> &'static str {
+        "particles"
+    }
+
+    #[allow(
+        clippy::too_many_lines,
+        reason = "declares its reads, then builds two bind groups and one render pass"
+    )]
+    fn add_to_graph(
+        &self,
+        graph: &mut RenderGraph,
+        frame: &FrameInputs,
+        resources: &mut FrameResources,
+    ) -> Result<(), RenderError> {
+        let missing = |input| RenderError::MissingInput {
+            pass: "particles",
+            input,
+        };
+        let Some(particles) = resources.particles.clone() else {
+            return Ok(());
+        };
+        let depth = resources.depth.ok_or(missing("depth buffer"))?;
+        let mut hdr = resources.hdr.ok_or(missing("HDR colour"))?;
+        let mut multisampled = resources.hdr_multisampled;
+        let shadows = resources.shadows.clone().ok_or(missing("shadow atlas"))?;
+        let lists = (self.lit == Lit::Lit2)
+            .then(|| resources.particle_lists.clone())
+            .flatten();
+        if self.lit == Lit::Lit2 && lists.is_none() {
+            return Err(missing("particle light lists"));
+        }
+        let atlas = if self.lit == Lit::Lit0 {
+            Some(
+                particles
+                    .lit_atlas
+                    .ok_or(missing("particle lighting atlas"))?,
+            )
+        } else {
+            None
+        };
+        let mut pass = graph.add_pass(self.name());
+        pass.read_buffer(particles.simulated, BufferAccess::StorageRead)
+            .read_buffer(particles.laid_out, BufferAccess::StorageRead)
+            .read_texture(depth, TextureAccess::Sampled)
+            .read_texture(shadows.atlas, TextureAccess::Sampled)
+            .write_texture(&mut hdr, TextureAccess::ColorAttachment);
+        if let Some(m) = multisampled.as_mut() {
+            pass.write_texture(m, TextureAccess::ColorAttachment);
+        }
+        if let Some(a) = atlas {
+            pass.read_texture(a, TextureAccess::Sampled);
+        }
+        if let Some(l) = &lists {
+            pass.read_buffer(l.grid, BufferAccess::StorageRead)
+                .read_buffer(l.indices, BufferAccess::StorageRead);
+        }
+        let layouts = self.program.bind_group_layouts.clone();
+        let pipeline = self.pipeline.clone();
+        let lights = std::sync::Arc::clone(&frame.lights);
+        let p = particles;
+        pass.execute(move |ctx| {
+            let depth_texture = ctx.texture(depth);
+            let depth_view = depth_texture.create_view(&wgpu::TextureViewDescriptor {
+                aspect: wgpu::TextureAspect::DepthOnly,
+                ..Default::default()
+            });
+            let mut frame_entries = vec![
+                (0, p.view.as_entire_binding()),
+                (1, lights.punctual_buffer.as_entire_binding()),
+                (2, lights.directional_buffer.as_entire_binding()),
+                (5, wgpu::BindingResource::TextureView(&depth_view)),
+            ];
+            if let Some(l) = &lists {
+                frame_entries.push((3, ctx.buffer(l.grid).as_entire_binding()));
+                frame_entries.push((4, ctx.buffer(l.indices).as_entire_binding()));
+            }
+            let mut entries: Vec<_> = frame_entries
+                .into_iter()
+                .map(|(binding, resource)| wgpu::BindGroupEntry { binding, resource })
+                .collect();
+            entries.extend(shadows.entries());
+            let frame_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("particles frame"),
+                layout: &layouts[0],
+                entries: &entries,
+            });
+            let atlas_view = atlas.map(|a| ctx.texture(a).create_view(&Default::default()));
+            let mut particle_entries = vec![
+                (0, p.emitters.as_entire_binding()),
+                (1, p.particles.as_entire_binding()),
+                (2, p.regions.as_entire_binding()),
+                (3, p.keys.as_entire_binding()),
+                (6, wgpu::BindingResource::TextureView(&p.sprites)),
+                (7, wgpu::BindingResource::Sampler(&p.sampler)),
+            ];
+            if let Some(view) = &atlas_view {
+                particle_entries.push((4, wgpu::BindingResource::TextureView(view)));
+                particle_entries.push((5, wgpu::BindingResource::Sampler(&p.sampler)));
+            }
+            let entries: Vec<_> = particle_entries
+                .into_iter()
+                .map(|(binding, resource)| wgpu::BindGroupEntry { binding, resource })
+                .collect();
+            let particle_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("particles"),
+                layout: &layouts[1],
+                entries: &entries,
+            });
+            let resolved = ctx.texture(hdr).create_view(&Default::default());
+            let msaa_view = multisampled.map(|m| ctx.texture(m).create_view(&Default::default()));
+            let mut render = ctx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("particles"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: msaa_view.as_ref().unwrap_or(&resolved),
+                    depth_slice: None,
+                    resolve_target: msaa_view.as_ref().map(|_| &resolved),
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Load,
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: None,
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            render.set_pipeline(&pipeline);
+            render.set_bind_group(0, &frame_group, &[]);
+            render.set_bind_group(1, &particle_group, &[]);
+            render.draw_indirect(&p.state, super::atlas::DRAW_ARGS_OFFSET);
+        });
+        resources.hdr = Some(hdr);
+        resources.hdr_multisampled = multisampled;
+        Ok(())
+    }
+}

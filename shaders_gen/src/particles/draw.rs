@@ -1,0 +1,272 @@
+//! Drawing particles: camera-facing billboards in back-to-front order (the sorted keys), blended
+//! over the lit scene, lit either from the lighting atlas (bicubic) or per pixel (the
+//! reference), faded where they meet a surface.
+
+/// The particle draw. One instance per visible particle in back-to-front order (instance `i`
+/// draws slot `KEYS[i].y`; the indirect draw's instance count is the visible count), six
+/// vertices a billboard.
+///
+/// `lit` picks the lighting:
+/// * `0` the atlas: the particle's region of `LIGHT_ATLAS`, B-spline bicubic (four bilinear
+///   taps, each clamped half a texel inside the region so no neighbour bleeds in);
+/// * `1` per pixel over every light, `2` per pixel over the clustered lists: the same
+///   half-Lambert response, shadows and ambient as `particle_light` computes per atlas texel
+///   (the reference path).
+///
+/// The colour is the particle's tint times its sprite (`SPRITES`, a layer per texture) times
+/// the lighting plus its emitter's `emissive`, premultiplied by alpha (blend: one, one minus
+/// source alpha).
+///
+/// Depth: the fragment tests itself against the pre-Z depth (`DEPTH`, or every sample of
+/// `DEPTH_MS` with `msaa`, the passing samples written through the output's sample mask), so
+/// occlusion stays per sample without binding the depth buffer as an attachment while it is
+/// sampled. Soft particles: alpha fades to 0 as the particle's view depth nears the farthest
+/// surface behind it among the passing samples (`soft_distance`; 0 turns the fade off).
+#[shader_dsl::shader(
+    axes(
+        lit: u32 = [0, 1, 2] => "lit",
+        msaa: bool = [false, true] => "ms",
+    ),
+    uses(
+        crate::particles::common::particle_common,
+        crate::shared::pbr,
+        crate::shared::light_grid,
+        crate::shared::shadow_atlas,
+    ),
+)]
+pub mod particle_draw {
+    pub struct ParticleVarying {
+        #[builtin(position)]
+        pub clip: Vec4,
+        #[location(0)]
+        pub uv: Vec2,
+        #[location(1)]
+        pub tint: Vec4,
+        #[location(2)]
+        pub world: Vec3,
+        #[location(3)]
+        pub view_depth: f32,
+        #[location(4)]
+        #[interpolate(flat)]
+        pub region: u32,
+        #[location(5)]
+        #[interpolate(flat)]
+        pub layer: u32,
+        #[location(6)]
+        #[interpolate(flat)]
+        pub toward_eye: Vec3,
+        #[location(7)]
+        #[interpolate(flat)]
+        pub emissive: f32,
+    }
+
+    /// Which samples of a pixel a fragment is in front of, and the farthest surface among them.
+    struct Visible {
+        mask: u32,
+        surface: f32,
+    }
+
+    pub struct ParticleOut {
+        #[location(0)]
+        pub color: Vec4,
+        #[builtin(sample_mask)]
+        pub mask: u32,
+    }
+
+    #[uniform(group = 0, binding = 0)]
+    static VIEW: ParticleView;
+    #[storage(group = 0, binding = 1)]
+    static LIGHTS: [GpuLight];
+    #[storage(group = 0, binding = 2)]
+    static DIRECTIONAL: [GpuLight];
+    #[storage(group = 0, binding = 3)]
+    #[when(lit == 2)]
+    static GRID: [UVec2];
+    #[storage(group = 0, binding = 4)]
+    #[when(lit == 2)]
+    static INDICES: [u32];
+    #[texture(group = 0, binding = 5)]
+    #[when(!msaa)]
+    static DEPTH: TextureDepth2d;
+    #[texture(group = 0, binding = 5)]
+    #[when(msaa)]
+    static DEPTH_MS: TextureDepthMultisampled2d;
+
+    #[storage(group = 1, binding = 0)]
+    static EMITTERS: [GpuEmitter];
+    #[storage(group = 1, binding = 1)]
+    static PARTICLES: [GpuParticle];
+    #[storage(group = 1, binding = 2)]
+    static REGIONS: [u32];
+    #[storage(group = 1, binding = 3)]
+    static KEYS: [UVec2];
+    #[texture(group = 1, binding = 4)]
+    #[when(lit == 0)]
+    static LIGHT_ATLAS: Texture2d<f32>;
+    #[sampler(group = 1, binding = 5)]
+    #[when(lit == 0)]
+    static ATLAS_SAMPLER: Sampler;
+    #[texture(group = 1, binding = 6)]
+    static SPRITES: Texture2dArray<f32>;
+    #[sampler(group = 1, binding = 7)]
+    static SPRITE_SAMPLER: Sampler;
+
+    #[vertex]
+    pub fn vs_particle(
+        #[builtin(vertex_index)] vertex: u32,
+        #[builtin(instance_index)] instance: u32,
+    ) -> ParticleVarying {
+        let slot = KEYS[instance].y;
+        let particle = PARTICLES[slot];
+        let emitter = EMITTERS[particle.emitter];
+        // Two triangles: (0,0) (1,0) (0,1), (0,1) (1,0) (1,1).
+        let corner = (vertex + vertex / 3u32) % 4u32;
+        let uv = Vec2::new((corner & 1u32) as f32, (corner >> 1u32) as f32);
+        let world = billboard_point(
+            particle.position,
+            half_width(emitter, particle),
+            uv,
+            VIEW.right,
+            VIEW.up,
+        );
+        ParticleVarying {
+            clip: VIEW.view_projection * world.extend(1.0),
+            uv,
+            tint: tint(emitter, particle),
+            world,
+            view_depth: -(VIEW.view * world.extend(1.0)).z,
+            region: REGIONS[slot],
+            layer: emitter.texture,
+            toward_eye: (VIEW.eye - particle.position).normalize(),
+            emissive: emitter.emissive,
+        }
+    }
+
+    /// One light's shadowed response at `p` (as `particle_light` computes it).
+    fn particle_contribution(light: GpuLight, p: Vec3, n: Vec3, depth: f32, dither: f32) -> Vec3 {
+        let radiance = particle_light(light, p, n);
+        let mut visibility = 1.0;
+        if radiance.x + radiance.y + radiance.z > 0.0 {
+            visibility =
+                shadow_visibility(light.shadow, light.position, p, Vec3::ZERO, depth, dither);
+        }
+        radiance * visibility
+    }
+
+    /// Ambient plus every light of `p`'s froxel (or every light), shadowed: the per-pixel
+    /// reference of `particle_light`'s texels.
+    fn particle_lighting(p: Vec3, n: Vec3, dither: f32) -> Vec3 {
+        let depth = -(VIEW.view * p.extend(1.0)).z;
+        let mut color = VIEW.ambient;
+        for i in 0u32..VIEW.directional_count {
+            color += particle_contribution(DIRECTIONAL[i], p, n, depth, dither);
+        }
+        if lit == 1 {
+            for i in 0u32..VIEW.light_count {
+                color += particle_contribution(LIGHTS[i], p, n, depth, dither);
+            }
+        } else if lit == 2 {
+            let clip = VIEW.view_projection * p.extend(1.0);
+            let ndc = clip.xy() / clip.w.max(1.0e-6);
+            let size = VIEW.screen.as_vec2();
+            let at = Vec2::new(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5) * size;
+            let px = at.clamp(Vec2::ZERO, size - 1.0).floor().as_uvec2();
+            let slice = slice_of(depth.max(1.0e-6), VIEW.near, VIEW.far, VIEW.slices);
+            let range = GRID[froxel_cell(px, slice, VIEW.tile_size, VIEW.tiles)];
+            for j in 0u32..range.y {
+                color += particle_contribution(LIGHTS[INDICES[range.x + j]], p, n, depth, dither);
+            }
+        }
+        color
+    }
+
+    /// The atlas lighting at `uv` of the region `packed`: B-spline bicubic from four bilinear
+    /// taps (Sigg and Hadwiger's weights folded into tap positions), each tap clamped half a
+    /// texel inside the region.
+    pub fn atlas_bicubic(packed: u32, uv: Vec2) -> Vec3 {
+        let rect = region_rect(packed);
+        let side = rect.z as f32;
+        let st = uv * side - 0.5;
+        let i = st.floor();
+        let f = st - i;
+        let f2 = f * f;
+        let f3 = f2 * f;
+        let w0 = (Vec2::ONE - f) * (Vec2::ONE - f) * (Vec2::ONE - f) / 6.0;
+        let w1 = (f3 * 3.0 - f2 * 6.0 + 4.0) / 6.0;
+        let w2 = (f3 * -3.0 + f2 * 3.0 + f * 3.0 + 1.0) / 6.0;
+        let w3 = f3 / 6.0;
+        let g0 = w0 + w1;
+        let g1 = w2 + w3;
+        let lo = Vec2::splat(0.5);
+        let hi = Vec2::splat(side - 0.5);
+        let c0 = (i - 0.5 + w1 / g0).clamp(lo, hi);
+        let c1 = (i + 1.5 + w3 / g1).clamp(lo, hi);
+        let corner = rect.xy().as_vec2();
+        let inv = 1.0 / VIEW.atlas_side as f32;
+        let t00 = LIGHT_ATLAS
+            .sample_level(ATLAS_SAMPLER, (corner + Vec2::new(c0.x, c0.y)) * inv, 0.0)
+            .xyz();
+        let t10 = LIGHT_ATLAS
+            .sample_level(ATLAS_SAMPLER, (corner + Vec2::new(c1.x, c0.y)) * inv, 0.0)
+            .xyz();
+        let t01 = LIGHT_ATLAS
+            .sample_level(ATLAS_SAMPLER, (corner + Vec2::new(c0.x, c1.y)) * inv, 0.0)
+            .xyz();
+        let t11 = LIGHT_ATLAS
+            .sample_level(ATLAS_SAMPLER, (corner + Vec2::new(c1.x, c1.y)) * inv, 0.0)
+            .xyz();
+        (t00 * g0.x + t10 * g1.x) * g0.y + (t01 * g0.x + t11 * g1.x) * g1.y
+    }
+
+    /// The samples of `pixel` whose pre-Z surface lies beyond view depth `depth` (bit per
+    /// sample) and the farthest such surface's view depth.
+    fn visible_samples(pixel: UVec2, depth: f32) -> Visible {
+        let mut mask = 0u32;
+        let mut surface = 0.0;
+        let mut samples = 1u32;
+        if msaa {
+            samples = DEPTH_MS.num_samples();
+        }
+        for s in 0u32..samples {
+            let mut d = 1.0;
+            if msaa {
+                d = DEPTH_MS.load(pixel, s);
+            } else {
+                d = DEPTH.load(pixel, 0u32);
+            }
+            let behind = view_depth(VIEW.inv_projection, d);
+            if depth < behind {
+                mask = mask | (1u32 << s);
+                surface = surface.max(behind);
+            }
+        }
+        Visible { mask, surface }
+    }
+
+    #[fragment]
+    pub fn fs_particle(input: ParticleVarying) -> ParticleOut {
+        let visible = visible_samples(input.clip.xy().floor().as_uvec2(), input.view_depth);
+        let mask = visible.mask;
+        if mask == 0u32 {
+            discard();
+        }
+        let sprite = SPRITES.sample(SPRITE_SAMPLER, input.uv, input.layer);
+        let mut lighting = Vec3::ZERO;
+        if lit == 0 {
+            lighting = atlas_bicubic(input.region, input.uv);
+        } else {
+            let n = billboard_normal(input.uv, VIEW.right, VIEW.up, input.toward_eye);
+            lighting = particle_lighting(input.world, n, dither_noise(input.clip.xy()));
+        }
+        let mut fade = 1.0;
+        if VIEW.soft_distance > 0.0 {
+            fade = ((visible.surface - input.view_depth) / VIEW.soft_distance).saturate();
+        }
+        let alpha = input.tint.w * sprite.w * fade;
+        let color = input.tint.xyz() * sprite.xyz() * (lighting + input.emissive) * alpha;
+        ParticleOut {
+            color: color.extend(alpha),
+            mask,
+        }
+    }
+}
