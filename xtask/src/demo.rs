@@ -3,8 +3,10 @@
 //! them and a moonlight casting shadows (640×360, MSAA 4 where supported, tiled Forward+), and
 //! writes `target/demo/frame.png`, `target/demo/heatmap.png` (lights per pixel, with its legend),
 //! `target/demo/shadow_atlas.png` (the shadow atlas, regions labelled), `target/demo/decals.png`
-//! (decals per pixel: 96 procedural decals lie on the courtyard, applied before lighting) and
-//! `target/demo/graph.dot` (the compiled frame graph), then moves a sphere marked dynamic over
+//! (decals per pixel: 96 procedural decals lie on the courtyard, applied before lighting),
+//! `target/demo/particle_atlas.png` (the lighting atlas of 20,000 particles of smoke, sparks and
+//! dust, lit once per frame and drawn blended in `frame.png`) and `target/demo/graph.dot` (the
+//! compiled frame graph), then moves a sphere marked dynamic over
 //! three frames and reports what the shadow cache redrew, with a summary of at most about 20
 //! lines.
 
@@ -32,6 +34,8 @@ pub struct Args {
 
 /// Procedural decals (scorch marks, stains, painted signs) on the courtyard's surfaces.
 const DEMO_DECALS: usize = 96;
+/// Particles of the built-in smoke, sparks and dust, lit through the lighting atlas.
+const DEMO_PARTICLES: u32 = 20_000;
 
 pub fn run(args: &Args) -> Result<()> {
     crate::system::ensure_vulkan_adapter()?;
@@ -43,6 +47,9 @@ pub fn run(args: &Args) -> Result<()> {
         seed: 1,
         decals: DEMO_DECALS,
         decals_file: None,
+        particles: DEMO_PARTICLES,
+        particle_lighting: "atlas".into(),
+        particle_atlas: 1024,
         light_radius: None,
         path: "tiled".into(),
         msaa: 4,
@@ -65,6 +72,7 @@ pub fn run(args: &Args) -> Result<()> {
     let heat = shoot(&s, FrameView::Heatmap, false)?;
     let decal_heat = shoot(&s, FrameView::DecalHeatmap, false)?;
     let atlas = shoot(&s, FrameView::ShadowAtlas, false)?;
+    let particle_atlas = shoot(&s, FrameView::ParticleAtlas, false)?;
     let moving = moving_sphere(&s)?;
     let dir = args
         .out_dir
@@ -76,13 +84,15 @@ pub fn run(args: &Args) -> Result<()> {
         dir.join("heatmap.png"),
         dir.join("shadow_atlas.png"),
         dir.join("decals.png"),
+        dir.join("particle_atlas.png"),
         dir.join("graph.dot"),
     ];
     save_png(&files[0], &lit.rgba, size)?;
     save_png(&files[1], &heat.rgba, size)?;
     save_png(&files[2], &atlas.rgba, size)?;
     save_png(&files[3], &decal_heat.rgba, size)?;
-    save_text(&files[4], &lit.report.graph_dot)?;
+    save_png(&files[4], &particle_atlas.rgba, size)?;
+    save_text(&files[5], &lit.report.graph_dot)?;
     summary(&s, &lit, &files, started.elapsed().as_secs_f64());
     print_moving(&moving);
     Ok(())
@@ -185,6 +195,9 @@ fn summary(s: &Setup, shot: &Shot, files: &[std::path::PathBuf], secs: f64) {
     }
     if let Some(r) = &shot.report.shadows {
         println!("{}", shadow_summary(r));
+    }
+    if let Some(p) = &shot.report.particles {
+        println!("{}", crate::render::particle_summary(p));
     }
     if let Some(e) = shot.efficiency {
         println!(

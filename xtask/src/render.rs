@@ -11,9 +11,13 @@ use renderer::frame::setup::{
     camera_of, courtyard_look, create_target, default_camera, light_space, pick_shadowed,
     procedural_lights, scene_camera,
 };
-use renderer::frame::{FrameCamera, FrameReport, FrameView, Renderer, RendererConfig};
+use renderer::frame::{
+    FrameCamera, FrameReport, FrameView, ParticleLighting, Renderer, RendererConfig,
+};
 use renderer::frame_data::LightSet;
 use renderer::graph::PassTiming;
+use renderer::particles::{ParticleSystem, builtin_emitters};
+use renderer::passes::particles::ParticleSimulation;
 use renderer::scene::procedural::courtyard;
 use renderer::scene::{Scene, SceneLight};
 
@@ -49,6 +53,18 @@ pub struct Args {
     /// procedural `--decals` are added to it.
     #[arg(long)]
     pub decals_file: Option<PathBuf>,
+    /// Particles: about this many live at once from the built-in smoke, sparks and dust placed
+    /// in the scene (a pool of this many slots), simulated for 5 s before the frame; 0: none.
+    #[arg(long, default_value_t = 0)]
+    pub particles: u32,
+    /// atlas | per-pixel: particles lit once per frame into the lighting atlas, or per pixel
+    /// (the reference).
+    #[arg(long, default_value = "atlas")]
+    pub particle_lighting: String,
+    /// Side of the particle lighting atlas in texels (a power of two); 0: 2048, or more when
+    /// the pool needs it.
+    #[arg(long, default_value_t = 0)]
+    pub particle_atlas: u32,
     /// Range of light radii in scene units, MIN,MAX (0 < MIN <= MAX); defaults to 0.8,2.6 in
     /// the courtyard, 3%..20% of a file scene's size.
     #[arg(long, value_parser = parse_radius_range)]
@@ -84,9 +100,10 @@ pub struct Args {
     /// defaults to a value calibrated for the courtyard, 0 for file scenes.
     #[arg(long, allow_negative_numbers = true, value_parser = parse_exposure)]
     pub exposure: Option<f32>,
-    /// lit | heatmap | decals | shadow-atlas: the shaded image, the light (or decal) count of
-    /// each pixel's list with a legend, or the shadow atlas (depth as grey, regions outlined and
-    /// labelled with their light and side).
+    /// lit | heatmap | decals | shadow-atlas | particle-atlas: the shaded image, the light (or
+    /// decal) count of each pixel's list with a legend, the shadow atlas (depth as grey, regions
+    /// outlined and labelled with their light and side), or the particle lighting atlas (fitted
+    /// to the frame's shorter side; needs --particles).
     #[arg(long, default_value = "lit")]
     pub view: String,
     /// Output PNG; defaults to target/render/frame.png.
@@ -111,6 +128,8 @@ pub struct Setup {
     pub config: RendererConfig,
     /// The file's decals and the procedural ones.
     pub decals: DecalSet,
+    /// The `--particles` systems.
+    pub particles: Option<ParticleSystem>,
 }
 
 /// One rendered frame and what the renderer reported about it.
@@ -139,8 +158,22 @@ pub fn setup(args: &Args) -> Result<Setup> {
         "heatmap" => FrameView::Heatmap,
         "decals" => FrameView::DecalHeatmap,
         "shadow-atlas" => FrameView::ShadowAtlas,
-        other => bail!("--view {other:?}: use lit, heatmap, decals or shadow-atlas"),
+        "particle-atlas" => FrameView::ParticleAtlas,
+        other => {
+            bail!("--view {other:?}: use lit, heatmap, decals, shadow-atlas or particle-atlas")
+        }
     };
+    if view == FrameView::ParticleAtlas && args.particles == 0 {
+        bail!("--view particle-atlas: the frame has no particles; add --particles N");
+    }
+    let particle_lighting: ParticleLighting = args
+        .particle_lighting
+        .parse()
+        .map_err(|e: String| anyhow::anyhow!("--particle-lighting: {e}"))?;
+    let side = args.particle_atlas;
+    if side != 0 && (!side.is_power_of_two() || !(64..=4096).contains(&side)) {
+        bail!("--particle-atlas {side}: use a power of two from 64 to 4096, or 0 for the default");
+    }
     if !matches!(args.scalarize.as_str(), "auto" | "on" | "off") {
         bail!("--scalarize {:?}: use auto, on or off", args.scalarize);
     }
@@ -198,6 +231,8 @@ pub fn setup(args: &Args) -> Result<Setup> {
         tile: args.tile,
         scalarize,
         view,
+        particle_lighting,
+        particle_atlas_side: side,
         ..Default::default()
     };
     let mut config = if builtin {
@@ -221,6 +256,7 @@ pub fn setup(args: &Args) -> Result<Setup> {
     ));
     let camera = pick_camera(args, &scene, w as f32 / h as f32)?;
     let decals = decal_set(args, &scene)?;
+    let particles = particle_system(args, &scene, &gpu)?;
     let shadowed_from = scene.lights.len();
     pick_shadowed(
         &mut lights[shadowed_from..],
@@ -239,7 +275,40 @@ pub fn setup(args: &Args) -> Result<Setup> {
         camera,
         config,
         decals,
+        particles,
     })
+}
+
+/// Simulation steps before a frame with particles: 5 s at the fixed step.
+pub const PARTICLE_WARMUP_STEPS: u32 = 300;
+
+/// The built-in emitters for about `--particles` live particles, validated on `gpu`.
+fn particle_system(args: &Args, scene: &Scene, gpu: &GpuContext) -> Result<Option<ParticleSystem>> {
+    if args.particles == 0 {
+        return Ok(None);
+    }
+    let capacity = args.particles;
+    // The built-ins together keep about 3.8 s of births alive: aim at 90% of the pool.
+    let per_second = capacity as f32 * 0.9 / builtin_lifetime(scene);
+    let system = ParticleSystem {
+        emitters: builtin_emitters(scene.bounds, per_second),
+        capacity,
+        seed: args.seed as u32,
+    };
+    let max = ParticleSimulation::max_capacity(&gpu.device);
+    system
+        .validate(max)
+        .with_context(|| format!("--particles {capacity}"))?;
+    Ok(Some(system))
+}
+
+/// Live particles per particle born per second of the built-in emitters (their rate-weighted
+/// mean lifetime, seconds).
+fn builtin_lifetime(scene: &Scene) -> f32 {
+    builtin_emitters(scene.bounds, 1.0)
+        .iter()
+        .map(|e| e.rate * (e.lifetime[0] + e.lifetime[1]) * 0.5)
+        .sum()
 }
 
 /// The `--decals-file` set (or the built-in materials alone) with `--decals` procedural decals
@@ -273,13 +342,17 @@ pub fn shoot(s: &Setup, view: FrameView, efficiency: bool) -> Result<Shot> {
     renderer.prepare_scene(&s.scene);
     renderer.set_lights(&s.lights)?;
     renderer.set_decals(&s.decals)?;
+    if let Some(p) = &s.particles {
+        renderer.set_particles(p, PARTICLE_WARMUP_STEPS)?;
+    }
     let target = create_target(&s.gpu.device, &config);
     if efficiency {
         renderer.capture_next_frame(4)?;
     }
-    let report = renderer.render(&s.camera, &target)?;
+    let mut report = renderer.render(&s.camera, &target)?;
     let timings = renderer.finish();
     let counters = renderer.culling_counters();
+    report.particles = renderer.particle_report();
     let efficiency = match renderer.take_capture()? {
         Some(capture) => {
             let surface = capture.surface_probes();
@@ -344,6 +417,25 @@ pub fn shadow_summary(r: &renderer::shadow::ShadowReport) -> String {
     )
 }
 
+/// One line on the frame's particles.
+pub fn particle_summary(p: &renderer::frame::ParticleReport) -> String {
+    format!(
+        "particles: {} alive, {} visible, {} births refused (pool full); lighting atlas: {} texels lit{}",
+        p.alive,
+        p.visible,
+        p.starved,
+        p.atlas_cells * 4,
+        if p.atlas_shrink > 0 {
+            format!(
+                ", regions shrunk by {} size class(es) to fit",
+                p.atlas_shrink
+            )
+        } else {
+            String::new()
+        }
+    )
+}
+
 /// Writes a text file, creating its folder.
 pub fn save_text(out: &Path, text: &str) -> Result<()> {
     if let Some(dir) = out.parent() {
@@ -392,6 +484,9 @@ pub fn run(args: &Args, default_out: &str) -> Result<()> {
     }
     if let Some(r) = &shot.report.shadows {
         println!("{}", shadow_summary(r));
+    }
+    if let Some(p) = &shot.report.particles {
+        println!("{}", particle_summary(p));
     }
     if let Some(c) = shot.counters {
         println!(

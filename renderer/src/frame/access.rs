@@ -115,6 +115,14 @@ impl Renderer {
     pub fn finish(&mut self) -> Option<Vec<PassTiming>> {
         let _ = self.gpu.wait_idle();
         let _ = self.culling_counters();
+        let _ = self.particle_report();
         self.drain_timings().pop()
+    }
+
+    /// The newest particle counters that have arrived (none without particles); after
+    /// [`Renderer::finish`], those of the last frame.
+    pub fn particle_report(&mut self) -> Option<crate::frame_data::ParticleReport> {
+        self.pass_mut::<crate::passes::particles::ParticleSimPass>()
+            .and_then(crate::passes::particles::ParticleSimPass::report)
     }
 }

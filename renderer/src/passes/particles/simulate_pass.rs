@@ -40,6 +40,31 @@ impl ParticleSimPass {
         }
     }
 
+    /// The newest particle counters that have arrived (polling first; none without particles).
+    pub fn report(&mut self) -> Option<ParticleReport> {
+        if let Some((frame, words)) = self.readback.poll(&self.gpu.device) {
+            let layout = super::AtlasReport::from_words(&words[4..]);
+            if layout.shrink > 0 {
+                log::warn!(
+                    "frame {frame}: the particle lighting atlas was full; every region was shrunk \
+                     by {} size class(es) to fit {} visible particles (raise \
+                     particle_atlas_side for full resolution)",
+                    layout.shrink,
+                    layout.visible
+                );
+            }
+            self.last = Some(ParticleReport {
+                alive: words[1],
+                starved: words[2],
+                visible: layout.visible,
+                atlas_shrink: layout.shrink,
+                shrunk_frames: layout.shrunk_frames,
+                atlas_cells: layout.cells_used,
+            });
+        }
+        self.last
+    }
+
     /// The systems' GPU state (none before the first frame with particles).
     pub fn system(&self) -> Option<&Arc<ParticleGpu>> {
         self.system.as_ref()
@@ -146,28 +171,8 @@ impl Pass for ParticleSimPass {
 
     fn after_submit(&mut self, _frame: &FrameInputs, report: &mut FrameReport) {
         self.readback.after_submit();
-        if let Some((frame, words)) = self.readback.poll(&self.gpu.device) {
-            let layout = super::AtlasReport::from_words(&words[4..]);
-            if layout.shrink > 0 {
-                log::warn!(
-                    "frame {frame}: the particle lighting atlas was full; every region was shrunk \
-                     by {} size class(es) to fit {} visible particles (raise \
-                     particle_atlas_side for full resolution)",
-                    layout.shrink,
-                    layout.visible
-                );
-            }
-            self.last = Some(ParticleReport {
-                alive: words[1],
-                starved: words[2],
-                visible: layout.visible,
-                atlas_shrink: layout.shrink,
-                shrunk_frames: layout.shrunk_frames,
-                atlas_cells: layout.cells_used,
-            });
-        }
         if self.system.is_some() {
-            report.particles = self.last;
+            report.particles = self.report();
         }
     }
 }
