@@ -5,7 +5,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use anyhow::{Context as _, Result};
-use renderer::frame::{FrameView, RenderPath, Renderer, RendererConfig};
+use renderer::frame::{FrameView, ParticleLighting, RenderPath, Renderer, RendererConfig};
 use renderer::graph::PassTiming;
 use renderer::{GpuContext, GpuOptions, readback};
 use viewer::fly::{Fly, Held};
@@ -50,7 +50,13 @@ struct Running {
 
 impl App {
     pub fn new(args: Args) -> Result<App> {
-        let shown = load(args.scene.as_deref(), args.lights, args.decals, args.seed)?;
+        let shown = load(
+            args.scene.as_deref(),
+            args.lights,
+            args.decals,
+            args.particles,
+            args.seed,
+        )?;
         Ok(App {
             args,
             shown,
@@ -218,6 +224,9 @@ fn held_from(down: &[char]) -> Held {
     }
 }
 
+/// Steps particles are simulated before a (re)built renderer's first frame: 5 s.
+const PARTICLE_WARMUP_STEPS: u32 = 300;
+
 /// A renderer for `config` with the scene and `lights` uploaded.
 fn build(
     gpu: &GpuContext,
@@ -229,6 +238,9 @@ fn build(
     r.prepare_scene(&shown.scene);
     r.set_lights(lights)?;
     r.set_decals(&shown.decals)?;
+    if let Some(p) = &shown.particles {
+        r.set_particles(p, PARTICLE_WARMUP_STEPS)?;
+    }
     Ok(r)
 }
 
@@ -295,6 +307,18 @@ impl Running {
                     _ => FrameView::DecalHeatmap,
                 }
             }
+            'p' => {
+                config.particle_lighting = match config.particle_lighting {
+                    ParticleLighting::Atlas => ParticleLighting::PerPixel,
+                    ParticleLighting::PerPixel => ParticleLighting::Atlas,
+                }
+            }
+            'o' => {
+                config.view = match config.view {
+                    FrameView::ParticleAtlas => FrameView::Lit,
+                    _ => FrameView::ParticleAtlas,
+                }
+            }
             '+' => self.light_count = (self.light_count * 2).clamp(1, 65_536),
             '-' => self.light_count = (self.light_count / 2).max(1),
             _ => return Ok(()),
@@ -316,8 +340,12 @@ impl Running {
         let c = &self.config;
         let mut lines = vec![
             format!(
-                "{:?}, MSAA {}, tile {}, {:?}",
-                c.path, c.msaa, c.tile, c.view
+                "{:?}, MSAA {}, tile {}, {:?}, particles lit {}",
+                c.path,
+                c.msaa,
+                c.tile,
+                c.view,
+                c.particle_lighting.name()
             ),
             format!("{} lights, {}x{}", self.light_count, c.width, c.height),
             format!("adapter: {}", self.gpu.report.name),
@@ -345,6 +373,9 @@ impl Running {
             KeyCode::KeyT => self.action('t', shown)?,
             KeyCode::KeyH => self.action('h', shown)?,
             KeyCode::KeyV => self.action('v', shown)?,
+            KeyCode::KeyC => self.action('c', shown)?,
+            KeyCode::KeyP => self.action('p', shown)?,
+            KeyCode::KeyO => self.action('o', shown)?,
             KeyCode::Equal | KeyCode::NumpadAdd => self.action('+', shown)?,
             KeyCode::Minus | KeyCode::NumpadSubtract => self.action('-', shown)?,
             _ => {}

@@ -21,6 +21,9 @@ pub struct Args {
     /// Procedural decals (scorch marks, stains, painted signs) on the scene's surfaces.
     #[arg(long, default_value_t = 96)]
     pub decals: usize,
+    /// Particles of the built-in smoke, sparks and dust (about this many live at once); 0: none.
+    #[arg(long, default_value_t = 20_000)]
+    pub particles: u32,
     /// Seed of the procedural lights and decals.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,

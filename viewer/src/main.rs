@@ -4,7 +4,8 @@
 //! settings. `cargo xtask view` runs it.
 //!
 //! Keys: WASD/QE fly, drag with the left mouse button to look, `1`-`5` path (naive, naive-prez,
-//! tiled, 2.5D, clustered), `M` MSAA, `T` tile size, `H` heatmap, `V` shadow atlas, `+`/`-` double or halve the
+//! tiled, 2.5D, clustered), `M` MSAA, `T` tile size, `H` heatmap, `V` shadow atlas, `P` particle lighting (atlas or per pixel), `O` the
+//! particle lighting atlas, `+`/`-` double or halve the
 //! lights, Esc quits. `--frames N --script .. --screenshot FILE` run it unattended (tests).
 
 mod app;

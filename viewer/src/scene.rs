@@ -1,5 +1,5 @@
-//! What the viewer shows: the built-in courtyard (or a glTF file) with seeded procedural lights
-//! and decals, its look (exposure, ambient, sky) and the camera it starts from; built the same way by the
+//! What the viewer shows: the built-in courtyard (or a glTF file) with seeded procedural lights,
+//! decals and particles, its look (exposure, ambient, sky) and the camera it starts from; built the same way by the
 //! window and by headless checks.
 
 use std::path::Path;
@@ -11,6 +11,7 @@ use renderer::frame::setup::{
     FRAMING_YFOV_DEGREES, courtyard_look, default_camera, light_space, pick_shadowed,
     procedural_lights,
 };
+use renderer::particles::{ParticleSystem, builtin_emitters};
 use renderer::scene::procedural::courtyard;
 use renderer::scene::{Aabb, Scene, SceneLight};
 
@@ -23,6 +24,8 @@ pub struct Shown {
     pub lights: Vec<SceneLight>,
     /// Procedural decals (built-in materials) on the scene's surfaces.
     pub decals: DecalSet,
+    /// The built-in smoke, sparks and dust (none for `--particles 0`).
+    pub particles: Option<ParticleSystem>,
     pub start: Fly,
     /// Where procedural lights go, their radii and seed.
     pub light_region: Aabb,
@@ -32,9 +35,15 @@ pub struct Shown {
     pub builtin: bool,
 }
 
-/// The courtyard (`file == None`) or a glTF file, with `count` lights and `decals` decals of
-/// `seed`.
-pub fn load(file: Option<&Path>, count: usize, decals: usize, seed: u64) -> Result<Shown> {
+/// The courtyard (`file == None`) or a glTF file, with `count` lights, `decals` decals and
+/// about `particles` particles of `seed`.
+pub fn load(
+    file: Option<&Path>,
+    count: usize,
+    decals: usize,
+    particles: u32,
+    seed: u64,
+) -> Result<Shown> {
     let scene = match file {
         None => courtyard(),
         Some(path) => Scene::load(path)
@@ -50,7 +59,9 @@ pub fn load(file: Option<&Path>, count: usize, decals: usize, seed: u64) -> Resu
     let start = Fly::from_world_from_view(opening.view.inverse(), yfov);
     let materials = procedural::materials();
     let placed = placement::scatter(&scene, decals, materials.len(), seed);
+    let particles = (particles > 0).then(|| builtin_particles(&scene, particles, seed));
     let mut shown = Shown {
+        particles,
         decals: DecalSet {
             materials,
             decals: placed,
@@ -65,6 +76,19 @@ pub fn load(file: Option<&Path>, count: usize, decals: usize, seed: u64) -> Resu
     };
     shown.lights = procedural(&shown, count);
     Ok(shown)
+}
+
+/// The built-in emitters in `scene` bearing about `count` live particles (a pool of `count`).
+pub fn builtin_particles(scene: &Scene, count: u32, seed: u64) -> ParticleSystem {
+    let per_particle_second: f32 = builtin_emitters(scene.bounds, 1.0)
+        .iter()
+        .map(|e| e.rate * (e.lifetime[0] + e.lifetime[1]) * 0.5)
+        .sum();
+    ParticleSystem {
+        emitters: builtin_emitters(scene.bounds, count as f32 * 0.9 / per_particle_second),
+        capacity: count,
+        seed: seed as u32,
+    }
 }
 
 /// The scene's own lights and `count` procedural ones.

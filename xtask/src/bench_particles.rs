@@ -1,7 +1,8 @@
 //! `cargo xtask bench-particles`: GPU time of the particle pipeline built so far, per frame, at
 //! full pools of 10k to 1M particles: one fixed simulation step (update, spawn, compact), the
 //! lighting atlas's layout (sizing, plan, allocation, sort keys) and the back-to-front bitonic
-//! sort. Medians over many frames, from GPU timestamps.
+//! sort. Medians over many frames, from GPU timestamps. With `--lighting`, whole frames of the
+//! demo scene: atlas against per-pixel particle lighting (`bench_particle_lighting`).
 
 use std::path::PathBuf;
 
@@ -30,6 +31,26 @@ pub struct Args {
     /// Adapter name substring (as RENDERER_ADAPTER).
     #[arg(long)]
     pub adapter: Option<String>,
+    /// Also time whole frames of the demo scene (1080p, MSAA 4, 4,096 lights, the camera in
+    /// the smoke): atlas lighting against per-pixel lighting, with overdraw and image difference.
+    #[arg(long)]
+    pub lighting: bool,
+    /// Timed frames per lighting and count with --lighting.
+    #[arg(long, default_value_t = 30)]
+    pub lighting_frames: u32,
+    /// The culled path of the --lighting frames.
+    #[arg(long, default_value = "clustered")]
+    pub path: String,
+    /// Frame size of the --lighting frames, WxH.
+    #[arg(long, default_value = "1920x1080")]
+    pub lighting_size: String,
+    /// smoke | scene: the --lighting camera, close to the smoke (heavy overdraw) or the
+    /// courtyard's own.
+    #[arg(long, default_value = "smoke")]
+    pub lighting_camera: String,
+    /// Procedural lights of the --lighting frames.
+    #[arg(long, default_value_t = 4096)]
+    pub lighting_lights: usize,
 }
 
 /// Stages timed, in frame order.
@@ -62,11 +83,23 @@ pub fn run(args: &Args) -> Result<()> {
     let mut table = String::from(
         "| particles | live | visible | simulate (µs) | atlas layout (µs) | sort (µs) | sort pairs | atlas side | shrink |\n|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
     );
-    for &count in &args.counts {
+    for &count in args.counts.iter().filter(|_| args.frames > 0) {
         let row = measure(&gpu, count, args.frames)?;
         println!("{row}");
         table.push_str(&row);
         table.push('\n');
+    }
+    if args.lighting {
+        table.push('\n');
+        let bench = crate::bench_particle_lighting::Bench {
+            counts: args.counts.clone(),
+            frames: args.lighting_frames,
+            path: args.path.clone(),
+            size: args.lighting_size.clone(),
+            lights: args.lighting_lights,
+            camera: args.lighting_camera.clone(),
+        };
+        table.push_str(&crate::bench_particle_lighting::table(&bench)?);
     }
     std::fs::create_dir_all(&args.out)?;
     let path = args.out.join("particles.md");

@@ -7,6 +7,7 @@
 mod atlas_labels;
 mod bench;
 mod bench_codegen;
+mod bench_particle_lighting;
 mod bench_particles;
 mod demo;
 mod fuzz_dsl;

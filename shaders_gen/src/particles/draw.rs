@@ -119,8 +119,13 @@ pub mod particle_draw {
         let slot = KEYS[instance].y;
         let particle = PARTICLES[slot];
         let emitter = EMITTERS[particle.emitter];
-        // Two triangles: (0,0) (1,0) (0,1), (0,1) (1,0) (1,1).
-        let corner = (vertex + vertex / 3u32) % 4u32;
+        // Two triangles over corners 0 (0,0), 1 (1,0), 2 (0,1), 3 (1,1): (0, 1, 2) and
+        // (2, 1, 3), the second's corners packed two bits each in 0b11_01_10.
+        let corner = select(
+            vertex < 3u32,
+            vertex,
+            (0x36u32 >> (2u32 * (vertex - 3u32))) & 3u32,
+        );
         let uv = Vec2::new((corner & 1u32) as f32, (corner >> 1u32) as f32);
         let world = billboard_point(
             particle.position,
