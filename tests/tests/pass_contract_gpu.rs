@@ -113,8 +113,11 @@ fn a_pass_from_outside_the_renderer_joins_the_frame() {
                 "pre-z",
                 "light culling",
                 "shadow atlas",
+                "particle simulation",
+                "particle lighting",
                 "forward",
                 "hdr snapshot",
+                "particles",
                 "tonemap",
                 "depth probe"
             ]

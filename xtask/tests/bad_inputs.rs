@@ -50,7 +50,19 @@ fn every_option_refuses_bad_values_with_a_clear_message() {
     );
     refused(
         &["--view", "x"],
-        "--view \"x\": use lit, heatmap, decals or shadow-atlas",
+        "--view \"x\": use lit, heatmap, decals, shadow-atlas or particle-atlas",
+    );
+    refused(
+        &["--view", "particle-atlas"],
+        "--view particle-atlas: the frame has no particles; add --particles N",
+    );
+    refused(
+        &["--particle-lighting", "x"],
+        "--particle-lighting: particle lighting \"x\": use atlas or per-pixel",
+    );
+    refused(
+        &["--particle-atlas", "100"],
+        "--particle-atlas 100: use a power of two from 64 to 4096, or 0 for the default",
     );
     refused(
         &["--scalarize", "maybe"],
