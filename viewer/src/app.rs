@@ -224,9 +224,6 @@ fn held_from(down: &[char]) -> Held {
     }
 }
 
-/// Steps particles are simulated before a (re)built renderer's first frame: 5 s.
-const PARTICLE_WARMUP_STEPS: u32 = 300;
-
 /// A renderer for `config` with the scene and `lights` uploaded.
 fn build(
     gpu: &GpuContext,
@@ -239,7 +236,7 @@ fn build(
     r.set_lights(lights)?;
     r.set_decals(&shown.decals)?;
     if let Some(p) = &shown.particles {
-        r.set_particles(p, PARTICLE_WARMUP_STEPS)?;
+        r.set_particles(p, renderer::particles::WARMUP_STEPS)?;
     }
     Ok(r)
 }

@@ -11,7 +11,7 @@ use renderer::frame::setup::{
     FRAMING_YFOV_DEGREES, courtyard_look, default_camera, light_space, pick_shadowed,
     procedural_lights,
 };
-use renderer::particles::{ParticleSystem, builtin_emitters};
+use renderer::particles::{ParticleSystem, builtin_system};
 use renderer::scene::procedural::courtyard;
 use renderer::scene::{Aabb, Scene, SceneLight};
 
@@ -59,7 +59,7 @@ pub fn load(
     let start = Fly::from_world_from_view(opening.view.inverse(), yfov);
     let materials = procedural::materials();
     let placed = placement::scatter(&scene, decals, materials.len(), seed);
-    let particles = (particles > 0).then(|| builtin_particles(&scene, particles, seed));
+    let particles = (particles > 0).then(|| builtin_system(scene.bounds, particles, seed as u32));
     let mut shown = Shown {
         particles,
         decals: DecalSet {
@@ -76,19 +76,6 @@ pub fn load(
     };
     shown.lights = procedural(&shown, count);
     Ok(shown)
-}
-
-/// The built-in emitters in `scene` bearing about `count` live particles (a pool of `count`).
-pub fn builtin_particles(scene: &Scene, count: u32, seed: u64) -> ParticleSystem {
-    let per_particle_second: f32 = builtin_emitters(scene.bounds, 1.0)
-        .iter()
-        .map(|e| e.rate * (e.lifetime[0] + e.lifetime[1]) * 0.5)
-        .sum();
-    ParticleSystem {
-        emitters: builtin_emitters(scene.bounds, count as f32 * 0.9 / per_particle_second),
-        capacity: count,
-        seed: seed as u32,
-    }
 }
 
 /// The scene's own lights and `count` procedural ones.

@@ -13,7 +13,9 @@ use renderer::passes::particles::ParticleSimPass;
 use renderer::readback;
 
 use crate::bench::calibrate::percentile;
-use crate::render::{PARTICLE_WARMUP_STEPS, Setup, setup};
+use renderer::particles::WARMUP_STEPS;
+
+use crate::render::{Setup, setup};
 
 /// The particle passes each lighting runs, and what both share.
 const PARTICLE_PASSES: [&str; 4] = [
@@ -88,7 +90,7 @@ fn run_lighting(s: &Setup, lighting: ParticleLighting, frames: u32) -> Result<(R
     renderer.prepare_scene(&s.scene);
     renderer.set_lights(&s.lights)?;
     let system = s.particles.as_ref().context("the bench has particles")?;
-    renderer.set_particles(system, PARTICLE_WARMUP_STEPS)?;
+    renderer.set_particles(system, WARMUP_STEPS)?;
     let target = create_target(&s.gpu.device, &config);
     let mut times: BTreeMap<String, Vec<f64>> = BTreeMap::new();
     // Two frames to build everything and grow the lists, then the timed ones.

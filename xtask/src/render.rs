@@ -16,7 +16,7 @@ use renderer::frame::{
 };
 use renderer::frame_data::LightSet;
 use renderer::graph::PassTiming;
-use renderer::particles::{ParticleSystem, builtin_emitters};
+use renderer::particles::{ParticleSystem, WARMUP_STEPS, builtin_system};
 use renderer::passes::particles::ParticleSimulation;
 use renderer::scene::procedural::courtyard;
 use renderer::scene::{Scene, SceneLight};
@@ -279,36 +279,17 @@ pub fn setup(args: &Args) -> Result<Setup> {
     })
 }
 
-/// Simulation steps before a frame with particles: 5 s at the fixed step.
-pub const PARTICLE_WARMUP_STEPS: u32 = 300;
-
 /// The built-in emitters for about `--particles` live particles, validated on `gpu`.
 fn particle_system(args: &Args, scene: &Scene, gpu: &GpuContext) -> Result<Option<ParticleSystem>> {
     if args.particles == 0 {
         return Ok(None);
     }
-    let capacity = args.particles;
-    // The built-ins together keep about 3.8 s of births alive: aim at 90% of the pool.
-    let per_second = capacity as f32 * 0.9 / builtin_lifetime(scene);
-    let system = ParticleSystem {
-        emitters: builtin_emitters(scene.bounds, per_second),
-        capacity,
-        seed: args.seed as u32,
-    };
+    let system = builtin_system(scene.bounds, args.particles, args.seed as u32);
     let max = ParticleSimulation::max_capacity(&gpu.device);
     system
         .validate(max)
-        .with_context(|| format!("--particles {capacity}"))?;
+        .with_context(|| format!("--particles {}", args.particles))?;
     Ok(Some(system))
-}
-
-/// Live particles per particle born per second of the built-in emitters (their rate-weighted
-/// mean lifetime, seconds).
-fn builtin_lifetime(scene: &Scene) -> f32 {
-    builtin_emitters(scene.bounds, 1.0)
-        .iter()
-        .map(|e| e.rate * (e.lifetime[0] + e.lifetime[1]) * 0.5)
-        .sum()
 }
 
 /// The `--decals-file` set (or the built-in materials alone) with `--decals` procedural decals
@@ -343,7 +324,7 @@ pub fn shoot(s: &Setup, view: FrameView, efficiency: bool) -> Result<Shot> {
     renderer.set_lights(&s.lights)?;
     renderer.set_decals(&s.decals)?;
     if let Some(p) = &s.particles {
-        renderer.set_particles(p, PARTICLE_WARMUP_STEPS)?;
+        renderer.set_particles(p, WARMUP_STEPS)?;
     }
     let target = create_target(&s.gpu.device, &config);
     if efficiency {

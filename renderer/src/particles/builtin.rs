@@ -3,7 +3,7 @@
 
 use glam::{Vec3, Vec4};
 
-use super::{Emitter, ParticleTexture};
+use super::{Emitter, ParticleSystem, ParticleTexture};
 use crate::scene::Aabb;
 
 /// A slow grey plume rising, widening and thinning over 3–5 s.
@@ -84,10 +84,28 @@ pub fn builtin_emitters(bounds: Aabb, per_second: f32) -> Vec<Emitter> {
     ]
 }
 
+/// Fixed steps a frame's particles are simulated before they are first shown: 5 s, so that
+/// every built-in emitter is under way.
+pub const WARMUP_STEPS: u32 = 300;
+
+/// The built-in emitters in `bounds` sized for about `count` live particles (90% of a pool of
+/// `count` slots, at their rate-weighted mean lifetime), seeded.
+pub fn builtin_system(bounds: Aabb, count: u32, seed: u32) -> ParticleSystem {
+    let lifetime: f32 = builtin_emitters(bounds, 1.0)
+        .iter()
+        .map(|e| e.rate * (e.lifetime[0] + e.lifetime[1]) * 0.5)
+        .sum();
+    ParticleSystem {
+        emitters: builtin_emitters(bounds, count as f32 * 0.9 / lifetime),
+        capacity: count,
+        seed,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::particles::{ParticleError, ParticleSystem};
+    use crate::particles::ParticleError;
 
     #[test]
     fn bad_emitters_and_capacities_are_refused_with_the_reason() {

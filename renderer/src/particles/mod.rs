@@ -13,6 +13,6 @@ pub mod reference;
 pub mod schedule;
 pub mod sprites;
 
-pub use builtin::{builtin_emitters, dust, smoke, sparks};
+pub use builtin::{WARMUP_STEPS, builtin_emitters, builtin_system, dust, smoke, sparks};
 pub use emitter::{Emitter, ParticleError, ParticleSystem, ParticleTexture};
 pub use schedule::FIXED_STEP;

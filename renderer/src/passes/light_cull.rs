@@ -138,7 +138,6 @@ impl LightCullPass {
             particles && c.path.is_culled() && c.path != RenderPath::Clustered,
             items,
         )?;
-        let (near, far) = (frame.camera.near, frame.camera.far);
         let same_size = self.built_for == (c.width, c.height);
         let ok = same_size
             && match (&self.culler, c.path) {
@@ -152,14 +151,7 @@ impl LightCullPass {
                         && t.config.depth_mask == (c.path == RenderPath::Depth25)
                 }
                 (Culler::Clustered(k), RenderPath::Clustered) => {
-                    k.config.item_capacity >= items
-                        && k.config.index_capacity == self.index_capacity
-                        && k.config.skip_empty == skip_empty
-                        && k.config.grid.near == near
-                        && k.config.grid.far == far
-                        && k.config.grid.tile == c.tile
-                        && k.config.msaa == c.msaa
-                        && k.config.brute_force == c.cull_brute_force
+                    self.clustered_fits(k, frame, skip_empty, items)
                 }
                 _ => false,
             };
@@ -191,29 +183,51 @@ impl LightCullPass {
         Ok(())
     }
 
-    /// A clustered culler for `frame` (32 slices over the camera's range).
-    fn clustered(
+    /// The clustered culling settings of `frame` (32 slices over the camera's range).
+    fn cluster_config(
         &self,
         frame: &FrameInputs,
         skip_empty: bool,
         items: u32,
-    ) -> Result<ClusteredCulling, RenderError> {
+    ) -> ClusterCullConfig {
         let c = &frame.config;
-        let grid = ClusterGrid {
-            tile: c.tile,
-            slices: CLUSTER_SLICES,
-            near: frame.camera.near,
-            far: frame.camera.far,
-        };
-        let config = ClusterCullConfig {
-            grid,
+        ClusterCullConfig {
+            grid: ClusterGrid {
+                tile: c.tile,
+                slices: CLUSTER_SLICES,
+                near: frame.camera.near,
+                far: frame.camera.far,
+            },
             msaa: c.msaa,
             skip_empty,
             brute_force: c.cull_brute_force,
             coarse_slots: None,
             index_capacity: self.index_capacity,
             item_capacity: items,
-        };
+        }
+    }
+
+    /// Whether clustered culler `k` serves `frame` as [`Self::cluster_config`] would build it
+    /// (its item capacity at least `items`; the size is checked apart).
+    fn clustered_fits(
+        &self,
+        k: &ClusteredCulling,
+        frame: &FrameInputs,
+        skip_empty: bool,
+        items: u32,
+    ) -> bool {
+        k.config.item_capacity >= items
+            && k.config == self.cluster_config(frame, skip_empty, k.config.item_capacity)
+    }
+
+    /// A clustered culler for `frame`.
+    fn clustered(
+        &self,
+        frame: &FrameInputs,
+        skip_empty: bool,
+        items: u32,
+    ) -> Result<ClusteredCulling, RenderError> {
+        let (config, c) = (self.cluster_config(frame, skip_empty, items), &frame.config);
         Ok(ClusteredCulling::new(&self.gpu, config, c.width, c.height)?)
     }
 
@@ -230,15 +244,9 @@ impl LightCullPass {
             return Ok(());
         }
         let c = &frame.config;
+        let tiles = glam::UVec2::new(c.width.div_ceil(c.tile), c.height.div_ceil(c.tile));
         let fits = self.particle_culler.as_ref().is_some_and(|k| {
-            k.levels.tiles == glam::UVec2::new(c.width.div_ceil(c.tile), c.height.div_ceil(c.tile))
-                && k.config.item_capacity >= items
-                && k.config.index_capacity == self.index_capacity
-                && k.config.grid.near == frame.camera.near
-                && k.config.grid.far == frame.camera.far
-                && k.config.grid.tile == c.tile
-                && k.config.msaa == c.msaa
-                && k.config.brute_force == c.cull_brute_force
+            k.levels.tiles == tiles && self.clustered_fits(k, frame, false, items)
         });
         if !fits {
             self.particle_culler = Some(Arc::new(self.clustered(frame, false, items)?));
