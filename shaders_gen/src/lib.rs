@@ -11,6 +11,7 @@
 pub mod bootstrap;
 pub mod calibrate;
 pub mod culling;
+pub mod deferred;
 pub mod forward;
 pub mod inspect;
 pub mod particles;
@@ -25,6 +26,8 @@ pub static MODULES: &[&codegen::rt::Module] = &[
     &culling::cull_prepare::MODULE,
     &culling::tile_cull::MODULE,
     &culling::cluster_cull::MODULE,
+    &deferred::hdr_expand::MODULE,
+    &deferred::tbdr::MODULE,
     &forward::prez::MODULE,
     &forward::forward::MODULE,
     &forward::heatmap::MODULE,

@@ -159,10 +159,17 @@ pub fn setup(args: &Args) -> Result<Setup> {
         "decals" => FrameView::DecalHeatmap,
         "shadow-atlas" => FrameView::ShadowAtlas,
         "particle-atlas" => FrameView::ParticleAtlas,
+        "shading-frequency" => FrameView::ShadingFrequency,
         other => {
-            bail!("--view {other:?}: use lit, heatmap, decals, shadow-atlas or particle-atlas")
+            bail!(
+                "--view {other:?}: use lit, heatmap, decals, shadow-atlas, particle-atlas or \
+                 shading-frequency"
+            )
         }
     };
+    if view == FrameView::ShadingFrequency && !path.is_deferred() {
+        bail!("--view shading-frequency: use --path tbdr or tbdr-per-sample");
+    }
     if view == FrameView::ParticleAtlas && args.particles == 0 {
         bail!("--view particle-atlas: the frame has no particles; add --particles N");
     }

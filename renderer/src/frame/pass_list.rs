@@ -3,6 +3,7 @@
 use crate::GpuContext;
 use crate::frame_data::{FrameView, ParticleLighting, RenderError, RenderPath, RendererConfig};
 use crate::passes::Pass;
+use crate::passes::deferred::{GBufferPass, TbdrPass};
 use crate::passes::depth_probe::DepthProbePass;
 use crate::passes::forward::ForwardPass;
 use crate::passes::heatmap::HeatmapPass;
@@ -19,17 +20,24 @@ use crate::passes::tonemap::TonemapPass;
 /// | naive | shadow atlas → particles* → forward (own depth) → particle draw → tonemap |
 /// | naive-prez | pre-Z → shadow atlas → particles* → forward → particle draw → tonemap → depth probe |
 /// | tiled, 2.5D, clustered | pre-Z → light culling → shadow atlas → particles* → forward → particle draw → tonemap → depth probe |
+/// | tbdr, tbdr-per-sample | pre-Z → light culling† → shadow atlas → particles* → G-buffer → TBDR shading → forward‡ → particle draw → tonemap → depth probe |
+/// | shading-frequency view | as the TBDR path, edge pixels red |
 /// | particle-atlas view | as the path, the tonemap showing the lit atlas |
 /// | heatmap view (culled paths) | pre-Z → light culling → light heatmap → depth probe |
 /// | shadow-atlas view | (pre-Z → light culling →) shadow atlas → shadow atlas view |
 ///
 /// `particles*` is the particle simulation and layout, then (atlas lighting, or the atlas
 /// view) the particle lighting; the particle passes add work only when the renderer has
-/// particles. The depth probe adds work only to frames a tool asked to capture.
+/// particles. The depth probe adds work only to frames a tool asked to capture. † On the
+/// deferred paths light culling adds work only for the passes that read lists (blended
+/// surfaces, decals, particles). ‡ Blended surfaces only, over the deferred image.
 pub fn passes_for(
     gpu: &GpuContext,
     config: &RendererConfig,
 ) -> Result<Vec<Box<dyn Pass>>, RenderError> {
+    if config.view == FrameView::ShadingFrequency && !config.path.is_deferred() {
+        return Err(RenderError::ShadingFrequencyNeedsTbdr);
+    }
     let mut passes: Vec<Box<dyn Pass>> = Vec::new();
     if config.path.has_prepass() {
         passes.push(Box::new(PrezPass::new(gpu, config)?));
@@ -45,12 +53,16 @@ pub fn passes_for(
             passes.push(Box::new(ShadowPass::new(gpu, config)?));
             passes.push(Box::new(ShadowAtlasViewPass::new(gpu, config)?));
         }
-        FrameView::Lit | FrameView::ParticleAtlas => {
+        FrameView::Lit | FrameView::ParticleAtlas | FrameView::ShadingFrequency => {
             passes.push(Box::new(ShadowPass::new(gpu, config)?));
             passes.push(Box::new(ParticleSimPass::new(gpu)));
             let atlas_lit = config.particle_lighting == ParticleLighting::Atlas;
             if atlas_lit || config.view == FrameView::ParticleAtlas {
                 passes.push(Box::new(ParticleLightPass::new(gpu, config)?));
+            }
+            if config.path.is_deferred() {
+                passes.push(Box::new(GBufferPass::new(gpu, config)?));
+                passes.push(Box::new(TbdrPass::new(gpu, config)?));
             }
             passes.push(Box::new(ForwardPass::new(gpu, config)?));
             passes.push(Box::new(ParticleDrawPass::new(gpu, config)?));

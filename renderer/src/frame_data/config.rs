@@ -16,19 +16,29 @@ pub enum RenderPath {
     Depth25,
     /// Clustered culling: froxels of one tile × one of 32 exponential depth slices.
     Clustered,
+    /// Tile-based deferred shading in compute (reference 000): a G-buffer, then one dispatch
+    /// per frame that bounds each tile's depth, culls the lights in workgroup memory and
+    /// shades, per sample where a pixel's samples differ (each pixel shades its own samples).
+    Tbdr,
+    /// [`RenderPath::Tbdr`] with deferred per-sample shading: the edge pixels' samples go to a
+    /// tile list that every invocation of the tile drains.
+    TbdrPerSample,
 }
 
 impl RenderPath {
     /// Every path, in the order tools list them.
-    pub const ALL: [RenderPath; 5] = [
+    pub const ALL: [RenderPath; 7] = [
         Self::Naive,
         Self::NaivePrez,
         Self::Tiled,
         Self::Depth25,
         Self::Clustered,
+        Self::Tbdr,
+        Self::TbdrPerSample,
     ];
 
-    /// The command-line name: `naive`, `naive-prez`, `tiled`, `2.5d`, `clustered`.
+    /// The command-line name: `naive`, `naive-prez`, `tiled`, `2.5d`, `clustered`, `tbdr`,
+    /// `tbdr-per-sample`.
     pub fn name(self) -> &'static str {
         match self {
             Self::Naive => "naive",
@@ -36,12 +46,21 @@ impl RenderPath {
             Self::Tiled => "tiled",
             Self::Depth25 => "2.5d",
             Self::Clustered => "clustered",
+            Self::Tbdr => "tbdr",
+            Self::TbdrPerSample => "tbdr-per-sample",
         }
     }
 
-    /// Whether the path culls lights into per-cell lists.
+    /// Whether the path culls lights into per-cell lists. The deferred paths do when a pass
+    /// other than their own shading needs lists (blended surfaces, decals in the G-buffer,
+    /// particles, the heatmap views), with tiled culling; they shade opaque surfaces without.
     pub fn is_culled(self) -> bool {
         !matches!(self, Self::Naive | Self::NaivePrez)
+    }
+
+    /// Whether opaque surfaces are shaded from a G-buffer (the deferred paths).
+    pub fn is_deferred(self) -> bool {
+        matches!(self, Self::Tbdr | Self::TbdrPerSample)
     }
 
     /// Whether the frame runs the depth pre-pass.
@@ -65,6 +84,9 @@ pub enum FrameView {
     DecalHeatmap,
     /// The particle lighting atlas of the frame, exposed like the image.
     ParticleAtlas,
+    /// The TBDR paths' shading frequency: the image, with the pixels shaded per sample in red
+    /// (reference 000's view).
+    ShadingFrequency,
 }
 
 /// How particles are lit.
@@ -100,6 +122,41 @@ impl std::str::FromStr for ParticleLighting {
     }
 }
 
+/// When the TBDR paths shade a pixel per sample: when any of its samples differs from sample 0
+/// by one of these (or one is sky and the other not). Within one triangle every sample of a
+/// pixel has the same G-buffer values, so only depth varies there.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EdgeThresholds {
+    /// Largest distance of a sample from the plane of sample 0 (its point and geometric
+    /// normal), relative to sample 0's view depth (default 0.01): a slope never counts.
+    pub depth: f32,
+    /// Smallest cosine between the shading normals (default 0.999, about 2.6°).
+    pub normal_cos: f32,
+    /// Largest difference of albedo, metalness or roughness, and of base radiance relative to
+    /// `1 +` its size (default 0.01).
+    pub material: f32,
+}
+
+impl Default for EdgeThresholds {
+    fn default() -> Self {
+        Self {
+            depth: 0.01,
+            normal_cos: 0.999,
+            material: 0.01,
+        }
+    }
+}
+
+impl EdgeThresholds {
+    /// Thresholds no pair of samples passes: every pixel is shaded once, at sample 0 (for
+    /// comparisons; edges then lose their antialiasing).
+    pub const NEVER: Self = Self {
+        depth: f32::MAX,
+        normal_cos: -2.0,
+        material: f32::MAX,
+    };
+}
+
 /// Renderer settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RendererConfig {
@@ -108,7 +165,8 @@ pub struct RendererConfig {
     /// 1, 2, 4 or 8, as the adapter supports for Depth32Float and Rgba16Float.
     pub msaa: u32,
     pub path: RenderPath,
-    /// Tile size of the tiled and clustered paths (8, 16 or 32).
+    /// Tile size of the tiled and clustered paths (8, 16 or 32) and of the TBDR paths (8 or
+    /// 16: one invocation per pixel, and a tile's per-sample colours in workgroup memory).
     pub tile: u32,
     /// Use subgroup variants of the forward shader where the device has SUBGROUP.
     pub scalarize: bool,
@@ -141,6 +199,8 @@ pub struct RendererConfig {
     pub soft_particle_distance: f32,
     /// The shadow atlas: size, resolutions, caching.
     pub shadows: crate::shadow::ShadowConfig,
+    /// Which pixels the TBDR paths shade per sample.
+    pub edges: EdgeThresholds,
 }
 
 impl std::str::FromStr for RenderPath {
@@ -151,7 +211,12 @@ impl std::str::FromStr for RenderPath {
         Self::ALL
             .into_iter()
             .find(|p| p.name() == s)
-            .ok_or_else(|| format!("path {s:?}: use naive, naive-prez, tiled, 2.5d or clustered"))
+            .ok_or_else(|| {
+                format!(
+                    "path {s:?}: use naive, naive-prez, tiled, 2.5d, clustered, tbdr or \
+                     tbdr-per-sample"
+                )
+            })
     }
 }
 
@@ -177,6 +242,7 @@ impl Default for RendererConfig {
             particle_atlas_side: 0,
             soft_particle_distance: 0.3,
             shadows: crate::shadow::ShadowConfig::default(),
+            edges: EdgeThresholds::default(),
         }
     }
 }

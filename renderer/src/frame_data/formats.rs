@@ -5,3 +5,12 @@ pub const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
 /// The depth buffer of the pre-pass, read by culling and tested by forward shading.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// The G-buffer of the deferred paths (`forward::GBufferOut`): albedo and metalness (sRGB
+/// albedo, 4 bytes), the octahedral shading and geometric normals (four 16-bit floats), base
+/// radiance and roughness (four 16-bit floats): 20 bytes per sample, besides the pre-Z depth.
+pub const GBUFFER_FORMATS: [wgpu::TextureFormat; 3] = [
+    wgpu::TextureFormat::Rgba8UnormSrgb,
+    wgpu::TextureFormat::Rgba16Float,
+    wgpu::TextureFormat::Rgba16Float,
+];

@@ -18,14 +18,15 @@ mod resources;
 mod scene;
 
 pub use camera::{CameraUniform, FrameCamera};
-pub use config::{FrameView, ParticleLighting, RenderPath, RendererConfig};
+pub use config::{EdgeThresholds, FrameView, ParticleLighting, RenderPath, RendererConfig};
 pub use decals::{GpuDecals, cull_box};
 pub use error::RenderError;
-pub use formats::{DEPTH_FORMAT, HDR_FORMAT};
+pub use formats::{DEPTH_FORMAT, GBUFFER_FORMATS, HDR_FORMAT};
 pub use inputs::{FrameInputs, ParticleInput};
 pub use lights::LightSet;
 pub use report::{FrameReport, ParticleReport};
 pub use resources::{
-    FrameResources, LightListHandles, ListGeometry, ParticleResources, ShadowResources,
+    FrameResources, GBufferHandles, LightListHandles, ListGeometry, ParticleResources,
+    ShadowResources,
 };
 pub use scene::{DrawItem, InstanceState, PreparedMaterial, PreparedScene};

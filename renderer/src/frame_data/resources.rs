@@ -144,6 +144,17 @@ pub struct ParticleResources {
     pub sampler: wgpu::Sampler,
 }
 
+/// The multisampled G-buffer of the deferred paths (`frame_data::GBUFFER_FORMATS`).
+#[derive(Debug, Clone, Copy)]
+pub struct GBufferHandles {
+    /// Albedo (sRGB) and metalness.
+    pub albedo: Handle<Texture>,
+    /// Octahedral shading and geometric normals.
+    pub normals: Handle<Texture>,
+    /// Base radiance (ambient and emissive) and roughness.
+    pub radiance: Handle<Texture>,
+}
+
 /// What the passes of one frame have produced so far.
 #[derive(Debug)]
 pub struct FrameResources {
@@ -165,6 +176,8 @@ pub struct FrameResources {
     pub particle_lists: Option<LightListHandles>,
     /// The particles of this frame (absent without particles).
     pub particles: Option<ParticleResources>,
+    /// The G-buffer (deferred paths).
+    pub gbuffer: Option<GBufferHandles>,
     imports: Vec<(Handle<Buffer>, wgpu::Buffer)>,
     texture_imports: Vec<(Handle<Texture>, wgpu::Texture)>,
 }
@@ -180,6 +193,7 @@ impl FrameResources {
             hdr_multisampled: None,
             particle_lists: None,
             particles: None,
+            gbuffer: None,
             imports: Vec::new(),
             texture_imports: Vec::new(),
         }

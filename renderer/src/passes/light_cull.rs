@@ -73,6 +73,26 @@ impl Culler {
     }
 }
 
+/// The culling a frame needs: its path's, except that the deferred paths, which shade opaque
+/// surfaces with lights they cull themselves, need tiled lists only for the other passes that
+/// read lists (blended surfaces, decals in the G-buffer, particles, the heatmap views), and no
+/// culling without them.
+fn culling_path(frame: &FrameInputs, has_blend: bool) -> RenderPath {
+    let c = &frame.config;
+    if !c.path.is_deferred() {
+        return c.path;
+    }
+    let heatmap = matches!(
+        c.view,
+        crate::frame_data::FrameView::Heatmap | crate::frame_data::FrameView::DecalHeatmap
+    );
+    if has_blend || frame.decals.count() > 0 || frame.particles.is_some() || heatmap {
+        RenderPath::Tiled
+    } else {
+        RenderPath::NaivePrez
+    }
+}
+
 /// The light-culling pass.
 #[derive(Debug)]
 pub struct LightCullPass {
@@ -133,14 +153,15 @@ impl LightCullPass {
         // Particles are lit in every slice in front of the surfaces, so they need every list.
         let particles = frame.particles.is_some();
         let skip_empty = !has_blend && c.msaa == 1 && !particles;
+        let path = culling_path(frame, has_blend);
         self.ensure_particle_culler(
             frame,
-            particles && c.path.is_culled() && c.path != RenderPath::Clustered,
+            particles && path.is_culled() && path != RenderPath::Clustered,
             items,
         )?;
         let same_size = self.built_for == (c.width, c.height);
         let ok = same_size
-            && match (&self.culler, c.path) {
+            && match (&self.culler, path) {
                 (Culler::Tiled(t), RenderPath::Tiled | RenderPath::Depth25) => {
                     t.config.item_capacity >= items
                         && t.config.index_capacity == self.index_capacity
@@ -148,7 +169,7 @@ impl LightCullPass {
                         && t.config.tile == c.tile
                         && t.config.msaa == c.msaa
                         && t.config.brute_force == c.cull_brute_force
-                        && t.config.depth_mask == (c.path == RenderPath::Depth25)
+                        && t.config.depth_mask == (path == RenderPath::Depth25)
                 }
                 (Culler::Clustered(k), RenderPath::Clustered) => {
                     self.clustered_fits(k, frame, skip_empty, items)
@@ -159,13 +180,16 @@ impl LightCullPass {
             return Ok(());
         }
         self.built_for = (c.width, c.height);
-        self.culler = match c.path {
-            RenderPath::Naive | RenderPath::NaivePrez => Culler::Naive,
+        self.culler = match path {
+            RenderPath::Naive
+            | RenderPath::NaivePrez
+            | RenderPath::Tbdr
+            | RenderPath::TbdrPerSample => Culler::Naive,
             RenderPath::Tiled | RenderPath::Depth25 => {
                 let config = TileCullConfig {
                     tile: c.tile,
                     msaa: c.msaa,
-                    depth_mask: c.path == RenderPath::Depth25,
+                    depth_mask: path == RenderPath::Depth25,
                     transparent_lists: has_blend,
                     brute_force: c.cull_brute_force,
                     coarse_slots: None,

@@ -10,6 +10,7 @@
 //! list of the paths that use it (`crate::frame`'s pass list) or, from an engine, insert it
 //! with `Renderer::insert_pass_after`.
 
+pub mod deferred;
 pub mod depth_probe;
 pub mod forward;
 pub mod heatmap;

@@ -46,6 +46,7 @@
         crate::shared::light_grid,
         crate::shared::shadow_atlas,
         crate::shared::decal_apply,
+        crate::shared::octahedral,
     ),
 )]
 pub mod forward {
@@ -222,8 +223,21 @@ pub mod forward {
         m
     }
 
-    #[fragment]
-    pub fn fs_forward(input: VsOut, #[builtin(front_facing)] front: bool) -> Vec4 {
+    /// The fragment's material with its decals applied, where it is: what both the lit output
+    /// and the G-buffer take. Alpha-masked texels below the cutoff are discarded here.
+    struct ShadingPoint {
+        p: Vec3,
+        view_depth: f32,
+        /// Unit normal of the geometry, flipped for back faces.
+        geometric_normal: Vec3,
+        /// The fragment's `GRID` cell (0 on the naive path).
+        cell: u32,
+        /// Base-colour alpha (blended materials' coverage).
+        alpha: f32,
+        m: DecalSurface,
+    }
+
+    fn shading_point(input: VsOut, front: bool) -> ShadingPoint {
         let base = MATERIAL.base_color * BASE_COLOR_TEX.sample(MATERIAL_SAMPLER, input.uv);
         // Alpha mask: a positive cutoff marks a masked material (0 for opaque and blend).
         if MATERIAL.alpha_cutoff > 0.0 && base.w < MATERIAL.alpha_cutoff {
@@ -267,7 +281,58 @@ pub mod forward {
         if list > 0 {
             cell = cell_of(input.clip, view_depth);
         }
-        let m = with_decals(material, frame, cell);
+        ShadingPoint {
+            p,
+            view_depth,
+            geometric_normal: nn,
+            cell,
+            alpha: base.w,
+            m: with_decals(material, frame, cell),
+        }
+    }
+
+    /// The G-buffer of tile-based deferred shading (`tbdr`) and traditional deferred shading,
+    /// one sample's worth (MSAA: the fragment's value goes to every sample it covers):
+    /// * location 0, `Rgba8UnormSrgb`: albedo after decals (`rgb`), metalness (`a`);
+    /// * location 1, `Rgba16Float`: the octahedral shading normal (`xy`) and geometric normal
+    ///   (`zw`, the shadow lookup's normal offset);
+    /// * location 2, `Rgba16Float`: the base radiance, ambient × albedo × occlusion + emissive
+    ///   (`rgb`; occlusion scales only the ambient term, so it is folded in here), and the
+    ///   clamped roughness (`a`).
+    ///
+    /// 20 bytes per sample plus the pre-Z depth; every value is the very one the forward
+    /// fragment lights.
+    pub struct GBufferOut {
+        #[location(0)]
+        pub albedo_metallic: Vec4,
+        #[location(1)]
+        pub normals: Vec4,
+        #[location(2)]
+        pub radiance_roughness: Vec4,
+    }
+
+    #[fragment]
+    pub fn fs_gbuffer(input: VsOut, #[builtin(front_facing)] front: bool) -> GBufferOut {
+        let sp = shading_point(input, front);
+        let m = sp.m;
+        let n = octahedral_encode(m.normal);
+        let g = octahedral_encode(sp.geometric_normal);
+        GBufferOut {
+            albedo_metallic: m.albedo.extend(m.metallic.saturate()),
+            normals: Vec4::new(n.x, n.y, g.x, g.y),
+            radiance_roughness: (LIGHTING.ambient * m.albedo * m.occlusion + m.emissive)
+                .extend(m.roughness.clamp(MIN_ROUGHNESS, 1.0)),
+        }
+    }
+
+    #[fragment]
+    pub fn fs_forward(input: VsOut, #[builtin(front_facing)] front: bool) -> Vec4 {
+        let sp = shading_point(input, front);
+        let m = sp.m;
+        let p = sp.p;
+        let nn = sp.geometric_normal;
+        let view_depth = sp.view_depth;
+        let cell = sp.cell;
 
         let albedo = m.albedo;
         let occlusion = m.occlusion;
@@ -316,7 +381,7 @@ pub mod forward {
         }
         let mut alpha = 1.0;
         if blend {
-            alpha = base.w;
+            alpha = sp.alpha;
         }
         color.extend(alpha)
     }

@@ -10,6 +10,7 @@ pub mod brdf;
 pub mod camera;
 pub mod decal;
 pub mod grid;
+pub mod normals;
 pub mod shadow;
 
 pub use append::cull_append;
@@ -17,4 +18,5 @@ pub use brdf::pbr;
 pub use camera::view;
 pub use decal::decal_apply;
 pub use grid::light_grid;
+pub use normals::octahedral;
 pub use shadow::shadow_atlas;

@@ -3,6 +3,15 @@
 //! blended draws back to front. After the pre-pass it tests depth with `LessEqual` against the
 //! pre-Z depth (both vertex stages compute the position with the same `#[invariant]` code);
 //! without one (the naive path) it writes its own.
+//!
+//! On the deferred paths opaque surfaces are shaded already; the pass then draws only blended
+//! surfaces over the deferred image (expanded into every sample first, with MSAA, so particles
+//! can be drawn over it too), and adds nothing when there are neither blended surfaces nor
+//! particles.
+
+mod bindings;
+
+pub(crate) use bindings::{FrameGroup, lighting_buffer};
 
 use std::sync::Arc;
 
@@ -11,32 +20,40 @@ use shaders_gen::forward::forward;
 use super::{MeshPipeline, Pass, depth_state, draw_primitive, mesh_pipeline};
 use crate::GpuContext;
 use crate::frame_data::{
-    DEPTH_FORMAT, FrameInputs, FrameResources, HDR_FORMAT, LightListHandles, ListGeometry,
-    PreparedScene, RenderError, RendererConfig, ShadowResources,
+    DEPTH_FORMAT, FrameInputs, FrameResources, HDR_FORMAT, PreparedScene, RenderError, RenderPath,
+    RendererConfig,
 };
 use crate::graph::{BufferAccess, Handle, RenderGraph, Texture, TextureAccess, TextureDesc};
 use crate::scene::AlphaMode;
 use crate::shader::ShaderProgram;
 
-/// The forward pass: its program and pipelines (`[blend][double_sided]`) and its lighting
-/// uniform.
+/// The forward pass: its program and pipelines (`[blend][double_sided]`), its lighting
+/// uniform, and on the deferred paths with MSAA the pipeline that expands the deferred image
+/// into every sample.
 #[derive(Debug)]
 pub struct ForwardPass {
     program: ShaderProgram,
     pipelines: Arc<[[wgpu::RenderPipeline; 2]; 2]>,
     lighting: wgpu::Buffer,
+    expand: Option<Arc<Expand>>,
+}
+
+/// The `hdr_expand` program and pipeline.
+#[derive(Debug)]
+struct Expand {
+    program: ShaderProgram,
+    pipeline: wgpu::RenderPipeline,
 }
 
 impl ForwardPass {
     pub fn new(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
         let list = match config.path {
-            crate::frame_data::RenderPath::Naive | crate::frame_data::RenderPath::NaivePrez => {
-                forward::List::List0
-            }
-            crate::frame_data::RenderPath::Tiled | crate::frame_data::RenderPath::Depth25 => {
-                forward::List::List1
-            }
-            crate::frame_data::RenderPath::Clustered => forward::List::List2,
+            RenderPath::Naive | RenderPath::NaivePrez => forward::List::List0,
+            RenderPath::Tiled
+            | RenderPath::Depth25
+            | RenderPath::Tbdr
+            | RenderPath::TbdrPerSample => forward::List::List1,
+            RenderPath::Clustered => forward::List::List2,
         };
         let key = |blend| forward::VariantKey {
             list,
@@ -50,39 +67,70 @@ impl ForwardPass {
         let make = |program: &ShaderProgram, blend: bool| {
             [false, true].map(|d| pipeline(&gpu.device, program, config.msaa, prepass, blend, d))
         };
+        let expand = if config.path.is_deferred() && config.msaa > 1 {
+            Some(Arc::new(Expand::new(gpu, config.msaa)?))
+        } else {
+            None
+        };
         Ok(Self {
             pipelines: Arc::new([make(&opaque, false), make(&blended, true)]),
             program: opaque,
-            lighting: gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("lighting"),
-                size: size_of::<forward::Lighting>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
+            lighting: lighting_buffer(&gpu.device),
+            expand,
         })
     }
+}
 
-    /// Writes the frame's light counts and the geometry of its light lists.
-    fn write_lighting(&self, frame: &FrameInputs, lists: Option<&LightListHandles>) {
-        let c = &frame.config;
-        let g = ListGeometry::new(lists.map(|l| l.method), c, &frame.camera);
-        let lighting = forward::Lighting::new(
-            c.ambient,
-            frame.lights.punctual.len() as u32,
-            g.tiles,
-            g.tile,
-            g.slices,
-            g.blend_cell_offset,
-            g.near,
-            g.far,
-            frame.lights.directional.len() as u32,
-            frame.decals.count(),
-            g.decal_section,
-        );
-        frame
-            .gpu
-            .queue
-            .write_buffer(&self.lighting, 0, bytemuck::bytes_of(&lighting));
+impl Expand {
+    fn new(gpu: &GpuContext, msaa: u32) -> Result<Self, RenderError> {
+        use shaders_gen::deferred::hdr_expand;
+        let program = ShaderProgram::new(
+            &gpu.device,
+            gpu.capabilities(),
+            hdr_expand::variant(hdr_expand::VariantKey {}),
+        )?;
+        let pipeline = gpu
+            .device
+            .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("hdr expand"),
+                layout: Some(&program.pipeline_layout),
+                vertex: wgpu::VertexState {
+                    module: &program.module,
+                    entry_point: Some("vs_fullscreen"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: wgpu::PrimitiveState::default(),
+                // The forward pass's depth attachment is bound; the expansion ignores it.
+                depth_stencil: Some(depth_state(false, wgpu::CompareFunction::Always)),
+                multisample: wgpu::MultisampleState {
+                    count: msaa,
+                    ..Default::default()
+                },
+                fragment: Some(wgpu::FragmentState {
+                    module: &program.module,
+                    entry_point: Some("fs_expand"),
+                    compilation_options: Default::default(),
+                    targets: &[Some(HDR_FORMAT.into())],
+                }),
+                multiview_mask: None,
+                cache: None,
+            });
+        Ok(Self { program, pipeline })
+    }
+
+    /// The bind group that reads the deferred image `shaded`.
+    fn bind_group(
+        &self,
+        ctx: &crate::graph::PassContext<'_>,
+        shaded: Handle<Texture>,
+    ) -> wgpu::BindGroup {
+        let view = ctx.texture(shaded).create_view(&Default::default());
+        ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("hdr expand"),
+            layout: &self.program.bind_group_layouts[0],
+            entries: &super::entries(&[wgpu::BindingResource::TextureView(&view)]),
+        })
     }
 }
 
@@ -127,7 +175,7 @@ fn pipeline(
 }
 
 /// Draw order: opaque and masked first (any order), then blended back to front from `eye`.
-fn draw_order(scene: &PreparedScene, eye: glam::Vec3) -> Vec<usize> {
+pub(crate) fn draw_order(scene: &PreparedScene, eye: glam::Vec3) -> Vec<usize> {
     let blend = |i: usize| scene.materials[scene.draws[i].material].alpha_mode == AlphaMode::Blend;
     let mut order: Vec<usize> = (0..scene.draws.len()).collect();
     order.sort_by(|&a, &b| {
@@ -150,6 +198,9 @@ struct Targets {
     depth: Handle<Texture>,
     /// Whether `depth` holds the pre-pass's depth (load it) or is the pass's own (clear it).
     prepass: bool,
+    /// On the deferred paths: draw blended surfaces only, over the colour already in
+    /// `resolved` (no MSAA) or over this deferred image expanded into `multisampled`.
+    over: Option<Option<Handle<Texture>>>,
 }
 
 impl Pass for ForwardPass {
@@ -164,16 +215,34 @@ impl Pass for ForwardPass {
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
         let c = &frame.config;
-        let lists = resources.light_lists.clone();
-        if frame.config.path.is_culled() && lists.is_none() {
-            return Err(RenderError::MissingInput {
-                pass: "forward",
-                input: "light lists",
-            });
+        let missing = |input| RenderError::MissingInput {
+            pass: "forward",
+            input,
+        };
+        let deferred = c.path.is_deferred();
+        let has_blend = frame
+            .scene
+            .materials
+            .iter()
+            .any(|m| m.alpha_mode == AlphaMode::Blend);
+        if deferred && !has_blend && frame.particles.is_none() {
+            return Ok(());
         }
-        self.write_lighting(frame, lists.as_ref());
+        let lists = resources.light_lists.clone();
+        if c.path.is_culled() && lists.is_none() && (!deferred || has_blend) {
+            return Err(missing("light lists"));
+        }
+        let shaded = if deferred {
+            Some(resources.hdr.ok_or(missing("deferred HDR image"))?)
+        } else {
+            None
+        };
         let desc = TextureDesc::new_2d(c.width, c.height, HDR_FORMAT);
-        let mut hdr = graph.create_texture("hdr", desc);
+        // Without MSAA the deferred image is drawn over in place.
+        let mut hdr = match shaded {
+            Some(h) if c.msaa == 1 => h,
+            _ => graph.create_texture("hdr", desc),
+        };
         let mut hdr_msaa =
             (c.msaa > 1).then(|| graph.create_texture("hdr msaa", desc.with_samples(c.msaa)));
         let mut own_depth = resources.depth.is_none().then(|| {
@@ -186,11 +255,9 @@ impl Pass for ForwardPass {
             depth: resources
                 .depth
                 .or(own_depth)
-                .ok_or(RenderError::MissingInput {
-                    pass: "forward",
-                    input: "depth buffer",
-                })?,
+                .ok_or(missing("depth buffer"))?,
             prepass: resources.depth.is_some(),
+            over: shaded.map(|h| (c.msaa > 1).then_some(h)),
         };
         let mut pass = graph.add_pass(self.name());
         match (resources.depth, own_depth.as_mut()) {
@@ -198,6 +265,9 @@ impl Pass for ForwardPass {
             (None, Some(d)) => pass.write_texture(d, TextureAccess::DepthWrite),
             (None, None) => &mut pass,
         };
+        if let Some(h) = shaded.filter(|_| c.msaa > 1) {
+            pass.read_texture(h, TextureAccess::Sampled);
+        }
         pass.write_texture(&mut hdr, TextureAccess::ColorAttachment);
         if let Some(h) = hdr_msaa.as_mut() {
             pass.write_texture(h, TextureAccess::ColorAttachment);
@@ -206,12 +276,10 @@ impl Pass for ForwardPass {
             pass.read_buffer(l.grid, BufferAccess::StorageRead)
                 .read_buffer(l.indices, BufferAccess::StorageRead);
         }
-        let shadows = resources.shadows.clone().ok_or(RenderError::MissingInput {
-            pass: "forward",
-            input: "shadow atlas",
-        })?;
+        let shadows = resources.shadows.clone().ok_or(missing("shadow atlas"))?;
         pass.read_texture(shadows.atlas, TextureAccess::Sampled);
-        let record = self.recorder(frame, targets, lists, shadows);
+        let group = FrameGroup::new(frame, &self.lighting, lists, shadows);
+        let record = self.recorder(frame, targets, group);
         pass.execute(record);
         resources.hdr = Some(hdr);
         resources.hdr_multisampled = hdr_msaa;
@@ -228,37 +296,20 @@ impl ForwardPass {
         &self,
         frame: &FrameInputs,
         targets: Targets,
-        lists: Option<LightListHandles>,
-        shadows: ShadowResources,
+        group: FrameGroup,
     ) -> impl FnOnce(&mut crate::graph::PassContext<'_>) + 'static {
         let layout = self.program.bind_group_layouts[0].clone();
         let pipelines = Arc::clone(&self.pipelines);
+        let expand = self.expand.clone();
         let scene = Arc::clone(&frame.scene);
-        let camera = frame.camera_uniform.buffer.clone();
-        let lighting = self.lighting.clone();
-        let lights = Arc::clone(&frame.lights);
-        let decals = Arc::clone(&frame.decals);
         let eye = frame.camera.eye;
         let sky = sky_color(frame.config.sky);
         move |ctx| {
-            let mut frame_resources = vec![
-                camera.as_entire_binding(),
-                lighting.as_entire_binding(),
-                lights.punctual_buffer.as_entire_binding(),
-                lights.directional_buffer.as_entire_binding(),
-            ];
-            if let Some(l) = &lists {
-                frame_resources.push(ctx.buffer(l.grid).as_entire_binding());
-                frame_resources.push(ctx.buffer(l.indices).as_entire_binding());
-            }
-            let mut entries = super::entries(&frame_resources);
-            entries.extend(shadows.entries());
-            entries.extend(decals.entries());
-            let frame_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("forward frame"),
-                layout: &layout,
-                entries: &entries,
-            });
+            let frame_group = group.bind_group(ctx, &layout, "forward frame");
+            let expand_group = match (&targets.over, &expand) {
+                (Some(Some(h)), Some(e)) => Some((e.bind_group(ctx, *h), &e.pipeline)),
+                _ => None,
+            };
             let depth_view = ctx.texture(targets.depth).create_view(&Default::default());
             let resolved_view = ctx
                 .texture(targets.resolved)
@@ -266,6 +317,11 @@ impl ForwardPass {
             let msaa_view = targets
                 .multisampled
                 .map(|h| ctx.texture(h).create_view(&Default::default()));
+            let load = if targets.over.is_some() {
+                wgpu::LoadOp::Load
+            } else {
+                wgpu::LoadOp::Clear(sky)
+            };
             let mut pass = ctx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("forward"),
                 color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -273,7 +329,7 @@ impl ForwardPass {
                     depth_slice: None,
                     resolve_target: msaa_view.as_ref().map(|_| &resolved_view),
                     ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(sky),
+                        load,
                         store: wgpu::StoreOp::Store,
                     },
                 })],
@@ -293,11 +349,20 @@ impl ForwardPass {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
+            if let Some((group, pipeline)) = &expand_group {
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, group, &[]);
+                pass.draw(0..3, 0..1);
+            }
             pass.set_bind_group(0, &frame_group, &[]);
+            let blended_only = targets.over.is_some();
             for i in draw_order(&scene, eye) {
                 let draw = &scene.draws[i];
                 let material = &scene.materials[draw.material];
                 let blend = material.alpha_mode == AlphaMode::Blend;
+                if blended_only && !blend {
+                    continue;
+                }
                 pass.set_pipeline(
                     &pipelines[usize::from(blend)][usize::from(material.double_sided)],
                 );

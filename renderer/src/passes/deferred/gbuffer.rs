@@ -1,0 +1,189 @@
+//! The G-buffer pass of the deferred paths: opaque and alpha-masked surfaces drawn over the
+//! pre-Z depth (`LessEqual`, no writes) through the `forward` module's `fs_gbuffer`, which
+//! shares the forward fragment's material and decal code, into the three multisampled targets
+//! of `GBUFFER_FORMATS`.
+
+use std::sync::Arc;
+
+use shaders_gen::forward::forward;
+
+use crate::GpuContext;
+use crate::frame_data::{
+    FrameInputs, FrameResources, GBUFFER_FORMATS, GBufferHandles, RenderError, RendererConfig,
+};
+use crate::graph::{BufferAccess, RenderGraph, TextureAccess, TextureDesc};
+use crate::passes::forward::{FrameGroup, draw_order, lighting_buffer};
+use crate::passes::{MeshPipeline, Pass, depth_state, draw_primitive, mesh_pipeline};
+use crate::scene::AlphaMode;
+use crate::shader::ShaderProgram;
+
+/// A `forward` variant's program and its G-buffer pipelines (`[double_sided]`).
+#[derive(Debug)]
+struct GBufferProgram {
+    program: ShaderProgram,
+    pipelines: [wgpu::RenderPipeline; 2],
+}
+
+/// The G-buffer pass: programs for decals from every decal (no lists this frame) and from the
+/// tiled lists, and the lighting uniform.
+#[derive(Debug)]
+pub struct GBufferPass {
+    programs: Arc<[GBufferProgram; 2]>,
+    lighting: wgpu::Buffer,
+}
+
+impl GBufferPass {
+    pub fn new(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
+        let make = |list| -> Result<GBufferProgram, RenderError> {
+            let key = forward::VariantKey {
+                list,
+                blend: false,
+                scalarize: false,
+            };
+            let program =
+                ShaderProgram::new(&gpu.device, gpu.capabilities(), forward::variant(key)?)?;
+            let pipelines = [false, true].map(|double_sided| {
+                let targets = GBUFFER_FORMATS.map(|f| Some(f.into()));
+                mesh_pipeline(
+                    &gpu.device,
+                    &program,
+                    &MeshPipeline {
+                        label: "gbuffer",
+                        vertex_entry: "vs_forward",
+                        streams: &STREAMS,
+                        double_sided,
+                        depth: depth_state(false, wgpu::CompareFunction::LessEqual),
+                        msaa: config.msaa,
+                        fragment: Some(("fs_gbuffer", &targets)),
+                    },
+                )
+            });
+            Ok(GBufferProgram { program, pipelines })
+        };
+        Ok(Self {
+            programs: Arc::new([make(forward::List::List0)?, make(forward::List::List1)?]),
+            lighting: lighting_buffer(&gpu.device),
+        })
+    }
+}
+
+/// The vertex streams of `vs_forward`: position, normal, UV, tangent.
+const STREAMS: [wgpu::VertexFormat; 4] = [
+    wgpu::VertexFormat::Float32x3,
+    wgpu::VertexFormat::Float32x3,
+    wgpu::VertexFormat::Float32x2,
+    wgpu::VertexFormat::Float32x4,
+];
+
+impl Pass for GBufferPass {
+    fn name(&self) -> &'static str {
+        "gbuffer"
+    }
+
+    fn add_to_graph(
+        &self,
+        graph: &mut RenderGraph,
+        frame: &FrameInputs,
+        resources: &mut FrameResources,
+    ) -> Result<(), RenderError> {
+        let missing = |input| RenderError::MissingInput {
+            pass: "gbuffer",
+            input,
+        };
+        let c = &frame.config;
+        let depth = resources.depth.ok_or(missing("pre-Z depth"))?;
+        let shadows = resources.shadows.clone().ok_or(missing("shadow atlas"))?;
+        let lists = resources.light_lists.clone();
+        let names = ["gbuffer albedo", "gbuffer normals", "gbuffer radiance"];
+        let mut targets = [0, 1, 2].map(|i| {
+            let desc =
+                TextureDesc::new_2d(c.width, c.height, GBUFFER_FORMATS[i]).with_samples(c.msaa);
+            graph.create_texture(names[i], desc)
+        });
+        let mut pass = graph.add_pass(self.name());
+        pass.read_texture(depth, TextureAccess::DepthRead)
+            .read_texture(shadows.atlas, TextureAccess::Sampled);
+        for t in &mut targets {
+            pass.write_texture(t, TextureAccess::ColorAttachment);
+        }
+        if let Some(l) = &lists {
+            pass.read_buffer(l.grid, BufferAccess::StorageRead)
+                .read_buffer(l.indices, BufferAccess::StorageRead);
+        }
+        let programs = Arc::clone(&self.programs);
+        let which = usize::from(lists.is_some());
+        let group = FrameGroup::new(frame, &self.lighting, lists, shadows);
+        let scene = Arc::clone(&frame.scene);
+        let eye = frame.camera.eye;
+        pass.execute(move |ctx| {
+            let p = &programs[which];
+            let frame_group = group.bind_group(ctx, &p.program.bind_group_layouts[0], "gbuffer");
+            let views = targets.map(|t| ctx.texture(t).create_view(&Default::default()));
+            let depth_view = ctx.texture(depth).create_view(&Default::default());
+            let mut pass = begin_gbuffer_pass(ctx.encoder, &views, &depth_view);
+            pass.set_bind_group(0, &frame_group, &[]);
+            for i in draw_order(&scene, eye) {
+                let draw = &scene.draws[i];
+                let material = &scene.materials[draw.material];
+                if material.alpha_mode == AlphaMode::Blend {
+                    continue;
+                }
+                pass.set_pipeline(&p.pipelines[usize::from(material.double_sided)]);
+                pass.set_bind_group(1, &draw.bind_group, &[]);
+                pass.set_bind_group(2, &material.bind_group, &[]);
+                let primitive = &scene.gpu.meshes[draw.mesh][draw.primitive];
+                draw_primitive(
+                    &mut pass,
+                    primitive,
+                    &[
+                        &primitive.positions,
+                        &primitive.normals,
+                        &primitive.uvs,
+                        &primitive.tangents,
+                    ],
+                );
+            }
+        });
+        let [albedo, normals, radiance] = targets;
+        resources.gbuffer = Some(GBufferHandles {
+            albedo,
+            normals,
+            radiance,
+        });
+        Ok(())
+    }
+}
+
+/// The G-buffer render pass: the three targets cleared, the pre-Z depth loaded.
+fn begin_gbuffer_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    views: &[wgpu::TextureView; 3],
+    depth: &wgpu::TextureView,
+) -> wgpu::RenderPass<'e> {
+    let attachments = views.each_ref().map(|view| {
+        Some(wgpu::RenderPassColorAttachment {
+            view,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                store: wgpu::StoreOp::Store,
+            },
+        })
+    });
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("gbuffer"),
+        color_attachments: &attachments,
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: depth,
+            depth_ops: Some(wgpu::Operations {
+                load: wgpu::LoadOp::Load,
+                store: wgpu::StoreOp::Store,
+            }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
+}

@@ -1,0 +1,356 @@
+//! The TBDR shading pass: one `tbdr::shade` dispatch over the G-buffer (one workgroup per
+//! tile) writes the resolved HDR image. It owns the light spheres the kernel culls, its
+//! parameters, and, when asked to record, the edge bits and a copy of the G-buffer that tools
+//! and tests read back.
+
+use shaders_gen::deferred::tbdr;
+
+use crate::GpuContext;
+use crate::frame_data::{
+    FrameInputs, FrameResources, FrameView, GBufferHandles, HDR_FORMAT, RenderError, RenderPath,
+    RendererConfig, ShadowResources,
+};
+use crate::graph::{Handle, RenderGraph, Texture, TextureAccess, TextureDesc};
+use crate::passes::Pass;
+use crate::shader::ShaderProgram;
+
+/// What a recording frame left: which pixels were shaded per sample, and the G-buffer.
+#[derive(Debug, Clone)]
+pub struct TbdrRecord {
+    pub width: u32,
+    pub height: u32,
+    pub msaa: u32,
+    /// Bit `y · width + x` set where pixel `(x, y)` was shaded per sample.
+    pub edge_bits: Vec<u32>,
+    /// Per sample (samples of a pixel together, pixels row-major): depth, albedo and
+    /// metalness, normals, base radiance and roughness (`tbdr::CAPTURE_WORDS` floats).
+    pub gbuffer: Vec<f32>,
+}
+
+impl TbdrRecord {
+    /// Whether pixel `(x, y)` was shaded per sample.
+    pub fn is_edge(&self, x: u32, y: u32) -> bool {
+        let bit = (y * self.width + x) as usize;
+        self.edge_bits
+            .get(bit / 32)
+            .is_some_and(|w| w & (1 << (bit % 32)) != 0)
+    }
+
+    /// Pixels shaded per sample.
+    pub fn edge_count(&self) -> u32 {
+        self.edge_bits.iter().map(|w| w.count_ones()).sum()
+    }
+
+    /// Sample `s` of pixel `(x, y)`: `tbdr::CAPTURE_WORDS` floats.
+    pub fn sample(&self, x: u32, y: u32, s: u32) -> &[f32] {
+        let words = tbdr::CAPTURE_WORDS as usize;
+        let at = (((y * self.width + x) * self.msaa + s) as usize) * words;
+        self.gbuffer.get(at..at + words).unwrap_or(&[])
+    }
+}
+
+/// Buffers of a recording frame.
+#[derive(Debug)]
+struct Recording {
+    size: (u32, u32),
+    edge_bits: wgpu::Buffer,
+    gbuffer: wgpu::Buffer,
+}
+
+/// The TBDR shading pass.
+#[derive(Debug)]
+pub struct TbdrPass {
+    gpu: GpuContext,
+    program: ShaderProgram,
+    shade: wgpu::ComputePipeline,
+    capture: wgpu::ComputePipeline,
+    params: wgpu::Buffer,
+    spheres: wgpu::Buffer,
+    /// A word each for `EDGE_BITS` and `CAPTURE` when not recording.
+    unused: wgpu::Buffer,
+    /// Whether frames record their edges and G-buffer.
+    record: bool,
+    recording: Option<Recording>,
+}
+
+impl TbdrPass {
+    pub fn new(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
+        let tile = match config.tile {
+            8 => tbdr::Tile::T8,
+            16 => tbdr::Tile::T16,
+            t => return Err(RenderError::TbdrTile(t)),
+        };
+        let msaa = match config.msaa {
+            1 => tbdr::Msaa::Msaa1,
+            2 => tbdr::Msaa::Msaa2,
+            4 => tbdr::Msaa::Msaa4,
+            8 => tbdr::Msaa::Msaa8,
+            asked => {
+                return Err(RenderError::SampleCount {
+                    asked,
+                    supported: vec![1, 2, 4, 8],
+                });
+            }
+        };
+        let key = tbdr::VariantKey {
+            tile,
+            msaa,
+            scalarize: config.scalarize,
+            defer: config.path == RenderPath::TbdrPerSample && config.msaa > 1,
+        };
+        let program = ShaderProgram::new(&gpu.device, gpu.capabilities(), tbdr::variant(key)?)?;
+        let storage = |label, size| {
+            gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage: wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_DST
+                    | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            })
+        };
+        Ok(Self {
+            gpu: gpu.clone(),
+            shade: program.compute_pipeline(&gpu.device, "shade")?,
+            capture: program.compute_pipeline(&gpu.device, "capture_gbuffer")?,
+            program,
+            params: gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("tbdr params"),
+                size: size_of::<tbdr::TbdrParams>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            spheres: storage("tbdr light spheres", 16),
+            unused: storage("tbdr unused", 16),
+            record: false,
+            recording: None,
+        })
+    }
+
+    /// Makes every following frame record which pixels it shaded per sample, and a copy of its
+    /// G-buffer ([`Self::recorded`]). Costs a G-buffer copy per frame: for tools and tests.
+    pub fn set_recording(&mut self, on: bool) {
+        self.record = on;
+        if !on {
+            self.recording = None;
+        }
+    }
+
+    /// What the last recording frame left (blocking readback); `None` before one.
+    pub fn recorded(&self) -> Result<Option<TbdrRecord>, RenderError> {
+        let Some(r) = &self.recording else {
+            return Ok(None);
+        };
+        let (device, queue) = (&self.gpu.device, &self.gpu.queue);
+        Ok(Some(TbdrRecord {
+            width: r.size.0,
+            height: r.size.1,
+            msaa: (r.gbuffer.size() / 4 / u64::from(tbdr::CAPTURE_WORDS))
+                .checked_div(u64::from(r.size.0 * r.size.1))
+                .unwrap_or(0) as u32,
+            edge_bits: crate::readback::read_buffer(device, queue, &r.edge_bits)?,
+            gbuffer: crate::readback::read_buffer(device, queue, &r.gbuffer)?,
+        }))
+    }
+
+    fn params(frame: &FrameInputs, record: bool) -> tbdr::TbdrParams {
+        let c = &frame.config;
+        let cam = &frame.camera;
+        tbdr::TbdrParams::new(
+            cam.view,
+            cam.projection,
+            cam.projection.inverse(),
+            cam.view.inverse(),
+            cam.eye,
+            frame.lights.punctual.len() as u32,
+            c.sky,
+            frame.lights.directional.len() as u32,
+            frame.screen(),
+            u32::from(c.view == FrameView::ShadingFrequency),
+            u32::from(record),
+            c.edges.depth,
+            c.edges.normal_cos,
+            c.edges.material,
+            0.0,
+        )
+    }
+}
+
+impl Pass for TbdrPass {
+    fn name(&self) -> &'static str {
+        "tbdr shading"
+    }
+
+    fn prepare(&mut self, frame: &FrameInputs) -> Result<(), RenderError> {
+        let spheres: Vec<glam::Vec4> = frame
+            .lights
+            .spheres
+            .iter()
+            .map(|s| s.center.extend(s.radius))
+            .collect();
+        let bytes: &[u8] = bytemuck::cast_slice(&spheres);
+        if bytes.len() as u64 > self.spheres.size() {
+            self.spheres = self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("tbdr light spheres"),
+                size: (bytes.len() as u64).next_power_of_two(),
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+        }
+        self.gpu.queue.write_buffer(&self.spheres, 0, bytes);
+        let params = Self::params(frame, self.record);
+        self.gpu
+            .queue
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+        let c = &frame.config;
+        let size = (c.width, c.height);
+        if self.record && self.recording.as_ref().is_none_or(|r| r.size != size) {
+            let pixels = u64::from(c.width) * u64::from(c.height);
+            let buffer = |label, size: u64| {
+                self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(label),
+                    size: size.max(4),
+                    usage: wgpu::BufferUsages::STORAGE
+                        | wgpu::BufferUsages::COPY_DST
+                        | wgpu::BufferUsages::COPY_SRC,
+                    mapped_at_creation: false,
+                })
+            };
+            self.recording = Some(Recording {
+                size,
+                edge_bits: buffer("tbdr edge bits", pixels.div_ceil(32) * 4),
+                gbuffer: buffer(
+                    "tbdr gbuffer capture",
+                    pixels * u64::from(c.msaa) * u64::from(tbdr::CAPTURE_WORDS) * 4,
+                ),
+            });
+        }
+        Ok(())
+    }
+
+    fn add_to_graph(
+        &self,
+        graph: &mut RenderGraph,
+        frame: &FrameInputs,
+        resources: &mut FrameResources,
+    ) -> Result<(), RenderError> {
+        let missing = |input| RenderError::MissingInput {
+            pass: "tbdr shading",
+            input,
+        };
+        let c = &frame.config;
+        let depth = resources.depth.ok_or(missing("pre-Z depth"))?;
+        let gbuffer = resources.gbuffer.ok_or(missing("G-buffer"))?;
+        let shadows = resources.shadows.clone().ok_or(missing("shadow atlas"))?;
+        let mut hdr =
+            graph.create_texture("hdr", TextureDesc::new_2d(c.width, c.height, HDR_FORMAT));
+        let mut pass = graph.add_pass(self.name());
+        pass.read_texture(depth, TextureAccess::Sampled)
+            .read_texture(gbuffer.albedo, TextureAccess::Sampled)
+            .read_texture(gbuffer.normals, TextureAccess::Sampled)
+            .read_texture(gbuffer.radiance, TextureAccess::Sampled)
+            .read_texture(shadows.atlas, TextureAccess::Sampled)
+            .write_texture(&mut hdr, TextureAccess::StorageWrite);
+        let layout = self.program.bind_group_layouts[0].clone();
+        let (shade, capture) = (self.shade.clone(), self.capture.clone());
+        let params = self.params.clone();
+        let spheres = self.spheres.clone();
+        let lights = std::sync::Arc::clone(&frame.lights);
+        let recording = self
+            .recording
+            .as_ref()
+            .filter(|_| self.record)
+            .map(|r| (r.edge_bits.clone(), r.gbuffer.clone()));
+        let unused = self.unused.clone();
+        let (width, height, tile) = (c.width, c.height, c.tile);
+        pass.execute(move |ctx| {
+            let (edge_bits, captured) = recording
+                .as_ref()
+                .map_or((&unused, &unused), |(e, g)| (e, g));
+            if recording.is_some() {
+                ctx.encoder.clear_buffer(edge_bits, 0, None);
+            }
+            let buffers = KernelBuffers {
+                params: &params,
+                lights: &lights,
+                spheres: &spheres,
+                edge_bits,
+                captured,
+            };
+            let group = bind_group(ctx, &layout, &buffers, depth, gbuffer, hdr, &shadows);
+            let mut pass = ctx
+                .encoder
+                .begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("tbdr shading"),
+                    timestamp_writes: None,
+                });
+            pass.set_bind_group(0, &group, &[]);
+            if recording.is_some() {
+                pass.set_pipeline(&capture);
+                pass.dispatch_workgroups(width.div_ceil(8), height.div_ceil(8), 1);
+            }
+            pass.set_pipeline(&shade);
+            pass.dispatch_workgroups(width.div_ceil(tile), height.div_ceil(tile), 1);
+        });
+        resources.hdr = Some(hdr);
+        resources.hdr_multisampled = None;
+        Ok(())
+    }
+}
+
+/// The buffers of the kernel's group 0.
+struct KernelBuffers<'a> {
+    params: &'a wgpu::Buffer,
+    lights: &'a crate::frame_data::LightSet,
+    spheres: &'a wgpu::Buffer,
+    edge_bits: &'a wgpu::Buffer,
+    captured: &'a wgpu::Buffer,
+}
+
+/// Group 0 of `tbdr`: parameters, lights, spheres, depth and albedo (0–5), the shadow atlas
+/// (6–8), normals, radiance, the HDR output, the edge bits and the capture (9–13).
+fn bind_group(
+    ctx: &crate::graph::PassContext<'_>,
+    layout: &wgpu::BindGroupLayout,
+    buffers: &KernelBuffers<'_>,
+    depth: Handle<Texture>,
+    gbuffer: GBufferHandles,
+    hdr: Handle<Texture>,
+    shadows: &ShadowResources,
+) -> wgpu::BindGroup {
+    let view = |h| ctx.texture(h).create_view(&Default::default());
+    let (depth, albedo, normals, radiance, out) = (
+        view(depth),
+        view(gbuffer.albedo),
+        view(gbuffer.normals),
+        view(gbuffer.radiance),
+        view(hdr),
+    );
+    let tv = wgpu::BindingResource::TextureView;
+    let mut entries = crate::passes::entries(&[
+        buffers.params.as_entire_binding(),
+        buffers.lights.punctual_buffer.as_entire_binding(),
+        buffers.lights.directional_buffer.as_entire_binding(),
+        buffers.spheres.as_entire_binding(),
+        tv(&depth),
+        tv(&albedo),
+    ]);
+    entries.extend(shadows.entries());
+    let rest = [
+        tv(&normals),
+        tv(&radiance),
+        tv(&out),
+        buffers.edge_bits.as_entire_binding(),
+        buffers.captured.as_entire_binding(),
+    ];
+    entries.extend(
+        rest.into_iter()
+            .zip(9..)
+            .map(|(resource, binding)| wgpu::BindGroupEntry { binding, resource }),
+    );
+    ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("tbdr"),
+        layout,
+        entries: &entries,
+    })
+}

@@ -1,0 +1,595 @@
+//! Tile-based deferred shading: one workgroup per screen tile reads the G-buffer, bounds the
+//! tile's depth, culls the lights in workgroup memory and shades, per sample where the samples
+//! of a pixel differ.
+
+/// Tile-based deferred shading (TBDR) with per-sample MSAA, after reference 000 (Lauritzen's
+/// "Deferred Rendering for Current and Future Rendering Pipelines"): one dispatch, one
+/// workgroup of `tile`×`tile` invocations per tile, one invocation per pixel.
+///
+/// 1. **Depth bounds.** Every sample of the tile's pixels (sky, depth 1, excluded) folds into
+///    the tile's depth range, the opaque range of `tile_cull`.
+/// 2. **Edges.** A pixel is an *edge* when any of its samples differs from sample 0: one is sky
+///    and the other not, the sample lies off the plane of sample 0 (its point and geometric
+///    normal) by more than `depth_edge` of its view depth, the angle between their shading
+///    normals passes `acos(normal_edge)`, or albedo, metalness, roughness or base radiance
+///    differ by more than `material_edge` (the radiance relative to `1 + ` its size). Only edge
+///    pixels are shaded per sample.
+/// 3. **Light culling** in workgroup memory, with no cap and no drop: the lights are taken in
+///    chunks of `CHUNK`; each chunk's lights are tested against the tile's frustum (the side
+///    planes and the bounding box between the depth bounds, `light_grid`'s tests, as
+///    `tile_cull`'s) into `LIST`, which holds a whole chunk, then shaded, then the next chunk
+///    replaces them. With `scalarize` the append is one atomic per subgroup (ballot, exclusive
+///    add) and list entries are read as subgroup-uniform values.
+/// 4. **Shading** of sample 0 of every pixel, with the forward pass's light loop: `pbr`'s
+///    `shade_light` and `shadow_atlas`'s `shadow_visibility`, the base radiance (ambient and
+///    emissive, from the G-buffer) and every directional light. A pixel whose samples agree is
+///    shaded at its centre on sample 0's plane, where the forward pass shades it; a sample of
+///    an edge pixel at its own point, from its depth at its standard sample position.
+/// 5. **Per-sample shading** of the edge pixels' other samples: inline (each invocation shades
+///    its own pixel's samples) or, with `defer`, "defer per sample": the edge pixels go to a
+///    tile list, and every invocation of the tile drains `(pixel, sample)` items from it, so a
+///    few edge pixels do not hold the whole tile up. Item results are gathered back to their
+///    pixels through workgroup memory, one round of `tile`² items at a time.
+/// 6. The resolved HDR colour (the mean of the samples, sample 0 standing for all of a
+///    non-edge pixel) is stored to `HDR_OUT`. With `show_frequency`, edge pixels are drawn red
+///    (the shading-frequency view); with `record_edges`, each edge pixel sets its bit in
+///    `EDGE_BITS` (row-major, 32 pixels a word).
+///
+/// `capture_gbuffer` copies every sample of the G-buffer to `CAPTURE` (13 words per sample:
+/// depth, then the three targets' texels), so tools and tests can check the edge detector on
+/// the CPU.
+#[shader_dsl::shader(
+    axes(
+        tile: u32 = [8, 16] => "t",
+        msaa: u32 = [1, 2, 4, 8],
+        scalarize: bool = [false, true] => "scalar",
+        defer: bool = [false, true] => "defer",
+    ),
+    exclude(msaa == 1 && defer),
+    requires(subgroup = scalarize),
+    uses(
+        crate::shared::pbr,
+        crate::shared::light_grid,
+        crate::shared::shadow_atlas,
+        crate::shared::octahedral,
+    ),
+)]
+pub mod tbdr {
+    /// Invocations (pixels) per tile.
+    pub const TILE_THREADS: u32 = tile * tile;
+    /// Lights culled into workgroup memory at a time (the whole chunk fits, so none is dropped).
+    pub const CHUNK: u32 = 1024;
+    /// Words of `CAPTURE` per sample.
+    pub const CAPTURE_WORDS: u32 = 13;
+    const INFINITY_BITS: u32 = 0x7f80_0000;
+
+    /// The frame as the kernel needs it.
+    pub struct TbdrParams {
+        pub view: Mat4,
+        pub projection: Mat4,
+        pub inv_projection: Mat4,
+        pub world_from_view: Mat4,
+        pub eye: Vec3,
+        /// Punctual lights in `LIGHTS` and `SPHERES`.
+        pub light_count: u32,
+        /// HDR radiance where no surface is.
+        pub sky: Vec3,
+        /// Directional lights at the start of `DIRECTIONAL`.
+        pub directional_count: u32,
+        pub screen: UVec2,
+        /// 1: edge pixels are drawn red (the shading-frequency view).
+        pub show_frequency: u32,
+        /// 1: edge pixels set their bit in `EDGE_BITS`.
+        pub record_edges: u32,
+        /// Largest relative view-depth difference of a pixel's samples on one surface.
+        pub depth_edge: f32,
+        /// Smallest cosine between the shading normals of a pixel's samples on one surface.
+        pub normal_edge: f32,
+        /// Largest difference of a material channel of a pixel's samples on one surface.
+        pub material_edge: f32,
+        pub pad: f32,
+    }
+
+    /// One sample of the G-buffer.
+    struct GSample {
+        depth: f32,
+        albedo_metallic: Vec4,
+        normals: Vec4,
+        radiance_roughness: Vec4,
+    }
+
+    /// A G-buffer sample as the light loop takes it.
+    struct Shading {
+        sky: bool,
+        p: Vec3,
+        n: Vec3,
+        v: Vec3,
+        albedo: Vec3,
+        metallic: f32,
+        roughness: f32,
+        geometric_normal: Vec3,
+        view_depth: f32,
+        dither: f32,
+        /// Ambient × albedo × occlusion + emissive.
+        base: Vec3,
+    }
+
+    #[uniform(group = 0, binding = 0)]
+    static PARAMS: TbdrParams;
+    #[storage(group = 0, binding = 1)]
+    static LIGHTS: [GpuLight];
+    #[storage(group = 0, binding = 2)]
+    static DIRECTIONAL: [GpuLight];
+    /// World-space bounding sphere of each punctual light: centre, radius.
+    #[storage(group = 0, binding = 3)]
+    static SPHERES: [Vec4];
+    #[texture(group = 0, binding = 4)]
+    #[when(msaa == 1)]
+    static DEPTH: TextureDepth2d;
+    #[texture(group = 0, binding = 4)]
+    #[when(msaa > 1)]
+    static DEPTH_MS: TextureDepthMultisampled2d;
+    #[texture(group = 0, binding = 5)]
+    #[when(msaa == 1)]
+    static ALBEDO: Texture2d<f32>;
+    #[texture(group = 0, binding = 5)]
+    #[when(msaa > 1)]
+    static ALBEDO_MS: TextureMultisampled2d<f32>;
+    #[texture(group = 0, binding = 9)]
+    #[when(msaa == 1)]
+    static NORMALS: Texture2d<f32>;
+    #[texture(group = 0, binding = 9)]
+    #[when(msaa > 1)]
+    static NORMALS_MS: TextureMultisampled2d<f32>;
+    #[texture(group = 0, binding = 10)]
+    #[when(msaa == 1)]
+    static RADIANCE: Texture2d<f32>;
+    #[texture(group = 0, binding = 10)]
+    #[when(msaa > 1)]
+    static RADIANCE_MS: TextureMultisampled2d<f32>;
+    #[texture(group = 0, binding = 11)]
+    static HDR_OUT: StorageTexture2d<Rgba16Float, Write>;
+    #[storage(group = 0, binding = 12, read_write)]
+    static EDGE_BITS: [Atomic<u32>];
+    #[storage(group = 0, binding = 13, read_write)]
+    static CAPTURE: [f32];
+
+    #[workgroup]
+    static RANGE_MIN: Atomic<u32>;
+    #[workgroup]
+    static RANGE_MAX: Atomic<u32>;
+    #[workgroup]
+    static LIST_COUNT: Atomic<u32>;
+    #[workgroup]
+    static LIST: [u32; CHUNK];
+    #[workgroup]
+    static EDGE_COUNT: Atomic<u32>;
+    /// Edge pixels of the tile (invocation indices), for `defer`.
+    #[workgroup]
+    static EDGES: [u32; TILE_THREADS];
+    /// One round of deferred item colours, for `defer`.
+    #[workgroup]
+    static ITEM_COLOR: [Vec3; TILE_THREADS];
+
+    /// Sample `s` of pixel `p`.
+    fn load_sample(p: UVec2, s: u32) -> GSample {
+        let mut g = GSample {
+            depth: 1.0,
+            albedo_metallic: Vec4::ZERO,
+            normals: Vec4::ZERO,
+            radiance_roughness: Vec4::ZERO,
+        };
+        if msaa == 1 {
+            g.depth = DEPTH.load(p, 0u32);
+            g.albedo_metallic = ALBEDO.load(p, 0u32);
+            g.normals = NORMALS.load(p, 0u32);
+            g.radiance_roughness = RADIANCE.load(p, 0u32);
+        } else {
+            g.depth = DEPTH_MS.load(p, s);
+            g.albedo_metallic = ALBEDO_MS.load(p, s);
+            g.normals = NORMALS_MS.load(p, s);
+            g.radiance_roughness = RADIANCE_MS.load(p, s);
+        }
+        g
+    }
+
+    /// Where sample `s` lies in its pixel: the standard sample positions of Vulkan and D3D.
+    fn sample_offset(s: u32) -> Vec2 {
+        let mut o = Vec2::splat(0.5);
+        if msaa == 2 {
+            o = select(s == 0u32, Vec2::splat(0.75), Vec2::splat(0.25));
+        } else if msaa == 4 {
+            if s == 0u32 {
+                o = Vec2::new(0.375, 0.125);
+            } else if s == 1u32 {
+                o = Vec2::new(0.875, 0.375);
+            } else if s == 2u32 {
+                o = Vec2::new(0.125, 0.625);
+            } else {
+                o = Vec2::new(0.625, 0.875);
+            }
+        } else if msaa == 8 {
+            if s == 0u32 {
+                o = Vec2::new(0.5625, 0.3125);
+            } else if s == 1u32 {
+                o = Vec2::new(0.4375, 0.6875);
+            } else if s == 2u32 {
+                o = Vec2::new(0.8125, 0.5625);
+            } else if s == 3u32 {
+                o = Vec2::new(0.3125, 0.1875);
+            } else if s == 4u32 {
+                o = Vec2::new(0.1875, 0.8125);
+            } else if s == 5u32 {
+                o = Vec2::new(0.0625, 0.4375);
+            } else if s == 6u32 {
+                o = Vec2::new(0.6875, 0.9375);
+            } else {
+                o = Vec2::new(0.9375, 0.0625);
+            }
+        }
+        o
+    }
+
+    fn depth_to_view(d: f32) -> f32 {
+        view_depth(PARAMS.inv_projection, d)
+    }
+
+    fn largest(v: Vec4) -> f32 {
+        v.x.max(v.y).max(v.z.max(v.w))
+    }
+
+    /// The view-space point of sample `s` of pixel `p` at depth-buffer value `depth`.
+    fn view_point(p: UVec2, s: u32, depth: f32) -> Vec3 {
+        view_point_at(p.as_vec2() + sample_offset(s), depth)
+    }
+
+    /// The view-space point at window position `at` (pixels) and depth-buffer value `depth`.
+    fn view_point_at(at: Vec2, depth: f32) -> Vec3 {
+        let size = PARAMS.screen.as_vec2();
+        let ndc = Vec2::new(2.0 * at.x / size.x - 1.0, 1.0 - 2.0 * at.y / size.y);
+        let h = PARAMS.inv_projection * Vec4::new(ndc.x, ndc.y, depth, 1.0);
+        h.xyz() / h.w
+    }
+
+    /// Whether sample `s` (`b`) of pixel `p` belongs to another surface (or material) than
+    /// sample 0 (`a`): sky against surface, a point off sample 0's plane (its geometric normal)
+    /// by more than `depth_edge` of its view depth (so a slope within one triangle never
+    /// counts), shading normals further apart than `normal_edge`, or a material channel off by
+    /// more than `material_edge`.
+    fn differs(p: UVec2, s: u32, a: GSample, b: GSample) -> bool {
+        let sky_a = a.depth >= 1.0;
+        let sky_b = b.depth >= 1.0;
+        let mut edge = sky_a != sky_b;
+        if !sky_a && !sky_b {
+            let pa = view_point(p, 0u32, a.depth);
+            let pb = view_point(p, s, b.depth);
+            let plane = (PARAMS.view * octahedral_decode(a.normals.zw()).extend(0.0)).xyz();
+            let gap = plane.dot(pb - pa).abs();
+            let na = octahedral_decode(a.normals.xy());
+            let nb = octahedral_decode(b.normals.xy());
+            let material = largest((a.albedo_metallic - b.albedo_metallic).abs());
+            let ra = a.radiance_roughness;
+            let rb = b.radiance_roughness;
+            let scale = 1.0 + largest(ra.abs()).max(largest(rb.abs()));
+            let radiance = largest((ra - rb).abs()) / scale;
+            edge = gap > PARAMS.depth_edge * -pa.z
+                || na.dot(nb) < PARAMS.normal_edge
+                || material.max(radiance) > PARAMS.material_edge;
+        }
+        edge
+    }
+
+    /// The shading inputs of sample `s` of pixel `p`, `g` being that sample: at the sample's
+    /// own point.
+    fn shading_of(p: UVec2, s: u32, g: GSample) -> Shading {
+        shading_at(p, view_point(p, s, g.depth), g)
+    }
+
+    /// The shading inputs of a pixel whose samples are all sample 0 (`g`): at the pixel centre
+    /// on sample 0's plane (its point and geometric normal), where the forward pass shades it
+    /// too. A plane seen edge-on keeps sample 0's point.
+    fn centre_shading(p: UVec2, g: GSample) -> Shading {
+        let p0 = view_point(p, 0u32, g.depth);
+        let n = (PARAMS.view * octahedral_decode(g.normals.zw()).extend(0.0)).xyz();
+        let centre = p.as_vec2() + Vec2::splat(0.5);
+        let a = view_point_at(centre, 0.0);
+        let ray = view_point_at(centre, 0.5) - a;
+        let facing = n.dot(ray);
+        let mut point = p0;
+        if facing.abs() > 1.0e-6 * ray.length() {
+            point = a + ray * (n.dot(p0 - a) / facing);
+        }
+        shading_at(p, point, g)
+    }
+
+    /// The shading inputs of G-buffer sample `g` of pixel `p` at view-space point `view_p`.
+    fn shading_at(p: UVec2, view_p: Vec3, g: GSample) -> Shading {
+        let world = (PARAMS.world_from_view * view_p.extend(1.0)).xyz();
+        let pixel_centre = p.as_vec2() + Vec2::splat(0.5);
+        Shading {
+            sky: g.depth >= 1.0,
+            p: world,
+            n: octahedral_decode(g.normals.xy()),
+            v: (PARAMS.eye - world).normalize(),
+            albedo: g.albedo_metallic.xyz(),
+            metallic: g.albedo_metallic.w,
+            roughness: g.radiance_roughness.w,
+            geometric_normal: octahedral_decode(g.normals.zw()),
+            view_depth: -view_p.z,
+            dither: dither_noise(pixel_centre),
+            base: g.radiance_roughness.xyz(),
+        }
+    }
+
+    /// Radiance `light` reflects from `s` towards the eye, shadowed (the forward pass's).
+    fn light_contribution(light: GpuLight, s: Shading) -> Vec3 {
+        let radiance = shade_light(light, s.p, s.n, s.v, s.albedo, s.metallic, s.roughness);
+        let mut visibility = 1.0;
+        if radiance.x + radiance.y + radiance.z > 0.0 {
+            visibility = shadow_visibility(
+                light.shadow,
+                light.position,
+                s.p,
+                s.geometric_normal,
+                s.view_depth,
+                s.dither,
+            );
+        }
+        radiance * visibility
+    }
+
+    /// What does not depend on the culled lights: the sky, or the base radiance and every
+    /// directional light.
+    fn unculled(s: Shading) -> Vec3 {
+        let mut color = PARAMS.sky;
+        if !s.sky {
+            color = s.base;
+            for i in 0u32..PARAMS.directional_count {
+                color += light_contribution(DIRECTIONAL[i], s);
+            }
+        }
+        color
+    }
+
+    /// The first `n` lights of `LIST` at `s` (nothing for sky).
+    fn listed(s: Shading, n: u32) -> Vec3 {
+        let mut color = Vec3::ZERO;
+        if !s.sky {
+            for j in 0u32..n {
+                let mut index = LIST[j];
+                if scalarize {
+                    index = subgroup_broadcast_first(index);
+                }
+                color += light_contribution(LIGHTS[index], s);
+            }
+        }
+        color
+    }
+
+    /// Appends `light` to `LIST` when `hit`: one atomic per light, or with `scalarize` one per
+    /// subgroup, each lane taking its rank among the subgroup's hits.
+    fn list_append(hit: bool, light: u32, lid: u32) {
+        if scalarize {
+            let one = select(hit, 1u32, 0u32);
+            let hits = subgroup_add(one);
+            let rank = subgroup_exclusive_add(one);
+            let mut base = 0u32;
+            if subgroup_broadcast_first(lid) == lid && hits > 0u32 {
+                base = LIST_COUNT.fetch_add(hits);
+            }
+            base = subgroup_broadcast_first(base);
+            if hit {
+                LIST[base + rank] = light;
+            }
+        } else if hit {
+            LIST[LIST_COUNT.fetch_add(1u32)] = light;
+        }
+    }
+
+    /// Tests lights `start..start + count` against the tile's frustum into `LIST`.
+    fn cull_chunk(
+        start: u32,
+        count: u32,
+        lid: u32,
+        sides: SidePlanes,
+        rays: TileRays,
+        near: f32,
+        far: f32,
+    ) {
+        let mut i = lid;
+        while i < count {
+            let sphere = SPHERES[start + i];
+            let c = (PARAMS.view * sphere.xyz().extend(1.0)).xyz();
+            let r = sphere.w;
+            let hit = sphere_in_frustum(c, r, sides, near, far)
+                && sphere_reaches_box(c, r, rays, near, far);
+            list_append(hit, start + i, lid);
+            i += TILE_THREADS;
+        }
+    }
+
+    /// The pixel (within the screen) of invocation `lid` of tile `t`.
+    fn pixel_of(t: UVec2, lid: u32) -> UVec2 {
+        t * tile + UVec2::new(lid % tile, lid / tile)
+    }
+
+    #[compute(workgroup_size(tile * tile, 1, 1))]
+    pub fn shade(#[builtin(local_invocation_index)] lid: u32, #[builtin(workgroup_id)] wg: UVec3) {
+        if lid == 0u32 {
+            RANGE_MIN.store(INFINITY_BITS);
+            RANGE_MAX.store(0u32);
+            EDGE_COUNT.store(0u32);
+        }
+        workgroup_barrier();
+        let pixel = pixel_of(wg.xy(), lid);
+        let in_screen = pixel.x < PARAMS.screen.x && pixel.y < PARAMS.screen.y;
+
+        // Depth bounds of every sample, and the edge test against sample 0.
+        let mut g0 = load_sample(UVec2::ZERO, 0u32);
+        let mut edge = false;
+        if in_screen {
+            g0 = load_sample(pixel, 0u32);
+            let mut dmin = 2.0;
+            let mut dmax = -1.0;
+            for s in 0u32..msaa {
+                let g = load_sample(pixel, s);
+                if g.depth < 1.0 {
+                    dmin = dmin.min(g.depth);
+                    dmax = dmax.max(g.depth);
+                }
+                if s > 0u32 && differs(pixel, s, g0, g) {
+                    edge = true;
+                }
+            }
+            if dmin <= dmax {
+                RANGE_MIN.fetch_min(dmin.to_bits());
+                RANGE_MAX.fetch_max(dmax.to_bits());
+            }
+        }
+        let mut edge_slot = 0u32;
+        if edge {
+            if defer {
+                edge_slot = EDGE_COUNT.fetch_add(1u32);
+                EDGES[edge_slot] = lid;
+            }
+            if PARAMS.record_edges != 0u32 {
+                let bit = pixel.y * PARAMS.screen.x + pixel.x;
+                EDGE_BITS[bit / 32u32].fetch_or(1u32 << (bit % 32u32));
+            }
+        }
+        workgroup_barrier();
+
+        // The tile's frustum between its depth bounds.
+        let min_bits = RANGE_MIN.load();
+        let max_bits = RANGE_MAX.load();
+        let opaque = min_bits <= max_bits;
+        let near = depth_to_view(f32::from_bits(min_bits));
+        let far = depth_to_view(f32::from_bits(max_bits));
+        let size = PARAMS.screen.as_vec2();
+        let x0 = 2.0 * (wg.x * tile) as f32 / size.x - 1.0;
+        let x1 = 2.0 * ((wg.x + 1u32) * tile) as f32 / size.x - 1.0;
+        let y1 = 1.0 - 2.0 * (wg.y * tile) as f32 / size.y;
+        let y0 = 1.0 - 2.0 * ((wg.y + 1u32) * tile) as f32 / size.y;
+        let sides = side_planes(PARAMS.projection, x0, x1, y0, y1);
+        let rays = tile_rays(PARAMS.inv_projection, x0, x1, y0, y1);
+
+        let edges = EDGE_COUNT.load();
+        let items = edges * (msaa - 1u32);
+        let mut s0 = shading_of(pixel, 0u32, g0);
+        if !edge && g0.depth < 1.0 {
+            s0 = centre_shading(pixel, g0);
+        }
+        let mut color = Vec3::ZERO;
+        let mut extra = Vec3::ZERO;
+        let mut acc = [
+            Vec3::ZERO,
+            Vec3::ZERO,
+            Vec3::ZERO,
+            Vec3::ZERO,
+            Vec3::ZERO,
+            Vec3::ZERO,
+            Vec3::ZERO,
+        ];
+        if in_screen {
+            color = unculled(s0);
+            if !defer && edge {
+                for s in 1u32..msaa {
+                    extra += unculled(shading_of(pixel, s, load_sample(pixel, s)));
+                }
+            }
+        }
+        if defer {
+            for r in 0u32..msaa - 1u32 {
+                let item = r * TILE_THREADS + lid;
+                if item < items {
+                    let p = pixel_of(wg.xy(), EDGES[item % edges]);
+                    let s = 1u32 + item / edges;
+                    acc[r] = unculled(shading_of(p, s, load_sample(p, s)));
+                }
+            }
+        }
+
+        // The lights, a chunk at a time: cull into LIST, shade, repeat.
+        let mut start = 0u32;
+        while start < PARAMS.light_count {
+            if lid == 0u32 {
+                LIST_COUNT.store(0u32);
+            }
+            workgroup_barrier();
+            if opaque {
+                let count = (PARAMS.light_count - start).min(CHUNK);
+                cull_chunk(start, count, lid, sides, rays, near, far);
+            }
+            workgroup_barrier();
+            let n = LIST_COUNT.load();
+            if in_screen {
+                color += listed(s0, n);
+                if !defer && edge {
+                    for s in 1u32..msaa {
+                        extra += listed(shading_of(pixel, s, load_sample(pixel, s)), n);
+                    }
+                }
+            }
+            if defer {
+                for r in 0u32..msaa - 1u32 {
+                    let item = r * TILE_THREADS + lid;
+                    if item < items {
+                        let p = pixel_of(wg.xy(), EDGES[item % edges]);
+                        let s = 1u32 + item / edges;
+                        acc[r] += listed(shading_of(p, s, load_sample(p, s)), n);
+                    }
+                }
+            }
+            workgroup_barrier();
+            start += CHUNK;
+        }
+
+        // Deferred items back to their pixels, a round at a time.
+        if defer {
+            for r in 0u32..msaa - 1u32 {
+                ITEM_COLOR[lid] = acc[r];
+                workgroup_barrier();
+                if edge {
+                    for s in 1u32..msaa {
+                        let item = (s - 1u32) * edges + edge_slot;
+                        if item >= r * TILE_THREADS && item < (r + 1u32) * TILE_THREADS {
+                            extra += ITEM_COLOR[item - r * TILE_THREADS];
+                        }
+                    }
+                }
+                workgroup_barrier();
+            }
+        }
+
+        if in_screen {
+            let mut resolved = color;
+            if edge {
+                resolved = (color + extra) / msaa as f32;
+                if PARAMS.show_frequency != 0u32 {
+                    resolved = resolved * 0.25 + Vec3::new(8.0, 0.0, 0.0);
+                }
+            }
+            HDR_OUT.store(pixel, resolved.extend(1.0));
+        }
+    }
+
+    /// Copies every sample of pixel `gid.xy` to `CAPTURE`: per sample, depth then the albedo,
+    /// normal and radiance texels (`CAPTURE_WORDS` words), samples of a pixel together, pixels
+    /// row-major.
+    #[compute(workgroup_size(8, 8, 1))]
+    pub fn capture_gbuffer(#[builtin(global_invocation_id)] gid: UVec3) {
+        let p = gid.xy();
+        if p.x < PARAMS.screen.x && p.y < PARAMS.screen.y {
+            for s in 0u32..msaa {
+                let g = load_sample(p, s);
+                let base = ((p.y * PARAMS.screen.x + p.x) * msaa + s) * CAPTURE_WORDS;
+                CAPTURE[base] = g.depth;
+                for k in 0u32..4u32 {
+                    CAPTURE[base + 1u32 + k] = g.albedo_metallic[k];
+                    CAPTURE[base + 5u32 + k] = g.normals[k];
+                    CAPTURE[base + 9u32 + k] = g.radiance_roughness[k];
+                }
+            }
+        }
+    }
+}
