@@ -348,6 +348,32 @@ fn the_shading_frequency_view_marks_edges_red_and_bad_settings_are_errors() {
             "{red_other} other pixels are red"
         );
 
+        let passes = Renderer::new(
+            gpu,
+            RendererConfig {
+                path: RenderPath::TbdrPerSample,
+                ..Default::default()
+            },
+        )
+        .expect("renderer")
+        .pass_names();
+        assert_eq!(
+            passes,
+            [
+                "pre-z",
+                "light culling",
+                "shadow atlas",
+                "particle simulation",
+                "particle lighting",
+                "gbuffer",
+                "tbdr shading",
+                "forward",
+                "particles",
+                "tonemap",
+                "depth probe"
+            ]
+        );
+
         let bad = |config: RendererConfig| {
             Renderer::new(gpu, config)
                 .map(|_| ())

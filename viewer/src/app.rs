@@ -272,7 +272,7 @@ impl Running {
     fn action(&mut self, key: char, shown: &Shown) -> Result<()> {
         let mut config = self.config;
         match key {
-            '1'..='5' => config.path = RenderPath::ALL[key as usize - '1' as usize],
+            '1'..='7' => config.path = RenderPath::ALL[key as usize - '1' as usize],
             'm' => {
                 let counts = self.gpu.capabilities().msaa_counts();
                 let i = counts.iter().position(|&c| c == config.msaa).unwrap_or(0);
@@ -314,6 +314,12 @@ impl Running {
                 config.view = match config.view {
                     FrameView::ParticleAtlas => FrameView::Lit,
                     _ => FrameView::ParticleAtlas,
+                }
+            }
+            'f' => {
+                config.view = match config.view {
+                    FrameView::ShadingFrequency => FrameView::Lit,
+                    _ => FrameView::ShadingFrequency,
                 }
             }
             '+' => self.light_count = (self.light_count * 2).clamp(1, 65_536),
@@ -366,6 +372,9 @@ impl Running {
             KeyCode::Digit3 => self.action('3', shown)?,
             KeyCode::Digit4 => self.action('4', shown)?,
             KeyCode::Digit5 => self.action('5', shown)?,
+            KeyCode::Digit6 => self.action('6', shown)?,
+            KeyCode::Digit7 => self.action('7', shown)?,
+            KeyCode::KeyF => self.action('f', shown)?,
             KeyCode::KeyM => self.action('m', shown)?,
             KeyCode::KeyT => self.action('t', shown)?,
             KeyCode::KeyH => self.action('h', shown)?,

@@ -69,7 +69,7 @@ impl Overlay {
                         ui.end_row();
                     });
                     ui.separator();
-                    ui.small("WASD/QE fly, drag to look, 1-5 path, M MSAA, T tile, H heatmap, C decal heatmap, V shadow atlas, P particle lighting (atlas / per pixel), O particle atlas, +/- lights");
+                    ui.small("WASD/QE fly, drag to look, 1-7 path (6, 7: TBDR), M MSAA, T tile, H heatmap, C decal heatmap, V shadow atlas, P particle lighting (atlas / per pixel), O particle atlas, F shading frequency (TBDR), +/- lights");
                 });
         });
         self.state

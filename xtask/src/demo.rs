@@ -5,7 +5,9 @@
 //! `target/demo/shadow_atlas.png` (the shadow atlas, regions labelled), `target/demo/decals.png`
 //! (decals per pixel: 96 procedural decals lie on the courtyard, applied before lighting),
 //! `target/demo/particle_atlas.png` (the lighting atlas of 20,000 particles of smoke, sparks and
-//! dust, lit once per frame and drawn blended in `frame.png`) and `target/demo/graph.dot` (the
+//! dust, lit once per frame and drawn blended in `frame.png`),
+//! `target/demo/shading_frequency.png` (the same frame by tile-based deferred shading, the
+//! pixels it shaded per sample in red) and `target/demo/graph.dot` (the
 //! compiled frame graph), then moves a sphere marked dynamic over
 //! three frames and reports what the shadow cache redrew, with a summary of at most about 20
 //! lines.
@@ -13,11 +15,11 @@
 use anyhow::{Context as _, Result};
 use glam::{Mat4, Vec3};
 use renderer::frame::setup::{create_target, moving_instance};
-use renderer::frame::{FrameView, Renderer};
+use renderer::frame::{FrameView, RenderPath, Renderer, RendererConfig};
 use renderer::scene::{LightKind, SceneLight};
 use renderer::shadow::ShadowReport;
 
-use crate::render::{Setup, Shot, save_png, save_text, setup, shadow_summary, shoot};
+use crate::render::{Setup, Shot, save_png, save_text, setup, shadow_summary, shoot, shoot_with};
 
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -73,6 +75,12 @@ pub fn run(args: &Args) -> Result<()> {
     let decal_heat = shoot(&s, FrameView::DecalHeatmap, false)?;
     let atlas = shoot(&s, FrameView::ShadowAtlas, false)?;
     let particle_atlas = shoot(&s, FrameView::ParticleAtlas, false)?;
+    let frequency = RendererConfig {
+        path: RenderPath::TbdrPerSample,
+        view: FrameView::ShadingFrequency,
+        ..s.config
+    };
+    let frequency = shoot_with(&s, frequency, false)?;
     let moving = moving_sphere(&s)?;
     let dir = args
         .out_dir
@@ -85,6 +93,7 @@ pub fn run(args: &Args) -> Result<()> {
         dir.join("shadow_atlas.png"),
         dir.join("decals.png"),
         dir.join("particle_atlas.png"),
+        dir.join("shading_frequency.png"),
         dir.join("graph.dot"),
     ];
     save_png(&files[0], &lit.rgba, size)?;
@@ -92,7 +101,8 @@ pub fn run(args: &Args) -> Result<()> {
     save_png(&files[2], &atlas.rgba, size)?;
     save_png(&files[3], &decal_heat.rgba, size)?;
     save_png(&files[4], &particle_atlas.rgba, size)?;
-    save_text(&files[5], &lit.report.graph_dot)?;
+    save_png(&files[5], &frequency.rgba, size)?;
+    save_text(&files[6], &lit.report.graph_dot)?;
     summary(&s, &lit, &files, started.elapsed().as_secs_f64());
     print_moving(&moving);
     Ok(())

@@ -325,7 +325,11 @@ fn decal_set(args: &Args, scene: &Scene) -> Result<DecalSet> {
 
 /// Renders one frame of `view` (and measures the cull efficiency when `efficiency`).
 pub fn shoot(s: &Setup, view: FrameView, efficiency: bool) -> Result<Shot> {
-    let config = RendererConfig { view, ..s.config };
+    shoot_with(s, RendererConfig { view, ..s.config }, efficiency)
+}
+
+/// [`shoot`] with settings of its own (another path or view of the same set-up).
+pub fn shoot_with(s: &Setup, config: RendererConfig, efficiency: bool) -> Result<Shot> {
     let mut renderer = Renderer::new(&s.gpu, config)?;
     renderer.prepare_scene(&s.scene);
     renderer.set_lights(&s.lights)?;
@@ -352,7 +356,7 @@ pub fn shoot(s: &Setup, view: FrameView, efficiency: bool) -> Result<Shot> {
         None => None,
     };
     let mut rgba = readback::read_texture_rgba8(&s.gpu.device, &s.gpu.queue, &target)?;
-    if let (FrameView::ShadowAtlas, Some(shadows)) = (view, &report.shadows) {
+    if let (FrameView::ShadowAtlas, Some(shadows)) = (config.view, &report.shadows) {
         let size = (config.width, config.height);
         if let Err(e) =
             crate::atlas_labels::label(&mut rgba, size, config.shadows.atlas_size, shadows)

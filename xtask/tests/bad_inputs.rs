@@ -46,11 +46,20 @@ fn every_option_refuses_bad_values_with_a_clear_message() {
     refused(&["--tile", "7"], "--tile 7: use 8, 16 or 32");
     refused(
         &["--path", "warp"],
-        "path \"warp\": use naive, naive-prez, tiled, 2.5d or clustered",
+        "path \"warp\": use naive, naive-prez, tiled, 2.5d, clustered, tbdr or tbdr-per-sample",
     );
     refused(
         &["--view", "x"],
-        "--view \"x\": use lit, heatmap, decals, shadow-atlas or particle-atlas",
+        "--view \"x\": use lit, heatmap, decals, shadow-atlas, particle-atlas or \
+         shading-frequency",
+    );
+    refused(
+        &["--view", "shading-frequency"],
+        "--view shading-frequency: use --path tbdr or tbdr-per-sample",
+    );
+    refused(
+        &["--path", "tbdr", "--tile", "32"],
+        "tile size 32 does not suit the TBDR paths: use 8 or 16",
     );
     refused(
         &["--view", "particle-atlas"],

@@ -78,6 +78,9 @@ pub fn expand(axes: &Axes, support: &Support) -> (Vec<Setup>, Vec<String>) {
             ));
         }
     }
+    if axes.tiles.contains(&32) && axes.paths.iter().any(|p| p.0.is_deferred()) {
+        left_out.push("tile 32 on the TBDR paths: their tiles are 8 or 16".into());
+    }
     if axes.scalarize.contains(&true) && !support.subgroup {
         left_out.push("scalarize on: the adapter has no SUBGROUP feature".into());
     }
@@ -85,7 +88,16 @@ pub fn expand(axes: &Axes, support: &Support) -> (Vec<Setup>, Vec<String>) {
         for &(width, height) in &axes.sizes {
             for &msaa in axes.msaa.iter().filter(|m| support.msaa.contains(m)) {
                 for &path in &axes.paths {
-                    let tiles: &[u32] = if path.has_tiles() { &axes.tiles } else { &[0] };
+                    // TBDR tiles are 8 or 16 (one invocation per pixel).
+                    let tbdr_tiles: Vec<u32> =
+                        axes.tiles.iter().copied().filter(|t| *t <= 16).collect();
+                    let tiles: &[u32] = if path.0.is_deferred() {
+                        &tbdr_tiles
+                    } else if path.has_tiles() {
+                        &axes.tiles
+                    } else {
+                        &[0]
+                    };
                     let scalar: Vec<bool> = if path.has_scalarize() {
                         axes.scalarize
                             .iter()
@@ -95,7 +107,7 @@ pub fn expand(axes: &Axes, support: &Support) -> (Vec<Setup>, Vec<String>) {
                     } else {
                         vec![false]
                     };
-                    let brute: &[bool] = if path.has_tiles() {
+                    let brute: &[bool] = if path.has_tiles() && !path.0.is_deferred() {
                         &axes.brute_force
                     } else {
                         &[false]

@@ -55,7 +55,7 @@ pub struct Args {
     /// MSAA counts (those the adapter lacks are left out, and said so).
     #[arg(long, value_delimiter = ',', default_value = "1,2,4,8")]
     msaa: Vec<u32>,
-    /// Paths: naive, naive-prez, tiled, 2.5d, clustered.
+    /// Paths: naive, naive-prez, tiled, 2.5d, clustered, tbdr, tbdr-per-sample.
     #[arg(
         long,
         value_delimiter = ',',
@@ -437,8 +437,8 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
                             measure::measure(&mut renderer, &target, &camera, &mut advance, plan)?;
                         previous = Some((n, m.wall_per_frame));
                         record.fill(&m, &renderer);
-                        let culled = setup.path.0 != RenderPath::Naive
-                            && setup.path.0 != RenderPath::NaivePrez;
+                        // The deferred paths cull in workgroup memory: no lists to measure.
+                        let culled = setup.path.0.is_culled() && !setup.path.0.is_deferred();
                         // Cull efficiency is a property of the lights: measured once, without decals.
                         if culled && d == args.decals[0] {
                             let stride = probe_stride(setup.width, setup.height, args.probes);
