@@ -83,6 +83,14 @@ pub struct PreparedScene {
 }
 
 impl PreparedScene {
+    /// Whether any material is alpha-blended (drawn after the opaque surfaces, absent from the
+    /// pre-Z depth).
+    pub fn has_blended(&self) -> bool {
+        self.materials
+            .iter()
+            .any(|m| m.alpha_mode == AlphaMode::Blend)
+    }
+
     /// Uploads `scene` and builds its bind groups against the layouts the DSL reflects for the
     /// forward program's groups 1 (draw) and 2 (material), which the pre-Z programs share for
     /// group 1, and the masked pre-Z program's group 2. wgpu treats layouts with equal entries

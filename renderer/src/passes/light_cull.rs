@@ -142,11 +142,7 @@ impl LightCullPass {
         let items = (frame.lights.spheres.len() as u32 + frame.decals.count())
             .max(1)
             .next_power_of_two();
-        let has_blend = frame
-            .scene
-            .materials
-            .iter()
-            .any(|m| m.alpha_mode == crate::scene::AlphaMode::Blend);
+        let has_blend = frame.scene.has_blended();
         // Skipping froxels without a depth sample is exact only when every shaded point is a
         // depth sample: no blended surfaces (absent from pre-Z) and no MSAA (an edge fragment is
         // shaded at the pixel centre, which may lie in a froxel no visible sample occupies).

@@ -432,7 +432,10 @@ pub mod tbdr {
             let mut dmin = 2.0;
             let mut dmax = -1.0;
             for s in 0u32..msaa {
-                let g = load_sample(pixel, s);
+                let mut g = g0;
+                if s > 0u32 {
+                    g = load_sample(pixel, s);
+                }
                 if g.depth < 1.0 {
                     dmin = dmin.min(g.depth);
                     dmax = dmax.max(g.depth);

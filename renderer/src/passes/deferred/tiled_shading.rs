@@ -53,6 +53,7 @@ impl TbdrRecord {
 #[derive(Debug)]
 struct Recording {
     size: (u32, u32),
+    msaa: u32,
     edge_bits: wgpu::Buffer,
     gbuffer: wgpu::Buffer,
 }
@@ -145,9 +146,7 @@ impl TbdrPass {
         Ok(Some(TbdrRecord {
             width: r.size.0,
             height: r.size.1,
-            msaa: (r.gbuffer.size() / 4 / u64::from(tbdr::CAPTURE_WORDS))
-                .checked_div(u64::from(r.size.0 * r.size.1))
-                .unwrap_or(0) as u32,
+            msaa: r.msaa,
             edge_bits: crate::readback::read_buffer(device, queue, &r.edge_bits)?,
             gbuffer: crate::readback::read_buffer(device, queue, &r.gbuffer)?,
         }))
@@ -204,7 +203,8 @@ impl Pass for TbdrPass {
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
         let c = &frame.config;
         let size = (c.width, c.height);
-        if self.record && self.recording.as_ref().is_none_or(|r| r.size != size) {
+        let stale = |r: &Recording| r.size != size || r.msaa != c.msaa;
+        if self.record && self.recording.as_ref().is_none_or(stale) {
             let pixels = u64::from(c.width) * u64::from(c.height);
             let buffer = |label, size: u64| {
                 self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
@@ -218,6 +218,7 @@ impl Pass for TbdrPass {
             };
             self.recording = Some(Recording {
                 size,
+                msaa: c.msaa,
                 edge_bits: buffer("tbdr edge bits", pixels.div_ceil(32) * 4),
                 gbuffer: buffer(
                     "tbdr gbuffer capture",

@@ -220,11 +220,7 @@ impl Pass for ForwardPass {
             input,
         };
         let deferred = c.path.is_deferred();
-        let has_blend = frame
-            .scene
-            .materials
-            .iter()
-            .any(|m| m.alpha_mode == AlphaMode::Blend);
+        let has_blend = frame.scene.has_blended();
         if deferred && !has_blend && frame.particles.is_none() {
             return Ok(());
         }
