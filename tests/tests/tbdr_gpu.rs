@@ -1,8 +1,10 @@
-//! Tile-based deferred shading end to end: the TBDR images (each pixel shading its own samples,
-//! and deferred per-sample shading) equal the naive forward image at MSAA 1 and 4, on the
-//! committed glTF scene (every alpha mode) and the courtyard (thin grates, high-contrast
-//! silhouettes), and at edge pixels, which only per-sample shading gets right; the edge detector
-//! equals a CPU reference on the captured G-buffer; shading sample 0 everywhere fails.
+//! Deferred shading end to end: the TBDR images (each pixel shading its own samples, and
+//! deferred per-sample shading) and traditional deferred shading's (light volumes) equal the
+//! naive forward image at MSAA 1 and 4, on the committed glTF scene (every alpha mode) and the
+//! courtyard (thin grates, high-contrast silhouettes), and at edge pixels, which only
+//! per-sample shading gets right; the edge detector equals a CPU reference on the captured
+//! G-buffer; shading sample 0 everywhere fails; light volumes shade every pixel they reach with
+//! the camera inside them and past the far plane.
 
 use renderer::frame::setup::{courtyard_look, create_target, default_camera, procedural_lights};
 use renderer::frame::{FrameCamera, RenderPath, Renderer, RendererConfig};
@@ -136,13 +138,17 @@ fn at_edges(d: &[u8], record: &TbdrRecord) -> Vec<u8> {
 }
 
 #[test]
-fn tbdr_equals_naive_forward_at_msaa_1_and_4_and_per_sample_at_edges() {
+fn deferred_paths_equal_naive_forward_at_msaa_1_and_4_and_per_sample_at_edges() {
     gpu_test(|gpu| {
         for (name, stage) in [("courtyard", courtyard_stage()), ("glTF", gltf_stage())] {
             for msaa in [1, 4] {
                 let default = EdgeThresholds::default();
                 let (naive, _) = frame(gpu, &stage, RenderPath::NaivePrez, msaa, default, false);
-                for path in [RenderPath::Tbdr, RenderPath::TbdrPerSample] {
+                for path in [
+                    RenderPath::Tbdr,
+                    RenderPath::TbdrPerSample,
+                    RenderPath::Deferred,
+                ] {
                     let what = format!("{name}, {}, MSAA {msaa}", path.name());
                     let (tbdr, record) = frame(gpu, &stage, path, msaa, default, true);
                     let record = record.expect("recorded");
@@ -311,67 +317,75 @@ fn the_shading_frequency_view_marks_edges_red_and_bad_settings_are_errors() {
         let t = EdgeThresholds::default();
         let (_, record) = frame(gpu, &stage, RenderPath::Tbdr, 4, t, true);
         let record = record.expect("recorded");
-        let config = courtyard_look(RendererConfig {
-            width: stage.size.0,
-            height: stage.size.1,
-            msaa: 4,
-            path: RenderPath::Tbdr,
-            view: FrameView::ShadingFrequency,
-            ..Default::default()
-        });
-        let mut renderer = Renderer::new(gpu, config).expect("renderer");
-        renderer.prepare_scene(&stage.scene);
-        renderer.set_lights(&stage.lights).expect("lights fit");
-        let target = create_target(&gpu.device, &config);
-        renderer.render(&stage.camera, &target).expect("frame");
-        renderer.finish();
-        let rgba =
-            readback::read_texture_rgba8(&gpu.device, &gpu.queue, &target).expect("readback");
-        let red = |p: &[u8]| p[0] > 200 && p[1] < 120 && p[2] < 120;
-        let (mut edges, mut red_edges, mut red_other) = (0, 0, 0);
-        for (i, p) in rgba.chunks(4).enumerate() {
-            let (x, y) = (i as u32 % record.width, i as u32 / record.width);
-            if record.is_edge(x, y) {
-                edges += 1;
-                red_edges += u32::from(red(p));
-            } else {
-                red_other += u32::from(red(p));
-            }
-        }
-        // Blended glass drawn over a few edges tints them.
-        assert!(
-            edges > 300 && red_edges * 100 >= edges * 98,
-            "{red_edges} of {edges} edge pixels are red"
-        );
-        assert!(
-            red_other * 100 < rgba.len() as u32 / 4,
-            "{red_other} other pixels are red"
-        );
-
-        let passes = Renderer::new(
-            gpu,
-            RendererConfig {
-                path: RenderPath::TbdrPerSample,
+        // Traditional deferred marks edges in its base pass; its light volumes leave them red.
+        for path in [RenderPath::Tbdr, RenderPath::Deferred] {
+            let config = courtyard_look(RendererConfig {
+                width: stage.size.0,
+                height: stage.size.1,
+                msaa: 4,
+                path,
+                view: FrameView::ShadingFrequency,
                 ..Default::default()
-            },
-        )
-        .expect("renderer")
-        .pass_names();
-        assert_eq!(
-            passes,
-            [
+            });
+            let mut renderer = Renderer::new(gpu, config).expect("renderer");
+            renderer.prepare_scene(&stage.scene);
+            renderer.set_lights(&stage.lights).expect("lights fit");
+            let target = create_target(&gpu.device, &config);
+            renderer.render(&stage.camera, &target).expect("frame");
+            renderer.finish();
+            let rgba =
+                readback::read_texture_rgba8(&gpu.device, &gpu.queue, &target).expect("readback");
+            let red = |p: &[u8]| p[0] > 200 && p[1] < 120 && p[2] < 120;
+            let (mut edges, mut red_edges, mut red_other) = (0, 0, 0);
+            for (i, p) in rgba.chunks(4).enumerate() {
+                let (x, y) = (i as u32 % record.width, i as u32 / record.width);
+                if record.is_edge(x, y) {
+                    edges += 1;
+                    red_edges += u32::from(red(p));
+                } else {
+                    red_other += u32::from(red(p));
+                }
+            }
+            // Blended glass drawn over a few edges tints them.
+            assert!(
+                edges > 300 && red_edges * 100 >= edges * 98,
+                "{}: {red_edges} of {edges} edge pixels are red",
+                path.name()
+            );
+            assert!(
+                red_other * 100 < rgba.len() as u32 / 4,
+                "{}: {red_other} other pixels are red",
+                path.name()
+            );
+        }
+
+        let passes_of = |path| {
+            let config = RendererConfig {
+                path,
+                ..Default::default()
+            };
+            Renderer::new(gpu, config).expect("renderer").pass_names()
+        };
+        let around = |shading: &[&'static str]| {
+            let mut passes = vec![
                 "pre-z",
                 "light culling",
                 "shadow atlas",
                 "particle simulation",
                 "particle lighting",
                 "gbuffer",
-                "tbdr shading",
-                "forward",
-                "particles",
-                "tonemap",
-                "depth probe"
-            ]
+            ];
+            passes.extend(shading);
+            passes.extend(["forward", "particles", "tonemap", "depth probe"]);
+            passes
+        };
+        assert_eq!(
+            passes_of(RenderPath::TbdrPerSample),
+            around(&["tbdr shading"])
+        );
+        assert_eq!(
+            passes_of(RenderPath::Deferred),
+            around(&["deferred base", "light volumes"])
         );
 
         let bad = |config: RendererConfig| {
@@ -385,12 +399,73 @@ fn the_shading_frequency_view_marks_edges_red_and_bad_settings_are_errors() {
             path: RenderPath::Tiled,
             ..Default::default()
         };
-        assert!(bad(tiled).contains("use --path tbdr or tbdr-per-sample"));
+        assert!(bad(tiled).contains("use --path tbdr, tbdr-per-sample or deferred"));
         let wide = RendererConfig {
             path: RenderPath::Tbdr,
             tile: 32,
             ..Default::default()
         };
         assert!(bad(wide).contains("use 8 or 16"));
+    });
+}
+
+/// Light volumes are the back faces of each light's bounding cube, drawn without a depth test:
+/// with the camera inside a volume (its front faces are behind the camera) and with a volume
+/// reaching past the far plane (its back faces would be clipped there), they must still cover
+/// every pixel the light reaches. Drawing front faces instead, or clipping at the far plane,
+/// leaves those pixels unlit.
+#[test]
+fn light_volumes_cover_pixels_from_inside_a_volume_and_past_the_far_plane() {
+    gpu_test(|gpu| {
+        let mut stage = gltf_stage();
+        let bounds = stage.scene.bounds;
+        let (centre, size) = (bounds.center(), (bounds.max - bounds.min).length());
+        let eye = stage.camera.eye;
+        let to_centre = (centre - eye).length();
+        let light = |position, range: f32| SceneLight {
+            kind: renderer::scene::LightKind::Point,
+            position,
+            direction: glam::Vec3::NEG_Z,
+            color: glam::Vec3::new(1.0, 0.8, 0.6),
+            intensity: range * range * 2.0,
+            range: Some(range),
+            casts_shadow: false,
+        };
+        // In front of the scene, outside the camera, its cube's far faces past the far plane.
+        let before = centre - (centre - eye).normalize() * size * 0.1;
+        let aspect = stage.size.0 as f32 / stage.size.1 as f32;
+        stage.camera = FrameCamera::look_at(
+            eye,
+            centre,
+            glam::Vec3::Y,
+            45f32.to_radians(),
+            aspect,
+            (size * 0.02, to_centre + size * 0.55),
+        );
+        let edges = EdgeThresholds::default();
+        stage.lights = Vec::new();
+        let (unlit, _) = frame(gpu, &stage, RenderPath::NaivePrez, 1, edges, false);
+        for (what, lights) in [
+            ("camera inside", light(eye, to_centre + size * 0.3)),
+            ("past the far plane", light(before, size * 0.8)),
+        ] {
+            stage.lights = vec![lights];
+            for msaa in [1, 4] {
+                let (naive, _) = frame(gpu, &stage, RenderPath::NaivePrez, msaa, edges, false);
+                let (volumes, _) = frame(gpu, &stage, RenderPath::Deferred, msaa, edges, false);
+                let (lit_mean, _, _) = stats(&pixel_differences(&unlit, &volumes));
+                let (mean, p99, largest) = stats(&pixel_differences(&naive, &volumes));
+                eprintln!(
+                    "{what}, MSAA {msaa}: the light adds mean {lit_mean:.2}; against naive \
+                     forward mean {mean:.3}, 99th percentile {p99}, largest {largest}"
+                );
+                assert!(lit_mean > 4.0, "{what}: the light adds only {lit_mean:.2}");
+                assert!(
+                    mean <= MEAN_TOLERANCE && p99 <= P99_TOLERANCE,
+                    "{what}, MSAA {msaa}: light volumes differ from naive forward by mean \
+                     {mean:.3}, 99th percentile {p99}"
+                );
+            }
+        }
     });
 }

@@ -69,8 +69,11 @@ pub struct Args {
     /// the courtyard, 3%..20% of a file scene's size.
     #[arg(long, value_parser = parse_radius_range)]
     pub light_radius: Option<(f32, f32)>,
-    /// naive | naive-prez | tiled | 2.5d | clustered (naive: every light at every fragment, no
-    /// pre-pass; naive-prez: the same after a depth pre-pass).
+    /// naive | naive-prez | tiled | 2.5d | clustered | tbdr | tbdr-per-sample | deferred
+    /// (naive: every light at every fragment, no pre-pass; naive-prez: the same after a depth
+    /// pre-pass; tbdr: tile-based deferred shading in compute, tbdr-per-sample with the edge
+    /// pixels' samples drained from a tile list; deferred: traditional deferred shading, a
+    /// light volume per light).
     #[arg(long, default_value = "tiled")]
     pub path: String,
     /// MSAA sample count: 1, 2, 4 or 8 (as the adapter supports).
@@ -168,7 +171,7 @@ pub fn setup(args: &Args) -> Result<Setup> {
         }
     };
     if view == FrameView::ShadingFrequency && !path.is_deferred() {
-        bail!("--view shading-frequency: use --path tbdr or tbdr-per-sample");
+        bail!("--view shading-frequency: use --path tbdr, tbdr-per-sample or deferred");
     }
     if view == FrameView::ParticleAtlas && args.particles == 0 {
         bail!("--view particle-atlas: the frame has no particles; add --particles N");

@@ -46,7 +46,7 @@ fn every_option_refuses_bad_values_with_a_clear_message() {
     refused(&["--tile", "7"], "--tile 7: use 8, 16 or 32");
     refused(
         &["--path", "warp"],
-        "path \"warp\": use naive, naive-prez, tiled, 2.5d, clustered, tbdr or tbdr-per-sample",
+        "path \"warp\": use naive, naive-prez, tiled, 2.5d, clustered, tbdr, tbdr-per-sample or deferred",
     );
     refused(
         &["--view", "x"],
@@ -55,7 +55,7 @@ fn every_option_refuses_bad_values_with_a_clear_message() {
     );
     refused(
         &["--view", "shading-frequency"],
-        "--view shading-frequency: use --path tbdr or tbdr-per-sample",
+        "--view shading-frequency: use --path tbdr, tbdr-per-sample or deferred",
     );
     refused(
         &["--path", "tbdr", "--tile", "32"],

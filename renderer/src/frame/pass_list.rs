@@ -3,7 +3,7 @@
 use crate::GpuContext;
 use crate::frame_data::{FrameView, ParticleLighting, RenderError, RenderPath, RendererConfig};
 use crate::passes::Pass;
-use crate::passes::deferred::{GBufferPass, TbdrPass};
+use crate::passes::deferred::{GBufferPass, LightVolumePass, TbdrPass};
 use crate::passes::depth_probe::DepthProbePass;
 use crate::passes::forward::ForwardPass;
 use crate::passes::heatmap::HeatmapPass;
@@ -21,7 +21,8 @@ use crate::passes::tonemap::TonemapPass;
 /// | naive-prez | pre-Z → shadow atlas → particles* → forward → particle draw → tonemap → depth probe |
 /// | tiled, 2.5D, clustered | pre-Z → light culling → shadow atlas → particles* → forward → particle draw → tonemap → depth probe |
 /// | tbdr, tbdr-per-sample | pre-Z → light culling† → shadow atlas → particles* → G-buffer → TBDR shading → forward‡ → particle draw → tonemap → depth probe |
-/// | shading-frequency view | as the TBDR path, edge pixels red |
+/// | deferred | pre-Z → light culling† → shadow atlas → particles* → G-buffer → deferred base → light volumes → forward‡ → particle draw → tonemap → depth probe |
+/// | shading-frequency view | as the deferred path, edge pixels red |
 /// | particle-atlas view | as the path, the tonemap showing the lit atlas |
 /// | heatmap view (culled paths) | pre-Z → light culling → light heatmap → depth probe |
 /// | shadow-atlas view | (pre-Z → light culling →) shadow atlas → shadow atlas view |
@@ -63,6 +64,9 @@ pub fn passes_for(
             if config.path.is_deferred() {
                 passes.push(Box::new(GBufferPass::new(gpu, config)?));
                 passes.push(Box::new(TbdrPass::new(gpu, config)?));
+                if config.path == RenderPath::Deferred {
+                    passes.push(Box::new(LightVolumePass::new(gpu, config)?));
+                }
             }
             passes.push(Box::new(ForwardPass::new(gpu, config)?));
             passes.push(Box::new(ParticleDrawPass::new(gpu, config)?));

@@ -23,11 +23,17 @@ pub enum RenderPath {
     /// [`RenderPath::Tbdr`] with deferred per-sample shading: the edge pixels' samples go to a
     /// tile list that every invocation of the tile drains.
     TbdrPerSample,
+    /// Traditional deferred shading (reference 000's "deferred" method): the G-buffer, a
+    /// full-screen base pass (ambient, emissive, directional lights, edge pixels marked), then
+    /// every punctual light drawn as a light volume (its bounding cube's back faces) blended
+    /// additively into the resolved image, per sample at edge pixels. No light culling: each
+    /// light costs the pixels its volume covers.
+    Deferred,
 }
 
 impl RenderPath {
     /// Every path, in the order tools list them.
-    pub const ALL: [RenderPath; 7] = [
+    pub const ALL: [RenderPath; 8] = [
         Self::Naive,
         Self::NaivePrez,
         Self::Tiled,
@@ -35,10 +41,11 @@ impl RenderPath {
         Self::Clustered,
         Self::Tbdr,
         Self::TbdrPerSample,
+        Self::Deferred,
     ];
 
     /// The command-line name: `naive`, `naive-prez`, `tiled`, `2.5d`, `clustered`, `tbdr`,
-    /// `tbdr-per-sample`.
+    /// `tbdr-per-sample`, `deferred`.
     pub fn name(self) -> &'static str {
         match self {
             Self::Naive => "naive",
@@ -48,6 +55,7 @@ impl RenderPath {
             Self::Clustered => "clustered",
             Self::Tbdr => "tbdr",
             Self::TbdrPerSample => "tbdr-per-sample",
+            Self::Deferred => "deferred",
         }
     }
 
@@ -60,7 +68,7 @@ impl RenderPath {
 
     /// Whether opaque surfaces are shaded from a G-buffer (the deferred paths).
     pub fn is_deferred(self) -> bool {
-        matches!(self, Self::Tbdr | Self::TbdrPerSample)
+        matches!(self, Self::Tbdr | Self::TbdrPerSample | Self::Deferred)
     }
 
     /// Whether the frame runs the depth pre-pass.
@@ -213,8 +221,8 @@ impl std::str::FromStr for RenderPath {
             .find(|p| p.name() == s)
             .ok_or_else(|| {
                 format!(
-                    "path {s:?}: use naive, naive-prez, tiled, 2.5d, clustered, tbdr or \
-                     tbdr-per-sample"
+                    "path {s:?}: use naive, naive-prez, tiled, 2.5d, clustered, tbdr, \
+                     tbdr-per-sample or deferred"
                 )
             })
     }

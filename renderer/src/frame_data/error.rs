@@ -64,13 +64,13 @@ pub enum RenderError {
     #[error(transparent)]
     Particles(#[from] crate::particles::ParticleError),
     #[error(
-        "tile size {0} does not suit the TBDR paths: use 8 or 16 (one invocation per pixel, \
-         and a tile's per-sample colours in workgroup memory)"
+        "tile size {0} does not suit the deferred paths (tbdr, tbdr-per-sample, deferred): use \
+         8 or 16 (one invocation per pixel, and a tile's per-sample colours in workgroup memory)"
     )]
     TbdrTile(u32),
     #[error(
-        "the shading-frequency view shows which pixels TBDR shades per sample; use --path \
-         tbdr or tbdr-per-sample"
+        "the shading-frequency view shows which pixels deferred shading shades per sample; use \
+         --path tbdr, tbdr-per-sample or deferred"
     )]
     ShadingFrequencyNeedsTbdr,
 }

@@ -178,6 +178,10 @@ pub struct FrameResources {
     pub particles: Option<ParticleResources>,
     /// The G-buffer (deferred paths).
     pub gbuffer: Option<GBufferHandles>,
+    /// Which pixels the deferred base pass shades per sample, a bit each, row-major (the
+    /// traditional deferred path). The light volumes read it after the base pass wrote `hdr`,
+    /// which orders them.
+    pub deferred_edges: Option<wgpu::Buffer>,
     imports: Vec<(Handle<Buffer>, wgpu::Buffer)>,
     texture_imports: Vec<(Handle<Texture>, wgpu::Texture)>,
 }
@@ -194,6 +198,7 @@ impl FrameResources {
             particle_lists: None,
             particles: None,
             gbuffer: None,
+            deferred_edges: None,
             imports: Vec::new(),
             texture_imports: Vec::new(),
         }

@@ -180,7 +180,8 @@ impl LightCullPass {
             RenderPath::Naive
             | RenderPath::NaivePrez
             | RenderPath::Tbdr
-            | RenderPath::TbdrPerSample => Culler::Naive,
+            | RenderPath::TbdrPerSample
+            | RenderPath::Deferred => Culler::Naive,
             RenderPath::Tiled | RenderPath::Depth25 => {
                 let config = TileCullConfig {
                     tile: c.tile,

@@ -21,10 +21,13 @@ impl PathChoice {
         self.0.is_culled()
     }
 
-    /// Whether the scalarize axis changes anything: the culled forward shader has subgroup
-    /// variants; the naive loop has none.
+    /// Whether the scalarize axis changes anything: the culled forward shader and the TBDR
+    /// kernel have subgroup variants; the naive loop and the light volumes have none.
     fn has_scalarize(self) -> bool {
-        !matches!(self.0, RenderPath::Naive | RenderPath::NaivePrez)
+        !matches!(
+            self.0,
+            RenderPath::Naive | RenderPath::NaivePrez | RenderPath::Deferred
+        )
     }
 }
 
@@ -88,10 +91,13 @@ pub fn expand(axes: &Axes, support: &Support) -> (Vec<Setup>, Vec<String>) {
         for &(width, height) in &axes.sizes {
             for &msaa in axes.msaa.iter().filter(|m| support.msaa.contains(m)) {
                 for &path in &axes.paths {
-                    // TBDR tiles are 8 or 16 (one invocation per pixel).
+                    // TBDR tiles are 8 or 16 (one invocation per pixel); the light volumes
+                    // have none (their base pass runs at 16).
                     let tbdr_tiles: Vec<u32> =
                         axes.tiles.iter().copied().filter(|t| *t <= 16).collect();
-                    let tiles: &[u32] = if path.0.is_deferred() {
+                    let tiles: &[u32] = if path.0 == RenderPath::Deferred {
+                        &[16]
+                    } else if path.0.is_deferred() {
                         &tbdr_tiles
                     } else if path.has_tiles() {
                         &axes.tiles

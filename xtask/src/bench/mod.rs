@@ -55,7 +55,7 @@ pub struct Args {
     /// MSAA counts (those the adapter lacks are left out, and said so).
     #[arg(long, value_delimiter = ',', default_value = "1,2,4,8")]
     msaa: Vec<u32>,
-    /// Paths: naive, naive-prez, tiled, 2.5d, clustered, tbdr, tbdr-per-sample.
+    /// Paths: naive, naive-prez, tiled, 2.5d, clustered, tbdr, tbdr-per-sample, deferred.
     #[arg(
         long,
         value_delimiter = ',',

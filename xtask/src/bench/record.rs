@@ -23,7 +23,7 @@ pub struct CellRecord {
     pub width: u32,
     pub height: u32,
     pub msaa: u32,
-    /// `naive`, `naive-prez`, `tiled`, `2.5d`, `clustered`, `tbdr` or `tbdr-per-sample`.
+    /// `naive`, `naive-prez`, `tiled`, `2.5d`, `clustered`, `tbdr`, `tbdr-per-sample` or `deferred`.
     pub path: String,
     /// Tile size of the culled paths; 0 for the others.
     pub tile: u32,
@@ -116,11 +116,15 @@ pub struct CellRecord {
     /// Decal axis (`--decals`): procedural decals on the scene's surfaces (0: none).
     #[serde(default)]
     pub decals: u32,
-    /// The deferred paths: the G-buffer pass and the TBDR shading pass.
+    /// The deferred paths: the G-buffer pass, and the TBDR shading pass (or traditional
+    /// deferred's base pass).
     #[serde(default)]
     pub gbuffer_median_ms: Option<f64>,
     #[serde(default)]
     pub deferred_median_ms: Option<f64>,
+    /// Traditional deferred: the light volumes.
+    #[serde(default)]
+    pub volumes_median_ms: Option<f64>,
 }
 
 impl CellRecord {
@@ -195,7 +199,10 @@ impl CellRecord {
         record.tonemap_median_ms = pass("tonemap").and_then(|s| s.median());
         record.tonemap_p90_ms = pass("tonemap").and_then(|s| s.p90());
         record.gbuffer_median_ms = pass("gbuffer").and_then(|s| s.median());
-        record.deferred_median_ms = pass("tbdr shading").and_then(|s| s.median());
+        record.deferred_median_ms = pass("tbdr shading")
+            .or(pass("deferred base"))
+            .and_then(|s| s.median());
+        record.volumes_median_ms = pass("light volumes").and_then(|s| s.median());
         record.gpu_total_median_ms = m.total.median().unwrap_or(0.0);
         record.cpu_graph_median_ms = m.cpu_graph_ms.median().unwrap_or(0.0);
         record.cpu_upload_median_ms = m.cpu_upload_ms.median().unwrap_or(0.0);

@@ -2,6 +2,11 @@
 //! tile) writes the resolved HDR image. It owns the light spheres the kernel culls, its
 //! parameters, and, when asked to record, the edge bits and a copy of the G-buffer that tools
 //! and tests read back.
+//!
+//! On the traditional deferred path ([`RenderPath::Deferred`]) the same dispatch is the
+//! *deferred base* pass: no punctual lights (sky, ambient, emissive and directional lights
+//! only), every frame's edge pixels marked in a buffer that the light volumes read
+//! ([`FrameResources::deferred_edges`]).
 
 use shaders_gen::deferred::tbdr;
 
@@ -69,6 +74,11 @@ pub struct TbdrPass {
     spheres: wgpu::Buffer,
     /// A word each for `EDGE_BITS` and `CAPTURE` when not recording.
     unused: wgpu::Buffer,
+    /// The deferred base pass of [`RenderPath::Deferred`]: no punctual lights, edges always
+    /// marked (in `edges`, or the recording's buffer).
+    base_only: bool,
+    /// The base pass's edge bits, a bit per pixel.
+    edges: wgpu::Buffer,
     /// Whether frames record their edges and G-buffer.
     record: bool,
     recording: Option<Recording>,
@@ -93,10 +103,11 @@ impl TbdrPass {
                 });
             }
         };
+        let base_only = config.path == RenderPath::Deferred;
         let key = tbdr::VariantKey {
             tile,
             msaa,
-            scalarize: config.scalarize,
+            scalarize: config.scalarize && !base_only,
             defer: config.path == RenderPath::TbdrPerSample && config.msaa > 1,
         };
         let program = ShaderProgram::new(&gpu.device, gpu.capabilities(), tbdr::variant(key)?)?;
@@ -123,6 +134,8 @@ impl TbdrPass {
             }),
             spheres: storage("tbdr light spheres", 16),
             unused: storage("tbdr unused", 16),
+            base_only,
+            edges: storage("deferred edge bits", 16),
             record: false,
             recording: None,
         })
@@ -151,61 +164,90 @@ impl TbdrPass {
             gbuffer: crate::readback::read_buffer(device, queue, &r.gbuffer)?,
         }))
     }
+}
 
-    fn params(frame: &FrameInputs, record: bool) -> tbdr::TbdrParams {
-        let c = &frame.config;
-        let cam = &frame.camera;
-        tbdr::TbdrParams::new(
-            cam.view,
-            cam.projection,
-            cam.projection.inverse(),
-            cam.view.inverse(),
-            cam.eye,
-            frame.lights.punctual.len() as u32,
-            c.sky,
-            frame.lights.directional.len() as u32,
-            frame.screen(),
-            u32::from(c.view == FrameView::ShadingFrequency),
-            u32::from(record),
-            c.edges.depth,
-            c.edges.normal_cos,
-            c.edges.material,
-            0.0,
-        )
+/// The `tbdr` module's parameters for `frame`, with `light_count` punctual lights culled and
+/// shaded, and edge pixels marked in `EDGE_BITS` when `record_edges`.
+pub(super) fn kernel_params(
+    frame: &FrameInputs,
+    light_count: u32,
+    record_edges: bool,
+) -> tbdr::TbdrParams {
+    let c = &frame.config;
+    let cam = &frame.camera;
+    tbdr::TbdrParams::new(
+        cam.view,
+        cam.projection,
+        cam.projection.inverse(),
+        cam.view.inverse(),
+        cam.eye,
+        light_count,
+        c.sky,
+        frame.lights.directional.len() as u32,
+        frame.screen(),
+        u32::from(c.view == FrameView::ShadingFrequency),
+        u32::from(record_edges),
+        c.edges.depth,
+        c.edges.normal_cos,
+        c.edges.material,
+        0.0,
+    )
+}
+
+/// Writes the frame's light spheres (centre, radius) to `buffer`, growing it to a power of two
+/// when they do not fit.
+pub(super) fn upload_spheres(gpu: &GpuContext, buffer: &mut wgpu::Buffer, frame: &FrameInputs) {
+    let spheres: Vec<glam::Vec4> = frame
+        .lights
+        .spheres
+        .iter()
+        .map(|s| s.center.extend(s.radius))
+        .collect();
+    let bytes: &[u8] = bytemuck::cast_slice(&spheres);
+    if bytes.len() as u64 > buffer.size() {
+        *buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("tbdr light spheres"),
+            size: (bytes.len() as u64).next_power_of_two(),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
     }
+    gpu.queue.write_buffer(buffer, 0, bytes);
 }
 
 impl Pass for TbdrPass {
     fn name(&self) -> &'static str {
-        "tbdr shading"
+        if self.base_only {
+            "deferred base"
+        } else {
+            "tbdr shading"
+        }
     }
 
     fn prepare(&mut self, frame: &FrameInputs) -> Result<(), RenderError> {
-        let spheres: Vec<glam::Vec4> = frame
-            .lights
-            .spheres
-            .iter()
-            .map(|s| s.center.extend(s.radius))
-            .collect();
-        let bytes: &[u8] = bytemuck::cast_slice(&spheres);
-        if bytes.len() as u64 > self.spheres.size() {
-            self.spheres = self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("tbdr light spheres"),
-                size: (bytes.len() as u64).next_power_of_two(),
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-        }
-        self.gpu.queue.write_buffer(&self.spheres, 0, bytes);
-        let params = Self::params(frame, self.record);
+        let c = &frame.config;
+        let pixels = u64::from(c.width) * u64::from(c.height);
+        let params = if self.base_only {
+            let edge_bytes = pixels.div_ceil(32) * 4;
+            if edge_bytes > self.edges.size() {
+                self.edges = self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("deferred edge bits"),
+                    size: edge_bytes,
+                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+            }
+            kernel_params(frame, 0, true)
+        } else {
+            upload_spheres(&self.gpu, &mut self.spheres, frame);
+            kernel_params(frame, frame.lights.punctual.len() as u32, self.record)
+        };
         self.gpu
             .queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
-        let c = &frame.config;
         let size = (c.width, c.height);
         let stale = |r: &Recording| r.size != size || r.msaa != c.msaa;
         if self.record && self.recording.as_ref().is_none_or(stale) {
-            let pixels = u64::from(c.width) * u64::from(c.height);
             let buffer = |label, size: u64| {
                 self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
                     label: Some(label),
@@ -236,7 +278,7 @@ impl Pass for TbdrPass {
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
         let missing = |input| RenderError::MissingInput {
-            pass: "tbdr shading",
+            pass: self.name(),
             input,
         };
         let c = &frame.config;
@@ -263,12 +305,21 @@ impl Pass for TbdrPass {
             .filter(|_| self.record)
             .map(|r| (r.edge_bits.clone(), r.gbuffer.clone()));
         let unused = self.unused.clone();
+        // Edge bits: the recording's buffer when recording, the base pass's own otherwise.
+        let edges = match (&recording, self.base_only) {
+            (Some((e, _)), _) => Some(e.clone()),
+            (None, true) => Some(self.edges.clone()),
+            (None, false) => None,
+        };
+        if self.base_only {
+            resources.deferred_edges = edges.clone();
+        }
+        let name = self.name();
         let (width, height, tile) = (c.width, c.height, c.tile);
         pass.execute(move |ctx| {
-            let (edge_bits, captured) = recording
-                .as_ref()
-                .map_or((&unused, &unused), |(e, g)| (e, g));
-            if recording.is_some() {
+            let edge_bits = edges.as_ref().unwrap_or(&unused);
+            let captured = recording.as_ref().map_or(&unused, |(_, g)| g);
+            if edges.is_some() {
                 ctx.encoder.clear_buffer(edge_bits, 0, None);
             }
             let buffers = KernelBuffers {
@@ -278,11 +329,12 @@ impl Pass for TbdrPass {
                 edge_bits,
                 captured,
             };
-            let group = bind_group(ctx, &layout, &buffers, depth, gbuffer, hdr, &shadows);
+            let out = ctx.texture(hdr).create_view(&Default::default());
+            let group = bind_group(ctx, &layout, &buffers, depth, gbuffer, &out, &shadows);
             let mut pass = ctx
                 .encoder
                 .begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("tbdr shading"),
+                    label: Some(name),
                     timestamp_writes: None,
                 });
             pass.set_bind_group(0, &group, &[]);
@@ -299,33 +351,32 @@ impl Pass for TbdrPass {
     }
 }
 
-/// The buffers of the kernel's group 0.
-struct KernelBuffers<'a> {
-    params: &'a wgpu::Buffer,
-    lights: &'a crate::frame_data::LightSet,
-    spheres: &'a wgpu::Buffer,
-    edge_bits: &'a wgpu::Buffer,
-    captured: &'a wgpu::Buffer,
+/// The buffers of the `tbdr` module's group 0.
+pub(super) struct KernelBuffers<'a> {
+    pub params: &'a wgpu::Buffer,
+    pub lights: &'a crate::frame_data::LightSet,
+    pub spheres: &'a wgpu::Buffer,
+    pub edge_bits: &'a wgpu::Buffer,
+    pub captured: &'a wgpu::Buffer,
 }
 
 /// Group 0 of `tbdr`: parameters, lights, spheres, depth and albedo (0–5), the shadow atlas
-/// (6–8), normals, radiance, the HDR output, the edge bits and the capture (9–13).
-fn bind_group(
+/// (6–8), normals, radiance, the HDR output `out`, the edge bits and the capture (9–13).
+pub(super) fn bind_group(
     ctx: &crate::graph::PassContext<'_>,
     layout: &wgpu::BindGroupLayout,
     buffers: &KernelBuffers<'_>,
     depth: Handle<Texture>,
     gbuffer: GBufferHandles,
-    hdr: Handle<Texture>,
+    out: &wgpu::TextureView,
     shadows: &ShadowResources,
 ) -> wgpu::BindGroup {
     let view = |h| ctx.texture(h).create_view(&Default::default());
-    let (depth, albedo, normals, radiance, out) = (
+    let (depth, albedo, normals, radiance) = (
         view(depth),
         view(gbuffer.albedo),
         view(gbuffer.normals),
         view(gbuffer.radiance),
-        view(hdr),
     );
     let tv = wgpu::BindingResource::TextureView;
     let mut entries = crate::passes::entries(&[
@@ -340,7 +391,7 @@ fn bind_group(
     let rest = [
         tv(&normals),
         tv(&radiance),
-        tv(&out),
+        tv(out),
         buffers.edge_bits.as_entire_binding(),
         buffers.captured.as_entire_binding(),
     ];

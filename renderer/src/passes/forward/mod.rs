@@ -52,7 +52,8 @@ impl ForwardPass {
             RenderPath::Tiled
             | RenderPath::Depth25
             | RenderPath::Tbdr
-            | RenderPath::TbdrPerSample => forward::List::List1,
+            | RenderPath::TbdrPerSample
+            | RenderPath::Deferred => forward::List::List1,
             RenderPath::Clustered => forward::List::List2,
         };
         let key = |blend| forward::VariantKey {

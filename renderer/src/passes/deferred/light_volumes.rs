@@ -1,0 +1,238 @@
+//! Traditional deferred shading's lighting pass (`RenderPath::Deferred`): every punctual
+//! light drawn as a light volume, the back faces of the cube around its bounding sphere
+//! (`tbdr::vs_light_volume`), shaded from the G-buffer by `tbdr::fs_light_volume` and blended
+//! additively into the resolved image the deferred base pass wrote. There is no culling: a
+//! light costs the pixels its volume covers, which is what reference 000 measures this method
+//! for.
+//!
+//! The target is the single-sample resolved image, so the multisampled depth cannot be
+//! attached: the fragment reads the depth from the G-buffer and discards the pixels the light
+//! does not reach. Edge pixels (the base pass's bits) are shaded per sample.
+
+use shaders_gen::deferred::tbdr;
+
+use super::tiled_shading::{KernelBuffers, bind_group, kernel_params, upload_spheres};
+use crate::GpuContext;
+use crate::frame_data::{FrameInputs, FrameResources, HDR_FORMAT, RenderError, RendererConfig};
+use crate::graph::{RenderGraph, TextureAccess};
+use crate::passes::Pass;
+use crate::shader::ShaderProgram;
+
+/// Vertices of one light volume: the cube's twelve triangles.
+const CUBE_VERTICES: u32 = 36;
+
+/// The light-volume pass.
+#[derive(Debug)]
+pub struct LightVolumePass {
+    gpu: GpuContext,
+    program: ShaderProgram,
+    pipeline: wgpu::RenderPipeline,
+    params: wgpu::Buffer,
+    spheres: wgpu::Buffer,
+    /// Bound where the module's layout has compute-only resources (`CAPTURE`).
+    unused: wgpu::Buffer,
+    /// Bound at `HDR_OUT`, which only the compute entry writes: the pass renders into the
+    /// image itself, which cannot be a storage binding at the same time.
+    unused_storage: wgpu::TextureView,
+}
+
+impl LightVolumePass {
+    pub fn new(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
+        let msaa = match config.msaa {
+            1 => tbdr::Msaa::Msaa1,
+            2 => tbdr::Msaa::Msaa2,
+            4 => tbdr::Msaa::Msaa4,
+            8 => tbdr::Msaa::Msaa8,
+            asked => {
+                return Err(RenderError::SampleCount {
+                    asked,
+                    supported: vec![1, 2, 4, 8],
+                });
+            }
+        };
+        // The volume entry points do not depend on the tile, scalarization or deferral axes.
+        let key = tbdr::VariantKey {
+            tile: tbdr::Tile::T16,
+            msaa,
+            scalarize: false,
+            defer: false,
+        };
+        let program = ShaderProgram::new(&gpu.device, gpu.capabilities(), tbdr::variant(key)?)?;
+        let pipeline = volume_pipeline(&gpu.device, &program);
+        let buffer = |label, size, usage| {
+            gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        let storage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
+        let unused_storage = gpu
+            .device
+            .create_texture(&wgpu::TextureDescriptor {
+                label: Some("light volumes unused storage"),
+                size: wgpu::Extent3d {
+                    width: 1,
+                    height: 1,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: HDR_FORMAT,
+                usage: wgpu::TextureUsages::STORAGE_BINDING,
+                view_formats: &[],
+            })
+            .create_view(&Default::default());
+        Ok(Self {
+            gpu: gpu.clone(),
+            program,
+            pipeline,
+            params: buffer(
+                "light volume params",
+                size_of::<tbdr::TbdrParams>() as u64,
+                wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            ),
+            spheres: buffer("light volume spheres", 16, storage),
+            unused: buffer("light volumes unused", 16, storage),
+            unused_storage,
+        })
+    }
+}
+
+/// Back faces only (the front faces are culled), no depth test, additive blending into one
+/// single-sample HDR target.
+fn volume_pipeline(device: &wgpu::Device, program: &ShaderProgram) -> wgpu::RenderPipeline {
+    let add = wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::One,
+        dst_factor: wgpu::BlendFactor::One,
+        operation: wgpu::BlendOperation::Add,
+    };
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("light volumes"),
+        layout: Some(&program.pipeline_layout),
+        vertex: wgpu::VertexState {
+            module: &program.module,
+            entry_point: Some("vs_light_volume"),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
+        primitive: wgpu::PrimitiveState {
+            front_face: wgpu::FrontFace::Ccw,
+            cull_mode: Some(wgpu::Face::Front),
+            ..Default::default()
+        },
+        depth_stencil: None,
+        multisample: wgpu::MultisampleState::default(),
+        fragment: Some(wgpu::FragmentState {
+            module: &program.module,
+            entry_point: Some("fs_light_volume"),
+            compilation_options: Default::default(),
+            targets: &[Some(wgpu::ColorTargetState {
+                format: HDR_FORMAT,
+                blend: Some(wgpu::BlendState {
+                    color: add,
+                    alpha: add,
+                }),
+                write_mask: wgpu::ColorWrites::ALL,
+            })],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+impl Pass for LightVolumePass {
+    fn name(&self) -> &'static str {
+        "light volumes"
+    }
+
+    fn prepare(&mut self, frame: &FrameInputs) -> Result<(), RenderError> {
+        upload_spheres(&self.gpu, &mut self.spheres, frame);
+        let params = kernel_params(frame, frame.lights.punctual.len() as u32, false);
+        self.gpu
+            .queue
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+        Ok(())
+    }
+
+    fn add_to_graph(
+        &self,
+        graph: &mut RenderGraph,
+        frame: &FrameInputs,
+        resources: &mut FrameResources,
+    ) -> Result<(), RenderError> {
+        let missing = |input| RenderError::MissingInput {
+            pass: "light volumes",
+            input,
+        };
+        let depth = resources.depth.ok_or(missing("pre-Z depth"))?;
+        let gbuffer = resources.gbuffer.ok_or(missing("G-buffer"))?;
+        let shadows = resources.shadows.clone().ok_or(missing("shadow atlas"))?;
+        let mut hdr = resources.hdr.ok_or(missing("deferred base image"))?;
+        let edges = resources
+            .deferred_edges
+            .clone()
+            .ok_or(missing("deferred base edge bits"))?;
+        let mut pass = graph.add_pass(self.name());
+        pass.read_texture(depth, TextureAccess::Sampled)
+            .read_texture(gbuffer.albedo, TextureAccess::Sampled)
+            .read_texture(gbuffer.normals, TextureAccess::Sampled)
+            .read_texture(gbuffer.radiance, TextureAccess::Sampled)
+            .read_texture(shadows.atlas, TextureAccess::Sampled)
+            .write_texture(&mut hdr, TextureAccess::ColorAttachment);
+        let layout = self.program.bind_group_layouts[0].clone();
+        let pipeline = self.pipeline.clone();
+        let (params, spheres, unused) = (
+            self.params.clone(),
+            self.spheres.clone(),
+            self.unused.clone(),
+        );
+        let unused_storage = self.unused_storage.clone();
+        let lights = std::sync::Arc::clone(&frame.lights);
+        let count = frame.lights.punctual.len() as u32;
+        pass.execute(move |ctx| {
+            let buffers = KernelBuffers {
+                params: &params,
+                lights: &lights,
+                spheres: &spheres,
+                edge_bits: &edges,
+                captured: &unused,
+            };
+            let group = bind_group(
+                ctx,
+                &layout,
+                &buffers,
+                depth,
+                gbuffer,
+                &unused_storage,
+                &shadows,
+            );
+            let target = ctx.texture(hdr).create_view(&Default::default());
+            let mut pass = ctx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("light volumes"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &target,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Load,
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: None,
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            if count > 0 {
+                pass.set_pipeline(&pipeline);
+                pass.set_bind_group(0, &group, &[]);
+                pass.draw(0..CUBE_VERTICES, 0..count);
+            }
+        });
+        resources.hdr = Some(hdr);
+        Ok(())
+    }
+}
