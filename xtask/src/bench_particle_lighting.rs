@@ -152,18 +152,6 @@ fn overdraw(renderer: &Renderer, s: &Setup) -> Result<f64> {
     Ok(covered / (w * h))
 }
 
-/// Per-channel 8-bit differences: mean and 99th percentile.
-fn difference(a: &[u8], b: &[u8]) -> (f64, u8) {
-    let mut d: Vec<u8> = a
-        .chunks(4)
-        .zip(b.chunks(4))
-        .flat_map(|(p, q)| (0..3).map(move |c| p[c].abs_diff(q[c])))
-        .collect();
-    let mean = d.iter().map(|&x| f64::from(x)).sum::<f64>() / d.len().max(1) as f64;
-    d.sort_unstable();
-    (mean, d.get(d.len() * 99 / 100).copied().unwrap_or(0))
-}
-
 /// The Markdown table of atlas against per-pixel lighting at each particle count.
 #[expect(clippy::print_stdout, reason = "command-line report")]
 pub fn table(bench: &Bench) -> Result<String> {
@@ -178,7 +166,7 @@ pub fn table(bench: &Bench) -> Result<String> {
         let ms = |r: &Run, pass: &str| r.medians.get(pass).copied().unwrap_or(0.0);
         let layout = ms(&atlas, PARTICLE_PASSES[1]);
         let atlas_total = ms(&atlas, PARTICLE_PASSES[2]) + ms(&atlas, PARTICLE_PASSES[3]);
-        let (mean, p99) = difference(&atlas.rgba, &pixel.rgba);
+        let (mean, p99) = crate::render::difference(&atlas.rgba, &pixel.rgba);
         let row = format!(
             "| {count} | {overdraw:.1} | {layout:.3} | {:.3} | {:.3} | {atlas_total:.3} | {:.3} | {:.1}× | {:.3} | {mean:.2}, {p99} |",
             ms(&atlas, PARTICLE_PASSES[2]),

@@ -7,8 +7,10 @@
 //! `target/demo/particle_atlas.png` (the lighting atlas of 20,000 particles of smoke, sparks and
 //! dust, lit once per frame and drawn blended in `frame.png`),
 //! `target/demo/shading_frequency.png` (the same frame by tile-based deferred shading, the
-//! pixels it shaded per sample in red) and `target/demo/graph.dot` (the
-//! compiled frame graph), then moves a sphere marked dynamic over
+//! pixels it shaded per sample in red), `target/demo/deferred.png` (the same frame by
+//! traditional deferred shading, a light volume per light) and `target/demo/graph.dot` (the
+//! compiled frame graph), compares the deferred paths' frames and GPU times with Forward+'s,
+//! then moves a sphere marked dynamic over
 //! three frames and reports what the shadow cache redrew, with a summary of at most about 20
 //! lines.
 
@@ -81,6 +83,9 @@ pub fn run(args: &Args) -> Result<()> {
         ..s.config
     };
     let frequency = shoot_with(&s, frequency, false)?;
+    let lit_by = |path| shoot_with(&s, RendererConfig { path, ..s.config }, false);
+    let tbdr = lit_by(RenderPath::TbdrPerSample)?;
+    let volumes = lit_by(RenderPath::Deferred)?;
     let moving = moving_sphere(&s)?;
     let dir = args
         .out_dir
@@ -94,6 +99,7 @@ pub fn run(args: &Args) -> Result<()> {
         dir.join("decals.png"),
         dir.join("particle_atlas.png"),
         dir.join("shading_frequency.png"),
+        dir.join("deferred.png"),
         dir.join("graph.dot"),
     ];
     save_png(&files[0], &lit.rgba, size)?;
@@ -102,10 +108,37 @@ pub fn run(args: &Args) -> Result<()> {
     save_png(&files[3], &decal_heat.rgba, size)?;
     save_png(&files[4], &particle_atlas.rgba, size)?;
     save_png(&files[5], &frequency.rgba, size)?;
-    save_text(&files[6], &lit.report.graph_dot)?;
+    save_png(&files[6], &volumes.rgba, size)?;
+    save_text(&files[7], &lit.report.graph_dot)?;
     summary(&s, &lit, &files, started.elapsed().as_secs_f64());
+    print_deferred(&lit, &[("tbdr-per-sample", &tbdr), ("deferred", &volumes)]);
     print_moving(&moving);
     Ok(())
+}
+
+/// The deferred paths' frames against Forward+'s `lit`: GPU time and image difference.
+#[expect(clippy::print_stdout, reason = "the demo's report")]
+fn print_deferred(lit: &Shot, paths: &[(&str, &Shot)]) {
+    let total = |s: &Shot| {
+        s.timings.as_ref().map_or("no timestamps".into(), |t| {
+            format!("{:.2} ms", t.iter().map(|p| p.gpu_ms).sum::<f64>())
+        })
+    };
+    let cells: Vec<String> = paths
+        .iter()
+        .map(|(name, shot)| {
+            let (mean, p99) = crate::render::difference(&lit.rgba, &shot.rgba);
+            format!(
+                "{name} {} (differs by mean {mean:.2}, p99 {p99})",
+                total(shot)
+            )
+        })
+        .collect();
+    println!(
+        "deferred paths, same frame: Forward+ {} | {}",
+        total(lit),
+        cells.join(" | ")
+    );
 }
 
 /// A dim moonlight from above, casting the courtyard's long shadows (four cascades).

@@ -331,6 +331,18 @@ pub fn shoot(s: &Setup, view: FrameView, efficiency: bool) -> Result<Shot> {
     shoot_with(s, RendererConfig { view, ..s.config }, efficiency)
 }
 
+/// Per-channel 8-bit differences of two RGBA8 images: mean and 99th percentile.
+pub fn difference(a: &[u8], b: &[u8]) -> (f64, u8) {
+    let mut d: Vec<u8> = a
+        .chunks(4)
+        .zip(b.chunks(4))
+        .flat_map(|(p, q)| (0..3).map(move |c| p[c].abs_diff(q[c])))
+        .collect();
+    let mean = d.iter().map(|&x| f64::from(x)).sum::<f64>() / d.len().max(1) as f64;
+    d.sort_unstable();
+    (mean, d.get(d.len() * 99 / 100).copied().unwrap_or(0))
+}
+
 /// [`shoot`] with settings of its own (another path or view of the same set-up).
 pub fn shoot_with(s: &Setup, config: RendererConfig, efficiency: bool) -> Result<Shot> {
     let mut renderer = Renderer::new(&s.gpu, config)?;
