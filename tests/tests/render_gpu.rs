@@ -1,12 +1,13 @@
 //! The renderer end to end on the committed glTF scene and the built-in courtyard: culling never
 //! changes the image. For seeded light sets, the tiled, 2.5D and clustered Forward+ images equal
 //! the naive forward image (every light at every pixel) within a stated tolerance, at MSAA 1 and
-//! 4 (the courtyard at 4).
+//! 4 (the courtyard at 4). Lights without a range get an effective range that changes no pixel.
 
 use std::path::Path;
 
 use renderer::frame::setup::procedural_lights;
 use renderer::frame::{RenderPath, Renderer, RendererConfig};
+use renderer::frame_data::DEFAULT_LIGHT_CUTOFF;
 use renderer::scene::{Scene, SceneLight};
 use tests::frames::{committed_scene, largest_difference, render_frame, render_frame_from};
 use tests::gpu::gpu_test;
@@ -239,5 +240,58 @@ fn the_demo_frame_culled_equals_naive_without_msaa() {
             let worst = largest_difference(&naive, &culled);
             assert!(worst <= 1, "{path:?}: differs from naive by {worst}");
         }
+    });
+}
+
+/// LightsPunctualLamp's five point lights have no range (infinite, as glTF allows). The renderer
+/// gives each the effective range where its illuminance falls to `light_cutoff`: the image stays
+/// within one 8-bit step of the infinite lights' on naive forward, and the culled paths equal
+/// naive forward with those ranges. A cutoff a million times larger (ranges inside the lamp)
+/// visibly darkens it, so the comparison can fail.
+#[test]
+fn lights_without_a_range_get_an_effective_range_that_changes_no_pixel() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../shared/scenes/LightsPunctualLamp/glTF/LightsPunctualLamp.gltf");
+    assert!(
+        path.is_file(),
+        "shared scene {} is missing: this test needs ../shared/scenes",
+        path.display()
+    );
+    let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert!(scene.lights.iter().all(|l| l.range.is_none()));
+    gpu_test(|gpu| {
+        let frame = |path: RenderPath, light_cutoff: f32| {
+            let config = RendererConfig {
+                width: 160,
+                height: 120,
+                msaa: 4,
+                path,
+                light_cutoff,
+                ..Default::default()
+            };
+            render_frame(gpu, &scene, config, &scene.lights).rgba
+        };
+        let infinite = frame(RenderPath::NaivePrez, 0.0);
+        let bounded = frame(RenderPath::NaivePrez, DEFAULT_LIGHT_CUTOFF);
+        let worst = largest_difference(&infinite, &bounded);
+        assert!(worst <= 1, "effective ranges change a pixel by {worst}");
+        // Ranges of 4–44 cm, inside the lamp.
+        let cut_short = frame(RenderPath::NaivePrez, DEFAULT_LIGHT_CUTOFF * 1.0e6);
+        let short = largest_difference(&infinite, &cut_short);
+        assert!(
+            short > 8,
+            "a 10^6x cutoff changes the image by only {short}"
+        );
+        for path in [RenderPath::Tiled, RenderPath::Clustered] {
+            let culled = frame(path, DEFAULT_LIGHT_CUTOFF);
+            let worst = largest_difference(&bounded, &culled);
+            assert!(worst <= 1, "{} differs from naive by {worst}", path.name());
+        }
+        let bad = RendererConfig {
+            light_cutoff: f32::NAN,
+            ..Default::default()
+        };
+        let error = Renderer::new(gpu, bad).map(|_| ()).unwrap_err().to_string();
+        assert!(error.contains("light cutoff NaN"), "{error}");
     });
 }

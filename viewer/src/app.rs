@@ -390,17 +390,20 @@ impl Running {
         Ok(())
     }
 
-    fn resize(&mut self, size: PhysicalSize<u32>) {
+    /// Follows the window's size; a size the device cannot render (0, or past its largest
+    /// texture side) keeps the last one and says why.
+    fn resize(&mut self, size: PhysicalSize<u32>) -> Result<()> {
         if size.width == 0 || size.height == 0 {
-            return;
+            return Ok(());
         }
+        self.renderer.resize(size.width, size.height)?;
         self.surface_config.width = size.width;
         self.surface_config.height = size.height;
         self.surface
             .configure(&self.gpu.device, &self.surface_config);
         self.config.width = size.width;
         self.config.height = size.height;
-        self.renderer.resize(size.width, size.height);
+        Ok(())
     }
 }
 
@@ -427,10 +430,7 @@ impl ApplicationHandler for App {
                 event_loop.exit();
                 Ok(())
             }
-            WindowEvent::Resized(size) => {
-                r.resize(size);
-                Ok(())
-            }
+            WindowEvent::Resized(size) => r.resize(size),
             WindowEvent::KeyboardInput { event, .. } => match event.physical_key {
                 PhysicalKey::Code(KeyCode::Escape) => {
                     event_loop.exit();

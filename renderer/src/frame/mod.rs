@@ -61,6 +61,7 @@ use crate::GpuContext;
 use crate::decals::{DecalAtlasConfig, DecalSet};
 use crate::frame_data::{
     CameraUniform, FrameInputs, FrameResources, GpuDecals, InstanceState, LightSet, ParticleInput,
+    with_effective_ranges,
 };
 use crate::graph::{ImportAccess, PassTiming, RenderGraph, TextureDesc, TransientPool};
 use crate::particles::ParticleSystem;
@@ -120,6 +121,10 @@ impl Renderer {
         if config.scalarize && caps.subgroup.is_none() {
             return Err(RenderError::NoSubgroup);
         }
+        if !(config.light_cutoff.is_finite() && config.light_cutoff >= 0.0) {
+            return Err(RenderError::LightCutoff(config.light_cutoff));
+        }
+        check_frame_size(gpu, config.width, config.height)?;
         let settings = wgpu_profiler::GpuProfilerSettings {
             enable_debug_groups: false,
             ..Default::default()
@@ -153,9 +158,13 @@ impl Renderer {
         self.instances = Arc::new(InstanceState::of_scene(scene));
     }
 
-    /// Replaces the lights (scene lights and any procedural ones), effective next frame.
+    /// Replaces the lights (scene lights and any procedural ones), effective next frame. A point
+    /// or spot light without a range gets the effective range where its illuminance falls to
+    /// [`RendererConfig::light_cutoff`] (after exposure).
     pub fn set_lights(&mut self, lights: &[SceneLight]) -> Result<(), RenderError> {
-        self.lights = Arc::new(LightSet::checked(&self.gpu.device, lights)?);
+        let cutoff = self.config.light_cutoff / self.config.exposure.max(f32::MIN_POSITIVE);
+        let lights = with_effective_ranges(lights, cutoff);
+        self.lights = Arc::new(LightSet::checked(&self.gpu.device, &lights)?);
         Ok(())
     }
 
@@ -203,10 +212,14 @@ impl Renderer {
         self.particles = None;
     }
 
-    /// Changes the frame size; passes rebuild what depends on it on the next frame.
-    pub fn resize(&mut self, width: u32, height: u32) {
+    /// Changes the frame size; passes rebuild what depends on it on the next frame. A size of 0
+    /// or past the device's largest texture side is [`RenderError::FrameSize`], and the size
+    /// stays as it was.
+    pub fn resize(&mut self, width: u32, height: u32) -> Result<(), RenderError> {
+        check_frame_size(&self.gpu, width, height)?;
         self.config.width = width;
         self.config.height = height;
+        Ok(())
     }
 
     /// Renders one frame into `target` (a `config.output_format` texture of the configured size).
@@ -215,7 +228,42 @@ impl Renderer {
         camera: &FrameCamera,
         target: &wgpu::Texture,
     ) -> Result<FrameReport, RenderError> {
+        if let Some(reason) = self.gpu.lost() {
+            return Err(RenderError::DeviceLost(reason));
+        }
         let scene = self.scene.clone().ok_or(RenderError::NoScene)?;
+        let c = &self.config;
+        let size = target.size();
+        if (size.width, size.height) != (c.width, c.height) || target.format() != c.output_format {
+            return Err(RenderError::TargetMismatch {
+                actual: (size.width, size.height),
+                actual_format: target.format(),
+                expected: (c.width, c.height),
+                expected_format: c.output_format,
+            });
+        }
+        // Allocation failures while the frame is recorded come back as an error, not a panic.
+        let out_of_memory = self
+            .gpu
+            .device
+            .push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let report = self.record_and_submit(camera, target, scene);
+        if let Some(error) = pollster::block_on(out_of_memory.pop()) {
+            return Err(RenderError::OutOfMemory(error.to_string()));
+        }
+        if let Some(reason) = self.gpu.lost() {
+            return Err(RenderError::DeviceLost(reason));
+        }
+        report
+    }
+
+    /// [`Renderer::render`] once the frame's inputs are checked.
+    fn record_and_submit(
+        &mut self,
+        camera: &FrameCamera,
+        target: &wgpu::Texture,
+        scene: Arc<PreparedScene>,
+    ) -> Result<FrameReport, RenderError> {
         self.frame_index += 1;
         let frame = FrameInputs {
             gpu: self.gpu.clone(),
@@ -284,4 +332,13 @@ impl Renderer {
             .map(|r| PassTiming::from_profiler(&r));
         Ok(report)
     }
+}
+
+/// A frame of `width` × `height` fits `gpu`: 1 to the largest texture side on each axis.
+fn check_frame_size(gpu: &GpuContext, width: u32, height: u32) -> Result<(), RenderError> {
+    let max = gpu.device.limits().max_texture_dimension_2d;
+    if width == 0 || height == 0 || width > max || height > max {
+        return Err(RenderError::FrameSize { width, height, max });
+    }
+    Ok(())
 }

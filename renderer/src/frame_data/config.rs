@@ -165,6 +165,9 @@ impl EdgeThresholds {
     };
 }
 
+/// [`RendererConfig::light_cutoff`]'s default.
+pub const DEFAULT_LIGHT_CUTOFF: f32 = 1.0e-3;
+
 /// Renderer settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RendererConfig {
@@ -209,6 +212,14 @@ pub struct RendererConfig {
     pub shadows: crate::shadow::ShadowConfig,
     /// Which pixels the TBDR paths shade per sample.
     pub edges: EdgeThresholds,
+    /// Illuminance, after exposure, below which a point or spot light without a range (glTF
+    /// allows none: infinite) is cut off. Such a light gets the effective range
+    /// [`crate::frame_data::effective_range`], where its illuminance falls to this; the range
+    /// window then changes no surface's illuminance by more than this anywhere. The default,
+    /// 0.001, is under half an 8-bit step on a white surface through the ACES tonemap. 0 keeps
+    /// such lights infinite (every tile and froxel lists them; a light volume covers the
+    /// screen).
+    pub light_cutoff: f32,
 }
 
 impl std::str::FromStr for RenderPath {
@@ -251,6 +262,7 @@ impl Default for RendererConfig {
             soft_particle_distance: 0.3,
             shadows: crate::shadow::ShadowConfig::default(),
             edges: EdgeThresholds::default(),
+            light_cutoff: DEFAULT_LIGHT_CUTOFF,
         }
     }
 }

@@ -73,4 +73,35 @@ pub enum RenderError {
          --path tbdr, tbdr-per-sample or deferred"
     )]
     ShadingFrequencyNeedsTbdr,
+    #[error(
+        "light cutoff {0}: use a finite illuminance of 0 or more (0 keeps lights without a \
+         range infinite; the default is 0.001)"
+    )]
+    LightCutoff(f32),
+    #[error(
+        "frame size {width}x{height}: use 1 to {max} pixels a side (this device's largest \
+         texture side)"
+    )]
+    FrameSize { width: u32, height: u32, max: u32 },
+    #[error(
+        "the target texture is {actual:?} {actual_format:?}; this renderer draws {expected:?} \
+         {expected_format:?} (resize the renderer or the target, or set \
+         RendererConfig::output_format)"
+    )]
+    TargetMismatch {
+        actual: (u32, u32),
+        actual_format: wgpu::TextureFormat,
+        expected: (u32, u32),
+        expected_format: wgpu::TextureFormat,
+    },
+    #[error(
+        "the GPU device was lost ({0}); create a new GpuContext and Renderer, and prepare the \
+         scene, lights and decals again"
+    )]
+    DeviceLost(String),
+    #[error(
+        "the GPU ran out of memory recording this frame ({0}); use a smaller frame size, MSAA \
+         count, atlas or light count"
+    )]
+    OutOfMemory(String),
 }

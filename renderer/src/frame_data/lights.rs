@@ -12,6 +12,37 @@ use crate::scene::{LightKind, SceneLight};
 /// Range standing in for "infinite" in culling spheres.
 const INFINITE_RANGE: f32 = 1.0e30;
 
+/// The largest of `2x² − x⁶` over `x` in `[0, 1]` (at `x⁴ = 2/3`): what the range window takes
+/// from a light's `intensity / d²` at `d = x · range`, in units of `intensity / range²`.
+const WINDOW_LOSS_MAX: f32 = 1.088_662;
+
+/// The range that cuts a light without one off at illuminance `cutoff` (before exposure): the
+/// range window `(1 − (d/r)⁴)²` takes `(2(d/r)⁴ − (d/r)⁸) · I / d²` from the light's
+/// illuminance `I / d²` (`I` its intensity times its brightest colour channel), at most
+/// [`WINDOW_LOSS_MAX`]` · I / r²`; so `r = sqrt(WINDOW_LOSS_MAX · I / cutoff)` (at least
+/// `1e-4`) changes no surface's illuminance by more than `cutoff`. `None` for `cutoff <= 0`
+/// (the light stays infinite).
+pub fn effective_range(light: &SceneLight, cutoff: f32) -> Option<f32> {
+    let brightest = light.color.max_element().max(0.0);
+    let intensity = light.intensity.max(0.0) * brightest;
+    (cutoff > 0.0).then(|| (WINDOW_LOSS_MAX * intensity / cutoff).sqrt().max(1.0e-4))
+}
+
+/// `lights` with every point and spot light that has no range given its
+/// [`effective_range`] for illuminance `cutoff`.
+pub fn with_effective_ranges(lights: &[SceneLight], cutoff: f32) -> Vec<SceneLight> {
+    lights
+        .iter()
+        .map(|l| {
+            let mut l = *l;
+            if l.kind != LightKind::Directional && l.range.is_none() {
+                l.range = effective_range(&l, cutoff);
+            }
+            l
+        })
+        .collect()
+}
+
 /// The lights of a frame: storage buffers the shading passes bind and the culling spheres.
 #[derive(Debug, Clone)]
 pub struct LightSet {
@@ -137,4 +168,60 @@ fn light_storage(device: &wgpu::Device, label: &str, lights: &[forward::GpuLight
         // COPY_DST: the shadow pass writes each light's `shadow` index as its atlas changes.
         usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn point(intensity: f32, color: Vec3, range: Option<f32>) -> SceneLight {
+        SceneLight {
+            kind: LightKind::Point,
+            position: Vec3::ZERO,
+            direction: Vec3::NEG_Z,
+            color,
+            intensity,
+            range,
+            casts_shadow: false,
+        }
+    }
+
+    #[test]
+    fn the_effective_range_window_takes_at_most_the_cutoff() {
+        let light = point(180.0, Vec3::new(1.0, 0.63, 0.5), None);
+        let cutoff = 1.0e-3;
+        let r = effective_range(&light, cutoff).expect("finite");
+        let at_range = light.intensity * light.color.max_element() / (r * r);
+        assert!(at_range < cutoff, "{at_range} at the range");
+        // What the range window takes away, anywhere inside it, stays within the cutoff.
+        let worst = (1..=10_000)
+            .map(|i| {
+                let d = r * i as f32 / 10_000.0;
+                let x = (d / r).powi(4);
+                let window = (1.0 - x).clamp(0.0, 1.0).powi(2);
+                light.intensity * light.color.max_element() * (1.0 - window) / (d * d)
+            })
+            .fold(0.0f32, f32::max);
+        assert!(worst <= cutoff * 1.000_01, "window removes up to {worst}");
+        assert!(worst >= cutoff * 0.999, "the bound is tight: {worst}");
+        assert_eq!(effective_range(&light, 0.0), None, "0 keeps it infinite");
+        let dark = point(0.0, Vec3::ONE, None);
+        assert!(effective_range(&dark, cutoff).is_some_and(|r| r > 0.0));
+    }
+
+    #[test]
+    fn only_range_less_punctual_lights_get_a_range() {
+        let mut sun = point(3.0, Vec3::ONE, None);
+        sun.kind = LightKind::Directional;
+        let lights = [
+            point(10.0, Vec3::ONE, None),
+            point(10.0, Vec3::ONE, Some(2.5)),
+            sun,
+        ];
+        let bounded = with_effective_ranges(&lights, 1.0e-3);
+        assert_eq!(bounded[0].range, effective_range(&lights[0], 1.0e-3));
+        assert_eq!(bounded[1].range, Some(2.5));
+        assert_eq!(bounded[2].range, None);
+        assert_eq!(with_effective_ranges(&lights, 0.0)[0].range, None);
+    }
 }

@@ -18,12 +18,14 @@ mod resources;
 mod scene;
 
 pub use camera::{CameraUniform, FrameCamera};
-pub use config::{EdgeThresholds, FrameView, ParticleLighting, RenderPath, RendererConfig};
+pub use config::{
+    DEFAULT_LIGHT_CUTOFF, EdgeThresholds, FrameView, ParticleLighting, RenderPath, RendererConfig,
+};
 pub use decals::{GpuDecals, cull_box};
 pub use error::RenderError;
 pub use formats::{DEPTH_FORMAT, GBUFFER_FORMATS, HDR_FORMAT};
 pub use inputs::{FrameInputs, ParticleInput};
-pub use lights::LightSet;
+pub use lights::{LightSet, effective_range, with_effective_ranges};
 pub use report::{FrameReport, ParticleReport};
 pub use resources::{
     FrameResources, GBufferHandles, LightListHandles, ListGeometry, ParticleResources,

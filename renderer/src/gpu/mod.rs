@@ -27,6 +27,24 @@ pub struct GpuContext {
     pub queue: wgpu::Queue,
     /// What the adapter is and which optional capabilities the device was created with.
     pub report: AdapterReport,
+    /// Why the device was lost, once it is ([`GpuContext::lost`]).
+    lost: DeviceLoss,
+}
+
+/// Where the device-lost callback leaves its reason.
+type DeviceLoss = std::sync::Arc<std::sync::Mutex<Option<String>>>;
+
+/// Registers the callback that records `device`'s loss (it replaces any earlier callback).
+fn watch_for_loss(device: &wgpu::Device) -> DeviceLoss {
+    let lost = DeviceLoss::default();
+    let sink = std::sync::Arc::clone(&lost);
+    device.set_device_lost_callback(move |reason, message| {
+        let mut slot = sink
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        *slot = Some(format!("{reason:?}: {message}"));
+    });
+    lost
 }
 
 impl GpuContext {
@@ -52,6 +70,7 @@ impl GpuContext {
                 source,
             })?;
         Ok(Self {
+            lost: watch_for_loss(&device),
             instance,
             adapter,
             device,
@@ -60,7 +79,8 @@ impl GpuContext {
         })
     }
 
-    /// Wraps an engine's own instance, adapter, device and queue. The capabilities are those of
+    /// Wraps an engine's own instance, adapter, device and queue (registering the device's lost
+    /// callback, which replaces one the engine set). The capabilities are those of
     /// the adapter that the device was actually created with (features the engine did not enable
     /// are reported absent), so variant selection never asks for more than the device has.
     pub fn from_parts(
@@ -88,6 +108,7 @@ impl GpuContext {
             .max_workgroup_invocations
             .min(device.limits().max_compute_invocations_per_workgroup);
         Self {
+            lost: watch_for_loss(&device),
             instance,
             adapter,
             device,
@@ -104,6 +125,15 @@ impl GpuContext {
     /// The optional capabilities of the device that was created.
     pub fn capabilities(&self) -> &Capabilities {
         &self.report.capabilities
+    }
+
+    /// Why the device was lost (destroyed, a driver reset or removal), or `None` while it works.
+    /// A lost device stays lost: make a new context, renderer and scene.
+    pub fn lost(&self) -> Option<String> {
+        self.lost
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .clone()
     }
 
     /// Waits until all submitted GPU work is done.

@@ -236,15 +236,17 @@ fn light_views(input: &PlanInputs<'_>, grant: &ShadowGrant) -> Vec<LightView> {
     }
 }
 
-/// A light's reach: its range, or for an infinite range the distance to the scene's farthest
-/// corner (nothing beyond can receive or cast its shadow).
+/// A light's reach: its range, but no farther than the scene's farthest corner (nothing beyond
+/// can receive or cast its shadow), which also bounds an infinite range. A range far larger
+/// than the scene (the effective range of a bright light without one) would otherwise push
+/// the near plane past the casters and spread depth precision over empty space.
 pub fn reach(l: &SceneLight, scene: &Aabb) -> f32 {
-    l.range.unwrap_or_else(|| {
-        let far = (scene.min - l.position)
-            .abs()
-            .max((scene.max - l.position).abs());
-        far.length().max(1.0e-3)
-    })
+    let far = (scene.min - l.position)
+        .abs()
+        .max((scene.max - l.position).abs())
+        .length()
+        .max(1.0e-3);
+    l.range.map_or(far, |r| r.min(far))
 }
 
 /// `rect` in UV of an `atlas`-texel atlas.

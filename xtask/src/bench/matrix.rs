@@ -241,7 +241,7 @@ mod tests {
     #[test]
     fn bad_axis_values_say_what_to_use() {
         assert!(
-            PathChoice::parse("deferred")
+            PathChoice::parse("forward-plus")
                 .unwrap_err()
                 .to_string()
                 .contains("2.5d")
