@@ -300,7 +300,7 @@ impl Renderer {
         resources.bind_imports(&mut compiled);
         let gpu = &self.gpu;
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        compiled.execute(&gpu.device, &mut encoder, &mut self.pool, &self.profiler)?;
+        let pool = compiled.execute(&gpu.device, &mut encoder, &mut self.pool, &self.profiler)?;
         for pass in &mut self.passes {
             pass.after_execute(&frame, &resources, &mut encoder);
         }
@@ -321,6 +321,7 @@ impl Renderer {
             cpu_graph_ms,
             cpu_upload_ms,
             graph_dot,
+            pool,
             ..Default::default()
         };
         for pass in &mut self.passes {

@@ -25,6 +25,9 @@ pub struct FrameReport {
     /// The particles of the newest frame whose counters have arrived (read asynchronously;
     /// absent without particles).
     pub particles: Option<ParticleReport>,
+    /// What the frame graph's transient pool reused, created and held this frame: `held` stays
+    /// flat across frames of one configuration.
+    pub pool: crate::graph::PoolStats,
 }
 
 /// What the particle passes counted in one frame.

@@ -1,0 +1,282 @@
+//! The renderer as an engine drives it for a long time, and misuses it: frame sizes the device
+//! cannot take and targets of the wrong size are typed errors that change nothing; a lost device
+//! is reported, and a new device renders the same frame again; a soak run of 1,000 frames that
+//! keeps changing the light count, the path, MSAA and the size (1×1 and odd sizes included)
+//! stays free of validation errors, keeps the transient pool and the process's memory bounded,
+//! and ends on the frame a fresh renderer draws.
+
+use renderer::frame::setup::{create_target, framing_camera, procedural_lights};
+use renderer::frame::{FrameCamera, RenderError, RenderPath, Renderer, RendererConfig};
+use renderer::scene::{Scene, SceneLight};
+use renderer::{GpuContext, GpuOptions, readback};
+use tests::frames::{committed_scene, largest_difference};
+use tests::gpu::gpu_test;
+
+fn lights(scene: &Scene, count: usize, seed: u64) -> Vec<SceneLight> {
+    let size = (scene.bounds.max - scene.bounds.min).length();
+    procedural_lights(scene.bounds, count, seed, size * 0.05, size * 0.3)
+}
+
+fn camera(scene: &Scene, config: &RendererConfig) -> FrameCamera {
+    framing_camera(scene.bounds, config.width as f32 / config.height as f32)
+}
+
+/// Renders frames into a fresh target until the culled lists are complete (at most four), and
+/// reads the last one back.
+fn draw(renderer: &mut Renderer, gpu: &GpuContext, camera: &FrameCamera) -> Vec<u8> {
+    let target = create_target(&gpu.device, renderer.config());
+    for _ in 0..4 {
+        renderer.render(camera, &target).expect("frame");
+        renderer.finish();
+        if renderer.culling_counters().is_none_or(|c| c.dropped == 0) {
+            break;
+        }
+    }
+    readback::read_texture_rgba8(&gpu.device, &gpu.queue, &target).expect("readback")
+}
+
+#[test]
+fn sizes_and_targets_the_device_cannot_take_are_errors_that_change_nothing() {
+    let scene = committed_scene();
+    gpu_test(|gpu| {
+        let max = gpu.device.limits().max_texture_dimension_2d;
+        for (width, height) in [(0, 10), (10, 0), (max + 1, 16), (100_000, 100_000)] {
+            let config = RendererConfig {
+                width,
+                height,
+                ..Default::default()
+            };
+            let error = Renderer::new(gpu, config).map(|_| ()).unwrap_err();
+            assert!(
+                matches!(error, RenderError::FrameSize { .. }),
+                "{width}x{height}: {error}"
+            );
+            assert!(
+                error.to_string().contains(&format!("1 to {max}")),
+                "{error}"
+            );
+        }
+        let config = RendererConfig {
+            width: 64,
+            height: 48,
+            msaa: 1,
+            ..Default::default()
+        };
+        let mut renderer = Renderer::new(gpu, config).expect("renderer");
+        renderer.prepare_scene(&scene);
+        let error = renderer.resize(max + 1, 8).unwrap_err();
+        assert!(matches!(error, RenderError::FrameSize { .. }), "{error}");
+        assert_eq!(
+            (renderer.config().width, renderer.config().height),
+            (64, 48)
+        );
+        let small = RendererConfig {
+            width: 32,
+            ..config
+        };
+        let wrong = create_target(&gpu.device, &small);
+        let cam = camera(&scene, &config);
+        let error = renderer.render(&cam, &wrong).map(|_| ()).unwrap_err();
+        assert!(
+            matches!(error, RenderError::TargetMismatch { .. }),
+            "{error}"
+        );
+        let srgb = RendererConfig {
+            output_format: wgpu::TextureFormat::Bgra8UnormSrgb,
+            ..config
+        };
+        let wrong = create_target(&gpu.device, &srgb);
+        let error = renderer.render(&cam, &wrong).map(|_| ()).unwrap_err();
+        assert!(error.to_string().contains("Bgra8UnormSrgb"), "{error}");
+        // Nothing changed: the right target still renders.
+        draw(&mut renderer, gpu, &cam);
+    });
+}
+
+#[test]
+fn a_lost_device_is_an_error_and_a_new_device_draws_the_same_frame() {
+    let scene = committed_scene();
+    let lights = lights(&scene, 64, 5);
+    let config = RendererConfig {
+        width: 96,
+        height: 64,
+        msaa: 4,
+        path: RenderPath::Tiled,
+        ..Default::default()
+    };
+    let cam = camera(&scene, &config);
+    let start = |gpu: &GpuContext| {
+        let mut renderer = Renderer::new(gpu, config).expect("renderer");
+        renderer.prepare_scene(&scene);
+        renderer.set_lights(&lights).expect("lights fit");
+        renderer
+    };
+    // The harness's device stays healthy; the test loses a device of its own.
+    gpu_test(|_| {
+        let first = GpuContext::new_blocking(&GpuOptions::validated()).expect("device");
+        let mut renderer = start(&first);
+        let before = draw(&mut renderer, &first, &cam);
+        let target = create_target(&first.device, &config);
+        assert_eq!(first.lost(), None);
+        first.device.destroy();
+        // The lost callback runs when the device next does its upkeep.
+        let _ = first.device.poll(wgpu::PollType::wait_indefinitely());
+        let reason = first.lost().expect("the device reports its loss");
+        assert!(reason.contains("Destroyed"), "{reason}");
+        let error = renderer.render(&cam, &target).map(|_| ()).unwrap_err();
+        assert!(matches!(error, RenderError::DeviceLost(_)), "{error}");
+        assert!(
+            error.to_string().contains("create a new GpuContext"),
+            "{error}"
+        );
+        drop((renderer, target, first));
+
+        let second = GpuContext::new_blocking(&GpuOptions::validated()).expect("device");
+        let mut renderer = start(&second);
+        let after = draw(&mut renderer, &second, &cam);
+        assert_eq!(largest_difference(&before, &after), 0);
+    });
+}
+
+/// wgpu objects the application holds (buffers, textures, views, bind groups, pipelines, query
+/// sets), from the instance's report.
+fn live_objects(gpu: &GpuContext) -> [usize; 7] {
+    let report = gpu.instance.generate_report().expect("wgpu-core report");
+    let h = report.hub_report();
+    [
+        &h.buffers,
+        &h.textures,
+        &h.texture_views,
+        &h.bind_groups,
+        &h.render_pipelines,
+        &h.compute_pipelines,
+        &h.query_sets,
+    ]
+    .map(|r| r.num_kept_from_user)
+}
+
+/// Resident memory of this process, bytes (Linux `/proc/self/statm`).
+fn resident_bytes() -> u64 {
+    let statm = std::fs::read_to_string("/proc/self/statm").expect("/proc/self/statm");
+    let pages: u64 = statm
+        .split_whitespace()
+        .nth(1)
+        .and_then(|p| p.parse().ok())
+        .expect("resident pages");
+    pages * 4096
+}
+
+/// Frames of the soak run, and how often it changes renderer (path, MSAA) and size.
+const SOAK_FRAMES: usize = 1_000;
+const FRAMES_PER_RENDERER: usize = 25;
+/// Growth of resident memory allowed from the end of the second round of renderers (every path
+/// plain and scalarized) to the end of the run. Each renderer, its pipelines and pool are dropped before the next; what a
+/// software driver keeps (shader caches, allocator slabs) settles in those rounds. Mesa
+/// 22.3's lavapipe failed this by gigabytes (it kept about 2.2 MB per draw call; `cargo xtask
+/// test` installs a newer one).
+const RESIDENT_GROWTH_LIMIT: u64 = 64 << 20;
+
+#[test]
+fn a_thousand_changing_frames_stay_bounded_and_end_on_a_fresh_renderers_frame() {
+    let scene = committed_scene();
+    let sizes = [(1, 1), (33, 17), (64, 48), (7, 91), (128, 72)];
+    let light_counts = [0, 1, 17, 256];
+    gpu_test(|gpu| {
+        let msaa_counts = gpu.capabilities().msaa_counts();
+        let subgroup = gpu.capabilities().subgroup.is_some();
+        let before = live_objects(gpu);
+        let mut settled = None;
+        let mut last = None;
+        let renderers = SOAK_FRAMES / FRAMES_PER_RENDERER;
+        for r in 0..renderers {
+            let path = RenderPath::ALL[r % RenderPath::ALL.len()];
+            let (width, height) = sizes[r % sizes.len()];
+            let config = RendererConfig {
+                width,
+                height,
+                msaa: msaa_counts[r % msaa_counts.len()],
+                path,
+                tile: 16,
+                // Every other round of paths is scalarized where the device can.
+                scalarize: subgroup && (r / RenderPath::ALL.len()) % 2 == 1,
+                ..Default::default()
+            };
+            let mut renderer = Renderer::new(gpu, config).expect("renderer");
+            renderer.prepare_scene(&scene);
+            let mut target = create_target(&gpu.device, renderer.config());
+            let mut held = Vec::new();
+            for f in 0..FRAMES_PER_RENDERER {
+                if f % 10 == 0 {
+                    let count = light_counts[(r + f / 10) % light_counts.len()];
+                    renderer
+                        .set_lights(&lights(&scene, count, (r * 100 + f) as u64))
+                        .expect("lights fit");
+                }
+                if f == FRAMES_PER_RENDERER / 2 {
+                    // Another size, odd ones included, on the same renderer.
+                    let (w, h) = sizes[(r + 2) % sizes.len()];
+                    renderer.resize(w, h).expect("size fits");
+                    target = create_target(&gpu.device, renderer.config());
+                }
+                let cam = camera(&scene, renderer.config());
+                let report = renderer.render(&cam, &target).expect("frame");
+                held.push(report.pool.held);
+                renderer
+                    .wait_for_frames_in_flight(2)
+                    .expect("frames finish");
+            }
+            renderer.finish();
+            // The pool holds a steady set once a size has been seen for a few frames.
+            let tail = &held[held.len() - 10..];
+            assert!(
+                tail.iter().all(|&h| h == tail[0]),
+                "renderer {r} ({}): pool holds {tail:?} in its last frames",
+                path.name()
+            );
+            // Dropping the previous renderer leaves this one alone.
+            last = Some((renderer, target));
+            // Two rounds of paths: every path plain and scalarized.
+            if r + 1 == 2 * RenderPath::ALL.len() {
+                gpu.wait_idle().expect("idle");
+                settled = Some(resident_bytes());
+            }
+        }
+        gpu.wait_idle().expect("idle");
+        let resident = resident_bytes();
+        let settled = settled.expect("two rounds of paths");
+        eprintln!(
+            "resident memory: {} MiB after two rounds of paths, {} MiB after \
+             {SOAK_FRAMES} frames",
+            settled >> 20,
+            resident >> 20
+        );
+        assert!(
+            resident <= settled + RESIDENT_GROWTH_LIMIT,
+            "resident memory grew from {} MiB to {} MiB",
+            settled >> 20,
+            resident >> 20
+        );
+
+        // The last frame equals a fresh renderer's frame of the same settings.
+        let (mut renderer, target) = last.expect("renderers ran");
+        let config = *renderer.config();
+        let lights = lights(&scene, 256, 7);
+        renderer.set_lights(&lights).expect("lights fit");
+        let cam = camera(&scene, &config);
+        let soaked = draw(&mut renderer, gpu, &cam);
+        let mut fresh = Renderer::new(gpu, config).expect("renderer");
+        fresh.prepare_scene(&scene);
+        fresh.set_lights(&lights).expect("lights fit");
+        let clean = draw(&mut fresh, gpu, &cam);
+        assert_eq!(largest_difference(&soaked, &clean), 0);
+
+        // Every renderer gone, every wgpu object it made is gone too.
+        drop((renderer, target, fresh));
+        gpu.wait_idle().expect("idle");
+        assert_eq!(
+            live_objects(gpu),
+            before,
+            "live wgpu objects after the renderers"
+        );
+    });
+}
