@@ -110,6 +110,10 @@ struct Step {
 }
 
 fn next_step(s: &State) -> TokenStream {
+    #[expect(
+        clippy::expect_used,
+        reason = "called only while libraries are pending"
+    )]
     let (next, rest) = s.pending.split_first().expect("a library left to visit");
     let (args, item) = (&s.args, &s.item);
     let done = s.done.iter().map(|l| {

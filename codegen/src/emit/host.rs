@@ -136,12 +136,21 @@ pub(super) fn structs(c: &Compiled) -> TokenStream {
                 );
             }
             let fname = Ident::new(&f.name, Span::call_site());
+            #[expect(
+                clippy::expect_used,
+                reason = "only host-shareable structs reach the host emitter, so every field has a host type"
+            )]
             let ty = host_ty(&f.ty, m, env).expect("hostable");
             fields.push(quote!(pub #fname: #ty));
             field_tys.push(ty.clone());
             ctor_args.push(quote!(#fname: #ty));
             ctor_inits.push(quote!(#fname));
-            cursor = ml.offset + host_size(&f.ty, m, env).expect("hostable");
+            #[expect(
+                clippy::expect_used,
+                reason = "only host-shareable structs reach the host emitter, so every field has a host size"
+            )]
+            let size = host_size(&f.ty, m, env).expect("hostable");
+            cursor = ml.offset + size;
         }
         if layout.layout.size > cursor {
             push_pad(

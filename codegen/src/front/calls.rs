@@ -139,6 +139,7 @@ impl FnCtx<'_> {
                 return Err(self.err_mismatch(&Ty::BOOL, &args[0]));
             }
             let ty = self.same(&args[1].ty, &args[2])?;
+            #[expect(clippy::expect_used, reason = "the arity was checked above")]
             let [c, t, f]: [Expr; 3] = args.try_into().expect("arity checked");
             return Ok(call(plain("select"), vec![f, t, c], ty, span));
         }

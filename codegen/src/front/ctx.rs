@@ -128,6 +128,10 @@ impl<'a> FnCtx<'a> {
             mutable,
             span,
         });
+        #[expect(
+            clippy::expect_used,
+            reason = "a function body opens its scope before any local is declared"
+        )]
         self.scopes
             .last_mut()
             .expect("a scope is open")

@@ -279,6 +279,10 @@ impl FnCtx<'_> {
             _ => {}
         }
         if let Some(ty) = super::types::vec_or_mat_named(owner) {
+            #[expect(
+                clippy::expect_used,
+                reason = "vec_or_mat_named gives vectors and matrices, which have a scalar"
+            )]
             let s = ty.scalar().expect("vector or matrix");
             let n = match ty {
                 Ty::Vector(n, _) => n as usize,

@@ -60,6 +60,7 @@ impl FnCtx<'_> {
                 format!("missing fields in `{name}` literal: {}", missing.join(", ")),
             ));
         }
+        #[expect(clippy::expect_used, reason = "missing fields were reported above")]
         let args = values.into_iter().map(|v| v.expect("checked")).collect();
         Ok(mk(ExprKind::Construct(args), Ty::Struct(id), s.span()))
     }
@@ -145,6 +146,10 @@ impl FnCtx<'_> {
         span: Span,
     ) -> Result<Option<Expr>> {
         let name = self.ty_name(ty);
+        #[expect(
+            clippy::expect_used,
+            reason = "called only for vector and matrix types, which have a scalar"
+        )]
         let s = ty.scalar().expect("vector or matrix");
         match (method.to_string().as_str(), ty) {
             ("new", Ty::Vector(n, _)) => {

@@ -250,6 +250,7 @@ pub(crate) fn lower_items(
         {
             let mut cx = FnCtx::new(m, true);
             for f in &named.named {
+                #[expect(clippy::expect_used, reason = "fields of `FieldsNamed` have names")]
                 let ident = f.ident.as_ref().expect("named field");
                 if naga::keywords::wgsl::RESERVED_SET.contains(&ident.to_string()) {
                     return Err(Error::new(

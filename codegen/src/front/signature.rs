@@ -51,6 +51,7 @@ pub(crate) fn lower_signature(m: &ModCtx, f: &syn::ItemFn) -> Result<(ir::Functi
                     span,
                 });
             }
+            #[expect(clippy::expect_used, reason = "three sizes were collected above")]
             let [x, y, z]: [Expr; 3] = out.try_into().expect("three sizes");
             Some(Stage::Compute(Box::new([x, y, z])))
         }

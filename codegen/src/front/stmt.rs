@@ -134,6 +134,7 @@ impl FnCtx<'_> {
                 })
             }
             syn::Expr::Binary(b) if compound_op(&b.op).is_some() => {
+                #[expect(clippy::expect_used, reason = "the match guard checked it")]
                 let op = compound_op(&b.op).expect("checked");
                 let place = self.expr(&b.left)?;
                 self.check_place(&place, true)?;

@@ -156,6 +156,10 @@ impl FnCtx<'_> {
     }
 
     fn lower_path_type(&mut self, p: &syn::TypePath, pos: TyPos) -> Result<Ty> {
+        #[expect(
+            clippy::expect_used,
+            reason = "syn never parses a path without segments"
+        )]
         let seg = p.path.segments.last().expect("a path has a segment");
         let name = seg.ident.to_string();
         let span = seg.ident.span();

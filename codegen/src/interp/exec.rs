@@ -91,6 +91,10 @@ impl<'a> Machine<'a> {
         self.globals[g].as_ref().ok_or_else(|| self.no_value(g))
     }
 
+    #[expect(
+        clippy::expect_used,
+        reason = "checked for a value first: returning the borrow from a match would not pass the borrow checker"
+    )]
     pub(crate) fn global_mut(&mut self, g: usize) -> Result<&mut Value, EvalError> {
         if self.globals[g].is_none() {
             return Err(self.no_value(g));

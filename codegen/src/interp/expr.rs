@@ -76,10 +76,9 @@ impl Machine<'_> {
                         })
                     })
                     .collect::<Result<Vec<_>, _>>()?;
-                Ok(if picked.len() == 1 {
-                    picked.into_iter().next().expect("one component")
-                } else {
-                    Value::Vector(picked)
+                Ok(match <[Value; 1]>::try_from(picked) {
+                    Ok([one]) => one,
+                    Err(picked) => Value::Vector(picked),
                 })
             }
             ExprKind::Index(b, i) => {

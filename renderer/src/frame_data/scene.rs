@@ -218,6 +218,10 @@ impl SceneLayouts {
             })
         };
         // Groups 1 and 2 are the same in every forward variant; group 2 of the masked pre-Z.
+        #[expect(
+            clippy::expect_used,
+            reason = "the naive, opaque, plain forward variant is never excluded"
+        )]
         let forward_variant = forward::variant(forward::VariantKey {
             list: forward::List::List0,
             blend: false,

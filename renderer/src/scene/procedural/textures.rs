@@ -88,6 +88,7 @@ pub fn leaves() -> Image {
                 }
             }
         }
+        #[expect(clippy::expect_used, reason = "the loop above visits nine cells")]
         let (d, nx, ny) = best.expect("nine candidates");
         let radius = CELL as f32 * (0.55 + 0.35 * hash(nx, ny, 5));
         let g = 0.08 + 0.12 * hash(nx, ny, 6);
