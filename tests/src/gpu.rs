@@ -4,7 +4,8 @@
 //!   validation layer, and `InstanceFlags::DEBUG`, without which wgpu-hal registers no debug
 //!   messenger and the layer's reports never reach the process.
 //! - Validation-layer messages reach wgpu-hal's debug callback, which logs them; a process-wide
-//!   logger captures every error-level record from wgpu and naga.
+//!   logger captures every error-level record from wgpu and naga, and every warning of the
+//!   layer (`VALIDATION [..]` at warning level): a GPU test requires 0 of either.
 //! - One known false positive is dropped by its exact text: the Debian 1.3.239 layer rejects the
 //!   WGSL source-language operand (10) that naga writes into SPIR-V under DEBUG
 //!   ([`KNOWN_FALSE_POSITIVES`]).
@@ -143,6 +144,7 @@ fn captured_errors() -> &'static ErrorSink {
         let sink = ErrorSink::default();
         let logger = CapturingLogger {
             sink: Arc::clone(&sink),
+            last_report_captured: false.into(),
             last_report_suppressed: false.into(),
         };
         if log::set_boxed_logger(Box::new(logger)).is_ok() {
@@ -153,12 +155,15 @@ fn captured_errors() -> &'static ErrorSink {
     })
 }
 
-/// Records error-level messages from wgpu and naga (validation-layer reports among them) and
-/// echoes warnings and errors to stderr.
+/// Records error-level messages from wgpu and naga and the Khronos layer's warnings (its
+/// reports reach the log through wgpu-hal as `VALIDATION [..]` records), and echoes warnings and
+/// errors to stderr.
 struct CapturingLogger {
     sink: ErrorSink,
     /// wgpu-hal logs a report's objects and labels as follow-up records starting with a tab;
-    /// they belong to the report before them and share its fate.
+    /// they belong to the report before them and share its fate: captured or echoed, and
+    /// suppressed with it.
+    last_report_captured: std::sync::atomic::AtomicBool,
     last_report_suppressed: std::sync::atomic::AtomicBool,
 }
 
@@ -174,15 +179,21 @@ impl log::Log for CapturingLogger {
         use std::sync::atomic::Ordering::Relaxed;
         let target = record.target();
         let text = record.args().to_string();
-        let from_gpu_stack = target.starts_with("wgpu") || target.starts_with("naga");
-        if record.level() != log::Level::Error || !from_gpu_stack {
-            eprintln!("[{}] {target}: {text}", record.level());
-            return;
-        }
         let is_detail = text.starts_with('\t');
         if !is_detail {
+            let from_gpu_stack = target.starts_with("wgpu") || target.starts_with("naga");
+            let layer_warning = record.level() == log::Level::Warn
+                && target.starts_with("wgpu_hal::vulkan")
+                && text.starts_with("VALIDATION [");
+            let captured = from_gpu_stack && (record.level() == log::Level::Error || layer_warning);
             let suppressed = KNOWN_FALSE_POSITIVES.iter().any(|fp| text.contains(fp));
-            self.last_report_suppressed.store(suppressed, Relaxed);
+            self.last_report_captured.store(captured, Relaxed);
+            self.last_report_suppressed
+                .store(captured && suppressed, Relaxed);
+        }
+        if !self.last_report_captured.load(Relaxed) {
+            eprintln!("[{}] {target}: {text}", record.level());
+            return;
         }
         if self.last_report_suppressed.load(Relaxed) {
             if !is_detail {
@@ -190,7 +201,7 @@ impl log::Log for CapturingLogger {
             }
             return;
         }
-        eprintln!("[ERROR] {target}: {text}");
+        eprintln!("[{}] {target}: {text}", record.level());
         let mut sink = self.sink.lock().unwrap_or_else(PoisonError::into_inner);
         match sink.last_mut() {
             Some(report) if is_detail => {

@@ -1,6 +1,7 @@
 //! The GPU context and test harness, proven on real work: a compute dispatch and a render pass
 //! whose results are read back and checked against plain Rust, and deliberate misuses that the
-//! harness must catch (one wgpu validation error, one Vulkan validation-layer error).
+//! harness must catch (one wgpu validation error, one Vulkan validation-layer error, a
+//! validation-layer warning).
 
 use renderer::shader::ShaderProgram;
 use renderer::{readback, test_pattern};
@@ -171,6 +172,30 @@ fn vulkan_validation_layer_error_fails_the_test() {
         ),
         other => panic!("the layer did not report the zero-size buffer: {other:?}"),
     }
+}
+
+/// wgpu-hal logs the layer's warnings as `VALIDATION [..]` records at warning level, as it logs
+/// its errors at error level (the test above shows that path end to end): a warning of the layer
+/// fails the test too, while wgpu's and naga's other warnings are only echoed.
+#[test]
+fn a_validation_layer_warning_fails_the_test_and_other_warnings_do_not() {
+    let failure = try_gpu_test(|_| {
+        log::warn!(
+            target: "wgpu_hal::vulkan::instance",
+            "VALIDATION [TEST-Warning (0x1)]\n\tValidation Warning: a deliberate layer warning"
+        );
+    });
+    match failure {
+        Err(GpuTestFailure::Errors(errors)) => assert!(
+            errors.iter().any(|e| e.contains("TEST-Warning")),
+            "expected the deliberate warning, got {errors:#?}"
+        ),
+        other => panic!("the layer warning did not fail the test: {other:?}"),
+    }
+    let other = try_gpu_test(|_| {
+        log::warn!(target: "wgpu_core::device", "an ordinary wgpu warning");
+    });
+    assert!(other.is_ok(), "{:?}", other.err().map(|e| e.to_string()));
 }
 
 #[test]
