@@ -11,7 +11,9 @@
 
 use shaders_gen::deferred::tbdr;
 
-use super::tiled_shading::{KernelBuffers, bind_group, kernel_params, upload_spheres};
+use super::tiled_shading::{
+    KernelBuffers, bind_group, kernel_params, read_gbuffer, upload_spheres,
+};
 use crate::GpuContext;
 use crate::frame_data::{FrameInputs, FrameResources, HDR_FORMAT, RenderError, RendererConfig};
 use crate::graph::{RenderGraph, TextureAccess};
@@ -176,11 +178,7 @@ impl Pass for LightVolumePass {
             .clone()
             .ok_or(missing("deferred base edge bits"))?;
         let mut pass = graph.add_pass(self.name());
-        pass.read_texture(depth, TextureAccess::Sampled)
-            .read_texture(gbuffer.albedo, TextureAccess::Sampled)
-            .read_texture(gbuffer.normals, TextureAccess::Sampled)
-            .read_texture(gbuffer.radiance, TextureAccess::Sampled)
-            .read_texture(shadows.atlas, TextureAccess::Sampled)
+        read_gbuffer(&mut pass, depth, gbuffer, &shadows)
             .write_texture(&mut hdr, TextureAccess::ColorAttachment);
         let layout = self.program.bind_group_layouts[0].clone();
         let pipeline = self.pipeline.clone();

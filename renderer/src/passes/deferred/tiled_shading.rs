@@ -15,7 +15,7 @@ use crate::frame_data::{
     FrameInputs, FrameResources, FrameView, GBufferHandles, HDR_FORMAT, RenderError, RenderPath,
     RendererConfig, ShadowResources,
 };
-use crate::graph::{Handle, RenderGraph, Texture, TextureAccess, TextureDesc};
+use crate::graph::{Handle, PassBuilder, RenderGraph, Texture, TextureAccess, TextureDesc};
 use crate::passes::Pass;
 use crate::shader::ShaderProgram;
 
@@ -288,11 +288,7 @@ impl Pass for TbdrPass {
         let mut hdr =
             graph.create_texture("hdr", TextureDesc::new_2d(c.width, c.height, HDR_FORMAT));
         let mut pass = graph.add_pass(self.name());
-        pass.read_texture(depth, TextureAccess::Sampled)
-            .read_texture(gbuffer.albedo, TextureAccess::Sampled)
-            .read_texture(gbuffer.normals, TextureAccess::Sampled)
-            .read_texture(gbuffer.radiance, TextureAccess::Sampled)
-            .read_texture(shadows.atlas, TextureAccess::Sampled)
+        read_gbuffer(&mut pass, depth, gbuffer, &shadows)
             .write_texture(&mut hdr, TextureAccess::StorageWrite);
         let layout = self.program.bind_group_layouts[0].clone();
         let (shade, capture) = (self.shade.clone(), self.capture.clone());
@@ -349,6 +345,21 @@ impl Pass for TbdrPass {
         resources.hdr_multisampled = None;
         Ok(())
     }
+}
+
+/// Declares that `pass` samples what the `tbdr` module's group 0 binds: the pre-Z depth, the
+/// G-buffer and the shadow atlas.
+pub(super) fn read_gbuffer<'p, 'g>(
+    pass: &'p mut PassBuilder<'g>,
+    depth: Handle<Texture>,
+    gbuffer: GBufferHandles,
+    shadows: &ShadowResources,
+) -> &'p mut PassBuilder<'g> {
+    pass.read_texture(depth, TextureAccess::Sampled)
+        .read_texture(gbuffer.albedo, TextureAccess::Sampled)
+        .read_texture(gbuffer.normals, TextureAccess::Sampled)
+        .read_texture(gbuffer.radiance, TextureAccess::Sampled)
+        .read_texture(shadows.atlas, TextureAccess::Sampled)
 }
 
 /// The buffers of the `tbdr` module's group 0.
