@@ -73,7 +73,17 @@ pub fn render_frame_with(
     renderer.prepare_scene(scene);
     renderer.set_lights(lights).expect("lights fit");
     renderer.set_decals(decals).expect("decals fit");
-    let target = create_target(&gpu.device, &config);
+    render_until_complete(gpu, &mut renderer, camera)
+}
+
+/// Renders `renderer`'s frame from `camera` into a new target, again while a frame drops list
+/// entries (up to [`MAX_GROWTH_FRAMES`] times), and reads the last one back.
+pub fn render_until_complete(
+    gpu: &GpuContext,
+    renderer: &mut Renderer,
+    camera: &FrameCamera,
+) -> Frame {
+    let target = create_target(&gpu.device, renderer.config());
     let mut frames = 0;
     let (report, culling) = loop {
         let report = renderer.render(camera, &target).expect("frame");

@@ -8,8 +8,8 @@
 use renderer::frame::setup::{create_target, framing_camera, procedural_lights};
 use renderer::frame::{FrameCamera, RenderError, RenderPath, Renderer, RendererConfig};
 use renderer::scene::{Scene, SceneLight};
-use renderer::{GpuContext, GpuOptions, readback};
-use tests::frames::{committed_scene, largest_difference};
+use renderer::{GpuContext, GpuOptions};
+use tests::frames::{committed_scene, largest_difference, render_until_complete};
 use tests::gpu::gpu_test;
 
 fn lights(scene: &Scene, count: usize, seed: u64) -> Vec<SceneLight> {
@@ -21,18 +21,9 @@ fn camera(scene: &Scene, config: &RendererConfig) -> FrameCamera {
     framing_camera(scene.bounds, config.width as f32 / config.height as f32)
 }
 
-/// Renders frames into a fresh target until the culled lists are complete (at most four), and
-/// reads the last one back.
+/// The frame of `renderer` from `camera`, once its culled lists are complete.
 fn draw(renderer: &mut Renderer, gpu: &GpuContext, camera: &FrameCamera) -> Vec<u8> {
-    let target = create_target(&gpu.device, renderer.config());
-    for _ in 0..4 {
-        renderer.render(camera, &target).expect("frame");
-        renderer.finish();
-        if renderer.culling_counters().is_none_or(|c| c.dropped == 0) {
-            break;
-        }
-    }
-    readback::read_texture_rgba8(&gpu.device, &gpu.queue, &target).expect("readback")
+    render_until_complete(gpu, renderer, camera).rgba
 }
 
 #[test]

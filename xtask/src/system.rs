@@ -189,23 +189,23 @@ fn apt(args: &[&str]) -> Result<()> {
     Ok(())
 }
 
-fn has_vulkan_adapter() -> bool {
+/// The Vulkan adapters of this machine.
+fn vulkan_adapters() -> Vec<wgpu::Adapter> {
     let options = renderer::GpuOptions {
         backends: wgpu::Backends::VULKAN,
         ..renderer::GpuOptions::default()
     };
-    !pollster::block_on(renderer::gpu::enumerate_adapters(&options)).is_empty()
+    pollster::block_on(renderer::gpu::enumerate_adapters(&options))
+}
+
+fn has_vulkan_adapter() -> bool {
+    !vulkan_adapters().is_empty()
 }
 
 /// Whether a hardware Vulkan adapter exists, or the software one is lavapipe from Mesa
 /// [`MIN_SOFTWARE_MESA`] or later (its driver info reads "Mesa 25.0.7 (LLVM 15.0.6)").
 fn has_hardware_or_recent_software_adapter() -> bool {
-    let options = renderer::GpuOptions {
-        backends: wgpu::Backends::VULKAN,
-        ..renderer::GpuOptions::default()
-    };
-    let adapters = pollster::block_on(renderer::gpu::enumerate_adapters(&options));
-    adapters.iter().any(|a| {
+    vulkan_adapters().iter().any(|a| {
         let info = a.get_info();
         info.device_type != wgpu::DeviceType::Cpu
             || mesa_major(&info.driver_info).is_some_and(|m| m >= MIN_SOFTWARE_MESA)

@@ -12,7 +12,7 @@
 use shaders_gen::deferred::tbdr;
 
 use super::tiled_shading::{
-    KernelBuffers, bind_group, kernel_params, read_gbuffer, upload_spheres,
+    KernelBuffers, bind_group, kernel_params, read_gbuffer, upload_spheres, variant_msaa,
 };
 use crate::GpuContext;
 use crate::frame_data::{FrameInputs, FrameResources, HDR_FORMAT, RenderError, RendererConfig};
@@ -40,22 +40,10 @@ pub struct LightVolumePass {
 
 impl LightVolumePass {
     pub fn new(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
-        let msaa = match config.msaa {
-            1 => tbdr::Msaa::Msaa1,
-            2 => tbdr::Msaa::Msaa2,
-            4 => tbdr::Msaa::Msaa4,
-            8 => tbdr::Msaa::Msaa8,
-            asked => {
-                return Err(RenderError::SampleCount {
-                    asked,
-                    supported: vec![1, 2, 4, 8],
-                });
-            }
-        };
         // The volume entry points do not depend on the tile, scalarization or deferral axes.
         let key = tbdr::VariantKey {
             tile: tbdr::Tile::T16,
-            msaa,
+            msaa: variant_msaa(config.msaa)?,
             scalarize: false,
             defer: false,
         };

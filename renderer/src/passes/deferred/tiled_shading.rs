@@ -91,18 +91,7 @@ impl TbdrPass {
             16 => tbdr::Tile::T16,
             t => return Err(RenderError::TbdrTile(t)),
         };
-        let msaa = match config.msaa {
-            1 => tbdr::Msaa::Msaa1,
-            2 => tbdr::Msaa::Msaa2,
-            4 => tbdr::Msaa::Msaa4,
-            8 => tbdr::Msaa::Msaa8,
-            asked => {
-                return Err(RenderError::SampleCount {
-                    asked,
-                    supported: vec![1, 2, 4, 8],
-                });
-            }
-        };
+        let msaa = variant_msaa(config.msaa)?;
         let base_only = config.path == RenderPath::Deferred;
         let key = tbdr::VariantKey {
             tile,
@@ -164,6 +153,14 @@ impl TbdrPass {
             gbuffer: crate::readback::read_buffer(device, queue, &r.gbuffer)?,
         }))
     }
+}
+
+/// The `tbdr` module's MSAA axis value for `msaa` samples.
+pub(super) fn variant_msaa(msaa: u32) -> Result<tbdr::Msaa, RenderError> {
+    tbdr::Msaa::from_value(msaa).ok_or_else(|| RenderError::SampleCount {
+        asked: msaa,
+        supported: tbdr::Msaa::ALL.iter().map(|m| m.value()).collect(),
+    })
 }
 
 /// The `tbdr` module's parameters for `frame`, with `light_count` punctual lights culled and
