@@ -70,7 +70,9 @@ pub fn render_frame_with(
     camera: &FrameCamera,
 ) -> Frame {
     let mut renderer = Renderer::new(gpu, config).expect("renderer");
-    renderer.prepare_scene(scene);
+    renderer
+        .prepare_scene(scene)
+        .expect("the scene fits the device");
     renderer.set_lights(lights).expect("lights fit");
     renderer.set_decals(decals).expect("decals fit");
     render_until_complete(gpu, &mut renderer, camera)

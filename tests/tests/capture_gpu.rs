@@ -23,7 +23,9 @@ fn capture(path: RenderPath, msaa: u32, stride: u32) -> renderer::frame::capture
     let lights = procedural_lights(scene.bounds, 128, 5, size * 0.05, size * 0.2);
     gpu_test(|gpu| {
         let mut renderer = Renderer::new(gpu, config).expect("renderer");
-        renderer.prepare_scene(&scene);
+        renderer
+            .prepare_scene(&scene)
+            .expect("the scene fits the device");
         renderer.set_lights(&lights).expect("lights fit");
         let target = create_target(&gpu.device, &config);
         let camera = framing_camera(scene.bounds, 1.5);

@@ -83,7 +83,9 @@ fn render(scene: &Scene, path: RenderPath, msaa: u32) -> Vec<u8> {
             gpu.report.name, gpu.report.driver_info
         );
         let mut renderer = Renderer::new(gpu, config).expect("renderer");
-        renderer.prepare_scene(scene);
+        renderer
+            .prepare_scene(scene)
+            .expect("the scene fits the device");
         renderer.set_lights(&lights).expect("lights fit");
         let target = create_target(&gpu.device, &config);
         renderer.render(&grazing_camera(), &target).expect("frame");

@@ -84,7 +84,9 @@ const WARMUP: u32 = 150;
 /// A renderer with the stage, its lights and the smoke, for `config`.
 fn renderer(gpu: &GpuContext, scene: &Scene, config: RendererConfig) -> Renderer {
     let mut renderer = Renderer::new(gpu, config).expect("renderer");
-    renderer.prepare_scene(scene);
+    renderer
+        .prepare_scene(scene)
+        .expect("the scene fits the device");
     renderer.set_lights(&lights(scene)).expect("lights fit");
     renderer
         .set_particles(&particles(), WARMUP)
@@ -279,7 +281,9 @@ fn bad_particle_inputs_are_clear_errors() {
         let mut config = config(RenderPath::Clustered, 1, ParticleLighting::Atlas);
         config.particle_atlas_side = 100;
         let mut renderer = Renderer::new(gpu, config).expect("renderer");
-        renderer.prepare_scene(&scene);
+        renderer
+            .prepare_scene(&scene)
+            .expect("the scene fits the device");
         let mut bad = particles();
         bad.capacity = 0;
         let err = renderer.set_particles(&bad, 0).unwrap_err().to_string();

@@ -124,7 +124,9 @@ fn a_pass_from_outside_the_renderer_joins_the_frame() {
         );
         assert!(renderer.pass::<HdrSnapshot>().is_some());
 
-        renderer.prepare_scene(&scene);
+        renderer
+            .prepare_scene(&scene)
+            .expect("the scene fits the device");
         renderer
             .set_lights(&procedural_lights(scene.bounds, 32, 3, 0.5, 2.0))
             .expect("lights fit");

@@ -54,7 +54,9 @@ fn sizes_and_targets_the_device_cannot_take_are_errors_that_change_nothing() {
             ..Default::default()
         };
         let mut renderer = Renderer::new(gpu, config).expect("renderer");
-        renderer.prepare_scene(&scene);
+        renderer
+            .prepare_scene(&scene)
+            .expect("the scene fits the device");
         let error = renderer.resize(max + 1, 8).unwrap_err();
         assert!(matches!(error, RenderError::FrameSize { .. }), "{error}");
         assert_eq!(
@@ -98,7 +100,9 @@ fn a_lost_device_is_an_error_and_a_new_device_draws_the_same_frame() {
     let cam = camera(&scene, &config);
     let start = |gpu: &GpuContext| {
         let mut renderer = Renderer::new(gpu, config).expect("renderer");
-        renderer.prepare_scene(&scene);
+        renderer
+            .prepare_scene(&scene)
+            .expect("the scene fits the device");
         renderer.set_lights(&lights).expect("lights fit");
         renderer
     };
@@ -225,7 +229,9 @@ fn a_thousand_changing_frames_stay_bounded_and_end_on_a_fresh_renderers_frame() 
                 ..Default::default()
             };
             let mut renderer = Renderer::new(gpu, config).expect("renderer");
-            renderer.prepare_scene(&scene);
+            renderer
+                .prepare_scene(&scene)
+                .expect("the scene fits the device");
             let mut target = create_target(&gpu.device, renderer.config());
             let mut held = Vec::new();
             for f in 0..FRAMES_PER_RENDERER {
@@ -296,7 +302,9 @@ fn a_thousand_changing_frames_stay_bounded_and_end_on_a_fresh_renderers_frame() 
         let cam = camera(&scene, &config);
         let soaked = draw(&mut renderer, gpu, &cam);
         let mut fresh = Renderer::new(gpu, config).expect("renderer");
-        fresh.prepare_scene(&scene);
+        fresh
+            .prepare_scene(&scene)
+            .expect("the scene fits the device");
         fresh.set_lights(&lights).expect("lights fit");
         let clean = draw(&mut fresh, gpu, &cam);
         assert_eq!(largest_difference(&soaked, &clean), 0);

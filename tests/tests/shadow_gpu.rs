@@ -239,7 +239,9 @@ struct Session {
 impl Session {
     fn new(gpu: &GpuContext, config: RendererConfig, lights: &[SceneLight]) -> Self {
         let mut renderer = Renderer::new(gpu, config).expect("renderer");
-        renderer.prepare_scene(&shadow_scene::scene());
+        renderer
+            .prepare_scene(&shadow_scene::scene())
+            .expect("the scene fits the device");
         renderer.set_lights(lights).expect("lights fit");
         Self {
             target: create_target(&gpu.device, &config),

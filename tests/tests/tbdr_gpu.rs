@@ -74,7 +74,9 @@ fn frame(
         ..Default::default()
     });
     let mut renderer = Renderer::new(gpu, config).expect("renderer");
-    renderer.prepare_scene(&stage.scene);
+    renderer
+        .prepare_scene(&stage.scene)
+        .expect("the scene fits the device");
     renderer.set_lights(&stage.lights).expect("lights fit");
     if record {
         renderer
@@ -328,7 +330,9 @@ fn the_shading_frequency_view_marks_edges_red_and_bad_settings_are_errors() {
                 ..Default::default()
             });
             let mut renderer = Renderer::new(gpu, config).expect("renderer");
-            renderer.prepare_scene(&stage.scene);
+            renderer
+                .prepare_scene(&stage.scene)
+                .expect("the scene fits the device");
             renderer.set_lights(&stage.lights).expect("lights fit");
             let target = create_target(&gpu.device, &config);
             renderer.render(&stage.camera, &target).expect("frame");

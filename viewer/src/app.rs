@@ -232,7 +232,7 @@ fn build(
     lights: &[renderer::scene::SceneLight],
 ) -> Result<Renderer> {
     let mut r = Renderer::new(gpu, config)?;
-    r.prepare_scene(&shown.scene);
+    r.prepare_scene(&shown.scene)?;
     r.set_lights(lights)?;
     r.set_decals(&shown.decals)?;
     if let Some(p) = &shown.particles {

@@ -43,7 +43,8 @@ fn headless(steps: u32) -> Vec<u8> {
         ..look(&shown)
     };
     let mut r = Renderer::new(&gpu, config).expect("renderer");
-    r.prepare_scene(&shown.scene);
+    r.prepare_scene(&shown.scene)
+        .expect("the scene fits the device");
     r.set_lights(&shown.lights).expect("lights fit");
     r.set_decals(&shown.decals).expect("decals fit");
     let target = create_target(&gpu.device, &config);

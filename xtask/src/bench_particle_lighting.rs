@@ -87,7 +87,7 @@ fn run_lighting(s: &Setup, lighting: ParticleLighting, frames: u32) -> Result<(R
         ..s.config
     };
     let mut renderer = Renderer::new(&s.gpu, config)?;
-    renderer.prepare_scene(&s.scene);
+    renderer.prepare_scene(&s.scene)?;
     renderer.set_lights(&s.lights)?;
     let system = s.particles.as_ref().context("the bench has particles")?;
     renderer.set_particles(system, WARMUP_STEPS)?;

@@ -158,7 +158,7 @@ fn moonlight() -> SceneLight {
 /// second and third: what the shadow cache did in each.
 fn moving_sphere(s: &Setup) -> Result<[ShadowReport; 3]> {
     let mut renderer = Renderer::new(&s.gpu, s.config)?;
-    renderer.prepare_scene(&s.scene);
+    renderer.prepare_scene(&s.scene)?;
     renderer.set_lights(&s.lights)?;
     let sphere = moving_instance(&s.scene).context("the courtyard has instances")?;
     renderer.set_instance_dynamic(sphere, true)?;

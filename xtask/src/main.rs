@@ -10,6 +10,7 @@ mod bench_codegen;
 mod bench_particle_lighting;
 mod bench_particles;
 mod demo;
+mod fuzz;
 mod fuzz_dsl;
 mod info;
 mod invariants;
@@ -53,6 +54,9 @@ enum Command {
     /// Generated differential test of DSL expressions and statement programs: GPU against the
     /// host interpreter, failures printed shrunk.
     FuzzDsl(fuzz_dsl::Args),
+    /// Coverage-guided fuzzing of one target (gltf_load, dsl_codegen, frame_graph) with
+    /// cargo-fuzz and libFuzzer; installs cargo-fuzz if needed.
+    Fuzz(fuzz::Args),
     /// Check the architecture invariants of ARCHITECTURE.md.
     CheckInvariants,
     /// Every render path side by side over a matrix of lights, sizes, MSAA, tiles and
@@ -76,6 +80,7 @@ fn main() -> anyhow::Result<()> {
         Command::View(args) => view::run(&args),
         Command::Info(args) => info::run(&args),
         Command::Shaders(args) => shaders::run(&args),
+        Command::Fuzz(args) => fuzz::run(&args),
         Command::FuzzDsl(args) => fuzz_dsl::run(&args),
         Command::CheckInvariants => invariants::run(),
         Command::Bench(args) => bench::run(&args),

@@ -346,7 +346,7 @@ pub fn difference(a: &[u8], b: &[u8]) -> (f64, u8) {
 /// [`shoot`] with settings of its own (another path or view of the same set-up).
 pub fn shoot_with(s: &Setup, config: RendererConfig, efficiency: bool) -> Result<Shot> {
     let mut renderer = Renderer::new(&s.gpu, config)?;
-    renderer.prepare_scene(&s.scene);
+    renderer.prepare_scene(&s.scene)?;
     renderer.set_lights(&s.lights)?;
     renderer.set_decals(&s.decals)?;
     if let Some(p) = &s.particles {

@@ -19,7 +19,7 @@
 //! let mut renderer = Renderer::new(&gpu, config)?;
 //!
 //! let scene = Scene::load("scene.glb")?;
-//! renderer.prepare_scene(&scene);
+//! renderer.prepare_scene(&scene)?;
 //! let mut lights = scene.lights.clone();
 //! lights.extend(procedural_lights(scene.bounds, 4096, 1, 0.5, 3.0));
 //! renderer.set_lights(&lights)?;
@@ -152,10 +152,14 @@ impl Renderer {
         &self.config
     }
 
-    /// Uploads a scene; it replaces the previous one.
-    pub fn prepare_scene(&mut self, scene: &Scene) {
+    /// Uploads a scene; it replaces the previous one. A scene that is inconsistent or does not
+    /// fit the device's limits ([`Scene::check_for_device`]) is an error, and the previous scene
+    /// stays.
+    pub fn prepare_scene(&mut self, scene: &Scene) -> Result<(), RenderError> {
+        scene.check_for_device(&self.gpu.device.limits())?;
         self.scene = Some(PreparedScene::new(&self.gpu.device, &self.gpu.queue, scene));
         self.instances = Arc::new(InstanceState::of_scene(scene));
+        Ok(())
     }
 
     /// Replaces the lights (scene lights and any procedural ones), effective next frame. A point

@@ -36,6 +36,8 @@ pub enum RenderError {
     Cull(#[from] CullError),
     #[error(transparent)]
     Graph(#[from] GraphError),
+    #[error(transparent)]
+    Scene(#[from] crate::scene::SceneError),
     #[error(
         "a frame capture reads the pre-Z depth; the naive path has none (use naive-prez or a culled path)"
     )]

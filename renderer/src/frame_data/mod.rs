@@ -31,4 +31,7 @@ pub use resources::{
     FrameResources, GBufferHandles, LightListHandles, ListGeometry, ParticleResources,
     ShadowResources,
 };
-pub use scene::{DrawItem, InstanceState, PreparedMaterial, PreparedScene};
+pub use scene::{
+    DrawItem, InstanceState, PlannedDraw, PreparedMaterial, PreparedScene, draw_plan,
+    material_uniform,
+};

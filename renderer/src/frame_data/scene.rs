@@ -95,6 +95,8 @@ impl PreparedScene {
     /// forward program's groups 1 (draw) and 2 (material), which the pre-Z programs share for
     /// group 1, and the masked pre-Z program's group 2. wgpu treats layouts with equal entries
     /// as one, so these groups bind with every pipeline of those programs.
+    ///
+    /// `scene` must have passed [`Scene::check_for_device`] (`Renderer::prepare_scene` checks).
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Arc<Self> {
         let layouts = SceneLayouts::new(device);
         let gpu = GpuScene::upload(device, queue, scene);
@@ -122,15 +124,12 @@ impl PreparedScene {
             &sampler,
             &Material::gltf_default(),
         ));
-        let mut draws = Vec::new();
-        for (instance_index, instance) in scene.instances.iter().enumerate() {
-            for (p, primitive) in scene.meshes[instance.mesh].primitives.iter().enumerate() {
-                let material = primitive.material.unwrap_or(default_material);
-                let world = instance.world_from_mesh;
-                let draw = forward::Draw::new(world, world.inverse().transpose(), material as u32);
+        let draws = draw_plan(scene, default_material)
+            .into_iter()
+            .map(|plan| {
                 let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                     label: Some("draw"),
-                    contents: bytemuck::bytes_of(&draw),
+                    contents: bytemuck::bytes_of(&plan.uniform),
                     usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 });
                 let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -141,24 +140,80 @@ impl PreparedScene {
                         resource: buffer.as_entire_binding(),
                     }],
                 });
-                draws.push(DrawItem {
-                    mesh: instance.mesh,
-                    primitive: p,
-                    material,
+                DrawItem {
+                    mesh: plan.mesh,
+                    primitive: plan.primitive,
+                    material: plan.material,
                     bind_group,
                     buffer,
-                    instance: instance_index,
-                    local_bounds: primitive.bounds,
-                    center: primitive.bounds.transformed(world).center(),
-                });
-            }
-        }
+                    instance: plan.instance,
+                    local_bounds: plan.local_bounds,
+                    center: plan.center,
+                }
+            })
+            .collect();
         Arc::new(Self {
             gpu,
             draws,
             materials,
         })
     }
+}
+
+/// One draw of a scene before anything is on the GPU: which primitive of which instance, with
+/// which material, and its `Draw` uniform.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlannedDraw {
+    pub instance: usize,
+    pub mesh: usize,
+    pub primitive: usize,
+    pub material: usize,
+    pub uniform: forward::Draw,
+    pub local_bounds: Aabb,
+    pub center: Vec3,
+}
+
+/// Every draw of `scene`, in instance then primitive order; primitives without a material use
+/// `default_material`. Instances naming no mesh draw nothing ([`Scene::check_for_device`]
+/// reports them).
+pub fn draw_plan(scene: &Scene, default_material: usize) -> Vec<PlannedDraw> {
+    let mut draws = Vec::new();
+    for (instance_index, instance) in scene.instances.iter().enumerate() {
+        let Some(mesh) = scene.meshes.get(instance.mesh) else {
+            continue;
+        };
+        let world = instance.world_from_mesh;
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            let material = primitive.material.unwrap_or(default_material);
+            draws.push(PlannedDraw {
+                instance: instance_index,
+                mesh: instance.mesh,
+                primitive: p,
+                material,
+                uniform: forward::Draw::new(world, world.inverse().transpose(), material as u32),
+                local_bounds: primitive.bounds,
+                center: primitive.bounds.transformed(world).center(),
+            });
+        }
+    }
+    draws
+}
+
+/// The `Material` uniform of `m` (the alpha cutoff is 0 unless the material is masked).
+pub fn material_uniform(m: &Material) -> forward::Material {
+    let cutoff = match m.alpha_mode {
+        AlphaMode::Mask { cutoff } => cutoff,
+        _ => 0.0,
+    };
+    forward::Material::new(
+        m.base_color,
+        m.emissive,
+        m.metallic,
+        m.roughness,
+        m.normal_scale,
+        m.occlusion_strength,
+        cutoff,
+    )
 }
 
 /// 1×1 textures standing in for absent material textures.
@@ -245,19 +300,8 @@ fn prepare_material(
     sampler: &wgpu::Sampler,
     m: &Material,
 ) -> PreparedMaterial {
-    let cutoff = match m.alpha_mode {
-        AlphaMode::Mask { cutoff } => cutoff,
-        _ => 0.0,
-    };
-    let uniform = forward::Material::new(
-        m.base_color,
-        m.emissive,
-        m.metallic,
-        m.roughness,
-        m.normal_scale,
-        m.occlusion_strength,
-        cutoff,
-    );
+    let uniform = material_uniform(m);
+    let cutoff = uniform.alpha_cutoff;
     let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("material"),
         contents: bytemuck::bytes_of(&uniform),

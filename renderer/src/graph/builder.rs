@@ -105,9 +105,12 @@ impl RenderGraph {
         PassBuilder { graph: self, index }
     }
 
-    /// The name of a resource, for messages and dumps.
-    pub fn resource_name<T>(&self, handle: Handle<T>) -> &str {
-        &self.resources[handle.index].name
+    /// The name of a resource, for messages and dumps; `None` for a handle of another graph.
+    pub fn resource_name<T>(&self, handle: Handle<T>) -> Option<&str> {
+        if handle.graph != self.id {
+            return None;
+        }
+        self.resources.get(handle.index).map(|r| r.name.as_str())
     }
 }
 

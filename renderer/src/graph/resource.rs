@@ -26,6 +26,11 @@ impl<T> Clone for Handle<T> {
 impl<T> Copy for Handle<T> {}
 
 impl<T> Handle<T> {
+    /// Which write of the resource this handle names (0: none yet; imports start at 1).
+    pub fn version(self) -> u32 {
+        self.version
+    }
+
     pub(crate) fn new(graph: u64, index: usize) -> Self {
         Self {
             graph,

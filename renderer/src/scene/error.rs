@@ -57,4 +57,24 @@ pub enum SceneError {
         image: usize,
         format: gltf::image::Format,
     },
+    #[error(
+        "{path}: node {node} is reached twice (a cycle, or a node with two parents); glTF \
+         requires the nodes to form trees"
+    )]
+    NodeHierarchy { path: PathBuf, node: usize },
+    #[error("{path}: resource `{uri}` {reason}")]
+    ExternalResource {
+        path: PathBuf,
+        uri: String,
+        reason: String,
+    },
+    #[error("scene {what} is {value}, but this device allows at most {limit}; {advice}")]
+    DeviceLimit {
+        what: String,
+        value: u64,
+        limit: u64,
+        advice: &'static str,
+    },
+    #[error("scene is inconsistent: {0}")]
+    Inconsistent(String),
 }

@@ -6,30 +6,54 @@ use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
 
 use super::{
     Aabb, AlphaMode, Image, Instance, LightKind, Material, Mesh, Primitive, Scene, SceneCamera,
-    SceneError, SceneLight, TextureRef, tangents,
+    SceneError, SceneLight, TextureRef, resources, tangents,
 };
 
 /// Extensions a file may require that the loader understands.
 const SUPPORTED_REQUIRED: &[&str] = &["KHR_lights_punctual", "KHR_materials_emissive_strength"];
 
 impl Scene {
-    /// Loads a `.gltf` (with its buffers and images) or `.glb` file.
+    /// Loads a `.gltf` (with its buffers and images) or `.glb` file. External buffers and images
+    /// must be files inside the scene's folder (or `data:` URIs).
     pub fn load(path: impl AsRef<Path>) -> Result<Self, SceneError> {
         let path = path.as_ref();
+        let bytes = std::fs::read(path).map_err(|e| SceneError::Gltf {
+            path: path.to_path_buf(),
+            source: gltf::Error::Io(e),
+        })?;
+        let base = path.parent().unwrap_or_else(|| Path::new("."));
+        Self::from_bytes(&bytes, Some(base), path)
+    }
+
+    /// Loads a self-contained scene from memory: a `.glb`, or a `.gltf` whose buffers and images
+    /// are `data:` URIs. Errors name the scene `<memory>`.
+    pub fn from_slice(bytes: &[u8]) -> Result<Self, SceneError> {
+        Self::from_bytes(bytes, None, Path::new("<memory>"))
+    }
+
+    fn from_bytes(bytes: &[u8], base: Option<&Path>, path: &Path) -> Result<Self, SceneError> {
         let gltf_err = |source| SceneError::Gltf {
             path: path.to_path_buf(),
             source,
         };
         // Read the document first, so an unsupported required extension is named as such rather
         // than reported as a generic validation failure.
-        let bytes = std::fs::read(path).map_err(|e| gltf_err(gltf::Error::Io(e)))?;
-        if let Some(extension) = unsupported_required_extension(&bytes) {
+        if let Some(extension) = unsupported_required_extension(bytes) {
             return Err(SceneError::UnsupportedExtension {
                 path: path.to_path_buf(),
                 extension,
             });
         }
-        let (doc, buffers, images) = gltf::import(path).map_err(gltf_err)?;
+        let gltf::Gltf {
+            document: doc,
+            blob,
+        } = gltf::Gltf::from_slice(bytes).map_err(gltf_err)?;
+        resources::check_uris(&doc, base, path)?;
+        // gltf decodes image `data:` URIs only when given a folder. With no folder, every URI
+        // is a `data:` URI (checked above), so the stand-in folder is never read.
+        let base = base.or(Some(Path::new(".")));
+        let buffers = gltf::import_buffers(&doc, base, blob).map_err(gltf_err)?;
+        let images = gltf::import_images(&doc, base, &buffers).map_err(gltf_err)?;
         let ctx = Ctx { path };
         let meshes = doc
             .meshes()
@@ -50,33 +74,24 @@ impl Scene {
             lights: Vec::new(),
             bounds: Aabb::EMPTY,
         };
-        let roots: Vec<gltf::Node<'_>> = match doc.default_scene().or_else(|| doc.scenes().next()) {
-            Some(s) => s.nodes().collect(),
-            None => doc.nodes().collect(),
-        };
-        for node in roots {
-            scene.visit(&node, Mat4::IDENTITY);
+        for (node, world) in ctx.node_transforms(&doc)? {
+            scene.place(&node, world);
         }
         Ok(scene)
     }
 
-    fn visit(&mut self, node: &gltf::Node<'_>, parent: Mat4) {
-        let (t, r, s) = node.transform().decomposed();
-        let world = parent
-            * Mat4::from_scale_rotation_translation(
-                Vec3::from(s),
-                Quat::from_array(r),
-                Vec3::from(t),
-            );
-        if let Some(mesh) = node.mesh() {
-            let index = mesh.index();
-            self.instances.push(Instance {
-                mesh: index,
-                world_from_mesh: world,
-            });
-            for p in &self.meshes[index].primitives {
+    /// Adds what `node` carries (mesh instance, camera, light) at `world`.
+    fn place(&mut self, node: &gltf::Node<'_>, world: Mat4) {
+        if let Some(mesh) = node.mesh()
+            && let Some(primitives) = self.meshes.get(mesh.index()).map(|m| &m.primitives)
+        {
+            for p in primitives {
                 self.bounds = self.bounds.union(p.bounds.transformed(world));
             }
+            self.instances.push(Instance {
+                mesh: mesh.index(),
+                world_from_mesh: world,
+            });
         }
         if let Some(camera) = node.camera()
             && let gltf::camera::Projection::Perspective(p) = camera.projection()
@@ -91,9 +106,6 @@ impl Scene {
         }
         if let Some(light) = node.light() {
             self.lights.push(light_of(&light, world));
-        }
-        for child in node.children() {
-            self.visit(&child, world);
         }
     }
 }
@@ -116,6 +128,59 @@ struct Ctx<'a> {
 }
 
 impl Ctx<'_> {
+    /// Every node of the default scene (or of the first; or every root node when the file has
+    /// no scene) with its world transform, parents first. Walked without recursion, so a deep
+    /// hierarchy cannot exhaust the stack; a node reached twice (a cycle, or two parents) is an
+    /// error, as glTF requires the nodes to form trees.
+    fn node_transforms<'d>(
+        &self,
+        doc: &'d gltf::Document,
+    ) -> Result<Vec<(gltf::Node<'d>, Mat4)>, SceneError> {
+        let roots: Vec<gltf::Node<'d>> = match doc.default_scene().or_else(|| doc.scenes().next()) {
+            Some(s) => s.nodes().collect(),
+            None => {
+                let mut is_child = vec![false; doc.nodes().len()];
+                for child in doc.nodes().flat_map(|n| n.children()) {
+                    if let Some(flag) = is_child.get_mut(child.index()) {
+                        *flag = true;
+                    }
+                }
+                doc.nodes()
+                    .filter(|n| !is_child.get(n.index()).copied().unwrap_or(false))
+                    .collect()
+            }
+        };
+        let mut reached = vec![false; doc.nodes().len()];
+        let mut out = Vec::new();
+        let mut stack: Vec<(gltf::Node<'d>, Mat4)> = roots
+            .into_iter()
+            .rev()
+            .map(|n| (n, Mat4::IDENTITY))
+            .collect();
+        while let Some((node, parent)) = stack.pop() {
+            match reached.get_mut(node.index()) {
+                Some(seen @ false) => *seen = true,
+                _ => {
+                    return Err(SceneError::NodeHierarchy {
+                        path: self.path.to_path_buf(),
+                        node: node.index(),
+                    });
+                }
+            }
+            let (t, r, s) = node.transform().decomposed();
+            let world = parent
+                * Mat4::from_scale_rotation_translation(
+                    Vec3::from(s),
+                    Quat::from_array(r),
+                    Vec3::from(t),
+                );
+            let children: Vec<_> = node.children().collect();
+            stack.extend(children.into_iter().rev().map(|c| (c, world)));
+            out.push((node, world));
+        }
+        Ok(out)
+    }
+
     fn mesh(
         &self,
         mesh: &gltf::Mesh<'_>,
@@ -181,20 +246,25 @@ impl Ctx<'_> {
             Some(it) => it.into_f32().map(Vec2::from).collect(),
             None => vec![Vec2::ZERO; n],
         };
+        let length_error = |what: &str, got: usize| SceneError::AttributeLength {
+            path: path.clone(),
+            what: format!("mesh `{mesh}` primitive {index} {what}"),
+            got,
+            expected: n,
+        };
         for (what, got) in [("NORMAL", normals.len()), ("TEXCOORD_0", uvs.len())] {
             if got != n {
-                return Err(SceneError::AttributeLength {
-                    path,
-                    what: format!("mesh `{mesh}` primitive {index} {what}"),
-                    got,
-                    expected: n,
-                });
+                return Err(length_error(what, got));
             }
         }
+        // Generated only once NORMAL and TEXCOORD_0 are known to match POSITION.
         let tangents: Vec<Vec4> = match reader.read_tangents() {
             Some(it) => it.map(Vec4::from).collect(),
             None => tangents::generate(&positions, &normals, &uvs, &indices),
         };
+        if tangents.len() != n {
+            return Err(length_error("TANGENT", tangents.len()));
+        }
         let bounds = positions.iter().fold(Aabb::EMPTY, |b, &p| b.with_point(p));
         Ok(Primitive {
             positions,
@@ -209,7 +279,7 @@ impl Ctx<'_> {
 
     fn image(&self, index: usize, data: gltf::image::Data) -> Result<Image, SceneError> {
         use gltf::image::Format;
-        let px = (data.width * data.height) as usize;
+        let px = data.width as usize * data.height as usize;
         let rgba8 = match data.format {
             Format::R8G8B8A8 => data.pixels,
             Format::R8G8B8 => data
@@ -231,7 +301,15 @@ impl Ctx<'_> {
                 });
             }
         };
-        debug_assert_eq!(rgba8.len(), px * 4);
+        if rgba8.len() != px * 4 {
+            return Err(SceneError::Inconsistent(format!(
+                "{}: image {index} decoded to {} bytes for {}x{} pixels",
+                self.path.display(),
+                rgba8.len(),
+                data.width,
+                data.height
+            )));
+        }
         Ok(Image {
             width: data.width,
             height: data.height,

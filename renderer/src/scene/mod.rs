@@ -6,8 +6,10 @@
 
 mod error;
 mod gpu;
+mod limits;
 mod load;
 pub mod procedural;
+mod resources;
 mod tangents;
 
 pub use error::SceneError;

@@ -395,7 +395,7 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
             continue;
         }
         let mut renderer = Renderer::new(&gpu, config)?;
-        renderer.prepare_scene(&bench_scene.scene);
+        renderer.prepare_scene(&bench_scene.scene)?;
         let target = create_target(&gpu.device, &config);
         let camera = default_camera(&bench_scene.scene, setup.width as f32 / setup.height as f32);
         let mut previous: Option<(u32, Duration)> = None;

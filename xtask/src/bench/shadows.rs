@@ -186,7 +186,7 @@ pub fn measure_cell(
     let mut config = config;
     config.shadows.cache = cell.mode != ShadowMode::Uncached;
     let mut renderer = Renderer::new(gpu, config)?;
-    renderer.prepare_scene(scene);
+    renderer.prepare_scene(scene)?;
     let target = create_target(&gpu.device, &config);
     let camera = default_camera(scene, setup.width as f32 / setup.height as f32);
     let mover = moving_instance(scene).context("the scene has no instance to move")?;

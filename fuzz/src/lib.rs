@@ -1,0 +1,19 @@
+//! The bodies of the coverage-guided fuzz targets, as a library: the libFuzzer binaries in
+//! `fuzz_targets/` call them (`cargo xtask fuzz TARGET --minutes M`), and `tests/regressions.rs`
+//! replays every committed input and seed through them as ordinary tests.
+//!
+//! Each body panics only when the code under test breaks its contract (a panic of its own, or
+//! an oracle's assertion); bad input must come back as a typed error.
+
+pub mod dsl_codegen;
+pub mod frame_graph;
+pub mod gltf_load;
+pub mod gltf_mutate;
+pub mod gltf_seeds;
+
+/// The fuzz targets by name, with their bodies.
+pub const TARGETS: &[(&str, fn(&[u8]))] = &[
+    ("gltf_load", gltf_load::run),
+    ("dsl_codegen", dsl_codegen::run),
+    ("frame_graph", frame_graph::run),
+];
