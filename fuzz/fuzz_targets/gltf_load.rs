@@ -3,6 +3,9 @@
 //! offsets, indices, component types and node children), half are libFuzzer's byte mutations.
 #![no_main]
 
+#[global_allocator]
+static ALLOCATOR: fuzz::alloc_limit::LimitedAllocator = fuzz::alloc_limit::LimitedAllocator;
+
 libfuzzer_sys::fuzz_target!(|data: &[u8]| fuzz::gltf_load::run(data));
 
 libfuzzer_sys::fuzz_mutator!(|data: &mut [u8], size: usize, max_size: usize, seed: u32| {

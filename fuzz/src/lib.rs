@@ -5,6 +5,7 @@
 //! Each body panics only when the code under test breaks its contract (a panic of its own, or
 //! an oracle's assertion); bad input must come back as a typed error.
 
+pub mod alloc_limit;
 pub mod dsl_codegen;
 pub mod frame_graph;
 pub mod gltf_load;

@@ -10,7 +10,7 @@ fn replay(target: &str, run: fn(&[u8])) -> usize {
     let mut inputs: Vec<_> = std::fs::read_dir(&dir)
         .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
         .map(|e| e.expect("directory entry").path())
-        .filter(|p| p.file_name().is_some_and(|n| n != "README.md"))
+        .filter(|p| p.is_file())
         .collect();
     inputs.sort();
     for input in &inputs {

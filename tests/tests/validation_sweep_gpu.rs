@@ -110,7 +110,7 @@ fn sweep(gpu: &GpuContext, stage: &Stage) -> usize {
                     .filter(|p| p[..3].iter().any(|&c| c > 8))
                     .count();
                 assert!(
-                    lit > (WIDTH * HEIGHT / 10) as usize,
+                    lit > (WIDTH * HEIGHT / 50) as usize,
                     "{what}: only {lit} lit pixels"
                 );
                 frames += 1;

@@ -36,18 +36,12 @@ impl Scene {
             path: path.to_path_buf(),
             source,
         };
-        // Read the document first, so an unsupported required extension is named as such rather
-        // than reported as a generic validation failure.
-        if let Some(extension) = unsupported_required_extension(bytes) {
-            return Err(SceneError::UnsupportedExtension {
-                path: path.to_path_buf(),
-                extension,
-            });
-        }
+        precheck(bytes, path)?;
         let gltf::Gltf {
             document: doc,
             blob,
         } = gltf::Gltf::from_slice(bytes).map_err(gltf_err)?;
+        check_accessors(&doc, path)?;
         resources::check_uris(&doc, base, path)?;
         // gltf decodes image `data:` URIs only when given a folder. With no folder, every URI
         // is a `data:` URI (checked above), so the stand-in folder is never read.
@@ -110,17 +104,127 @@ impl Scene {
     }
 }
 
-/// The first extension in `extensionsRequired` the loader does not support.
-fn unsupported_required_extension(bytes: &[u8]) -> Option<String> {
+/// What must be checked before the gltf crate validates the document: an unsupported required
+/// extension (named as such rather than as a generic validation failure), and a POSITION
+/// accessor index past the accessors, on which gltf-json 1.4.1's validation indexes out of
+/// bounds and panics (found by the `gltf_load` fuzz target). A document that does not parse is
+/// left to gltf to report.
+fn precheck(bytes: &[u8], path: &Path) -> Result<(), SceneError> {
     let json = if bytes.starts_with(b"glTF") {
-        gltf::binary::Glb::from_slice(bytes).ok()?.json.into_owned()
+        match gltf::binary::Glb::from_slice(bytes) {
+            Ok(glb) => glb.json.into_owned(),
+            Err(_) => return Ok(()),
+        }
     } else {
         bytes.to_vec()
     };
-    let root: gltf::json::Root = gltf::json::deserialize::from_slice(&json).ok()?;
-    root.extensions_required
-        .into_iter()
+    let Ok(root) = gltf::json::deserialize::from_slice::<gltf::json::Root>(&json) else {
+        return Ok(());
+    };
+    if let Some(extension) = root
+        .extensions_required
+        .iter()
         .find(|e| !SUPPORTED_REQUIRED.contains(&e.as_str()))
+    {
+        return Err(SceneError::UnsupportedExtension {
+            path: path.to_path_buf(),
+            extension: extension.clone(),
+        });
+    }
+    let position = gltf::json::validation::Checked::Valid(gltf::json::mesh::Semantic::Positions);
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            if let Some(index) = primitive.attributes.get(&position)
+                && index.value() >= root.accessors.len()
+            {
+                return Err(SceneError::Inconsistent(format!(
+                    "{}: mesh {m} primitive {p} reads POSITION from accessor {}, but the file \
+                     has {} accessors",
+                    path.display(),
+                    index.value(),
+                    root.accessors.len()
+                )));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Accessor properties the gltf crate's reader asserts (debug builds) or silently misreads
+/// (release builds) instead of reporting: a count of 0, a buffer-view stride smaller than one
+/// element, and an attribute of the wrong type for what the loader reads. Found by the
+/// `gltf_load` fuzz target.
+fn check_accessors(doc: &gltf::Document, path: &Path) -> Result<(), SceneError> {
+    use gltf::accessor::{DataType, Dimensions};
+    let bad = |what: String| {
+        Err(SceneError::Inconsistent(format!(
+            "{}: {what}",
+            path.display()
+        )))
+    };
+    for a in doc.accessors() {
+        let i = a.index();
+        if a.count() == 0 {
+            return bad(format!(
+                "accessor {i} has count 0 (glTF requires at least 1)"
+            ));
+        }
+        if let Some(stride) = a.view().and_then(|v| v.stride())
+            && stride < a.size()
+        {
+            return bad(format!(
+                "accessor {i}'s buffer view has a byte stride of {stride}, less than its {}-byte \
+                 elements",
+                a.size()
+            ));
+        }
+        if a.sparse().is_some_and(|s| s.count() == 0) {
+            return bad(format!("accessor {i} is sparse with count 0"));
+        }
+    }
+    for mesh in doc.meshes() {
+        for p in mesh.primitives() {
+            for (semantic, a) in p.attributes() {
+                let ok = match semantic {
+                    gltf::Semantic::Positions | gltf::Semantic::Normals => {
+                        a.dimensions() == Dimensions::Vec3 && a.data_type() == DataType::F32
+                    }
+                    gltf::Semantic::Tangents => {
+                        a.dimensions() == Dimensions::Vec4 && a.data_type() == DataType::F32
+                    }
+                    gltf::Semantic::TexCoords(0) => {
+                        a.dimensions() == Dimensions::Vec2
+                            && matches!(a.data_type(), DataType::F32 | DataType::U8 | DataType::U16)
+                    }
+                    _ => true,
+                };
+                if !ok {
+                    return bad(format!(
+                        "mesh {} primitive {} has {semantic:?} as {:?} {:?}, which glTF does not \
+                         allow",
+                        mesh.index(),
+                        p.index(),
+                        a.dimensions(),
+                        a.data_type()
+                    ));
+                }
+            }
+            if let Some(a) = p.indices()
+                && !(a.dimensions() == Dimensions::Scalar
+                    && matches!(a.data_type(), DataType::U8 | DataType::U16 | DataType::U32))
+            {
+                return bad(format!(
+                    "mesh {} primitive {} has indices as {:?} {:?}; glTF requires unsigned \
+                     scalars",
+                    mesh.index(),
+                    p.index(),
+                    a.dimensions(),
+                    a.data_type()
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 struct Ctx<'a> {
