@@ -105,9 +105,10 @@ impl Scene {
 }
 
 /// What must be checked before the gltf crate validates the document: an unsupported required
-/// extension (named as such rather than as a generic validation failure), and a POSITION
-/// accessor index past the accessors, on which gltf-json 1.4.1's validation indexes out of
-/// bounds and panics (found by the `gltf_load` fuzz target). A document that does not parse is
+/// extension (named as such rather than as a generic validation failure); a POSITION accessor
+/// index past the accessors, on which gltf-json 1.4.1's validation indexes out of bounds and
+/// panics; and an image without a source or a buffer-view image without a MIME type, which
+/// gltf 1.4.1 unwraps (both found by the `gltf_load` fuzz target). A document that does not parse is
 /// left to gltf to report.
 fn precheck(bytes: &[u8], path: &Path) -> Result<(), SceneError> {
     let json = if bytes.starts_with(b"glTF") {
@@ -130,6 +131,18 @@ fn precheck(bytes: &[u8], path: &Path) -> Result<(), SceneError> {
             path: path.to_path_buf(),
             extension: extension.clone(),
         });
+    }
+    // gltf 1.4.1's `Image::source` unwraps both of these.
+    for (i, image) in root.images.iter().enumerate() {
+        let problem = match (&image.buffer_view, &image.uri, &image.mime_type) {
+            (Some(_), _, None) => "is stored in a buffer view but has no mimeType",
+            (None, None, _) => "has neither a uri nor a bufferView",
+            _ => continue,
+        };
+        return Err(SceneError::Inconsistent(format!(
+            "{}: image {i} {problem}",
+            path.display()
+        )));
     }
     let position = gltf::json::validation::Checked::Valid(gltf::json::mesh::Semantic::Positions);
     for (m, mesh) in root.meshes.iter().enumerate() {
