@@ -64,7 +64,7 @@ fn triangle_json(uri: Option<String>, len: usize, required: &[&str], normals: bo
             { "camera": 0, "translation": [0.0, 0.0, 3.0] },
             { "extensions": { "KHR_lights_punctual": { "light": 0 } }, "children": [4, 5] },
             { "extensions": { "KHR_lights_punctual": { "light": 1 } },
-              "rotation": [0.0, 0.7071, 0.0, 0.7071] },
+              "rotation": [0.0, 0.6, 0.0, 0.8] },
             { "extensions": { "KHR_lights_punctual": { "light": 2 } } }
         ],
         "cameras": [{ "type": "perspective",

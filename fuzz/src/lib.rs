@@ -12,8 +12,11 @@ pub mod gltf_load;
 pub mod gltf_mutate;
 pub mod gltf_seeds;
 
+/// A target's body: one input, a panic on a broken contract.
+pub type Body = fn(&[u8]);
+
 /// The fuzz targets by name, with their bodies.
-pub const TARGETS: &[(&str, fn(&[u8]))] = &[
+pub const TARGETS: &[(&str, Body)] = &[
     ("gltf_load", gltf_load::run),
     ("dsl_codegen", dsl_codegen::run),
     ("frame_graph", frame_graph::run),
