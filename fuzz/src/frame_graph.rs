@@ -212,7 +212,7 @@ pub fn check(ops: &[Op]) {
                     let (write, version) = match &mut handle {
                         AnyHandle::Texture(h) => {
                             let access = TEXTURE_ACCESS[usize::from(use_.access) % 7];
-                            let version = version_of(h);
+                            let version = h.version();
                             if access.is_write() {
                                 builder.write_texture(h, access);
                             } else {
@@ -222,7 +222,7 @@ pub fn check(ops: &[Op]) {
                         }
                         AnyHandle::Buffer(h) => {
                             let access = BUFFER_ACCESS[usize::from(use_.access) % 8];
-                            let version = version_of(h);
+                            let version = h.version();
                             if access.is_write() {
                                 builder.write_buffer(h, access);
                             } else {
@@ -361,10 +361,6 @@ fn import_access(writable: bool) -> ImportAccess {
     } else {
         ImportAccess::ReadOnly
     }
-}
-
-fn version_of<T>(h: &Handle<T>) -> u32 {
-    h.version()
 }
 
 fn graph_name(graph: &RenderGraph, handle: AnyHandle, foreign: bool) -> String {

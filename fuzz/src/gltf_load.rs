@@ -26,7 +26,7 @@ pub fn run(data: &[u8]) {
         return;
     }
     let default_material = scene.materials.len();
-    let draws = draw_plan(&scene, default_material);
+    let draws = draw_plan(&scene);
     let primitives: usize = scene
         .instances
         .iter()

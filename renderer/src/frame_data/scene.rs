@@ -114,8 +114,7 @@ impl PreparedScene {
             .iter()
             .map(|m| prepare_material(device, &layouts, &gpu, &defaults, &sampler, m))
             .collect();
-        // Primitives without a material use the glTF default material.
-        let default_material = materials.len();
+        // Primitives without a material use the glTF default material, last (`draw_plan`).
         materials.push(prepare_material(
             device,
             &layouts,
@@ -124,7 +123,7 @@ impl PreparedScene {
             &sampler,
             &Material::gltf_default(),
         ));
-        let draws = draw_plan(scene, default_material)
+        let draws = draw_plan(scene)
             .into_iter()
             .map(|plan| {
                 let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -174,9 +173,10 @@ pub struct PlannedDraw {
 }
 
 /// Every draw of `scene`, in instance then primitive order; primitives without a material use
-/// `default_material`. Instances naming no mesh draw nothing ([`Scene::check_for_device`]
+/// the glTF default material, which the renderer adds after the scene's own. Instances naming no mesh draw nothing ([`Scene::check_for_device`]
 /// reports them).
-pub fn draw_plan(scene: &Scene, default_material: usize) -> Vec<PlannedDraw> {
+pub fn draw_plan(scene: &Scene) -> Vec<PlannedDraw> {
+    let default_material = scene.materials.len();
     let mut draws = Vec::new();
     for (instance_index, instance) in scene.instances.iter().enumerate() {
         let Some(mesh) = scene.meshes.get(instance.mesh) else {
