@@ -104,6 +104,30 @@ impl Scene {
     }
 }
 
+/// A GLB whose header declares a total length shorter than the 12-byte header itself: gltf
+/// 1.4.1 subtracts the header size from it unchecked (`binary.rs:252`), which panics where
+/// overflow checks are on and reads a wrapped length elsewhere (found by the `gltf_load` fuzz
+/// target). Anything else about the header is left to gltf to report.
+fn check_glb_header(bytes: &[u8], path: &Path) -> Result<(), SceneError> {
+    const HEADER_BYTES: u32 = 12;
+    let Some(declared) = bytes
+        .strip_prefix(b"glTF")
+        .and_then(|rest| rest.get(4..8))
+        .and_then(|length| <[u8; 4]>::try_from(length).ok())
+        .map(u32::from_le_bytes)
+    else {
+        return Ok(());
+    };
+    if declared < HEADER_BYTES {
+        return Err(SceneError::Inconsistent(format!(
+            "{}: the GLB header declares a total length of {declared} bytes, less than the \
+             {HEADER_BYTES}-byte header itself; the file is truncated or not a GLB",
+            path.display()
+        )));
+    }
+    Ok(())
+}
+
 /// What must be checked before the gltf crate validates the document: an unsupported required
 /// extension (named as such rather than as a generic validation failure); a POSITION accessor
 /// index past the accessors, on which gltf-json 1.4.1's validation indexes out of bounds and
@@ -111,6 +135,7 @@ impl Scene {
 /// gltf 1.4.1 unwraps (both found by the `gltf_load` fuzz target). A document that does not parse is
 /// left to gltf to report.
 fn precheck(bytes: &[u8], path: &Path) -> Result<(), SceneError> {
+    check_glb_header(bytes, path)?;
     let json = if bytes.starts_with(b"glTF") {
         match gltf::binary::Glb::from_slice(bytes) {
             Ok(glb) => glb.json.into_owned(),
