@@ -46,8 +46,13 @@ impl Choices {
 /// One structure-aware edit of `file`, or `None` when it is not a glTF whose JSON parses.
 pub fn mutate(file: &[u8], seed: u32) -> Option<Vec<u8>> {
     let mut choices = Choices(u64::from(seed).wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1);
-    let glb = file
-        .starts_with(b"glTF")
+    // gltf 1.4.1 subtracts the 12-byte header from the declared length unchecked: skip a GLB
+    // whose length field is below it, as the loader rejects it (`check_glb_header`).
+    let declared_length = file
+        .get(8..12)
+        .and_then(|b| <[u8; 4]>::try_from(b).ok())
+        .map(u32::from_le_bytes);
+    let glb = (file.starts_with(b"glTF") && declared_length.is_some_and(|n| n >= 12))
         .then(|| gltf::binary::Glb::from_slice(file).ok())
         .flatten();
     let json_bytes: &[u8] = match &glb {
