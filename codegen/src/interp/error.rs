@@ -24,6 +24,18 @@ pub enum EvalError {
     /// The [`super::Machine`]'s step limit was reached: a loop that does not end, or a run
     /// longer than the limit allows.
     StepLimit,
+    /// Invocations of a dispatch that do not reach the same barrier or subgroup operation
+    /// together (WGSL requires uniform control flow there): where each one is.
+    Uniformity(String),
+    /// An error of one invocation of a dispatch.
+    Invocation {
+        /// `workgroup_id`.
+        workgroup: [u32; 3],
+        /// `local_invocation_index`.
+        local: u32,
+        /// What went wrong there.
+        error: Box<EvalError>,
+    },
     /// An error raised by the statement at this source position.
     At {
         /// 1-based line of the statement (in the file, or in the source string given to
@@ -56,7 +68,7 @@ impl EvalError {
     /// The error without its location.
     pub fn cause(&self) -> &EvalError {
         match self {
-            EvalError::At { error, .. } => error.cause(),
+            EvalError::At { error, .. } | EvalError::Invocation { error, .. } => error.cause(),
             e => e,
         }
     }
@@ -74,6 +86,18 @@ impl fmt::Display for EvalError {
             EvalError::StepLimit => {
                 write!(f, "the step limit was reached (a loop that does not end?)")
             }
+            EvalError::Uniformity(what) => write!(
+                f,
+                "non-uniform control flow at a barrier or subgroup operation: {what}"
+            ),
+            EvalError::Invocation {
+                workgroup,
+                local,
+                error,
+            } => write!(
+                f,
+                "invocation {local} of workgroup {workgroup:?}: {error}"
+            ),
             EvalError::At {
                 line,
                 column,

@@ -1,6 +1,7 @@
 //! Statement execution: the [`Machine`] runs a module function's body over a frame of locals,
 //! with the statics the host gave values to, and a step limit.
 
+use super::sync::{Arrival, SyncOp};
 use super::{EvalError, Value, ops};
 use crate::ir::{BinOp, Block, Expr, Function, Module, Scalar, Stmt};
 use crate::variants::Env;
@@ -27,8 +28,11 @@ pub const DEFAULT_STEP_LIMIT: u64 = 10_000_000;
 pub struct Machine<'a> {
     pub(crate) module: &'a Module,
     pub(crate) env: &'a Env,
-    globals: Vec<Option<Value>>,
+    pub(crate) globals: Vec<Option<Value>>,
     steps_left: u64,
+    /// Set when the machine runs one invocation of a [`super::Dispatch`]: barriers and subgroup
+    /// operations wait for the other invocations there.
+    pub(crate) yielder: Option<&'a super::sync::Yielder>,
 }
 
 impl std::fmt::Debug for Machine<'_> {
@@ -56,6 +60,7 @@ impl<'a> Machine<'a> {
             env,
             globals: vec![None; module.globals.len()],
             steps_left: DEFAULT_STEP_LIMIT,
+            yielder: None,
         }
     }
 
@@ -140,6 +145,28 @@ impl<'a> Machine<'a> {
             Flow::Return(v) => Ok(v),
             _ => Ok(None),
         }
+    }
+
+    /// Waits at a barrier or subgroup operation (at `span`) until the dispatch's scheduler
+    /// resumes this invocation; the subgroup operation's result. A machine outside a dispatch
+    /// has no other invocation to wait for: that is an error naming the operation.
+    pub(crate) fn sync(&mut self, op: SyncOp, span: Span) -> Result<Option<Value>, EvalError> {
+        let Some(yielder) = self.yielder else {
+            return Err(EvalError::Unsupported(format!(
+                "`{}` outside a dispatch (run the entry point with interp::Dispatch)",
+                op.name()
+            )));
+        };
+        let start = span.start();
+        let at = Arrival {
+            op,
+            line: start.line,
+            column: start.column + 1,
+        };
+        let globals = std::mem::take(&mut self.globals);
+        let resume = yielder.suspend((at, globals));
+        self.globals = resume.globals;
+        Ok(resume.result)
     }
 
     fn step(&mut self) -> Result<(), EvalError> {

@@ -3,8 +3,9 @@
 //! module functions.
 
 use super::value::scalar_from_f64;
-use super::{EvalError, Machine, Value, builtins, ops};
-use crate::ir::{BinOp, Expr, ExprKind, Lit, Scalar, Ty};
+use super::sync::SyncOp;
+use super::{EvalError, Machine, Value, builtins, matrix, ops};
+use crate::ir::{BinOp, Expr, ExprKind, Lit, Scalar, Ty, UnOp};
 
 /// The concrete scalar an expression of type `ty` evaluates to, given the scalar its context
 /// expects for abstract types.
@@ -48,7 +49,14 @@ impl Machine<'_> {
                 Some(l) => Ok(lit(*l, s)),
                 None => Err(EvalError::Type(format!("axis {a} has no value"))),
             },
+            ExprKind::Unary(UnOp::Neg, x) if matches!(x.ty, Ty::Matrix(..)) => {
+                matrix::negate(&self.eval(locals, x, s)?)
+            }
             ExprKind::Unary(op, x) => ops::unary(*op, &self.eval(locals, x, s)?),
+            // A static's element or field, read without copying the whole static.
+            ExprKind::Index(..) | ExprKind::Field(..) if Self::rooted_at_global(e) => {
+                self.read_global_place(locals, e)
+            }
             ExprKind::Binary(op, a, b) => self.binary(locals, *op, a, b, s),
             ExprKind::Cast(x) => {
                 let to = s.ok_or_else(|| EvalError::Unsupported(format!("cast to {:?}", e.ty)))?;
@@ -108,8 +116,33 @@ impl Machine<'_> {
                         v => Err(EvalError::Type(format!("the length of {v}"))),
                     };
                 }
-                if b.pointer_first || b.subgroup {
+                if b.subgroup {
+                    let vals = args
+                        .iter()
+                        .map(|a| self.eval(locals, a, s))
+                        .collect::<Result<Vec<_>, _>>()?;
+                    let op = SyncOp::Subgroup {
+                        wgsl: b.wgsl,
+                        args: vals,
+                    };
+                    return self.sync(op, e.span)?.ok_or_else(|| {
+                        EvalError::Type(format!("`{}` resumed without a result", b.wgsl))
+                    });
+                }
+                if matches!(b.wgsl, "workgroupBarrier" | "storageBarrier") {
+                    self.sync(SyncOp::Barrier(b.wgsl), e.span)?;
+                    return Ok(Value::Struct(vec![]));
+                }
+                if b.pointer_first && b.wgsl.starts_with("atomic") {
+                    return self.atomic(locals, b.wgsl, args);
+                }
+                if b.pointer_first {
                     return Err(EvalError::Unsupported(format!("the builtin `{}`", b.wgsl)));
+                }
+                if b.wgsl == "transpose"
+                    && let [m] = args.as_slice()
+                {
+                    return matrix::transpose(&self.eval(locals, m, None)?);
                 }
                 let arg_want = if b.wgsl.starts_with("bitcast") {
                     None
@@ -170,12 +203,57 @@ impl Machine<'_> {
                 let r = self.eval(locals, b, common)?;
                 ops::binary(op, &l, &r)
             }
+            _ if matches!(a.ty, Ty::Matrix(..)) || matches!(b.ty, Ty::Matrix(..)) => {
+                let l = self.eval(locals, a, Some(Scalar::F32))?;
+                let r = self.eval(locals, b, Some(Scalar::F32))?;
+                matrix::binary(op, &l, &r, &a.ty, &b.ty)
+            }
             _ => {
                 let l = self.eval(locals, a, s)?;
                 let r = self.eval(locals, b, s)?;
                 ops::binary(op, &l, &r)
             }
         }
+    }
+
+    /// An atomic builtin on the static place `args[0]` (atomics live only in storage and
+    /// workgroup memory). Invocations of a dispatch run one at a time, so each is indivisible.
+    fn atomic(
+        &mut self,
+        locals: &[Value],
+        wgsl: &str,
+        args: &[Expr],
+    ) -> Result<Value, EvalError> {
+        let [place, rest @ ..] = args else {
+            return Err(EvalError::Type(format!("`{wgsl}` without its atomic")));
+        };
+        let operand = match rest {
+            [v] => Some(self.eval(locals, v, place.ty.scalar())?),
+            [] => None,
+            _ => return Err(EvalError::Unsupported(format!("`{wgsl}` with {} operands", rest.len()))),
+        };
+        let slot = self.global_place_mut(locals, place)?;
+        let old = slot.clone();
+        let Some(v) = operand else {
+            return Ok(old);
+        };
+        let new = match wgsl {
+            "atomicStore" | "atomicExchange" => v,
+            "atomicAdd" => ops::binary(BinOp::Add, &old, &v)?,
+            "atomicSub" => ops::binary(BinOp::Sub, &old, &v)?,
+            "atomicAnd" => ops::binary(BinOp::BitAnd, &old, &v)?,
+            "atomicOr" => ops::binary(BinOp::BitOr, &old, &v)?,
+            "atomicXor" => ops::binary(BinOp::BitXor, &old, &v)?,
+            "atomicMin" => builtins::call("min", &[old.clone(), v])?,
+            "atomicMax" => builtins::call("max", &[old.clone(), v])?,
+            other => return Err(EvalError::Unsupported(format!("the builtin `{other}`"))),
+        };
+        *slot = new;
+        Ok(if wgsl == "atomicStore" {
+            Value::Struct(vec![])
+        } else {
+            old
+        })
     }
 
     fn construct(
@@ -228,6 +306,13 @@ impl Machine<'_> {
                         .map(|(a, fl)| self.eval(locals, a, fl.ty.scalar()))
                         .collect::<Result<_, _>>()?,
                 ))
+            }
+            Ty::Matrix(c, r) => {
+                let vals = args
+                    .iter()
+                    .map(|a| self.eval(locals, a, Some(Scalar::F32)))
+                    .collect::<Result<Vec<_>, _>>()?;
+                matrix::construct(*c, *r, vals)
             }
             Ty::Scalar(_) => match args {
                 [a] => ops::cast(&self.eval(locals, a, s)?, s.unwrap_or(Scalar::F32)),

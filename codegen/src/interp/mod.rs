@@ -10,10 +10,16 @@
 //!   `while`, `loop`, `break`, `continue`, `return` and blocks, with a step limit so that a
 //!   non-terminating loop is an error, not a hang. Errors raised by a statement carry its source
 //!   line and column.
-//! - **Not yet**: pointers (`&mut` parameters, atomics), textures, derivatives, subgroup
-//!   operations, workgroup scheduling and barriers, matrices. Each is an
-//!   [`EvalError::Unsupported`] naming it. Running a whole dispatch (invocations, workgroups,
-//!   subgroups) is meant to be built on [`Machine`].
+//! - **Dispatches** ([`Dispatch`], `dispatch`): a compute entry point over a grid of
+//!   workgroups, with storage and uniform buffers given as the bytes the GPU would get
+//!   (`memory`), workgroup memory zeroed per workgroup, barriers, atomics, and subgroup
+//!   operations (`sync`) at a subgroup size the caller picks, 4 to 128. A deterministic
+//!   scheduler runs one invocation at a time to its next barrier or subgroup operation, in an
+//!   order the caller picks, so a missing barrier is a wrong answer, not luck; invocations that
+//!   do not reach a barrier or subgroup operation together are a uniformity error with the
+//!   source positions. Matrices (`matrix`) are columns of vectors.
+//! - **Not yet**: pointers (`&mut` parameters), textures and samplers, derivatives, vertex and
+//!   fragment entry points, `determinant`. Each is an [`EvalError::Unsupported`] naming it.
 //!
 //! The semantics are written from the WGSL specification's rules, independently of the
 //! printer: see [`ops`] for integer overflow, shifts, division by zero and float-to-int
@@ -26,18 +32,25 @@
 //! abstract-typed subexpressions.
 
 pub mod builtins;
+mod dispatch;
 mod error;
 mod exec;
 mod expr;
+mod matrix;
+mod memory;
 pub mod ops;
 mod place;
+mod sync;
 mod value;
 
+#[cfg(test)]
+mod dispatch_tests;
 #[cfg(test)]
 mod exec_tests;
 #[cfg(test)]
 mod tests;
 
+pub use dispatch::{Dispatch, SUBGROUP_SIZES, Schedule};
 pub use error::EvalError;
 pub use exec::{DEFAULT_STEP_LIMIT, Machine};
 pub use value::Value;

@@ -20,23 +20,62 @@ impl Machine<'_> {
     ) -> Result<(), EvalError> {
         let mut path = vec![];
         let root = self.resolve(frame, place, &mut path)?;
-        let mut slot = match root {
+        let slot = match root {
             Root::Local(l) => frame.get_mut(l).ok_or(EvalError::UnknownLocal(l))?,
             Root::Global(g) => self.global_mut(g)?,
         };
-        for index in path {
-            let items = match slot {
-                Value::Vector(items) | Value::Array(items) | Value::Struct(items) => items,
-                other => return Err(EvalError::Type(format!("assigning into {other}"))),
-            };
-            let len = items.len();
+        *walk_mut(slot, &path)? = v;
+        Ok(())
+    }
+
+    /// Whether `e` is a static or an element, field or component of one.
+    pub(crate) fn rooted_at_global(e: &Expr) -> bool {
+        match &e.kind {
+            ExprKind::Global(_) => true,
+            ExprKind::Index(base, _) | ExprKind::Field(base, _) => Self::rooted_at_global(base),
+            ExprKind::Swizzle(base, s) if s.len() == 1 => Self::rooted_at_global(base),
+            _ => false,
+        }
+    }
+
+    /// The value at a place inside a static (see [`Machine::rooted_at_global`]), copying only
+    /// that value.
+    pub(crate) fn read_global_place(
+        &mut self,
+        frame: &[Value],
+        place: &Expr,
+    ) -> Result<Value, EvalError> {
+        let mut path = vec![];
+        let Root::Global(g) = self.resolve(frame, place, &mut path)? else {
+            return Err(EvalError::Type("a static place expected".into()));
+        };
+        let mut slot = self.global(g)?;
+        for &index in &path {
+            let items = items_of(slot)?;
             slot = usize::try_from(index)
                 .ok()
-                .and_then(|k| items.get_mut(k))
-                .ok_or(EvalError::OutOfBounds { index, len })?;
+                .and_then(|k| items.get(k))
+                .ok_or(EvalError::OutOfBounds {
+                    index,
+                    len: items.len(),
+                })?;
         }
-        *slot = v;
-        Ok(())
+        Ok(slot.clone())
+    }
+
+    /// The value at a place inside a static, to modify in place (atomics).
+    pub(crate) fn global_place_mut(
+        &mut self,
+        frame: &[Value],
+        place: &Expr,
+    ) -> Result<&mut Value, EvalError> {
+        let mut path = vec![];
+        let Root::Global(g) = self.resolve(frame, place, &mut path)? else {
+            return Err(EvalError::Unsupported(
+                "an atomic outside storage or workgroup memory".into(),
+            ));
+        };
+        walk_mut(self.global_mut(g)?, &path)
     }
 
     /// The root of `place`, with the indices from it to the place pushed onto `path`.
@@ -80,4 +119,27 @@ impl Machine<'_> {
             )),
         }
     }
+}
+
+fn items_of(v: &Value) -> Result<&[Value], EvalError> {
+    match v {
+        Value::Vector(items) | Value::Array(items) | Value::Struct(items) => Ok(items),
+        other => Err(EvalError::Type(format!("indexing into {other}"))),
+    }
+}
+
+/// The value `path` leads to from `slot`, each index checked.
+fn walk_mut<'v>(mut slot: &'v mut Value, path: &[i64]) -> Result<&'v mut Value, EvalError> {
+    for &index in path {
+        let items = match slot {
+            Value::Vector(items) | Value::Array(items) | Value::Struct(items) => items,
+            other => return Err(EvalError::Type(format!("assigning into {other}"))),
+        };
+        let len = items.len();
+        slot = usize::try_from(index)
+            .ok()
+            .and_then(|k| items.get_mut(k))
+            .ok_or(EvalError::OutOfBounds { index, len })?;
+    }
+    Ok(slot)
 }

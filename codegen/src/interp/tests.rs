@@ -148,13 +148,14 @@ fn short_circuit_skips_the_right_operand() {
         eval(&e, &[Value::Bool(true)]),
         Err(EvalError::UnknownLocal(1))
     );
+    // A subgroup operation needs the other lanes of a dispatch.
     let b = Builtin {
-        wgsl: "atomicAdd",
-        subgroup: false,
-        pointer_first: true,
+        wgsl: "subgroupAdd",
+        subgroup: true,
+        pointer_first: false,
     };
-    let e = ex(ExprKind::Builtin(b, vec![]), Ty::U32);
-    assert!(matches!(eval(&e, &[]), Err(EvalError::Unsupported(_))));
+    let e = ex(ExprKind::Builtin(b, vec![local(0, Ty::U32)]), Ty::U32);
+    assert!(matches!(eval(&e, &[Value::U32(1)]), Err(EvalError::Unsupported(_))));
 }
 
 /// A kernel compiled from source: the evaluator reads the typed IR of its `let`s, with

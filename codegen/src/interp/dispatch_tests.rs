@@ -1,0 +1,286 @@
+//! Whole dispatches: workgroup memory and barriers under every schedule (and a deleted barrier
+//! caught), subgroup collectives at every subgroup size against a plain-Rust answer, atomics
+//! across workgroups, matrices, and errors that name the invocation and the line.
+
+use super::{Dispatch, EvalError, SUBGROUP_SIZES, Schedule};
+
+fn compile(src: &str) -> crate::Compiled {
+    crate::compile_source(src).unwrap_or_else(|e| panic!("{e}\n{src}"))
+}
+
+fn words(bytes: &[u8]) -> Vec<u32> {
+    bytes
+        .chunks_exact(4)
+        .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect()
+}
+
+fn bytes(words: &[u32]) -> Vec<u8> {
+    words.iter().flat_map(|w| w.to_le_bytes()).collect()
+}
+
+/// Runs `entry` over `groups` workgroups with `OUT` holding `out_len` zero words (and `IN`
+/// holding `input` when given); `OUT` afterwards.
+fn run(
+    c: &crate::Compiled,
+    schedule: Schedule,
+    subgroup: u32,
+    groups: u32,
+    input: Option<&[u32]>,
+    out_len: usize,
+) -> Result<Vec<u32>, EvalError> {
+    let mut d = Dispatch::new(&c.module, &c.keys[0].env, "main")?
+        .with_subgroup_size(subgroup)?
+        .with_schedule(schedule);
+    d.set_buffer("OUT", &bytes(&vec![0; out_len]))?;
+    if let Some(input) = input {
+        d.set_buffer("IN", &bytes(input))?;
+    }
+    d.run([groups, 1, 1])?;
+    Ok(words(&d.buffer("OUT")?))
+}
+
+const SCHEDULES: [Schedule; 3] = [
+    Schedule::InOrder,
+    Schedule::Reversed,
+    Schedule::Shuffled(7),
+];
+
+/// Each invocation writes its slot of workgroup memory, then reads its neighbours'.
+fn neighbours(barrier: &str) -> String {
+    format!(
+        "#[shader] mod m {{
+            #[storage(group = 0, binding = 0, read_write)]
+            static OUT: [u32];
+            #[workgroup]
+            static SLOTS: [u32; 16];
+            #[compute(workgroup_size(16, 1, 1))]
+            fn main(#[builtin(local_invocation_index)] lid: u32, #[builtin(workgroup_id)] wg: UVec3) {{
+                SLOTS[lid] = lid * 10u32 + wg.x;
+                {barrier}
+                let left = SLOTS[(lid + 15u32) % 16u32];
+                let right = SLOTS[(lid + 1u32) % 16u32];
+                OUT[wg.x * 16u32 + lid] = left + right;
+            }}
+        }}"
+    )
+}
+
+fn neighbours_expected(groups: u32) -> Vec<u32> {
+    (0..groups)
+        .flat_map(|g| (0..16u32).map(move |l| ((l + 15) % 16) * 10 + g + ((l + 1) % 16) * 10 + g))
+        .collect()
+}
+
+#[test]
+fn workgroup_memory_after_a_barrier_is_the_same_under_every_schedule() {
+    let c = compile(&neighbours("workgroup_barrier();"));
+    for schedule in SCHEDULES {
+        assert_eq!(
+            run(&c, schedule, 32, 3, None, 48),
+            Ok(neighbours_expected(3)),
+            "{schedule:?}"
+        );
+    }
+}
+
+#[test]
+fn a_deleted_barrier_gives_a_wrong_answer_under_some_schedule() {
+    let c = compile(&neighbours(""));
+    for schedule in [Schedule::InOrder, Schedule::Reversed] {
+        let out = run(&c, schedule, 32, 1, None, 16).unwrap();
+        assert_ne!(out, neighbours_expected(1), "{schedule:?} hid the missing barrier");
+    }
+}
+
+#[test]
+fn workgroup_memory_starts_at_zero_in_every_workgroup() {
+    let c = compile(
+        "#[shader] mod m {
+            #[storage(group = 0, binding = 0, read_write)]
+            static OUT: [u32];
+            #[workgroup]
+            static SUM: Atomic<u32>;
+            #[compute(workgroup_size(8, 1, 1))]
+            fn main(#[builtin(local_invocation_index)] lid: u32, #[builtin(workgroup_id)] wg: UVec3) {
+                SUM.fetch_add(lid + 1u32);
+                workgroup_barrier();
+                if lid == 0u32 { OUT[wg.x] = SUM.load(); }
+            }
+        }",
+    );
+    assert_eq!(run(&c, Schedule::Reversed, 32, 3, None, 3), Ok(vec![36; 3]));
+}
+
+#[test]
+fn storage_atomics_count_across_workgroups() {
+    let c = compile(
+        "#[shader] mod m {
+            #[storage(group = 0, binding = 0, read_write)]
+            static OUT: [Atomic<u32>];
+            #[compute(workgroup_size(32, 1, 1))]
+            fn main(#[builtin(global_invocation_id)] id: UVec3) {
+                OUT[0].fetch_add(1u32);
+                OUT[1].fetch_max(id.x);
+                OUT[2].fetch_or(1u32 << (id.x % 32u32));
+                let old = OUT[3].swap(id.x);
+                OUT[4].fetch_add(old);
+            }
+        }",
+    );
+    let out = run(&c, Schedule::InOrder, 32, 4, None, 5).unwrap();
+    // In order, each swap returns the previous invocation's index: 0 + 0 + 1 + .. + 126.
+    assert_eq!(out, vec![128, 127, u32::MAX, 127, (0..127).sum()]);
+}
+
+/// Per subgroup: the exclusive prefix sum of `IN`, the total, the ballot of odd values, the
+/// minimum and the first lane's value.
+const SUBGROUPS: &str = "#[shader] mod m {
+    #[storage(group = 0, binding = 0)]
+    static IN: [u32];
+    #[storage(group = 0, binding = 1, read_write)]
+    static OUT: [u32];
+    #[compute(workgroup_size(64, 1, 1))]
+    fn main(#[builtin(global_invocation_id)] id: UVec3, #[builtin(subgroup_size)] size: u32) {
+        let v = IN[id.x];
+        let prefix = subgroup_exclusive_add(v);
+        let total = subgroup_add(v);
+        let ballot = subgroup_ballot((v & 1u32) == 1u32);
+        let low = subgroup_min(v);
+        let first = subgroup_broadcast_first(v);
+        let base = id.x * 6u32;
+        OUT[base] = prefix;
+        OUT[base + 1u32] = total;
+        OUT[base + 2u32] = ballot.x;
+        OUT[base + 3u32] = low;
+        OUT[base + 4u32] = first;
+        OUT[base + 5u32] = size;
+    }
+}";
+
+/// Subgroups never span workgroups (of 64 here): a subgroup of 128 holds one workgroup.
+fn subgroups_expected(input: &[u32], size: usize) -> Vec<u32> {
+    let mut out = vec![];
+    for lanes in input.chunks(64).flat_map(|w| w.chunks(size)) {
+        let mut prefix = 0;
+        for &v in lanes {
+            let ballot = lanes
+                .iter()
+                .enumerate()
+                .filter(|(l, x)| *l < 32 && *x % 2 == 1)
+                .fold(0u32, |b, (l, _)| b | 1 << l);
+            out.extend([
+                prefix,
+                lanes.iter().sum(),
+                ballot,
+                *lanes.iter().min().unwrap(),
+                lanes[0],
+                size as u32,
+            ]);
+            prefix += v;
+        }
+    }
+    out
+}
+
+#[test]
+fn subgroup_collectives_match_plain_rust_at_every_subgroup_size() {
+    let c = compile(&SUBGROUPS.replace("#[shader] mod m {", "#[shader(requires(subgroup))] mod m {"));
+    let input: Vec<u32> = (0..128u32).map(|i| (i * 7919) % 101).collect();
+    for size in SUBGROUP_SIZES {
+        for schedule in [Schedule::InOrder, Schedule::Shuffled(size.into())] {
+            assert_eq!(
+                run(&c, schedule, size, 2, Some(&input), 128 * 6),
+                Ok(subgroups_expected(&input, size as usize)),
+                "subgroup size {size}, {schedule:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn an_out_of_bounds_write_names_the_invocation_and_the_line() {
+    let c = compile(
+        "#[shader] mod m {
+            #[storage(group = 0, binding = 0, read_write)]
+            static OUT: [u32];
+            #[compute(workgroup_size(4, 1, 1))]
+            fn main(#[builtin(global_invocation_id)] id: UVec3) {
+                OUT[id.x + 1u32] = id.x;
+            }
+        }",
+    );
+    let err = run(&c, Schedule::InOrder, 32, 1, None, 4).unwrap_err();
+    let text = err.to_string();
+    assert_eq!(
+        *err.cause(),
+        EvalError::OutOfBounds { index: 4, len: 4 },
+        "{text}"
+    );
+    assert!(text.contains("invocation 3 of workgroup [0, 0, 0]"), "{text}");
+    assert!(text.contains("(at 6:"), "{text}");
+}
+
+#[test]
+fn a_barrier_some_invocations_skip_is_a_uniformity_error_with_both_places() {
+    let c = compile(
+        "#[shader] mod m {
+            #[storage(group = 0, binding = 0, read_write)]
+            static OUT: [u32];
+            #[compute(workgroup_size(8, 1, 1))]
+            fn main(#[builtin(local_invocation_index)] lid: u32) {
+                if lid < 4u32 {
+                    workgroup_barrier();
+                } else {
+                    storage_barrier();
+                }
+                OUT[lid] = 1u32;
+            }
+        }",
+    );
+    let err = run(&c, Schedule::InOrder, 32, 1, None, 8).unwrap_err();
+    let text = err.to_string();
+    assert!(matches!(err.cause(), EvalError::Uniformity(_)), "{text}");
+    assert!(
+        text.contains("invocations 0–3 workgroupBarrier at 7:21")
+            && text.contains("invocations 4–7 storageBarrier at 9:21"),
+        "{text}"
+    );
+}
+
+#[test]
+fn matrices_multiply_as_glam_does() {
+    let c = compile(
+        "#[shader] mod m {
+            #[storage(group = 0, binding = 0)]
+            static IN: [Mat4];
+            #[storage(group = 0, binding = 1, read_write)]
+            static OUT: [Vec4];
+            #[compute(workgroup_size(1, 1, 1))]
+            fn main() {
+                let m = IN[0];
+                let n = IN[1];
+                let v = Vec4::new(1.0, -2.0, 0.5, 1.0);
+                OUT[0] = m * v;
+                OUT[1] = (m * n) * v;
+                OUT[2] = v * m;
+                OUT[3] = m.transpose() * v;
+            }
+        }",
+    );
+    let m = glam::Mat4::from_cols_array(&std::array::from_fn(|i| (i as f32 * 0.37).sin()));
+    let n = glam::Mat4::from_rotation_y(0.3) * glam::Mat4::from_translation(glam::vec3(1.0, 2.0, -3.0));
+    let v = glam::vec4(1.0, -2.0, 0.5, 1.0);
+    let mut d = Dispatch::new(&c.module, &c.keys[0].env, "main").unwrap();
+    d.set_buffer("IN", bytemuck::cast_slice(&[m, n])).unwrap();
+    d.set_buffer("OUT", &[0; 64]).unwrap();
+    d.run([1, 1, 1]).unwrap();
+    let out: Vec<glam::Vec4> = bytemuck::cast_slice::<u8, f32>(&d.buffer("OUT").unwrap())
+        .chunks(4)
+        .map(glam::Vec4::from_slice)
+        .collect();
+    let want = [m * v, (m * n) * v, m.transpose() * v, m.transpose() * v];
+    for (got, want) in out.iter().zip(want) {
+        assert!(got.abs_diff_eq(want, 1e-5), "{got} vs {want}");
+    }
+}
