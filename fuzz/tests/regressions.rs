@@ -34,7 +34,10 @@ fn every_target_replays_its_regressions() {
         .iter()
         .map(|&(target, run)| replay(target, run))
         .sum();
-    assert!(replayed >= 3, "the committed gltf_load findings are missing");
+    assert!(
+        replayed >= 3,
+        "the committed gltf_load findings are missing"
+    );
 }
 
 /// A folder named after no target would never be replayed: it is an error, not a silent skip.

@@ -236,7 +236,12 @@ impl<'a> Dispatch<'a> {
     }
 
     /// The entry point's arguments for invocation `local` of workgroup `wg`: its builtins.
-    fn arguments(&self, wg: [u32; 3], count: [u32; 3], local: u32) -> Result<Vec<Value>, EvalError> {
+    fn arguments(
+        &self,
+        wg: [u32; 3],
+        count: [u32; 3],
+        local: u32,
+    ) -> Result<Vec<Value>, EvalError> {
         let [sx, sy, _] = self.workgroup_size;
         let lid = [local % sx, (local / sx) % sy, local / (sx * sy)];
         let uvec3 = |v: [u32; 3]| Value::Vector(v.iter().map(|c| Value::U32(*c)).collect());
@@ -313,7 +318,10 @@ impl<'a> Dispatch<'a> {
     }
 
     /// Runs one workgroup's invocations to completion; on failure, the invocation and error.
-    fn schedule_workgroup(&mut self, invocations: &mut [Invocation]) -> Result<(), (u32, EvalError)> {
+    fn schedule_workgroup(
+        &mut self,
+        invocations: &mut [Invocation],
+    ) -> Result<(), (u32, EvalError)> {
         let n = invocations.len();
         let mut state: Vec<State> = (0..n).map(|_| State::Runnable(None)).collect();
         for phase in 0u64.. {
@@ -336,7 +344,8 @@ impl<'a> Dispatch<'a> {
             if state.iter().all(|s| matches!(s, State::Done)) {
                 return Ok(());
             }
-            self.resolve(&mut state).map_err(|e| (first_waiting(&state), e))?;
+            self.resolve(&mut state)
+                .map_err(|e| (first_waiting(&state), e))?;
         }
         Ok(())
     }
@@ -350,7 +359,13 @@ impl<'a> Dispatch<'a> {
         for start in (0..state.len()).step_by(size) {
             let lanes = start..(start + size).min(state.len());
             let at_subgroup_op = state[lanes.clone()].iter().any(|s| {
-                matches!(s, State::Waiting(Arrival { op: SyncOp::Subgroup { .. }, .. }))
+                matches!(
+                    s,
+                    State::Waiting(Arrival {
+                        op: SyncOp::Subgroup { .. },
+                        ..
+                    })
+                )
             });
             if !at_subgroup_op {
                 continue;
@@ -447,4 +462,3 @@ fn uniformity(state: &[State], first: usize, scope: &str) -> EvalError {
         parts.join("; ")
     ))
 }
-

@@ -40,11 +40,7 @@ fn run(
     Ok(words(&d.buffer("OUT")?))
 }
 
-const SCHEDULES: [Schedule; 3] = [
-    Schedule::InOrder,
-    Schedule::Reversed,
-    Schedule::Shuffled(7),
-];
+const SCHEDULES: [Schedule; 3] = [Schedule::InOrder, Schedule::Reversed, Schedule::Shuffled(7)];
 
 /// Each invocation writes its slot of workgroup memory, then reads its neighbours'.
 fn neighbours(barrier: &str) -> String {
@@ -89,7 +85,11 @@ fn a_deleted_barrier_gives_a_wrong_answer_under_some_schedule() {
     let c = compile(&neighbours(""));
     for schedule in [Schedule::InOrder, Schedule::Reversed] {
         let out = run(&c, schedule, 32, 1, None, 16).unwrap();
-        assert_ne!(out, neighbours_expected(1), "{schedule:?} hid the missing barrier");
+        assert_ne!(
+            out,
+            neighbours_expected(1),
+            "{schedule:?} hid the missing barrier"
+        );
     }
 }
 
@@ -185,7 +185,8 @@ fn subgroups_expected(input: &[u32], size: usize) -> Vec<u32> {
 
 #[test]
 fn subgroup_collectives_match_plain_rust_at_every_subgroup_size() {
-    let c = compile(&SUBGROUPS.replace("#[shader] mod m {", "#[shader(requires(subgroup))] mod m {"));
+    let c =
+        compile(&SUBGROUPS.replace("#[shader] mod m {", "#[shader(requires(subgroup))] mod m {"));
     let input: Vec<u32> = (0..128u32).map(|i| (i * 7919) % 101).collect();
     for size in SUBGROUP_SIZES {
         for schedule in [Schedule::InOrder, Schedule::Shuffled(size.into())] {
@@ -217,7 +218,10 @@ fn an_out_of_bounds_write_names_the_invocation_and_the_line() {
         EvalError::OutOfBounds { index: 4, len: 4 },
         "{text}"
     );
-    assert!(text.contains("invocation 3 of workgroup [0, 0, 0]"), "{text}");
+    assert!(
+        text.contains("invocation 3 of workgroup [0, 0, 0]"),
+        "{text}"
+    );
     assert!(text.contains("(at 6:"), "{text}");
 }
 
@@ -269,7 +273,8 @@ fn matrices_multiply_as_glam_does() {
         }",
     );
     let m = glam::Mat4::from_cols_array(&std::array::from_fn(|i| (i as f32 * 0.37).sin()));
-    let n = glam::Mat4::from_rotation_y(0.3) * glam::Mat4::from_translation(glam::vec3(1.0, 2.0, -3.0));
+    let n =
+        glam::Mat4::from_rotation_y(0.3) * glam::Mat4::from_translation(glam::vec3(1.0, 2.0, -3.0));
     let v = glam::vec4(1.0, -2.0, 0.5, 1.0);
     let mut d = Dispatch::new(&c.module, &c.keys[0].env, "main").unwrap();
     d.set_buffer("IN", bytemuck::cast_slice(&[m, n])).unwrap();

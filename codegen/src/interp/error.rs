@@ -94,10 +94,7 @@ impl fmt::Display for EvalError {
                 workgroup,
                 local,
                 error,
-            } => write!(
-                f,
-                "invocation {local} of workgroup {workgroup:?}: {error}"
-            ),
+            } => write!(f, "invocation {local} of workgroup {workgroup:?}: {error}"),
             EvalError::At {
                 line,
                 column,

@@ -2,8 +2,8 @@
 //! short-circuit), casts, swizzles, fields, indexing, constructors, builtins and calls of
 //! module functions.
 
-use super::value::scalar_from_f64;
 use super::sync::SyncOp;
+use super::value::scalar_from_f64;
 use super::{EvalError, Machine, Value, builtins, matrix, ops};
 use crate::ir::{BinOp, Expr, ExprKind, Lit, Scalar, Ty, UnOp};
 
@@ -218,19 +218,19 @@ impl Machine<'_> {
 
     /// An atomic builtin on the static place `args[0]` (atomics live only in storage and
     /// workgroup memory). Invocations of a dispatch run one at a time, so each is indivisible.
-    fn atomic(
-        &mut self,
-        locals: &[Value],
-        wgsl: &str,
-        args: &[Expr],
-    ) -> Result<Value, EvalError> {
+    fn atomic(&mut self, locals: &[Value], wgsl: &str, args: &[Expr]) -> Result<Value, EvalError> {
         let [place, rest @ ..] = args else {
             return Err(EvalError::Type(format!("`{wgsl}` without its atomic")));
         };
         let operand = match rest {
             [v] => Some(self.eval(locals, v, place.ty.scalar())?),
             [] => None,
-            _ => return Err(EvalError::Unsupported(format!("`{wgsl}` with {} operands", rest.len()))),
+            _ => {
+                return Err(EvalError::Unsupported(format!(
+                    "`{wgsl}` with {} operands",
+                    rest.len()
+                )));
+            }
         };
         let slot = self.global_place_mut(locals, place)?;
         let old = slot.clone();

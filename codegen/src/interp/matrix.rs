@@ -44,7 +44,13 @@ fn dot(a: &Value, b: &Value) -> Result<Value, EvalError> {
 }
 
 /// A binary operator with at least one matrix operand (`a_ty`, `b_ty` are the operand types).
-pub(crate) fn binary(op: BinOp, a: &Value, b: &Value, a_ty: &Ty, b_ty: &Ty) -> Result<Value, EvalError> {
+pub(crate) fn binary(
+    op: BinOp,
+    a: &Value,
+    b: &Value,
+    a_ty: &Ty,
+    b_ty: &Ty,
+) -> Result<Value, EvalError> {
     let each = |m: &Value, f: &mut dyn FnMut(&Value) -> Result<Value, EvalError>| {
         columns(m)?
             .iter()
@@ -87,7 +93,11 @@ pub(crate) fn negate(m: &Value) -> Result<Value, EvalError> {
 /// `transpose(m)`.
 pub(crate) fn transpose(m: &Value) -> Result<Value, EvalError> {
     let cols = columns(m)?;
-    let rows = cols.first().map(vector).transpose()?.map_or(0, <[Value]>::len);
+    let rows = cols
+        .first()
+        .map(vector)
+        .transpose()?
+        .map_or(0, <[Value]>::len);
     (0..rows)
         .map(|r| {
             cols.iter()
@@ -109,14 +119,19 @@ pub(crate) fn transpose(m: &Value) -> Result<Value, EvalError> {
 pub(crate) fn construct(c: u8, r: u8, args: Vec<Value>) -> Result<Value, EvalError> {
     let (c, r) = (usize::from(c), usize::from(r));
     if args.is_empty() {
-        return Ok(Value::Array(vec![Value::Vector(vec![Value::F32(0.0); r]); c]));
+        return Ok(Value::Array(vec![
+            Value::Vector(vec![Value::F32(0.0); r]);
+            c
+        ]));
     }
     if args.len() == c && args.iter().all(|a| matches!(a, Value::Vector(_))) {
         return Ok(Value::Array(args));
     }
     if args.len() == c * r {
         return Ok(Value::Array(
-            args.chunks(r).map(|col| Value::Vector(col.to_vec())).collect(),
+            args.chunks(r)
+                .map(|col| Value::Vector(col.to_vec()))
+                .collect(),
         ));
     }
     Err(EvalError::Type(format!(

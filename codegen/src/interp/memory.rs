@@ -48,8 +48,9 @@ impl Memory<'_> {
                 )
             }
             Ty::Array(elem, len) => {
-                let n = array_len(len, self.module, self.env)
-                    .ok_or_else(|| EvalError::Type("an array length that does not evaluate".into()))?;
+                let n = array_len(len, self.module, self.env).ok_or_else(|| {
+                    EvalError::Type("an array length that does not evaluate".into())
+                })?;
                 let stride = self.stride(elem);
                 Value::Array(
                     (0..n as usize)
@@ -87,7 +88,13 @@ impl Memory<'_> {
 
     /// Writes `v`, of type `ty`, into `bytes[offset..]`, growing `bytes` as needed (padding
     /// stays zero).
-    pub fn encode(&self, ty: &Ty, v: &Value, bytes: &mut Vec<u8>, offset: usize) -> Result<(), EvalError> {
+    pub fn encode(
+        &self,
+        ty: &Ty,
+        v: &Value,
+        bytes: &mut Vec<u8>,
+        offset: usize,
+    ) -> Result<(), EvalError> {
         let mut put = |at: usize, bits: u32| {
             if bytes.len() < at + 4 {
                 bytes.resize(at + 4, 0);

@@ -73,7 +73,9 @@ pub(crate) type Yielder = corosensei::Yielder<Resume, Suspended>;
 fn filled_like(v: &Value, x: f64) -> Value {
     match v {
         Value::Vector(c) => Value::Vector(c.iter().map(|e| filled_like(e, x)).collect()),
-        v => v.scalar().map_or(Value::F32(x as f32), |s| scalar_from_f64(s, x)),
+        v => v
+            .scalar()
+            .map_or(Value::F32(x as f32), |s| scalar_from_f64(s, x)),
     }
 }
 
@@ -114,10 +116,15 @@ pub(crate) fn collective(wgsl: &str, args: &[&[Value]]) -> Result<Vec<Value>, Ev
                     words[lane / 32] |= 1 << (lane % 32);
                 }
             }
-            same(Value::Vector(words.iter().map(|w| Value::U32(*w)).collect()))
+            same(Value::Vector(
+                words.iter().map(|w| Value::U32(*w)).collect(),
+            ))
         }
         "subgroupAll" | "subgroupAny" => {
-            let bits = x.iter().map(|v| boolean(v)).collect::<Result<Vec<_>, _>>()?;
+            let bits = x
+                .iter()
+                .map(|v| boolean(v))
+                .collect::<Result<Vec<_>, _>>()?;
             let r = if wgsl == "subgroupAll" {
                 bits.iter().all(|b| *b)
             } else {
@@ -132,9 +139,13 @@ pub(crate) fn collective(wgsl: &str, args: &[&[Value]]) -> Result<Vec<Value>, Ev
         "subgroupXor" => same(reduce(&x, binop(BinOp::BitXor))?),
         "subgroupMin" | "subgroupMax" => {
             let name = if wgsl == "subgroupMin" { "min" } else { "max" };
-            same(reduce(&x, |a, b| builtins::call(name, &[a.clone(), b.clone()]))?)
+            same(reduce(&x, |a, b| {
+                builtins::call(name, &[a.clone(), b.clone()])
+            })?)
         }
-        "subgroupExclusiveAdd" | "subgroupInclusiveAdd" | "subgroupExclusiveMul"
+        "subgroupExclusiveAdd"
+        | "subgroupInclusiveAdd"
+        | "subgroupExclusiveMul"
         | "subgroupInclusiveMul" => {
             let (op, identity) = if wgsl.ends_with("Add") {
                 (BinOp::Add, 0.0)
@@ -165,9 +176,14 @@ pub(crate) fn collective(wgsl: &str, args: &[&[Value]]) -> Result<Vec<Value>, Ev
                     .ok()
                     .and_then(|l| x.get(l))
                     .map(|v| (*v).clone())
-                    .ok_or(EvalError::OutOfBounds { index: lane, len: lanes })
+                    .ok_or(EvalError::OutOfBounds {
+                        index: lane,
+                        len: lanes,
+                    })
             })
             .collect(),
-        other => Err(EvalError::Unsupported(format!("the subgroup operation `{other}`"))),
+        other => Err(EvalError::Unsupported(format!(
+            "the subgroup operation `{other}`"
+        ))),
     }
 }

@@ -155,7 +155,10 @@ fn short_circuit_skips_the_right_operand() {
         pointer_first: false,
     };
     let e = ex(ExprKind::Builtin(b, vec![local(0, Ty::U32)]), Ty::U32);
-    assert!(matches!(eval(&e, &[Value::U32(1)]), Err(EvalError::Unsupported(_))));
+    assert!(matches!(
+        eval(&e, &[Value::U32(1)]),
+        Err(EvalError::Unsupported(_))
+    ));
 }
 
 /// A kernel compiled from source: the evaluator reads the typed IR of its `let`s, with
