@@ -18,7 +18,7 @@ use corosensei::{Coroutine, CoroutineResult};
 
 use super::memory::Memory;
 use super::sync::{Arrival, Finished, Globals, Resume, Suspended, SyncOp, Yielder, collective};
-use super::{DEFAULT_STEP_LIMIT, EvalError, Machine, Value};
+use super::{DEFAULT_STEP_LIMIT, EvalError, HostTexture, Machine, Value};
 use crate::ir::{Io, Module, Space, Stage};
 use crate::variants::{Env, Value as ConstValue, eval};
 
@@ -205,6 +205,13 @@ impl<'a> Dispatch<'a> {
         self.memory()
             .encode(&self.module.globals[g].ty, value, &mut bytes, 0)?;
         Ok(bytes)
+    }
+
+    /// Gives the texture static `name` its texels.
+    pub fn set_texture(&mut self, name: &str, texture: HostTexture) -> Result<(), EvalError> {
+        let g = self.global_index(name)?;
+        self.globals[g] = Some(texture.into_value()?);
+        Ok(())
     }
 
     /// Gives the static `name` a value directly.

@@ -139,6 +139,9 @@ impl Machine<'_> {
                 if b.pointer_first {
                     return Err(EvalError::Unsupported(format!("the builtin `{}`", b.wgsl)));
                 }
+                if let Some(v) = self.texture_builtin(locals, b.wgsl, args) {
+                    return v;
+                }
                 if b.wgsl == "transpose"
                     && let [m] = args.as_slice()
                 {

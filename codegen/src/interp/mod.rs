@@ -18,7 +18,8 @@
 //!   order the caller picks, so a missing barrier is a wrong answer, not luck; invocations that
 //!   do not reach a barrier or subgroup operation together are a uniformity error with the
 //!   source positions. Matrices (`matrix`) are columns of vectors.
-//! - **Not yet**: pointers (`&mut` parameters), textures and samplers, derivatives, vertex and
+//!   Textures are host texels read by `textureLoad` (`texture`).
+//! - **Not yet**: pointers (`&mut` parameters), texture sampling and samplers, derivatives, vertex and
 //!   fragment entry points, `determinant`. Each is an [`EvalError::Unsupported`] naming it.
 //!
 //! The semantics are written from the WGSL specification's rules, independently of the
@@ -41,6 +42,7 @@ mod memory;
 pub mod ops;
 mod place;
 mod sync;
+mod texture;
 mod value;
 
 #[cfg(test)]
@@ -52,6 +54,7 @@ mod tests;
 
 pub use dispatch::{Dispatch, SUBGROUP_SIZES, Schedule};
 pub use error::EvalError;
+pub use texture::HostTexture;
 pub use exec::{DEFAULT_STEP_LIMIT, Machine};
 pub use value::Value;
 
