@@ -54,8 +54,8 @@ mod tests;
 
 pub use dispatch::{Dispatch, SUBGROUP_SIZES, Schedule};
 pub use error::EvalError;
-pub use texture::HostTexture;
 pub use exec::{DEFAULT_STEP_LIMIT, Machine};
+pub use texture::HostTexture;
 pub use value::Value;
 
 use crate::ir::{Expr, Module};

@@ -56,8 +56,13 @@ impl HostTexture {
 /// Width, height, layers and samples of a texture static's value, and its texels.
 fn parts(v: &Value) -> Result<([u32; 4], &[Value]), EvalError> {
     if let Value::Struct(f) = v
-        && let [Value::U32(w), Value::U32(h), Value::U32(l), Value::U32(s), Value::Array(t)] =
-            f.as_slice()
+        && let [
+            Value::U32(w),
+            Value::U32(h),
+            Value::U32(l),
+            Value::U32(s),
+            Value::Array(t),
+        ] = f.as_slice()
     {
         return Ok(([*w, *h, *l, *s], t));
     }
@@ -121,12 +126,7 @@ impl Machine<'_> {
                             "mip level {last} (host textures have level 0 only)"
                         )));
                     }
-                    for (index, len) in [
-                        (x, w),
-                        (y, h),
-                        (layer, layers),
-                        (sample, samples),
-                    ] {
+                    for (index, len) in [(x, w), (y, h), (layer, layers), (sample, samples)] {
                         if !(0..i64::from(len)).contains(&index) {
                             return Err(EvalError::OutOfBounds {
                                 index,

@@ -1,0 +1,193 @@
+//! The culling hierarchy run by the DSL's host interpreter (`codegen::interp::Dispatch`): the
+//! `shaders_gen` kernels compiled from their source text, given the same parameters, items and
+//! depth samples as the GPU run, dispatched in the renderer's order (tile depth, super-tiles,
+//! tiles), and read back as the GPU's lists are.
+
+use codegen::Compiled;
+use codegen::interp::{Dispatch, EvalError, HostTexture, Schedule};
+use codegen::ir::Lit;
+use glam::UVec2;
+use renderer::culling::hierarchy::{CullSphere, CullView, MethodParams};
+use renderer::culling::lists::{CullCounters, CullReadback, GUARD_WORD, GUARD_WORDS};
+use renderer::culling::tiled::{TileCullConfig, TiledCulling};
+use shaders_gen::culling::cull_prepare::{COARSE_CHUNK, COUNTER_COUNT, CullParams, ITEM_TYPES};
+
+use crate::cull_scene::CullScene;
+use crate::gpu::gpu_test;
+
+/// Source text of the culling kernels and the libraries they use.
+pub const PREPARE_SOURCE: &str = include_str!("../../shaders_gen/src/culling/prepare.rs");
+pub const TILED_SOURCE: &str = include_str!("../../shaders_gen/src/culling/tiled.rs");
+const LIBRARY_SOURCES: [&str; 2] = [
+    include_str!("../../shaders_gen/src/shared/grid.rs"),
+    include_str!("../../shaders_gen/src/shared/append.rs"),
+];
+
+/// Compiles the first shader module of `source` with the culling libraries.
+pub fn compile(source: &str) -> Compiled {
+    let mut modules =
+        codegen::compile_source_all_with(source, &LIBRARY_SOURCES).expect("the source parses");
+    assert!(!modules.is_empty(), "no shader module in the source");
+    let (name, compiled) = modules.swap_remove(0);
+    compiled.unwrap_or_else(|e| panic!("{name} does not compile: {e}"))
+}
+
+/// The variant of `c` whose axes have the given values (`bool` axes: 0 or 1).
+pub fn variant<'c>(c: &'c Compiled, axes: &[(&str, i64)]) -> &'c codegen::variants::Env {
+    let wanted = |k: &codegen::variants::Key| {
+        axes.iter().all(|(name, value)| {
+            let Some(i) = c.module.axis(name) else {
+                return false;
+            };
+            match k.env.values[i] {
+                Lit::Int(v, _) => v == *value,
+                Lit::Bool(b) => i64::from(b) == *value,
+                Lit::Float(..) => false,
+            }
+        })
+    };
+    &c.keys
+        .iter()
+        .find(|k| wanted(k))
+        .unwrap_or_else(|| panic!("no variant of {} with {axes:?}", c.module.name))
+        .env
+}
+
+/// The culling parameters and super-tile stride the GPU's tiled culling uses for `s`.
+pub fn tiled_params(s: &CullScene, config: TileCullConfig) -> (CullParams, u32) {
+    gpu_test(|gpu| {
+        let (w, h) = (s.camera.width, s.camera.height);
+        let culling = TiledCulling::new(gpu, config, w, h).expect("culling setup");
+        let spheres = spheres(s);
+        let camera = CullView {
+            view: s.camera.view,
+            projection: s.camera.projection,
+            screen: UVec2::new(w, h),
+        };
+        let method = MethodParams {
+            transparent: config.transparent_lists,
+            ..MethodParams::default()
+        };
+        let items = renderer::culling::hierarchy::CullItems::lights(&spheres);
+        (
+            culling.levels.params(&camera, &items, method),
+            culling.levels.coarse_stride,
+        )
+    })
+}
+
+fn spheres(s: &CullScene) -> Vec<CullSphere> {
+    s.lights
+        .iter()
+        .map(|l| CullSphere::new(l.center, l.radius))
+        .collect()
+}
+
+/// How the host run is scheduled.
+#[derive(Debug, Clone, Copy)]
+pub struct HostRun {
+    pub subgroup_size: u32,
+    pub schedule: Schedule,
+}
+
+/// Tiled culling of `s` (lights only) on the host, with `fine` the compiled `tile_cull`
+/// (perhaps mutated), `prepare` the compiled `cull_prepare`; the lists as the GPU's readback.
+pub fn run_tiled(
+    s: &CullScene,
+    config: TileCullConfig,
+    (prepare, fine): (&Compiled, &Compiled),
+    run: HostRun,
+) -> Result<CullReadback, EvalError> {
+    let (params, stride) = tiled_params(s, config);
+    let (w, h, samples) = (s.camera.width, s.camera.height, s.depth.samples);
+    let tiles = params.tiles.x * params.tiles.y;
+    let supers = params.super_tiles.x * params.super_tiles.y;
+    let words = |n: u32| vec![0u8; n as usize * 4];
+    let lights = spheres(s);
+    let mut shared: Vec<(&str, Vec<u8>)> = vec![
+        ("PARAMS", bytemuck::bytes_of(&params).to_vec()),
+        ("ITEMS", bytemuck::cast_slice(&lights).to_vec()),
+        ("GRID", words(params.grid_section * ITEM_TYPES * 2)),
+        (
+            "INDICES",
+            bytemuck::cast_slice(&vec![
+                GUARD_WORD;
+                (config.index_capacity + GUARD_WORDS) as usize
+            ])
+            .to_vec(),
+        ),
+        ("COUNTERS", words(COUNTER_COUNT)),
+        ("TILE_DEPTH", words(tiles * 4)),
+        ("COARSE", words(supers * (4 + stride))),
+        (
+            "SPHERES",
+            words((supers * stride + config.item_capacity) * 4),
+        ),
+        ("BOXES", vec![]),
+    ];
+    let depth = HostTexture::depth(w, h, samples, &s.depth.depth);
+    let prepare_env = variant(
+        prepare,
+        &[("tile", config.tile.into()), ("msaa", samples.into())],
+    );
+    let fine_env = variant(
+        fine,
+        &[
+            ("tile", config.tile.into()),
+            ("depth_mask", config.depth_mask.into()),
+        ],
+    );
+    let chunks = params.item_count.div_ceil(COARSE_CHUNK);
+    let steps = [
+        (
+            prepare,
+            prepare_env,
+            "tile_depth",
+            [params.tiles.x, params.tiles.y, 1],
+        ),
+        (
+            prepare,
+            prepare_env,
+            "coarse_cull",
+            [params.super_tiles.x, params.super_tiles.y, chunks],
+        ),
+        (fine, fine_env, "cull", [params.tiles.x, params.tiles.y, 1]),
+    ];
+    for (compiled, env, entry, groups) in steps {
+        if config.brute_force && entry == "coarse_cull" {
+            continue;
+        }
+        let mut d = Dispatch::new(&compiled.module, env, entry)?
+            .with_subgroup_size(run.subgroup_size)?
+            .with_schedule(run.schedule);
+        for (name, bytes) in &shared {
+            d.set_buffer(name, bytes)?;
+        }
+        let texture = if samples == 1 { "DEPTH" } else { "DEPTH_MS" };
+        if compiled.module.globals.iter().any(|g| g.name == texture) {
+            d.set_texture(texture, depth.clone())?;
+        }
+        d.run(groups)?;
+        for (name, bytes) in &mut shared {
+            *bytes = d.buffer(name)?;
+        }
+    }
+    let read = |name: &str| -> Vec<u32> {
+        let bytes = &shared
+            .iter()
+            .find(|(n, _)| *n == name)
+            .expect("a shared buffer")
+            .1;
+        bytemuck::pod_collect_to_vec(bytes)
+    };
+    let grid: Vec<u32> = read("GRID");
+    Ok(CullReadback {
+        grid: grid
+            .chunks_exact(2)
+            .map(|p| UVec2::new(p[0], p[1]))
+            .take((params.grid_section * ITEM_TYPES) as usize)
+            .collect(),
+        indices: read("INDICES"),
+        counters: CullCounters::from_words(&read("COUNTERS")),
+    })
+}

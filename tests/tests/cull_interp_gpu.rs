@@ -1,0 +1,140 @@
+//! The culling kernels run by the DSL's host interpreter equal the same kernels on the GPU and
+//! the independent CPU reference, at subgroup sizes 4, 8, 32 and 64 and under two schedules;
+//! and a deleted barrier in `tile_cull` makes the host lists wrong.
+//!
+//! The three dispatches (`cull_prepare::tile_depth`, `coarse_cull`, `tile_cull::cull`) are
+//! compiled from `shaders_gen`'s source text and given the GPU run's parameters, lights and
+//! depth samples. Lists are compared as sets: their order follows the order the atomics ran in.
+
+use codegen::interp::{EvalError, Schedule};
+use renderer::culling::lists::CullReadback;
+use renderer::culling::reference::{Method, cull};
+use renderer::culling::tiled::TileCullConfig;
+use tests::cull_interp::{HostRun, PREPARE_SOURCE, TILED_SOURCE, compile, run_tiled};
+use tests::cull_run::{GpuMethod, run_method, symmetric_difference};
+use tests::cull_scene::{CullScene, scene};
+
+fn config(msaa: u32) -> TileCullConfig {
+    TileCullConfig {
+        tile: 16,
+        msaa,
+        depth_mask: false,
+        transparent_lists: false,
+        brute_force: false,
+        coarse_slots: None,
+        index_capacity: 4096,
+        item_capacity: 256,
+    }
+}
+
+fn lists(r: &CullReadback) -> Vec<Vec<u32>> {
+    r.all_lists()
+}
+
+/// Cells where two runs' lists differ by an item the reference does not call borderline.
+fn sure_differences(s: &CullScene, a: &[Vec<u32>], b: &[Vec<u32>]) -> Vec<(usize, u32)> {
+    let reference = cull(
+        &s.camera,
+        &s.depth,
+        &s.lights_view(),
+        Method::Tiled {
+            tile: 16,
+            transparent: false,
+        },
+    );
+    let mut out = vec![];
+    for (c, (x, y)) in a.iter().zip(b).enumerate() {
+        for item in symmetric_difference(x, y) {
+            if !reference.borderline[c].iter().any(|l| l.light == item) {
+                out.push((c, item));
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn host_culling_equals_the_gpu_and_the_reference_at_every_subgroup_size() {
+    let prepare = compile(PREPARE_SOURCE);
+    let fine = compile(TILED_SOURCE);
+    for msaa in [1, 4] {
+        let s = scene(11 + u64::from(msaa), 64, 48, msaa, 24);
+        let gpu = lists(&run_method(&s, GpuMethod::Tiled(config(msaa))));
+        let reference = cull(
+            &s.camera,
+            &s.depth,
+            &s.lights_view(),
+            Method::Tiled {
+                tile: 16,
+                transparent: false,
+            },
+        );
+        assert!(
+            gpu.iter().map(Vec::len).sum::<usize>() > 20,
+            "the scene lists too little to compare"
+        );
+        for (subgroup_size, schedule) in [
+            (4, Schedule::InOrder),
+            (8, Schedule::Reversed),
+            (32, Schedule::InOrder),
+            (64, Schedule::Reversed),
+        ] {
+            let run = HostRun {
+                subgroup_size,
+                schedule,
+            };
+            let started = std::time::Instant::now();
+            let host = run_tiled(&s, config(msaa), (&prepare, &fine), run)
+                .unwrap_or_else(|e| panic!("MSAA {msaa}, {run:?}: {e}"));
+            // Reported, not asserted (timings are for benchmarks).
+            eprintln!(
+                "host culling, 64×48, MSAA {msaa}, {} lights, {run:?}: {:.0} ms",
+                s.lights.len(),
+                started.elapsed().as_secs_f64() * 1e3
+            );
+            let host = lists(&host);
+            let what = format!("MSAA {msaa}, subgroup {subgroup_size}, {schedule:?}");
+            assert_eq!(host.len(), gpu.len(), "{what}: cells");
+            assert_eq!(
+                sure_differences(&s, &host, &gpu),
+                vec![],
+                "{what}: host vs GPU"
+            );
+            assert_eq!(
+                sure_differences(&s, &host, &reference.lists),
+                vec![],
+                "{what}: host vs reference"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_deleted_barrier_in_tile_cull_makes_the_host_lists_wrong() {
+    let barrier = "lists_reset(lid);\n        workgroup_barrier();";
+    assert!(TILED_SOURCE.contains(barrier), "the mutation site moved");
+    let mutated = TILED_SOURCE.replacen(barrier, "lists_reset(lid);", 1);
+    let prepare = compile(PREPARE_SOURCE);
+    let fine = compile(&mutated);
+    let s = scene(12, 64, 48, 1, 24);
+    let gpu = lists(&run_method(&s, GpuMethod::Tiled(config(1))));
+    // Run in reverse: the invocations that reset the list counters run last and wipe out the
+    // counts the others made.
+    let run = HostRun {
+        subgroup_size: 32,
+        schedule: Schedule::Reversed,
+    };
+    let host = run_tiled(&s, config(1), (&prepare, &fine), run).map(|r| lists(&r));
+    match host {
+        Ok(host) => {
+            let wrong = sure_differences(&s, &host, &gpu);
+            eprintln!("the missing barrier changed {} list entries", wrong.len());
+            assert_ne!(wrong, vec![], "the missing barrier went unnoticed");
+        }
+        // A kernel error (a list index out of bounds) is as good a failure; a setup error is not.
+        Err(e) => assert!(
+            matches!(e, EvalError::Invocation { .. }),
+            "the run failed before the kernel did: {e}"
+        ),
+    }
+}
