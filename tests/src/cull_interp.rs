@@ -7,17 +7,20 @@ use codegen::Compiled;
 use codegen::interp::{Dispatch, EvalError, HostTexture, Schedule};
 use codegen::ir::Lit;
 use glam::UVec2;
-use renderer::culling::hierarchy::{CullSphere, CullView, MethodParams};
+use renderer::culling::clustered::ClusteredCulling;
+use renderer::culling::hierarchy::{CullItems, CullSphere, CullView, MethodParams};
 use renderer::culling::lists::{CullCounters, CullReadback, GUARD_WORD, GUARD_WORDS};
-use renderer::culling::tiled::{TileCullConfig, TiledCulling};
+use renderer::culling::tiled::TiledCulling;
 use shaders_gen::culling::cull_prepare::{COARSE_CHUNK, COUNTER_COUNT, CullParams, ITEM_TYPES};
 
+use crate::cull_run::GpuMethod;
 use crate::cull_scene::CullScene;
 use crate::gpu::gpu_test;
 
 /// Source text of the culling kernels and the libraries they use.
 pub const PREPARE_SOURCE: &str = include_str!("../../shaders_gen/src/culling/prepare.rs");
 pub const TILED_SOURCE: &str = include_str!("../../shaders_gen/src/culling/tiled.rs");
+pub const CLUSTERED_SOURCE: &str = include_str!("../../shaders_gen/src/culling/clustered.rs");
 const LIBRARY_SOURCES: [&str; 2] = [
     include_str!("../../shaders_gen/src/shared/grid.rs"),
     include_str!("../../shaders_gen/src/shared/append.rs"),
@@ -53,25 +56,77 @@ pub fn variant<'c>(c: &'c Compiled, axes: &[(&str, i64)]) -> &'c codegen::varian
         .env
 }
 
-/// The culling parameters and super-tile stride the GPU's tiled culling uses for `s`.
-pub fn tiled_params(s: &CullScene, config: TileCullConfig) -> (CullParams, u32) {
+/// What the host run needs of a GPU culling method's configuration.
+struct MethodShape {
+    tile: u32,
+    msaa: u32,
+    brute_force: bool,
+    index_capacity: u32,
+    item_capacity: u32,
+    /// The fine kernel's axes besides `tile`.
+    fine_axes: Vec<(&'static str, i64)>,
+}
+
+fn shape(method: GpuMethod) -> MethodShape {
+    match method {
+        GpuMethod::Tiled(c) => MethodShape {
+            tile: c.tile,
+            msaa: c.msaa,
+            brute_force: c.brute_force,
+            index_capacity: c.index_capacity,
+            item_capacity: c.item_capacity,
+            fine_axes: vec![("depth_mask", c.depth_mask.into())],
+        },
+        GpuMethod::Clustered(c) => MethodShape {
+            tile: c.grid.tile,
+            msaa: c.msaa,
+            brute_force: c.brute_force,
+            index_capacity: c.index_capacity,
+            item_capacity: c.item_capacity,
+            fine_axes: vec![],
+        },
+    }
+}
+
+/// The culling parameters and super-tile stride the GPU's `method` uses for `s`.
+pub fn method_params(s: &CullScene, method: GpuMethod) -> (CullParams, u32) {
     gpu_test(|gpu| {
         let (w, h) = (s.camera.width, s.camera.height);
-        let culling = TiledCulling::new(gpu, config, w, h).expect("culling setup");
         let spheres = spheres(s);
         let camera = CullView {
             view: s.camera.view,
             projection: s.camera.projection,
             screen: UVec2::new(w, h),
         };
-        let method = MethodParams {
-            transparent: config.transparent_lists,
-            ..MethodParams::default()
+        let items = CullItems::lights(&spheres);
+        let levels = match method {
+            GpuMethod::Tiled(config) => {
+                TiledCulling::new(gpu, config, w, h)
+                    .expect("culling setup")
+                    .levels
+            }
+            GpuMethod::Clustered(config) => {
+                ClusteredCulling::new(gpu, config, w, h)
+                    .expect("culling setup")
+                    .levels
+            }
         };
-        let items = renderer::culling::hierarchy::CullItems::lights(&spheres);
+        let method_params = match method {
+            GpuMethod::Tiled(config) => MethodParams {
+                transparent: config.transparent_lists,
+                ..MethodParams::default()
+            },
+            GpuMethod::Clustered(config) => MethodParams {
+                transparent: false,
+                all_slices: !config.skip_empty,
+                slices: config.grid.slices,
+                slice_near: config.grid.near,
+                slice_far: config.grid.far,
+            },
+        };
         (
-            culling.levels.params(&camera, &items, method),
-            culling.levels.coarse_stride,
+            levels.params(&camera, &items, method_params),
+            levels.coarse_stride,
         )
     })
 }
@@ -90,15 +145,17 @@ pub struct HostRun {
     pub schedule: Schedule,
 }
 
-/// Tiled culling of `s` (lights only) on the host, with `fine` the compiled `tile_cull`
-/// (perhaps mutated), `prepare` the compiled `cull_prepare`; the lists as the GPU's readback.
-pub fn run_tiled(
+/// Culling of `s` (lights only) on the host as the GPU's `method` culls it, with `prepare` the
+/// compiled `cull_prepare` and `fine` the method's fine kernel (`tile_cull` or `cluster_cull`,
+/// perhaps mutated); the lists as the GPU's readback.
+pub fn run_on_host(
     s: &CullScene,
-    config: TileCullConfig,
+    method: GpuMethod,
     (prepare, fine): (&Compiled, &Compiled),
     run: HostRun,
 ) -> Result<CullReadback, EvalError> {
-    let (params, stride) = tiled_params(s, config);
+    let (params, stride) = method_params(s, method);
+    let config = shape(method);
     let (w, h, samples) = (s.camera.width, s.camera.height, s.depth.samples);
     let tiles = params.tiles.x * params.tiles.y;
     let supers = params.super_tiles.x * params.super_tiles.y;
@@ -128,15 +185,11 @@ pub fn run_tiled(
     let depth = HostTexture::depth(w, h, samples, &s.depth.depth);
     let prepare_env = variant(
         prepare,
-        &[("tile", config.tile.into()), ("msaa", samples.into())],
+        &[("tile", config.tile.into()), ("msaa", config.msaa.into())],
     );
-    let fine_env = variant(
-        fine,
-        &[
-            ("tile", config.tile.into()),
-            ("depth_mask", config.depth_mask.into()),
-        ],
-    );
+    let mut fine_axes = config.fine_axes.clone();
+    fine_axes.push(("tile", config.tile.into()));
+    let fine_env = variant(fine, &fine_axes);
     let chunks = params.item_count.div_ceil(COARSE_CHUNK);
     let steps = [
         (

@@ -1,16 +1,21 @@
 //! The culling kernels run by the DSL's host interpreter equal the same kernels on the GPU and
 //! the independent CPU reference, at subgroup sizes 4, 8, 32 and 64 and under two schedules;
-//! and a deleted barrier in `tile_cull` makes the host lists wrong.
+//! and a deleted barrier in `tile_cull` makes the host lists wrong. Clustered culling
+//! (`cluster_cull`) likewise.
 //!
 //! The three dispatches (`cull_prepare::tile_depth`, `coarse_cull`, `tile_cull::cull`) are
 //! compiled from `shaders_gen`'s source text and given the GPU run's parameters, lights and
 //! depth samples. Lists are compared as sets: their order follows the order the atomics ran in.
 
 use codegen::interp::{EvalError, Schedule};
+use renderer::culling::clustered::ClusterCullConfig;
 use renderer::culling::lists::CullReadback;
+use renderer::culling::reference::ClusterGrid;
 use renderer::culling::reference::{Method, cull};
 use renderer::culling::tiled::TileCullConfig;
-use tests::cull_interp::{HostRun, PREPARE_SOURCE, TILED_SOURCE, compile, run_tiled};
+use tests::cull_interp::{
+    CLUSTERED_SOURCE, HostRun, PREPARE_SOURCE, TILED_SOURCE, compile, run_on_host,
+};
 use tests::cull_run::{GpuMethod, run_method, symmetric_difference};
 use tests::cull_scene::{CullScene, scene};
 
@@ -31,17 +36,23 @@ fn lists(r: &CullReadback) -> Vec<Vec<u32>> {
     r.all_lists()
 }
 
+const TILED: Method = Method::Tiled {
+    tile: 16,
+    transparent: false,
+};
+
 /// Cells where two runs' lists differ by an item the reference does not call borderline.
 fn sure_differences(s: &CullScene, a: &[Vec<u32>], b: &[Vec<u32>]) -> Vec<(usize, u32)> {
-    let reference = cull(
-        &s.camera,
-        &s.depth,
-        &s.lights_view(),
-        Method::Tiled {
-            tile: 16,
-            transparent: false,
-        },
-    );
+    sure_differences_in(s, TILED, a, b)
+}
+
+fn sure_differences_in(
+    s: &CullScene,
+    method: Method,
+    a: &[Vec<u32>],
+    b: &[Vec<u32>],
+) -> Vec<(usize, u32)> {
+    let reference = cull(&s.camera, &s.depth, &s.lights_view(), method);
     let mut out = vec![];
     for (c, (x, y)) in a.iter().zip(b).enumerate() {
         for item in symmetric_difference(x, y) {
@@ -60,15 +71,7 @@ fn host_culling_equals_the_gpu_and_the_reference_at_every_subgroup_size() {
     for msaa in [1, 4] {
         let s = scene(11 + u64::from(msaa), 64, 48, msaa, 24);
         let gpu = lists(&run_method(&s, GpuMethod::Tiled(config(msaa))));
-        let reference = cull(
-            &s.camera,
-            &s.depth,
-            &s.lights_view(),
-            Method::Tiled {
-                tile: 16,
-                transparent: false,
-            },
-        );
+        let reference = cull(&s.camera, &s.depth, &s.lights_view(), TILED);
         assert!(
             gpu.iter().map(Vec::len).sum::<usize>() > 20,
             "the scene lists too little to compare"
@@ -84,7 +87,7 @@ fn host_culling_equals_the_gpu_and_the_reference_at_every_subgroup_size() {
                 schedule,
             };
             let started = std::time::Instant::now();
-            let host = run_tiled(&s, config(msaa), (&prepare, &fine), run)
+            let host = run_on_host(&s, GpuMethod::Tiled(config(msaa)), (&prepare, &fine), run)
                 .unwrap_or_else(|e| panic!("MSAA {msaa}, {run:?}: {e}"));
             // Reported, not asserted (timings are for benchmarks).
             eprintln!(
@@ -124,7 +127,8 @@ fn a_deleted_barrier_in_tile_cull_makes_the_host_lists_wrong() {
         subgroup_size: 32,
         schedule: Schedule::Reversed,
     };
-    let host = run_tiled(&s, config(1), (&prepare, &fine), run).map(|r| lists(&r));
+    let host =
+        run_on_host(&s, GpuMethod::Tiled(config(1)), (&prepare, &fine), run).map(|r| lists(&r));
     match host {
         Ok(host) => {
             let wrong = sure_differences(&s, &host, &gpu);
@@ -136,5 +140,55 @@ fn a_deleted_barrier_in_tile_cull_makes_the_host_lists_wrong() {
             matches!(e, EvalError::Invocation { .. }),
             "the run failed before the kernel did: {e}"
         ),
+    }
+}
+
+#[test]
+fn host_clustered_culling_equals_the_gpu_and_the_reference() {
+    let grid = ClusterGrid {
+        tile: 16,
+        slices: 16,
+        near: tests::cull_scene::NEAR,
+        far: tests::cull_scene::FAR,
+    };
+    let method = Method::Clustered {
+        grid,
+        skip_empty: false,
+    };
+    let config = ClusterCullConfig {
+        grid,
+        msaa: 1,
+        skip_empty: false,
+        brute_force: false,
+        coarse_slots: None,
+        index_capacity: 1 << 14,
+        item_capacity: 256,
+    };
+    let prepare = compile(PREPARE_SOURCE);
+    let fine = compile(CLUSTERED_SOURCE);
+    // 72×40 is not a multiple of the tile: partial tiles on the right and at the bottom.
+    let s = scene(41, 72, 40, 1, 24);
+    let gpu = lists(&run_method(&s, GpuMethod::Clustered(config)));
+    let reference = cull(&s.camera, &s.depth, &s.lights_view(), method);
+    assert!(gpu.iter().map(Vec::len).sum::<usize>() > 20);
+    for (subgroup_size, schedule) in [(8, Schedule::Shuffled(3)), (64, Schedule::Reversed)] {
+        let run = HostRun {
+            subgroup_size,
+            schedule,
+        };
+        let host = run_on_host(&s, GpuMethod::Clustered(config), (&prepare, &fine), run)
+            .unwrap_or_else(|e| panic!("{run:?}: {e}"));
+        let host = lists(&host);
+        assert_eq!(host.len(), gpu.len(), "{run:?}: froxels");
+        assert_eq!(
+            sure_differences_in(&s, method, &host, &gpu),
+            vec![],
+            "{run:?}: host vs GPU"
+        );
+        assert_eq!(
+            sure_differences_in(&s, method, &host, &reference.lists),
+            vec![],
+            "{run:?}: host vs reference"
+        );
     }
 }
