@@ -16,6 +16,7 @@ mod info;
 mod invariants;
 mod render;
 mod shaders;
+mod shaders_doc;
 mod system;
 mod test;
 mod view;

@@ -6,6 +6,7 @@
 //! plus `.spvasm` from `spirv-dis` when installed. `--check` fails when `spirv-val` rejects any
 //! variant (or is missing). `#[library]` modules are compiled on their own too (rows marked
 //! `(library)`), and the modules that use them with their `uses(..)` resolved by name.
+//! `--doc` also writes a Markdown page per module (`shaders_doc`).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -25,6 +26,10 @@ pub struct Args {
     /// Only modules whose name contains this.
     #[arg(long)]
     module: Option<String>,
+    /// Also write a Markdown page per module (variant table, bindings, host structs with their
+    /// offsets) to `<out>/doc/`, with an index.
+    #[arg(long)]
+    doc: bool,
 }
 
 /// One row of the table.
@@ -69,6 +74,8 @@ pub fn run(args: &Args) -> Result<()> {
         .into_iter()
         .flat_map(|(file, modules)| modules.into_iter().map(move |m| (file.clone(), m, false)));
     let available: Vec<DslModule> = libraries.iter().map(|(_, m)| m.clone()).collect();
+    let doc_dir = out.join("doc");
+    let mut documented = Vec::new();
     for (file, (args_tokens, item), is_library) in library_units.chain(shader_units) {
         let name = item.ident.to_string();
         if args.module.as_deref().is_some_and(|m| !name.contains(m)) {
@@ -115,6 +122,39 @@ pub fn run(args: &Args) -> Result<()> {
                 gen_time: v.gen_time,
             });
         }
+        if args.doc {
+            let validation: Vec<crate::shaders_doc::Validation> = rows
+                [rows.len() - compiled.variants.len()..]
+                .iter()
+                .map(|r| crate::shaders_doc::Validation {
+                    spirv_val: match r.spirv_val {
+                        SpirvVal::Passed => "ok",
+                        SpirvVal::Failed(_) => "FAILED",
+                        SpirvVal::NotInstalled => "not installed",
+                    },
+                    message: match &r.spirv_val {
+                        SpirvVal::Failed(m) => Some(m.clone()),
+                        _ => None,
+                    },
+                })
+                .collect();
+            let page = crate::shaders_doc::module_page(&compiled, &item, is_library, &validation);
+            std::fs::create_dir_all(&doc_dir)
+                .with_context(|| format!("creating {}", doc_dir.display()))?;
+            std::fs::write(doc_dir.join(format!("{name}.md")), page)?;
+            documented.push((name.clone(), compiled.variants.len(), is_library));
+        }
+    }
+    if args.doc {
+        std::fs::write(
+            doc_dir.join("index.md"),
+            crate::shaders_doc::index_page(&documented),
+        )?;
+        println!(
+            "wrote {} module page(s) and index.md to {}",
+            documented.len(),
+            doc_dir.display()
+        );
     }
     print_table(&rows);
     println!("\nwrote {} variant(s) to {}", rows.len(), out.display());
