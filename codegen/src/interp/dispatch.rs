@@ -6,10 +6,14 @@
 //! not `Send`), and only one runs at a time: the scheduler resumes the invocations in the order of its [`Schedule`], each running until its
 //! next barrier or subgroup operation (or its end), then resolves what every invocation waits
 //! for. So a missing barrier is a wrong result in a fixed order, the same every run: a kernel
-//! must give the same answer under [`Schedule::InOrder`] and [`Schedule::Reversed`]. Invocations
-//! that do not reach the same barrier (workgroup) or subgroup operation (subgroup) together are
-//! [`EvalError::Uniformity`], as WGSL requires uniform control flow there. Subgroup `k` holds
-//! the invocations `k·size ..` by `local_invocation_index`.
+//! must give the same answer under [`Schedule::InOrder`] and [`Schedule::Reversed`].
+//!
+//! Invocations that do not all reach the same barrier are [`EvalError::Uniformity`], as WGSL
+//! requires uniform control flow there. A subgroup operation runs over its active lanes: those
+//! of the subgroup waiting at it, the others having left the loop or branch it is in (as on
+//! hardware, where a loop's last, partial round runs with fewer lanes); lanes of a subgroup at
+//! two different subgroup operations at once are a uniformity error. Subgroup `k` holds the
+//! invocations `k·size ..` by `local_invocation_index`.
 
 use std::rc::Rc;
 
@@ -357,49 +361,54 @@ impl<'a> Dispatch<'a> {
         Ok(())
     }
 
-    /// Releases what every waiting invocation waits for: each subgroup whose lanes are all at
-    /// the same subgroup operation gets its results; else, when every invocation is at the same
-    /// barrier, all go on. Anything else can never be released: a uniformity error.
+    /// Releases what the waiting invocations wait for. In each subgroup, the lanes waiting at a
+    /// subgroup operation are its active lanes (the others have left the branch or loop it is
+    /// in: they wait at a barrier or have returned), as on hardware; they get their results.
+    /// Lanes of one subgroup at two different subgroup operations are a uniformity error. Once
+    /// no subgroup operation is pending, every invocation must be at the same barrier.
     fn resolve(&self, state: &mut [State]) -> Result<(), EvalError> {
         let size = self.subgroup_size as usize;
         let mut released = false;
         for start in (0..state.len()).step_by(size) {
             let lanes = start..(start + size).min(state.len());
-            let at_subgroup_op = state[lanes.clone()].iter().any(|s| {
-                matches!(
-                    s,
-                    State::Waiting(Arrival {
-                        op: SyncOp::Subgroup { .. },
-                        ..
-                    })
-                )
-            });
-            if !at_subgroup_op {
+            let active: Vec<usize> = lanes
+                .clone()
+                .filter(|&i| {
+                    matches!(
+                        &state[i],
+                        State::Waiting(Arrival {
+                            op: SyncOp::Subgroup { .. },
+                            ..
+                        })
+                    )
+                })
+                .collect();
+            let Some(&leader) = active.first() else {
                 continue;
-            }
-            let first = match &state[start] {
-                State::Waiting(a) => a.clone(),
-                _ => return Err(uniformity(&state[lanes], start, "subgroup")),
             };
-            let together = state[lanes.clone()]
+            let State::Waiting(first) = &state[leader] else {
+                continue;
+            };
+            let first = first.clone();
+            if !active
                 .iter()
-                .all(|s| matches!(s, State::Waiting(a) if a.same_site(&first)));
-            if !together {
-                return Err(uniformity(&state[lanes], start, "subgroup"));
+                .all(|&i| matches!(&state[i], State::Waiting(a) if a.same_site(&first)))
+            {
+                return Err(uniformity(&state[lanes.clone()], start, "subgroup"));
             }
-            let args: Vec<&[Value]> = state[lanes.clone()]
+            let args: Vec<(usize, &[Value])> = active
                 .iter()
-                .map(|s| match s {
+                .map(|&i| match &state[i] {
                     State::Waiting(Arrival {
                         op: SyncOp::Subgroup { args, .. },
                         ..
-                    }) => args.as_slice(),
-                    _ => &[],
+                    }) => (i - start, args.as_slice()),
+                    _ => (i - start, &[][..]),
                 })
                 .collect();
             let results = collective(first.op.name(), &args)?;
-            for (s, r) in state[lanes].iter_mut().zip(results) {
-                *s = State::Runnable(Some(r));
+            for (&i, r) in active.iter().zip(results) {
+                state[i] = State::Runnable(Some(r));
             }
             released = true;
         }

@@ -289,3 +289,70 @@ fn matrices_multiply_as_glam_does() {
         assert!(got.abs_diff_eq(want, 1e-5), "{got} vs {want}");
     }
 }
+
+/// A loop whose last round some lanes skip: the subgroup operations in that round run over the
+/// lanes still in the loop, as on hardware (`tbdr`'s light-list append does this).
+#[test]
+fn subgroup_operations_in_a_partial_last_round_use_the_active_lanes() {
+    let c = compile(
+        "#[shader(requires(subgroup))] mod m {
+            #[storage(group = 0, binding = 0, read_write)]
+            static OUT: [u32];
+            #[compute(workgroup_size(16, 1, 1))]
+            fn main(#[builtin(local_invocation_index)] lid: u32) {
+                let mut i = lid;
+                let mut round = 0u32;
+                while i < 20u32 {
+                    let rank = subgroup_exclusive_add(1u32);
+                    let lanes = subgroup_add(1u32);
+                    OUT[i * 2u32] = rank;
+                    OUT[i * 2u32 + 1u32] = lanes;
+                    i += 16u32;
+                    round += 1u32;
+                }
+            }
+        }",
+    );
+    for size in [4u32, 8, 16, 32] {
+        let out = run(&c, Schedule::Reversed, size, 1, None, 40).unwrap();
+        for i in 0..20u32 {
+            let lid = i % 16;
+            // Round 0: all 16 lanes; round 1: lanes 0..4 only.
+            let active = if i < 16 { 16 } else { 4 };
+            let sub = size.min(16);
+            let first = lid / sub * sub;
+            let lanes = (first + sub).min(active) - first;
+            assert_eq!(
+                out[(i * 2) as usize],
+                lid - first,
+                "rank of item {i}, size {size}"
+            );
+            assert_eq!(
+                out[(i * 2 + 1) as usize],
+                lanes,
+                "lanes of item {i}, size {size}"
+            );
+        }
+    }
+}
+
+#[test]
+fn lanes_of_one_subgroup_at_two_subgroup_operations_are_a_uniformity_error() {
+    let c = compile(
+        "#[shader(requires(subgroup))] mod m {
+            #[storage(group = 0, binding = 0, read_write)]
+            static OUT: [u32];
+            #[compute(workgroup_size(8, 1, 1))]
+            fn main(#[builtin(local_invocation_index)] lid: u32) {
+                if lid == 1u32 {
+                    OUT[lid] = subgroup_add(1u32);
+                }
+                OUT[lid] = subgroup_add(2u32);
+            }
+        }",
+    );
+    let err = run(&c, Schedule::InOrder, 8, 1, None, 8).unwrap_err();
+    let text = err.to_string();
+    assert!(matches!(err.cause(), EvalError::Uniformity(_)), "{text}");
+    assert!(text.contains("invocation 1 subgroupAdd at 7:32"), "{text}");
+}

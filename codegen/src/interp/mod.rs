@@ -16,8 +16,9 @@
 //!   operations (`sync`) at a subgroup size the caller picks, 4 to 128. A deterministic
 //!   scheduler runs one invocation at a time to its next barrier or subgroup operation, in an
 //!   order the caller picks, so a missing barrier is a wrong answer, not luck; invocations that
-//!   do not reach a barrier or subgroup operation together are a uniformity error with the
-//!   source positions. Matrices (`matrix`) are columns of vectors.
+//!   do not reach a barrier together are a uniformity error with the source positions, and a
+//!   subgroup operation runs over the lanes that reach it (its active lanes). Matrices
+//!   (`matrix`) are columns of vectors.
 //!   Textures are host texels read by `textureLoad` (`texture`).
 //! - **Not yet**: pointers (`&mut` parameters), texture sampling and samplers, derivatives, vertex and
 //!   fragment entry points, `determinant`. Each is an [`EvalError::Unsupported`] naming it.

@@ -96,22 +96,24 @@ fn boolean(v: &Value) -> Result<bool, EvalError> {
     }
 }
 
-/// The results of the subgroup operation `wgsl` for lanes `0..args.len()` of one subgroup,
-/// given each lane's arguments, in lane order (sums are accumulated in lane order).
-pub(crate) fn collective(wgsl: &str, args: &[&[Value]]) -> Result<Vec<Value>, EvalError> {
-    let lanes = args.len();
+/// The results of the subgroup operation `wgsl` for the active lanes of one subgroup, given
+/// each active lane's index in the subgroup and its arguments, in lane order (sums are
+/// accumulated in lane order; a ballot sets the bits of the active lanes' indices).
+pub(crate) fn collective(wgsl: &str, lanes: &[(usize, &[Value])]) -> Result<Vec<Value>, EvalError> {
+    let args: Vec<&[Value]> = lanes.iter().map(|(_, a)| *a).collect();
+    let lanes_n = lanes.len();
     let first_arg = |k: usize| -> Result<&Value, EvalError> {
         args[k]
             .first()
             .ok_or_else(|| EvalError::Type(format!("`{wgsl}` without an argument")))
     };
-    let x: Vec<&Value> = (0..lanes).map(first_arg).collect::<Result<_, _>>()?;
-    let same = |v: Value| Ok(vec![v; lanes]);
+    let x: Vec<&Value> = (0..lanes_n).map(first_arg).collect::<Result<_, _>>()?;
+    let same = |v: Value| Ok(vec![v; lanes_n]);
     let binop = |op| move |a: &Value, b: &Value| ops::binary(op, a, b);
     match wgsl {
         "subgroupBallot" => {
             let mut words = [0u32; 4];
-            for (lane, v) in x.iter().enumerate() {
+            for ((lane, _), v) in lanes.iter().zip(&x) {
                 if boolean(v)? {
                     words[lane / 32] |= 1 << (lane % 32);
                 }
@@ -154,7 +156,7 @@ pub(crate) fn collective(wgsl: &str, args: &[&[Value]]) -> Result<Vec<Value>, Ev
             };
             let inclusive = wgsl.contains("Inclusive");
             let mut acc = filled_like(x[0], identity);
-            let mut out = Vec::with_capacity(lanes);
+            let mut out = Vec::with_capacity(lanes_n);
             for v in &x {
                 let next = ops::binary(op, &acc, v)?;
                 out.push(if inclusive { next.clone() } else { acc });
@@ -163,7 +165,7 @@ pub(crate) fn collective(wgsl: &str, args: &[&[Value]]) -> Result<Vec<Value>, Ev
             Ok(out)
         }
         "subgroupBroadcastFirst" => same(x[0].clone()),
-        "subgroupShuffle" | "subgroupBroadcast" => (0..lanes)
+        "subgroupShuffle" | "subgroupBroadcast" => (0..lanes_n)
             .map(|k| {
                 let lane = match args[k].get(1) {
                     Some(Value::U32(l)) => i64::from(*l),
@@ -172,13 +174,15 @@ pub(crate) fn collective(wgsl: &str, args: &[&[Value]]) -> Result<Vec<Value>, Ev
                         return Err(EvalError::Type(format!("`{wgsl}` lane {other:?}")));
                     }
                 };
-                usize::try_from(lane)
-                    .ok()
-                    .and_then(|l| x.get(l))
-                    .map(|v| (*v).clone())
-                    .ok_or(EvalError::OutOfBounds {
-                        index: lane,
-                        len: lanes,
+                // Reading an inactive or missing lane is indeterminate in WGSL: an error here.
+                lanes
+                    .iter()
+                    .position(|(l, _)| i64::try_from(*l).ok() == Some(lane))
+                    .map(|at| x[at].clone())
+                    .ok_or_else(|| {
+                        EvalError::Unsupported(format!(
+                            "`{wgsl}` reading lane {lane}, which is not active here"
+                        ))
                     })
             })
             .collect(),
