@@ -2,13 +2,23 @@
 //! same kernels on the GPU and an independent CPU answer, at subgroup sizes 4, 8, 32 and 64 and
 //! under several schedules; each with a mutation (a deleted barrier) that must be caught.
 //!
-//! `particle_sort`: the bitonic sort in workgroup memory (a barrier after every step), host
-//! steps planned as `renderer::passes::particles::GpuSort` plans them.
+//! - `particle_sort`: the bitonic sort in workgroup memory (a barrier after every step), host
+//!   steps planned as `renderer::passes::particles::GpuSort` plans them.
+//! - `particle_sim`: `update`, `spawn` (births popped from the dead list with atomics) and
+//!   `compact`, stepped as `ParticleSimulation` steps; particles are compared by identity
+//!   (emitter, spawn index), as slots follow the order the atomics ran in.
 
 use codegen::interp::{Dispatch, EvalError, Schedule};
-use glam::UVec2;
+use std::collections::HashMap;
+
+use glam::{UVec2, Vec3};
+use renderer::particles::schedule::spawn_batches;
+use renderer::particles::{FIXED_STEP, ParticleSystem, dust, smoke, sparks};
+use renderer::passes::particles::ParticleSimulation;
 use renderer::passes::particles::{GpuSort, sort::padded_count};
 use renderer::readback::read_buffer;
+use shaders_gen::particles::particle_common::GpuParticle;
+use shaders_gen::particles::particle_sim::{SimParams, SpawnBatch, WORKGROUP as SIM_WORKGROUP};
 use shaders_gen::particles::particle_sort::{BLOCK, SortParams, WORKGROUP};
 use tests::cull_scene::Rng;
 use tests::gpu::gpu_test;
@@ -115,5 +125,156 @@ fn a_deleted_barrier_in_the_block_sort_leaves_it_unsorted() {
     for schedule in [Schedule::InOrder, Schedule::Reversed] {
         let host = host_sort(&mutated, &padded, 32, schedule).expect("the mutated sort runs");
         assert_ne!(host, cpu, "{schedule:?} hid the missing barrier");
+    }
+}
+
+const SIM_SOURCE: &str = include_str!("../../shaders_gen/src/particles/simulate.rs");
+const COMMON_SOURCE: &str = include_str!("../../shaders_gen/src/particles/common.rs");
+
+fn particle_system() -> ParticleSystem {
+    ParticleSystem {
+        emitters: vec![
+            smoke(Vec3::new(-1.0, 0.0, 0.0), 120.0),
+            sparks(Vec3::new(1.0, 0.5, 0.0), 300.0),
+            dust(Vec3::new(0.0, 1.0, -2.0), 60.0),
+        ],
+        // Room for every birth: which births a full pool refuses follows the order of the
+        // atomics, which differs between the GPU and the host.
+        capacity: 1024,
+        seed: 0x5eed,
+    }
+}
+
+/// `steps` fixed steps of `system` on the host: each `update`, `spawn` when there are births,
+/// the live count cleared, `compact`. The slots and the counters afterwards.
+fn host_particles(
+    c: &codegen::Compiled,
+    system: &ParticleSystem,
+    steps: u64,
+    subgroup_size: u32,
+    schedule: Schedule,
+) -> Result<(Vec<GpuParticle>, Vec<i32>), EvalError> {
+    let capacity = system.capacity;
+    let emitters: Vec<_> = system.emitters.iter().map(|e| e.gpu()).collect();
+    let dead: Vec<u32> = (0..capacity).rev().collect();
+    let mut buffers: Vec<(&str, Vec<u8>)> = vec![
+        ("EMITTERS", bytemuck::cast_slice(&emitters).to_vec()),
+        (
+            "PARTICLES",
+            vec![0; capacity as usize * size_of::<GpuParticle>()],
+        ),
+        ("DEAD", bytemuck::cast_slice(&dead).to_vec()),
+        (
+            "COUNTERS",
+            bytemuck::cast_slice(&[capacity as i32, 0, 0, 0]).to_vec(),
+        ),
+        ("ALIVE", vec![0; capacity as usize * 4]),
+        ("PARAMS", vec![]),
+        ("BATCHES", vec![]),
+    ];
+    let groups = |threads: u32| threads.div_ceil(SIM_WORKGROUP);
+    for step in 0..steps {
+        let batches = spawn_batches(&system.emitters, step);
+        let births: u32 = batches.iter().map(|b| b.count).sum();
+        let params = SimParams::new(
+            capacity,
+            births,
+            batches.len() as u32,
+            system.seed,
+            FIXED_STEP,
+            0,
+            0,
+            0,
+        );
+        let slots: Vec<SpawnBatch> = if batches.is_empty() {
+            vec![bytemuck::Zeroable::zeroed()]
+        } else {
+            batches
+        };
+        for (name, bytes) in &mut buffers {
+            match *name {
+                "PARAMS" => *bytes = bytemuck::bytes_of(&params).to_vec(),
+                "BATCHES" => *bytes = bytemuck::cast_slice(&slots).to_vec(),
+                _ => {}
+            }
+        }
+        let mut kernels = vec![("update", groups(capacity))];
+        if births > 0 {
+            kernels.push(("spawn", groups(births)));
+        }
+        kernels.push(("compact", groups(capacity)));
+        for (entry, workgroups) in kernels {
+            if entry == "compact" {
+                // The live count starts each compaction at zero (the host clears it).
+                let counters = &mut buffers[3].1;
+                counters[4..8].copy_from_slice(&0i32.to_le_bytes());
+            }
+            let mut d = Dispatch::new(&c.module, &c.keys[0].env, entry)?
+                .with_subgroup_size(subgroup_size)?
+                .with_schedule(schedule);
+            for (name, bytes) in &buffers {
+                d.set_buffer(name, bytes)?;
+            }
+            d.run([workgroups, 1, 1])?;
+            for (name, bytes) in &mut buffers {
+                *bytes = d.buffer(name)?;
+            }
+        }
+    }
+    Ok((
+        bytemuck::pod_collect_to_vec(&buffers[1].1),
+        bytemuck::pod_collect_to_vec(&buffers[3].1),
+    ))
+}
+
+#[test]
+fn host_particle_simulation_equals_the_gpu_particle_for_particle() {
+    let mut modules =
+        codegen::compile_source_all_with(SIM_SOURCE, &[COMMON_SOURCE]).expect("parses");
+    let (_, c) = modules.swap_remove(0);
+    let c = c.unwrap_or_else(|e| panic!("{e}"));
+    let steps = 30;
+    let (gpu, gpu_counters) = gpu_test(|gpu| {
+        let sim = ParticleSimulation::new(gpu, particle_system()).expect("simulation");
+        sim.advance(gpu, steps as u32);
+        let c = sim.read_counters(gpu).expect("counters");
+        (
+            sim.read_alive(gpu).expect("particles"),
+            [c.dead, c.alive, c.starved],
+        )
+    });
+    assert!(gpu.len() > 100, "{} live particles", gpu.len());
+    assert_eq!(gpu_counters[2], 0, "the pool refused births");
+    for (subgroup_size, schedule) in [(8, Schedule::Reversed), (32, Schedule::InOrder)] {
+        let run = format!("subgroup {subgroup_size}, {schedule:?}");
+        let (slots, counters) =
+            host_particles(&c, &particle_system(), steps, subgroup_size, schedule)
+                .unwrap_or_else(|e| panic!("{run}: {e}"));
+        assert_eq!(
+            [counters[0], counters[1], counters[2]].map(|c| c as u32),
+            gpu_counters,
+            "{run}: dead, alive and refused counts"
+        );
+        let host: HashMap<(u32, u32), &GpuParticle> = slots
+            .iter()
+            .filter(|p| p.alive != 0)
+            .map(|p| ((p.emitter, p.index), p))
+            .collect();
+        assert_eq!(host.len(), gpu.len(), "{run}: live particles");
+        for g in &gpu {
+            let h = host.get(&(g.emitter, g.index)).unwrap_or_else(|| {
+                panic!("{run}: particle {}/{} only on the GPU", g.emitter, g.index)
+            });
+            // Both are f32; the GPU's sin, cos and pow have their own error bounds.
+            let tolerance = 1e-4 * (1.0 + g.position.length());
+            assert!(
+                h.position.distance(g.position) < tolerance && (h.age - g.age).abs() < 1e-5,
+                "{run}: particle {}/{}: host {} GPU {}",
+                g.emitter,
+                g.index,
+                h.position,
+                g.position
+            );
+        }
     }
 }
