@@ -1,5 +1,6 @@
 //! The window: winit events in, one renderer frame into the swapchain texture per redraw, the
-//! overlay on top, and the settings keys that rebuild the renderer.
+//! overlay on top, the settings keys that rebuild the renderer, and shader hot reload (the
+//! watched sources recompiled, the renderer rebuilt on the new WGSL, a refused edit shown).
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -17,6 +18,8 @@ use winit::event_loop::ActiveEventLoop;
 use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{Window, WindowId};
 
+use viewer::hot_reload::{Outcome, Watch};
+
 use crate::args::Args;
 use crate::overlay::Overlay;
 
@@ -27,6 +30,11 @@ pub struct App {
     running: Option<Running>,
     frame: u32,
     error: Option<anyhow::Error>,
+    /// The shader sources watched for hot reload.
+    watch: Option<Watch>,
+    /// Reload screenshots written so far; one is due when `shot_due`.
+    shots: u32,
+    shot_due: bool,
 }
 
 /// Everything that lives while the window does.
@@ -57,12 +65,26 @@ impl App {
             args.particles,
             args.seed,
         )?;
+        let watch = if args.no_watch {
+            None
+        } else {
+            args.watch_shaders
+                .clone()
+                .or_else(viewer::hot_reload::default_dir)
+                .map(Watch::new)
+        };
+        if let Some(w) = &watch {
+            eprintln!("hot reload: watching {}", w.dir().display());
+        }
         Ok(App {
             args,
             shown,
             running: None,
             frame: 0,
             error: None,
+            watch,
+            shots: 0,
+            shot_due: true,
         })
     }
 
@@ -99,10 +121,10 @@ impl App {
             .or_else(|| caps.formats.first().copied())
             .context("the surface offers no format")?;
         let mut usage = wgpu::TextureUsages::RENDER_ATTACHMENT;
-        if self.args.screenshot.is_some() {
+        if self.args.screenshot.is_some() || self.args.reload_shots.is_some() {
             anyhow::ensure!(
                 caps.usages.contains(wgpu::TextureUsages::COPY_SRC),
-                "--screenshot: this surface cannot be copied from"
+                "--screenshot/--reload-shots: this surface cannot be copied from"
             );
             usage |= wgpu::TextureUsages::COPY_SRC;
         }
@@ -178,6 +200,10 @@ impl App {
             }
         }
         r.fly.step(held, dt);
+        if let Some(outcome) = self.watch.as_mut().and_then(Watch::poll) {
+            r.hot_reloaded(outcome, &self.shown);
+            self.shot_due = true;
+        }
         let texture = match r.surface.get_current_texture() {
             wgpu::CurrentSurfaceTexture::Success(t)
             | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
@@ -200,16 +226,34 @@ impl App {
         if let Some(path) = shot.filter(|_| !self.args.screenshot_overlay) {
             screenshot(&r.gpu, &texture.texture, path)?;
         }
+        let reload_shot = self
+            .args
+            .reload_shots
+            .as_ref()
+            .filter(|_| self.shot_due)
+            .map(|dir| dir.join(format!("reload-{}", self.shots)));
+        if let Some(stem) = &reload_shot {
+            screenshot(&r.gpu, &texture.texture, &stem.with_extension("png"))?;
+        }
         let status = r.status();
         r.overlay
             .draw(&r.window, &r.gpu, &texture.texture, &r.timings, &status);
         if let Some(path) = shot.filter(|_| self.args.screenshot_overlay) {
             screenshot(&r.gpu, &texture.texture, path)?;
         }
+        if let Some(stem) = &reload_shot {
+            let overlay = stem.with_file_name(format!("reload-{}-overlay.png", self.shots));
+            screenshot(&r.gpu, &texture.texture, &overlay)?;
+            eprintln!("hot reload: wrote {}", stem.with_extension("png").display());
+            self.shots += 1;
+        }
+        self.shot_due = false;
+        // Shot 0 is the first frame; shot k follows reload k.
+        let reloads_done = self.args.exit_after_reloads.is_some_and(|n| self.shots > n);
         r.window.pre_present_notify();
         r.gpu.queue.present(texture);
         self.frame += 1;
-        Ok(!last)
+        Ok(!last && !reloads_done)
     }
 }
 
@@ -339,9 +383,34 @@ impl Running {
         Ok(())
     }
 
+    /// After a hot reload: rebuilds the renderer on the new WGSL, or keeps the running one and
+    /// says why the edit was refused.
+    fn hot_reloaded(&mut self, outcome: Outcome, shown: &Shown) {
+        let message = match outcome {
+            Outcome::Installed(n) => {
+                let lights = procedural(shown, self.light_count);
+                match build(&self.gpu, self.config, shown, &lights) {
+                    Ok(r) => {
+                        self.renderer = r;
+                        format!("hot reload: {n} shader variant(s) replaced")
+                    }
+                    Err(e) => format!("hot reload: the renderer did not rebuild: {e:#}"),
+                }
+            }
+            Outcome::Refused(why) => {
+                format!("shader edit refused: {why} (the last good shaders keep running)")
+            }
+        };
+        eprintln!("{message}");
+        self.message = Some(message);
+    }
+
     fn status(&self) -> Vec<String> {
         let c = &self.config;
-        let mut lines = vec![
+        // A message (a refused setting, a hot reload and why it was refused) comes first, where
+        // even a small window shows it.
+        let mut lines: Vec<String> = self.message.clone().into_iter().collect();
+        lines.extend([
             format!(
                 "{:?}, MSAA {}, tile {}, {:?}, particles lit {}",
                 c.path,
@@ -352,8 +421,7 @@ impl Running {
             ),
             format!("{} lights, {}x{}", self.light_count, c.width, c.height),
             format!("adapter: {}", self.gpu.report.name),
-        ];
-        lines.extend(self.message.clone());
+        ]);
         lines
     }
 

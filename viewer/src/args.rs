@@ -1,5 +1,5 @@
-//! The viewer's command line: scene, lights, window size, path and MSAA, and the unattended-run
-//! options (frames, script, screenshot) its test uses.
+//! The viewer's command line: scene, lights, window size, path and MSAA, shader hot reload, and
+//! the unattended-run options (frames, script, screenshots) its tests use.
 
 use std::path::PathBuf;
 
@@ -48,6 +48,20 @@ pub struct Args {
     /// Take the screenshot with the overlay drawn.
     #[arg(long, requires = "screenshot")]
     pub screenshot_overlay: bool,
+    /// Hot-reload the DSL shaders from this folder of `shaders_gen` sources; by default the
+    /// workspace's `shaders_gen/src` when the viewer runs from its checkout.
+    #[arg(long)]
+    pub watch_shaders: Option<PathBuf>,
+    /// Do not watch the shader sources.
+    #[arg(long, conflicts_with = "watch_shaders")]
+    pub no_watch: bool,
+    /// After the first frame and after every hot reload, write `reload-N.png` and
+    /// `reload-N-overlay.png` (with the overlay and its messages) to this folder.
+    #[arg(long)]
+    pub reload_shots: Option<PathBuf>,
+    /// Quit once this many hot reloads (good or refused) have had their screenshots written.
+    #[arg(long, requires = "reload_shots")]
+    pub exit_after_reloads: Option<u32>,
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {

@@ -1,7 +1,9 @@
 //! The interactive viewer's logic that does not need a window, shared by the binary and its
-//! tests: the fly camera ([`fly`]), the scripted input of test runs ([`script`]) and the scene
-//! set-up ([`scene`]), so that a test can render headlessly exactly what the window showed.
+//! tests: the fly camera ([`fly`]), the scripted input of test runs ([`script`]), the scene
+//! set-up ([`scene`]), so that a test can render headlessly exactly what the window showed, and
+//! the shader hot reload ([`hot_reload`]).
 
 pub mod fly;
+pub mod hot_reload;
 pub mod scene;
 pub mod script;

@@ -2,8 +2,10 @@
 //!
 //! `shaders_gen` exposes each variant as plain data ([`codegen::rt::Variant`]): WGSL, entry
 //! points, bindings and required features. This module is the only place that maps that data to
-//! wgpu, so no pass writes a bind-group layout by hand. It holds no shader source of its own.
+//! wgpu, so no pass writes a bind-group layout by hand. It holds no shader source of its own;
+//! `hot` holds replacements of generated WGSL installed while the program runs (hot reload).
 
+pub mod hot;
 mod layout;
 #[cfg(test)]
 mod test_variant;
@@ -91,7 +93,8 @@ impl ShaderProgram {
         let label = format!("{}::{}", variant.module, variant.name());
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(&label),
-            source: wgpu::ShaderSource::Wgsl(variant.wgsl.into()),
+            // The generated WGSL, or its hot-reloaded replacement.
+            source: wgpu::ShaderSource::Wgsl(hot::wgsl_of(variant)),
         });
         let bind_group_layouts: Vec<_> = (0..variant.group_count())
             .map(|group| {
