@@ -7,16 +7,22 @@
 //! - `particle_sim`: `update`, `spawn` (births popped from the dead list with atomics) and
 //!   `compact`, stepped as `ParticleSimulation` steps; particles are compared by identity
 //!   (emitter, spawn index), as slots follow the order the atomics ran in.
+//! - `particle_atlas`: `size_particles`, `plan_atlas` and `allocate_regions` from the GPU
+//!   simulation's particles; classes, sort keys and the plan compare exactly, region corners as
+//!   sets per class (which region a particle gets follows the order of the atomics).
 
 use codegen::interp::{Dispatch, EvalError, Schedule};
 use std::collections::HashMap;
 
 use glam::{UVec2, Vec3};
+use renderer::frame::FrameCamera;
 use renderer::particles::schedule::spawn_batches;
 use renderer::particles::{FIXED_STEP, ParticleSystem, dust, smoke, sparks};
-use renderer::passes::particles::ParticleSimulation;
+use renderer::passes::particles::atlas::STATE_WORDS;
 use renderer::passes::particles::{GpuSort, sort::padded_count};
+use renderer::passes::particles::{ParticleAtlas, ParticleSimulation};
 use renderer::readback::read_buffer;
+use shaders_gen::particles::particle_atlas::{AtlasParams, HIDDEN, WORKGROUP as ATLAS_WORKGROUP};
 use shaders_gen::particles::particle_common::GpuParticle;
 use shaders_gen::particles::particle_sim::{SimParams, SpawnBatch, WORKGROUP as SIM_WORKGROUP};
 use shaders_gen::particles::particle_sort::{BLOCK, SortParams, WORKGROUP};
@@ -276,5 +282,175 @@ fn host_particle_simulation_equals_the_gpu_particle_for_particle() {
                 g.position
             );
         }
+    }
+}
+
+const ATLAS_SOURCE: &str = include_str!("../../shaders_gen/src/particles/atlas.rs");
+
+/// What the atlas kernels read and write, as bytes: the GPU simulation's buffers, and the
+/// atlas's outputs after the GPU's layout.
+struct AtlasRun {
+    params: AtlasParams,
+    emitters: Vec<u8>,
+    particles: Vec<u8>,
+    alive: Vec<u8>,
+    counters: Vec<u8>,
+    key_count: u32,
+    /// The GPU's results: keys, regions, state, owners.
+    gpu: [Vec<u8>; 4],
+}
+
+fn atlas_on_gpu(camera: &FrameCamera, height: u32) -> AtlasRun {
+    let mut system = particle_system();
+    system.capacity = 512;
+    gpu_test(|gpu| {
+        let sim = ParticleSimulation::new(gpu, system.clone()).expect("simulation");
+        sim.advance(gpu, 40);
+        let sort = GpuSort::new(gpu, system.capacity, wgpu::BufferUsages::empty()).expect("sort");
+        let side = ParticleAtlas::min_side(system.capacity) * 2;
+        let atlas = ParticleAtlas::new(gpu, &sim, &sort, side).expect("atlas");
+        let read = |b: &wgpu::Buffer| -> Vec<u8> {
+            read_buffer::<u8>(&gpu.device, &gpu.queue, b).expect("readback")
+        };
+        let (emitters, particles, alive, counters) = (
+            read(&sim.emitters),
+            read(&sim.particles),
+            read(&sim.alive),
+            read(&sim.counters),
+        );
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        atlas.record(&gpu.queue, &mut encoder, camera, height);
+        gpu.queue.submit([encoder.finish()]);
+        AtlasRun {
+            params: AtlasParams::new(
+                camera.view,
+                camera.projection.y_axis.y * height as f32 * 0.5,
+                camera.near,
+                side / 2,
+                sort.count,
+            ),
+            emitters,
+            particles,
+            alive,
+            counters,
+            key_count: sort.count,
+            gpu: [
+                read(&sort.keys),
+                read(&atlas.regions),
+                read(&atlas.state),
+                read(&atlas.owners),
+            ],
+        }
+    })
+}
+
+/// The three atlas kernels on the host from the GPU simulation's buffers: keys, regions,
+/// state and owners.
+fn atlas_on_host(
+    c: &codegen::Compiled,
+    run: &AtlasRun,
+    subgroup_size: u32,
+    schedule: Schedule,
+) -> Result<[Vec<u8>; 4], EvalError> {
+    let capacity = run.particles.len() / size_of::<GpuParticle>();
+    let mut buffers: Vec<(&str, Vec<u8>)> = vec![
+        ("PARAMS", bytemuck::bytes_of(&run.params).to_vec()),
+        ("EMITTERS", run.emitters.clone()),
+        ("PARTICLES", run.particles.clone()),
+        ("ALIVE", run.alive.clone()),
+        ("COUNTERS", run.counters.clone()),
+        ("KEYS", vec![0; run.key_count as usize * 8]),
+        ("REGIONS", vec![0; capacity * 4]),
+        ("STATE", vec![0; STATE_WORDS * 4]),
+        ("OWNERS", vec![0; capacity * 4]),
+    ];
+    let groups = |n: u32| n.div_ceil(ATLAS_WORKGROUP);
+    for (entry, workgroups) in [
+        ("size_particles", groups(run.key_count)),
+        ("plan_atlas", 1),
+        ("allocate_regions", groups(capacity as u32)),
+    ] {
+        let mut d = Dispatch::new(&c.module, &c.keys[0].env, entry)?
+            .with_subgroup_size(subgroup_size)?
+            .with_schedule(schedule);
+        for (name, bytes) in &buffers {
+            d.set_buffer(name, bytes)?;
+        }
+        d.run([workgroups, 1, 1])?;
+        for (name, bytes) in &mut buffers {
+            *bytes = d.buffer(name)?;
+        }
+    }
+    let take = |name: &str| {
+        buffers
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map(|(_, b)| b.clone())
+            .unwrap_or_default()
+    };
+    Ok([take("KEYS"), take("REGIONS"), take("STATE"), take("OWNERS")])
+}
+
+/// Region corners by class, sorted: what must agree however the atomics ordered the particles.
+fn corners_by_class(regions: &[u32]) -> Vec<(u32, u32)> {
+    let mut out: Vec<(u32, u32)> = regions
+        .iter()
+        .filter(|&&r| r != HIDDEN && r != 0)
+        .map(|&r| (r >> 24, r & 0xff_ffff))
+        .collect();
+    out.sort_unstable();
+    out
+}
+
+#[test]
+fn host_particle_atlas_layout_equals_the_gpu() {
+    let mut modules =
+        codegen::compile_source_all_with(ATLAS_SOURCE, &[COMMON_SOURCE]).expect("parses");
+    let (_, c) = modules.swap_remove(0);
+    let c = c.unwrap_or_else(|e| panic!("{e}"));
+    let camera = FrameCamera::look_at(
+        Vec3::new(0.0, 1.0, 4.0),
+        Vec3::new(0.0, 1.0, 0.0),
+        Vec3::Y,
+        60f32.to_radians(),
+        16.0 / 9.0,
+        (0.1, 100.0),
+    );
+    let run = atlas_on_gpu(&camera, 360);
+    let words = |b: &[u8]| -> Vec<u32> { bytemuck::pod_collect_to_vec(b) };
+    let [gpu_keys, gpu_regions, gpu_state, gpu_owners] = run.gpu.clone().map(|b| words(&b));
+    let alive = words(&run.counters)[1] as usize;
+    assert!(alive > 100, "{alive} live particles");
+    let visible = words(&run.alive)[..alive]
+        .iter()
+        .filter(|&&slot| gpu_regions[slot as usize] != HIDDEN)
+        .count();
+    assert!(visible > 100, "{visible} particles in view");
+    for (subgroup_size, schedule) in [(4, Schedule::Reversed), (64, Schedule::InOrder)] {
+        let what = format!("subgroup {subgroup_size}, {schedule:?}");
+        let [keys, regions, state, owners] = atlas_on_host(&c, &run, subgroup_size, schedule)
+            .unwrap_or_else(|e| panic!("{what}: {e}"))
+            .map(|b| words(&b));
+        assert_eq!(keys, gpu_keys, "{what}: sort keys");
+        assert_eq!(state, gpu_state, "{what}: class counts, shrink and plan");
+        assert_eq!(
+            corners_by_class(&regions),
+            corners_by_class(&gpu_regions),
+            "{what}: the regions handed out"
+        );
+        // Each live particle has the same class (or is hidden) on both.
+        for &slot in &words(&run.alive)[..alive] {
+            let (h, g) = (regions[slot as usize], gpu_regions[slot as usize]);
+            assert_eq!(
+                (h == HIDDEN, h >> 24),
+                (g == HIDDEN, g >> 24),
+                "{what}: slot {slot}"
+            );
+        }
+        let mut o = owners.clone();
+        let mut go = gpu_owners.clone();
+        o.sort_unstable();
+        go.sort_unstable();
+        assert_eq!(o, go, "{what}: region owners");
     }
 }
