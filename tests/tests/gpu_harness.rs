@@ -1,5 +1,6 @@
 //! The GPU context and test harness, proven on real work: a compute dispatch and a render pass
-//! whose results are read back and checked against plain Rust, and deliberate misuses that the
+//! whose results are read back and checked against plain Rust (the dispatch also against the
+//! DSL's host interpreter), and deliberate misuses that the
 //! harness must catch (one wgpu validation error, one Vulkan validation-layer error, a
 //! validation-layer warning).
 
@@ -67,6 +68,35 @@ fn compute_dispatch_matches_cpu() {
         readback::read_buffer::<u32>(device, &gpu.queue, &output_buffer).expect("readback")
     });
     assert_eq!(output, expected);
+    // The same kernel on the DSL's host interpreter, at two subgroup sizes.
+    let compiled = codegen::compile_source_all(include_str!("../../shaders_gen/src/bootstrap.rs"))
+        .expect("parses")
+        .into_iter()
+        .find(|(name, _)| name == "square_plus_index")
+        .expect("the module")
+        .1
+        .expect("compiles");
+    for subgroup_size in [8, 32] {
+        let mut d = codegen::interp::Dispatch::new(
+            &compiled.module,
+            &compiled.keys[0].env,
+            "square_plus_index",
+        )
+        .and_then(|d| d.with_subgroup_size(subgroup_size))
+        .expect("dispatch");
+        d.set_buffer("INPUT", bytemuck::cast_slice(&input))
+            .expect("input");
+        d.set_buffer("OUTPUT", &vec![0u8; input.len() * 4])
+            .expect("output");
+        d.run([
+            (input.len() as u32).div_ceil(square_plus_index::WORKGROUP),
+            1,
+            1,
+        ])
+        .expect("host run");
+        let host: Vec<u32> = bytemuck::pod_collect_to_vec(&d.buffer("OUTPUT").expect("output"));
+        assert_eq!(host, output, "host, subgroup size {subgroup_size}");
+    }
 }
 
 /// The CPU recomputation of `fs_pattern` at pixel (x, y).
