@@ -65,6 +65,25 @@ fn host_sort(
     subgroup_size: u32,
     schedule: Schedule,
 ) -> Result<Vec<UVec2>, EvalError> {
+    host_sort_with(c, pairs, subgroup_size, schedule, true)
+}
+
+/// [`host_sort`] without data-race detection (to see what a race does to the result).
+fn host_sort_unchecked(
+    c: &codegen::Compiled,
+    pairs: &[UVec2],
+    schedule: Schedule,
+) -> Result<Vec<UVec2>, EvalError> {
+    host_sort_with(c, pairs, 32, schedule, false)
+}
+
+fn host_sort_with(
+    c: &codegen::Compiled,
+    pairs: &[UVec2],
+    subgroup_size: u32,
+    schedule: Schedule,
+    races: bool,
+) -> Result<Vec<UVec2>, EvalError> {
     let n = pairs.len() as u32;
     let mut steps = vec![("sort_local", 0, 0, n / BLOCK)];
     let mut k = BLOCK * 2;
@@ -81,7 +100,8 @@ fn host_sort(
     for (entry, k, j, groups) in steps {
         let mut d = Dispatch::new(&c.module, &c.keys[0].env, entry)?
             .with_subgroup_size(subgroup_size)?
-            .with_schedule(schedule);
+            .with_schedule(schedule)
+            .with_race_detection(races);
         d.set_buffer("PARAMS", bytemuck::bytes_of(&SortParams::new(k, j, n, 0)))?;
         d.set_buffer("KEYS", &keys)?;
         d.run([groups, 1, 1])?;
@@ -121,15 +141,22 @@ fn host_bitonic_sort_equals_the_gpu_and_the_cpu_sort() {
 }
 
 #[test]
-fn a_deleted_barrier_in_the_block_sort_leaves_it_unsorted() {
+fn a_deleted_barrier_in_the_block_sort_is_caught() {
     let barrier = "exchange_local(t, base, k, j);\n                workgroup_barrier();";
     assert!(SORT_SOURCE.contains(barrier), "the mutation site moved");
     let mutated = compile(&SORT_SOURCE.replacen(barrier, "exchange_local(t, base, k, j);", 1));
     let padded = pairs(1000, 9);
     let mut cpu = padded.clone();
     cpu.sort_by_key(|p| (p.x, p.y));
+    // Race detection names the two places that are no longer ordered.
+    let err = host_sort(&mutated, &padded, 32, Schedule::InOrder).unwrap_err();
+    let text = err.to_string();
+    assert!(matches!(err.cause(), EvalError::Race(_)), "{text}");
+    assert!(text.contains("BLOCK_KEYS["), "{text}");
+    eprintln!("{text}");
+    // Without it, the sort comes out wrong under either schedule.
     for schedule in [Schedule::InOrder, Schedule::Reversed] {
-        let host = host_sort(&mutated, &padded, 32, schedule).expect("the mutated sort runs");
+        let host = host_sort_unchecked(&mutated, &padded, schedule).expect("the mutated sort runs");
         assert_ne!(host, cpu, "{schedule:?} hid the missing barrier");
     }
 }

@@ -15,12 +15,14 @@
 //! two different subgroup operations at once are a uniformity error. Subgroup `k` holds the
 //! invocations `k·size ..` by `local_invocation_index`.
 
+use std::cell::RefCell;
 use std::rc::Rc;
 
 use corosensei::stack::DefaultStack;
 use corosensei::{Coroutine, CoroutineResult};
 
 use super::memory::Memory;
+use super::race::Tracker;
 use super::sync::{Arrival, Finished, Globals, Resume, Suspended, SyncOp, Yielder, collective};
 use super::{DEFAULT_STEP_LIMIT, EvalError, HostTexture, Machine, Value};
 use crate::ir::{Io, Module, Space, Stage};
@@ -95,6 +97,7 @@ pub struct Dispatch<'a> {
     subgroup_size: u32,
     schedule: Schedule,
     step_limit: u64,
+    races: bool,
     globals: Globals,
 }
 
@@ -143,6 +146,7 @@ impl<'a> Dispatch<'a> {
             subgroup_size: 32,
             schedule: Schedule::InOrder,
             step_limit: DEFAULT_STEP_LIMIT,
+            races: true,
             globals: vec![None; module.globals.len()],
         })
     }
@@ -161,6 +165,12 @@ impl<'a> Dispatch<'a> {
     /// Runs the invocations of each workgroup in this order.
     pub fn with_schedule(mut self, schedule: Schedule) -> Self {
         self.schedule = schedule;
+        self
+    }
+
+    /// Whether data races on workgroup memory are errors ([`EvalError::Race`]; on by default).
+    pub fn with_race_detection(mut self, on: bool) -> Self {
+        self.races = on;
         self
     }
 
@@ -301,10 +311,14 @@ impl<'a> Dispatch<'a> {
         }
         let n = self.workgroup_size.iter().product::<u32>();
         let (entry, limit) = (self.entry, self.step_limit);
+        let tracker = self
+            .races
+            .then(|| Rc::new(RefCell::new(Tracker::default())));
         let mut invocations = Vec::with_capacity(n as usize);
         for local in 0..n {
             let args = self.arguments(wg, count, local)?;
             let (module, env) = (Rc::clone(&shared.0), Rc::clone(&shared.1));
+            let race = tracker.as_ref().map(|t| (Rc::clone(t), local));
             let stack = DefaultStack::new(STACK_BYTES).map_err(|e| {
                 EvalError::Unsupported(format!("a stack for invocation {local}: {e}"))
             })?;
@@ -314,13 +328,14 @@ impl<'a> Dispatch<'a> {
                     let mut machine = Machine::new(&module, &env).with_step_limit(limit);
                     machine.globals = first.globals;
                     machine.yielder = Some(yielder);
+                    machine.race = race;
                     let result = machine.call(entry, args).map(|_| ());
                     (result, std::mem::take(&mut machine.globals))
                 },
             ));
         }
         // On failure the invocations still suspended are dropped, which unwinds their stacks.
-        self.schedule_workgroup(&mut invocations)
+        self.schedule_workgroup(&mut invocations, tracker.as_deref())
             .map_err(|(local, error)| EvalError::Invocation {
                 workgroup: wg,
                 local,
@@ -332,6 +347,7 @@ impl<'a> Dispatch<'a> {
     fn schedule_workgroup(
         &mut self,
         invocations: &mut [Invocation],
+        tracker: Option<&RefCell<Tracker>>,
     ) -> Result<(), (u32, EvalError)> {
         let n = invocations.len();
         let mut state: Vec<State> = (0..n).map(|_| State::Runnable(None)).collect();
@@ -355,7 +371,7 @@ impl<'a> Dispatch<'a> {
             if state.iter().all(|s| matches!(s, State::Done)) {
                 return Ok(());
             }
-            self.resolve(&mut state)
+            self.resolve(&mut state, tracker)
                 .map_err(|e| (first_waiting(&state), e))?;
         }
         Ok(())
@@ -366,7 +382,11 @@ impl<'a> Dispatch<'a> {
     /// in: they wait at a barrier or have returned), as on hardware; they get their results.
     /// Lanes of one subgroup at two different subgroup operations are a uniformity error. Once
     /// no subgroup operation is pending, every invocation must be at the same barrier.
-    fn resolve(&self, state: &mut [State]) -> Result<(), EvalError> {
+    fn resolve(
+        &self,
+        state: &mut [State],
+        tracker: Option<&RefCell<Tracker>>,
+    ) -> Result<(), EvalError> {
         let size = self.subgroup_size as usize;
         let mut released = false;
         for start in (0..state.len()).step_by(size) {
@@ -424,6 +444,9 @@ impl<'a> Dispatch<'a> {
             .all(|s| matches!(s, State::Waiting(a) if a.same_site(&first)))
         {
             state.fill_with(|| State::Runnable(None));
+            if let Some(t) = tracker {
+                t.borrow_mut().barrier();
+            }
             return Ok(());
         }
         Err(uniformity(state, 0, "workgroup"))

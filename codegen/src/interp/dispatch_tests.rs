@@ -84,13 +84,42 @@ fn workgroup_memory_after_a_barrier_is_the_same_under_every_schedule() {
 fn a_deleted_barrier_gives_a_wrong_answer_under_some_schedule() {
     let c = compile(&neighbours(""));
     for schedule in [Schedule::InOrder, Schedule::Reversed] {
-        let out = run(&c, schedule, 32, 1, None, 16).unwrap();
+        let mut d = Dispatch::new(&c.module, &c.keys[0].env, "main")
+            .unwrap()
+            .with_schedule(schedule)
+            .with_race_detection(false);
+        d.set_buffer("OUT", &bytes(&[0; 16])).unwrap();
+        d.run([1, 1, 1]).unwrap();
+        let out = words(&d.buffer("OUT").unwrap());
         assert_ne!(
             out,
             neighbours_expected(1),
             "{schedule:?} hid the missing barrier"
         );
     }
+}
+
+#[test]
+fn a_deleted_barrier_is_a_data_race_naming_the_write_and_the_read() {
+    let c = compile(&neighbours(""));
+    for schedule in SCHEDULES {
+        let err = run(&c, schedule, 32, 1, None, 16).unwrap_err();
+        let text = err.to_string();
+        assert!(
+            matches!(err.cause(), EvalError::Race(_)),
+            "{schedule:?}: {text}"
+        );
+        // The write is on line 8 (`SLOTS[lid] = ..`), the reads on lines 10 and 11.
+        assert!(text.contains("wrote `SLOTS["), "{text}");
+        assert!(text.contains(" at 8:"), "{schedule:?}: {text}");
+        assert!(
+            text.contains(" at 10:") || text.contains(" at 11:"),
+            "{schedule:?}: {text}"
+        );
+    }
+    // With the barrier, the same accesses are ordered: no race.
+    let fixed = compile(&neighbours("workgroup_barrier();"));
+    assert!(run(&fixed, Schedule::Reversed, 32, 1, None, 16).is_ok());
 }
 
 #[test]

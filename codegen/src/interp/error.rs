@@ -27,6 +27,9 @@ pub enum EvalError {
     /// Invocations of a dispatch that do not reach the same barrier or subgroup operation
     /// together (WGSL requires uniform control flow there): where each one is.
     Uniformity(String),
+    /// Two invocations of a workgroup touched the same workgroup memory, one of them writing,
+    /// with no barrier between: both places.
+    Race(String),
     /// An error of one invocation of a dispatch.
     Invocation {
         /// `workgroup_id`.
@@ -90,6 +93,7 @@ impl fmt::Display for EvalError {
                 f,
                 "non-uniform control flow at a barrier or subgroup operation: {what}"
             ),
+            EvalError::Race(what) => write!(f, "data race on workgroup memory: {what}"),
             EvalError::Invocation {
                 workgroup,
                 local,

@@ -33,6 +33,9 @@ pub struct Machine<'a> {
     /// Set when the machine runs one invocation of a [`super::Dispatch`]: barriers and subgroup
     /// operations wait for the other invocations there.
     pub(crate) yielder: Option<&'a super::sync::Yielder>,
+    /// Set when the machine runs one invocation of a [`super::Dispatch`] that checks workgroup
+    /// memory for data races: the workgroup's tracker and this invocation's index.
+    pub(crate) race: Option<(std::rc::Rc<std::cell::RefCell<super::race::Tracker>>, u32)>,
 }
 
 impl std::fmt::Debug for Machine<'_> {
@@ -61,6 +64,7 @@ impl<'a> Machine<'a> {
             globals: vec![None; module.globals.len()],
             steps_left: DEFAULT_STEP_LIMIT,
             yielder: None,
+            race: None,
         }
     }
 

@@ -158,7 +158,10 @@ impl Machine<'_> {
                     .collect::<Result<Vec<_>, _>>()?;
                 builtins::call(b.wgsl, &vals)
             }
-            ExprKind::Global(g) => self.global(*g).cloned(),
+            ExprKind::Global(g) => {
+                self.track(*g, &[], e.span, false)?;
+                self.global(*g).cloned()
+            }
             ExprKind::Call(f, args) => {
                 let callee = &self.module.functions[*f];
                 let vals = args

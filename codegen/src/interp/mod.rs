@@ -17,8 +17,9 @@
 //!   scheduler runs one invocation at a time to its next barrier or subgroup operation, in an
 //!   order the caller picks, so a missing barrier is a wrong answer, not luck; invocations that
 //!   do not reach a barrier together are a uniformity error with the source positions, and a
-//!   subgroup operation runs over the lanes that reach it (its active lanes). Matrices
-//!   (`matrix`) are columns of vectors.
+//!   subgroup operation runs over the lanes that reach it (its active lanes). A read or write
+//!   of workgroup memory another invocation wrote since the last barrier is a data race error
+//!   naming both places (`race`). Matrices (`matrix`) are columns of vectors.
 //!   Textures are host texels read by `textureLoad` (`texture`).
 //! - **Not yet**: pointers (`&mut` parameters), texture sampling and samplers, derivatives, vertex and
 //!   fragment entry points, `determinant`. Each is an [`EvalError::Unsupported`] naming it.
@@ -42,6 +43,7 @@ mod matrix;
 mod memory;
 pub mod ops;
 mod place;
+mod race;
 mod sync;
 mod texture;
 mod value;

@@ -20,12 +20,47 @@ impl Machine<'_> {
     ) -> Result<(), EvalError> {
         let mut path = vec![];
         let root = self.resolve(frame, place, &mut path)?;
+        if let Root::Global(g) = root {
+            self.track(g, &path, place.span, true)?;
+        }
         let slot = match root {
             Root::Local(l) => frame.get_mut(l).ok_or(EvalError::UnknownLocal(l))?,
             Root::Global(g) => self.global_mut(g)?,
         };
         *walk_mut(slot, &path)? = v;
         Ok(())
+    }
+
+    /// Checks (and for a write, records) an access to workgroup memory for data races, when
+    /// this machine runs in a dispatch that tracks them.
+    pub(crate) fn track(
+        &self,
+        g: usize,
+        path: &[i64],
+        span: proc_macro2::Span,
+        write: bool,
+    ) -> Result<(), EvalError> {
+        let Some((tracker, invocation)) = &self.race else {
+            return Ok(());
+        };
+        let global = &self.module.globals[g];
+        if global.space != crate::ir::Space::Workgroup {
+            return Ok(());
+        }
+        let start = span.start();
+        let access = super::race::Access {
+            invocation: *invocation,
+            line: start.line,
+            column: start.column + 1,
+            global: g,
+            path,
+            name: &global.name,
+        };
+        if write {
+            tracker.borrow_mut().write(&access)
+        } else {
+            tracker.borrow().read(&access)
+        }
     }
 
     /// Whether `e` is a static or an element, field or component of one.
@@ -49,6 +84,7 @@ impl Machine<'_> {
         let Root::Global(g) = self.resolve(frame, place, &mut path)? else {
             return Err(EvalError::Type("a static place expected".into()));
         };
+        self.track(g, &path, place.span, false)?;
         let mut slot = self.global(g)?;
         for &index in &path {
             let items = items_of(slot)?;
