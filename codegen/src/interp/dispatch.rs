@@ -24,7 +24,7 @@ use corosensei::{Coroutine, CoroutineResult};
 use super::memory::Memory;
 use super::race::Tracker;
 use super::sync::{Arrival, Finished, Globals, Resume, Suspended, SyncOp, Yielder, collective};
-use super::{DEFAULT_STEP_LIMIT, EvalError, HostTexture, Machine, Value};
+use super::{DEFAULT_STEP_LIMIT, EvalError, HostSampler, HostTexture, Machine, Value};
 use crate::ir::{Io, Module, Space, Stage};
 use crate::variants::{Env, Value as ConstValue, eval};
 
@@ -226,6 +226,22 @@ impl<'a> Dispatch<'a> {
         let g = self.global_index(name)?;
         self.globals[g] = Some(texture.into_value()?);
         Ok(())
+    }
+
+    /// Gives the sampler static `name` its filtering, addressing and comparison.
+    pub fn set_sampler(&mut self, name: &str, sampler: HostSampler) -> Result<(), EvalError> {
+        let g = self.global_index(name)?;
+        self.globals[g] = Some(sampler.into_value());
+        Ok(())
+    }
+
+    /// The texture static `name` as it is now (a storage texture the dispatch wrote).
+    pub fn texture(&self, name: &str) -> Result<HostTexture, EvalError> {
+        let g = self.global_index(name)?;
+        let value = self.globals[g].as_ref().ok_or_else(|| {
+            EvalError::Type(format!("the static `{name}` was never given a value"))
+        })?;
+        HostTexture::from_value(value)
     }
 
     /// Gives the static `name` a value directly.

@@ -385,3 +385,99 @@ fn lanes_of_one_subgroup_at_two_subgroup_operations_are_a_uniformity_error() {
     assert!(matches!(err.cause(), EvalError::Uniformity(_)), "{text}");
     assert!(text.contains("invocation 1 subgroupAdd at 7:32"), "{text}");
 }
+
+/// Bilinear sampling, clamp-to-edge and repeat addressing, depth comparison (PCF) and storage
+/// texture writes, against values worked out by hand.
+#[test]
+fn textures_sample_compare_and_store_as_the_rules_say() {
+    use super::{Address, Compare, HostSampler, HostTexture};
+    use crate::interp::Value;
+    let c = compile(
+        "#[shader] mod m {
+            #[texture(group = 0, binding = 0)]
+            static COLOR: Texture2d<f32>;
+            #[texture(group = 0, binding = 1)]
+            static DEPTH: TextureDepth2d;
+            #[sampler(group = 0, binding = 2)]
+            static LINEAR: Sampler;
+            #[sampler(group = 0, binding = 3)]
+            static SHADOW: SamplerComparison;
+            #[texture(group = 0, binding = 4)]
+            static DST: StorageTexture2d<Rgba32Float, Write>;
+            #[storage(group = 0, binding = 5, read_write)]
+            static OUT: [f32];
+            #[compute(workgroup_size(1, 1, 1))]
+            fn main() {
+                // Between the four texels of a 2x2 texture, at a texel centre, past the edge.
+                OUT[0] = COLOR.sample_level(LINEAR, Vec2::new(0.5, 0.5), 0.0).x;
+                OUT[1] = COLOR.sample_level(LINEAR, Vec2::new(0.25, 0.25), 0.0).x;
+                OUT[2] = COLOR.sample_level(LINEAR, Vec2::new(-1.0, 0.25), 0.0).x;
+                // Depth 0.2 | 0.8, reference 0.5 compared `reference <= texel`: it passes
+                // against the second texel only; half of each between them.
+                OUT[3] = DEPTH.sample_compare_level(SHADOW, Vec2::new(0.5, 0.5), 0.5);
+                OUT[4] = DEPTH.sample_compare_level(SHADOW, Vec2::new(0.75, 0.5), 0.5);
+                DST.store(UVec2::new(1u32, 0u32), Vec4::new(1.0, 2.0, 3.0, 4.0));
+            }
+        }",
+    );
+    let mut d = Dispatch::new(&c.module, &c.keys[0].env, "main").unwrap();
+    let rgba = |x: f32| Value::Vector(vec![Value::F32(x); 4]);
+    d.set_texture(
+        "COLOR",
+        HostTexture {
+            width: 2,
+            height: 2,
+            layers: 1,
+            samples: 1,
+            texels: vec![rgba(0.0), rgba(1.0), rgba(2.0), rgba(3.0)],
+        },
+    )
+    .unwrap();
+    d.set_texture("DEPTH", HostTexture::depth(2, 1, 1, &[0.2, 0.8]))
+        .unwrap();
+    let clamp = HostSampler {
+        linear: true,
+        address: Address::ClampToEdge,
+        compare: None,
+    };
+    d.set_sampler("LINEAR", clamp).unwrap();
+    d.set_sampler(
+        "SHADOW",
+        HostSampler {
+            compare: Some(Compare::LessEqual),
+            ..clamp
+        },
+    )
+    .unwrap();
+    d.set_texture(
+        "DST",
+        HostTexture {
+            width: 2,
+            height: 1,
+            layers: 1,
+            samples: 1,
+            texels: vec![rgba(0.0), rgba(0.0)],
+        },
+    )
+    .unwrap();
+    d.set_buffer("OUT", &[0; 20]).unwrap();
+    d.run([1, 1, 1]).unwrap();
+    let out: Vec<f32> = words(&d.buffer("OUT").unwrap())
+        .into_iter()
+        .map(f32::from_bits)
+        .collect();
+    // Centre: the mean of 0, 1, 2, 3; texel (0, 0)'s centre: 0; past the left edge at row 0.5:
+    // clamped to column 0 between rows 0 and 1 at weight 0: texel (0, 0) = 0.
+    assert_eq!(out, vec![1.5, 0.0, 0.0, 0.5, 1.0]);
+    let dst = d.texture("DST").unwrap();
+    assert_eq!(
+        dst.texels[1],
+        Value::Vector(
+            vec![1.0, 2.0, 3.0, 4.0]
+                .into_iter()
+                .map(Value::F32)
+                .collect()
+        )
+    );
+    assert_eq!(dst.texels[0], rgba(0.0));
+}

@@ -20,8 +20,9 @@
 //!   subgroup operation runs over the lanes that reach it (its active lanes). A read or write
 //!   of workgroup memory another invocation wrote since the last barrier is a data race error
 //!   naming both places (`race`). Matrices (`matrix`) are columns of vectors.
-//!   Textures are host texels read by `textureLoad` (`texture`).
-//! - **Not yet**: pointers (`&mut` parameters), texture sampling and samplers, derivatives, vertex and
+//!   Textures are host texels (one mip level), loaded, stored and sampled through host
+//!   samplers with bilinear filtering and depth comparison (`texture`).
+//! - **Not yet**: pointers (`&mut` parameters), derivatives, vertex and
 //!   fragment entry points, `determinant`. Each is an [`EvalError::Unsupported`] naming it.
 //!
 //! The semantics are written from the WGSL specification's rules, independently of the
@@ -58,7 +59,7 @@ mod tests;
 pub use dispatch::{Dispatch, SUBGROUP_SIZES, Schedule};
 pub use error::EvalError;
 pub use exec::{DEFAULT_STEP_LIMIT, Machine};
-pub use texture::HostTexture;
+pub use texture::{Address, Compare, HostSampler, HostTexture};
 pub use value::Value;
 
 use crate::ir::{Expr, Module};
