@@ -14,3 +14,4 @@ pub mod dsl_fuzz;
 pub mod frames;
 pub mod gpu;
 pub mod shadow_scene;
+pub mod tbdr_interp;

@@ -98,6 +98,7 @@ pub struct Dispatch<'a> {
     schedule: Schedule,
     step_limit: u64,
     races: bool,
+    unwritten_reads: bool,
     globals: Globals,
 }
 
@@ -147,6 +148,7 @@ impl<'a> Dispatch<'a> {
             schedule: Schedule::InOrder,
             step_limit: DEFAULT_STEP_LIMIT,
             races: true,
+            unwritten_reads: false,
             globals: vec![None; module.globals.len()],
         })
     }
@@ -171,6 +173,16 @@ impl<'a> Dispatch<'a> {
     /// Whether data races on workgroup memory are errors ([`EvalError::Race`]; on by default).
     pub fn with_race_detection(mut self, on: bool) -> Self {
         self.races = on;
+        self
+    }
+
+    /// Whether reading workgroup memory that no invocation of the workgroup wrote is an error
+    /// ([`EvalError::Unwritten`]; off by default). WGSL zero-fills workgroup memory, so such a
+    /// read is legal, but a kernel that means to read a zero seldom gets it that way: the
+    /// usual cause is an append that skipped a slot, or a loop that filled fewer elements than
+    /// another reads. Atomics are neither checked nor count as writes.
+    pub fn with_unwritten_read_check(mut self, on: bool) -> Self {
+        self.unwritten_reads = on;
         self
     }
 
@@ -327,9 +339,8 @@ impl<'a> Dispatch<'a> {
         }
         let n = self.workgroup_size.iter().product::<u32>();
         let (entry, limit) = (self.entry, self.step_limit);
-        let tracker = self
-            .races
-            .then(|| Rc::new(RefCell::new(Tracker::default())));
+        let tracker = (self.races || self.unwritten_reads)
+            .then(|| Rc::new(RefCell::new(Tracker::new(self.races, self.unwritten_reads))));
         let mut invocations = Vec::with_capacity(n as usize);
         for local in 0..n {
             let args = self.arguments(wg, count, local)?;
@@ -369,8 +380,13 @@ impl<'a> Dispatch<'a> {
         let mut state: Vec<State> = (0..n).map(|_| State::Runnable(None)).collect();
         for phase in 0u64.. {
             for i in self.schedule.order(n, phase) {
-                let State::Runnable(result) = std::mem::replace(&mut state[i], State::Done) else {
-                    continue;
+                // Only runnable invocations run; one waiting keeps waiting.
+                let result = match std::mem::replace(&mut state[i], State::Done) {
+                    State::Runnable(result) => result,
+                    other => {
+                        state[i] = other;
+                        continue;
+                    }
                 };
                 let globals = std::mem::take(&mut self.globals);
                 match invocations[i].resume(Resume { globals, result }) {

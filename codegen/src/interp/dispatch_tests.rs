@@ -320,7 +320,8 @@ fn matrices_multiply_as_glam_does() {
 }
 
 /// A loop whose last round some lanes skip: the subgroup operations in that round run over the
-/// lanes still in the loop, as on hardware (`tbdr`'s light-list append does this).
+/// lanes still in the loop, as on hardware (`tbdr`'s light-list append does this), while the
+/// lanes that left wait at the barrier after the loop, and every lane goes on past it.
 #[test]
 fn subgroup_operations_in_a_partial_last_round_use_the_active_lanes() {
     let c = compile(
@@ -339,11 +340,15 @@ fn subgroup_operations_in_a_partial_last_round_use_the_active_lanes() {
                     i += 16u32;
                     round += 1u32;
                 }
+                workgroup_barrier();
+                OUT[40u32 + lid] = round;
             }
         }",
     );
     for size in [4u32, 8, 16, 32] {
-        let out = run(&c, Schedule::Reversed, size, 1, None, 40).unwrap();
+        let out = run(&c, Schedule::Reversed, size, 1, None, 56).unwrap();
+        let rounds: Vec<u32> = (0..16).map(|lid| if lid < 4 { 2 } else { 1 }).collect();
+        assert_eq!(out[40..], rounds, "rounds after the barrier, size {size}");
         for i in 0..20u32 {
             let lid = i % 16;
             // Round 0: all 16 lanes; round 1: lanes 0..4 only.
@@ -480,4 +485,73 @@ fn textures_sample_compare_and_store_as_the_rules_say() {
         )
     );
     assert_eq!(dst.texels[0], rgba(0.0));
+}
+
+/// Odd invocations append their index to `LIST`, one atomic per subgroup and each lane at its
+/// rank (`rank_op`); after a barrier, invocation `i` below the count copies `LIST[i]` to `OUT`.
+fn subgroup_append(rank_op: &str) -> String {
+    format!(
+        "#[shader(requires(subgroup))] mod m {{
+            #[storage(group = 0, binding = 0, read_write)]
+            static OUT: [u32];
+            #[workgroup]
+            static COUNT: Atomic<u32>;
+            #[workgroup]
+            static LIST: [u32; 64];
+            #[compute(workgroup_size(32, 1, 1))]
+            fn main(#[builtin(local_invocation_index)] lid: u32) {{
+                let one = select((lid & 1u32) == 1u32, 1u32, 0u32);
+                let rank = {rank_op}(one);
+                let hits = subgroup_add(one);
+                let mut base = 0u32;
+                if subgroup_broadcast_first(lid) == lid {{
+                    base = COUNT.fetch_add(hits);
+                }}
+                base = subgroup_broadcast_first(base);
+                if one == 1u32 {{
+                    LIST[base + rank] = lid;
+                }}
+                workgroup_barrier();
+                if lid < COUNT.load() {{
+                    OUT[lid] = LIST[lid];
+                }}
+            }}
+        }}"
+    )
+}
+
+#[test]
+fn an_append_that_skips_a_slot_is_an_unwritten_read_naming_the_line() {
+    let checked = |c: &crate::Compiled, subgroup: u32| -> Result<Vec<u32>, EvalError> {
+        let mut d = Dispatch::new(&c.module, &c.keys[0].env, "main")?
+            .with_subgroup_size(subgroup)?
+            .with_unwritten_read_check(true);
+        d.set_buffer("OUT", &bytes(&[0; 32]))?;
+        d.run([1, 1, 1])?;
+        Ok(words(&d.buffer("OUT")?))
+    };
+    let good = compile(&subgroup_append("subgroup_exclusive_add"));
+    let off_by_one = compile(&subgroup_append("subgroup_inclusive_add"));
+    for subgroup in [4, 8, 32] {
+        let mut out = checked(&good, subgroup).unwrap();
+        out[..16].sort_unstable();
+        let odd: Vec<u32> = (0..16).map(|i| 2 * i + 1).collect();
+        assert_eq!(out[..16], odd, "subgroup {subgroup}");
+        let err = checked(&off_by_one, subgroup).unwrap_err();
+        let text = err.to_string();
+        assert!(
+            matches!(err.cause(), EvalError::Unwritten(_)),
+            "subgroup {subgroup}: {text}"
+        );
+        // Line 23 reads `LIST[lid]`; slot 0 is the one the inclusive add skipped.
+        assert!(text.contains("reads `LIST[0]` at 23:"), "{text}");
+    }
+    // Unchecked (the default), the same kernel runs and reads WGSL's zero.
+    let mut d = Dispatch::new(&off_by_one.module, &off_by_one.keys[0].env, "main")
+        .unwrap()
+        .with_subgroup_size(8)
+        .unwrap();
+    d.set_buffer("OUT", &bytes(&[7; 32])).unwrap();
+    d.run([1, 1, 1]).unwrap();
+    assert_eq!(words(&d.buffer("OUT").unwrap())[0], 0);
 }

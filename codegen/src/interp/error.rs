@@ -30,6 +30,10 @@ pub enum EvalError {
     /// Two invocations of a workgroup touched the same workgroup memory, one of them writing,
     /// with no barrier between: both places.
     Race(String),
+    /// An invocation read workgroup memory that no invocation of its workgroup wrote (WGSL
+    /// reads zero there; a kernel almost never means to), with
+    /// [`super::Dispatch::with_unwritten_read_check`]: where.
+    Unwritten(String),
     /// An error of one invocation of a dispatch.
     Invocation {
         /// `workgroup_id`.
@@ -94,6 +98,9 @@ impl fmt::Display for EvalError {
                 "non-uniform control flow at a barrier or subgroup operation: {what}"
             ),
             EvalError::Race(what) => write!(f, "data race on workgroup memory: {what}"),
+            EvalError::Unwritten(what) => {
+                write!(f, "read of unwritten workgroup memory: {what}")
+            }
             EvalError::Invocation {
                 workgroup,
                 local,

@@ -3,6 +3,9 @@
 //! places (WGSL leaves such a race undefined; on hardware it is a missing `workgroup_barrier()`
 //! that works or not by the timing of the day). Atomics are exempt: they are made for it.
 //!
+//! The same tracker can also refuse reads of elements that no invocation of the workgroup
+//! wrote ([`EvalError::Unwritten`]), the trace of an append that skipped a slot.
+//!
 //! The tracker is shared by the invocations of one workgroup (coroutines on one thread); the
 //! scheduler starts a new epoch at every barrier it releases.
 
@@ -22,6 +25,10 @@ struct Write {
 /// The writes to workgroup memory since the workgroup started.
 #[derive(Debug, Default)]
 pub(crate) struct Tracker {
+    /// Report races.
+    races: bool,
+    /// Report reads of elements nothing wrote.
+    unwritten: bool,
     epoch: u64,
     /// By static and path (array indices, fields, components) from it.
     writes: BTreeMap<(usize, Vec<i64>), Write>,
@@ -47,6 +54,14 @@ fn place(name: &str, path: &[i64]) -> String {
 }
 
 impl Tracker {
+    pub fn new(races: bool, unwritten: bool) -> Self {
+        Tracker {
+            races,
+            unwritten,
+            ..Tracker::default()
+        }
+    }
+
     /// A barrier was released: earlier writes are ordered before everything after it.
     pub fn barrier(&mut self) {
         self.epoch += 1;
@@ -55,7 +70,14 @@ impl Tracker {
     /// The write of this epoch by another invocation that overlaps `a`'s place: the place
     /// itself, a part of it, or a whole it is part of.
     fn conflict(&self, a: &Access) -> Option<(Vec<i64>, Write)> {
-        let other = |w: &Write| w.epoch == self.epoch && w.invocation != a.invocation;
+        if !self.races {
+            return None;
+        }
+        self.overlapping(a, |w| w.epoch == self.epoch && w.invocation != a.invocation)
+    }
+
+    /// A write that overlaps `a`'s place and passes `other`.
+    fn overlapping(&self, a: &Access, other: impl Fn(&Write) -> bool) -> Option<(Vec<i64>, Write)> {
         // Writes to the place or its parts.
         let start = (a.global, a.path.to_vec());
         for ((g, p), w) in self.writes.range(start..) {
@@ -93,10 +115,20 @@ impl Tracker {
 
     /// Checks a read.
     pub fn read(&self, a: &Access) -> Result<(), EvalError> {
-        match self.conflict(a) {
-            Some((p, w)) => Err(Self::race(a, &p, w, "reads")),
-            None => Ok(()),
+        if let Some((p, w)) = self.conflict(a) {
+            return Err(Self::race(a, &p, w, "reads"));
         }
+        if self.unwritten && self.overlapping(a, |_| true).is_none() {
+            return Err(EvalError::Unwritten(format!(
+                "invocation {} reads `{}` at {}:{}, which no invocation of its workgroup wrote \
+                 (WGSL reads zero there); look for the write that missed it",
+                a.invocation,
+                place(a.name, a.path),
+                a.line,
+                a.column
+            )));
+        }
+        Ok(())
     }
 
     /// Checks a write and records it.

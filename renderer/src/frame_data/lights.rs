@@ -165,8 +165,11 @@ fn light_storage(device: &wgpu::Device, label: &str, lights: &[forward::GpuLight
     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some(label),
         contents: bytemuck::cast_slice(contents),
-        // COPY_DST: the shadow pass writes each light's `shadow` index as its atlas changes.
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        // COPY_DST: the shadow pass writes each light's `shadow` index as its atlas changes;
+        // COPY_SRC: tools and tests read the records back as the kernels see them.
+        usage: wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_DST
+            | wgpu::BufferUsages::COPY_SRC,
     })
 }
 

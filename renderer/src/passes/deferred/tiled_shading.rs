@@ -164,8 +164,9 @@ pub(super) fn variant_msaa(msaa: u32) -> Result<tbdr::Msaa, RenderError> {
 }
 
 /// The `tbdr` module's parameters for `frame`, with `light_count` punctual lights culled and
-/// shaded, and edge pixels marked in `EDGE_BITS` when `record_edges`.
-pub(super) fn kernel_params(
+/// shaded, and edge pixels marked in `EDGE_BITS` when `record_edges` (public for tools and tests
+/// that run the kernel themselves).
+pub fn kernel_params(
     frame: &FrameInputs,
     light_count: u32,
     record_edges: bool,

@@ -236,11 +236,14 @@ fn atlas_texture(device: &wgpu::Device, label: &str, size: u32) -> wgpu::Texture
     })
 }
 
+/// A storage buffer the CPU writes (and tools and tests read back).
 fn storage(device: &wgpu::Device, label: &str, bytes: usize) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
         size: bytes as u64,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        usage: wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_DST
+            | wgpu::BufferUsages::COPY_SRC,
         mapped_at_creation: false,
     })
 }

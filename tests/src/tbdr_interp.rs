@@ -1,0 +1,375 @@
+//! `tbdr::shade` run by the DSL's host interpreter on the inputs of a real frame.
+//!
+//! [`KernelInputsProbe`], a pass inserted right after TBDR shading, copies what the kernel bound
+//! that frame (its parameters, light spheres, punctual and directional light records with the
+//! frame's shadow indices, the shadow views and the shadow atlas's depth) and what it wrote (the
+//! HDR image). `TbdrPass`'s recording gives the G-buffer, every sample of it, and the edge bits.
+//! [`host_shade`] hands the same inputs to the kernel compiled from `shaders_gen`'s source text
+//! and returns the image and edge bits it computed, for the tests to compare with the GPU's.
+
+use std::sync::Mutex;
+
+use codegen::Compiled;
+use codegen::interp::{
+    Address, Compare, Dispatch, EvalError, HostSampler, HostTexture, Schedule, Value,
+};
+use glam::Vec4;
+use renderer::frame::RenderError;
+use renderer::frame_data::{FrameInputs, FrameResources};
+use renderer::graph::{BufferAccess, ImportAccess, RenderGraph, TextureAccess};
+use renderer::passes::Pass;
+use renderer::passes::deferred::TbdrRecord;
+use renderer::passes::deferred::tiled_shading::kernel_params;
+use renderer::readback::read_buffer;
+use shaders_gen::deferred::tbdr::{CAPTURE_WORDS, TbdrParams};
+
+/// Source text of the TBDR module and the libraries it uses.
+pub const TBDR_SOURCE: &str = include_str!("../../shaders_gen/src/deferred/tiled_shading.rs");
+const LIBRARY_SOURCES: [&str; 4] = [
+    include_str!("../../shaders_gen/src/shared/brdf.rs"),
+    include_str!("../../shaders_gen/src/shared/grid.rs"),
+    include_str!("../../shaders_gen/src/shared/shadow.rs"),
+    include_str!("../../shaders_gen/src/shared/normals.rs"),
+];
+
+/// Compiles the TBDR module from `source` (its text, or a mutation of it) with its libraries.
+pub fn compile(source: &str) -> Result<Compiled, String> {
+    let mut modules =
+        codegen::compile_source_all_with(source, &LIBRARY_SOURCES).map_err(|e| e.to_string())?;
+    if modules.is_empty() {
+        return Err("no shader module in the source".into());
+    }
+    let (name, compiled) = modules.swap_remove(0);
+    compiled.map_err(|e| format!("{name} does not compile: {e}"))
+}
+
+/// Bytes per `Rgba16Float` texel (the HDR image).
+const HDR_TEXEL: u32 = 8;
+/// Bytes per `Depth32Float` texel (the shadow atlas).
+const DEPTH_TEXEL: u32 = 4;
+
+/// Bytes per row of a texture copy: `bytes` rounded up to wgpu's row alignment.
+fn padded_row(bytes: u32) -> u32 {
+    bytes.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT
+}
+
+/// The GPU copies one probed frame left, and what the probe knew on the CPU.
+#[derive(Debug)]
+struct Copies {
+    params: TbdrParams,
+    spheres: Vec<Vec4>,
+    size: (u32, u32),
+    atlas_side: u32,
+    lights: wgpu::Buffer,
+    directional: wgpu::Buffer,
+    views: wgpu::Buffer,
+    atlas: wgpu::Buffer,
+    hdr: wgpu::Buffer,
+}
+
+/// A pass that copies the TBDR kernel's inputs and output of every frame, for [`ProbedFrame`].
+/// Insert it after `"tbdr shading"`, on a renderer whose `TbdrPass` records.
+#[derive(Debug, Default)]
+pub struct KernelInputsProbe {
+    copies: Mutex<Option<Copies>>,
+}
+
+/// Everything `tbdr::shade` read and wrote in one frame.
+#[derive(Debug, Clone)]
+pub struct ProbedFrame {
+    pub params: TbdrParams,
+    /// Bounding sphere (centre, radius) per punctual light.
+    pub spheres: Vec<Vec4>,
+    /// `LIGHTS`, `DIRECTIONAL` and `SHADOW_VIEWS` as the GPU held them.
+    pub lights: Vec<u8>,
+    pub directional: Vec<u8>,
+    pub shadow_views: Vec<u8>,
+    pub atlas_side: u32,
+    /// The shadow atlas's depth, row-major.
+    pub atlas: Vec<f32>,
+    /// The kernel's HDR output, row-major RGBA.
+    pub hdr: Vec<[f32; 4]>,
+    /// The G-buffer and edge bits of the same frame.
+    pub record: TbdrRecord,
+}
+
+impl KernelInputsProbe {
+    /// What the last frame copied, with `record` (that frame's `TbdrPass::recorded`).
+    pub fn take(
+        &self,
+        gpu: &renderer::GpuContext,
+        record: TbdrRecord,
+    ) -> Result<ProbedFrame, String> {
+        let copies = self
+            .copies
+            .lock()
+            .map_err(|_| "the probe's lock is poisoned")?
+            .take()
+            .ok_or("no frame was probed")?;
+        let read = |b: &wgpu::Buffer| {
+            read_buffer::<u8>(&gpu.device, &gpu.queue, b).map_err(|e| e.to_string())
+        };
+        let (w, h) = copies.size;
+        let hdr_bytes = read(&copies.hdr)?;
+        let hdr_row = padded_row(w * HDR_TEXEL) as usize;
+        let hdr = hdr_bytes
+            .chunks_exact(hdr_row)
+            .flat_map(|row| row[..(w * HDR_TEXEL) as usize].chunks_exact(HDR_TEXEL as usize))
+            .map(|t| {
+                let half = |i: usize| half::f16::from_le_bytes([t[2 * i], t[2 * i + 1]]).to_f32();
+                [half(0), half(1), half(2), half(3)]
+            })
+            .collect::<Vec<_>>();
+        if hdr.len() != (w * h) as usize {
+            return Err(format!(
+                "{} HDR texels read back, {w}×{h} expected",
+                hdr.len()
+            ));
+        }
+        let side = copies.atlas_side;
+        let atlas_row = padded_row(side * DEPTH_TEXEL) as usize;
+        let atlas = read(&copies.atlas)?
+            .chunks_exact(atlas_row)
+            .flat_map(|row| {
+                bytemuck::pod_collect_to_vec::<u8, f32>(&row[..(side * DEPTH_TEXEL) as usize])
+            })
+            .collect();
+        Ok(ProbedFrame {
+            params: copies.params,
+            spheres: copies.spheres,
+            lights: read(&copies.lights)?,
+            directional: read(&copies.directional)?,
+            shadow_views: read(&copies.views)?,
+            atlas_side: side,
+            atlas,
+            hdr,
+            record,
+        })
+    }
+}
+
+impl Pass for KernelInputsProbe {
+    fn name(&self) -> &'static str {
+        "tbdr inputs probe"
+    }
+
+    fn add_to_graph(
+        &self,
+        graph: &mut RenderGraph,
+        frame: &FrameInputs,
+        resources: &mut FrameResources,
+    ) -> Result<(), RenderError> {
+        let missing = |input| RenderError::MissingInput {
+            pass: "tbdr inputs probe",
+            input,
+        };
+        let hdr = resources.hdr.ok_or(missing("HDR colour"))?;
+        let shadows = resources.shadows.clone().ok_or(missing("shadow atlas"))?;
+        let device = &frame.gpu.device;
+        let buffer = |label, size: u64| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            })
+        };
+        let (w, h) = (frame.config.width, frame.config.height);
+        let side = frame.config.shadows.atlas_size;
+        let lights = &frame.lights;
+        let copies = Copies {
+            params: kernel_params(frame, lights.punctual.len() as u32, true),
+            spheres: lights
+                .spheres
+                .iter()
+                .map(|s| s.center.extend(s.radius))
+                .collect(),
+            size: (w, h),
+            atlas_side: side,
+            lights: buffer("probe lights", lights.punctual_buffer.size()),
+            directional: buffer("probe directional", lights.directional_buffer.size()),
+            views: buffer("probe shadow views", shadows.views.size()),
+            atlas: buffer(
+                "probe shadow atlas",
+                u64::from(padded_row(side * DEPTH_TEXEL)) * u64::from(side),
+            ),
+            hdr: buffer(
+                "probe hdr",
+                u64::from(padded_row(w * HDR_TEXEL)) * u64::from(h),
+            ),
+        };
+        // The HDR copy is the pass's tracked output, so the graph keeps the pass.
+        let mut out =
+            resources.import_buffer(graph, "probe hdr", &copies.hdr, ImportAccess::ReadWrite);
+        let target = out;
+        let sources = [
+            (lights.punctual_buffer.clone(), copies.lights.clone()),
+            (
+                lights.directional_buffer.clone(),
+                copies.directional.clone(),
+            ),
+            (shadows.views.clone(), copies.views.clone()),
+        ];
+        let atlas_copy = copies.atlas.clone();
+        graph
+            .add_pass(self.name())
+            .read_texture(hdr, TextureAccess::CopySrc)
+            .read_texture(shadows.atlas, TextureAccess::CopySrc)
+            .write_buffer(&mut out, BufferAccess::CopyDst)
+            .execute(move |ctx| {
+                let image = ctx.texture(hdr).clone();
+                let hdr_copy = ctx.buffer(target).clone();
+                ctx.encoder.copy_texture_to_buffer(
+                    image.as_image_copy(),
+                    wgpu::TexelCopyBufferInfo {
+                        buffer: &hdr_copy,
+                        layout: wgpu::TexelCopyBufferLayout {
+                            offset: 0,
+                            bytes_per_row: Some(padded_row(w * HDR_TEXEL)),
+                            rows_per_image: Some(h),
+                        },
+                    },
+                    image.size(),
+                );
+                let atlas = ctx.texture(shadows.atlas).clone();
+                ctx.encoder.copy_texture_to_buffer(
+                    wgpu::TexelCopyTextureInfo {
+                        texture: &atlas,
+                        mip_level: 0,
+                        origin: wgpu::Origin3d::ZERO,
+                        aspect: wgpu::TextureAspect::DepthOnly,
+                    },
+                    wgpu::TexelCopyBufferInfo {
+                        buffer: &atlas_copy,
+                        layout: wgpu::TexelCopyBufferLayout {
+                            offset: 0,
+                            bytes_per_row: Some(padded_row(side * DEPTH_TEXEL)),
+                            rows_per_image: Some(side),
+                        },
+                    },
+                    atlas.size(),
+                );
+                for (from, to) in &sources {
+                    ctx.encoder
+                        .copy_buffer_to_buffer(from, 0, to, 0, from.size());
+                }
+            });
+        if let Ok(mut slot) = self.copies.lock() {
+            *slot = Some(copies);
+        }
+        Ok(())
+    }
+}
+
+/// What the host's `tbdr::shade` wrote.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HostShade {
+    /// Row-major RGBA.
+    pub hdr: Vec<[f32; 4]>,
+    pub edge_bits: Vec<u32>,
+}
+
+/// How a host run is set up.
+#[derive(Debug, Clone, Copy)]
+pub struct HostRun {
+    pub subgroup_size: u32,
+    pub schedule: Schedule,
+    pub race_detection: bool,
+    /// Reads of workgroup memory nothing wrote are errors.
+    pub unwritten_reads: bool,
+}
+
+/// `tbdr::shade` of `c`'s variant `axes` run on the host over `frame`'s inputs.
+pub fn host_shade(
+    c: &Compiled,
+    axes: &[(&str, i64)],
+    frame: &ProbedFrame,
+    run: HostRun,
+) -> Result<HostShade, EvalError> {
+    let env = crate::cull_interp::variant(c, axes);
+    let tile = axes
+        .iter()
+        .find(|(name, _)| *name == "tile")
+        .map_or(8, |(_, t)| *t as u32);
+    let r = &frame.record;
+    let (w, h, msaa) = (r.width, r.height, r.msaa);
+    let mut d = Dispatch::new(&c.module, env, "shade")?
+        .with_subgroup_size(run.subgroup_size)?
+        .with_schedule(run.schedule)
+        .with_race_detection(run.race_detection)
+        .with_unwritten_read_check(run.unwritten_reads);
+    d.set_buffer("PARAMS", bytemuck::bytes_of(&frame.params))?;
+    d.set_buffer("LIGHTS", &frame.lights)?;
+    d.set_buffer("DIRECTIONAL", &frame.directional)?;
+    let spheres: &[u8] = if frame.spheres.is_empty() {
+        &[0; 16]
+    } else {
+        bytemuck::cast_slice(&frame.spheres)
+    };
+    d.set_buffer("SPHERES", spheres)?;
+    d.set_buffer("SHADOW_VIEWS", &frame.shadow_views)?;
+    d.set_buffer("EDGE_BITS", &vec![0; (w * h).div_ceil(32) as usize * 4])?;
+    d.set_buffer("CAPTURE", &[0; 4])?;
+    let words = CAPTURE_WORDS as usize;
+    let samples = || r.gbuffer.chunks_exact(words);
+    let vector = |v: &[f32]| Value::Vector(v.iter().map(|c| Value::F32(*c)).collect());
+    let colour = |from: usize| HostTexture {
+        width: w,
+        height: h,
+        layers: 1,
+        samples: msaa,
+        texels: samples().map(|s| vector(&s[from..from + 4])).collect(),
+    };
+    let depth: Vec<f32> = samples().map(|s| s[0]).collect();
+    let suffix = if msaa == 1 { "" } else { "_MS" };
+    d.set_texture(
+        &format!("DEPTH{suffix}"),
+        HostTexture::depth(w, h, msaa, &depth),
+    )?;
+    d.set_texture(&format!("ALBEDO{suffix}"), colour(1))?;
+    d.set_texture(&format!("NORMALS{suffix}"), colour(5))?;
+    d.set_texture(&format!("RADIANCE{suffix}"), colour(9))?;
+    let side = frame.atlas_side;
+    d.set_texture(
+        "SHADOW_ATLAS",
+        HostTexture::depth(side, side, 1, &frame.atlas),
+    )?;
+    // The renderer's shadow sampler: bilinear, clamped, lit where the reference ≥ the texel
+    // (reversed Z).
+    d.set_sampler(
+        "SHADOW_SAMPLER",
+        HostSampler {
+            linear: true,
+            address: Address::ClampToEdge,
+            compare: Some(Compare::GreaterEqual),
+        },
+    )?;
+    d.set_texture(
+        "HDR_OUT",
+        HostTexture {
+            width: w,
+            height: h,
+            layers: 1,
+            samples: 1,
+            texels: vec![vector(&[0.0; 4]); (w * h) as usize],
+        },
+    )?;
+    d.run([w.div_ceil(tile), h.div_ceil(tile), 1])?;
+    let hdr = d
+        .texture("HDR_OUT")?
+        .texels
+        .iter()
+        .map(|t| match t {
+            Value::Vector(c) => {
+                let f = |i: usize| match c.get(i) {
+                    Some(Value::F32(x)) => *x,
+                    _ => f32::NAN,
+                };
+                [f(0), f(1), f(2), f(3)]
+            }
+            _ => [f32::NAN; 4],
+        })
+        .collect();
+    let edge_bits = bytemuck::pod_collect_to_vec(&d.buffer("EDGE_BITS")?);
+    Ok(HostShade { hdr, edge_bits })
+}
