@@ -10,9 +10,7 @@
 use std::sync::Mutex;
 
 use codegen::Compiled;
-use codegen::interp::{
-    Address, Compare, Dispatch, EvalError, HostSampler, HostTexture, Schedule, Value,
-};
+use codegen::interp::{Dispatch, EvalError, HostTexture, Schedule, Value};
 use glam::Vec4;
 use renderer::frame::RenderError;
 use renderer::frame_data::{FrameInputs, FrameResources};
@@ -20,8 +18,9 @@ use renderer::graph::{BufferAccess, ImportAccess, RenderGraph, TextureAccess};
 use renderer::passes::Pass;
 use renderer::passes::deferred::TbdrRecord;
 use renderer::passes::deferred::tiled_shading::kernel_params;
-use renderer::readback::read_buffer;
 use shaders_gen::deferred::tbdr::{CAPTURE_WORDS, TbdrParams};
+
+use crate::frame_probe::{ShadowCopies, ShadowInputs, copy_target, padded_row, read_bytes, unpad};
 
 /// Source text of the TBDR module and the libraries it uses.
 pub const TBDR_SOURCE: &str = include_str!("../../shaders_gen/src/deferred/tiled_shading.rs");
@@ -45,13 +44,6 @@ pub fn compile(source: &str) -> Result<Compiled, String> {
 
 /// Bytes per `Rgba16Float` texel (the HDR image).
 const HDR_TEXEL: u32 = 8;
-/// Bytes per `Depth32Float` texel (the shadow atlas).
-const DEPTH_TEXEL: u32 = 4;
-
-/// Bytes per row of a texture copy: `bytes` rounded up to wgpu's row alignment.
-fn padded_row(bytes: u32) -> u32 {
-    bytes.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT
-}
 
 /// The GPU copies one probed frame left, and what the probe knew on the CPU.
 #[derive(Debug)]
@@ -59,11 +51,9 @@ struct Copies {
     params: TbdrParams,
     spheres: Vec<Vec4>,
     size: (u32, u32),
-    atlas_side: u32,
     lights: wgpu::Buffer,
     directional: wgpu::Buffer,
-    views: wgpu::Buffer,
-    atlas: wgpu::Buffer,
+    shadows: ShadowCopies,
     hdr: wgpu::Buffer,
 }
 
@@ -80,13 +70,10 @@ pub struct ProbedFrame {
     pub params: TbdrParams,
     /// Bounding sphere (centre, radius) per punctual light.
     pub spheres: Vec<Vec4>,
-    /// `LIGHTS`, `DIRECTIONAL` and `SHADOW_VIEWS` as the GPU held them.
+    /// `LIGHTS` and `DIRECTIONAL` as the GPU held them (with this frame's shadow indices).
     pub lights: Vec<u8>,
     pub directional: Vec<u8>,
-    pub shadow_views: Vec<u8>,
-    pub atlas_side: u32,
-    /// The shadow atlas's depth, row-major.
-    pub atlas: Vec<f32>,
+    pub shadows: ShadowInputs,
     /// The kernel's HDR output, row-major RGBA.
     pub hdr: Vec<[f32; 4]>,
     /// The G-buffer and edge bits of the same frame.
@@ -106,15 +93,9 @@ impl KernelInputsProbe {
             .map_err(|_| "the probe's lock is poisoned")?
             .take()
             .ok_or("no frame was probed")?;
-        let read = |b: &wgpu::Buffer| {
-            read_buffer::<u8>(&gpu.device, &gpu.queue, b).map_err(|e| e.to_string())
-        };
         let (w, h) = copies.size;
-        let hdr_bytes = read(&copies.hdr)?;
-        let hdr_row = padded_row(w * HDR_TEXEL) as usize;
-        let hdr = hdr_bytes
-            .chunks_exact(hdr_row)
-            .flat_map(|row| row[..(w * HDR_TEXEL) as usize].chunks_exact(HDR_TEXEL as usize))
+        let hdr = unpad(&read_bytes(gpu, &copies.hdr)?, w * HDR_TEXEL, h)
+            .chunks_exact(HDR_TEXEL as usize)
             .map(|t| {
                 let half = |i: usize| half::f16::from_le_bytes([t[2 * i], t[2 * i + 1]]).to_f32();
                 [half(0), half(1), half(2), half(3)]
@@ -126,22 +107,12 @@ impl KernelInputsProbe {
                 hdr.len()
             ));
         }
-        let side = copies.atlas_side;
-        let atlas_row = padded_row(side * DEPTH_TEXEL) as usize;
-        let atlas = read(&copies.atlas)?
-            .chunks_exact(atlas_row)
-            .flat_map(|row| {
-                bytemuck::pod_collect_to_vec::<u8, f32>(&row[..(side * DEPTH_TEXEL) as usize])
-            })
-            .collect();
         Ok(ProbedFrame {
             params: copies.params,
             spheres: copies.spheres,
-            lights: read(&copies.lights)?,
-            directional: read(&copies.directional)?,
-            shadow_views: read(&copies.views)?,
-            atlas_side: side,
-            atlas,
+            lights: read_bytes(gpu, &copies.lights)?,
+            directional: read_bytes(gpu, &copies.directional)?,
+            shadows: copies.shadows.read(gpu)?,
             hdr,
             record,
         })
@@ -166,16 +137,8 @@ impl Pass for KernelInputsProbe {
         let hdr = resources.hdr.ok_or(missing("HDR colour"))?;
         let shadows = resources.shadows.clone().ok_or(missing("shadow atlas"))?;
         let device = &frame.gpu.device;
-        let buffer = |label, size: u64| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size,
-                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            })
-        };
+        let buffer = |label, size: u64| copy_target(device, label, size);
         let (w, h) = (frame.config.width, frame.config.height);
-        let side = frame.config.shadows.atlas_size;
         let lights = &frame.lights;
         let copies = Copies {
             params: kernel_params(frame, lights.punctual.len() as u32, true),
@@ -185,14 +148,9 @@ impl Pass for KernelInputsProbe {
                 .map(|s| s.center.extend(s.radius))
                 .collect(),
             size: (w, h),
-            atlas_side: side,
             lights: buffer("probe lights", lights.punctual_buffer.size()),
             directional: buffer("probe directional", lights.directional_buffer.size()),
-            views: buffer("probe shadow views", shadows.views.size()),
-            atlas: buffer(
-                "probe shadow atlas",
-                u64::from(padded_row(side * DEPTH_TEXEL)) * u64::from(side),
-            ),
+            shadows: ShadowCopies::new(device, &shadows, frame.config.shadows.atlas_size),
             hdr: buffer(
                 "probe hdr",
                 u64::from(padded_row(w * HDR_TEXEL)) * u64::from(h),
@@ -208,9 +166,8 @@ impl Pass for KernelInputsProbe {
                 lights.directional_buffer.clone(),
                 copies.directional.clone(),
             ),
-            (shadows.views.clone(), copies.views.clone()),
         ];
-        let atlas_copy = copies.atlas.clone();
+        let shadow_copies = copies.shadows.clone();
         graph
             .add_pass(self.name())
             .read_texture(hdr, TextureAccess::CopySrc)
@@ -231,24 +188,7 @@ impl Pass for KernelInputsProbe {
                     },
                     image.size(),
                 );
-                let atlas = ctx.texture(shadows.atlas).clone();
-                ctx.encoder.copy_texture_to_buffer(
-                    wgpu::TexelCopyTextureInfo {
-                        texture: &atlas,
-                        mip_level: 0,
-                        origin: wgpu::Origin3d::ZERO,
-                        aspect: wgpu::TextureAspect::DepthOnly,
-                    },
-                    wgpu::TexelCopyBufferInfo {
-                        buffer: &atlas_copy,
-                        layout: wgpu::TexelCopyBufferLayout {
-                            offset: 0,
-                            bytes_per_row: Some(padded_row(side * DEPTH_TEXEL)),
-                            rows_per_image: Some(side),
-                        },
-                    },
-                    atlas.size(),
-                );
+                shadow_copies.record(ctx, &shadows);
                 for (from, to) in &sources {
                     ctx.encoder
                         .copy_buffer_to_buffer(from, 0, to, 0, from.size());
@@ -307,7 +247,7 @@ pub fn host_shade(
         bytemuck::cast_slice(&frame.spheres)
     };
     d.set_buffer("SPHERES", spheres)?;
-    d.set_buffer("SHADOW_VIEWS", &frame.shadow_views)?;
+    frame.shadows.bind(&mut d)?;
     d.set_buffer("EDGE_BITS", &vec![0; (w * h).div_ceil(32) as usize * 4])?;
     d.set_buffer("CAPTURE", &[0; 4])?;
     let words = CAPTURE_WORDS as usize;
@@ -329,21 +269,6 @@ pub fn host_shade(
     d.set_texture(&format!("ALBEDO{suffix}"), colour(1))?;
     d.set_texture(&format!("NORMALS{suffix}"), colour(5))?;
     d.set_texture(&format!("RADIANCE{suffix}"), colour(9))?;
-    let side = frame.atlas_side;
-    d.set_texture(
-        "SHADOW_ATLAS",
-        HostTexture::depth(side, side, 1, &frame.atlas),
-    )?;
-    // The renderer's shadow sampler: bilinear, clamped, lit where the reference ≥ the texel
-    // (reversed Z).
-    d.set_sampler(
-        "SHADOW_SAMPLER",
-        HostSampler {
-            linear: true,
-            address: Address::ClampToEdge,
-            compare: Some(Compare::GreaterEqual),
-        },
-    )?;
     d.set_texture(
         "HDR_OUT",
         HostTexture {

@@ -100,6 +100,9 @@ pub struct Dispatch<'a> {
     races: bool,
     unwritten_reads: bool,
     globals: Globals,
+    /// Stacks of finished invocations, for the next workgroup: a new stack maps fresh memory,
+    /// which costs more than most workgroups' work.
+    stacks: Vec<DefaultStack>,
 }
 
 impl std::fmt::Debug for Dispatch<'_> {
@@ -150,6 +153,7 @@ impl<'a> Dispatch<'a> {
             races: true,
             unwritten_reads: false,
             globals: vec![None; module.globals.len()],
+            stacks: vec![],
         })
     }
 
@@ -346,9 +350,12 @@ impl<'a> Dispatch<'a> {
             let args = self.arguments(wg, count, local)?;
             let (module, env) = (Rc::clone(&shared.0), Rc::clone(&shared.1));
             let race = tracker.as_ref().map(|t| (Rc::clone(t), local));
-            let stack = DefaultStack::new(STACK_BYTES).map_err(|e| {
-                EvalError::Unsupported(format!("a stack for invocation {local}: {e}"))
-            })?;
+            let stack = match self.stacks.pop() {
+                Some(stack) => stack,
+                None => DefaultStack::new(STACK_BYTES).map_err(|e| {
+                    EvalError::Unsupported(format!("a stack for invocation {local}: {e}"))
+                })?,
+            };
             invocations.push(Invocation::with_stack(
                 stack,
                 move |yielder: &Yielder, first: Resume| {
@@ -367,7 +374,14 @@ impl<'a> Dispatch<'a> {
                 workgroup: wg,
                 local,
                 error: Box::new(error),
-            })
+            })?;
+        self.stacks.extend(
+            invocations
+                .into_iter()
+                .filter(Invocation::done)
+                .map(Invocation::into_stack),
+        );
+        Ok(())
     }
 
     /// Runs one workgroup's invocations to completion; on failure, the invocation and error.

@@ -81,7 +81,10 @@ impl ParticleGpu {
         let view = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("particle view"),
             size: size_of::<ParticleView>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            // COPY_SRC: tools and tests read the view the particle kernels saw.
+            usage: wgpu::BufferUsages::UNIFORM
+                | wgpu::BufferUsages::COPY_DST
+                | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
         Ok(Self {
