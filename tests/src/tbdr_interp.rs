@@ -219,21 +219,19 @@ pub struct HostRun {
     pub unwritten_reads: bool,
 }
 
-/// `tbdr::shade` of `c`'s variant `axes` run on the host over `frame`'s inputs.
-pub fn host_shade(
-    c: &Compiled,
+/// Entry point `entry` of `c`'s variant `axes` on the host, bound to `frame`'s inputs (`HDR_OUT`
+/// and `EDGE_BITS` zero, `CAPTURE` room for every sample).
+fn bound<'c>(
+    c: &'c Compiled,
     axes: &[(&str, i64)],
     frame: &ProbedFrame,
     run: HostRun,
-) -> Result<HostShade, EvalError> {
+    entry: &str,
+) -> Result<Dispatch<'c>, EvalError> {
     let env = crate::cull_interp::variant(c, axes);
-    let tile = axes
-        .iter()
-        .find(|(name, _)| *name == "tile")
-        .map_or(8, |(_, t)| *t as u32);
     let r = &frame.record;
     let (w, h, msaa) = (r.width, r.height, r.msaa);
-    let mut d = Dispatch::new(&c.module, env, "shade")?
+    let mut d = Dispatch::new(&c.module, env, entry)?
         .with_subgroup_size(run.subgroup_size)?
         .with_schedule(run.schedule)
         .with_race_detection(run.race_detection)
@@ -249,7 +247,7 @@ pub fn host_shade(
     d.set_buffer("SPHERES", spheres)?;
     frame.shadows.bind(&mut d)?;
     d.set_buffer("EDGE_BITS", &vec![0; (w * h).div_ceil(32) as usize * 4])?;
-    d.set_buffer("CAPTURE", &[0; 4])?;
+    d.set_buffer("CAPTURE", &vec![0; r.gbuffer.len() * 4])?;
     let words = CAPTURE_WORDS as usize;
     let samples = || r.gbuffer.chunks_exact(words);
     let vector = |v: &[f32]| Value::Vector(v.iter().map(|c| Value::F32(*c)).collect());
@@ -279,7 +277,37 @@ pub fn host_shade(
             texels: vec![vector(&[0.0; 4]); (w * h) as usize],
         },
     )?;
-    d.run([w.div_ceil(tile), h.div_ceil(tile), 1])?;
+    Ok(d)
+}
+
+/// `tbdr::capture_gbuffer` of `c`'s variant `axes` run on the host over `frame`'s G-buffer: the
+/// capture it wrote.
+pub fn host_capture(
+    c: &Compiled,
+    axes: &[(&str, i64)],
+    frame: &ProbedFrame,
+    run: HostRun,
+) -> Result<Vec<f32>, EvalError> {
+    let mut d = bound(c, axes, frame, run, "capture_gbuffer")?;
+    let r = &frame.record;
+    d.run([r.width.div_ceil(8), r.height.div_ceil(8), 1])?;
+    Ok(bytemuck::pod_collect_to_vec(&d.buffer("CAPTURE")?))
+}
+
+/// `tbdr::shade` of `c`'s variant `axes` run on the host over `frame`'s inputs.
+pub fn host_shade(
+    c: &Compiled,
+    axes: &[(&str, i64)],
+    frame: &ProbedFrame,
+    run: HostRun,
+) -> Result<HostShade, EvalError> {
+    let tile = axes
+        .iter()
+        .find(|(name, _)| *name == "tile")
+        .map_or(8, |(_, t)| *t as u32);
+    let mut d = bound(c, axes, frame, run, "shade")?;
+    let r = &frame.record;
+    d.run([r.width.div_ceil(tile), r.height.div_ceil(tile), 1])?;
     let hdr = d
         .texture("HDR_OUT")?
         .texels

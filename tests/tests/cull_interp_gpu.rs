@@ -178,7 +178,12 @@ fn host_clustered_culling_equals_the_gpu_and_the_reference() {
     let gpu = lists(&run_method(&s, GpuMethod::Clustered(config)));
     let reference = cull(&s.camera, &s.depth, &s.lights_view(), method);
     assert!(gpu.iter().map(Vec::len).sum::<usize>() > 20);
-    for (subgroup_size, schedule) in [(8, Schedule::Shuffled(3)), (64, Schedule::Reversed)] {
+    for (subgroup_size, schedule) in [
+        (4, Schedule::InOrder),
+        (8, Schedule::Shuffled(3)),
+        (32, Schedule::Reversed),
+        (64, Schedule::Reversed),
+    ] {
         let run = HostRun {
             subgroup_size,
             schedule,

@@ -68,7 +68,7 @@ fn compute_dispatch_matches_cpu() {
         readback::read_buffer::<u32>(device, &gpu.queue, &output_buffer).expect("readback")
     });
     assert_eq!(output, expected);
-    // The same kernel on the DSL's host interpreter, at two subgroup sizes.
+    // The same kernel on the DSL's host interpreter, at four subgroup sizes.
     let compiled = codegen::compile_source_all(include_str!("../../shaders_gen/src/bootstrap.rs"))
         .expect("parses")
         .into_iter()
@@ -76,7 +76,7 @@ fn compute_dispatch_matches_cpu() {
         .expect("the module")
         .1
         .expect("compiles");
-    for subgroup_size in [8, 32] {
+    for subgroup_size in [4, 8, 32, 64] {
         let mut d = codegen::interp::Dispatch::new(
             &compiled.module,
             &compiled.keys[0].env,

@@ -278,7 +278,7 @@ fn host_particle_simulation_equals_the_gpu_particle_for_particle() {
     });
     assert!(gpu.len() > 100, "{} live particles", gpu.len());
     assert_eq!(gpu_counters[2], 0, "the pool refused births");
-    for (subgroup_size, schedule) in [(8, Schedule::Reversed), (32, Schedule::InOrder)] {
+    for (subgroup_size, schedule) in RUNS {
         let run = format!("subgroup {subgroup_size}, {schedule:?}");
         let (slots, counters) =
             host_particles(&c, &particle_system(), steps, subgroup_size, schedule)
@@ -453,7 +453,7 @@ fn host_particle_atlas_layout_equals_the_gpu() {
         .filter(|&&slot| gpu_regions[slot as usize] != HIDDEN)
         .count();
     assert!(visible > 100, "{visible} particles in view");
-    for (subgroup_size, schedule) in [(4, Schedule::Reversed), (64, Schedule::InOrder)] {
+    for (subgroup_size, schedule) in RUNS {
         let what = format!("subgroup {subgroup_size}, {schedule:?}");
         let [keys, regions, state, owners] = atlas_on_host(&c, &run, subgroup_size, schedule)
             .unwrap_or_else(|e| panic!("{what}: {e}"))

@@ -5,6 +5,9 @@
 //! plain, MSAA 1 and 4, edge pixels shaded inline and deferred. The shadow lookups compare the
 //! host's bilinear depth comparison with lavapipe's.
 //!
+//! The same frame's G-buffer also checks `tbdr::capture_gbuffer` (which recorded it) and
+//! `depth_probe::probe` (the frame capture's depth probes) on the host.
+//!
 //! The mutation: an off-by-one in the scalarized light append (`subgroup_inclusive_add` for
 //! `subgroup_exclusive_add`) leaves a list slot unwritten and writes one past the list; the
 //! image comes out wrong, and the interpreter's unwritten-read check names the line that reads
@@ -12,15 +15,17 @@
 
 use codegen::interp::{EvalError, Schedule};
 use glam::Vec3;
+use renderer::frame::capture::FrameCapture;
 use renderer::frame::setup::{courtyard_look, create_target, default_camera, light_space};
 use renderer::frame::setup::{pick_shadowed, procedural_lights};
 use renderer::frame::{RenderPath, Renderer, RendererConfig};
 use renderer::passes::deferred::TbdrPass;
 use renderer::scene::{LightKind, SceneLight};
 use renderer::shadow::ShadowConfig;
+use shaders_gen::inspect::depth_probe::ProbeParams;
 use tests::gpu::gpu_test;
 use tests::tbdr_interp::{
-    HostRun, KernelInputsProbe, ProbedFrame, TBDR_SOURCE, compile, host_shade,
+    HostRun, KernelInputsProbe, ProbedFrame, TBDR_SOURCE, compile, host_capture, host_shade,
 };
 
 const WIDTH: u32 = 64;
@@ -28,8 +33,9 @@ const HEIGHT: u32 = 48;
 const TILE: u32 = 8;
 
 /// One lavapipe frame of the courtyard on a TBDR path, probed: 40 point lights (4 of them
-/// shadowed) and a shadowed sun, a small shadow atlas.
-fn gpu_frame(path: RenderPath, msaa: u32, scalarize: bool) -> ProbedFrame {
+/// shadowed) and a shadowed sun, a small shadow atlas; and its depth probes every
+/// [`PROBE_STRIDE`] pixels.
+fn gpu_frame(path: RenderPath, msaa: u32, scalarize: bool) -> (ProbedFrame, FrameCapture) {
     let scene = renderer::scene::procedural::courtyard();
     let (region, (rmin, rmax)) = light_space(&scene, true);
     let mut lights = procedural_lights(region, 40, 5, rmin, rmax);
@@ -70,20 +76,31 @@ fn gpu_frame(path: RenderPath, msaa: u32, scalarize: bool) -> ProbedFrame {
         renderer
             .insert_pass_after("tbdr shading", Box::new(KernelInputsProbe::default()))
             .expect("the probe joins the frame");
+        renderer
+            .capture_next_frame(PROBE_STRIDE)
+            .expect("the TBDR path has depth");
         let target = create_target(&gpu.device, &config);
         renderer.render(&camera, &target).expect("frame");
         renderer.finish();
+        let capture = renderer
+            .take_capture()
+            .expect("capture readback")
+            .expect("the frame captured");
         let record = renderer
             .pass::<TbdrPass>()
             .and_then(|p| p.recorded().expect("record readback"))
             .expect("the frame recorded");
-        renderer
+        let probed = renderer
             .pass::<KernelInputsProbe>()
             .expect("the probe runs")
             .take(gpu, record)
-            .expect("the probe's copies")
+            .expect("the probe's copies");
+        (probed, capture)
     })
 }
+
+/// Pixels between depth probes: odd, so the last column and row clamp to the frame's edge.
+const PROBE_STRIDE: u32 = 7;
 
 /// How far the host's image is from the GPU's: the largest difference of a channel relative to
 /// `1 +` its size, and how many pixels are off by more than `tolerance`.
@@ -108,7 +125,7 @@ const TOLERANCE: f32 = 0.002;
 
 fn check(axes: &[(&str, i64)], path: RenderPath, msaa: u32, runs: &[(u32, Schedule)]) {
     let scalarize = axes.contains(&("scalarize", 1));
-    let frame = gpu_frame(path, msaa, scalarize);
+    let (frame, _) = gpu_frame(path, msaa, scalarize);
     assert!(
         frame.params.light_count > 30,
         "the frame culls its lights ({})",
@@ -187,7 +204,7 @@ fn an_off_by_one_in_the_exclusive_add_is_caught() {
         compile(&TBDR_SOURCE.replacen(site, "let rank = subgroup_inclusive_add(one);", 1))
             .expect("the mutation compiles");
     let axes = [("tile", 8), ("msaa", 4), ("scalarize", 1), ("defer", 0)];
-    let frame = gpu_frame(RenderPath::Tbdr, 4, true);
+    let (frame, _) = gpu_frame(RenderPath::Tbdr, 4, true);
     let read_line = TBDR_SOURCE
         .lines()
         .position(|l| l.contains("let mut index = LIST[j];"))
@@ -221,4 +238,79 @@ fn an_off_by_one_in_the_exclusive_add_is_caught() {
         "subgroup {subgroup_size}: largest relative difference {largest:.3}, {off} pixels off"
     );
     assert!(off > 0, "subgroup {subgroup_size} hid the off-by-one");
+}
+
+#[test]
+fn host_gbuffer_capture_and_depth_probes_equal_the_gpus() {
+    let (frame, capture) = gpu_frame(RenderPath::Tbdr, 4, false);
+    let tbdr = compile(TBDR_SOURCE).expect("the TBDR module compiles");
+    let probe = codegen::compile_source(include_str!("../../shaders_gen/src/inspect.rs"))
+        .expect("depth_probe compiles");
+    let r = &frame.record;
+    let depth: Vec<f32> = r
+        .gbuffer
+        .chunks_exact(shaders_gen::deferred::tbdr::CAPTURE_WORDS as usize)
+        .map(|s| s[0])
+        .collect();
+    let surface = depth.iter().filter(|&&d| d < 1.0).count();
+    assert!(
+        surface > depth.len() / 2,
+        "the frame has surfaces ({surface} samples)"
+    );
+    let runs = [
+        (4, Schedule::Reversed),
+        (8, Schedule::InOrder),
+        (32, Schedule::Shuffled(4)),
+        (64, Schedule::InOrder),
+    ];
+    let axes = [("tile", 8), ("msaa", 4), ("scalarize", 0), ("defer", 0)];
+    for (subgroup_size, schedule) in runs {
+        let run = HostRun {
+            subgroup_size,
+            schedule,
+            race_detection: true,
+            unwritten_reads: true,
+        };
+        // The capture is the G-buffer the GPU recorded with the same kernel: the same bits.
+        let captured = host_capture(&tbdr, &axes, &frame, run).expect("host capture");
+        let same = captured.len() == r.gbuffer.len()
+            && captured
+                .iter()
+                .zip(&r.gbuffer)
+                .all(|(h, g)| h.to_bits() == g.to_bits());
+        assert!(same, "capture, subgroup {subgroup_size}");
+
+        // The probes read the same depth samples the GPU's probe pass read.
+        let env = tests::cull_interp::variant(&probe, &[("msaa", 4)]);
+        let mut d = codegen::interp::Dispatch::new(&probe.module, env, "probe")
+            .and_then(|d| d.with_subgroup_size(subgroup_size))
+            .expect("dispatch")
+            .with_schedule(schedule);
+        let params = ProbeParams::new(
+            glam::UVec2::new(r.width, r.height),
+            capture.grid,
+            capture.stride,
+        );
+        d.set_buffer("PARAMS", bytemuck::bytes_of(&params))
+            .expect("params");
+        d.set_buffer("PROBES", &vec![0; capture.probes.len() * 4])
+            .expect("probes");
+        d.set_texture(
+            "DEPTH_MS",
+            codegen::interp::HostTexture::depth(r.width, r.height, r.msaa, &depth),
+        )
+        .expect("depth");
+        d.run([capture.grid.x.div_ceil(8), capture.grid.y.div_ceil(8), 1])
+            .expect("host probes");
+        let probes: Vec<f32> = bytemuck::pod_collect_to_vec(&d.buffer("PROBES").expect("probes"));
+        assert_eq!(
+            probes, capture.probes,
+            "depth probes, subgroup {subgroup_size}"
+        );
+    }
+    eprintln!(
+        "capture of {} samples and {} depth probes equal at four subgroup sizes",
+        depth.len(),
+        capture.probes.len()
+    );
 }

@@ -19,11 +19,42 @@
 //!   do not reach a barrier together are a uniformity error with the source positions, and a
 //!   subgroup operation runs over the lanes that reach it (its active lanes). A read or write
 //!   of workgroup memory another invocation wrote since the last barrier is a data race error
-//!   naming both places (`race`). Matrices (`matrix`) are columns of vectors.
+//!   naming both places (`race`); with [`Dispatch::with_unwritten_read_check`], so is a read
+//!   of workgroup memory no invocation of the workgroup wrote (an append that skipped a slot).
+//!   Matrices (`matrix`) are columns of vectors.
 //!   Textures are host texels (one mip level), loaded, stored and sampled through host
 //!   samplers with bilinear filtering and depth comparison (`texture`).
 //! - **Not yet**: pointers (`&mut` parameters), derivatives, vertex and
 //!   fragment entry points, `determinant`. Each is an [`EvalError::Unsupported`] naming it.
+//!
+//! A kernel run on the host at subgroup size 8, its invocations in reverse order:
+//!
+//! ```
+//! use codegen::interp::{Dispatch, Schedule};
+//!
+//! let c = codegen::compile_source(
+//!     "#[shader(requires(subgroup))] mod m {
+//!         #[storage(group = 0, binding = 0, read_write)]
+//!         static OUT: [u32];
+//!         #[compute(workgroup_size(16, 1, 1))]
+//!         fn main(#[builtin(local_invocation_index)] lid: u32) {
+//!             OUT[lid] = subgroup_exclusive_add(1u32);
+//!         }
+//!     }",
+//! )?;
+//! let mut d = Dispatch::new(&c.module, &c.keys[0].env, "main")?
+//!     .with_subgroup_size(8)?
+//!     .with_schedule(Schedule::Reversed);
+//! d.set_buffer("OUT", &[0; 16 * 4])?;
+//! d.run([1, 1, 1])?;
+//! let out: Vec<u32> = d
+//!     .buffer("OUT")?
+//!     .chunks_exact(4)
+//!     .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+//!     .collect();
+//! assert_eq!(out, [0, 1, 2, 3, 4, 5, 6, 7, 0, 1, 2, 3, 4, 5, 6, 7]);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 //!
 //! The semantics are written from the WGSL specification's rules, independently of the
 //! printer: see [`ops`] for integer overflow, shifts, division by zero and float-to-int
