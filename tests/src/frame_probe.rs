@@ -34,12 +34,14 @@ pub fn read_bytes(gpu: &GpuContext, buffer: &wgpu::Buffer) -> Result<Vec<u8>, St
 
 /// `rows` rows of `row_bytes` bytes each from a copy whose rows are padded to the alignment.
 pub fn unpad(bytes: &[u8], row_bytes: u32, rows: u32) -> Vec<u8> {
-    bytes
+    let mut out = Vec::with_capacity((row_bytes * rows) as usize);
+    for row in bytes
         .chunks_exact(padded_row(row_bytes) as usize)
         .take(rows as usize)
-        .flat_map(|row| &row[..row_bytes as usize])
-        .copied()
-        .collect()
+    {
+        out.extend_from_slice(&row[..row_bytes as usize]);
+    }
+    out
 }
 
 /// The shadow views and the shadow atlas's depth of a frame, copied by a probe pass.

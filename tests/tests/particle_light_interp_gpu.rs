@@ -9,6 +9,9 @@
 use codegen::interp::Schedule;
 use renderer::frame::setup::create_target;
 use renderer::frame::{RenderPath, Renderer, RendererConfig};
+use renderer::shadow::ShadowConfig;
+use shaders_gen::forward::forward::GpuLight;
+use shaders_gen::shared::shadow_atlas::NO_SHADOW;
 use tests::gpu::gpu_test;
 use tests::particle_light_interp::{
     LIGHT_SOURCE, LightingInputsProbe, ProbedLighting, compile, host_light_atlas, unpack_rg11b10,
@@ -29,6 +32,12 @@ fn gpu_frame(path: RenderPath) -> ProbedLighting {
         height: HEIGHT,
         path,
         particle_atlas_side: 256,
+        // A small shadow atlas: the host holds every texel as a value.
+        shadows: ShadowConfig {
+            atlas_size: 512,
+            max_resolution: 128,
+            ..ShadowConfig::default()
+        },
         ..Default::default()
     };
     gpu_test(|gpu| {
@@ -69,6 +78,12 @@ fn check(path: RenderPath, list: i64, runs: &[(u32, Schedule)]) {
         .map(|&t| unpack_rg11b10(t).into_iter().fold(0.0, f32::max))
         .fold(0.0, f32::max);
     assert!(lit > 500, "the atlas is lit ({lit} texels)");
+    let records: Vec<GpuLight> =
+        bytemuck::pod_collect_to_vec(frame.buffer("LIGHTS").expect("LIGHTS"));
+    assert!(
+        records.iter().any(|l| l.shadow != NO_SHADOW),
+        "a light reads the shadow atlas"
+    );
     let c = compile(LIGHT_SOURCE).expect("the particle lighting module compiles");
     for &(subgroup_size, schedule) in runs {
         let started = std::time::Instant::now();

@@ -22,7 +22,9 @@ use renderer::frame::{RenderPath, Renderer, RendererConfig};
 use renderer::passes::deferred::TbdrPass;
 use renderer::scene::{LightKind, SceneLight};
 use renderer::shadow::ShadowConfig;
+use shaders_gen::forward::forward::GpuLight;
 use shaders_gen::inspect::depth_probe::ProbeParams;
+use shaders_gen::shared::shadow_atlas::NO_SHADOW;
 use tests::gpu::gpu_test;
 use tests::tbdr_interp::{
     HostRun, KernelInputsProbe, ProbedFrame, TBDR_SOURCE, compile, host_capture, host_shade,
@@ -137,6 +139,16 @@ fn check(axes: &[(&str, i64)], path: RenderPath, msaa: u32, runs: &[(u32, Schedu
         .filter(|p| p[0] + p[1] + p[2] > 0.0)
         .count();
     assert!(lit > frame.hdr.len() / 2, "the frame is lit ({lit} pixels)");
+    let shadowed = |bytes: &[u8]| {
+        bytemuck::pod_collect_to_vec::<u8, GpuLight>(bytes)
+            .iter()
+            .filter(|l| l.shadow != NO_SHADOW)
+            .count()
+    };
+    assert!(
+        shadowed(&frame.lights) >= 4 && shadowed(&frame.directional) == 1,
+        "the shadowed lights read the shadow atlas"
+    );
     let c = compile(TBDR_SOURCE).expect("the TBDR module compiles");
     for &(subgroup_size, schedule) in runs {
         let started = std::time::Instant::now();
