@@ -64,9 +64,10 @@ fn cpu_sink(x: u32) -> f32 {
 fn host_fma_chains_equal_the_gpu_and_plain_rust() {
     let gpu = gpu_sink();
     let cpu: Vec<f32> = (0..WORKGROUP).map(cpu_sink).collect();
-    // The GPU may fuse each multiply-add (one rounding instead of two) and sums the chains in
-    // its own order: measured differences stay below 1e-5 of the value.
-    let close = |a: f32, b: f32| (a - b).abs() <= 1e-5 * b.abs().max(1.0);
+    // The GPU may fuse each multiply-add (one rounding instead of two): over 4,096 steps a
+    // chain drifts by up to a few thousand half-ulps of 1. Measured: below 1e-5 of the value on
+    // lavapipe, 1.9e-5 on an H100.
+    let close = |a: f32, b: f32| (a - b).abs() <= 1e-4 * b.abs().max(1.0);
     for (i, (g, c)) in gpu.iter().zip(&cpu).enumerate() {
         assert!(close(*g, *c), "invocation {i}: GPU {g}, CPU {c}");
     }

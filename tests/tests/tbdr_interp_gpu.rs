@@ -68,6 +68,11 @@ fn gpu_frame(path: RenderPath, msaa: u32, scalarize: bool) -> (ProbedFrame, Fram
         ..Default::default()
     });
     gpu_test(|gpu| {
+        let info = gpu.adapter.get_info();
+        eprintln!(
+            "GPU frame on {} (subgroups of {} to {})",
+            info.name, info.subgroup_min_size, info.subgroup_max_size
+        );
         let mut renderer = Renderer::new(gpu, config).expect("renderer");
         renderer.prepare_scene(&scene).expect("the scene fits");
         renderer.set_lights(&lights).expect("lights fit");
