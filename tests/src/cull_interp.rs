@@ -212,7 +212,8 @@ pub fn run_on_host(
         }
         let mut d = Dispatch::new(&compiled.module, env, entry)?
             .with_subgroup_size(run.subgroup_size)?
-            .with_schedule(run.schedule);
+            .with_schedule(run.schedule)
+            .with_unwritten_read_check(true);
         for (name, bytes) in &shared {
             d.set_buffer(name, bytes)?;
         }

@@ -215,7 +215,8 @@ pub fn host_light_atlas(
     let env = crate::cull_interp::variant(c, &[("list", list)]);
     let mut d = Dispatch::new(&c.module, env, "light_atlas")?
         .with_subgroup_size(subgroup_size)?
-        .with_schedule(schedule);
+        .with_schedule(schedule)
+        .with_unwritten_read_check(true);
     for name in BUFFERS {
         if (name == "GRID" || name == "INDICES") && list == 0 {
             continue;

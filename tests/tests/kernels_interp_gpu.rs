@@ -101,7 +101,8 @@ fn host_sort_with(
         let mut d = Dispatch::new(&c.module, &c.keys[0].env, entry)?
             .with_subgroup_size(subgroup_size)?
             .with_schedule(schedule)
-            .with_race_detection(races);
+            .with_race_detection(races)
+            .with_unwritten_read_check(races);
         d.set_buffer("PARAMS", bytemuck::bytes_of(&SortParams::new(k, j, n, 0)))?;
         d.set_buffer("KEYS", &keys)?;
         d.run([groups, 1, 1])?;
@@ -244,7 +245,8 @@ fn host_particles(
             }
             let mut d = Dispatch::new(&c.module, &c.keys[0].env, entry)?
                 .with_subgroup_size(subgroup_size)?
-                .with_schedule(schedule);
+                .with_schedule(schedule)
+                .with_unwritten_read_check(true);
             for (name, bytes) in &buffers {
                 d.set_buffer(name, bytes)?;
             }
@@ -399,7 +401,8 @@ fn atlas_on_host(
     ] {
         let mut d = Dispatch::new(&c.module, &c.keys[0].env, entry)?
             .with_subgroup_size(subgroup_size)?
-            .with_schedule(schedule);
+            .with_schedule(schedule)
+            .with_unwritten_read_check(true);
         for (name, bytes) in &buffers {
             d.set_buffer(name, bytes)?;
         }

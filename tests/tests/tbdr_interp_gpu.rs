@@ -302,7 +302,8 @@ fn host_gbuffer_capture_and_depth_probes_equal_the_gpus() {
         let mut d = codegen::interp::Dispatch::new(&probe.module, env, "probe")
             .and_then(|d| d.with_subgroup_size(subgroup_size))
             .expect("dispatch")
-            .with_schedule(schedule);
+            .with_schedule(schedule)
+            .with_unwritten_read_check(true);
         let params = ProbeParams::new(
             glam::UVec2::new(r.width, r.height),
             capture.grid,
