@@ -44,15 +44,6 @@ fn compile(stem: &str, src: &str) -> codegen::Compiled {
     })
 }
 
-/// Corpus programs whose SPIR-V `spirv-val` rejects because of a known naga bug, with the
-/// message that must appear. The test fails when the message disappears (naga fixed it), so
-/// this list cannot go stale silently.
-const KNOWN_NAGA_SPIRV_BUGS: &[(&str, &str)] = &[(
-    "sample_mask",
-    // naga 30 declares `BuiltIn SampleMask` as a scalar; Vulkan requires an array.
-    "VUID-SampleMask-SampleMask-04359",
-)];
-
 /// Runs a spirv-tools binary; a missing tool is a test failure, never a skip.
 fn spirv_tool(tool: &str, words: &[u32], args: &[&str], name: &str) -> String {
     let dir = std::env::temp_dir().join(format!("dsl-golden-{}", std::process::id()));
@@ -92,22 +83,9 @@ fn golden_wgsl_snapshots_and_spirv_val() {
             }, {
                 insta::assert_snapshot!(format!("{name}.wgsl"), &v.wgsl);
             });
-            match KNOWN_NAGA_SPIRV_BUGS.iter().find(|(file, _)| *file == stem) {
-                None => {
-                    spirv_tool("spirv-val", &v.spirv, &["--target-env", "vulkan1.1"], &name);
-                }
-                Some((_, expected)) => {
-                    let err = std::panic::catch_unwind(|| {
-                        spirv_tool("spirv-val", &v.spirv, &["--target-env", "vulkan1.1"], &name)
-                    })
-                    .expect_err("known naga bug fixed? remove it from KNOWN_NAGA_SPIRV_BUGS");
-                    let msg = err.downcast_ref::<String>().cloned().unwrap_or_default();
-                    assert!(
-                        msg.contains(expected),
-                        "unexpected spirv-val failure: {msg}"
-                    );
-                }
-            }
+            // Every variant, the SampleMask built-in included (naga 30 writes it as a scalar;
+            // the DSL's SPIR-V step makes it the array Vulkan requires).
+            spirv_tool("spirv-val", &v.spirv, &["--target-env", "vulkan1.1"], &name);
             checked += 1;
         }
     }
@@ -164,6 +142,28 @@ fn golden_spirv_disassembly() {
         omit_expression => true,
     }, {
         insta::assert_snapshot!("compute_basic@t8.spvasm", dis);
+    });
+}
+
+/// The SampleMask rewrite as reviewable text: the input and output variables are
+/// `array<uint, 1>` and every load and store goes through element 0.
+#[test]
+fn golden_sample_mask_disassembly() {
+    let src = std::fs::read_to_string(corpus_dir().join("sample_mask.rs")).expect("corpus file");
+    let compiled = compile("sample_mask", &src);
+    let v = &compiled.variants[0];
+    let dis = spirv_tool("spirv-dis", &v.spirv, &["--raw-id"], "sample_mask_dis");
+    assert_eq!(
+        dis.matches("OpAccessChain").count(),
+        2,
+        "one load of the input and one store of the output, each through element 0:\n{dis}"
+    );
+    insta::with_settings!({
+        snapshot_path => corpus_dir().join("snapshots"),
+        prepend_module_to_snapshot => false,
+        omit_expression => true,
+    }, {
+        insta::assert_snapshot!("sample_mask@default.spvasm", dis);
     });
 }
 

@@ -1,6 +1,7 @@
 // Golden: `#[builtin(sample_mask)]` input and output. naga 30 writes the SampleMask builtin as a
-// scalar, which `spirv-val` rejects (see KNOWN_NAGA_SPIRV_BUGS in codegen/tests/golden.rs); the
-// WGSL is valid and naga-validated.
+// scalar, which `spirv-val` rejects; the DSL's SPIR-V step (codegen/src/back/spv/sample_mask.rs)
+// makes both variables `array<u32, 1>`, and codegen/tests/golden.rs checks the result with
+// `spirv-val` and a disassembly snapshot.
 #[shader_dsl::shader]
 pub mod sample_mask {
     pub struct FsOut {

@@ -54,13 +54,8 @@ pub fn render_frame_from(
     render_frame_with(gpu, scene, config, lights, &DecalSet::default(), camera)
 }
 
-/// Frames a culled path may render before its index list has grown to hold every cell's items:
-/// the renderer counts the entries a full list drops and grows it for the next frame.
-const MAX_GROWTH_FRAMES: usize = 4;
-
-/// [`render_frame_from`] with `decals`. When a frame drops list entries (the list starts small and
-/// grows to what the frame asked for), the same frame is rendered again, up to
-/// [`MAX_GROWTH_FRAMES`] times; the returned counters say whether the last one was complete.
+/// [`render_frame_from`] with `decals`: one frame, the first the renderer draws (see
+/// [`render_one_frame`]).
 pub fn render_frame_with(
     gpu: &GpuContext,
     scene: &Scene,
@@ -75,27 +70,24 @@ pub fn render_frame_with(
         .expect("the scene fits the device");
     renderer.set_lights(lights).expect("lights fit");
     renderer.set_decals(decals).expect("decals fit");
-    render_until_complete(gpu, &mut renderer, camera)
+    render_one_frame(gpu, &mut renderer, camera)
 }
 
-/// Renders `renderer`'s frame from `camera` into a new target, again while a frame drops list
-/// entries (up to [`MAX_GROWTH_FRAMES`] times), and reads the last one back.
-pub fn render_until_complete(
-    gpu: &GpuContext,
-    renderer: &mut Renderer,
-    camera: &FrameCamera,
-) -> Frame {
+/// Renders `renderer`'s next frame from `camera` into a new target, waits for it and reads it
+/// back with its culling counters. Never renders twice, and fails the test if the frame dropped
+/// a list entry: the renderer sizes its lists before every frame, the first included.
+pub fn render_one_frame(gpu: &GpuContext, renderer: &mut Renderer, camera: &FrameCamera) -> Frame {
     let target = create_target(&gpu.device, renderer.config());
-    let mut frames = 0;
-    let (report, culling) = loop {
-        let report = renderer.render(camera, &target).expect("frame");
-        renderer.finish();
-        let culling = renderer.culling_counters();
-        frames += 1;
-        if culling.is_none_or(|c| c.dropped == 0) || frames == MAX_GROWTH_FRAMES {
-            break (report, culling);
-        }
-    };
+    let report = renderer.render(camera, &target).expect("frame");
+    renderer.finish();
+    let culling = renderer.culling_counters();
+    if let Some(c) = culling {
+        assert_eq!(
+            c.dropped, 0,
+            "the frame dropped list entries ({} requested): lists must be sized before the frame",
+            c.requested_entries
+        );
+    }
     let rgba = readback::read_texture_rgba8(&gpu.device, &gpu.queue, &target).expect("readback");
     Frame {
         rgba,

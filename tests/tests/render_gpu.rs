@@ -5,11 +5,13 @@
 
 use std::path::Path;
 
-use renderer::frame::setup::procedural_lights;
+use renderer::frame::setup::{framing_camera, procedural_lights};
 use renderer::frame::{RenderPath, Renderer, RendererConfig};
 use renderer::frame_data::DEFAULT_LIGHT_CUTOFF;
 use renderer::scene::{Scene, SceneLight};
-use tests::frames::{committed_scene, largest_difference, render_frame, render_frame_from};
+use tests::frames::{
+    committed_scene, largest_difference, render_frame, render_frame_from, render_one_frame,
+};
 use tests::gpu::gpu_test;
 
 /// `count` seeded lights with ranges of 5–30% of the scene's size.
@@ -293,5 +295,107 @@ fn lights_without_a_range_get_an_effective_range_that_changes_no_pixel() {
         };
         let error = Renderer::new(gpu, bad).map(|_| ()).unwrap_err().to_string();
         assert!(error.contains("light cutoff NaN"), "{error}");
+    });
+}
+
+/// No frame is wrong after a jump in list size: a clustered renderer that drew 16 small lights
+/// is handed 2,048 lights larger than the scene (128×96 pixels, 8-pixel tiles, MSAA 4: over
+/// four million list entries, more than the index list held before), and that very frame equals
+/// naive forward: the index list is sized from a CPU bound before the frame, not grown after a
+/// frame that dropped entries (`render_one_frame` fails any frame that dropped one).
+#[test]
+fn the_frame_after_a_jump_to_2048_huge_lights_equals_naive() {
+    use renderer::scene::procedural::{COURTYARD_LIGHT_REGION, courtyard};
+    let scene = courtyard();
+    let few = procedural_lights(COURTYARD_LIGHT_REGION, 16, 3, 0.5, 1.0);
+    let size = (COURTYARD_LIGHT_REGION.max - COURTYARD_LIGHT_REGION.min).length();
+    let many = procedural_lights(COURTYARD_LIGHT_REGION, 2048, 4, size * 0.5, size * 2.0);
+    let config = |path| RendererConfig {
+        width: 128,
+        height: 96,
+        msaa: 4,
+        path,
+        tile: 8,
+        ..Default::default()
+    };
+    gpu_test(|gpu| {
+        let camera = framing_camera(scene.bounds, 128.0 / 96.0);
+        let mut clustered = Renderer::new(gpu, config(RenderPath::Clustered)).expect("renderer");
+        clustered.prepare_scene(&scene).expect("scene");
+        clustered.set_lights(&few).expect("lights");
+        let before = render_one_frame(gpu, &mut clustered, &camera);
+        let small = before.culling.expect("counters").requested_entries;
+        clustered.set_lights(&many).expect("lights");
+        let jumped = render_one_frame(gpu, &mut clustered, &camera);
+        let requested = jumped.culling.expect("counters").requested_entries;
+        assert!(
+            requested > 1 << 22 && requested > 100 * small.max(1),
+            "the jump must outgrow any earlier list: {small} then {requested} entries"
+        );
+        let naive = render_frame_from(gpu, &scene, config(RenderPath::Naive), &many, &camera);
+        let worst = largest_difference(&naive.rgba, &jumped.rgba);
+        assert!(
+            worst <= 1,
+            "the frame after the jump differs from naive by {worst}"
+        );
+    });
+}
+
+/// Two coincident surfaces of different colours (two boxes with the same corners, red drawn
+/// before green): naive forward and every path with a depth pre-pass keep the same one, the last
+/// drawn, so each equals the scene with the green box alone, and culled equals naive exactly
+/// there too. The red box alone differs visibly, so a path that kept red would fail.
+#[test]
+fn coincident_surfaces_look_the_same_on_every_path() {
+    use glam::Vec3;
+    use renderer::scene::procedural::SceneBuilder;
+    let build = |boxes: &[Vec3]| {
+        let mut b = SceneBuilder::new();
+        let floor = b.material("floor", Vec3::splat(0.5), 0.8);
+        b.cuboid(Vec3::new(-4.0, -0.1, -4.0), Vec3::new(4.0, 0.0, 4.0), floor);
+        for (i, &color) in boxes.iter().enumerate() {
+            let m = b.material(&format!("box {i}"), color, 0.6);
+            b.cuboid(Vec3::new(-1.0, 0.0, -1.0), Vec3::new(1.0, 1.5, 1.0), m);
+        }
+        b.build()
+    };
+    let (red, green) = (Vec3::new(0.9, 0.02, 0.02), Vec3::new(0.02, 0.9, 0.02));
+    let both = build(&[red, green]);
+    let lights = lights(&both, 32, 5, 0.3, 0.8);
+    let camera = framing_camera(both.bounds, 96.0 / 64.0);
+    gpu_test(|gpu| {
+        let frame = |scene: &Scene, path, msaa| {
+            let config = RendererConfig {
+                width: 96,
+                height: 64,
+                msaa,
+                path,
+                tile: 16,
+                ..Default::default()
+            };
+            render_frame_from(gpu, scene, config, &lights, &camera).rgba
+        };
+        for msaa in [1, 4] {
+            let green_only = frame(&build(&[green]), RenderPath::Naive, msaa);
+            let red_only = frame(&build(&[red]), RenderPath::Naive, msaa);
+            let visible = largest_difference(&green_only, &red_only);
+            assert!(
+                visible > 64,
+                "MSAA {msaa}: the box's colour must show ({visible})"
+            );
+            for path in [
+                RenderPath::Naive,
+                RenderPath::NaivePrez,
+                RenderPath::Tiled,
+                RenderPath::Depth25,
+                RenderPath::Clustered,
+            ] {
+                let worst = largest_difference(&green_only, &frame(&both, path, msaa));
+                assert!(
+                    worst <= 1,
+                    "{path:?}, MSAA {msaa}: differs from the green box alone by {worst}"
+                );
+            }
+        }
     });
 }

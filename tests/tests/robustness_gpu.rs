@@ -9,7 +9,7 @@ use renderer::frame::setup::{create_target, framing_camera, procedural_lights};
 use renderer::frame::{FrameCamera, RenderError, RenderPath, Renderer, RendererConfig};
 use renderer::scene::{Scene, SceneLight};
 use renderer::{GpuContext, GpuOptions};
-use tests::frames::{committed_scene, largest_difference, render_until_complete};
+use tests::frames::{committed_scene, largest_difference, render_one_frame};
 use tests::gpu::gpu_test;
 
 fn lights(scene: &Scene, count: usize, seed: u64) -> Vec<SceneLight> {
@@ -23,7 +23,7 @@ fn camera(scene: &Scene, config: &RendererConfig) -> FrameCamera {
 
 /// The frame of `renderer` from `camera`, once its culled lists are complete.
 fn draw(renderer: &mut Renderer, gpu: &GpuContext, camera: &FrameCamera) -> Vec<u8> {
-    render_until_complete(gpu, renderer, camera).rgba
+    render_one_frame(gpu, renderer, camera).rgba
 }
 
 #[test]

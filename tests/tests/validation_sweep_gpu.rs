@@ -13,7 +13,7 @@ use renderer::frame::{RenderPath, RendererConfig};
 use renderer::particles::{WARMUP_STEPS, builtin_system};
 use renderer::scene::{Scene, SceneLight};
 use renderer::{GpuContext, frame::Renderer};
-use tests::frames::render_until_complete;
+use tests::frames::render_one_frame;
 use tests::gpu::gpu_test;
 
 const WIDTH: u32 = 96;
@@ -102,7 +102,7 @@ fn sweep(gpu: &GpuContext, stage: &Stage) -> usize {
                         .set_particles(p, WARMUP_STEPS)
                         .unwrap_or_else(|e| panic!("{what}: {e}"));
                 }
-                let frame = render_until_complete(gpu, &mut renderer, &camera);
+                let frame = render_one_frame(gpu, &mut renderer, &camera);
                 // A frame that draws nothing would pass validation trivially.
                 let lit = frame
                     .rgba

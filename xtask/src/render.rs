@@ -343,8 +343,8 @@ pub fn difference(a: &[u8], b: &[u8]) -> (f64, u8) {
     (mean, d.get(d.len() * 99 / 100).copied().unwrap_or(0))
 }
 
-/// [`shoot`] with settings of its own (another path or view of the same set-up).
-pub fn shoot_with(s: &Setup, config: RendererConfig, efficiency: bool) -> Result<Shot> {
+/// A renderer of `config` holding the set-up's scene, lights, decals and particles.
+pub fn renderer_for(s: &Setup, config: RendererConfig) -> Result<Renderer> {
     let mut renderer = Renderer::new(&s.gpu, config)?;
     renderer.prepare_scene(&s.scene)?;
     renderer.set_lights(&s.lights)?;
@@ -352,6 +352,12 @@ pub fn shoot_with(s: &Setup, config: RendererConfig, efficiency: bool) -> Result
     if let Some(p) = &s.particles {
         renderer.set_particles(p, WARMUP_STEPS)?;
     }
+    Ok(renderer)
+}
+
+/// [`shoot`] with settings of its own (another path or view of the same set-up).
+pub fn shoot_with(s: &Setup, config: RendererConfig, efficiency: bool) -> Result<Shot> {
+    let mut renderer = renderer_for(s, config)?;
     let target = create_target(&s.gpu.device, &config);
     if efficiency {
         renderer.capture_next_frame(4)?;
@@ -359,6 +365,18 @@ pub fn shoot_with(s: &Setup, config: RendererConfig, efficiency: bool) -> Result
     let mut report = renderer.render(&s.camera, &target)?;
     let timings = renderer.finish();
     let counters = renderer.culling_counters();
+    if let Some(c) = counters {
+        // The renderer sizes its lists before the frame; a drop means they outgrew one storage
+        // binding, and a frame with lights missing is never written.
+        anyhow::ensure!(
+            c.dropped == 0,
+            "light culling dropped {} of {} list entries (the lists outgrow one storage binding \
+             on this device): the frame is not exact and was not written; use the clustered or \
+             2.5D path, a larger tile, smaller radii or fewer lights",
+            c.dropped,
+            c.requested_entries
+        );
+    }
     report.particles = renderer.particle_report();
     let efficiency = match renderer.take_capture()? {
         Some(capture) => {
@@ -500,11 +518,6 @@ pub fn run(args: &Args, default_out: &str) -> Result<()> {
             "culling: {} list entries, longest list {}, {} super-tiles fell back to testing every light, {} entries dropped",
             c.requested_entries, c.max_cell_items, c.coarse_fallbacks, c.dropped
         );
-        if c.dropped > 0 {
-            println!(
-                "WARNING: lights were dropped from some lists this frame: the image is not exact (see above)"
-            );
-        }
     }
     println!(
         "wrote {} and the frame graph {}",

@@ -7,6 +7,7 @@
 //! readback and index-list growth ([`overflow`]), and the independent CPU reference
 //! ([`reference`]) that the kernels are proven against.
 
+pub mod capacity;
 pub mod clustered;
 pub mod hierarchy;
 pub mod lists;

@@ -17,11 +17,12 @@
 /// the lighting plus its emitter's `emissive`, premultiplied by alpha (blend: one, one minus
 /// source alpha).
 ///
-/// Depth: the fragment tests itself against the pre-Z depth (`DEPTH`, or every sample of
-/// `DEPTH_MS` with `msaa`, the passing samples written through the output's sample mask), so
-/// occlusion stays per sample without binding the depth buffer as an attachment while it is
-/// sampled. Soft particles: alpha fades to 0 as the particle's view depth nears the farthest
-/// surface behind it among the passing samples (`soft_distance`; 0 turns the fade off).
+/// Depth: the pipeline's depth test (read-only, `Less`, against the pre-Z depth attached
+/// read-only) keeps occlusion per sample; the same depth buffer is also bound (`DEPTH`, or
+/// `DEPTH_MS` with `msaa`) for the soft fade: alpha fades to 0 as the particle's view depth
+/// nears the farthest surface behind it among the pixel's samples (`soft_distance`; 0 turns the
+/// fade off). No sample mask is written (naga 30 writes the SampleMask built-in as a scalar, which
+/// Vulkan rejects).
 #[shader_dsl::shader(
     axes(
         lit: u32 = [0, 1, 2] => "lit",
@@ -69,8 +70,6 @@ pub mod particle_draw {
     pub struct ParticleOut {
         #[location(0)]
         pub color: Vec4,
-        #[builtin(sample_mask)]
-        pub mask: u32,
     }
 
     #[uniform(group = 0, binding = 0)]
@@ -251,8 +250,7 @@ pub mod particle_draw {
     #[fragment]
     pub fn fs_particle(input: ParticleVarying) -> ParticleOut {
         let visible = visible_samples(input.clip.xy().floor().as_uvec2(), input.view_depth);
-        let mask = visible.mask;
-        if mask == 0u32 {
+        if visible.mask == 0u32 {
             discard();
         }
         let sprite = SPRITES.sample(SPRITE_SAMPLER, input.uv, input.layer);
@@ -271,7 +269,6 @@ pub mod particle_draw {
         let color = input.tint.xyz() * sprite.xyz() * (lighting + input.emissive) * alpha;
         ParticleOut {
             color: color.extend(alpha),
-            mask,
         }
     }
 }

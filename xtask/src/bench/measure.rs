@@ -29,9 +29,6 @@ pub struct FramePlan {
     pub min_frames: u32,
 }
 
-/// Extra warm-up frames at most while the light lists grow after an overflow.
-const MAX_GROWTH_FRAMES: u32 = 16;
-
 /// Sorted samples of one quantity.
 #[derive(Debug, Clone, Default)]
 pub struct Samples(Vec<f64>);
@@ -97,27 +94,11 @@ pub fn measure(
         Ok(report)
     };
     let started = Instant::now();
-    let mut last = None;
     for _ in 0..plan.warmup.max(1) {
-        last = Some(render(renderer, &mut frame)?);
+        render(renderer, &mut frame)?;
         if started.elapsed() > plan.budget / 4 {
             break;
         }
-    }
-    // A list that overflowed grows for the next frame once its counters arrive (a frame or two
-    // later): warm up until a frame reports no drop, so timed frames shade complete lists.
-    let culled = renderer.culler().lists().is_some();
-    for _ in 0..MAX_GROWTH_FRAMES {
-        // Counters arrive a frame or more late: none yet is not yet a clean frame.
-        let clean = last
-            .as_ref()
-            .and_then(|r| r.culling)
-            .is_some_and(|c| c.dropped == 0);
-        if !culled || clean {
-            break;
-        }
-        renderer.wait_for_frames_in_flight(0)?;
-        last = Some(render(renderer, &mut frame)?);
     }
     // Timings of warm-up frames are dropped: everything collected from here on is timed.
     renderer.wait_for_frames_in_flight(0)?;
@@ -171,6 +152,15 @@ pub fn measure(
     if let Some(c) = counters {
         dropped = dropped.max(c.dropped);
     }
+    // The renderer sizes its lists before every frame; a drop means the lists outgrew one
+    // storage binding, and a frame with missing lights is not a frame worth timing.
+    ensure!(
+        dropped == 0,
+        "light culling dropped {dropped} list entries in timed frames ({} requested): the lists \
+         outgrow one storage binding here; use the clustered or 2.5D path, smaller radii or fewer \
+         lights",
+        counters.map_or(0, |c| c.requested_entries)
+    );
     let (passes, total) = per_pass(&timings);
     Ok(Measured {
         passes: passes

@@ -2,7 +2,12 @@
 //! operations (`spirv-val` rejects them in 1.0), otherwise 1.0. No debug info, so the output
 //! does not depend on the build profile.
 //!
+//! naga 30's output goes through [`sample_mask::fix_sample_mask`], which makes the
+//! `SampleMask` built-in the array Vulkan requires, so every variant passes `spirv-val`.
+//!
 //! Must only be given modules that passed [`crate::validate`]; it never validates itself.
+
+mod sample_mask;
 
 use crate::validate::Validated;
 
@@ -12,7 +17,7 @@ pub fn version(subgroup: bool) -> (u8, u8) {
 }
 
 /// Writes all entry points of a validated module as one SPIR-V module.
-pub fn write_vec(v: &Validated, subgroup: bool) -> Result<Vec<u32>, naga::back::spv::Error> {
+pub fn write_vec(v: &Validated, subgroup: bool) -> Result<Vec<u32>, String> {
     let options = naga::back::spv::Options {
         lang_version: version(subgroup),
         flags: naga::back::spv::WriterFlags::ADJUST_COORDINATE_SPACE
@@ -21,5 +26,7 @@ pub fn write_vec(v: &Validated, subgroup: bool) -> Result<Vec<u32>, naga::back::
         fake_missing_bindings: true,
         ..Default::default()
     };
-    naga::back::spv::write_vec(&v.module, &v.info, &options, None)
+    let words = naga::back::spv::write_vec(&v.module, &v.info, &options, None)
+        .map_err(|e| e.to_string())?;
+    sample_mask::fix_sample_mask(&words).map_err(|e| format!("rewriting naga's SPIR-V: {e}"))
 }

@@ -6,7 +6,8 @@
 
 use glam::{UVec3, Vec3};
 
-use super::methods::{CellLists, Method, for_each_surface_sample};
+use super::cell_bounds::for_each_surface_sample;
+use super::cells::{CellLists, Method};
 
 /// Calls `f(x, y, view_position)` for every sample of `depth` that holds a surface.
 pub fn for_each_surface_sample_pub(

@@ -15,18 +15,21 @@
 //! [`exact`] gives, per sample, the lights whose sphere really contains the sample's surface
 //! point, and [`exact::cull_efficiency`] compares the two. [`cull_boxes`] does the same for
 //! decal boxes; a box that contains a sample's point must be in the sample's cell.
+//! [`cone`] finds a spot light's bounding sphere its own way, from the sector the light
+//! reaches, to check the renderer's closed form ([`LightSphere::spot`]).
 
+mod cell_bounds;
+mod cells;
+pub mod cone;
 mod depth;
 pub mod exact;
 mod frustum;
 mod methods;
 
+pub use cells::{Borderline, CellLists, ClusterGrid, Method, SUPER_TILE_PIXELS};
 pub use depth::{DepthBuffer, standard_sample_offset};
 pub use frustum::{Plane, tile_side_planes};
-pub use methods::{
-    Borderline, CellLists, ClusterGrid, Method, SUPER_TILE_PIXELS, cull, cull_boxes,
-    cull_brute_force,
-};
+pub use methods::{cull, cull_boxes, cull_brute_force};
 
 use glam::{Mat4, Vec3, Vec4};
 

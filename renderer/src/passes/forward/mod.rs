@@ -163,11 +163,14 @@ fn pipeline(
             streams: &streams,
             double_sided,
             // With a pre-pass, opaque surfaces are in the depth buffer already and blended ones
-            // test against it; without one, opaque draws write depth themselves.
+            // test against it; without one, opaque draws write depth themselves. Both keep the
+            // last drawn of coincident surfaces (`LessEqual`), so naive equals the pre-pass paths
+            // where surfaces coincide (the pre-pass keeps the nearest depth, and every draw at
+            // that depth passes `LessEqual` after it, the last one's colour staying).
             depth: if prepass || blend {
                 depth_state(false, wgpu::CompareFunction::LessEqual)
             } else {
-                depth_state(true, wgpu::CompareFunction::Less)
+                depth_state(true, wgpu::CompareFunction::LessEqual)
             },
             msaa,
             fragment: Some(("fs_forward", &[Some(target)])),

@@ -1,7 +1,8 @@
 //! The particle draw: camera-facing billboards, back to front (the sorted keys), blended over the
-//! forward pass's HDR colour (its multisampled target under MSAA, resolved again), tested per
-//! sample against the pre-Z depth in the shader and faded against it (soft particles). Lit from the atlas
-//! or, on the reference path, per pixel with the same lights and shadows.
+//! forward pass's HDR colour (its multisampled target under MSAA, resolved again), depth tested
+//! per sample by the pipeline against the pre-Z depth attached read-only, which the shader also
+//! samples to fade against it (soft particles). Lit from the atlas or, on the reference path, per
+//! pixel with the same lights and shadows.
 
 use shaders_gen::particles::particle_draw::{self, Lit, VariantKey};
 
@@ -54,8 +55,11 @@ fn pipeline(device: &wgpu::Device, program: &ShaderProgram, msaa: u32) -> wgpu::
             buffers: &[],
         },
         primitive: wgpu::PrimitiveState::default(),
-        // The fragment tests its samples against the sampled pre-Z depth itself.
-        depth_stencil: None,
+        // Per-sample occlusion by the pre-Z depth, attached read-only (and sampled for the fade).
+        depth_stencil: Some(crate::passes::depth_state(
+            false,
+            wgpu::CompareFunction::Less,
+        )),
         multisample: wgpu::MultisampleState {
             count: msaa,
             ..Default::default()
@@ -120,6 +124,7 @@ impl Pass for ParticleDrawPass {
         pass.read_buffer(particles.simulated, BufferAccess::StorageRead)
             .read_buffer(particles.laid_out, BufferAccess::StorageRead)
             .read_texture(depth, TextureAccess::Sampled)
+            .read_texture(depth, TextureAccess::DepthRead)
             .read_texture(shadows.atlas, TextureAccess::Sampled)
             .write_texture(&mut hdr, TextureAccess::ColorAttachment);
         if let Some(m) = multisampled.as_mut() {
@@ -197,7 +202,11 @@ impl Pass for ParticleDrawPass {
                         store: wgpu::StoreOp::Store,
                     },
                 })],
-                depth_stencil_attachment: None,
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &depth_view,
+                    depth_ops: None,
+                    stencil_ops: None,
+                }),
                 timestamp_writes: None,
                 occlusion_query_set: None,
                 multiview_mask: None,

@@ -1,8 +1,12 @@
 //! Light culling: the tiled / 2.5D or clustered kernel over the pre-Z depth, writing the light
 //! and decal lists of the grid and index list the shading passes read. It owns the culler of the configured path (built
 //! on the first frame and rebuilt when the size, light count, scene or camera range call for
-//! it), reads the overflow counters back asynchronously, and grows the index list after an
-//! overflow. The naive paths have no culling pass.
+//! it), sizes the index list before each frame from a CPU bound of what the frame can request
+//! (`sizing`), so a frame after a jump in light count or camera is exact too, and reads the
+//! counters back asynchronously (an overflow, possible only past one storage binding, is
+//! reported and grows the list). The naive paths have no culling pass.
+
+mod sizing;
 
 use std::sync::Arc;
 
@@ -20,6 +24,10 @@ use crate::frame_data::{
 };
 use crate::graph::{BufferAccess, ImportAccess, RenderGraph, TextureAccess};
 use crate::readback_ring::ReadbackRing;
+
+/// Index-list entries before the first frame; every frame grows the list to its CPU bound
+/// first (`sizing`), so this only saves memory on small frames.
+const INITIAL_INDEX_ENTRIES: u32 = 1 << 16;
 
 /// Depth slices of the clustered path (the kernels' limit, `cull_append::MAX_LISTS`).
 pub const CLUSTER_SLICES: u32 = 32;
@@ -120,7 +128,7 @@ impl LightCullPass {
                 "cull counters readback",
                 2 * CullCounters::WORDS,
             ),
-            index_capacity: max_index_entries(&gpu.device).min(1 << 22),
+            index_capacity: max_index_entries(&gpu.device).min(INITIAL_INDEX_ENTRIES),
             last_counters: None,
         }
     }
@@ -150,11 +158,14 @@ impl LightCullPass {
         let particles = frame.particles.is_some();
         let skip_empty = !has_blend && c.msaa == 1 && !particles;
         let path = culling_path(frame, has_blend);
-        self.ensure_particle_culler(
+        let particle_lists = particles && path.is_culled() && path != RenderPath::Clustered;
+        self.size_index_list(sizing::frame_entry_bound(
             frame,
-            particles && path.is_culled() && path != RenderPath::Clustered,
-            items,
-        )?;
+            path,
+            has_blend,
+            particle_lists,
+        ));
+        self.ensure_particle_culler(frame, particle_lists, items)?;
         let same_size = self.built_for == (c.width, c.height);
         let ok = same_size
             && match (&self.culler, path) {
