@@ -46,7 +46,8 @@ enum Command {
     /// The renderer in a window: fly around (WASD, mouse), switch path, MSAA, tile size and
     /// heatmap, add or remove lights, with per-pass GPU timings on screen.
     View(view::Args),
-    /// Run every check CI runs: formatting, clippy, architecture invariants, all tests.
+    /// Run every check CI runs: formatting, clippy, architecture invariants, spirv-val over every
+    /// shaders_gen variant, all tests.
     Test(test::Args),
     /// Print every GPU adapter with the capabilities this project uses.
     Info(info::Args),

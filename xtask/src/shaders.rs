@@ -53,6 +53,19 @@ enum SpirvVal {
 }
 
 #[expect(clippy::print_stdout, reason = "command-line report")]
+impl Args {
+    /// What `cargo xtask test` runs: every variant written to target/shaders and checked by
+    /// `spirv-val`.
+    pub fn check_all() -> Self {
+        Self {
+            out: None,
+            check: true,
+            module: None,
+            doc: false,
+        }
+    }
+}
+
 pub fn run(args: &Args) -> Result<()> {
     let root = crate::workspace_root();
     let out = args

@@ -1,7 +1,8 @@
 //! `cargo xtask test`: the README's test command, and what CI runs.
 //!
 //! It provisions the system packages the GPU tests need, then runs formatting, clippy, the
-//! architecture invariants and every workspace test (doc tests included), stopping at the first
+//! architecture invariants, `cargo xtask shaders --check` (every shaders_gen variant written and
+//! passed by `spirv-val`) and every workspace test (doc tests included), stopping at the first
 //! failing step. It ends with a one-line `N passed, N failed` summary.
 
 use std::io::{BufRead as _, BufReader};
@@ -36,6 +37,9 @@ pub fn run(args: &Args) -> Result<()> {
         ])
     })?;
     step("architecture invariants", crate::invariants::run)?;
+    step("cargo xtask shaders --check", || {
+        crate::shaders::run(&crate::shaders::Args::check_all())
+    })?;
     let counts = step("cargo test", || cargo_test(&args.cargo_test_args))?;
     println!(
         "xtask test: all steps done in {:.1} s",

@@ -130,10 +130,7 @@ fn retype_variable(module: &mut Module, variable: Word) -> Result<bool, String> 
         for block in &mut function.blocks {
             let mut rewritten = Vec::with_capacity(block.instructions.len());
             for mut instruction in std::mem::take(&mut block.instructions) {
-                let uses = instruction
-                    .operands
-                    .iter()
-                    .any(|o| *o == Operand::IdRef(variable));
+                let uses = instruction.operands.contains(&Operand::IdRef(variable));
                 if uses {
                     let element = bound;
                     bound += 1;

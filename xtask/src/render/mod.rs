@@ -1,7 +1,7 @@
 //! `cargo xtask render`: one frame of a glTF scene with every renderer option on the command
 //! line, written to a PNG, with per-pass GPU timings. `cargo xtask demo` is a preset of it.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use anyhow::{Context as _, Result, bail};
 use glam::Vec3;
@@ -26,6 +26,13 @@ pub const BUILTIN_SCENE: &str = "courtyard";
 use renderer::{GpuContext, GpuOptions, readback};
 
 use crate::bench::matrix::{PathChoice, parse_size};
+
+mod output;
+mod parse;
+
+pub use output::{difference, particle_summary, save_png, save_text, shadow_summary};
+pub(crate) use parse::parse_exposure;
+use parse::{parse_radius_range, parse_vec3};
 
 #[derive(Debug, Clone, clap::Args)]
 pub struct Args {
@@ -331,18 +338,6 @@ pub fn shoot(s: &Setup, view: FrameView, efficiency: bool) -> Result<Shot> {
     shoot_with(s, RendererConfig { view, ..s.config }, efficiency)
 }
 
-/// Per-channel 8-bit differences of two RGBA8 images: mean and 99th percentile.
-pub fn difference(a: &[u8], b: &[u8]) -> (f64, u8) {
-    let mut d: Vec<u8> = a
-        .chunks(4)
-        .zip(b.chunks(4))
-        .flat_map(|(p, q)| (0..3).map(move |c| p[c].abs_diff(q[c])))
-        .collect();
-    let mean = d.iter().map(|&x| f64::from(x)).sum::<f64>() / d.len().max(1) as f64;
-    d.sort_unstable();
-    (mean, d.get(d.len() * 99 / 100).copied().unwrap_or(0))
-}
-
 /// A renderer of `config` holding the set-up's scene, lights, decals and particles.
 pub fn renderer_for(s: &Setup, config: RendererConfig) -> Result<Renderer> {
     let mut renderer = Renderer::new(&s.gpu, config)?;
@@ -404,69 +399,6 @@ pub fn shoot_with(s: &Setup, config: RendererConfig, efficiency: bool) -> Result
         counters,
         efficiency,
     })
-}
-
-/// Writes an RGBA8 image, creating its folder.
-pub fn save_png(out: &Path, rgba: &[u8], (w, h): (u32, u32)) -> Result<()> {
-    if let Some(dir) = out.parent() {
-        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    }
-    image::save_buffer(out, rgba, w, h, image::ExtendedColorType::Rgba8)
-        .with_context(|| format!("writing {}", out.display()))
-}
-
-/// One line on what the shadow pass did.
-pub fn shadow_summary(r: &renderer::shadow::ShadowReport) -> String {
-    let histogram: Vec<String> = r
-        .resolution_histogram
-        .iter()
-        .map(|(side, n)| format!("{n}×{side}²"))
-        .collect();
-    let c = r.cache;
-    format!(
-        "shadows: {} of {} lights shadowed (regions {}), {} degraded, {} evicted{}; regions: {} redrawn, {} copied, {} untouched; {} caster draws",
-        r.shadowed,
-        r.requested,
-        if histogram.is_empty() {
-            "none".into()
-        } else {
-            histogram.join(" ")
-        },
-        r.degraded.len(),
-        r.evicted.len(),
-        if r.repacked { ", atlas repacked" } else { "" },
-        c.redrawn,
-        c.copied,
-        c.untouched,
-        c.draws,
-    )
-}
-
-/// One line on the frame's particles.
-pub fn particle_summary(p: &renderer::frame::ParticleReport) -> String {
-    format!(
-        "particles: {} alive, {} visible, {} births refused (pool full); lighting atlas: {} texels lit{}",
-        p.alive,
-        p.visible,
-        p.starved,
-        p.atlas_cells * 4,
-        if p.atlas_shrink > 0 {
-            format!(
-                ", regions shrunk by {} size class(es) to fit",
-                p.atlas_shrink
-            )
-        } else {
-            String::new()
-        }
-    )
-}
-
-/// Writes a text file, creating its folder.
-pub fn save_text(out: &Path, text: &str) -> Result<()> {
-    if let Some(dir) = out.parent() {
-        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    }
-    std::fs::write(out, text).with_context(|| format!("writing {}", out.display()))
 }
 
 #[expect(clippy::print_stdout, reason = "a command-line report")]
@@ -549,58 +481,4 @@ fn pick_camera(args: &Args, scene: &Scene, aspect: f32) -> Result<FrameCamera> {
         ));
     }
     Ok(default_camera(scene, aspect))
-}
-
-/// Comma-separated finite numbers, exactly `N` of them.
-fn parse_numbers<const N: usize>(s: &str, what: &str) -> Result<[f32; N], String> {
-    let values: Vec<f32> = s
-        .split(',')
-        .map(|v| v.trim().parse::<f32>().ok().filter(|v| v.is_finite()))
-        .collect::<Option<_>>()
-        .ok_or_else(|| format!("{s:?} is not {what}"))?;
-    values
-        .try_into()
-        .map_err(|_| format!("{s:?} is not {what}"))
-}
-
-/// `MIN,MAX` with `0 < MIN <= MAX`.
-fn parse_radius_range(s: &str) -> Result<(f32, f32), String> {
-    let [min, max] = parse_numbers::<2>(s, "MIN,MAX (two numbers, e.g. 0.5,3)")?;
-    if min > 0.0 && min <= max {
-        Ok((min, max))
-    } else {
-        Err(format!("{s:?}: give MIN,MAX with 0 < MIN <= MAX"))
-    }
-}
-
-/// An exposure in stops, within ±16.
-pub(crate) fn parse_exposure(s: &str) -> Result<f32, String> {
-    let [ev] = parse_numbers::<1>(s, "a number of stops (e.g. 0.5 or -1)")?;
-    if ev.abs() <= 16.0 {
-        Ok(ev)
-    } else {
-        Err(format!("{s:?}: give an exposure between -16 and 16 stops"))
-    }
-}
-
-/// `X,Y,Z`.
-fn parse_vec3(s: &str) -> Result<Vec3, String> {
-    parse_numbers::<3>(s, "X,Y,Z (three numbers, e.g. 0,2,5)").map(Vec3::from_array)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn radius_ranges_and_points_parse_as_documented() {
-        assert_eq!(parse_radius_range("50,200"), Ok((50.0, 200.0)));
-        assert_eq!(parse_radius_range(" 0.5 , 3 "), Ok((0.5, 3.0)));
-        for bad in ["50", "50,200,300", "0,1", "2,1", "a,b", "1,inf", ""] {
-            assert!(parse_radius_range(bad).is_err(), "{bad:?} must be refused");
-        }
-        assert_eq!(parse_vec3("0,2,-5"), Ok(Vec3::new(0.0, 2.0, -5.0)));
-        assert!(parse_vec3("1,2").is_err());
-        assert!(parse_vec3("1,2,NaN").is_err());
-    }
 }
