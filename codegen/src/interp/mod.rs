@@ -81,6 +81,8 @@ mod texture;
 mod value;
 
 #[cfg(test)]
+mod dispatch_subgroup_tests;
+#[cfg(test)]
 mod dispatch_tests;
 #[cfg(test)]
 mod exec_tests;

@@ -5,7 +5,7 @@
 use glam::UVec2;
 use wgpu::util::DeviceExt as _;
 
-use super::hierarchy::ITEM_TYPES;
+use shaders_gen::culling::cull_prepare::ITEM_TYPES;
 use crate::{GpuContext, GpuError, readback};
 
 /// Word written past the index capacity, to prove kernels never write there.

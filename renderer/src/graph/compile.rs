@@ -214,6 +214,10 @@ fn lifetimes_and_usage(
     let mut usages: Vec<Usage> = resources
         .iter()
         .map(|r| match r.desc {
+            // wgpu creates multisampled textures only as render attachments, whatever their use.
+            ResourceDesc::Texture(t) if t.sample_count > 1 => {
+                Usage::Texture(wgpu::TextureUsages::RENDER_ATTACHMENT)
+            }
             ResourceDesc::Texture(_) => Usage::Texture(wgpu::TextureUsages::empty()),
             ResourceDesc::Buffer(_) => Usage::Buffer(wgpu::BufferUsages::empty()),
         })

@@ -1,12 +1,22 @@
-//! The CPU reference simulation: the same emitters, schedule and seed as the GPU, stepped on
-//! the host with plain f32 maths. Tests compare the two particle by particle, matched by
-//! identity (emitter, spawn index), since the GPU puts particles in whatever slot is free.
+//! The CPU reference simulation: the same emitters and seed as the GPU, stepped on the host with
+//! plain f32 maths. Tests compare the two particle by particle, matched by identity (emitter,
+//! spawn index), since the GPU puts particles in whatever slot is free.
+//!
+//! The birth schedule is the reference's own, written from the emitter's documented semantics
+//! (not from `schedule::spawn_batches`, which the GPU path uses): the clock advances by one
+//! fixed step of `1/60` s (as an `f32`, the step particles age by) per step; an emitter of
+//! `rate` births a second has borne `⌊rate · t⌋` particles by time `t` (in `f64`), so step `n`
+//! bears spawn indices `⌊rate · n · step⌋ .. ⌊rate · (n + 1) · step⌋`, numbered from 0 per
+//! emitter; within a step, emitters bear in list order and each in index order, and once the
+//! pool is full every later birth of the step is refused and counted.
 
 use glam::Vec3;
 
 use super::random::random;
-use super::schedule::{FIXED_STEP, spawn_batches};
 use super::{Emitter, ParticleSystem};
+
+/// One step, seconds: 60 steps a second.
+const STEP: f32 = 1.0 / 60.0;
 
 /// One live particle.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -25,6 +35,8 @@ pub struct CpuParticle {
 pub struct CpuSimulation {
     system: ParticleSystem,
     steps: u64,
+    /// Particles each emitter has borne (or had refused) so far: its next spawn index.
+    borne: Vec<u32>,
     /// Live particles, in birth order.
     pub particles: Vec<CpuParticle>,
     /// Births refused because the pool was full.
@@ -75,6 +87,7 @@ fn born(seed: u32, e: &Emitter, emitter: u32, index: u32) -> CpuParticle {
 impl CpuSimulation {
     pub fn new(system: ParticleSystem) -> Self {
         Self {
+            borne: vec![0; system.emitters.len()],
             system,
             steps: 0,
             particles: Vec::new(),
@@ -85,7 +98,7 @@ impl CpuSimulation {
     /// One fixed step: age and move the live particles and drop the dead, then bear this
     /// step's births (they first move in the next step).
     pub fn step(&mut self) {
-        let dt = FIXED_STEP;
+        let dt = STEP;
         let emitters = &self.system.emitters;
         for p in &mut self.particles {
             let e = &emitters[p.emitter as usize];
@@ -94,16 +107,19 @@ impl CpuSimulation {
             p.age += dt;
         }
         self.particles.retain(|p| p.age < p.lifetime);
-        for b in spawn_batches(emitters, self.steps) {
-            for k in 0..b.count {
+        // Births due by the end of this step: ⌊rate · t⌋ at t = (n + 1) steps for step n.
+        let t = (self.steps + 1) as f64 * f64::from(STEP);
+        for (i, e) in emitters.iter().enumerate() {
+            let due = (f64::from(e.rate) * t).floor() as u32;
+            for index in self.borne[i]..due {
                 if self.particles.len() < self.system.capacity as usize {
-                    let e = &emitters[b.emitter as usize];
-                    let p = born(self.system.seed, e, b.emitter, b.first_index + k);
+                    let p = born(self.system.seed, e, i as u32, index);
                     self.particles.push(p);
                 } else {
                     self.starved += 1;
                 }
             }
+            self.borne[i] = self.borne[i].max(due);
         }
         self.steps += 1;
     }
@@ -136,6 +152,54 @@ mod tests {
         let falling = sim.particles.iter().filter(|p| p.velocity.y < 0.0).count();
         assert!(falling > 0, "gravity pulls sparks down");
         assert_eq!(sim.starved, 0);
+    }
+
+    /// The reference's births per step and emitter, as `(emitter, first index, count)`.
+    fn reference_births(emitters: &[Emitter], steps: u64) -> Vec<Vec<(u32, u32, u32)>> {
+        let mut sim = CpuSimulation::new(ParticleSystem {
+            emitters: emitters.to_vec(),
+            capacity: u32::MAX,
+            seed: 1,
+        });
+        (0..steps)
+            .map(|_| {
+                let before = sim.borne.clone();
+                sim.step();
+                (0..emitters.len())
+                    .filter(|&i| sim.borne[i] > before[i])
+                    .map(|i| (i as u32, before[i], sim.borne[i] - before[i]))
+                    .collect()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_reference_schedule_equals_the_gpu_schedule() {
+        // Whole, fractional, slow (one birth every two seconds) and fast rates.
+        let rates = [90.0, 30.0, 0.5, 33.3, 7.25, 1000.0];
+        let emitters: Vec<Emitter> = rates.iter().map(|&r| sparks(Vec3::ZERO, r)).collect();
+        let steps = 1200;
+        let reference = reference_births(&emitters, steps);
+        for (step, births) in reference.iter().enumerate() {
+            let gpu: Vec<(u32, u32, u32)> =
+                crate::particles::schedule::spawn_batches(&emitters, step as u64)
+                    .iter()
+                    .map(|b| (b.emitter, b.first_index, b.count))
+                    .collect();
+            assert_eq!(&gpu, births, "step {step}");
+        }
+        // Twenty seconds: every emitter has borne twenty seconds of its rate.
+        let totals: Vec<u32> = (0..rates.len())
+            .map(|i| {
+                reference
+                    .iter()
+                    .flatten()
+                    .filter(|b| b.0 == i as u32)
+                    .map(|b| b.2)
+                    .sum()
+            })
+            .collect();
+        assert_eq!(totals, [1800, 600, 10, 666, 145, 20000]);
     }
 
     #[test]

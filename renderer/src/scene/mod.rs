@@ -8,6 +8,7 @@ mod error;
 mod gpu;
 mod limits;
 mod load;
+mod load_checks;
 pub mod procedural;
 mod resources;
 mod tangents;

@@ -18,7 +18,7 @@
 /// source alpha).
 ///
 /// Depth: the pipeline's depth test (read-only, `Less`, against the pre-Z depth attached
-/// read-only) keeps occlusion per sample; the same depth buffer is also bound (`DEPTH`, or
+/// read-only) keeps occlusion per sample; a copy of that depth is bound (`DEPTH`, or
 /// `DEPTH_MS` with `msaa`) for the soft fade: alpha fades to 0 as the particle's view depth
 /// nears the farthest surface behind it among the pixel's samples (`soft_distance`; 0 turns the
 /// fade off). No sample mask is written (naga 30 writes the SampleMask built-in as a scalar, which

@@ -8,6 +8,7 @@
 mod expr;
 mod options;
 mod source_map;
+mod stmt;
 mod writer;
 
 pub use options::Options;

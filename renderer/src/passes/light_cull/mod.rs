@@ -159,12 +159,10 @@ impl LightCullPass {
         let skip_empty = !has_blend && c.msaa == 1 && !particles;
         let path = culling_path(frame, has_blend);
         let particle_lists = particles && path.is_culled() && path != RenderPath::Clustered;
-        self.size_index_list(sizing::frame_entry_bound(
-            frame,
-            path,
-            has_blend,
-            particle_lists,
-        ));
+        let bound =
+            sizing::frame_entry_bound(frame, path, has_blend, particle_lists, CLUSTER_SLICES);
+        let limit = max_index_entries(&self.gpu.device);
+        self.index_capacity = sizing::grown_capacity(bound, self.index_capacity, limit);
         self.ensure_particle_culler(frame, particle_lists, items)?;
         let same_size = self.built_for == (c.width, c.height);
         let ok = same_size

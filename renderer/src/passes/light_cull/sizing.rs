@@ -5,25 +5,21 @@
 use crate::culling::capacity::{GridView, ListLayout, entry_bound};
 use crate::frame_data::{FrameInputs, RenderPath};
 
-use super::{CLUSTER_SLICES, LightCullPass};
-use crate::culling::max_index_entries;
-
-impl LightCullPass {
-    /// Grows the index list to hold `bound` entries (as a power of two, up to one storage
-    /// binding) before the frame that needs them; it never shrinks.
-    pub(super) fn size_index_list(&mut self, bound: u64) {
-        if bound <= u64::from(self.index_capacity) {
-            return;
-        }
-        let limit = max_index_entries(&self.gpu.device);
-        if bound > u64::from(limit) {
-            log::warn!(
-                "this frame's light and decal lists may need up to {bound} entries, more than one                  storage binding holds ({limit}); entries past it are dropped and reported"
-            );
-        }
-        let grown = u32::try_from(bound.next_power_of_two()).unwrap_or(u32::MAX);
-        self.index_capacity = grown.min(limit).max(self.index_capacity);
+/// The index-list capacity for a frame that may need `bound` entries, holding `current` now,
+/// where one storage binding holds `limit`: `bound` as a power of two, up to `limit`; never less
+/// than `current`. Warns when `bound` passes `limit` (entries past it are dropped and reported).
+pub(super) fn grown_capacity(bound: u64, current: u32, limit: u32) -> u32 {
+    if bound <= u64::from(current) {
+        return current;
     }
+    if bound > u64::from(limit) {
+        log::warn!(
+            "this frame's light and decal lists may need up to {bound} entries, more than one \
+             storage binding holds ({limit}); entries past it are dropped and reported"
+        );
+    }
+    let grown = u32::try_from(bound.next_power_of_two()).unwrap_or(u32::MAX);
+    grown.min(limit).max(current)
 }
 
 /// The most entries one frame's lists can take: those of `path`'s culler (with a blended list
@@ -34,6 +30,7 @@ pub(super) fn frame_entry_bound(
     path: RenderPath,
     blended: bool,
     particle_lists: bool,
+    slices: u32,
 ) -> u64 {
     let c = &frame.config;
     let grid = GridView {
@@ -44,7 +41,7 @@ pub(super) fn frame_entry_bound(
         tile: c.tile,
     };
     let clustered = ListLayout::Clustered {
-        slices: CLUSTER_SLICES,
+        slices,
         near: frame.camera.near,
         far: frame.camera.far,
     };

@@ -1,8 +1,10 @@
 //! The particle draw: camera-facing billboards, back to front (the sorted keys), blended over the
 //! forward pass's HDR colour (its multisampled target under MSAA, resolved again), depth tested
-//! per sample by the pipeline against the pre-Z depth attached read-only, which the shader also
-//! samples to fade against it (soft particles). Lit from the atlas or, on the reference path, per
-//! pixel with the same lights and shadows.
+//! per sample by the pipeline against the pre-Z depth attached read-only, and faded against a copy
+//! of it the shader samples (soft particles; sampling the attached depth itself would make its
+//! end-of-pass store a write after the shader's read, a hazard Vulkan's synchronization
+//! validation reports). Lit from the atlas or, on the reference path, per pixel with the same
+//! lights and shadows.
 
 use shaders_gen::particles::particle_draw::{self, Lit, VariantKey};
 
@@ -10,7 +12,7 @@ use crate::GpuContext;
 use crate::frame_data::{
     FrameInputs, FrameResources, HDR_FORMAT, ParticleLighting, RenderError, RendererConfig,
 };
-use crate::graph::{BufferAccess, RenderGraph, TextureAccess};
+use crate::graph::{BufferAccess, RenderGraph, TextureAccess, TextureDesc};
 use crate::passes::Pass;
 use crate::shader::ShaderProgram;
 
@@ -120,10 +122,29 @@ impl Pass for ParticleDrawPass {
         } else {
             None
         };
+        let c = &frame.config;
+        let mut fade_depth = graph.create_texture(
+            "particle fade depth",
+            TextureDesc::new_2d(c.width, c.height, crate::frame_data::DEPTH_FORMAT)
+                .with_samples(c.msaa),
+        );
+        graph
+            .add_pass("particle fade depth")
+            .read_texture(depth, TextureAccess::CopySrc)
+            .write_texture(&mut fade_depth, TextureAccess::CopyDst)
+            .execute(move |ctx| {
+                let from = ctx.texture(depth).clone();
+                let to = ctx.texture(fade_depth).clone();
+                ctx.encoder.copy_texture_to_texture(
+                    from.as_image_copy(),
+                    to.as_image_copy(),
+                    from.size(),
+                );
+            });
         let mut pass = graph.add_pass(self.name());
         pass.read_buffer(particles.simulated, BufferAccess::StorageRead)
             .read_buffer(particles.laid_out, BufferAccess::StorageRead)
-            .read_texture(depth, TextureAccess::Sampled)
+            .read_texture(fade_depth, TextureAccess::Sampled)
             .read_texture(depth, TextureAccess::DepthRead)
             .read_texture(shadows.atlas, TextureAccess::Sampled)
             .write_texture(&mut hdr, TextureAccess::ColorAttachment);
@@ -142,16 +163,18 @@ impl Pass for ParticleDrawPass {
         let lights = std::sync::Arc::clone(&frame.lights);
         let p = particles;
         pass.execute(move |ctx| {
-            let depth_texture = ctx.texture(depth);
-            let depth_view = depth_texture.create_view(&wgpu::TextureViewDescriptor {
-                aspect: wgpu::TextureAspect::DepthOnly,
-                ..Default::default()
-            });
+            let depth_view = ctx.texture(depth).create_view(&Default::default());
+            let fade_view = ctx
+                .texture(fade_depth)
+                .create_view(&wgpu::TextureViewDescriptor {
+                    aspect: wgpu::TextureAspect::DepthOnly,
+                    ..Default::default()
+                });
             let mut frame_entries = vec![
                 (0, p.view.as_entire_binding()),
                 (1, lights.punctual_buffer.as_entire_binding()),
                 (2, lights.directional_buffer.as_entire_binding()),
-                (5, wgpu::BindingResource::TextureView(&depth_view)),
+                (5, wgpu::BindingResource::TextureView(&fade_view)),
             ];
             if let Some(l) = &lists {
                 frame_entries.push((3, ctx.buffer(l.grid).as_entire_binding()));

@@ -1,0 +1,217 @@
+//! The cache's decisions over frames: nothing to do when nothing changed, recomposition for
+//! moving dynamic casters and redraws for moving static ones, moved and vanished regions,
+//! uncached frames, and incremental culling equal to culling afresh.
+
+use glam::Vec3;
+
+use super::*;
+use crate::shadow::views::cube_views;
+
+/// A small seeded generator (a 64-bit LCG), uniform floats in `[lo, hi)`.
+struct Lcg(u64);
+
+impl Lcg {
+    fn next(&mut self) -> u64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        self.0 >> 33
+    }
+
+    fn range(&mut self, lo: f32, hi: f32) -> f32 {
+        lo + (hi - lo) * (self.next() as f32 / (1u64 << 31) as f32)
+    }
+}
+
+/// The six faces of a point light at the origin with range 10, side by side.
+fn faces() -> Vec<RegionInput> {
+    cube_views(Vec3::ZERO, 10.0, 256, 2)
+        .iter()
+        .enumerate()
+        .map(|(face, view)| RegionInput {
+            key: RegionKey {
+                light: 0,
+                face: face as u32,
+            },
+            rect: AtlasRect {
+                x: face as u32 * 256,
+                y: 0,
+                side: 256,
+            },
+            view: *view,
+        })
+        .collect()
+}
+
+fn cube_at(draw: u32, centre: Vec3, dynamic: bool, version: u64) -> Caster {
+    Caster {
+        draw,
+        bounds: Aabb {
+            min: centre - 0.5,
+            max: centre + 0.5,
+        },
+        dynamic,
+        version,
+    }
+}
+
+/// A floor under the light, a static box on +X and a dynamic box on −X.
+fn casters() -> Vec<Caster> {
+    vec![
+        Caster {
+            draw: 0,
+            bounds: Aabb {
+                min: Vec3::new(-8.0, -3.0, -8.0),
+                max: Vec3::new(8.0, -2.0, 8.0),
+            },
+            dynamic: false,
+            version: 0,
+        },
+        cube_at(1, Vec3::new(4.0, 0.0, 0.0), false, 0),
+        cube_at(2, Vec3::new(-4.0, 0.0, 0.0), true, 0),
+    ]
+}
+
+fn counts(plans: &[RegionPlan]) -> CacheCounts {
+    CacheCounts::of(plans)
+}
+
+#[test]
+fn an_unchanged_frame_leaves_every_region_untouched() {
+    let mut cache = ShadowCache::default();
+    let first = cache.plan(&faces(), &casters(), true);
+    assert_eq!(counts(&first).redrawn, 6, "a new region is drawn");
+    let second = cache.plan(&faces(), &casters(), true);
+    assert_eq!(
+        counts(&second),
+        CacheCounts {
+            untouched: 6,
+            ..Default::default()
+        }
+    );
+}
+
+#[test]
+fn a_moving_dynamic_caster_recomposes_only_the_faces_it_reaches() {
+    let mut cache = ShadowCache::default();
+    cache.plan(&faces(), &casters(), true);
+    let mut moved = casters();
+    // From −X to −Z: the −X face (1) loses it and the −Z face (5) gains it.
+    moved[2] = cube_at(2, Vec3::new(0.0, 0.0, -4.0), true, 1);
+    let plans = cache.plan(&faces(), &moved, true);
+    let composed: Vec<u32> = plans
+        .iter()
+        .filter(|p| p.work != RegionWork::Untouched)
+        .map(|p| p.region.key.face)
+        .collect();
+    assert_eq!(composed, [1, 5]);
+    for p in &plans {
+        if let RegionWork::Compose {
+            redraw_static,
+            dynamic_casters,
+            ..
+        } = &p.work
+        {
+            assert!(!redraw_static, "static depth stays cached");
+            let reaches = p.region.key.face == 5;
+            assert_eq!(dynamic_casters.contains(&2), reaches);
+        }
+    }
+}
+
+#[test]
+fn a_moving_static_caster_redraws_the_static_depth_it_reaches() {
+    let mut cache = ShadowCache::default();
+    cache.plan(&faces(), &casters(), true);
+    let mut moved = casters();
+    moved[1] = cube_at(1, Vec3::new(4.0, 0.5, 0.0), false, 1);
+    let plans = cache.plan(&faces(), &moved, true);
+    let redrawn: Vec<u32> = plans
+        .iter()
+        .filter(|p| {
+            matches!(
+                p.work,
+                RegionWork::Compose {
+                    redraw_static: true,
+                    ..
+                }
+            )
+        })
+        .map(|p| p.region.key.face)
+        .collect();
+    assert_eq!(redrawn, [0], "only the +X face sees the box");
+}
+
+#[test]
+fn a_moved_region_or_view_is_redrawn_and_a_vanished_one_forgotten() {
+    let mut cache = ShadowCache::default();
+    let mut regions = faces();
+    cache.plan(&regions, &casters(), true);
+    regions[3].rect.x += 1;
+    regions[4].view = cube_views(Vec3::X * 0.1, 10.0, 256, 2)[4];
+    let plans = cache.plan(&regions[..5], &casters(), true);
+    assert_eq!(counts(&plans).redrawn, 2);
+    assert_eq!(counts(&plans).untouched, 3);
+    let back = cache.plan(&regions, &casters(), true);
+    assert_eq!(
+        counts(&back).redrawn,
+        1,
+        "face 5 was forgotten, so it is new"
+    );
+}
+
+#[test]
+fn uncached_frames_draw_every_region_with_what_reaches_it() {
+    let mut cache = ShadowCache::default();
+    for _ in 0..2 {
+        let plans = cache.plan(&faces(), &casters(), false);
+        assert_eq!(counts(&plans).redrawn, 6);
+        let down = &plans[3].work;
+        assert_eq!(
+            down,
+            &RegionWork::Direct { casters: vec![0] },
+            "−Y sees the floor"
+        );
+    }
+}
+
+/// Random motions over many frames: the incrementally culled lists always equal culling
+/// every caster afresh.
+#[test]
+fn incremental_culling_equals_culling_afresh() {
+    let mut rng = Lcg(7);
+    let regions = faces();
+    let mut casters: Vec<Caster> = (0..40)
+        .map(|i| {
+            let p = Vec3::new(
+                rng.range(-12.0, 12.0),
+                rng.range(-12.0, 12.0),
+                rng.range(-12.0, 12.0),
+            );
+            cube_at(i, p, i % 3 == 0, 0)
+        })
+        .collect();
+    let mut incremental = ShadowCache::default();
+    for frame in 0..60 {
+        for _ in 0..(frame % 4) {
+            let i = (rng.next() % casters.len() as u64) as usize;
+            let c = &mut casters[i];
+            let step = Vec3::new(rng.range(-3.0, 3.0), rng.range(-3.0, 3.0), 0.0);
+            c.bounds = Aabb {
+                min: c.bounds.min + step,
+                max: c.bounds.max + step,
+            };
+            c.version += 1;
+        }
+        incremental.plan(&regions, &casters, true);
+        for r in &regions {
+            let fresh = reaching(r, None, &casters, None);
+            assert_eq!(
+                incremental.regions[&r.key].reaching, fresh,
+                "frame {frame}, face {}",
+                r.key.face
+            );
+        }
+    }
+}
