@@ -296,6 +296,41 @@ pub fn compare_with_ray_cast(
     out
 }
 
+/// Asserts that no compared pixel disagrees and that enough pixels of each kind were compared.
+/// Disagreements of a point light list how close each lies to a cube face edge
+/// ([`cube_edge_closeness`], 0 on the edge).
+pub fn assert_agrees(name: &str, light: &SceneLight, cmp: &Comparison) {
+    let bad: Vec<String> = cmp
+        .disagreements()
+        .iter()
+        .map(|c| {
+            let seam =
+                (light.kind == LightKind::Point).then(|| cube_edge_closeness(c.p - light.position));
+            format!(
+                "({}, {}) at {:.3} reference {} visibility {:.2}{}",
+                c.x,
+                c.y,
+                c.p,
+                if c.reference_lit { "lit" } else { "unlit" },
+                c.visibility,
+                seam.map_or(String::new(), |s| format!(" face-edge closeness {s:.4}"))
+            )
+        })
+        .collect();
+    assert!(
+        bad.is_empty(),
+        "{name}: {} pixels disagree with the ray cast:\n{}",
+        bad.len(),
+        bad.join("\n")
+    );
+    assert!(
+        cmp.lit() > 300 && cmp.shadowed() > 300,
+        "{name}: too few pixels compared ({} lit, {} shadowed)",
+        cmp.lit(),
+        cmp.shadowed()
+    );
+}
+
 /// How close direction `d` (from a point light) lies to an edge of its cube face: the major
 /// axis's magnitude minus the second largest, over the major's. 0 on a face edge (and at a
 /// corner), 1 on a face's axis.

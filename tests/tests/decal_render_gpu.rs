@@ -2,7 +2,12 @@
 //! decals (rotated, tiny, huge, overlapping, fading) and lights, every culled path equals the
 //! naive image, which applies every decal at every pixel. Layers follow the sort key. Decals
 //! reach blended surfaces, and never a surface outside their box (the stage's CPU ray cast says
-//! which pixels show a surface inside a box).
+//! which pixels show a surface inside a box). And each channel lands where an independent CPU
+//! projection puts it: a decal whose base colour, normal and occlusion-roughness-metalness images
+//! are three different asymmetric letters (`tests::decal_letters`), on the naive, clustered and
+//! TBDR paths; every pixel is checked but a band about a pixel and half a texel wide along each
+//! edge. A mirrored (u → 1 − u) or rotated (u, v swapped) projection and normal and ORM maps
+//! read from each other's textures each failed it (mutations in `shared::decal_apply`).
 
 use glam::{Mat4, Quat, Vec3};
 use renderer::decals::placement::scatter;
@@ -308,6 +313,121 @@ fn decals_reach_blended_surfaces_and_never_leak_outside_their_boxes() {
                 ),
                 Reach::Edge => {}
             }
+        }
+    }
+}
+
+/// The letter frames of one path: with no decal, then with the letter decal (every letter, and
+/// each of the base-colour and occlusion-roughness-metalness letters erased) lit by ambient
+/// light only, then (every letter, the normal letter erased) with a grazing light added.
+fn letter_frames(path: RenderPath, msaa: u32) -> [Vec<u8>; 6] {
+    use renderer::decals::Channel;
+    use tests::decal_letters::{self as letters, HEIGHT, WIDTH};
+    let config = RendererConfig {
+        width: WIDTH,
+        height: HEIGHT,
+        msaa,
+        path,
+        tile: 16,
+        ambient: Vec3::splat(0.5),
+        ..Default::default()
+    };
+    let scene = letters::scene();
+    let camera = letters::camera();
+    let set = |erased| DecalSet {
+        materials: vec![letters::material(erased)],
+        decals: vec![letters::decal()],
+    };
+    let dark: &[SceneLight] = &[];
+    let lit = [letters::grazing_light()];
+    let frames = [
+        (dark, DecalSet::default()),
+        (dark, set(None)),
+        (dark, set(Some(Channel::BaseColor))),
+        (dark, set(Some(Channel::Orm))),
+        (&lit[..], set(None)),
+        (&lit[..], set(Some(Channel::Normal))),
+    ];
+    gpu_test(|gpu| {
+        frames.map(|(lights, decals)| {
+            let frame = render_frame_with(gpu, &scene, config, lights, &decals, &camera);
+            assert_eq!(frame.culling.map_or(0, |c| c.dropped), 0);
+            frame.rgba
+        })
+    })
+}
+
+fn luma(p: [u8; 3]) -> f32 {
+    0.2126 * f32::from(p[0]) + 0.7152 * f32::from(p[1]) + 0.0722 * f32::from(p[2])
+}
+
+#[test]
+fn each_channel_of_a_lettered_decal_lands_where_the_cpu_projection_puts_its_letter() {
+    use tests::decal_letters::{self as letters, Coverage, F, FOUR, Glyph, HEIGHT, R, WIDTH};
+    // (what, glyph (None: the box), frames compared (with, without), the change ink must show).
+    type Change = fn([u8; 3], [u8; 3]) -> bool;
+    type Check = (&'static str, Option<&'static Glyph>, (usize, usize), Change);
+    let checks: [Check; 4] = [
+        // The decal (blue paper, red ink) replaces the grey floor inside the box.
+        ("box", None, (1, 0), |a, b| {
+            a.iter().zip(b).any(|(x, y)| x.abs_diff(y) >= 24)
+        }),
+        // Red ink on blue paper, under ambient light.
+        ("base colour F", Some(&F), (1, 2), |a, b| {
+            a[0] >= b[0] + 24 && a[2] + 24 <= b[2]
+        }),
+        // Occlusion 0.35: the ambient term darker in every channel.
+        ("occlusion 4", Some(&FOUR), (1, 3), |a, b| {
+            a.iter().zip(b).all(|(x, y)| *x <= y) && a.iter().zip(b).any(|(x, y)| x + 24 <= y)
+        }),
+        // Normals tilted towards a grazing light: brighter.
+        ("normal R", Some(&R), (4, 5), |a, b| {
+            luma(a) >= luma(b) + 20.0
+        }),
+    ];
+    let coverage: Vec<Vec<Coverage>> = checks
+        .iter()
+        .map(|&(_, glyph, _, _)| {
+            (0..HEIGHT)
+                .flat_map(|y| (0..WIDTH).map(move |x| letters::coverage(glyph, x, y)))
+                .collect()
+        })
+        .collect();
+    for (path, msaa) in [
+        (RenderPath::Naive, 1),
+        (RenderPath::Clustered, 4),
+        (RenderPath::Tbdr, 4),
+    ] {
+        let frames = letter_frames(path, msaa);
+        let at = |frame: usize, i: usize| {
+            let p = &frames[frame][i * 4..i * 4 + 3];
+            [p[0], p[1], p[2]]
+        };
+        for ((what, _, (with, without), changed), cover) in checks.iter().zip(&coverage) {
+            let (mut ink, mut clear) = (0, 0);
+            for (i, c) in cover.iter().enumerate() {
+                let (x, y) = (i as u32 % WIDTH, i as u32 / WIDTH);
+                let (a, b) = (at(*with, i), at(*without, i));
+                match c {
+                    Coverage::Ink => {
+                        ink += 1;
+                        assert!(
+                            changed(a, b),
+                            "{path:?}: {what}: ({x}, {y}) lies on ink, yet {b:?} -> {a:?}"
+                        );
+                    }
+                    Coverage::Clear => {
+                        clear += 1;
+                        assert_eq!(
+                            a, b,
+                            "{path:?}: {what}: ({x}, {y}) lies off the letter, yet changed"
+                        );
+                    }
+                    Coverage::Band => {}
+                }
+            }
+            eprintln!("{path:?} {what}: {ink} ink and {clear} clear pixels checked");
+            assert!(ink >= 400, "{what}: only {ink} ink pixels");
         }
     }
 }

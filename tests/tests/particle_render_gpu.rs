@@ -1,6 +1,9 @@
 //! Particles end to end through the renderer: smoke lit once per frame into the lighting atlas
 //! and drawn from it looks like the same smoke lit per pixel, on every path and at MSAA 1 and 4;
-//! a wrong atlas mapping (each particle sampling another's region) is caught.
+//! a wrong atlas mapping (each particle sampling another's region) is caught. The statistics
+//! run over the smoke pixels only (those a frame with particles changes), each of them bounded;
+//! off the smoke the frames must be equal. `particle_light_reference_gpu.rs` checks the lighting
+//! itself against an independent CPU evaluation.
 
 use renderer::frame::setup::create_target;
 use renderer::frame::{
@@ -52,26 +55,59 @@ fn config(path: RenderPath, msaa: u32, lighting: ParticleLighting) -> RendererCo
     }
 }
 
-/// Per-channel differences of two RGBA8 images: (mean, 99th percentile, largest).
-fn difference_stats(a: &[u8], b: &[u8]) -> (f64, u8, u8) {
-    let mut d: Vec<u8> = a
-        .chunks(4)
-        .zip(b.chunks(4))
-        .flat_map(|(p, q)| (0..3).map(move |c| p[c].abs_diff(q[c])))
-        .collect();
-    let mean = d.iter().map(|&x| f64::from(x)).sum::<f64>() / d.len() as f64;
-    d.sort_unstable();
-    (mean, d[d.len() * 99 / 100], d[d.len() - 1])
+/// Smoke pixels: those where a frame with particles (`lit`, either lighting) differs from the
+/// frame without them in any channel.
+fn smoke_pixels(lit: &[&[u8]], bare: &[u8]) -> Vec<bool> {
+    (0..bare.len() / 4)
+        .map(|i| {
+            let px = 4 * i..4 * i + 3;
+            lit.iter().any(|img| img[px.clone()] != bare[px.clone()])
+        })
+        .collect()
 }
 
-/// The tolerance of atlas against per-pixel lighting, in 8-bit steps after tonemapping: the
-/// mean over all channels and the 99th percentile. Lighting is low-frequency over a particle
-/// (smooth falloff, half-Lambert wrap, no specular), so a region of 2–32 texels sampled with a
-/// B-spline holds it to within a few steps; what differs is the curvature of the falloff of a
-/// light very near a puff and shadow edges across it, which the atlas resolves at texel size.
-/// Measured on lavapipe: mean 0.08, 99th percentile 2, largest 7.
-const MEAN_TOLERANCE: f64 = 0.5;
-const P99_TOLERANCE: u8 = 4;
+/// Per-channel differences of two RGBA8 images over the smoke pixels: (mean, 99th percentile,
+/// largest), and the largest difference anywhere off the smoke.
+fn difference_stats(a: &[u8], b: &[u8], smoke: &[bool]) -> (f64, u8, u8, u8) {
+    let mut d = vec![];
+    let mut off_smoke = 0;
+    for (i, (p, q)) in a.chunks(4).zip(b.chunks(4)).enumerate() {
+        for c in 0..3 {
+            let x = p[c].abs_diff(q[c]);
+            if smoke[i] {
+                d.push(x);
+            } else {
+                off_smoke = off_smoke.max(x);
+            }
+        }
+    }
+    let mean = d.iter().map(|&x| f64::from(x)).sum::<f64>() / d.len().max(1) as f64;
+    d.sort_unstable();
+    let at = |k: usize| d.get(k).copied().unwrap_or(0);
+    (
+        mean,
+        at(d.len() * 99 / 100),
+        at(d.len().saturating_sub(1)),
+        off_smoke,
+    )
+}
+
+/// The tolerance of atlas against per-pixel lighting, in 8-bit steps after tonemapping, over
+/// the smoke pixels only (the pixels either frame changes from the frame without particles):
+/// the mean over their channels, the 99th percentile, and a maximum for every smoke pixel; off
+/// the smoke the two frames must be equal. Lighting is low-frequency over a particle (smooth
+/// falloff, half-Lambert wrap, no specular), so a region of 2–32 texels sampled with a B-spline
+/// holds it to within a few steps; what differs is the curvature of the falloff of a light very
+/// near a puff and shadow edges across it, which the atlas resolves at texel size. Measured on
+/// lavapipe over about 2,550 smoke pixels: mean 0.6, 99th percentile 4, largest 5.
+const MEAN_TOLERANCE: f64 = 1.0;
+const P99_TOLERANCE: u8 = 5;
+const LARGEST_TOLERANCE: u8 = 8;
+
+/// Whether atlas and per-pixel frames agree within the tolerances.
+fn within_tolerance((mean, p99, largest, off_smoke): (f64, u8, u8, u8)) -> bool {
+    mean <= MEAN_TOLERANCE && p99 <= P99_TOLERANCE && largest <= LARGEST_TOLERANCE && off_smoke == 0
+}
 
 #[test]
 fn atlas_lit_smoke_matches_per_pixel_lit_smoke() {
@@ -91,31 +127,26 @@ fn atlas_lit_smoke_matches_per_pixel_lit_smoke() {
                 let mut bare = renderer(gpu, &scene, without);
                 bare.clear_particles();
                 let (empty, _) = render(&mut bare, &without, gpu);
-                let (mean, p99, largest) = difference_stats(&a, &p);
+                let smoke = smoke_pixels(&[&a, &p], &empty);
+                let count = smoke.iter().filter(|&&s| s).count();
+                let stats = difference_stats(&a, &p, &smoke);
+                let (mean, p99, largest, off_smoke) = stats;
                 let what = format!("{} at MSAA {msaa}", path.name());
-                eprintln!("{what}: mean {mean:.3}, 99th percentile {p99}, largest {largest}");
-                // The smoke is there: many pixels differ from the frame without it.
-                let smoke_pixels = changed_pixels(&a, &empty, 8);
-                assert!(
-                    smoke_pixels > 800,
-                    "{what}: only {smoke_pixels} pixels show smoke"
+                eprintln!(
+                    "{what}: {count} smoke pixels: mean {mean:.3}, 99th percentile {p99}, \
+                     largest {largest}; off the smoke {off_smoke}"
                 );
+                // The smoke is there: many pixels differ from the frame without it.
+                assert!(count > 800, "{what}: only {count} pixels show smoke");
                 assert!(
-                    mean <= MEAN_TOLERANCE && p99 <= P99_TOLERANCE,
-                    "{what}: atlas and per-pixel lighting differ by mean {mean:.3}, 99th \
-                     percentile {p99} (tolerances {MEAN_TOLERANCE}, {P99_TOLERANCE})"
+                    within_tolerance(stats),
+                    "{what}: atlas and per-pixel lighting differ over the smoke by mean \
+                     {mean:.3}, 99th percentile {p99}, largest {largest}, and {off_smoke} off it \
+                     (tolerances {MEAN_TOLERANCE}, {P99_TOLERANCE}, {LARGEST_TOLERANCE}, 0)"
                 );
             }
         }
     });
-}
-
-/// Pixels whose colour differs by more than `by` in some channel.
-fn changed_pixels(a: &[u8], b: &[u8], by: u8) -> usize {
-    a.chunks(4)
-        .zip(b.chunks(4))
-        .filter(|(p, q)| p.iter().zip(*q).any(|(x, y)| x.abs_diff(*y) > by))
-        .count()
 }
 
 /// An engine's pass that breaks the atlas mapping: after the atlas is lit, every particle's
@@ -172,11 +203,16 @@ fn a_wrong_atlas_mapping_fails_the_comparison() {
             .expect("the lighting pass is in the list");
         let (a, _) = render(&mut wrong, &atlas, gpu);
         let (p, _) = render(&mut renderer(gpu, &scene, pixel), &pixel, gpu);
-        let (mean, p99, largest) = difference_stats(&a, &p);
+        let mut bare = renderer(gpu, &scene, atlas);
+        bare.clear_particles();
+        let (empty, _) = render(&mut bare, &atlas, gpu);
+        let stats = difference_stats(&a, &p, &smoke_pixels(&[&a, &p], &empty));
+        let (mean, p99, largest, _) = stats;
         eprintln!("shifted regions: mean {mean:.3}, 99th percentile {p99}, largest {largest}");
         assert!(
-            mean > MEAN_TOLERANCE || p99 > P99_TOLERANCE,
-            "a wrong atlas mapping passed: mean {mean:.3}, 99th percentile {p99}"
+            !within_tolerance(stats),
+            "a wrong atlas mapping passed: mean {mean:.3}, 99th percentile {p99}, largest \
+             {largest}"
         );
     });
 }

@@ -2,126 +2,46 @@
 //! deferred per-sample shading) and traditional deferred shading's (light volumes) equal the
 //! naive forward image at MSAA 1 and 4, on the committed glTF scene (every alpha mode) and the
 //! courtyard (thin grates, high-contrast silhouettes), and at edge pixels, which only
-//! per-sample shading gets right; the edge detector equals a CPU reference on the captured
-//! G-buffer; shading sample 0 everywhere fails; light volumes shade every pixel they reach with
-//! the camera inside them and past the far plane.
+//! per-sample shading gets right. Every pixel has a maximum: the mean and 99th percentile bound
+//! the image, and each pixel is bounded by the largest difference of its kind (without MSAA,
+//! off the edges, on them; see the constants). The edge detector equals a CPU reference on the
+//! captured G-buffer; shading sample 0 everywhere fails; light volumes shade every pixel they
+//! reach with the camera inside them and past the far plane.
 
-use renderer::frame::setup::{courtyard_look, create_target, default_camera, procedural_lights};
+use renderer::frame::setup::{courtyard_look, create_target};
 use renderer::frame::{FrameCamera, RenderPath, Renderer, RendererConfig};
 use renderer::frame_data::{EdgeThresholds, FrameView};
-use renderer::passes::deferred::{TbdrPass, TbdrRecord};
-use renderer::scene::{Scene, SceneLight};
-use renderer::{GpuContext, readback};
-use tests::frames::committed_scene;
+use renderer::passes::deferred::TbdrRecord;
+use renderer::readback;
+use renderer::scene::SceneLight;
 use tests::gpu::gpu_test;
-
-/// A scene, its lights and camera, and the frame size.
-struct Stage {
-    scene: Scene,
-    lights: Vec<SceneLight>,
-    camera: FrameCamera,
-    size: (u32, u32),
-    look: fn(RendererConfig) -> RendererConfig,
-}
-
-/// The courtyard from its own camera, with its lights and 256 seeded ones.
-fn courtyard_stage() -> Stage {
-    use renderer::scene::procedural::{COURTYARD_LIGHT_REGION, courtyard};
-    let scene = courtyard();
-    let mut lights = scene.lights.clone();
-    lights.extend(procedural_lights(COURTYARD_LIGHT_REGION, 256, 7, 0.8, 2.6));
-    let (w, h) = (192, 108);
-    Stage {
-        camera: default_camera(&scene, w as f32 / h as f32),
-        scene,
-        lights,
-        size: (w, h),
-        look: courtyard_look,
-    }
-}
-
-/// The committed glTF scene (opaque, masked and blended quads) with 64 seeded lights.
-fn gltf_stage() -> Stage {
-    let scene = committed_scene();
-    let size = (scene.bounds.max - scene.bounds.min).length();
-    let lights = procedural_lights(scene.bounds, 64, 3, size * 0.05, size * 0.3);
-    let (w, h) = (128, 96);
-    Stage {
-        camera: renderer::frame::setup::framing_camera(scene.bounds, w as f32 / h as f32),
-        scene,
-        lights,
-        size: (w, h),
-        look: |c| c,
-    }
-}
-
-/// One frame of `stage` on `path`, its pixels, and with `record` what TBDR recorded.
-fn frame(
-    gpu: &GpuContext,
-    stage: &Stage,
-    path: RenderPath,
-    msaa: u32,
-    edges: EdgeThresholds,
-    record: bool,
-) -> (Vec<u8>, Option<TbdrRecord>) {
-    let config = (stage.look)(RendererConfig {
-        width: stage.size.0,
-        height: stage.size.1,
-        msaa,
-        path,
-        tile: 16,
-        edges,
-        ..Default::default()
-    });
-    let mut renderer = Renderer::new(gpu, config).expect("renderer");
-    renderer
-        .prepare_scene(&stage.scene)
-        .expect("the scene fits the device");
-    renderer.set_lights(&stage.lights).expect("lights fit");
-    if record {
-        renderer
-            .pass_mut::<TbdrPass>()
-            .expect("a TBDR path runs the TBDR pass")
-            .set_recording(true);
-    }
-    let target = create_target(&gpu.device, &config);
-    // A second frame, so a culled path's index list has grown to every cell's items.
-    for _ in 0..2 {
-        renderer.render(&stage.camera, &target).expect("frame");
-        renderer.finish();
-    }
-    let rgba = readback::read_texture_rgba8(&gpu.device, &gpu.queue, &target).expect("readback");
-    let recorded = renderer
-        .pass::<TbdrPass>()
-        .map(|p| p.recorded().expect("record readback"))
-        .and_then(|r| r);
-    (rgba, recorded)
-}
-
-/// Largest channel difference of each pixel.
-fn pixel_differences(a: &[u8], b: &[u8]) -> Vec<u8> {
-    a.chunks(4)
-        .zip(b.chunks(4))
-        .map(|(p, q)| (0..3).map(|c| p[c].abs_diff(q[c])).max().unwrap_or(0))
-        .collect()
-}
-
-/// (mean, 99th percentile, largest) of `d`.
-fn stats(d: &[u8]) -> (f64, u8, u8) {
-    let mut s = d.to_vec();
-    s.sort_unstable();
-    let mean = s.iter().map(|&x| f64::from(x)).sum::<f64>() / s.len().max(1) as f64;
-    let at = |q: usize| s.get(s.len() * q / 100).copied().unwrap_or(0);
-    (mean, at(99), s.last().copied().unwrap_or(0))
-}
+use tests::image_compare::{largest_where, pixel_differences, stats};
+use tests::tbdr_stage::{courtyard_stage, frame, gltf_stage};
 
 /// Whole-image tolerance against naive forward, in 8-bit steps after tonemapping: mean and 99th
-/// percentile of each pixel's largest channel difference. The G-buffer quantises albedo to 8
-/// sRGB bits and normals and radiance to 16-bit floats; without MSAA that is all (measured:
+/// percentile of each pixel's largest channel difference (RGB). The G-buffer quantises albedo to
+/// 8 sRGB bits and normals and radiance to 16-bit floats; without MSAA that is all (measured:
 /// mean 0.05, largest 1). With MSAA, a pixel whose samples agree is shaded at its centre as
 /// forward does (measured: mean 0.14, 99th percentile 3).
 const MEAN_TOLERANCE: f64 = 0.3;
 const P99_TOLERANCE: u8 = 4;
+/// Largest difference of every pixel without MSAA: the G-buffer's quantisation alone.
+const MSAA1_MAX: u8 = 2;
+/// Largest difference of every pixel the TBDR pass does not mark as an edge, at MSAA 4 (but
+/// [`NON_EDGE_EXCEPTIONS`]): its samples agree within the edge thresholds, so TBDR shades it
+/// once at its centre, as forward does; what remains is the G-buffer's quantisation (measured:
+/// at most 4 on every such pixel but one).
+const NON_EDGE_MAX: u8 = 6;
+/// Non-edge pixels per frame that may differ by more than [`NON_EDGE_MAX`], up to
+/// [`NON_EDGE_EXCEPTION_MAX`], and only on a curved surface (the pixel's samples' shading
+/// normals not all equal). TBDR shades such a pixel at its centre with sample 0's shading
+/// normal, interpolated at sample 0's position and stored in 16 bits, where forward interpolates
+/// the normal at the centre; on a sharp highlight (roughness 0.15) that small turn of the
+/// normal changes the colour by tens of steps. Measured: one pixel, (23, 58) of the courtyard,
+/// by 32 on all three paths (its samples' normals differ by up to 0.008 in octahedral
+/// coordinates); none in the glTF scene.
+const NON_EDGE_EXCEPTIONS: usize = 2;
+const NON_EDGE_EXCEPTION_MAX: u8 = 40;
 /// Tolerance at edge pixels (MSAA 4). Forward shades each triangle of an edge pixel once, at the
 /// pixel centre even where the centre lies off the triangle (attributes extrapolated); TBDR
 /// shades each sample at its own point. Measured: mean 0.9 (courtyard) and 2.6 (glTF), 99th
@@ -129,6 +49,10 @@ const P99_TOLERANCE: u8 = 4;
 /// percentile 48 and 127.
 const EDGE_MEAN_TOLERANCE: f64 = 4.0;
 const EDGE_P99_TOLERANCE: u8 = 24;
+/// Largest difference of every edge pixel (MSAA 4): where forward extrapolates a triangle's
+/// attributes far off it, on a high-contrast silhouette (measured: 101 in the courtyard, 29 in
+/// the glTF scene).
+const EDGE_MAX: u8 = 112;
 
 /// Each pixel's difference where `record` marks an edge.
 fn at_edges(d: &[u8], record: &TbdrRecord) -> Vec<u8> {
@@ -137,6 +61,60 @@ fn at_edges(d: &[u8], record: &TbdrRecord) -> Vec<u8> {
         .filter(|(i, _)| record.is_edge(*i as u32 % record.width, *i as u32 / record.width))
         .map(|(_, &x)| x)
         .collect()
+}
+
+/// Asserts the maximum of every pixel of per-pixel differences `d`: [`MSAA1_MAX`] without MSAA;
+/// at MSAA 4, [`NON_EDGE_MAX`] off the edges `record` marks (but at most [`NON_EDGE_EXCEPTIONS`]
+/// pixels on curved surfaces, up to [`NON_EDGE_EXCEPTION_MAX`]) and [`EDGE_MAX`] on them.
+fn every_pixel_bounded(what: &str, d: &[u8], record: &TbdrRecord) {
+    let xy = |i: Option<usize>| i.map(|i| (i as u32 % record.width, i as u32 / record.width));
+    if record.msaa == 1 {
+        let (largest, at, _) = largest_where(d, |_| true);
+        assert!(
+            largest <= MSAA1_MAX,
+            "{what}: a pixel differs by {largest} at {:?} (bound {MSAA1_MAX})",
+            xy(at)
+        );
+        return;
+    }
+    let is_edge = |i: usize| record.is_edge(i as u32 % record.width, i as u32 / record.width);
+    let curved = |i: usize| {
+        let (x, y) = (i as u32 % record.width, i as u32 / record.width);
+        let n0 = &record.sample(x, y, 0)[5..7];
+        (1..record.msaa).any(|s| &record.sample(x, y, s)[5..7] != n0)
+    };
+    let beyond: Vec<(u32, u32, u8)> = (0..d.len())
+        .filter(|&i| !is_edge(i) && d[i] > NON_EDGE_MAX)
+        .map(|i| (i as u32 % record.width, i as u32 / record.width, d[i]))
+        .collect();
+    let (inner, inner_at, _) = largest_where(d, |i| !is_edge(i) && d[i] <= NON_EDGE_MAX);
+    let (outer, outer_at, _) = largest_where(d, is_edge);
+    let shown = &beyond[..beyond.len().min(10)];
+    eprintln!(
+        "  largest: {inner} off the edges at {:?}, {} beyond {NON_EDGE_MAX} (x, y, difference) \
+         {shown:?}; {outer} at edges at {:?}",
+        xy(inner_at),
+        beyond.len(),
+        xy(outer_at)
+    );
+    let flat = beyond
+        .iter()
+        .filter(|&&(x, y, _)| !curved((y * record.width + x) as usize))
+        .count();
+    assert!(
+        beyond.len() <= NON_EDGE_EXCEPTIONS
+            && beyond.iter().all(|&(_, _, v)| v <= NON_EDGE_EXCEPTION_MAX)
+            && flat == 0,
+        "{what}: {} pixels off the edges differ by more than {NON_EDGE_MAX}, (x, y, difference) \
+         {shown:?}, {flat} of them on a flat surface (at most {NON_EDGE_EXCEPTIONS} on curved \
+         surfaces allowed, by at most {NON_EDGE_EXCEPTION_MAX})",
+        beyond.len()
+    );
+    assert!(
+        outer <= EDGE_MAX,
+        "{what}: an edge pixel differs by {outer} at {:?} (bound {EDGE_MAX})",
+        xy(outer_at)
+    );
 }
 
 #[test]
@@ -154,7 +132,7 @@ fn deferred_paths_equal_naive_forward_at_msaa_1_and_4_and_per_sample_at_edges() 
                     let what = format!("{name}, {}, MSAA {msaa}", path.name());
                     let (tbdr, record) = frame(gpu, &stage, path, msaa, default, true);
                     let record = record.expect("recorded");
-                    let d = pixel_differences(&naive, &tbdr);
+                    let d = pixel_differences(&naive, &tbdr, 3);
                     let (mean, p99, largest) = stats(&d);
                     eprintln!("{what}: mean {mean:.3}, 99th percentile {p99}, largest {largest}");
                     assert!(
@@ -162,9 +140,9 @@ fn deferred_paths_equal_naive_forward_at_msaa_1_and_4_and_per_sample_at_edges() 
                         "{what}: differs from naive forward by mean {mean:.3}, 99th percentile \
                          {p99} (tolerances {MEAN_TOLERANCE}, {P99_TOLERANCE})"
                     );
+                    every_pixel_bounded(&what, &d, &record);
                     if msaa == 1 {
                         assert_eq!(record.edge_count(), 0, "{what}: one sample has no edges");
-                        assert!(largest <= 2, "{what}: largest difference {largest}");
                         continue;
                     }
                     let edges = at_edges(&d, &record);
@@ -184,7 +162,7 @@ fn deferred_paths_equal_naive_forward_at_msaa_1_and_4_and_per_sample_at_edges() 
                     );
                     // The broken per-sample path: sample 0 stands for every sample.
                     let (broken, _) = frame(gpu, &stage, path, msaa, EdgeThresholds::NEVER, false);
-                    let b = at_edges(&pixel_differences(&naive, &broken), &record);
+                    let b = at_edges(&pixel_differences(&naive, &broken, 3), &record);
                     let (bmean, bp99, _) = stats(&b);
                     eprintln!("  sample 0 everywhere: mean {bmean:.3}, 99th percentile {bp99}");
                     assert!(
@@ -456,14 +434,17 @@ fn light_volumes_cover_pixels_from_inside_a_volume_and_past_the_far_plane() {
             stage.lights = vec![lights];
             for msaa in [1, 4] {
                 let (naive, _) = frame(gpu, &stage, RenderPath::NaivePrez, msaa, edges, false);
-                let (volumes, _) = frame(gpu, &stage, RenderPath::Deferred, msaa, edges, false);
-                let (lit_mean, _, _) = stats(&pixel_differences(&unlit, &volumes));
-                let (mean, p99, largest) = stats(&pixel_differences(&naive, &volumes));
+                let (volumes, record) = frame(gpu, &stage, RenderPath::Deferred, msaa, edges, true);
+                let (lit_mean, _, _) = stats(&pixel_differences(&unlit, &volumes, 3));
+                let (mean, p99, largest) = stats(&pixel_differences(&naive, &volumes, 3));
                 eprintln!(
                     "{what}, MSAA {msaa}: the light adds mean {lit_mean:.2}; against naive \
                      forward mean {mean:.3}, 99th percentile {p99}, largest {largest}"
                 );
                 assert!(lit_mean > 4.0, "{what}: the light adds only {lit_mean:.2}");
+                let record = record.expect("recorded");
+                let d = pixel_differences(&naive, &volumes, 3);
+                every_pixel_bounded(&format!("{what}, MSAA {msaa}"), &d, &record);
                 assert!(
                     mean <= MEAN_TOLERANCE && p99 <= P99_TOLERANCE,
                     "{what}, MSAA {msaa}: light volumes differ from naive forward by mean \

@@ -5,6 +5,14 @@
 //! WGSL. No dylib, no restart: a change shows within the time of one compile (well under a
 //! second for the whole `shaders_gen`) plus a renderer rebuild.
 //!
+//! The watch is event-driven and off the UI thread: `notify` (inotify on Linux) reports
+//! file-system events, its debouncer merges a burst of them (an editor's truncate, write and
+//! rename) into one, and a worker thread reads the sources, compiles and installs when their
+//! text differs from the last compiled one, then sends the [`Outcome`] over a channel. The UI
+//! thread only drains that channel ([`Watch::poll`] never blocks), so a compile never stalls a
+//! frame. Installing is all-or-nothing and keeps every interface, so a renderer the UI thread
+//! builds meanwhile is valid either way; the next outcome makes it rebuild on the new WGSL.
+//!
 //! An edit that does not compile, or that changes what host code relies on (entry points,
 //! bindings), is reported with the DSL's message and source position, and nothing is
 //! installed: the last good pipelines keep running. Struct layouts are part of the generated
@@ -13,12 +21,20 @@
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant, SystemTime};
+use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender, TryRecvError, channel};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
 
+use notify_debouncer_full::notify::event::{EventKind, ModifyKind};
+use notify_debouncer_full::notify::{RecommendedWatcher, RecursiveMode};
+use notify_debouncer_full::{
+    DebounceEventResult, DebouncedEvent, Debouncer, RecommendedCache, new_debouncer,
+};
 use renderer::shader::hot::{BindingInterface, EntryInterface, Interface, Replacement};
 
-/// How often the sources' modification times are read.
-const POLL: Duration = Duration::from_millis(250);
+/// How long the debouncer waits after a file's last event before it reports the file (an
+/// editor's save is several events within a few milliseconds).
+pub const DEBOUNCE: Duration = Duration::from_millis(100);
 
 /// The `shaders_gen` sources of this checkout, when they exist (a viewer run from its
 /// workspace).
@@ -34,14 +50,19 @@ pub enum Outcome {
     Installed(usize),
     /// Nothing changed; why.
     Refused(String),
+    /// The file-system watch reported an error (the watch goes on).
+    WatchError(String),
 }
 
-/// Watches a folder of DSL sources.
+/// Watches a folder of DSL sources: a `notify` debouncer feeds a worker thread that reloads;
+/// its outcomes wait in a channel for [`Watch::poll`].
 #[derive(Debug)]
 pub struct Watch {
     dir: PathBuf,
-    stamps: BTreeMap<PathBuf, SystemTime>,
-    polled: Instant,
+    outcomes: Receiver<Outcome>,
+    /// Dropping it stops the debouncer's thread, whose end closes the worker's events.
+    debouncer: Option<Debouncer<RecommendedWatcher, RecommendedCache>>,
+    worker: Option<JoinHandle<()>>,
 }
 
 fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) -> std::io::Result<()> {
@@ -56,28 +77,121 @@ fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) -> std::io::Result<()> {
     Ok(())
 }
 
-fn stamps(dir: &Path) -> BTreeMap<PathBuf, SystemTime> {
+/// The text of every `.rs` file under `dir`, by path.
+type Sources = BTreeMap<PathBuf, String>;
+
+fn sources(dir: &Path) -> Result<Sources, String> {
     let mut files = vec![];
-    // A folder that cannot be read has no stamps: the next readable state counts as a change.
-    let _ = rust_files(dir, &mut files);
+    rust_files(dir, &mut files).map_err(|e| format!("{}: {e}", dir.display()))?;
     files
         .into_iter()
-        .filter_map(|f| {
-            let t = std::fs::metadata(&f).and_then(|m| m.modified()).ok()?;
-            Some((f, t))
+        .map(|f| match std::fs::read_to_string(&f) {
+            Ok(text) => Ok((f, text)),
+            Err(e) => Err(format!("{}: {e}", f.display())),
         })
         .collect()
 }
 
+/// Whether an event can change a source's text: a file or folder created, written, renamed or
+/// removed. Opens, reads and closes (the worker's own reads among them) and metadata changes
+/// (a `touch`) cannot, and other files (an editor's swap file) are not sources.
+fn may_change_sources(event: &DebouncedEvent) -> bool {
+    let source = |p: &PathBuf| p.extension().is_none_or(|e| e == "rs");
+    match event.kind {
+        EventKind::Access(_) | EventKind::Modify(ModifyKind::Metadata(_)) => false,
+        // A rename names both ends: either may be a source.
+        _ => event.paths.iter().any(source),
+    }
+}
+
+/// Waits until no event that may change a source has come for [`DEBOUNCE`]: the debouncer
+/// reports each event once it is that old, so a save spread over time can arrive in parts
+/// (batches that queued during the last compile are taken at once). `false` when the debouncer
+/// has stopped.
+fn settle(events: &Receiver<DebounceEventResult>) -> bool {
+    let mut quiet_from = Instant::now() + DEBOUNCE;
+    loop {
+        match events.recv_timeout(quiet_from.saturating_duration_since(Instant::now())) {
+            Ok(Ok(batch)) if batch.iter().any(may_change_sources) => {
+                quiet_from = Instant::now() + DEBOUNCE;
+            }
+            Ok(_) => {}
+            Err(RecvTimeoutError::Timeout) => return true,
+            Err(RecvTimeoutError::Disconnected) => return false,
+        }
+    }
+}
+
+/// The worker: waits for debounced events, and reloads when the sources' text differs from the
+/// last state it saw (`seen`, at first the state when the watch started). Ends when the
+/// debouncer stops or the [`Watch`] is gone.
+fn work(
+    dir: &Path,
+    mut seen: Option<Sources>,
+    events: &Receiver<DebounceEventResult>,
+    outcomes: &Sender<Outcome>,
+) {
+    while let Ok(batch) = events.recv() {
+        match batch {
+            Err(errors) => {
+                let errors: Vec<String> = errors.iter().map(ToString::to_string).collect();
+                let message = format!("watching {}: {}", dir.display(), errors.join("; "));
+                if outcomes.send(Outcome::WatchError(message)).is_err() {
+                    return;
+                }
+                continue;
+            }
+            Ok(events) if !events.iter().any(may_change_sources) => continue,
+            Ok(_) => {}
+        }
+        if !settle(events) {
+            return;
+        }
+        let outcome = match sources(dir) {
+            Ok(now) if seen.as_ref() == Some(&now) => continue,
+            Ok(now) => {
+                let outcome = match reload_sources(dir, &now) {
+                    Ok(n) => Outcome::Installed(n),
+                    Err(message) => Outcome::Refused(message),
+                };
+                seen = Some(now);
+                outcome
+            }
+            // A folder that cannot be read (a save under way): refused; the next readable state
+            // counts as a change.
+            Err(message) => {
+                seen = None;
+                Outcome::Refused(message)
+            }
+        };
+        if outcomes.send(outcome).is_err() {
+            return;
+        }
+    }
+}
+
 impl Watch {
     /// Starts watching `dir` (its current state is the baseline: nothing is reloaded yet).
-    pub fn new(dir: PathBuf) -> Watch {
-        let stamps = stamps(&dir);
-        Watch {
+    pub fn new(dir: PathBuf) -> Result<Watch, String> {
+        let baseline = sources(&dir).ok();
+        let (events_in, events) = channel();
+        let mut debouncer = new_debouncer(DEBOUNCE, None, events_in)
+            .map_err(|e| format!("cannot watch {}: {e}", dir.display()))?;
+        debouncer
+            .watch(&dir, RecursiveMode::Recursive)
+            .map_err(|e| format!("cannot watch {}: {e}", dir.display()))?;
+        let (outcomes_in, outcomes) = channel();
+        let worker_dir = dir.clone();
+        let worker = std::thread::Builder::new()
+            .name("shader hot reload".to_owned())
+            .spawn(move || work(&worker_dir, baseline, &events, &outcomes_in))
+            .map_err(|e| format!("cannot start the hot reload thread: {e}"))?;
+        Ok(Watch {
             dir,
-            stamps,
-            polled: Instant::now(),
-        }
+            outcomes,
+            debouncer: Some(debouncer),
+            worker: Some(worker),
+        })
     }
 
     /// The folder watched.
@@ -85,21 +199,29 @@ impl Watch {
         &self.dir
     }
 
-    /// Reloads when a source changed since the last poll (polls at most every 250 ms).
+    /// The next reload the worker finished since the last call, if any; never waits.
     pub fn poll(&mut self) -> Option<Outcome> {
-        if self.polled.elapsed() < POLL {
-            return None;
+        match self.outcomes.try_recv() {
+            Ok(outcome) => Some(outcome),
+            Err(TryRecvError::Empty) => None,
+            Err(TryRecvError::Disconnected) => {
+                // The worker ended (its thread panicked): say so once.
+                self.worker.take().map(|w| {
+                    let _ = w.join();
+                    Outcome::WatchError("the hot reload thread ended".to_owned())
+                })
+            }
         }
-        self.polled = Instant::now();
-        let now = stamps(&self.dir);
-        if now == self.stamps {
-            return None;
+    }
+}
+
+impl Drop for Watch {
+    fn drop(&mut self) {
+        // Stopping the debouncer closes the worker's events; a compile under way finishes first.
+        drop(self.debouncer.take());
+        if let Some(worker) = self.worker.take() {
+            let _ = worker.join();
         }
-        self.stamps = now;
-        Some(match reload(&self.dir) {
-            Ok(n) => Outcome::Installed(n),
-            Err(message) => Outcome::Refused(message),
-        })
     }
 }
 
@@ -117,13 +239,14 @@ fn located(dir: &Path, file: &Path, e: &syn::Error) -> String {
 /// Compiles every DSL module under `dir` and installs the variants whose WGSL differs from the
 /// generated one; how many.
 pub fn reload(dir: &Path) -> Result<usize, String> {
-    let mut files = vec![];
-    rust_files(dir, &mut files).map_err(|e| format!("{}: {e}", dir.display()))?;
-    files.sort();
+    reload_sources(dir, &sources(dir)?)
+}
+
+/// [`reload`] of the sources' text as read (`dir` only names the files in messages).
+fn reload_sources(dir: &Path, sources: &Sources) -> Result<usize, String> {
     let mut parsed = vec![];
-    for file in &files {
-        let text = std::fs::read_to_string(file).map_err(|e| format!("{}: {e}", file.display()))?;
-        let syntax = syn::parse_file(&text).map_err(|e| located(dir, file, &e))?;
+    for (file, text) in sources {
+        let syntax = syn::parse_file(text).map_err(|e| located(dir, file, &e))?;
         parsed.push((file.clone(), syntax));
     }
     let libraries: Vec<_> = parsed

@@ -98,7 +98,7 @@ pub fn run(args: &Args) -> Result<()> {
     let dir = args
         .out_dir
         .clone()
-        .unwrap_or_else(|| crate::workspace_root().join("target/demo"));
+        .unwrap_or_else(|| crate::workspace::workspace_root().join("target/demo"));
     let size = (s.config.width, s.config.height);
     let files = [
         dir.join("frame.png"),

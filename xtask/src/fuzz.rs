@@ -45,7 +45,7 @@ pub fn run(args: &Args) -> Result<()> {
         );
     }
     ensure_cargo_fuzz()?;
-    let root = crate::workspace_root();
+    let root = crate::workspace::workspace_root();
     let work = root.join("target/fuzz");
     let corpus = work.join("corpus").join(&args.target);
     let artifacts = work.join("artifacts").join(&args.target);

@@ -1,6 +1,7 @@
 //! `cargo xtask fuzz-dsl`: the generated differential tests of DSL expressions and statement
 //! programs (`tests::dsl_fuzz`) with more cases than `cargo test` runs, printing every failure
-//! shrunk.
+//! shrunk. The GPU is compared with the host interpreter and with the host-Rust oracle (the
+//! cases compiled as plain Rust by `rustc`; `--no-oracle` leaves it out).
 
 use anyhow::{Result, bail};
 use tests::dsl_fuzz::statements::fuzz_programs;
@@ -27,6 +28,9 @@ pub struct Args {
     /// float operations).
     #[arg(long)]
     strict: bool,
+    /// Leave out the host-Rust oracle (no `rustc` runs).
+    #[arg(long)]
+    no_oracle: bool,
 }
 
 #[expect(clippy::print_stdout, reason = "report of a command-line tool")]
@@ -36,6 +40,7 @@ pub fn run(args: &Args) -> Result<()> {
         cases: args.cases,
         depth: args.depth,
         raw_shifts: args.raw_shifts,
+        oracle: !args.no_oracle,
         ..Config::default()
     };
     tests::dsl_fuzz::run::EXACT_SLACK_ULPS_STRICT
@@ -87,9 +92,11 @@ pub fn run(args: &Args) -> Result<()> {
 #[expect(clippy::print_stdout, reason = "report of a command-line tool")]
 fn summary(seed: u64, what: &str, r: &Report) {
     println!(
-        "fuzz-dsl seed {seed}: {} {what}, {} input rows compared, {} skipped, {} failures",
+        "fuzz-dsl seed {seed}: {} {what}, {} input rows compared ({} also with the Rust \
+         oracle), {} skipped, {} failures",
         r.expressions,
         r.rows_compared,
+        r.oracle_rows,
         r.rows_skipped,
         r.failures.len(),
     );

@@ -9,6 +9,7 @@ mod circles;
 mod graph;
 #[cfg(test)]
 mod import_tests;
+mod lengths;
 mod modules;
 mod resolve;
 mod uses;
@@ -56,7 +57,7 @@ pub struct Violation {
 
 #[expect(clippy::print_stdout, reason = "command-line report")]
 pub fn run() -> Result<()> {
-    let root = crate::workspace_root();
+    let root = crate::workspace::workspace_root();
     let mut violations = Vec::new();
     for krate in WGPU_FREE_CRATES {
         let tree = cargo_tree(&root, &[krate, "-e", "normal,build"])?;
@@ -73,6 +74,16 @@ pub fn run() -> Result<()> {
     let workspace = read_workspace_sources(&root)?;
     violations.extend(check_no_import_circles(&workspace));
     violations.extend(check_passes_do_not_import_frame(&workspace));
+    violations.extend(
+        lengths::long_files(&read_crate_files(&root)?)
+            .into_iter()
+            .map(|(path, lines)| Violation {
+                invariant: "no hand-written source file over 500 lines",
+                detail: format!(
+                    "{path} has {lines} lines: split it along a seam (tests in their own file)"
+                ),
+            }),
+    );
     if violations.is_empty() {
         println!("architecture invariants hold");
         return Ok(());
@@ -234,6 +245,32 @@ fn read_workspace_sources(root: &Path) -> Result<Vec<(String, String)>> {
         let dir = entry?.path();
         if dir.join("Cargo.toml").is_file() && dir.join("src").is_dir() {
             for (path, text) in read_rust_sources(&dir.join("src"))? {
+                let relative = Path::new(&path)
+                    .strip_prefix(root)
+                    .unwrap_or(Path::new(&path));
+                let parts: Vec<_> = relative.iter().map(|p| p.to_string_lossy()).collect();
+                out.push((parts.join("/"), text));
+            }
+        }
+    }
+    out.sort();
+    Ok(out)
+}
+
+/// Every hand-written `.rs` file of every crate of the workspace (its
+/// [`lengths::SOURCE_FOLDERS`]), as (workspace-relative path, contents).
+fn read_crate_files(root: &Path) -> Result<Vec<(String, String)>> {
+    let mut out = Vec::new();
+    for entry in std::fs::read_dir(root).context("reading the workspace root")? {
+        let dir = entry?.path();
+        if !dir.join("Cargo.toml").is_file() {
+            continue;
+        }
+        for folder in lengths::SOURCE_FOLDERS {
+            if !dir.join(folder).is_dir() {
+                continue;
+            }
+            for (path, text) in read_rust_sources(&dir.join(folder))? {
                 let relative = Path::new(&path)
                     .strip_prefix(root)
                     .unwrap_or(Path::new(&path));

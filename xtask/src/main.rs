@@ -22,8 +22,6 @@ mod test;
 mod view;
 mod workspace;
 
-use workspace::workspace_root;
-
 use clap::{Parser, Subcommand};
 
 #[derive(Debug, Parser)]

@@ -52,7 +52,6 @@ enum SpirvVal {
     NotInstalled,
 }
 
-#[expect(clippy::print_stdout, reason = "command-line report")]
 impl Args {
     /// What `cargo xtask test` runs: every variant written to target/shaders and checked by
     /// `spirv-val`.
@@ -66,8 +65,9 @@ impl Args {
     }
 }
 
+#[expect(clippy::print_stdout, reason = "command-line report")]
 pub fn run(args: &Args) -> Result<()> {
-    let root = crate::workspace_root();
+    let root = crate::workspace::workspace_root();
     let out = args
         .out
         .clone()

@@ -1,5 +1,5 @@
-//! System packages the tests need: a Vulkan driver, the Khronos validation layer, spirv-val, Xvfb
-//! and a font.
+//! System packages the tests need: a Vulkan driver, the Khronos validation layer, spirv-val and
+//! Xvfb (the benchmark charts' font is embedded in the binary).
 //!
 //! On a Debian/Ubuntu machine where we run as root, missing packages are installed with apt;
 //! anywhere else the command stops and names the packages to install.
@@ -66,19 +66,7 @@ const REQUIREMENTS: &[Requirement] = &[
         present: has_xvfb,
         backports: false,
     },
-    Requirement {
-        what: "a TrueType font (the benchmark's charts and their tests)",
-        packages: &["fonts-dejavu-core"],
-        present: has_chart_font,
-        backports: false,
-    },
 ];
-
-fn has_chart_font() -> bool {
-    crate::bench::charts::FONT_PATHS
-        .iter()
-        .any(|p| Path::new(p).is_file())
-}
 
 /// Makes sure every requirement of `cargo xtask test` is present, installing what is missing
 /// where we can.

@@ -74,7 +74,7 @@ fn step<T>(name: &str, f: impl FnOnce() -> Result<T>) -> Result<T> {
 fn cargo(args: &[&str]) -> Result<()> {
     let status = Command::new(env!("CARGO"))
         .args(args)
-        .current_dir(crate::workspace_root())
+        .current_dir(crate::workspace::workspace_root())
         .status()
         .with_context(|| format!("running cargo {}", args.join(" ")))?;
     if !status.success() {
@@ -126,7 +126,7 @@ fn cargo_test(extra: &[String]) -> Result<Counts> {
     let mut child = command
         .args(["test", "--workspace", "--no-fail-fast"])
         .args(extra)
-        .current_dir(crate::workspace_root())
+        .current_dir(crate::workspace::workspace_root())
         .stdout(Stdio::piped())
         .spawn()
         .context("running cargo test")?;
@@ -147,7 +147,7 @@ fn cargo_test(extra: &[String]) -> Result<Counts> {
 /// A runtime directory only this user can use (what `XDG_RUNTIME_DIR` must be).
 fn private_runtime_dir() -> Result<std::path::PathBuf> {
     use std::os::unix::fs::PermissionsExt as _;
-    let dir = crate::workspace_root().join("target/xdg-runtime");
+    let dir = crate::workspace::workspace_root().join("target/xdg-runtime");
     std::fs::create_dir_all(&dir).context("creating target/xdg-runtime")?;
     std::fs::set_permissions(&dir, std::fs::Permissions::from_mode(0o700))
         .context("restricting target/xdg-runtime")?;

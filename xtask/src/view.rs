@@ -16,7 +16,7 @@ pub fn run(args: &Args) -> Result<()> {
     let status = std::process::Command::new(env!("CARGO"))
         .args(["run", "--release", "-p", "viewer", "--"])
         .args(&args.viewer_args)
-        .current_dir(crate::workspace_root())
+        .current_dir(crate::workspace::workspace_root())
         .status()
         .context("running cargo run -p viewer")?;
     if !status.success() {

@@ -1,8 +1,10 @@
 //! Statement execution: the [`Machine`] runs a module function's body over a frame of locals,
 //! with the statics the host gave values to, and a step limit.
 
+use super::error::EvalError;
+use super::ops;
 use super::sync::{Arrival, SyncOp};
-use super::{EvalError, Value, ops};
+use super::value::Value;
 use crate::ir::{BinOp, Block, Expr, Function, Module, Scalar, Stmt};
 use crate::variants::Env;
 use proc_macro2::Span;

@@ -11,7 +11,7 @@
 
 use std::collections::BTreeMap;
 
-use super::EvalError;
+use super::error::EvalError;
 
 /// Where an element of workgroup memory was last written.
 #[derive(Debug, Clone, Copy)]

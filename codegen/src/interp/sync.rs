@@ -5,8 +5,9 @@
 //! running one owns the statics (storage buffers and workgroup memory) and hands them back at
 //! each barrier, subgroup operation or at its end.
 
-use super::value::scalar_from_f64;
-use super::{EvalError, Value, builtins, ops};
+use super::error::EvalError;
+use super::value::{Value, scalar_from_f64};
+use super::{builtins, ops};
 use crate::ir::BinOp;
 
 /// The statics, passed from invocation to invocation.

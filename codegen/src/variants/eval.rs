@@ -1,6 +1,6 @@
 //! Constant evaluation of IR expressions under an axis environment.
 
-use super::Env;
+use super::env::Env;
 use crate::ir::{BinOp, Expr, ExprKind, Lit, Module, Scalar, Ty, UnOp};
 
 /// A constant value.

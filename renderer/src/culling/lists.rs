@@ -3,9 +3,9 @@
 //! counters.
 
 use glam::UVec2;
+use shaders_gen::culling::cull_prepare::ITEM_TYPES;
 use wgpu::util::DeviceExt as _;
 
-use shaders_gen::culling::cull_prepare::ITEM_TYPES;
 use crate::{GpuContext, GpuError, readback};
 
 /// Word written past the index capacity, to prove kernels never write there.

@@ -1,6 +1,8 @@
 //! Adapter discovery, ranking and reporting.
 
-use super::{GpuError, GpuOptions, requirements};
+use super::error::GpuError;
+use super::options::GpuOptions;
+use super::requirements;
 
 /// Range of subgroup (wave) sizes the adapter may run with.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -4,7 +4,7 @@
 //! adapter has them, and limits are raised only as far as the renderer uses them and the adapter
 //! allows. Code that needs an optional feature checks [`super::Capabilities`] first.
 
-use super::GpuError;
+use super::error::GpuError;
 
 /// Features the renderer uses when present.
 pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::SUBGROUP

@@ -24,6 +24,12 @@
 //!   compared (NaN-dependent results are indeterminate in WGSL; Vulkan may flush subnormals),
 //!   nor one where a step (`floor`, a comparison, a float-to-int cast, ..) falls within the
 //!   error bound of its float operand, or an approximate function's operand is not exact.
+//! - **A second oracle.** The interpreter evaluates the IR of the DSL front end, so a bug in
+//!   lowering Rust to IR would be on both sides. The same expressions (and statement programs)
+//!   are also printed as plain host Rust over the guide's semantics ([`wgsl_rt`],
+//!   [`host_text`]), compiled with `rustc` and run ([`oracle`]); the GPU must match it too,
+//!   with the same tolerance per row (rows where the oracle meets NaN, infinity, a subnormal
+//!   or a float `clamp` with `lo > hi` are not compared with it).
 //! - **Shrinking.** A failing expression is shrunk greedily, type-aware: every subtree is
 //!   replaced by a same-typed descendant or an input, all candidates run in one batch, and the
 //!   smallest one that still fails is kept, until none does. (proptest's own shrinking of
@@ -32,17 +38,28 @@
 
 pub mod ast;
 pub mod bound;
+pub mod expressions;
 pub mod generate;
+pub mod host_text;
+pub mod inputs;
+pub mod oracle;
 pub mod program;
+pub mod program_gen;
+pub mod program_text;
+pub mod rng;
 pub mod run;
+pub mod shrink;
 pub mod statements;
+pub mod wgsl_rt;
+pub mod wgsl_rt_bits;
+pub mod wgsl_rt_float;
 
 use ast::{E, T, Tol};
+pub use expressions::fuzz;
 use generate::{GenConfig, Rng};
+use inputs::ROWS;
 use proptest::strategy::{Strategy as _, ValueTree as _};
 use proptest::test_runner::{Config as PtConfig, RngAlgorithm, TestRng, TestRunner};
-use renderer::GpuContext;
-use run::{Outcome, ROWS};
 
 /// What to run.
 #[derive(Debug, Clone, Copy)]
@@ -57,6 +74,8 @@ pub struct Config {
     pub depth: u32,
     /// Generate unmasked shift amounts (see the guide's Semantics section).
     pub raw_shifts: bool,
+    /// Also compare the GPU with the host-Rust oracle ([`oracle`]).
+    pub oracle: bool,
 }
 
 impl Default for Config {
@@ -67,6 +86,7 @@ impl Default for Config {
             batch: 48,
             depth: 4,
             raw_shifts: false,
+            oracle: true,
         }
     }
 }
@@ -74,7 +94,9 @@ impl Default for Config {
 /// One shrunk failure.
 #[derive(Debug, Clone)]
 pub struct Failure {
-    /// What failed: "mismatch", "compile error" or "host error".
+    /// What failed: "mismatch" (GPU against interpreter), "oracle mismatch" (GPU and
+    /// interpreter against the host-Rust oracle), "compile error", "host error" or
+    /// "oracle error".
     pub kind: &'static str,
     /// The DSL source of the minimal failing program.
     pub source: String,
@@ -101,8 +123,27 @@ pub struct Report {
     pub rows_compared: usize,
     /// Input rows skipped (non-finite or subnormal float subexpressions).
     pub rows_skipped: usize,
-    /// Shrunk failures (duplicates after shrinking removed).
+    /// Input rows also compared with the host-Rust oracle.
+    pub oracle_rows: usize,
+    /// Failures (duplicates after shrinking removed); oracle failures past the first few
+    /// are kept unshrunk (each shrinking step compiles a host program).
     pub failures: Vec<Failure>,
+}
+
+impl Report {
+    /// The failures as text: the first `n` in full, then how many more.
+    pub fn failures_text(&self, n: usize) -> String {
+        let mut text: Vec<String> = self
+            .failures
+            .iter()
+            .take(n)
+            .map(|f| f.to_string())
+            .collect();
+        if self.failures.len() > n {
+            text.push(format!("... and {} more failures", self.failures.len() - n));
+        }
+        text.join("\n\n")
+    }
 }
 
 /// The expressions of a run: proptest draws one seed per expression from the run's seed.
@@ -126,153 +167,6 @@ pub fn programs(cfg: &Config) -> Vec<(E, Tol)> {
     (0..cfg.cases)
         .map(|_| strategy.new_tree(&mut runner).expect("a value").current())
         .collect()
-}
-
-/// Runs a batch: per expression, its outcome, or the compile error of the whole batch.
-fn run_batch(gpu: &GpuContext, exprs: &[(E, Tol)], inputs: &[u32]) -> Result<Vec<Outcome>, String> {
-    let refs: Vec<&E> = exprs.iter().map(|x| &x.0).collect();
-    let c = run::compile(&refs)?;
-    let stride: usize = refs.iter().map(|x| x.ty.n as usize).sum::<usize>().max(1);
-    let out = run::run_gpu(gpu, &c.wgsl, inputs, stride);
-    let mut slot = 0;
-    Ok(exprs
-        .iter()
-        .enumerate()
-        .map(|(k, (x, tol))| {
-            let o = run::compare(&c, k, x.ty, *tol, inputs, &out, slot, stride);
-            slot += x.ty.n as usize;
-            o
-        })
-        .collect())
-}
-
-fn failing(o: &Outcome) -> bool {
-    !matches!(o, Outcome::Agree { .. })
-}
-
-fn tol_for(x: &E, original: Tol) -> Tol {
-    if run::uses_approx(x) {
-        original
-    } else {
-        Tol::Exact
-    }
-}
-
-/// Shrinks a failing expression: `fails` runs a batch of candidates and says which fail.
-fn shrink(x: E, mut fails: impl FnMut(&[E]) -> Vec<bool>) -> E {
-    let mut x = x;
-    for _ in 0..64 {
-        let cands: Vec<E> = generate::shrink_candidates(&x)
-            .into_iter()
-            .take(48)
-            .collect();
-        if cands.is_empty() {
-            break;
-        }
-        let f = fails(&cands);
-        match cands.into_iter().zip(f).find(|(_, f)| *f) {
-            Some((c, _)) => x = c,
-            None => break,
-        }
-    }
-    x
-}
-
-fn failure(gpu: &GpuContext, x: &E, tol: Tol, inputs: &[u32]) -> Failure {
-    let source = run::kernel_source(&[x]);
-    let detail = match run_batch(gpu, &[(x.clone(), tol)], inputs) {
-        Err(e) => e,
-        Ok(o) => match &o[0] {
-            Outcome::Mismatch { row, gpu, host } => format!(
-                "inputs: {}\ngpu:  {gpu}\nhost: {host}\ntolerance: {tol:?}",
-                run::describe_row(inputs, *row)
-            ),
-            Outcome::HostError(e) => e.clone(),
-            Outcome::Agree { .. } => "no longer fails".into(),
-        },
-    };
-    let kind = match run_batch(gpu, &[(x.clone(), tol)], inputs) {
-        Err(_) => "compile error",
-        Ok(o) if matches!(o[0], Outcome::HostError(_)) => "host error",
-        _ => "mismatch",
-    };
-    Failure {
-        kind,
-        source,
-        expr: x.source(),
-        detail,
-    }
-}
-
-/// Runs `cfg.cases` expressions and shrinks every failure. `progress` is told after each batch.
-pub fn fuzz(gpu: &GpuContext, cfg: &Config, mut progress: impl FnMut(&Report)) -> Report {
-    let all = programs(cfg);
-    let mut rng = Rng::new(cfg.seed ^ 0x1234_5678);
-    let mut report = Report::default();
-    for batch in all.chunks(cfg.batch.max(1)) {
-        let inputs = run::inputs(&mut rng);
-        report.expressions += batch.len();
-        let outcomes: Vec<Option<Outcome>> = match run_batch(gpu, batch, &inputs) {
-            Ok(o) => o.into_iter().map(Some).collect(),
-            // Find the expressions that do not compile on their own.
-            Err(_) => batch
-                .iter()
-                .map(|x| {
-                    run_batch(gpu, std::slice::from_ref(x), &inputs)
-                        .ok()
-                        .map(|mut o| o.remove(0))
-                })
-                .collect(),
-        };
-        for ((x, tol), o) in batch.iter().zip(outcomes) {
-            match o {
-                Some(Outcome::Agree { compared, skipped }) => {
-                    report.rows_compared += compared;
-                    report.rows_skipped += skipped;
-                }
-                o => {
-                    let compile_error = o.is_none();
-                    let small = shrink(x.clone(), |cands| {
-                        if compile_error {
-                            return cands.iter().map(|c| run::compile(&[c]).is_err()).collect();
-                        }
-                        let with_tol: Vec<(E, Tol)> = cands
-                            .iter()
-                            .map(|c| (c.clone(), tol_for(c, *tol)))
-                            .collect();
-                        match run_batch(gpu, &with_tol, &inputs) {
-                            Ok(o) => o.iter().map(failing).collect(),
-                            // A candidate that does not compile is not this failure.
-                            Err(_) => with_tol
-                                .iter()
-                                .map(|c| {
-                                    run_batch(gpu, std::slice::from_ref(c), &inputs)
-                                        .is_ok_and(|o| failing(&o[0]))
-                                })
-                                .collect(),
-                        }
-                    });
-                    let f = failure(gpu, &small, tol_for(&small, *tol), &inputs);
-                    let key = |g: &Failure| -> String {
-                        let text = if g.kind == "compile error" {
-                            &g.detail
-                        } else {
-                            &g.expr
-                        };
-                        text.chars()
-                            .filter(|c| !c.is_ascii_digit())
-                            .take(80)
-                            .collect()
-                    };
-                    if !report.failures.iter().any(|g| key(g) == key(&f)) {
-                        report.failures.push(f);
-                    }
-                }
-            }
-        }
-        progress(&report);
-    }
-    report
 }
 
 /// Rows per expression (for reports).

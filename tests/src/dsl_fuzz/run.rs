@@ -1,19 +1,16 @@
 //! Compiles batches of generated expressions into one compute kernel, runs it on the GPU,
-//! evaluates the same compiled IR on the host with `codegen::interp`, and compares.
+//! evaluates the same compiled IR on the host with `codegen::interp`, and compares; and
+//! compares the GPU with the host-Rust oracle's rows ([`super::oracle`]) where given.
 
 use super::ast::{E, INPUTS_PER_TYPE, Kind, Sc, T, Tol};
 use super::bound::Bounds;
-use super::generate::Rng;
+pub use super::inputs::{ROWS, WORDS, describe_row, inputs};
+use super::oracle::Row;
 use codegen::interp::{Value, eval_expr};
 use codegen::ir::{Expr, ExprKind, Module, Stmt};
 use renderer::{GpuContext, readback};
 use std::fmt::Write as _;
 use wgpu::util::DeviceExt as _;
-
-/// Invocations per dispatch: each runs every expression on its own random inputs.
-pub const ROWS: usize = 64;
-/// 32-bit input words per invocation: `i0..i3`, `u0..u3`, `f0..f3` (bits), `b0..b3` (0/1).
-pub const WORDS: usize = 4 * INPUTS_PER_TYPE;
 
 /// The start of a fuzz kernel: the `IN`/`OUT` buffers and the input locals `i0..b3` of the
 /// invocation's row, and `o`, its first output word (`stride` words per row).
@@ -65,44 +62,6 @@ pub fn kernel_source(exprs: &[&E]) -> String {
     s
 }
 
-/// Random input rows: special values often, full-range values sometimes; floats are finite
-/// and coarse enough that exact operations stay away from subnormals.
-pub fn inputs(rng: &mut Rng) -> Vec<u32> {
-    let mut v = Vec::with_capacity(ROWS * WORDS);
-    for _ in 0..ROWS {
-        for _ in 0..INPUTS_PER_TYPE {
-            let i: i32 = match rng.below(4) {
-                0 => *rng.pick(&[0, 1, -1, 2, i32::MIN, i32::MAX, 31, 32, -32]),
-                1 => rng.below(33) as i32 - 16,
-                2 => rng.next_u64() as i32,
-                _ => (rng.below(2001) as i32) - 1000,
-            };
-            v.push(i as u32);
-        }
-        for _ in 0..INPUTS_PER_TYPE {
-            v.push(match rng.below(4) {
-                0 => *rng.pick(&[0, 1, 2, u32::MAX, 31, 32, 33, 0x8000_0000]),
-                1 => rng.below(40) as u32,
-                2 => rng.next_u64() as u32,
-                _ => rng.below(100_000) as u32,
-            });
-        }
-        for _ in 0..INPUTS_PER_TYPE {
-            let f: f32 = match rng.below(4) {
-                0 => *rng.pick(&[0.0, -0.0, 1.0, -1.0, 0.5, 2.5, -2.5, 1e6, 3.0e9, -3.0e9]),
-                1 => (rng.below(8193) as f32 - 4096.0) / 16.0,
-                2 => (rng.below(41) as f32) - 20.0,
-                _ => (rng.below(2_000_001) as f32 - 1_000_000.0) / 256.0,
-            };
-            v.push(f.to_bits());
-        }
-        for _ in 0..INPUTS_PER_TYPE {
-            v.push(rng.below(2) as u32);
-        }
-    }
-    v
-}
-
 /// What went wrong with one expression.
 #[derive(Debug, Clone)]
 pub enum Outcome {
@@ -112,6 +71,8 @@ pub enum Outcome {
         compared: usize,
         /// Rows skipped (a float subexpression was NaN, infinite or subnormal).
         skipped: usize,
+        /// Rows also compared with the host-Rust oracle.
+        oracle: usize,
     },
     /// They differ on `row`.
     Mismatch {
@@ -122,8 +83,21 @@ pub enum Outcome {
         /// Host value.
         host: Value,
     },
+    /// The GPU and the interpreter agree, but not with the host-Rust oracle on `row`.
+    OracleMismatch {
+        /// The input row.
+        row: usize,
+        /// GPU value.
+        gpu: Value,
+        /// The oracle's value.
+        oracle: Value,
+        /// The interpreter's value.
+        host: Value,
+    },
     /// The host evaluator failed.
     HostError(String),
+    /// The oracle program panicked on a row.
+    OracleError(String),
 }
 
 /// A compiled batch: WGSL, and each expression's IR.
@@ -353,7 +327,8 @@ impl Compiled {
     }
 }
 
-/// Compares expression `k` (type `ty`, output words from `slot`) over every row.
+/// Compares expression `k` (type `ty`, output words from `slot`) over every row with the
+/// interpreter and, given its rows, the host-Rust oracle.
 #[expect(
     clippy::too_many_arguments,
     reason = "one call site; the batch layout is plain data"
@@ -367,8 +342,9 @@ pub fn compare(
     out: &[u32],
     slot: usize,
     stride: usize,
+    oracle: Option<&[Row]>,
 ) -> Outcome {
-    let (mut compared, mut skipped) = (0, 0);
+    let (mut compared, mut skipped, mut oracle_rows) = (0, 0, 0);
     for row in 0..ROWS {
         let (host, regrouping) = match c.host(k, inputs, row) {
             Ok(Some(v)) => v,
@@ -378,31 +354,61 @@ pub fn compare(
             }
             Err(e) => return Outcome::HostError(e),
         };
-        let words = &out[row * stride + slot..row * stride + slot + ty.n as usize];
-        let gpu: Vec<Value> = words
-            .iter()
-            .map(|w| match ty.s {
-                Sc::Bool => Value::Bool(*w != 0),
-                s => Value::from_bits(codegen_scalar(s), *w),
-            })
-            .collect();
-        let hc = host.components();
-        let ok = hc.len() == gpu.len()
-            && hc.iter().zip(&gpu).all(|(h, g)| match (h, g) {
-                (Value::F32(h), Value::F32(g)) => close(*g, *h, tol, regrouping),
-                (h, g) => h == g,
-            });
-        if !ok {
-            let gpu = if gpu.len() == 1 {
-                gpu[0].clone()
-            } else {
-                Value::Vector(gpu)
-            };
+        let gpu = values(
+            ty,
+            &out[row * stride + slot..row * stride + slot + ty.n as usize],
+        );
+        let agree = |reference: &Value| {
+            let rc = reference.components();
+            let gc = gpu.components();
+            rc.len() == gc.len()
+                && rc.iter().zip(&gc).all(|(r, g)| match (r, g) {
+                    (Value::F32(r), Value::F32(g)) => close(*g, *r, tol, regrouping),
+                    (r, g) => r == g,
+                })
+        };
+        if !agree(&host) {
             return Outcome::Mismatch { row, gpu, host };
+        }
+        match oracle.map(|o| &o[row]) {
+            Some(Row::Words(w)) => {
+                let oracle = values(ty, w);
+                oracle_rows += 1;
+                if !agree(&oracle) {
+                    return Outcome::OracleMismatch {
+                        row,
+                        gpu,
+                        oracle,
+                        host,
+                    };
+                }
+            }
+            Some(Row::Panicked(e)) => return Outcome::OracleError(format!("row {row}: {e}")),
+            Some(Row::Indeterminate) | None => {}
         }
         compared += 1;
     }
-    Outcome::Agree { compared, skipped }
+    Outcome::Agree {
+        compared,
+        skipped,
+        oracle: oracle_rows,
+    }
+}
+
+/// A value of type `ty` from its output words (a scalar, or a vector of the lanes).
+fn values(ty: T, words: &[u32]) -> Value {
+    let lanes: Vec<Value> = words
+        .iter()
+        .map(|w| match ty.s {
+            Sc::Bool => Value::Bool(*w != 0),
+            s => Value::from_bits(codegen_scalar(s), *w),
+        })
+        .collect();
+    if lanes.len() == 1 {
+        lanes[0].clone()
+    } else {
+        Value::Vector(lanes)
+    }
 }
 
 fn codegen_scalar(s: Sc) -> codegen::ir::Scalar {
@@ -436,24 +442,4 @@ pub fn uses_approx(x: &E) -> bool {
         _ => false,
     };
     here || x.children().iter().any(|c| uses_approx(c))
-}
-
-/// The input row as text (`i0 = .., f2 = ..`).
-pub fn describe_row(inputs: &[u32], row: usize) -> String {
-    let w = &inputs[row * WORDS..(row + 1) * WORDS];
-    let mut s = String::new();
-    for (t, p) in ["i", "u", "f", "b"].iter().enumerate() {
-        for i in 0..INPUTS_PER_TYPE {
-            let bits = w[t * INPUTS_PER_TYPE + i];
-            let v = match *p {
-                "i" => format!("{}", bits as i32),
-                "u" => format!("{bits}"),
-                "f" => format!("{:?}", f32::from_bits(bits)),
-                _ => format!("{}", bits != 0),
-            };
-            let _ = write!(s, "{p}{i} = {v}, ");
-        }
-    }
-    s.truncate(s.len() - 2);
-    s
 }

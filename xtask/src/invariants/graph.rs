@@ -1,6 +1,8 @@
 //! The file graph of in-memory sources: one node per file module, one edge per path by which a
-//! file uses an item *defined* in another file (re-exports followed, `mod x;` and `pub use` not
-//! edges, paths to other crates ignored).
+//! file uses an item *defined* in another file, and one to each other file whose import (a
+//! re-export) the path goes through, even to another crate's item. `mod x;` and `pub use`
+//! themselves are not edges; paths to other crates that no import of the crate carries are
+//! ignored.
 
 use super::modules::{FileId, Tree};
 use super::resolve::{Edge, Resolver, Target};

@@ -115,7 +115,8 @@ fn a_three_file_ring_is_a_circle() {
 }
 
 /// "mod.rs re-exports its children; children use `super::Foo`": each use reaches the file that
-/// defines the item, never mod.rs, so there is no circle.
+/// defines the item and mod.rs, whose re-export it goes through; mod.rs uses none of them, so
+/// there is no circle.
 #[test]
 fn a_reexport_through_mod_rs_is_not_a_circle() {
     let files = [
@@ -140,13 +141,19 @@ fn a_reexport_through_mod_rs_is_not_a_circle() {
         edges(&files),
         [
             "k/src/g/dot.rs:1 -> k/src/g/build.rs (super::Graph)",
+            "k/src/g/dot.rs:1 -> k/src/g/mod.rs (super::Graph)",
+            "k/src/g/dot.rs:1 -> k/src/g/mod.rs (super::execute)",
             "k/src/g/dot.rs:1 -> k/src/g/run.rs (super::execute)",
             "k/src/g/run.rs:1 -> k/src/g/build.rs (super::Graph)",
             "k/src/g/run.rs:1 -> k/src/g/build.rs (super::Node)",
+            "k/src/g/run.rs:1 -> k/src/g/mod.rs (super::Graph)",
+            "k/src/g/run.rs:1 -> k/src/g/mod.rs (super::Node)",
             "k/src/g/run.rs:2 -> k/src/g/build.rs (Graph)",
             "k/src/g/run.rs:2 -> k/src/g/build.rs (N)",
+            "k/src/g/run.rs:2 -> k/src/g/mod.rs (Graph)",
+            "k/src/g/run.rs:2 -> k/src/g/mod.rs (N)",
         ],
-        "each edge names the defining file, never mod.rs"
+        "each edge names the defining file, and mod.rs where a re-export there carries it"
     );
     // Once build.rs calls back into run.rs (through the glob re-export), the circle is real.
     let mut calls_back = files;
@@ -156,6 +163,79 @@ fn a_reexport_through_mod_rs_is_not_a_circle() {
     assert!(
         v[0].detail
             .contains("k/src/g/build.rs -> k/src/g/run.rs (line 3: super::execute)")
+    );
+}
+
+/// `lists.rs` takes a constant through `hierarchy.rs`'s re-export of another crate's item while
+/// `hierarchy.rs` calls `lists.rs`: a circle, though the constant is defined in neither file.
+/// Taking the constant from its origin removes it.
+#[test]
+fn a_circle_through_a_reexport_of_another_crate_is_a_circle() {
+    let circle = [
+        ("k/src/lib.rs", "mod culling;\n"),
+        ("k/src/culling/mod.rs", "mod hierarchy;\nmod lists;\n"),
+        (
+            "k/src/culling/hierarchy.rs",
+            "pub use shaders::cull::{ITEM_TYPES, CullBox};\n\
+             pub fn build() -> u32 { super::lists::cells() }\n",
+        ),
+        (
+            "k/src/culling/lists.rs",
+            "use super::hierarchy::ITEM_TYPES;\npub fn cells() -> u32 { 8 * ITEM_TYPES }\n",
+        ),
+    ];
+    let v = circles_of(&circle);
+    assert_eq!(v.len(), 1, "{v:?}");
+    assert!(
+        v[0].detail.starts_with(
+            "2 files import each other: k/src/culling/hierarchy.rs -> k/src/culling/lists.rs \
+             (line 2: super::lists::cells) -> k/src/culling/hierarchy.rs (line 1: \
+             super::hierarchy::ITEM_TYPES)"
+        ),
+        "{}",
+        v[0].detail
+    );
+    let mut from_the_origin = circle;
+    from_the_origin[3].1 =
+        "use shaders::cull::ITEM_TYPES;\npub fn cells() -> u32 { 8 * ITEM_TYPES }\n";
+    assert!(circles_of(&from_the_origin).is_empty());
+    assert_eq!(
+        edges(&from_the_origin),
+        ["k/src/culling/hierarchy.rs:2 -> k/src/culling/lists.rs (super::lists::cells)"]
+    );
+}
+
+/// The same circle when the re-exported item is the crate's own (defined in a third file, and
+/// reached through two re-exports and a glob): the user depends on each re-exporting file and on
+/// the defining one.
+#[test]
+fn a_circle_through_chained_reexports_is_a_circle() {
+    let files = [
+        ("k/src/lib.rs", "mod types;\nmod prelude;\nmod a;\nmod b;\n"),
+        ("k/src/types.rs", "pub const N: u32 = 4;\n"),
+        ("k/src/prelude.rs", "pub use crate::types::*;\n"),
+        (
+            "k/src/b.rs",
+            "pub use crate::prelude::N;\npub fn f() { crate::a::g(); }\n",
+        ),
+        ("k/src/a.rs", "pub fn g() -> u32 { crate::b::N }\n"),
+    ];
+    assert_eq!(
+        edges(&files),
+        [
+            "k/src/a.rs:1 -> k/src/b.rs (crate::b::N)",
+            "k/src/a.rs:1 -> k/src/prelude.rs (crate::b::N)",
+            "k/src/a.rs:1 -> k/src/types.rs (crate::b::N)",
+            "k/src/b.rs:2 -> k/src/a.rs (crate::a::g)",
+        ]
+    );
+    let v = circles_of(&files);
+    assert_eq!(v.len(), 1, "{v:?}");
+    assert!(
+        v[0].detail
+            .starts_with("2 files import each other: k/src/a.rs -> k/src/b.rs"),
+        "{}",
+        v[0].detail
     );
 }
 

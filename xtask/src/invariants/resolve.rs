@@ -1,8 +1,15 @@
 //! Resolving a path written in a module to what it names: a module, or the file that *defines*
 //! the item. `crate::`, `super::` and `self::` walk the module tree; other first segments are
 //! looked up among the module's own names (items, child modules, imports, then globs), and
-//! imports are followed to their source, so re-exports are transparent. Anything not found
-//! (other crates, the prelude, local variables, generics) resolves to nothing.
+//! imports are followed to their source. Anything not found (other crates, the prelude, local
+//! variables, generics) resolves to nothing.
+//!
+//! A path that reaches its item through an import of another file (a re-export: `pub use` in
+//! `b.rs`, used as `b::X` from `a.rs`) depends on that file as well as on the file that defines
+//! the item: the edges go to both. Only to the origin, `a.rs` could take a name from `b.rs` while
+//! `b.rs` uses `a.rs`, a circle no edge would show; only to `b.rs`, a circle between `a.rs` and
+//! the defining file would hide behind it. A re-export of another crate's item still ties the
+//! user to the re-exporting file.
 
 use std::collections::HashSet;
 
@@ -39,10 +46,32 @@ impl<'t> Resolver<'t> {
 
     /// What `segments`, written in module `from`, names.
     pub fn resolve(&self, from: ModId, segments: &[String]) -> Option<Target> {
-        self.resolve_in(from, segments, &mut Visiting::new())
+        self.resolve_in(from, segments, &mut Visiting::new(), &mut vec![])
     }
 
-    fn resolve_in(&self, from: ModId, segments: &[String], seen: &mut Visiting) -> Option<Target> {
+    /// What `segments`, written in module `from`, names, and the files whose imports the path
+    /// goes through on the way (the re-exports it relies on; also when the item is in another
+    /// crate and the path resolves to nothing here).
+    pub fn resolve_traced(
+        &self,
+        from: ModId,
+        segments: &[String],
+    ) -> (Option<Target>, Vec<FileId>) {
+        let mut via = vec![];
+        let target = self.resolve_in(from, segments, &mut Visiting::new(), &mut via);
+        via.sort_unstable();
+        via.dedup();
+        (target, via)
+    }
+
+    /// [`Resolver::resolve`], adding to `via` the file of each import followed.
+    fn resolve_in(
+        &self,
+        from: ModId,
+        segments: &[String],
+        seen: &mut Visiting,
+        via: &mut Vec<FileId>,
+    ) -> Option<Target> {
         let modules = &self.tree.modules;
         let (first, rest) = segments.split_first()?;
         let mut current = match first.as_str() {
@@ -50,7 +79,7 @@ impl<'t> Resolver<'t> {
             "self" => Target::Module(from),
             "super" => Target::Module(modules[from].parent?),
             "Self" => return None,
-            name => self.lookup(from, name, rest.is_empty(), seen)?,
+            name => self.lookup(from, name, rest.is_empty(), seen, via)?,
         };
         for (i, segment) in rest.iter().enumerate() {
             let Target::Module(m) = current else {
@@ -59,18 +88,28 @@ impl<'t> Resolver<'t> {
             current = match segment.as_str() {
                 "super" => Target::Module(modules[m].parent?),
                 "self" => current,
-                name => self.lookup(m, name, i + 1 == rest.len(), seen)?,
+                name => self.lookup(m, name, i + 1 == rest.len(), seen, via)?,
             };
         }
         Some(current)
     }
 
     /// `name` in module `m`: its own bindings first (a module when more segments follow, an item
-    /// at the end of the path, the other kind otherwise), then its globs.
-    fn lookup(&self, m: ModId, name: &str, last: bool, seen: &mut Visiting) -> Option<Target> {
+    /// at the end of the path, the other kind otherwise), then its globs. A name found through an
+    /// import or glob of `m` adds `m`'s file to `via`, with the files its path goes through.
+    fn lookup(
+        &self,
+        m: ModId,
+        name: &str,
+        last: bool,
+        seen: &mut Visiting,
+        via: &mut Vec<FileId>,
+    ) -> Option<Target> {
         let module = &self.tree.modules[m];
         let wanted = |t: &Target| matches!(t, Target::Module(_)) != last;
         let mut fallback = None;
+        // The files the fallback, when it came through an import, went through.
+        let mut fallback_via: Option<Vec<FileId>> = None;
         let bindings = module
             .names
             .get(name)
@@ -89,6 +128,8 @@ impl<'t> Resolver<'t> {
             }
             fallback = fallback.or(Some(target));
         }
+        // An import naming something outside the crate: the name still comes from this file.
+        let mut imported_from_outside = false;
         for (i, binding) in bindings.iter().enumerate() {
             let Binding::Import(path) = binding else {
                 continue;
@@ -96,16 +137,31 @@ impl<'t> Resolver<'t> {
             if !seen.insert((m, name.to_owned(), i)) {
                 continue;
             }
-            let target = self.resolve_in(m, &path.segments, seen);
+            let mark = via.len();
+            let target = self.resolve_in(m, &path.segments, seen, via);
             seen.remove(&(m, name.to_owned(), i));
             match target {
-                Some(t) if wanted(&t) => return Some(t),
-                Some(t) => fallback = fallback.or(Some(t)),
-                None => {}
+                Some(t) if wanted(&t) => {
+                    via.push(module.file);
+                    return Some(t);
+                }
+                Some(t) if fallback.is_none() => {
+                    fallback = Some(t);
+                    fallback_via = Some(via.split_off(mark));
+                }
+                Some(_) => via.truncate(mark),
+                None => imported_from_outside = true,
             }
         }
         if fallback.is_some() {
+            if let Some(through) = fallback_via {
+                via.extend(through);
+                via.push(module.file);
+            }
             return fallback;
+        }
+        if imported_from_outside {
+            via.push(module.file);
         }
         for (i, glob) in module.globs.iter().enumerate() {
             // Globs are keyed apart from named imports by an index past them.
@@ -113,34 +169,41 @@ impl<'t> Resolver<'t> {
             if !seen.insert(key.clone()) {
                 continue;
             }
-            let found = match self.resolve_in(m, &glob.segments, seen) {
-                Some(Target::Module(g)) => self.lookup(g, name, last, seen),
+            let mark = via.len();
+            let found = match self.resolve_in(m, &glob.segments, seen, via) {
+                Some(Target::Module(g)) => self.lookup(g, name, last, seen, via),
                 _ => None, // a glob over an enum's variants: its `use` is the edge
             };
             seen.remove(&key);
             if found.is_some() {
+                via.push(module.file);
                 return found;
             }
+            via.truncate(mark);
         }
         None
     }
 
     /// Every edge of the tree: each path a module uses that resolves to an item of another file,
-    /// in file and line order (a file's repeated uses of one path are all listed).
+    /// or goes through an import (a re-export) in another file, to each of those files; in file
+    /// and line order (a file's repeated uses of one path are all listed).
     pub fn edges(&self) -> Vec<Edge> {
         let mut edges: Vec<Edge> = (0..self.tree.modules.len())
             .flat_map(|m| {
                 let from = self.tree.modules[m].file;
-                self.tree.modules[m].uses.iter().filter_map(move |path| {
-                    match self.resolve(m, &path.segments)? {
-                        Target::Item(to) if to != from => Some(Edge {
+                self.tree.modules[m].uses.iter().flat_map(move |path| {
+                    let (target, mut to) = self.resolve_traced(m, &path.segments);
+                    if let Some(Target::Item(defined)) = target {
+                        to.push(defined);
+                    }
+                    to.into_iter()
+                        .filter(move |&to| to != from)
+                        .map(move |to| Edge {
                             from,
                             to,
                             line: path.line,
                             path: path.text(),
-                        }),
-                        _ => None,
-                    }
+                        })
                 })
             })
             .collect();

@@ -409,7 +409,7 @@ pub fn run(args: &Args, default_out: &str) -> Result<()> {
     let out = args
         .out
         .clone()
-        .unwrap_or_else(|| crate::workspace_root().join(default_out));
+        .unwrap_or_else(|| crate::workspace::workspace_root().join(default_out));
     let size = (s.config.width, s.config.height);
     save_png(&out, &shot.rgba, size)?;
     let dot = out.with_extension("dot");

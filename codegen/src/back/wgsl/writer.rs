@@ -2,7 +2,8 @@
 //! statements are printed by `stmt`, expressions by `expr`. See the parent module for its
 //! contract.
 
-use super::{Options, SourceMap};
+use super::options::Options;
+use super::source_map::SourceMap;
 use crate::ir::is_subgroup_builtin;
 use crate::ir::{Access, Function, Io, Module, Space, Stage, TexKind, Ty};
 use crate::layout::{array_len, struct_layout};

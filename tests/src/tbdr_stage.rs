@@ -1,0 +1,95 @@
+//! The TBDR tests' stages (the courtyard and the committed glTF scene, with their lights and
+//! cameras) and one frame of a stage on a render path, with what the TBDR pass recorded.
+
+use renderer::frame::setup::{courtyard_look, create_target, default_camera, procedural_lights};
+use renderer::frame::{FrameCamera, RenderPath, Renderer, RendererConfig};
+use renderer::frame_data::EdgeThresholds;
+use renderer::passes::deferred::{TbdrPass, TbdrRecord};
+use renderer::scene::{Scene, SceneLight};
+use renderer::{GpuContext, readback};
+
+use crate::frames::committed_scene;
+
+/// A scene, its lights and camera, and the frame size.
+#[derive(Debug)]
+pub struct Stage {
+    pub scene: Scene,
+    pub lights: Vec<SceneLight>,
+    pub camera: FrameCamera,
+    pub size: (u32, u32),
+    pub look: fn(RendererConfig) -> RendererConfig,
+}
+
+/// The courtyard from its own camera, with its lights and 256 seeded ones.
+pub fn courtyard_stage() -> Stage {
+    use renderer::scene::procedural::{COURTYARD_LIGHT_REGION, courtyard};
+    let scene = courtyard();
+    let mut lights = scene.lights.clone();
+    lights.extend(procedural_lights(COURTYARD_LIGHT_REGION, 256, 7, 0.8, 2.6));
+    let (w, h) = (192, 108);
+    Stage {
+        camera: default_camera(&scene, w as f32 / h as f32),
+        scene,
+        lights,
+        size: (w, h),
+        look: courtyard_look,
+    }
+}
+
+/// The committed glTF scene (opaque, masked and blended quads) with 64 seeded lights.
+pub fn gltf_stage() -> Stage {
+    let scene = committed_scene();
+    let size = (scene.bounds.max - scene.bounds.min).length();
+    let lights = procedural_lights(scene.bounds, 64, 3, size * 0.05, size * 0.3);
+    let (w, h) = (128, 96);
+    Stage {
+        camera: renderer::frame::setup::framing_camera(scene.bounds, w as f32 / h as f32),
+        scene,
+        lights,
+        size: (w, h),
+        look: |c| c,
+    }
+}
+
+/// One frame of `stage` on `path`, its pixels, and with `record` what TBDR recorded.
+pub fn frame(
+    gpu: &GpuContext,
+    stage: &Stage,
+    path: RenderPath,
+    msaa: u32,
+    edges: EdgeThresholds,
+    record: bool,
+) -> (Vec<u8>, Option<TbdrRecord>) {
+    let config = (stage.look)(RendererConfig {
+        width: stage.size.0,
+        height: stage.size.1,
+        msaa,
+        path,
+        tile: 16,
+        edges,
+        ..Default::default()
+    });
+    let mut renderer = Renderer::new(gpu, config).expect("renderer");
+    renderer
+        .prepare_scene(&stage.scene)
+        .expect("the scene fits the device");
+    renderer.set_lights(&stage.lights).expect("lights fit");
+    if record {
+        renderer
+            .pass_mut::<TbdrPass>()
+            .expect("a TBDR path runs the TBDR pass")
+            .set_recording(true);
+    }
+    let target = create_target(&gpu.device, &config);
+    // A second frame, so a culled path's index list has grown to every cell's items.
+    for _ in 0..2 {
+        renderer.render(&stage.camera, &target).expect("frame");
+        renderer.finish();
+    }
+    let rgba = readback::read_texture_rgba8(&gpu.device, &gpu.queue, &target).expect("readback");
+    let recorded = renderer
+        .pass::<TbdrPass>()
+        .map(|p| p.recorded().expect("record readback"))
+        .and_then(|r| r);
+    (rgba, recorded)
+}
