@@ -82,15 +82,22 @@ impl<'a> CullItems<'a> {
         self.decals
             .iter()
             .map(|b| {
-                let [x, y, z] = [b.axis_x, b.axis_y, b.axis_z].map(|a| a.truncate());
-                let radius = [x + y + z, x + y - z, x - y + z, -x + y + z]
-                    .into_iter()
-                    .map(Vec3::length)
-                    .fold(0.0, f32::max);
-                CullSphere::new(b.center.truncate(), radius)
+                let (center, radius) = box_sphere(b);
+                CullSphere::new(center, radius)
             })
             .collect()
     }
+}
+
+/// A culling box's bounding sphere, through its farthest corner: the sphere the kernels test
+/// a decal by before its box.
+pub fn box_sphere(b: &CullBox) -> (Vec3, f32) {
+    let [x, y, z] = [b.axis_x, b.axis_y, b.axis_z].map(|a| a.truncate());
+    let radius = [x + y + z, x + y - z, x - y + z, -x + y + z]
+        .into_iter()
+        .map(Vec3::length)
+        .fold(0.0, f32::max);
+    (b.center.truncate(), radius)
 }
 
 /// What the fine level's method adds to the parameters.

@@ -3,6 +3,7 @@
 //! entry while the bound fits one storage binding.
 
 use crate::culling::capacity::{GridView, ListLayout, entry_bound};
+use crate::culling::hierarchy::box_sphere;
 use crate::frame_data::{FrameInputs, RenderPath};
 
 /// The index-list capacity for a frame that may need `bound` entries, holding `current` now,
@@ -54,13 +55,8 @@ pub(super) fn frame_entry_bound(
     };
     let items = || {
         let lights = frame.lights.spheres.iter().map(|s| (s.center, s.radius));
-        // A decal's box lies inside the sphere through its corners' farthest reach.
-        let decals = frame.decals.boxes.iter().map(|b| {
-            let reach = b.axis_x.truncate().length()
-                + b.axis_y.truncate().length()
-                + b.axis_z.truncate().length();
-            (b.center.truncate(), reach)
-        });
+        // A decal enters a list only if the sphere the kernels test it by does.
+        let decals = frame.decals.boxes.iter().map(box_sphere);
         lights.chain(decals)
     };
     let main = layout.map_or(0, |l| entry_bound(items(), &grid, l));
