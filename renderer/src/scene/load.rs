@@ -6,8 +6,8 @@ use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
 
 use super::load_checks::{check_accessors, precheck};
 use super::{
-    Aabb, AlphaMode, Image, Instance, LightKind, Material, Mesh, Primitive, Scene, SceneCamera,
-    SceneError, SceneLight, TextureRef, resources, tangents,
+    Aabb, AlphaMode, Image, Instance, LightKind, Material, Mesh, Primitive, Scene,
+    SceneError, SceneLight, TextureRef, camera, resources, tangents,
 };
 
 impl Scene {
@@ -85,16 +85,8 @@ impl Scene {
                 world_from_mesh: world,
             });
         }
-        if let Some(camera) = node.camera()
-            && let gltf::camera::Projection::Perspective(p) = camera.projection()
-        {
-            self.cameras.push(SceneCamera {
-                world_from_view: world,
-                yfov: p.yfov(),
-                aspect: p.aspect_ratio(),
-                znear: p.znear(),
-                zfar: p.zfar(),
-            });
+        if let Some(camera) = node.camera().and_then(|c| camera::camera_of(&c, world)) {
+            self.cameras.push(camera);
         }
         if let Some(light) = node.light() {
             self.lights.push(light_of(&light, world));
@@ -249,6 +241,8 @@ impl Ctx<'_> {
             positions,
             normals,
             uvs,
+            uvs1: Vec::new(),
+            colors: Vec::new(),
             tangents,
             indices,
             material: p.material().index(),
@@ -313,8 +307,8 @@ fn flat_normals(positions: &[Vec3], indices: &[u32]) -> Vec<Vec3> {
 
 fn texture_ref(info: Option<gltf::texture::Info<'_>>) -> Option<TextureRef> {
     info.map(|t| TextureRef {
-        image: t.texture().source().index(),
         tex_coord: t.tex_coord(),
+        ..TextureRef::new(t.texture().source().index())
     })
 }
 
@@ -331,13 +325,13 @@ fn material(m: &gltf::Material<'_>) -> Material {
         metallic_roughness_texture: texture_ref(pbr.metallic_roughness_texture()),
         normal_scale: normal.as_ref().map_or(1.0, |n| n.scale()),
         normal_texture: normal.map(|t| TextureRef {
-            image: t.texture().source().index(),
             tex_coord: t.tex_coord(),
+            ..TextureRef::new(t.texture().source().index())
         }),
         occlusion_strength: occlusion.as_ref().map_or(1.0, |o| o.strength()),
         occlusion_texture: occlusion.map(|t| TextureRef {
-            image: t.texture().source().index(),
             tex_coord: t.tex_coord(),
+            ..TextureRef::new(t.texture().source().index())
         }),
         emissive: Vec3::from(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0),
         emissive_texture: texture_ref(m.emissive_texture()),

@@ -12,9 +12,13 @@ mod load_checks;
 pub mod procedural;
 mod resources;
 mod tangents;
+mod texture;
+mod camera;
 
 pub use error::SceneError;
+pub use camera::SceneCamera;
 pub use gpu::{GpuImage, GpuPrimitive, GpuScene};
+pub use texture::{Filter, TextureSampler, UvTransform, Wrap};
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
@@ -77,7 +81,13 @@ impl Aabb {
 pub struct Primitive {
     pub positions: Vec<Vec3>,
     pub normals: Vec<Vec3>,
+    /// `TEXCOORD_0` (zero where the file has none).
     pub uvs: Vec<Vec2>,
+    /// `TEXCOORD_1`; empty when the file has none.
+    pub uvs1: Vec<Vec2>,
+    /// `COLOR_0` as linear RGBA (alpha 1 where the file gives RGB); empty when the file has
+    /// none, which draws as white.
+    pub colors: Vec<Vec4>,
     /// xyz tangent and handedness in w; generated (MikkTSpace) when the file has none.
     pub tangents: Vec<Vec4>,
     pub indices: Vec<u32>,
@@ -98,11 +108,27 @@ pub struct Instance {
     pub world_from_mesh: Mat4,
 }
 
-/// A texture a material samples: an image and the UV set it uses.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// A texture a material samples: an image, the UV set it uses, its sampler and its
+/// `KHR_texture_transform`.
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TextureRef {
     pub image: usize,
+    /// 0: `TEXCOORD_0`, 1: `TEXCOORD_1` (after the transform's own `texCoord`, if any).
     pub tex_coord: u32,
+    pub sampler: TextureSampler,
+    pub transform: UvTransform,
+}
+
+impl TextureRef {
+    /// `image` through `TEXCOORD_0` with the default sampler and no transform.
+    pub fn new(image: usize) -> Self {
+        Self {
+            image,
+            tex_coord: 0,
+            sampler: TextureSampler::default(),
+            transform: UvTransform::IDENTITY,
+        }
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -141,16 +167,6 @@ pub struct Image {
     pub width: u32,
     pub height: u32,
     pub rgba8: Vec<u8>,
-}
-
-/// A perspective camera from the file.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SceneCamera {
-    pub world_from_view: Mat4,
-    pub yfov: f32,
-    pub aspect: Option<f32>,
-    pub znear: f32,
-    pub zfar: Option<f32>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]

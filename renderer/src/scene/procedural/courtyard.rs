@@ -57,10 +57,7 @@ fn pbr(b: &mut SceneBuilder, name: &str, color: Vec4, roughness: f32, metallic: 
 fn textured(b: &mut SceneBuilder, name: &str, image: usize, roughness: f32, mask: bool) -> usize {
     b.add_material(Material {
         name: name.into(),
-        base_color_texture: Some(TextureRef {
-            image,
-            tex_coord: 0,
-        }),
+        base_color_texture: Some(TextureRef::new(image)),
         metallic: 0.0,
         roughness,
         alpha_mode: if mask {
