@@ -65,6 +65,7 @@ impl Scene {
             cameras: Vec::new(),
             lights: Vec::new(),
             bounds: Aabb::EMPTY,
+            warnings: Vec::new(),
         };
         for (node, world) in ctx.node_transforms(&doc)? {
             scene.place(&node, world);

@@ -13,12 +13,14 @@ pub mod procedural;
 mod resources;
 mod tangents;
 mod texture;
+mod warning;
 mod camera;
 
 pub use error::SceneError;
 pub use camera::SceneCamera;
 pub use gpu::{GpuImage, GpuPrimitive, GpuScene};
 pub use texture::{Filter, TextureSampler, UvTransform, Wrap};
+pub use warning::SceneWarning;
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
@@ -204,6 +206,9 @@ pub struct Scene {
     pub lights: Vec<SceneLight>,
     /// World-space bounds of every instance.
     pub bounds: Aabb,
+    /// What the file holds that is skipped or approximated, in the order found; tools print
+    /// these when they open the scene.
+    pub warnings: Vec<SceneWarning>,
 }
 
 impl Scene {

@@ -37,6 +37,7 @@ impl SceneBuilder {
             cameras: Vec::new(),
             lights: Vec::new(),
             bounds: Aabb::EMPTY,
+            warnings: Vec::new(),
         })
     }
 
