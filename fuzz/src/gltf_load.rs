@@ -25,6 +25,9 @@ pub fn run(data: &[u8]) {
         assert!(!e.to_string().is_empty());
         return;
     }
+    for w in &scene.warnings {
+        assert!(!w.to_string().is_empty());
+    }
     let default_material = scene.materials.len();
     let draws = draw_plan(&scene);
     let primitives: usize = scene

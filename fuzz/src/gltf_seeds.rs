@@ -1,6 +1,7 @@
 //! The starting corpus of the `gltf_load` target: small self-contained scenes that exercise
 //! every part of the loader (node trees, cameras, every light kind, materials with textures,
-//! indexed and unindexed primitives, missing normals, GLB and `.gltf`), the malformed inputs of
+//! indexed and unindexed primitives, missing normals, GLB and `.gltf`, strips, fans, points, an
+//! unused mesh and an ignored extension), the malformed inputs of
 //! the scene-loading tests (truncated, garbled, an index out of range, an unsupported required
 //! extension), and the shared scene whose buffer is small enough to embed (LightsPunctualLamp,
 //! its images replaced by 1×1 PNGs so one execution stays fast).
@@ -126,6 +127,24 @@ fn glb(indices: [u16; 3]) -> Vec<u8> {
     glb.to_vec().unwrap_or_default()
 }
 
+/// The triangle scene with a strip, a fan and a POINTS primitive added to its mesh, a second
+/// mesh (LINES) that no node uses, and an extension the renderer ignores in `extensionsUsed`.
+fn modes_and_unused_mesh() -> Vec<u8> {
+    let bin = triangle_bin([0, 1, 2]);
+    let mut doc = triangle_json(Some(data_uri(&bin)), bin.len(), &[], true);
+    let primitive = |mode: u32| json!({ "attributes": { "POSITION": 0 }, "mode": mode });
+    if let Some(p) = doc["meshes"][0]["primitives"].as_array_mut() {
+        p.extend([primitive(5), primitive(6), primitive(0)]);
+    }
+    if let Some(m) = doc["meshes"].as_array_mut() {
+        m.push(json!({ "primitives": [primitive(1)] }));
+    }
+    if let Some(e) = doc["extensionsUsed"].as_array_mut() {
+        e.push(json!("KHR_materials_clearcoat"));
+    }
+    doc.to_string().into_bytes()
+}
+
 /// LightsPunctualLamp with its buffer embedded and every image a 1×1 PNG, when the shared
 /// scenes are present.
 fn lamp() -> Option<Vec<u8>> {
@@ -153,6 +172,7 @@ pub fn seeds() -> Vec<(String, Vec<u8>)> {
     let mut seeds = vec![
         ("triangle.gltf", valid.clone()),
         ("triangle.glb", glb([0, 1, 2])),
+        ("triangle-modes-unused-mesh.gltf", modes_and_unused_mesh()),
         (
             "triangle-flat-normals.gltf",
             gltf_text([0, 1, 2], &[], false),

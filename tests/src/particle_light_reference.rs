@@ -2,7 +2,7 @@
 //! `docs/particle_lighting.md` (not from the shaders): where each atlas texel lies on its
 //! particle's billboard, the half-Lambert response to every light with its attenuation, the
 //! shadow visibility (its own projection and bilinear depth comparisons over the shadow atlas
-//! depth read back from the GPU), and ambient. Also the `Rg11b10Ufloat` packing, written from
+//! depth read back from the GPU), and the sky and ground ambient. Also the `Rg11b10Ufloat` packing, written from
 //! the format's definition, to upload a CPU-lit atlas.
 
 use glam::{UVec2, Vec2, Vec3, Vec4, Vec4Swizzles};
@@ -78,7 +78,9 @@ impl LightingScene {
     /// `L(p, n)` of the specification, with `dither` the cascade dither of the texel.
     pub fn response(&self, p: Vec3, n: Vec3, dither: f32) -> Vec3 {
         let depth = -(self.view.view * p.extend(1.0)).z;
-        let mut sum = self.view.ambient;
+        // Hemisphere ambient: ground below, sky above, linear in the normal's world up part.
+        let up = (n.y + 1.0) / 2.0;
+        let mut sum = self.view.ambient_ground * (1.0 - up) + self.view.ambient_sky * up;
         for light in self.directional.iter().chain(&self.punctual) {
             let (l, attenuation) = self.incidence(light, p);
             let wrap = (n.dot(l) + 1.0) / 2.0;

@@ -267,6 +267,15 @@ fn bound<'c>(
     d.set_texture(&format!("ALBEDO{suffix}"), colour(1))?;
     d.set_texture(&format!("NORMALS{suffix}"), colour(5))?;
     d.set_texture(&format!("RADIANCE{suffix}"), colour(9))?;
+    // One channel (`R32Float`): loads as `(v, 0, 0, 1)`.
+    let view_depth = HostTexture {
+        width: w,
+        height: h,
+        layers: 1,
+        samples: msaa,
+        texels: samples().map(|s| vector(&[s[13], 0.0, 0.0, 1.0])).collect(),
+    };
+    d.set_texture(&format!("VIEW_DEPTH{suffix}"), view_depth)?;
     d.set_texture(
         "HDR_OUT",
         HostTexture {

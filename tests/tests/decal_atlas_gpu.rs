@@ -33,7 +33,7 @@ fn render(scene: &Scene, set: &DecalSet, camera: &FrameCamera, size: (u32, u32))
         height,
         msaa: 4,
         path: RenderPath::Clustered,
-        ambient: Vec3::splat(0.6),
+        ambient: renderer::frame::Ambient::uniform(Vec3::splat(0.6)),
         ..Default::default()
     };
     gpu_test(|gpu| render_frame_with(gpu, scene, config, &[], set, camera).rgba)

@@ -107,7 +107,7 @@ fn assert_culled_equals_naive(
         path,
         tile: 16,
         // Ambient light, so that decals show in places the seeded lights leave dark.
-        ambient: Vec3::splat(0.3),
+        ambient: renderer::frame::Ambient::uniform(Vec3::splat(0.3)),
         ..Default::default()
     };
     gpu_test(|gpu| {
@@ -172,7 +172,7 @@ fn stage_frame(set: &DecalSet, path: RenderPath, msaa: u32) -> Vec<u8> {
         msaa,
         path,
         tile: 16,
-        ambient: Vec3::splat(0.25),
+        ambient: renderer::frame::Ambient::uniform(Vec3::splat(0.25)),
         ..Default::default()
     };
     let scene = decal_stage::scene();
@@ -329,7 +329,7 @@ fn letter_frames(path: RenderPath, msaa: u32) -> [Vec<u8>; 6] {
         msaa,
         path,
         tile: 16,
-        ambient: Vec3::splat(0.5),
+        ambient: renderer::frame::Ambient::uniform(Vec3::splat(0.5)),
         ..Default::default()
     };
     let scene = letters::scene();

@@ -354,8 +354,14 @@ fn prez_writes_the_projected_depth_of_a_tilted_quad() {
         draw_prez(
             gpu,
             SIZE,
-            &prez::Camera::new(s.view, s.projection, s.projection * s.view, s.eye),
-            &prez::Draw::new(world, world.inverse().transpose(), 0),
+            &prez::Camera::new(
+                s.view,
+                s.projection,
+                s.projection * s.view,
+                s.eye,
+                s.eye.extend(1.0),
+            ),
+            &prez::Draw::new(world, world.inverse().transpose(), 0, 1.0),
             &vertices,
         )
     });

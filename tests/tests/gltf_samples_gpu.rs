@@ -23,3 +23,17 @@ pub fn sample(relative: &str) -> Scene {
     let path = sample_path(relative);
     Scene::load(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
+#[path = "gltf_samples_gpu/cameras.rs"]
+mod cameras;
+#[path = "gltf_samples_gpu/default_ambient.rs"]
+mod default_ambient;
+#[path = "gltf_samples_gpu/material_inputs.rs"]
+mod material_inputs;
+#[path = "gltf_samples_gpu/material_models.rs"]
+mod material_models;
+#[path = "gltf_samples_gpu/material_shadows.rs"]
+mod material_shadows;
+#[path = "gltf_samples_gpu/negative_scale.rs"]
+mod negative_scale;
+#[path = "gltf_samples_gpu/tbdr_thin.rs"]
+mod tbdr_thin;

@@ -72,7 +72,7 @@ fn render(scene: &Scene, path: RenderPath, msaa: u32) -> Vec<u8> {
         msaa,
         path,
         tile: 16,
-        ambient: Vec3::splat(0.2),
+        ambient: renderer::frame::Ambient::uniform(Vec3::splat(0.2)),
         ..Default::default()
     };
     let lights = procedural_lights(scene.bounds, 48, 7, 8.0, 30.0);

@@ -93,6 +93,9 @@ fn small(path: RenderPath, msaa: u32, view: FrameView) -> RendererConfig {
         path,
         view,
         heatmap_max: 64,
+        // The ambient the references were approved with (the default before the sky and
+        // ground ambient).
+        ambient: renderer::frame::Ambient::uniform(glam::Vec3::splat(0.03)),
         ..Default::default()
     }
 }

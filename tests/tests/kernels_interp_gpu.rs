@@ -357,6 +357,7 @@ fn atlas_on_gpu(camera: &FrameCamera, height: u32) -> AtlasRun {
                 camera.near,
                 side / 2,
                 sort.count,
+                u32::from(camera.orthographic),
             ),
             emitters,
             particles,

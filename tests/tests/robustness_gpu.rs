@@ -106,6 +106,8 @@ fn a_lost_device_is_an_error_and_a_new_device_draws_the_same_frame() {
         height: 64,
         msaa: 4,
         path: RenderPath::Tiled,
+        // The ambient `LOSS_LIT` was measured at.
+        ambient: renderer::frame::Ambient::uniform(glam::Vec3::splat(0.03)),
         ..Default::default()
     };
     let cam = camera(&scene, &config);
@@ -406,7 +408,7 @@ fn one_renderer_soaks_ten_thousand_changing_frames_with_bounded_memory_and_objec
             height: 36,
             msaa: 4,
             path: RenderPath::Clustered,
-            ambient: glam::Vec3::splat(0.3),
+            ambient: renderer::frame::Ambient::uniform(glam::Vec3::splat(0.3)),
             shadows: renderer::shadow::ShadowConfig {
                 atlas_size: 2048,
                 max_resolution: 256,

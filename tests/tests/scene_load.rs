@@ -5,6 +5,19 @@ use std::path::{Path, PathBuf};
 
 use renderer::scene::{AlphaMode, LightKind, Scene, SceneError};
 
+/// Synthetic GLB files for the modules below.
+#[path = "scene_load/gltf_builder.rs"]
+mod gltf_builder;
+/// `EXT_mesh_gpu_instancing` and default morph weights.
+#[path = "scene_load/instancing_morph.rs"]
+mod instancing_morph;
+/// Image formats, primitive modes, unused meshes and ignored extensions.
+#[path = "scene_load/modes_formats.rs"]
+mod modes_formats;
+/// `COLOR_0`, `TEXCOORD_1`, samplers and `KHR_texture_transform`.
+#[path = "scene_load/vertex_material_data.rs"]
+mod vertex_material_data;
+
 fn workspace() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
 }

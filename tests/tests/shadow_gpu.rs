@@ -53,7 +53,7 @@ fn config(path: RenderPath) -> RendererConfig {
         height: H,
         msaa: 1,
         path,
-        ambient: Vec3::ZERO,
+        ambient: renderer::frame::Ambient::OFF,
         ..Default::default()
     };
     c.shadows.atlas_size = 2048;

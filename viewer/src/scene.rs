@@ -13,7 +13,7 @@ use renderer::frame::setup::{
 };
 use renderer::particles::{ParticleSystem, builtin_system};
 use renderer::scene::procedural::courtyard;
-use renderer::scene::{Aabb, Scene, SceneLight};
+use renderer::scene::{Aabb, CameraProjection, Scene, SceneLight};
 
 use crate::fly::Fly;
 
@@ -46,15 +46,23 @@ pub fn load(
 ) -> Result<Shown> {
     let scene = match file {
         None => courtyard(),
-        Some(path) => Scene::load(path)
-            .with_context(|| format!("--scene {}: cannot load it", path.display()))?,
+        Some(path) => {
+            let scene = Scene::load(path)
+                .with_context(|| format!("--scene {}: cannot load it", path.display()))?;
+            for warning in &scene.warnings {
+                eprintln!("warning: {}: {warning}", path.display());
+            }
+            scene
+        }
     };
     let (light_region, light_radii) = light_space(&scene, file.is_none());
-    // The camera the renderer's tools open on (the scene's own, else one framing it).
+    // The camera the renderer's tools open on (the scene's own, else one framing it). The fly
+    // camera is perspective: on an orthographic file camera it starts at that camera's pose
+    // with the framing camera's field of view.
     let opening = default_camera(&scene, 1.0);
-    let yfov = match scene.cameras.first() {
-        Some(c) => c.yfov,
-        None => FRAMING_YFOV_DEGREES.to_radians(),
+    let yfov = match scene.cameras.first().map(|c| c.projection) {
+        Some(CameraProjection::Perspective { yfov, .. }) => yfov,
+        Some(CameraProjection::Orthographic { .. }) | None => FRAMING_YFOV_DEGREES.to_radians(),
     };
     let start = Fly::from_world_from_view(opening.view.inverse(), yfov);
     let materials = procedural::materials();

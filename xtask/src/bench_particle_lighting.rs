@@ -73,6 +73,7 @@ fn scene(count: u32, bench: &Bench) -> Result<Setup> {
         target: in_smoke.then_some(Vec3::new(-4.2, 1.6, -2.3)),
         view: "lit".into(),
         exposure: None,
+        ambient: None,
         out: None,
         adapter: None,
         msaa_fallback: false,

@@ -65,6 +65,7 @@ pub fn run(args: &Args) -> Result<()> {
         target: None,
         view: "lit".into(),
         exposure: args.exposure,
+        ambient: None,
         out: None,
         adapter: args.adapter.clone(),
         msaa_fallback: true,

@@ -92,3 +92,36 @@ fn the_bound_adds_over_items() {
     );
     assert_eq!(two, 2 * one);
 }
+
+/// 256 × 256 pixels over view `x`, `y` in `[−8, 8]`: 16 pixels, one tile, per view unit.
+fn orthographic_grid() -> GridView {
+    GridView {
+        projection: glam::camera::rh::proj::directx::orthographic(-8.0, 8.0, -8.0, 8.0, 0.1, 100.0),
+        ..grid()
+    }
+}
+
+#[test]
+fn an_orthographic_sphere_covers_the_same_tiles_at_every_depth() {
+    // Radius 1.5 at the centre spans pixels 128 ± 24, widened by a pixel: 103..153, tiles 6 to
+    // 9 either way, 16 tiles, near or far.
+    for z in [-1.0, -10.0, -90.0] {
+        let sphere = [(Vec3::new(0.0, 0.0, z), 1.5)];
+        assert_eq!(
+            entry_bound(sphere, &orthographic_grid(), TILED),
+            16,
+            "z {z}"
+        );
+    }
+    // Centre of tile (2, 2) (pixel 40: view x = −8 + 40 / 16) with a small radius: one tile,
+    // however far.
+    for z in [-2.0, -80.0] {
+        let sphere = [(Vec3::new(-5.5, 5.5, z), 0.1)];
+        assert_eq!(entry_bound(sphere, &orthographic_grid(), TILED), 1, "z {z}");
+    }
+    // Behind the camera's plane: nothing; off the sides: nothing.
+    let behind = [(Vec3::new(0.0, 0.0, 5.0), 1.0)];
+    assert_eq!(entry_bound(behind, &orthographic_grid(), TILED), 0);
+    let aside = [(Vec3::new(12.0, 0.0, -10.0), 1.0)];
+    assert_eq!(entry_bound(aside, &orthographic_grid(), TILED), 0);
+}

@@ -43,9 +43,16 @@ pub struct HierarchyShape {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CullView {
     pub view: Mat4,
+    /// Perspective, or orthographic ([`is_orthographic`]).
     pub projection: Mat4,
     /// Target size in pixels.
     pub screen: UVec2,
+}
+
+/// Whether `projection` is orthographic (affine: its last row is `(0, 0, 0, 1)`), so the kernels
+/// build tile frustums with parallel sides.
+pub fn is_orthographic(projection: &Mat4) -> bool {
+    projection.row(3) == glam::Vec4::W
 }
 
 /// What one frame culls: the lights as world-space spheres, then the decals as world-space
@@ -260,6 +267,7 @@ impl CullHierarchy {
             method.slice_near,
             method.slice_far,
             u32::from(self.shape.msaa == 1),
+            u32::from(is_orthographic(&camera.projection)),
         )
     }
 

@@ -52,7 +52,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 pub use crate::frame_data::{
-    DrawItem, FrameCamera, FrameReport, FrameView, ParticleLighting, ParticleReport,
+    Ambient, DrawItem, FrameCamera, FrameReport, FrameView, ParticleLighting, ParticleReport,
     PreparedMaterial, PreparedScene, RenderError, RenderPath, RendererConfig,
 };
 pub use crate::passes::light_cull::Culler;

@@ -4,7 +4,7 @@
 use glam::{Mat4, Vec3, camera::rh};
 
 use super::{FrameCamera, RendererConfig};
-use crate::scene::{Aabb, LightKind, Scene, SceneLight};
+use crate::scene::{Aabb, CameraProjection, LightKind, Scene, SceneLight};
 
 /// A tiny deterministic generator (SplitMix64), so seeded scenes never change between runs.
 #[derive(Debug, Clone)]
@@ -48,17 +48,27 @@ pub fn framing_camera(bounds: Aabb, aspect: f32) -> FrameCamera {
 /// The field of view of [`framing_camera`].
 pub const FRAMING_YFOV_DEGREES: f32 = 45.0;
 
-/// The scene's camera `index` (its far plane, or ten scene sizes where the file sets none).
+/// The scene's camera `index`: a perspective camera at the viewport's `aspect` (its far plane,
+/// or ten scene sizes where the file sets none), an orthographic one with the file's `xmag` and
+/// `ymag` as they are (glTF's orthographic matrix: a viewport of another aspect stretches it).
 pub fn camera_of(scene: &Scene, index: usize, aspect: f32) -> Option<FrameCamera> {
     let size = (scene.bounds.max - scene.bounds.min).length().max(1e-3);
-    scene.cameras.get(index).map(|c| {
-        scene_camera(
+    scene.cameras.get(index).map(|c| match c.projection {
+        CameraProjection::Perspective {
+            yfov, znear, zfar, ..
+        } => scene_camera(
             c.world_from_view,
-            c.yfov,
+            yfov,
             aspect,
-            c.znear,
-            c.zfar.unwrap_or(size * 10.0),
-        )
+            znear,
+            zfar.unwrap_or(size * 10.0),
+        ),
+        CameraProjection::Orthographic {
+            xmag,
+            ymag,
+            znear,
+            zfar,
+        } => FrameCamera::orthographic(c.world_from_view, (xmag, ymag), (znear, zfar)),
     })
 }
 
@@ -85,13 +95,14 @@ pub fn courtyard_look(config: RendererConfig) -> RendererConfig {
     use crate::scene::procedural::{COURTYARD_AMBIENT, COURTYARD_EV, COURTYARD_SKY};
     RendererConfig {
         exposure: 2f32.powf(COURTYARD_EV),
-        ambient: COURTYARD_AMBIENT,
+        ambient: crate::frame_data::Ambient::uniform(COURTYARD_AMBIENT),
         sky: COURTYARD_SKY,
         ..config
     }
 }
 
-/// The camera of a glTF node (world-from-view transform and vertical field of view).
+/// A perspective camera placed by `world_from_view` (a glTF node's transform), with vertical
+/// field of view `yfov`.
 pub fn scene_camera(
     world_from_view: Mat4,
     yfov: f32,
@@ -105,6 +116,7 @@ pub fn scene_camera(
         eye: world_from_view.transform_point3(Vec3::ZERO),
         near,
         far,
+        orthographic: false,
     }
 }
 
@@ -152,18 +164,17 @@ pub fn pick_shadowed(
     viewport_height: f32,
     count: usize,
 ) -> usize {
-    let fovy = crate::shadow::resolution::projection_fovy(camera.projection);
     let mut ranked: Vec<(f32, usize)> = lights
         .iter()
         .enumerate()
         .filter(|(_, l)| l.kind != LightKind::Directional && !l.casts_shadow)
         .filter_map(|(i, l)| {
             let radius = l.range?;
-            let px = crate::shadow::resolution::screen_radius_px(
+            let px = crate::shadow::resolution::projected_radius_px(
                 l.position,
                 radius,
                 camera.view,
-                fovy,
+                camera.projection,
                 viewport_height,
             );
             (px > 0.0).then_some((px, i))

@@ -6,11 +6,16 @@ use shaders_gen::forward::forward;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FrameCamera {
     pub view: glam::Mat4,
-    /// A wgpu (depth 0..1) perspective projection.
+    /// A wgpu (depth 0..1) projection: perspective, or orthographic when `orthographic`.
     pub projection: glam::Mat4,
+    /// The camera's position (an orthographic camera's too, though its view rays are parallel).
     pub eye: glam::Vec3,
     pub near: f32,
     pub far: f32,
+    /// Whether `projection` is orthographic: view rays run parallel to the view's −Z axis, view
+    /// depth no longer scales screen size, and the direction towards the eye is the view's +Z
+    /// axis everywhere ([`FrameCamera::eye_homogeneous`]).
+    pub orthographic: bool,
 }
 
 impl FrameCamera {
@@ -32,7 +37,58 @@ impl FrameCamera {
             eye,
             near,
             far,
+            orthographic: false,
         }
+    }
+
+    /// An orthographic camera placed by `world_from_view`, seeing `half_width` × `half_height`
+    /// view units either side of its axis, with wgpu depth from `near` to `far` (glTF's
+    /// `xmag`, `ymag`, `znear`, `zfar`).
+    pub fn orthographic(
+        world_from_view: glam::Mat4,
+        (half_width, half_height): (f32, f32),
+        (near, far): (f32, f32),
+    ) -> Self {
+        use glam::camera::rh;
+        Self {
+            view: world_from_view.inverse(),
+            projection: rh::proj::directx::orthographic(
+                -half_width,
+                half_width,
+                -half_height,
+                half_height,
+                near,
+                far,
+            ),
+            eye: world_from_view.transform_point3(glam::Vec3::ZERO),
+            near,
+            far,
+            orthographic: true,
+        }
+    }
+
+    /// Where view vectors point, homogeneous: `(eye, 1)` for a perspective camera, so the view
+    /// vector at `p` is `eye − p`; `(+Z axis of the view in world space, 0)`, a point at infinity,
+    /// for an orthographic one, whose view vector is that axis at every point.
+    pub fn eye_homogeneous(&self) -> glam::Vec4 {
+        if self.orthographic {
+            let back = self.view.inverse().transform_vector3(glam::Vec3::Z);
+            back.normalize_or_zero().extend(0.0)
+        } else {
+            self.eye.extend(1.0)
+        }
+    }
+}
+
+/// How far `p` lies from the camera whose homogeneous eye is `eye` (see
+/// [`FrameCamera::eye_homogeneous`]), for back-to-front order: the squared distance from a
+/// perspective camera's eye; an orthographic camera's rays are parallel, so its depth along
+/// them (`−p · axis`, up to a constant).
+pub fn farness(eye: glam::Vec4, p: glam::Vec3) -> f32 {
+    if eye.w == 0.0 {
+        -p.dot(eye.truncate())
+    } else {
+        p.distance_squared(eye.truncate() / eye.w)
     }
 }
 
@@ -61,7 +117,12 @@ impl CameraUniform {
             camera.projection,
             camera.projection * camera.view,
             camera.eye,
+            camera.eye_homogeneous(),
         );
         queue.write_buffer(&self.buffer, 0, bytemuck::bytes_of(&uniform));
     }
 }
+
+#[cfg(test)]
+#[path = "camera_tests.rs"]
+mod tests;

@@ -165,6 +165,42 @@ impl EdgeThresholds {
     };
 }
 
+/// Hemisphere ambient light, linear RGB radiance: `sky` reaches a surface facing straight up
+/// (world +Y), `ground` one facing straight down, and a surface in between gets
+/// `ground + (sky − ground) · (n.y / 2 + 1/2)` at its shading normal `n`, times its base colour
+/// and occlusion (particles: times their colour). A scene without lights of its own shows by it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Ambient {
+    pub sky: Vec3,
+    pub ground: Vec3,
+}
+
+impl Ambient {
+    /// No ambient light: only lights and emission show.
+    pub const OFF: Self = Self::uniform(Vec3::ZERO);
+
+    /// The default: a grey sky of 0.3 over a grey ground of 0.1, so a file scene without lights
+    /// of its own is plainly visible, and, flat and brighter from above, still reads as unlit.
+    pub const DEFAULT: Self = Self {
+        sky: Vec3::splat(0.3),
+        ground: Vec3::splat(0.1),
+    };
+
+    /// The same `radiance` from every direction.
+    pub const fn uniform(radiance: Vec3) -> Self {
+        Self {
+            sky: radiance,
+            ground: radiance,
+        }
+    }
+}
+
+impl Default for Ambient {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
 /// [`RendererConfig::light_cutoff`]'s default.
 pub const DEFAULT_LIGHT_CUTOFF: f32 = 1.0e-3;
 
@@ -188,8 +224,8 @@ pub struct RendererConfig {
     pub time_cull_dispatches: bool,
     /// Format of the caller's target (an sRGB format gets sRGB output).
     pub output_format: wgpu::TextureFormat,
-    /// Ambient light, linear RGB.
-    pub ambient: Vec3,
+    /// Ambient light: sky above, ground below ([`Ambient`]).
+    pub ambient: Ambient,
     /// Background where no surface is drawn, linear HDR RGB (before exposure).
     pub sky: Vec3,
     /// Scale of the HDR colour before tonemapping (`2^EV`).
@@ -251,7 +287,7 @@ impl Default for RendererConfig {
             cull_brute_force: false,
             time_cull_dispatches: false,
             output_format: wgpu::TextureFormat::Rgba8UnormSrgb,
-            ambient: Vec3::splat(0.03),
+            ambient: Ambient::DEFAULT,
             sky: Vec3::ZERO,
             exposure: 1.0,
             view: FrameView::Lit,

@@ -8,9 +8,11 @@ pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// The G-buffer of the deferred paths (`forward::GBufferOut`): albedo and metalness (sRGB
 /// albedo, 4 bytes), the octahedral shading and geometric normals (four 16-bit floats), base
-/// radiance and roughness (four 16-bit floats): 20 bytes per sample, besides the pre-Z depth.
-pub const GBUFFER_FORMATS: [wgpu::TextureFormat; 3] = [
+/// radiance and roughness (four 16-bit floats), the view depth (a 32-bit float): 24 bytes per
+/// sample, besides the pre-Z depth.
+pub const GBUFFER_FORMATS: [wgpu::TextureFormat; 4] = [
     wgpu::TextureFormat::Rgba8UnormSrgb,
     wgpu::TextureFormat::Rgba16Float,
     wgpu::TextureFormat::Rgba16Float,
+    wgpu::TextureFormat::R32Float,
 ];

@@ -13,19 +13,22 @@ mod error;
 mod formats;
 mod inputs;
 mod lights;
+mod material_inputs;
 mod report;
 mod resources;
 mod scene;
 
-pub use camera::{CameraUniform, FrameCamera};
+pub use camera::{CameraUniform, FrameCamera, farness};
 pub use config::{
-    DEFAULT_LIGHT_CUTOFF, EdgeThresholds, FrameView, ParticleLighting, RenderPath, RendererConfig,
+    Ambient, DEFAULT_LIGHT_CUTOFF, EdgeThresholds, FrameView, ParticleLighting, RenderPath,
+    RendererConfig,
 };
 pub use decals::{GpuDecals, cull_box};
 pub use error::RenderError;
 pub use formats::{DEPTH_FORMAT, GBUFFER_FORMATS, HDR_FORMAT};
 pub use inputs::{FrameInputs, ParticleInput};
 pub use lights::{LightSet, effective_range, with_effective_ranges};
+pub use material_inputs::{sampler_descriptor, uv_map};
 pub use report::{FrameReport, ParticleReport};
 pub use resources::{
     FrameResources, GBufferHandles, LightListHandles, ListGeometry, ParticleResources,

@@ -153,6 +153,8 @@ pub struct GBufferHandles {
     pub normals: Handle<Texture>,
     /// Base radiance (ambient and emissive) and roughness.
     pub radiance: Handle<Texture>,
+    /// View depth, where deferred shading puts the shaded point.
+    pub view_depth: Handle<Texture>,
 }
 
 /// What the passes of one frame have produced so far.

@@ -7,8 +7,10 @@ use glam::{Mat4, Vec3};
 use shaders_gen::forward::forward;
 use wgpu::util::DeviceExt as _;
 
+use super::material_inputs::{Samplers, uv_map};
 use crate::scene::{Aabb, AlphaMode, GpuScene, Material, Scene, TextureRef};
 use crate::shader::bind_group_layout_entries;
+use shaders_gen::shared::material_uv::MaskMaterial;
 
 /// One primitive of one instance.
 #[derive(Debug)]
@@ -38,7 +40,32 @@ pub struct InstanceState {
     pub version: u64,
 }
 
+/// Whether `world_from_mesh` mirrors (a negative determinant): glTF 2.0 then has the primitive's
+/// front faces wind clockwise, so its draws use the clockwise pipelines and a flipped bitangent.
+pub fn is_mirrored(world_from_mesh: Mat4) -> bool {
+    world_from_mesh.determinant() < 0.0
+}
+
+/// The `Draw` uniform of a primitive of material `material` placed at `world_from_mesh`.
+fn draw_uniform(world_from_mesh: Mat4, material: usize) -> forward::Draw {
+    forward::Draw::new(
+        world_from_mesh,
+        world_from_mesh.inverse().transpose(),
+        material as u32,
+        if is_mirrored(world_from_mesh) {
+            -1.0
+        } else {
+            1.0
+        },
+    )
+}
+
 impl InstanceState {
+    /// Whether the instance is mirrored where it is now ([`is_mirrored`]).
+    pub fn mirrored(&self) -> bool {
+        is_mirrored(self.world_from_mesh)
+    }
+
     /// The instances of `scene`, static, where the file placed them.
     pub fn of_scene(scene: &Scene) -> Vec<Self> {
         scene
@@ -56,11 +83,15 @@ impl InstanceState {
 impl DrawItem {
     /// The uniform of this draw at `world_from_mesh`.
     pub fn uniform(&self, world_from_mesh: Mat4) -> forward::Draw {
-        forward::Draw::new(
-            world_from_mesh,
-            world_from_mesh.inverse().transpose(),
-            self.material as u32,
-        )
+        draw_uniform(world_from_mesh, self.material)
+    }
+
+    /// Whether the draw is mirrored where `instances` (the frame's, `FrameInputs::instances`)
+    /// place it: a moved instance can become mirrored or stop being so.
+    pub fn mirrored(&self, instances: &[InstanceState]) -> bool {
+        instances
+            .get(self.instance)
+            .is_some_and(InstanceState::mirrored)
     }
 }
 
@@ -68,7 +99,8 @@ impl DrawItem {
 #[derive(Debug)]
 pub struct PreparedMaterial {
     pub bind_group: wgpu::BindGroup,
-    /// Group 2 of the masked pre-Z program, for alpha-masked materials.
+    /// Group 2 of the masked pre-Z and masked shadow-caster programs, for alpha-masked
+    /// materials.
     pub prez_mask_group: Option<wgpu::BindGroup>,
     pub alpha_mode: AlphaMode,
     pub double_sided: bool,
@@ -101,18 +133,11 @@ impl PreparedScene {
         let layouts = SceneLayouts::new(device);
         let gpu = GpuScene::upload(device, queue, scene);
         let defaults = Defaults::new(device, queue);
-        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("material sampler"),
-            address_mode_u: wgpu::AddressMode::Repeat,
-            address_mode_v: wgpu::AddressMode::Repeat,
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            ..Default::default()
-        });
+        let mut samplers = Samplers::new();
         let mut materials: Vec<PreparedMaterial> = scene
             .materials
             .iter()
-            .map(|m| prepare_material(device, &layouts, &gpu, &defaults, &sampler, m))
+            .map(|m| prepare_material(device, &layouts, &gpu, &defaults, &mut samplers, m))
             .collect();
         // Primitives without a material use the glTF default material, last (`draw_plan`).
         materials.push(prepare_material(
@@ -120,7 +145,7 @@ impl PreparedScene {
             &layouts,
             &gpu,
             &defaults,
-            &sampler,
+            &mut samplers,
             &Material::gltf_default(),
         ));
         let draws = draw_plan(scene)
@@ -190,7 +215,7 @@ pub fn draw_plan(scene: &Scene) -> Vec<PlannedDraw> {
                 mesh: instance.mesh,
                 primitive: p,
                 material,
-                uniform: forward::Draw::new(world, world.inverse().transpose(), material as u32),
+                uniform: draw_uniform(world, material),
                 local_bounds: primitive.bounds,
                 center: primitive.bounds.transformed(world).center(),
             });
@@ -199,7 +224,8 @@ pub fn draw_plan(scene: &Scene) -> Vec<PlannedDraw> {
     draws
 }
 
-/// The `Material` uniform of `m` (the alpha cutoff is 0 unless the material is masked).
+/// The `Material` uniform of `m` (the alpha cutoff is 0 unless the material is masked), with each
+/// texture's UV set and transform.
 pub fn material_uniform(m: &Material) -> forward::Material {
     let cutoff = match m.alpha_mode {
         AlphaMode::Mask { cutoff } => cutoff,
@@ -213,6 +239,11 @@ pub fn material_uniform(m: &Material) -> forward::Material {
         m.normal_scale,
         m.occlusion_strength,
         cutoff,
+        uv_map(m.base_color_texture),
+        uv_map(m.normal_texture),
+        uv_map(m.metallic_roughness_texture),
+        uv_map(m.occlusion_texture),
+        uv_map(m.emissive_texture),
     )
 }
 
@@ -297,7 +328,7 @@ fn prepare_material(
     layouts: &SceneLayouts,
     gpu: &GpuScene,
     defaults: &Defaults,
-    sampler: &wgpu::Sampler,
+    samplers: &mut Samplers,
     m: &Material,
 ) -> PreparedMaterial {
     let uniform = material_uniform(m);
@@ -334,12 +365,26 @@ fn prepare_material(
         binding: i as u32 + 1,
         resource: wgpu::BindingResource::TextureView(v),
     }));
-    entries.push(wgpu::BindGroupEntry {
-        binding: 6,
-        resource: wgpu::BindingResource::Sampler(sampler),
-    });
+    // Bindings 6–10: each texture's sampler, in the order of the views.
+    let samplers = [
+        m.base_color_texture,
+        m.normal_texture,
+        m.metallic_roughness_texture,
+        m.occlusion_texture,
+        m.emissive_texture,
+    ]
+    .map(|t| samplers.of(device, t));
+    entries.extend(
+        samplers
+            .iter()
+            .enumerate()
+            .map(|(i, s)| wgpu::BindGroupEntry {
+                binding: i as u32 + 6,
+                resource: wgpu::BindingResource::Sampler(s),
+            }),
+    );
     let prez_mask_group = matches!(m.alpha_mode, AlphaMode::Mask { .. })
-        .then(|| mask_group(device, layouts, m, cutoff, &views[0], sampler));
+        .then(|| mask_group(device, layouts, m, cutoff, &views[0], &samplers[0]));
     PreparedMaterial {
         prez_mask_group,
         bind_group: device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -352,7 +397,8 @@ fn prepare_material(
     }
 }
 
-/// Group 2 of the masked pre-Z program: the material's alpha, cutoff and base colour texture.
+/// Group 2 of the masked pre-Z and masked shadow-caster programs (one layout): the material's
+/// alpha, cutoff, and base colour texture with its coordinates and sampler.
 fn mask_group(
     device: &wgpu::Device,
     layouts: &SceneLayouts,
@@ -361,7 +407,7 @@ fn mask_group(
     base_color: &wgpu::TextureView,
     sampler: &wgpu::Sampler,
 ) -> wgpu::BindGroup {
-    let mask = shaders_gen::forward::prez::MaskMaterial::new(m.base_color, cutoff);
+    let mask = MaskMaterial::new(m.base_color, uv_map(m.base_color_texture), cutoff);
     let mask_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("mask material"),
         contents: bytemuck::bytes_of(&mask),

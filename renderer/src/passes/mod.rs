@@ -86,6 +86,26 @@ pub(crate) fn draw_primitive_instances<'a>(
     pass.draw_indexed(0..primitive.index_count, 0, instances);
 }
 
+/// The vertex streams of `vs_forward` (forward and G-buffer): position, normal, `TEXCOORD_0`,
+/// tangent, `TEXCOORD_1`, `COLOR_0` (`GpuScene::forward_streams`).
+pub(crate) const FORWARD_STREAMS: [wgpu::VertexFormat; 6] = [
+    wgpu::VertexFormat::Float32x3,
+    wgpu::VertexFormat::Float32x3,
+    wgpu::VertexFormat::Float32x2,
+    wgpu::VertexFormat::Float32x4,
+    wgpu::VertexFormat::Float32x2,
+    wgpu::VertexFormat::Float32x4,
+];
+
+/// The vertex streams of the masked depth passes (pre-Z and shadow casters): position,
+/// `TEXCOORD_0`, `TEXCOORD_1`, `COLOR_0` (`GpuScene::mask_streams`).
+pub(crate) const MASK_STREAMS: [wgpu::VertexFormat; 4] = [
+    wgpu::VertexFormat::Float32x3,
+    wgpu::VertexFormat::Float32x2,
+    wgpu::VertexFormat::Float32x2,
+    wgpu::VertexFormat::Float32x4,
+];
+
 /// Vertex buffer layouts of tightly packed attributes at locations 0.., one buffer each.
 fn vertex_streams(formats: &[wgpu::VertexFormat]) -> Vec<[wgpu::VertexAttribute; 1]> {
     formats
@@ -125,6 +145,9 @@ pub(crate) struct MeshPipeline<'a> {
     /// One tightly packed attribute per buffer, at locations 0.. in order.
     pub streams: &'a [wgpu::VertexFormat],
     pub double_sided: bool,
+    /// For mirrored draws (`DrawItem::mirrored`): front faces wind clockwise (glTF 2.0), which
+    /// both the culling and `front_facing` follow.
+    pub mirrored: bool,
     pub depth: wgpu::DepthStencilState,
     pub msaa: u32,
     /// The fragment entry point and its colour targets; `None` draws depth only.
@@ -148,6 +171,7 @@ pub(crate) fn mesh_pipeline(
             buffers: &stream_layouts(&streams),
         },
         primitive: wgpu::PrimitiveState {
+            front_face: front_face(p.mirrored),
             cull_mode: cull_mode(p.double_sided),
             ..Default::default()
         },
@@ -175,6 +199,32 @@ pub(crate) fn depth_state(write: bool, compare: wgpu::CompareFunction) -> wgpu::
         depth_compare: Some(compare),
         stencil: Default::default(),
         bias: Default::default(),
+    }
+}
+
+/// A mesh pass's pipelines for every (double-sided, mirrored) pair, `[double_sided][mirrored]`.
+pub(crate) type FacePipelines = [[wgpu::RenderPipeline; 2]; 2];
+
+/// [`FacePipelines`] from `make(double_sided, mirrored)`.
+pub(crate) fn face_pipelines(make: impl Fn(bool, bool) -> wgpu::RenderPipeline) -> FacePipelines {
+    [false, true].map(|double_sided| [false, true].map(|mirrored| make(double_sided, mirrored)))
+}
+
+/// The pipeline of `pipelines` for a draw of a `double_sided` material, `mirrored` or not.
+pub(crate) fn face_pipeline(
+    pipelines: &FacePipelines,
+    double_sided: bool,
+    mirrored: bool,
+) -> &wgpu::RenderPipeline {
+    &pipelines[usize::from(double_sided)][usize::from(mirrored)]
+}
+
+/// Counter-clockwise front faces, clockwise where the draw is mirrored.
+fn front_face(mirrored: bool) -> wgpu::FrontFace {
+    if mirrored {
+        wgpu::FrontFace::Cw
+    } else {
+        wgpu::FrontFace::Ccw
     }
 }
 

@@ -4,19 +4,23 @@
 
 use shaders_gen::forward::prez;
 
-use super::{MeshPipeline, Pass, depth_state, draw_primitive, mesh_pipeline};
+use super::{
+    FacePipelines, MeshPipeline, Pass, depth_state, draw_primitive, face_pipeline, face_pipelines,
+    mesh_pipeline,
+};
 use crate::GpuContext;
 use crate::frame_data::{DEPTH_FORMAT, FrameInputs, FrameResources, RenderError, RendererConfig};
 use crate::graph::{RenderGraph, TextureAccess, TextureDesc};
 use crate::scene::AlphaMode;
 use crate::shader::ShaderProgram;
 
-/// The pre-Z pass: its programs and pipelines (`[double_sided]`, plain and alpha-masked).
+/// The pre-Z pass: its programs and pipelines (`[double_sided][mirrored]`, plain and
+/// alpha-masked).
 #[derive(Debug)]
 pub struct PrezPass {
     program: ShaderProgram,
-    plain: [wgpu::RenderPipeline; 2],
-    masked: [wgpu::RenderPipeline; 2],
+    plain: FacePipelines,
+    masked: FacePipelines,
     /// Group 0 over the renderer's camera uniform (the buffer lives as long as the renderer).
     camera_group: Option<wgpu::BindGroup>,
 }
@@ -35,7 +39,7 @@ impl PrezPass {
             prez::variant(prez::VariantKey { alpha_mask: true }),
         )?;
         let pipelines = |program: &ShaderProgram, masked: bool| {
-            [false, true].map(|d| pipeline(&gpu.device, program, config.msaa, masked, d))
+            face_pipelines(|d, m| pipeline(&gpu.device, program, config.msaa, masked, d, m))
         };
         Ok(Self {
             plain: pipelines(&program, false),
@@ -52,15 +56,22 @@ fn pipeline(
     msaa: u32,
     masked: bool,
     double_sided: bool,
+    mirrored: bool,
 ) -> wgpu::RenderPipeline {
     mesh_pipeline(
         device,
         program,
         &MeshPipeline {
             label: if masked { "pre-z masked" } else { "pre-z" },
-            vertex_entry: "vs_prez",
-            streams: &[wgpu::VertexFormat::Float32x3, wgpu::VertexFormat::Float32x2],
+            vertex_entry: if masked { "vs_prez_mask" } else { "vs_prez" },
+            // Opaque draws read positions only; masked ones the UV sets and vertex colour too.
+            streams: if masked {
+                &super::MASK_STREAMS
+            } else {
+                &[wgpu::VertexFormat::Float32x3]
+            },
             double_sided,
+            mirrored,
             depth: depth_state(true, wgpu::CompareFunction::Less),
             msaa,
             // Opaque draws need no fragment stage at all; masked ones discard.
@@ -107,6 +118,7 @@ impl Pass for PrezPass {
         })?;
         let (plain, masked) = (self.plain.clone(), self.masked.clone());
         let scene = std::sync::Arc::clone(&frame.scene);
+        let instances = std::sync::Arc::clone(&frame.instances);
         graph
             .add_pass(self.name())
             .write_texture(&mut depth, TextureAccess::DepthWrite)
@@ -134,17 +146,20 @@ impl Pass for PrezPass {
                     if material.alpha_mode == AlphaMode::Blend {
                         continue;
                     }
-                    let sided = usize::from(material.double_sided);
-                    match &material.prez_mask_group {
-                        Some(mask) => {
-                            pass.set_pipeline(&masked[sided]);
-                            pass.set_bind_group(2, mask, &[]);
-                        }
-                        None => pass.set_pipeline(&plain[sided]),
-                    }
+                    let (sided, mirrored) = (material.double_sided, draw.mirrored(&instances));
                     pass.set_bind_group(1, &draw.bind_group, &[]);
                     let p = &scene.gpu.meshes[draw.mesh][draw.primitive];
-                    draw_primitive(&mut pass, p, &[&p.positions, &p.uvs]);
+                    match &material.prez_mask_group {
+                        Some(mask) => {
+                            pass.set_pipeline(face_pipeline(&masked, sided, mirrored));
+                            pass.set_bind_group(2, mask, &[]);
+                            draw_primitive(&mut pass, p, &scene.gpu.mask_streams(p));
+                        }
+                        None => {
+                            pass.set_pipeline(face_pipeline(&plain, sided, mirrored));
+                            draw_primitive(&mut pass, p, &[&p.positions]);
+                        }
+                    }
                 }
             });
         resources.depth = Some(depth);

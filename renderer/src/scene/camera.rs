@@ -1,28 +1,70 @@
-//! Cameras from the file.
+//! Cameras from the file: perspective and orthographic projections, as glTF 2.0 defines them.
 
 use glam::Mat4;
 
-/// A perspective camera from the file.
+/// A camera from the file, placed in the world.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SceneCamera {
     pub world_from_view: Mat4,
-    pub yfov: f32,
-    pub aspect: Option<f32>,
-    pub znear: f32,
-    pub zfar: Option<f32>,
+    pub projection: CameraProjection,
 }
 
-/// The scene camera of `camera` placed at `world`, or `None` where its projection is not
-/// supported.
-pub(super) fn camera_of(camera: &gltf::Camera<'_>, world: Mat4) -> Option<SceneCamera> {
-    match camera.projection() {
-        gltf::camera::Projection::Perspective(p) => Some(SceneCamera {
-            world_from_view: world,
+/// A file camera's projection (glTF `camera.perspective` or `camera.orthographic`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum CameraProjection {
+    /// Vertical field of view `yfov` (radians), the file's aspect ratio if it gives one, and
+    /// the near and (optional: infinite) far planes.
+    Perspective {
+        yfov: f32,
+        aspect: Option<f32>,
+        znear: f32,
+        zfar: Option<f32>,
+    },
+    /// Half the view's width (`xmag`) and height (`ymag`) in view units, and the near and far
+    /// planes (glTF requires both).
+    Orthographic {
+        xmag: f32,
+        ymag: f32,
+        znear: f32,
+        zfar: f32,
+    },
+}
+
+impl CameraProjection {
+    /// The near plane's distance.
+    pub fn znear(&self) -> f32 {
+        match *self {
+            Self::Perspective { znear, .. } | Self::Orthographic { znear, .. } => znear,
+        }
+    }
+
+    /// The far plane's distance (`None`: an infinite perspective projection).
+    pub fn zfar(&self) -> Option<f32> {
+        match *self {
+            Self::Perspective { zfar, .. } => zfar,
+            Self::Orthographic { zfar, .. } => Some(zfar),
+        }
+    }
+}
+
+/// The scene camera of `camera` placed at `world`.
+pub(super) fn camera_of(camera: &gltf::Camera<'_>, world: Mat4) -> SceneCamera {
+    let projection = match camera.projection() {
+        gltf::camera::Projection::Perspective(p) => CameraProjection::Perspective {
             yfov: p.yfov(),
             aspect: p.aspect_ratio(),
             znear: p.znear(),
             zfar: p.zfar(),
-        }),
-        gltf::camera::Projection::Orthographic(_) => None,
+        },
+        gltf::camera::Projection::Orthographic(o) => CameraProjection::Orthographic {
+            xmag: o.xmag(),
+            ymag: o.ymag(),
+            znear: o.znear(),
+            zfar: o.zfar(),
+        },
+    };
+    SceneCamera {
+        world_from_view: world,
+        projection,
     }
 }

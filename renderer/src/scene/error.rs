@@ -1,4 +1,9 @@
-//! Why a scene file could not be loaded.
+//! Why a scene file could not be loaded: malformed data, a required extension the renderer
+//! does not implement, an external resource outside the scene's folder, or a scene too large
+//! for the device. What a valid file holds that the renderer does not draw (points and lines,
+//! meshes no node uses, extensions only listed in `extensionsUsed`) is never an error: it is a
+//! [`super::SceneWarning`]. Every pixel format the gltf crate decodes converts to RGBA8, and
+//! triangle strips and fans convert to lists.
 
 use std::path::PathBuf;
 
@@ -35,27 +40,12 @@ pub enum SceneError {
         index: u32,
         vertices: usize,
     },
-    #[error("{path}: mesh `{mesh}` primitive {primitive} is not a triangle list ({mode:?})")]
-    NotTriangles {
-        path: PathBuf,
-        mesh: String,
-        primitive: usize,
-        mode: gltf::mesh::Mode,
-    },
     #[error("{path}: {what} has {got} values where {expected} are needed")]
     AttributeLength {
         path: PathBuf,
         what: String,
         got: usize,
         expected: usize,
-    },
-    #[error(
-        "{path}: image {image} has pixel format {format:?}, which cannot be converted to RGBA8"
-    )]
-    ImageFormat {
-        path: PathBuf,
-        image: usize,
-        format: gltf::image::Format,
     },
     #[error(
         "{path}: node {node} is reached twice (a cycle, or a node with two parents); glTF \

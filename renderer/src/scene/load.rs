@@ -4,11 +4,13 @@ use std::path::Path;
 
 use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
 
-use super::load_checks::{check_accessors, precheck};
+use super::instancing::{self, NodeMeshes};
+use super::load_checks::{check_accessors, ignored_extensions, parse, precheck};
 use super::{
-    Aabb, AlphaMode, Image, Instance, LightKind, Material, Mesh, Primitive, Scene,
-    SceneError, SceneLight, TextureRef, camera, resources, tangents,
+    Aabb, Image, LightKind, Mesh, Primitive, Scene, SceneError, SceneLight, SceneWarning, camera,
+    image_formats, modes, resources, tangents,
 };
+use super::{material_load, morph, vertex_attrs};
 
 impl Scene {
     /// Loads a `.gltf` (with its buffers and images) or `.glb` file. External buffers and images
@@ -38,25 +40,60 @@ impl Scene {
         let gltf::Gltf {
             document: doc,
             blob,
-        } = gltf::Gltf::from_slice(bytes).map_err(gltf_err)?;
-        check_accessors(&doc, path)?;
+        } = parse(bytes).map_err(gltf_err)?;
+        let ctx = Ctx { path };
+        let nodes = ctx.node_transforms(&doc)?;
+        // Only the meshes the scene's nodes use are read.
+        let mut used = vec![false; doc.meshes().len()];
+        for mesh in nodes.iter().filter_map(|(node, _)| node.mesh()) {
+            if let Some(u) = used.get_mut(mesh.index()) {
+                *u = true;
+            }
+        }
+        check_accessors(&doc, &used, path)?;
         resources::check_uris(&doc, base, path)?;
         // gltf decodes image `data:` URIs only when given a folder. With no folder, every URI
         // is a `data:` URI (checked above), so the stand-in folder is never read.
         let base = base.or(Some(Path::new(".")));
         let buffers = gltf::import_buffers(&doc, base, blob).map_err(gltf_err)?;
         let images = gltf::import_images(&doc, base, &buffers).map_err(gltf_err)?;
-        let ctx = Ctx { path };
-        let meshes = doc
+        let mut warnings = ignored_extensions(&doc);
+        let mut meshes = doc
             .meshes()
-            .map(|m| ctx.mesh(&m, &buffers))
+            .map(|m| match used.get(m.index()) {
+                Some(true) => ctx.mesh(&m, m.weights().unwrap_or(&[]), &buffers, &mut warnings),
+                _ => Ok(unused_mesh(&m, &mut warnings)),
+            })
             .collect::<Result<Vec<_>, _>>()?;
         let images = images
             .into_iter()
             .enumerate()
             .map(|(i, data)| ctx.image(i, data))
             .collect::<Result<Vec<_>, _>>()?;
-        let materials = doc.materials().map(|m| material(&m)).collect();
+        let materials = doc
+            .materials()
+            .map(|m| material_load::material(&m, path))
+            .collect::<Result<Vec<_>, _>>()?;
+        // A node whose own morph weights differ from its mesh's draws its own copy of the mesh.
+        let mut node_mesh = vec![None; doc.nodes().len()];
+        for (node, _) in &nodes {
+            if let (Some(m), Some(w)) = (node.mesh(), node.weights())
+                && morph::node_differs(&m, w)
+                && let Some(slot) = node_mesh.get_mut(node.index())
+            {
+                *slot = Some(meshes.len());
+                meshes.push(ctx.mesh(&m, w, &buffers, &mut Vec::new())?);
+            }
+        }
+        let node_meshes = NodeMeshes {
+            mesh: node_mesh,
+            instances: instancing::node_instances(
+                &doc,
+                nodes.iter().map(|(n, _)| n),
+                &buffers,
+                path,
+            )?,
+        };
         let mut scene = Self {
             meshes,
             materials,
@@ -65,29 +102,20 @@ impl Scene {
             cameras: Vec::new(),
             lights: Vec::new(),
             bounds: Aabb::EMPTY,
-            warnings: Vec::new(),
+            warnings,
         };
-        for (node, world) in ctx.node_transforms(&doc)? {
-            scene.place(&node, world);
+        scene.check_uv_sets(&doc);
+        for (node, world) in nodes {
+            scene.place(&node, world, &node_meshes);
         }
         Ok(scene)
     }
 
-    /// Adds what `node` carries (mesh instance, camera, light) at `world`.
-    fn place(&mut self, node: &gltf::Node<'_>, world: Mat4) {
-        if let Some(mesh) = node.mesh()
-            && let Some(primitives) = self.meshes.get(mesh.index()).map(|m| &m.primitives)
-        {
-            for p in primitives {
-                self.bounds = self.bounds.union(p.bounds.transformed(world));
-            }
-            self.instances.push(Instance {
-                mesh: mesh.index(),
-                world_from_mesh: world,
-            });
-        }
-        if let Some(camera) = node.camera().and_then(|c| camera::camera_of(&c, world)) {
-            self.cameras.push(camera);
+    /// Adds what `node` carries (mesh instances, camera, light) at `world`.
+    fn place(&mut self, node: &gltf::Node<'_>, world: Mat4, node_meshes: &NodeMeshes) {
+        self.place_mesh(node, world, node_meshes);
+        if let Some(camera) = node.camera() {
+            self.cameras.push(camera::camera_of(&camera, world));
         }
         if let Some(light) = node.light() {
             self.lights.push(light_of(&light, world));
@@ -153,19 +181,33 @@ impl Ctx<'_> {
         Ok(out)
     }
 
+    /// The mesh's triangle primitives (strips and fans as lists); points and lines are
+    /// skipped with a warning each, and a strip or fan too short for a triangle is dropped.
+    /// Morph targets are applied at `weights` (empty: as read).
     fn mesh(
         &self,
         mesh: &gltf::Mesh<'_>,
+        weights: &[f32],
         buffers: &[gltf::buffer::Data],
+        warnings: &mut Vec<SceneWarning>,
     ) -> Result<Mesh, SceneError> {
-        let name = mesh
-            .name()
-            .map_or_else(|| format!("#{}", mesh.index()), str::to_owned);
-        let primitives = mesh
-            .primitives()
-            .enumerate()
-            .map(|(i, p)| self.primitive(&name, i, &p, buffers))
-            .collect::<Result<Vec<_>, _>>()?;
+        let name = mesh_name(mesh);
+        let mut primitives = Vec::new();
+        for (i, p) in mesh.primitives().enumerate() {
+            if let Some(mode) = modes::undrawn(p.mode()) {
+                warnings.push(SceneWarning::SkippedPrimitive {
+                    mesh: name.clone(),
+                    primitive: i,
+                    mode,
+                });
+                continue;
+            }
+            let read = self.primitive(&name, i, &p, buffers)?;
+            let primitive = morph::apply(read, &p, weights, buffers, &name, self.path)?;
+            if !primitive.indices.is_empty() {
+                primitives.push(primitive);
+            }
+        }
         Ok(Mesh { name, primitives })
     }
 
@@ -177,14 +219,6 @@ impl Ctx<'_> {
         buffers: &[gltf::buffer::Data],
     ) -> Result<Primitive, SceneError> {
         let path = self.path.to_path_buf();
-        if p.mode() != gltf::mesh::Mode::Triangles {
-            return Err(SceneError::NotTriangles {
-                path,
-                mesh: mesh.to_owned(),
-                primitive: index,
-                mode: p.mode(),
-            });
-        }
         let reader = p.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
         let positions: Vec<Vec3> = reader
             .read_positions()
@@ -210,6 +244,7 @@ impl Ctx<'_> {
                 vertices: n,
             });
         }
+        let indices = modes::triangle_list(p.mode(), indices);
         let normals: Vec<Vec3> = match reader.read_normals() {
             Some(it) => it.map(Vec3::from).collect(),
             None => flat_normals(&positions, &indices),
@@ -237,13 +272,14 @@ impl Ctx<'_> {
         if tangents.len() != n {
             return Err(length_error("TANGENT", tangents.len()));
         }
+        let (uvs1, colors) = vertex_attrs::read(p, &reader, n, length_error)?;
         let bounds = positions.iter().fold(Aabb::EMPTY, |b, &p| b.with_point(p));
         Ok(Primitive {
             positions,
             normals,
             uvs,
-            uvs1: Vec::new(),
-            colors: Vec::new(),
+            uvs1,
+            colors,
             tangents,
             indices,
             material: p.material().index(),
@@ -252,29 +288,8 @@ impl Ctx<'_> {
     }
 
     fn image(&self, index: usize, data: gltf::image::Data) -> Result<Image, SceneError> {
-        use gltf::image::Format;
         let px = data.width as usize * data.height as usize;
-        let rgba8 = match data.format {
-            Format::R8G8B8A8 => data.pixels,
-            Format::R8G8B8 => data
-                .pixels
-                .chunks_exact(3)
-                .flat_map(|c| [c[0], c[1], c[2], 255])
-                .collect(),
-            Format::R8G8 => data
-                .pixels
-                .chunks_exact(2)
-                .flat_map(|c| [c[0], c[1], 0, 255])
-                .collect(),
-            Format::R8 => data.pixels.iter().flat_map(|&c| [c, c, c, 255]).collect(),
-            format => {
-                return Err(SceneError::ImageFormat {
-                    path: self.path.to_path_buf(),
-                    image: index,
-                    format,
-                });
-            }
-        };
+        let rgba8 = image_formats::to_rgba8(data.format, data.pixels);
         if rgba8.len() != px * 4 {
             return Err(SceneError::Inconsistent(format!(
                 "{}: image {index} decoded to {} bytes for {}x{} pixels",
@@ -292,9 +307,26 @@ impl Ctx<'_> {
     }
 }
 
+/// A mesh's name in messages: its own, else `#<index>`.
+fn mesh_name(mesh: &gltf::Mesh<'_>) -> String {
+    mesh.name()
+        .map_or_else(|| format!("#{}", mesh.index()), str::to_owned)
+}
+
+/// A mesh no node of the scene uses: not read, kept without primitives so mesh indices stay
+/// the file's, and named by a warning.
+fn unused_mesh(mesh: &gltf::Mesh<'_>, warnings: &mut Vec<SceneWarning>) -> Mesh {
+    let name = mesh_name(mesh);
+    warnings.push(SceneWarning::UnusedMesh { mesh: name.clone() });
+    Mesh {
+        name,
+        primitives: Vec::new(),
+    }
+}
+
 /// Face normals for primitives without a NORMAL attribute (vertices shared by faces get the
 /// last face's normal).
-fn flat_normals(positions: &[Vec3], indices: &[u32]) -> Vec<Vec3> {
+pub(super) fn flat_normals(positions: &[Vec3], indices: &[u32]) -> Vec<Vec3> {
     let mut normals = vec![Vec3::Y; positions.len()];
     for tri in indices.chunks_exact(3) {
         let [a, b, c] = [0, 1, 2].map(|k| positions[tri[k] as usize]);
@@ -304,47 +336,6 @@ fn flat_normals(positions: &[Vec3], indices: &[u32]) -> Vec<Vec3> {
         }
     }
     normals
-}
-
-fn texture_ref(info: Option<gltf::texture::Info<'_>>) -> Option<TextureRef> {
-    info.map(|t| TextureRef {
-        tex_coord: t.tex_coord(),
-        ..TextureRef::new(t.texture().source().index())
-    })
-}
-
-fn material(m: &gltf::Material<'_>) -> Material {
-    let pbr = m.pbr_metallic_roughness();
-    let normal = m.normal_texture();
-    let occlusion = m.occlusion_texture();
-    Material {
-        name: m.name().unwrap_or("").to_owned(),
-        base_color: Vec4::from(pbr.base_color_factor()),
-        base_color_texture: texture_ref(pbr.base_color_texture()),
-        metallic: pbr.metallic_factor(),
-        roughness: pbr.roughness_factor(),
-        metallic_roughness_texture: texture_ref(pbr.metallic_roughness_texture()),
-        normal_scale: normal.as_ref().map_or(1.0, |n| n.scale()),
-        normal_texture: normal.map(|t| TextureRef {
-            tex_coord: t.tex_coord(),
-            ..TextureRef::new(t.texture().source().index())
-        }),
-        occlusion_strength: occlusion.as_ref().map_or(1.0, |o| o.strength()),
-        occlusion_texture: occlusion.map(|t| TextureRef {
-            tex_coord: t.tex_coord(),
-            ..TextureRef::new(t.texture().source().index())
-        }),
-        emissive: Vec3::from(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0),
-        emissive_texture: texture_ref(m.emissive_texture()),
-        alpha_mode: match m.alpha_mode() {
-            gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
-            gltf::material::AlphaMode::Mask => AlphaMode::Mask {
-                cutoff: m.alpha_cutoff().unwrap_or(0.5),
-            },
-            gltf::material::AlphaMode::Blend => AlphaMode::Blend,
-        },
-        double_sided: m.double_sided(),
-    }
 }
 
 fn light_of(light: &gltf::khr_lights_punctual::Light<'_>, world: Mat4) -> SceneLight {

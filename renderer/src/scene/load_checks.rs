@@ -1,13 +1,51 @@
 //! What the loader checks in a glTF file around the gltf crate's own validation: the input
-//! that crate would panic on or misread (found by the `gltf_load` fuzz target), and required
-//! extensions the loader does not support.
+//! that crate would panic on or misread (found by the `gltf_load` fuzz target), and the
+//! extensions the loader does not support (an error when required, a [`SceneWarning`] when
+//! only used).
 
 use std::path::Path;
 
-use super::SceneError;
+use super::{SceneError, SceneWarning};
 
-/// Extensions a file may require that the loader understands.
-const SUPPORTED_REQUIRED: &[&str] = &["KHR_lights_punctual", "KHR_materials_emissive_strength"];
+/// Extensions the loader implements: a file may require them, and using them draws no
+/// warning. Every other extension is refused when required and named by a
+/// [`SceneWarning::IgnoredExtension`] when only used.
+const SUPPORTED: &[&str] = &[
+    "KHR_lights_punctual",
+    "KHR_materials_emissive_strength",
+    "KHR_texture_transform",
+    "EXT_mesh_gpu_instancing",
+];
+
+/// The document in `bytes`, validated by the gltf crate. gltf 1.4.1 refuses a required
+/// extension it has no feature for (`EXT_mesh_gpu_instancing`, which the loader reads itself);
+/// [`precheck`] has already refused every required extension outside [`SUPPORTED`], so the
+/// required list is emptied before that validation.
+pub(super) fn parse(bytes: &[u8]) -> Result<gltf::Gltf, gltf::Error> {
+    let gltf::Gltf { document, blob } = gltf::Gltf::from_slice_without_validation(bytes)?;
+    let mut root = document.into_json();
+    root.extensions_required
+        .retain(|e| !SUPPORTED.contains(&e.as_str()));
+    Ok(gltf::Gltf {
+        document: gltf::Document::from_json(root)?,
+        blob,
+    })
+}
+
+/// One warning per `extensionsUsed` entry outside [`SUPPORTED`], in the file's order (an
+/// entry listed twice is named once).
+pub(super) fn ignored_extensions(doc: &gltf::Document) -> Vec<SceneWarning> {
+    let mut named: Vec<&str> = Vec::new();
+    for e in doc.extensions_used() {
+        if !SUPPORTED.contains(&e) && !named.contains(&e) {
+            named.push(e);
+        }
+    }
+    named
+        .into_iter()
+        .map(|e| SceneWarning::IgnoredExtension(e.to_owned()))
+        .collect()
+}
 
 /// A GLB whose header declares a total length shorter than the 12-byte header itself: gltf
 /// 1.4.1 subtracts the header size from it unchecked (`binary.rs:252`), which panics where
@@ -55,7 +93,7 @@ pub(super) fn precheck(bytes: &[u8], path: &Path) -> Result<(), SceneError> {
     if let Some(extension) = root
         .extensions_required
         .iter()
-        .find(|e| !SUPPORTED_REQUIRED.contains(&e.as_str()))
+        .find(|e| !SUPPORTED.contains(&e.as_str()))
     {
         return Err(SceneError::UnsupportedExtension {
             path: path.to_path_buf(),
@@ -96,8 +134,13 @@ pub(super) fn precheck(bytes: &[u8], path: &Path) -> Result<(), SceneError> {
 /// Accessor properties the gltf crate's reader asserts (debug builds) or silently misreads
 /// (release builds) instead of reporting: a count of 0, a buffer-view stride smaller than one
 /// element, and an attribute of the wrong type for what the loader reads. Found by the
-/// `gltf_load` fuzz target.
-pub(super) fn check_accessors(doc: &gltf::Document, path: &Path) -> Result<(), SceneError> {
+/// `gltf_load` fuzz target. Attributes are checked on the meshes the scene draws (`used`,
+/// by mesh index): the others are never read.
+pub(super) fn check_accessors(
+    doc: &gltf::Document,
+    used: &[bool],
+    path: &Path,
+) -> Result<(), SceneError> {
     use gltf::accessor::{DataType, Dimensions};
     let bad = |what: String| {
         Err(SceneError::Inconsistent(format!(
@@ -125,7 +168,10 @@ pub(super) fn check_accessors(doc: &gltf::Document, path: &Path) -> Result<(), S
             return bad(format!("accessor {i} is sparse with count 0"));
         }
     }
-    for mesh in doc.meshes() {
+    for mesh in doc
+        .meshes()
+        .filter(|m| used.get(m.index()).copied().unwrap_or(false))
+    {
         for p in mesh.primitives() {
             for (semantic, a) in p.attributes() {
                 let ok = match semantic {
@@ -135,8 +181,12 @@ pub(super) fn check_accessors(doc: &gltf::Document, path: &Path) -> Result<(), S
                     gltf::Semantic::Tangents => {
                         a.dimensions() == Dimensions::Vec4 && a.data_type() == DataType::F32
                     }
-                    gltf::Semantic::TexCoords(0) => {
+                    gltf::Semantic::TexCoords(_) => {
                         a.dimensions() == Dimensions::Vec2
+                            && matches!(a.data_type(), DataType::F32 | DataType::U8 | DataType::U16)
+                    }
+                    gltf::Semantic::Colors(_) => {
+                        matches!(a.dimensions(), Dimensions::Vec3 | Dimensions::Vec4)
                             && matches!(a.data_type(), DataType::F32 | DataType::U8 | DataType::U16)
                     }
                     _ => true,

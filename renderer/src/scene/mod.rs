@@ -4,20 +4,28 @@
 //! [`Scene::load`] reads a `.gltf` or `.glb` file; anything malformed is a [`SceneError`] naming
 //! the file and the problem, never a panic. [`GpuScene::upload`] puts it on the GPU.
 
+mod camera;
 mod error;
 mod gpu;
+mod image_formats;
+mod instancing;
 mod limits;
 mod load;
 mod load_checks;
+mod material_load;
+mod mips;
+mod modes;
+mod morph;
 pub mod procedural;
 mod resources;
 mod tangents;
 mod texture;
+mod uv_sets;
+mod vertex_attrs;
 mod warning;
-mod camera;
 
+pub use camera::{CameraProjection, SceneCamera};
 pub use error::SceneError;
-pub use camera::SceneCamera;
 pub use gpu::{GpuImage, GpuPrimitive, GpuScene};
 pub use texture::{Filter, TextureSampler, UvTransform, Wrap};
 pub use warning::SceneWarning;
@@ -85,7 +93,7 @@ pub struct Primitive {
     pub normals: Vec<Vec3>,
     /// `TEXCOORD_0` (zero where the file has none).
     pub uvs: Vec<Vec2>,
-    /// `TEXCOORD_1`; empty when the file has none.
+    /// `TEXCOORD_1` (any glTF component type, as floats); empty when the file has none.
     pub uvs1: Vec<Vec2>,
     /// `COLOR_0` as linear RGBA (alpha 1 where the file gives RGB); empty when the file has
     /// none, which draws as white.
@@ -103,7 +111,8 @@ pub struct Mesh {
     pub primitives: Vec<Primitive>,
 }
 
-/// A mesh placed in the world.
+/// A mesh placed in the world: one per node with a mesh, or one per instance of a node's
+/// `EXT_mesh_gpu_instancing` (node world × the instance's translation × rotation × scale).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Instance {
     pub mesh: usize,
@@ -115,7 +124,10 @@ pub struct Instance {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TextureRef {
     pub image: usize,
-    /// 0: `TEXCOORD_0`, 1: `TEXCOORD_1` (after the transform's own `texCoord`, if any).
+    /// 0: `TEXCOORD_0`, 1: `TEXCOORD_1` (after the transform's own `texCoord`, if any). Never
+    /// more than 1: the loader points sets it does not load at 0, with a warning. A primitive
+    /// without `TEXCOORD_1` (invalid glTF where a texture names set 1; also warned) samples
+    /// `TEXCOORD_0` for set 1.
     pub tex_coord: u32,
     pub sampler: TextureSampler,
     pub transform: UvTransform,
@@ -198,6 +210,8 @@ pub struct SceneLight {
 /// A loaded glTF scene.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scene {
+    /// The file's meshes in order (morph targets applied at the mesh's default `weights`),
+    /// then one morphed copy per node whose own `weights` differ from its mesh's.
     pub meshes: Vec<Mesh>,
     pub materials: Vec<Material>,
     pub images: Vec<Image>,

@@ -50,7 +50,8 @@ impl Default for TextureSampler {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct UvTransform {
     pub offset: Vec2,
-    /// Radians, counter-clockwise in UV space.
+    /// Radians, counter-clockwise in UV space as drawn with v pointing down (the image turns
+    /// clockwise): `(u, v)` becomes `(u cos r + v sin r, v cos r - u sin r)`.
     pub rotation: f32,
     pub scale: Vec2,
 }
@@ -63,14 +64,12 @@ impl UvTransform {
     };
 
     /// The 3×3 matrix that maps `(u, v, 1)`: translation × rotation × scale, as the extension
-    /// specifies.
+    /// specifies. The rotation is the one the extension's prose, its JSON examples and the
+    /// Khronos `TextureTransformTest` model agree on; the GLSL listing in its README has the
+    /// transposed rotation (KhronosGroup/glTF issue 1563), which turns the other way.
     pub fn matrix(&self) -> Mat3 {
         let (s, c) = self.rotation.sin_cos();
-        let translation = Mat3::from_cols(
-            glam::Vec3::X,
-            glam::Vec3::Y,
-            self.offset.extend(1.0),
-        );
+        let translation = Mat3::from_cols(glam::Vec3::X, glam::Vec3::Y, self.offset.extend(1.0));
         let rotation = Mat3::from_cols(
             glam::Vec3::new(c, -s, 0.0),
             glam::Vec3::new(s, c, 0.0),
@@ -83,5 +82,66 @@ impl UvTransform {
 impl Default for UvTransform {
     fn default() -> Self {
         Self::IDENTITY
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    fn apply(t: &UvTransform, uv: Vec2) -> Vec2 {
+        (t.matrix() * uv.extend(1.0)).truncate()
+    }
+
+    fn assert_near(got: Vec2, want: Vec2) {
+        assert!(got.abs_diff_eq(want, 1e-4), "got {got}, want {want}");
+    }
+
+    /// The extension's first JSON example ("only the lower left quadrant of the source image,
+    /// rotated clockwise 90°"): the unit square's corners land on that quadrant's corners,
+    /// computed by hand from `offset [0, 1]`, `rotation π/2`, `scale [0.5, 0.5]`.
+    #[test]
+    fn spec_example_maps_the_square_onto_the_lower_left_quadrant() {
+        let t = UvTransform {
+            offset: Vec2::new(0.0, 1.0),
+            rotation: std::f32::consts::FRAC_PI_2,
+            scale: Vec2::splat(0.5),
+        };
+        assert_near(apply(&t, Vec2::new(0.0, 0.0)), Vec2::new(0.0, 1.0));
+        assert_near(apply(&t, Vec2::new(1.0, 0.0)), Vec2::new(0.0, 0.5));
+        assert_near(apply(&t, Vec2::new(0.0, 1.0)), Vec2::new(0.5, 1.0));
+        assert_near(apply(&t, Vec2::new(1.0, 1.0)), Vec2::new(0.5, 0.5));
+    }
+
+    /// `TextureTransformTest`'s rotation quad (UV = (x + 0.5, 0.5 − y) over its 1×1 quad):
+    /// with rotation 22.5° the arrow that points at the "not supported" marker's UV
+    /// (0.7778, 0.7778) must be drawn at the "correct" marker, node translation
+    /// (−0.0790, −0.5163), i.e. UV (0.4210, 1.0163).
+    #[test]
+    fn rotation_matches_the_sample_models_correct_marker() {
+        let t = UvTransform {
+            rotation: std::f32::consts::FRAC_PI_8,
+            ..UvTransform::IDENTITY
+        };
+        assert_near(
+            apply(&t, Vec2::new(0.5 - 0.079_048_22, 0.5 + 0.516_267_5)),
+            Vec2::new(0.5 + 0.277_817_46, 0.5 + 0.277_817_46),
+        );
+    }
+
+    /// Scale first, then rotate, then offset: (1, 0) scaled by (2, 3) is (2, 0), turned by
+    /// a quarter is (0, −2), offset by (0.25, 0.5) is (0.25, −1.5).
+    #[test]
+    fn order_is_translation_rotation_scale() {
+        let t = UvTransform {
+            offset: Vec2::new(0.25, 0.5),
+            rotation: std::f32::consts::FRAC_PI_2,
+            scale: Vec2::new(2.0, 3.0),
+        };
+        assert_near(apply(&t, Vec2::X), Vec2::new(0.25, -1.5));
+        assert_near(apply(&t, Vec2::Y), Vec2::new(3.25, 0.5));
+        assert_eq!(UvTransform::IDENTITY.matrix(), Mat3::IDENTITY);
+        assert_eq!(t.matrix().row(2), Vec3::Z);
     }
 }

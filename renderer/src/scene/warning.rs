@@ -10,4 +10,42 @@ pub enum SceneWarning {
     /// adds is ignored (the core glTF data still draws).
     #[error("extension `{0}` is not supported; what it adds is ignored")]
     IgnoredExtension(String),
+    /// A primitive of a drawn mesh whose mode is points or lines (`POINTS`, `LINES`,
+    /// `LINE_LOOP`, `LINE_STRIP`): it is not drawn. Triangle strips and fans are drawn (as
+    /// lists) and draw no warning.
+    #[error(
+        "mesh `{mesh}` primitive {primitive} is {mode}, which this renderer does not draw; it is \
+         skipped"
+    )]
+    SkippedPrimitive {
+        mesh: String,
+        primitive: usize,
+        /// The mode as glTF names it.
+        mode: &'static str,
+    },
+    /// A mesh that no node of the loaded scene uses: it is not read at all (whatever it holds
+    /// cannot refuse the file), and stays in [`super::Scene::meshes`] with no primitives so
+    /// mesh indices stay the file's.
+    #[error("mesh `{mesh}` is used by no node of the scene; it is skipped")]
+    UnusedMesh { mesh: String },
+    /// A material samples `TEXCOORD_<set>` (set 1 and up) on a primitive that lacks it, which
+    /// glTF forbids ("a mesh primitive must have the corresponding texture coordinate
+    /// attributes"): drawing beats refusing, so those textures sample `TEXCOORD_0` there.
+    #[error(
+        "mesh `{mesh}` primitive {primitive} has no TEXCOORD_{set}, which its material \
+         `{material}` samples; TEXCOORD_0 is used instead"
+    )]
+    MissingTexCoord {
+        mesh: String,
+        primitive: usize,
+        material: String,
+        set: u32,
+    },
+    /// A material samples `TEXCOORD_<set>` with set 2 or more, which the renderer does not
+    /// load: those textures sample `TEXCOORD_0` instead (reported per material).
+    #[error(
+        "material `{material}` samples TEXCOORD_{set}; only TEXCOORD_0 and TEXCOORD_1 are \
+         loaded, so TEXCOORD_0 is used instead"
+    )]
+    UnsupportedTexCoord { material: String, set: u32 },
 }

@@ -9,8 +9,8 @@ use glam::{Mat4, Vec4};
 
 use super::atlas::{AtlasRect, ShadowAtlas, ShadowGrant, ShadowRequest};
 use super::cache::{CacheCounts, Caster, RegionInput, RegionKey, RegionPlan, ShadowCache};
-use super::resolution::{Hysteresis, desired_log2, projection_fovy, screen_radius_px};
-use super::views::{LightView, cascade_views, cube_views, spot_view};
+use super::resolution::{Hysteresis, desired_log2, projected_radius_px};
+use super::views::{CameraLens, LightView, cascade_views, cube_views, spot_view};
 use super::{ShadowConfig, ShadowReport};
 use crate::scene::{Aabb, LightKind, SceneLight};
 
@@ -149,18 +149,17 @@ impl ShadowPlanner {
     /// something, sized by its influence on screen (with hysteresis).
     fn requests(&mut self, input: &PlanInputs<'_>) -> Vec<ShadowRequest> {
         let c = input.config;
-        let fovy = projection_fovy(input.camera_projection);
         let mut requests = Vec::new();
         for (i, l) in input.punctual.iter().enumerate() {
             if !l.casts_shadow {
                 continue;
             }
             let radius = reach(l, &input.scene_bounds);
-            let px = screen_radius_px(
+            let px = projected_radius_px(
                 l.position,
                 radius,
                 input.camera_view,
-                fovy,
+                input.camera_projection,
                 input.viewport_height,
             );
             if px <= 0.0 {
@@ -205,11 +204,9 @@ fn light_views(input: &PlanInputs<'_>, grant: &ShadowGrant) -> Vec<LightView> {
             return Vec::new();
         };
         let world_from_view = input.camera_view.inverse();
-        let proj = input.camera_projection;
         return cascade_views(
             world_from_view,
-            projection_fovy(proj),
-            proj.y_axis.y / proj.x_axis.x,
+            CameraLens::of(input.camera_projection),
             input.camera_near,
             input.config.directional_distance,
             l.direction,

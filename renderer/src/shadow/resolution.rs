@@ -68,6 +68,44 @@ pub fn screen_radius_px(
     pixels.clamp(0.0, height)
 }
 
+/// Projected radius, in pixels, of a sphere (`center`, `radius`, world space) seen through
+/// `projection`: [`screen_radius_px`] for a perspective projection; for an orthographic one
+/// (last row `(0, 0, 0, 1)`), whose screen size does not shrink with distance, the radius times
+/// the projection's vertical scale, `r · m11 · h / 2` (0 when the sphere lies wholly behind
+/// the camera's plane). Clamped to `[0, viewport_height]`, never NaN.
+#[must_use]
+pub fn projected_radius_px(
+    center: Vec3,
+    radius: f32,
+    view: Mat4,
+    projection: Mat4,
+    viewport_height: f32,
+) -> f32 {
+    if projection.row(3) != glam::Vec4::W {
+        return screen_radius_px(
+            center,
+            radius,
+            view,
+            projection_fovy(projection),
+            viewport_height,
+        );
+    }
+    let height = if viewport_height.is_finite() {
+        viewport_height.max(0.0)
+    } else {
+        0.0
+    };
+    let radius = radius.max(0.0);
+    if view.transform_point3(center).z > radius {
+        return 0.0;
+    }
+    let pixels = radius * projection.y_axis.y.abs() * height * 0.5;
+    if pixels.is_nan() {
+        return height;
+    }
+    pixels.clamp(0.0, height)
+}
+
 /// Continuous log2 of the region side a light wants for a projected radius of
 /// `screen_radius_px` pixels: one shadow texel per screen pixel across the light's influence,
 /// so `side ≈ 2 · screen_radius_px`, clamped to `[log2 min, log2 max]`.
@@ -138,6 +176,26 @@ mod tests {
 
     fn radius_at(center: Vec3, radius: f32) -> f32 {
         screen_radius_px(center, radius, Mat4::IDENTITY, FOVY, HEIGHT)
+    }
+
+    #[test]
+    fn orthographic_size_does_not_shrink_with_distance() {
+        // ±4 units across 1,080 rows: 135 pixels per unit, so radius 2 is 270 pixels anywhere
+        // in front of the camera.
+        let ortho = glam::camera::rh::proj::directx::orthographic(-4.0, 4.0, -4.0, 4.0, 0.1, 500.0);
+        for z in [-1.0, -50.0, -400.0] {
+            let px =
+                projected_radius_px(Vec3::new(1.0, 0.0, z), 2.0, Mat4::IDENTITY, ortho, HEIGHT);
+            assert!((px - 270.0).abs() < 1e-2, "z {z}: {px}");
+        }
+        let behind =
+            projected_radius_px(Vec3::new(0.0, 0.0, 5.0), 2.0, Mat4::IDENTITY, ortho, HEIGHT);
+        assert_eq!(behind, 0.0);
+        // A perspective projection keeps `screen_radius_px`'s answer.
+        let persp = glam::camera::rh::proj::directx::perspective(FOVY, 1.0, 0.1, 500.0);
+        let c = Vec3::new(0.0, 0.0, -10.0);
+        let px = projected_radius_px(c, 1.0, Mat4::IDENTITY, persp, HEIGHT);
+        assert!((px - radius_at(c, 1.0)).abs() < 1e-3, "{px}");
     }
 
     #[test]

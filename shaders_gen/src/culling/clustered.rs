@@ -151,7 +151,7 @@ pub mod cluster_cull {
         let y0 = 1.0 - 2.0 * ((wg.y + 1u32) * tile) as f32 / size.y;
         let column = TileColumn {
             sides: side_planes(PARAMS.projection, x0, x1, y0, y1),
-            rays: tile_rays(PARAMS.inv_projection, x0, x1, y0, y1),
+            rays: tile_rays(PARAMS.inv_projection, PARAMS.orthographic, x0, x1, y0, y1),
             slices,
             depth_lo,
             depth_hi,

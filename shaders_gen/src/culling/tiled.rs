@@ -168,7 +168,7 @@ pub mod tile_cull {
         let y1 = 1.0 - 2.0 * (wg.y * tile) as f32 / size.y;
         let y0 = 1.0 - 2.0 * ((wg.y + 1u32) * tile) as f32 / size.y;
         let sides = side_planes(PARAMS.projection, x0, x1, y0, y1);
-        let rays = tile_rays(PARAMS.inv_projection, x0, x1, y0, y1);
+        let rays = tile_rays(PARAMS.inv_projection, PARAMS.orthographic, x0, x1, y0, y1);
 
         let st = super_tile_of(wg.xy(), tile);
         let coarse = reads_coarse(st);

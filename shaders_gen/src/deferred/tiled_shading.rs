@@ -23,8 +23,9 @@
 /// 4. **Shading** of sample 0 of every pixel, with the forward pass's light loop: `pbr`'s
 ///    `shade_light` and `shadow_atlas`'s `shadow_visibility`, the base radiance (ambient and
 ///    emissive, from the G-buffer) and every directional light. A pixel whose samples agree is
-///    shaded at its centre on sample 0's plane, where the forward pass shades it; a sample of
-///    an edge pixel at its own point, from its depth at its standard sample position.
+///    shaded at its centre, at the view depth the G-buffer stored for sample 0, where the
+///    forward pass shades it; a sample of an edge pixel at its own point, where the ray through
+///    its standard sample position meets its fragment's plane.
 /// 5. **Per-sample shading** of the edge pixels' other samples: inline (each invocation shades
 ///    its own pixel's samples) or, with `defer`, "defer per sample": the edge pixels go to a
 ///    tile list, and every invocation of the tile drains `(pixel, sample)` items from it, so a
@@ -35,8 +36,8 @@
 ///    (the shading-frequency view); with `record_edges`, each edge pixel sets its bit in
 ///    `EDGE_BITS` (row-major, 32 pixels a word).
 ///
-/// `capture_gbuffer` copies every sample of the G-buffer to `CAPTURE` (13 words per sample:
-/// depth, then the three targets' texels), so tools and tests can check the edge detector on
+/// `capture_gbuffer` copies every sample of the G-buffer to `CAPTURE` (14 words per sample:
+/// depth, then the four targets' texels), so tools and tests can check the edge detector on
 /// the CPU.
 #[shader_dsl::shader(
     axes(
@@ -60,7 +61,7 @@ pub mod tbdr {
     /// Lights culled into workgroup memory at a time (the whole chunk fits, so none is dropped).
     pub const CHUNK: u32 = 1024;
     /// Words of `CAPTURE` per sample.
-    pub const CAPTURE_WORDS: u32 = 13;
+    pub const CAPTURE_WORDS: u32 = 14;
     const INFINITY_BITS: u32 = 0x7f80_0000;
 
     /// The frame as the kernel needs it.
@@ -87,7 +88,9 @@ pub mod tbdr {
         pub normal_edge: f32,
         /// Largest difference of a material channel of a pixel's samples on one surface.
         pub material_edge: f32,
-        pub pad: f32,
+        /// Non-zero: `projection` is orthographic (parallel view rays: the tile frustums' boxes
+        /// and the view vector, the view's +Z axis everywhere).
+        pub orthographic: u32,
     }
 
     /// One sample of the G-buffer.
@@ -96,6 +99,8 @@ pub mod tbdr {
         albedo_metallic: Vec4,
         normals: Vec4,
         radiance_roughness: Vec4,
+        /// The view depth of the fragment that wrote the sample, at its pixel's centre.
+        view_depth: f32,
     }
 
     /// A G-buffer sample as the light loop takes it.
@@ -147,6 +152,13 @@ pub mod tbdr {
     #[texture(group = 0, binding = 10)]
     #[when(msaa > 1)]
     static RADIANCE_MS: TextureMultisampled2d<f32>;
+    /// The G-buffer's view depth (`forward::GBufferOut::view_depth`).
+    #[texture(group = 0, binding = 14, unfilterable)]
+    #[when(msaa == 1)]
+    static VIEW_DEPTH: Texture2d<f32>;
+    #[texture(group = 0, binding = 14)]
+    #[when(msaa > 1)]
+    static VIEW_DEPTH_MS: TextureMultisampled2d<f32>;
     #[texture(group = 0, binding = 11)]
     static HDR_OUT: StorageTexture2d<Rgba16Float, Write>;
     #[storage(group = 0, binding = 12, read_write)]
@@ -178,17 +190,20 @@ pub mod tbdr {
             albedo_metallic: Vec4::ZERO,
             normals: Vec4::ZERO,
             radiance_roughness: Vec4::ZERO,
+            view_depth: 0.0,
         };
         if msaa == 1 {
             g.depth = DEPTH.load(p, 0u32);
             g.albedo_metallic = ALBEDO.load(p, 0u32);
             g.normals = NORMALS.load(p, 0u32);
             g.radiance_roughness = RADIANCE.load(p, 0u32);
+            g.view_depth = VIEW_DEPTH.load(p, 0u32).x;
         } else {
             g.depth = DEPTH_MS.load(p, s);
             g.albedo_metallic = ALBEDO_MS.load(p, s);
             g.normals = NORMALS_MS.load(p, s);
             g.radiance_roughness = RADIANCE_MS.load(p, s);
+            g.view_depth = VIEW_DEPTH_MS.load(p, s).x;
         }
         g
     }
@@ -280,26 +295,49 @@ pub mod tbdr {
     }
 
     /// The shading inputs of sample `s` of pixel `p`, `g` being that sample: at the sample's
-    /// own point.
+    /// own point, where its ray meets the plane of its fragment (the geometric normal through
+    /// [`centre_point`]). A plane seen edge-on keeps the point of the sample's depth.
     fn shading_of(p: UVec2, s: u32, g: GSample) -> Shading {
-        shading_at(p, view_point(p, s, g.depth), g)
+        let c = centre_point(p, g);
+        let n = (PARAMS.view * octahedral_decode(g.normals.zw()).extend(0.0)).xyz();
+        let at = p.as_vec2() + sample_offset(s);
+        let a = view_point_at(at, 0.0);
+        let ray = view_point_at(at, 0.5) - a;
+        let facing = n.dot(ray);
+        let mut point = view_point(p, s, g.depth);
+        if facing.abs() > 1.0e-6 * ray.length() {
+            point = a + ray * (n.dot(c - a) / facing);
+        }
+        shading_at(p, point, g)
     }
 
-    /// The shading inputs of a pixel whose samples are all sample 0 (`g`): at the pixel centre
-    /// on sample 0's plane (its point and geometric normal), where the forward pass shades it
-    /// too. A plane seen edge-on keeps sample 0's point.
-    fn centre_shading(p: UVec2, g: GSample) -> Shading {
-        let p0 = view_point(p, 0u32, g.depth);
-        let n = (PARAMS.view * octahedral_decode(g.normals.zw()).extend(0.0)).xyz();
+    /// Where the fragment that wrote G-buffer sample `g` of pixel `p` was shaded: the view-space
+    /// point at the pixel centre and the view depth the G-buffer stored.
+    fn centre_point(p: UVec2, g: GSample) -> Vec3 {
         let centre = p.as_vec2() + Vec2::splat(0.5);
         let a = view_point_at(centre, 0.0);
         let ray = view_point_at(centre, 0.5) - a;
-        let facing = n.dot(ray);
-        let mut point = p0;
-        if facing.abs() > 1.0e-6 * ray.length() {
-            point = a + ray * (n.dot(p0 - a) / facing);
+        a + ray * ((-g.view_depth - a.z) / ray.z)
+    }
+
+    /// The shading inputs of a pixel whose samples are all sample 0 (`g`): at the pixel centre,
+    /// where the forward pass shades it too, at the view depth the G-buffer stored for sample 0
+    /// (its fragment's, at the centre). Not from the depth buffer: a perspective depth near 1
+    /// steps by about `z² / near · 2⁻²⁴` in view units, 3.5 mm at 1.8 m with the 0.056 mm near
+    /// plane of a glTF camera (`TransmissionTest`'s), and lights close to a surface and sharp
+    /// highlights turn that into steps of tens of colour levels.
+    fn centre_shading(p: UVec2, g: GSample) -> Shading {
+        shading_at(p, centre_point(p, g), g)
+    }
+
+    /// The unit vector from world point `p` towards the eye: along the view's +Z axis for an
+    /// orthographic projection, whose view rays are parallel.
+    fn toward_eye(p: Vec3) -> Vec3 {
+        let mut v = PARAMS.eye - p;
+        if PARAMS.orthographic != 0u32 {
+            v = PARAMS.world_from_view.z_axis.xyz();
         }
-        shading_at(p, point, g)
+        v.normalize()
     }
 
     /// The shading inputs of G-buffer sample `g` of pixel `p` at view-space point `view_p`.
@@ -310,7 +348,7 @@ pub mod tbdr {
             sky: g.depth >= 1.0,
             p: world,
             n: octahedral_decode(g.normals.xy()),
-            v: (PARAMS.eye - world).normalize(),
+            v: toward_eye(world),
             albedo: g.albedo_metallic.xyz(),
             metallic: g.albedo_metallic.w,
             roughness: g.radiance_roughness.w,
@@ -474,7 +512,7 @@ pub mod tbdr {
         let y1 = 1.0 - 2.0 * (wg.y * tile) as f32 / size.y;
         let y0 = 1.0 - 2.0 * ((wg.y + 1u32) * tile) as f32 / size.y;
         let sides = side_planes(PARAMS.projection, x0, x1, y0, y1);
-        let rays = tile_rays(PARAMS.inv_projection, x0, x1, y0, y1);
+        let rays = tile_rays(PARAMS.inv_projection, PARAMS.orthographic, x0, x1, y0, y1);
 
         let edges = EDGE_COUNT.load();
         let items = edges * (msaa - 1u32);
@@ -619,7 +657,7 @@ pub mod tbdr {
         VolumeOut { clip, light }
     }
 
-    /// One light at one pixel, from the G-buffer: at the pixel centre on sample 0's plane, or,
+    /// One light at one pixel, from the G-buffer: at the pixel centre (sample 0's view depth), or,
     /// where the deferred base pass marked the pixel an edge (`EDGE_BITS`), the mean over its
     /// samples at their own points; the same shading as `shade`. Blended additively into the
     /// base pass's resolved image; a pixel the light does not reach is discarded, and so is an
@@ -656,8 +694,8 @@ pub mod tbdr {
     }
 
     /// Copies every sample of pixel `gid.xy` to `CAPTURE`: per sample, depth then the albedo,
-    /// normal and radiance texels (`CAPTURE_WORDS` words), samples of a pixel together, pixels
-    /// row-major.
+    /// normal and radiance texels and the view depth (`CAPTURE_WORDS` words), samples of a
+    /// pixel together, pixels row-major.
     #[compute(workgroup_size(8, 8, 1))]
     pub fn capture_gbuffer(#[builtin(global_invocation_id)] gid: UVec3) {
         let p = gid.xy();
@@ -671,6 +709,7 @@ pub mod tbdr {
                     CAPTURE[base + 5u32 + k] = g.normals[k];
                     CAPTURE[base + 9u32 + k] = g.radiance_roughness[k];
                 }
+                CAPTURE[base + 13u32] = g.view_depth;
             }
         }
     }

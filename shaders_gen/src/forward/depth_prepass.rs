@@ -1,31 +1,39 @@
 //! The depth pre-pass (pre-Z).
 
-/// Depth pre-pass: transforms positions to clip space and writes depth only (no fragment
-/// stage, no colour target).
+/// Depth pre-pass: transforms positions to clip space and writes depth only (no colour target;
+/// no fragment stage for opaque materials).
 ///
 /// `Camera` and `Draw` come from the `view` library, like `forward`'s, so one buffer serves both
 /// passes, and the clip position is the library's `clip_position`, also like `forward`'s; the
 /// position output is `#[invariant]`, so the forward pass's `LessEqual` test against this
 /// depth sees bit-identical values.
-/// Alpha-masked materials are not handled here: the DSL has no `discard` (see the module
-/// report), so a masked material cannot reject texels in a fragment stage.
+///
+/// Alpha-masked materials (`alpha_mask`) draw with `vs_prez_mask` and `fs_prez_mask`: the
+/// fragment discards texels whose alpha (base colour factor × base colour texture, read with
+/// its own UV set and transform, × vertex colour alpha) is below the cutoff, as the forward
+/// shading does.
 #[shader_dsl::shader(
     axes(alpha_mask: bool = [false, true] => "mask"),
-    uses(crate::shared::view),
+    uses(crate::shared::view, crate::shared::material_uv),
 )]
 pub mod prez {
-    /// What the masked variant needs of a material.
-    pub struct MaskMaterial {
-        pub base_color: Vec4,
-        pub alpha_cutoff: f32,
-    }
-
     pub struct VsOut {
         #[builtin(position)]
         #[invariant]
         pub clip: Vec4,
+    }
+
+    /// What the masked fragment needs: both UV sets and the vertex colour's alpha.
+    pub struct MaskVsOut {
+        #[builtin(position)]
+        #[invariant]
+        pub clip: Vec4,
         #[location(0)]
-        pub uv: Vec2,
+        pub uv0: Vec2,
+        #[location(1)]
+        pub uv1: Vec2,
+        #[location(2)]
+        pub color_alpha: f32,
     }
 
     #[uniform(group = 0, binding = 0)]
@@ -43,18 +51,35 @@ pub mod prez {
     static MASK_SAMPLER: Sampler;
 
     #[vertex]
-    pub fn vs_prez(#[location(0)] position: Vec3, #[location(1)] uv: Vec2) -> VsOut {
+    pub fn vs_prez(#[location(0)] position: Vec3) -> VsOut {
         VsOut {
             clip: clip_position(CAMERA.view_projection, DRAW.world_from_mesh, position),
-            uv,
+        }
+    }
+
+    /// Masked materials' vertices: position, `TEXCOORD_0`, `TEXCOORD_1` and `COLOR_0`.
+    #[vertex]
+    pub fn vs_prez_mask(
+        #[location(0)] position: Vec3,
+        #[location(1)] uv0: Vec2,
+        #[location(2)] uv1: Vec2,
+        #[location(3)] color: Vec4,
+    ) -> MaskVsOut {
+        MaskVsOut {
+            clip: clip_position(CAMERA.view_projection, DRAW.world_from_mesh, position),
+            uv0,
+            uv1,
+            color_alpha: color.w,
         }
     }
 
     /// Masked materials: texels below the cutoff leave no depth.
     #[fragment]
-    pub fn fs_prez_mask(input: VsOut) {
+    pub fn fs_prez_mask(input: MaskVsOut) {
         if alpha_mask {
-            let alpha = MASK.base_color.w * BASE_COLOR_TEX.sample(MASK_SAMPLER, input.uv).w;
+            let uv = map_uv(MASK.base_color_uv, input.uv0, input.uv1);
+            let texel = BASE_COLOR_TEX.sample(MASK_SAMPLER, uv).w;
+            let alpha = MASK.base_color.w * texel * input.color_alpha;
             if alpha < MASK.alpha_cutoff {
                 discard();
             }

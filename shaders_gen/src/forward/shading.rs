@@ -29,6 +29,10 @@
 /// With `blend` the output alpha is the material's (alpha blend); otherwise 1. Alpha mask: a
 /// material with a positive `alpha_cutoff` discards texels below it.
 ///
+/// The vertex colour (`COLOR_0`) multiplies the base colour, alpha included. Each of the five
+/// textures is read through its own UV set and `KHR_texture_transform` (`material_uv`'s
+/// `map_uv` over the material's `UvMap`s) with its own sampler (group 2 bindings 6–10).
+///
 /// With `scalarize` (tiled and clustered only), when every lane of the subgroup shares one list
 /// the list is read through `subgroup_broadcast_first` (uniform loads and loop, as in DOOM
 /// 2016); otherwise each lane walks its own list.
@@ -47,15 +51,20 @@
         crate::shared::shadow_atlas,
         crate::shared::decal_apply,
         crate::shared::octahedral,
+        crate::shared::material_uv,
     ),
 )]
 pub mod forward {
     /// Light counts and the light-grid geometry of the frame.
     pub struct Lighting {
-        /// Ambient radiance (times base colour and occlusion).
-        pub ambient: Vec3,
+        /// Ambient radiance from straight up, world +Y (times base colour and occlusion; the
+        /// `pbr` library's `hemisphere_ambient` blends it with `ambient_ground` by the shading
+        /// normal).
+        pub ambient_sky: Vec3,
         /// Punctual lights in `LIGHTS` (naive loop bound).
         pub light_count: u32,
+        /// Ambient radiance from straight down, world −Y.
+        pub ambient_ground: Vec3,
         /// Tiles across and down (tiled and clustered).
         pub tiles: UVec2,
         /// Tile size in pixels (tiled and clustered).
@@ -78,7 +87,8 @@ pub mod forward {
         pub decal_section: u32,
     }
 
-    /// glTF metallic-roughness factors; each multiplies its texture.
+    /// glTF metallic-roughness factors, each multiplying its texture, and where each texture is
+    /// read (`UvMap`: UV set and `KHR_texture_transform`).
     pub struct Material {
         pub base_color: Vec4,
         pub emissive: Vec3,
@@ -86,8 +96,13 @@ pub mod forward {
         pub roughness: f32,
         pub normal_scale: f32,
         pub occlusion_strength: f32,
-        /// Kept for the masked pre-pass; unused here (no `discard` in the DSL).
+        /// Positive for alpha-masked materials: texels below it are discarded.
         pub alpha_cutoff: f32,
+        pub base_color_uv: UvMap,
+        pub normal_uv: UvMap,
+        pub metallic_roughness_uv: UvMap,
+        pub occlusion_uv: UvMap,
+        pub emissive_uv: UvMap,
     }
 
     /// What the light loop needs of the shaded point.
@@ -116,6 +131,12 @@ pub mod forward {
         pub uv: Vec2,
         #[location(3)]
         pub tangent: Vec4,
+        /// `TEXCOORD_1` (the renderer binds `TEXCOORD_0`'s data where a primitive has none).
+        #[location(4)]
+        pub uv1: Vec2,
+        /// `COLOR_0`, linear RGBA (white where a primitive has none).
+        #[location(5)]
+        pub color: Vec4,
     }
 
     #[uniform(group = 0, binding = 0)]
@@ -148,8 +169,17 @@ pub mod forward {
     static OCCLUSION_TEX: Texture2d<f32>;
     #[texture(group = 2, binding = 5)]
     static EMISSIVE_TEX: Texture2d<f32>;
+    // One sampler per texture: each reference has its glTF sampler (wrap and filters).
     #[sampler(group = 2, binding = 6)]
-    static MATERIAL_SAMPLER: Sampler;
+    static BASE_COLOR_SAMPLER: Sampler;
+    #[sampler(group = 2, binding = 7)]
+    static NORMAL_SAMPLER: Sampler;
+    #[sampler(group = 2, binding = 8)]
+    static METALLIC_ROUGHNESS_SAMPLER: Sampler;
+    #[sampler(group = 2, binding = 9)]
+    static OCCLUSION_SAMPLER: Sampler;
+    #[sampler(group = 2, binding = 10)]
+    static EMISSIVE_SAMPLER: Sampler;
 
     #[vertex]
     pub fn vs_forward(
@@ -157,6 +187,8 @@ pub mod forward {
         #[location(1)] normal: Vec3,
         #[location(2)] uv: Vec2,
         #[location(3)] tangent: Vec4,
+        #[location(4)] uv1: Vec2,
+        #[location(5)] color: Vec4,
     ) -> VsOut {
         let world = DRAW.world_from_mesh * position.extend(1.0);
         let n = (DRAW.normal_from_mesh * normal.extend(0.0)).xyz();
@@ -166,7 +198,9 @@ pub mod forward {
             world: world.xyz(),
             normal: n,
             uv,
-            tangent: t.extend(tangent.w),
+            tangent: t.extend(tangent.w * DRAW.handedness),
+            uv1,
+            color,
         }
     }
 
@@ -238,15 +272,23 @@ pub mod forward {
     }
 
     fn shading_point(input: VsOut, front: bool) -> ShadingPoint {
-        let base = MATERIAL.base_color * BASE_COLOR_TEX.sample(MATERIAL_SAMPLER, input.uv);
+        let uv0 = input.uv;
+        let uv1 = input.uv1;
+        let base_uv = map_uv(MATERIAL.base_color_uv, uv0, uv1);
+        let base =
+            MATERIAL.base_color * BASE_COLOR_TEX.sample(BASE_COLOR_SAMPLER, base_uv) * input.color;
         // Alpha mask: a positive cutoff marks a masked material (0 for opaque and blend).
         if MATERIAL.alpha_cutoff > 0.0 && base.w < MATERIAL.alpha_cutoff {
             discard();
         }
-        let mr = METALLIC_ROUGHNESS_TEX.sample(MATERIAL_SAMPLER, input.uv);
-        let occlusion_texel = OCCLUSION_TEX.sample(MATERIAL_SAMPLER, input.uv).x;
-        let emissive = MATERIAL.emissive * EMISSIVE_TEX.sample(MATERIAL_SAMPLER, input.uv).xyz();
-        let tangent_normal = NORMAL_TEX.sample(MATERIAL_SAMPLER, input.uv).xyz() * 2.0 - 1.0;
+        let mr_uv = map_uv(MATERIAL.metallic_roughness_uv, uv0, uv1);
+        let mr = METALLIC_ROUGHNESS_TEX.sample(METALLIC_ROUGHNESS_SAMPLER, mr_uv);
+        let occlusion_uv = map_uv(MATERIAL.occlusion_uv, uv0, uv1);
+        let occlusion_texel = OCCLUSION_TEX.sample(OCCLUSION_SAMPLER, occlusion_uv).x;
+        let emissive_uv = map_uv(MATERIAL.emissive_uv, uv0, uv1);
+        let emissive = MATERIAL.emissive * EMISSIVE_TEX.sample(EMISSIVE_SAMPLER, emissive_uv).xyz();
+        let normal_uv = map_uv(MATERIAL.normal_uv, uv0, uv1);
+        let tangent_normal = NORMAL_TEX.sample(NORMAL_SAMPLER, normal_uv).xyz() * 2.0 - 1.0;
 
         // Tangent frame (Gram-Schmidt), bitangent handedness in tangent.w.
         // Back faces (double-sided materials) are lit with the flipped normal (glTF 2.0).
@@ -291,16 +333,24 @@ pub mod forward {
         }
     }
 
+    /// The frame's hemisphere ambient radiance at shading normal `n`.
+    fn ambient(n: Vec3) -> Vec3 {
+        hemisphere_ambient(LIGHTING.ambient_sky, LIGHTING.ambient_ground, n)
+    }
+
     /// The G-buffer of tile-based deferred shading (`tbdr`) and traditional deferred shading,
     /// one sample's worth (MSAA: the fragment's value goes to every sample it covers):
     /// * location 0, `Rgba8UnormSrgb`: albedo after decals (`rgb`), metalness (`a`);
     /// * location 1, `Rgba16Float`: the octahedral shading normal (`xy`) and geometric normal
     ///   (`zw`, the shadow lookup's normal offset);
-    /// * location 2, `Rgba16Float`: the base radiance, ambient × albedo × occlusion + emissive
+    /// * location 2, `Rgba16Float`: the base radiance, hemisphere ambient (at the shading
+    ///   normal) × albedo × occlusion + emissive
     ///   (`rgb`; occlusion scales only the ambient term, so it is folded in here), and the
-    ///   clamped roughness (`a`).
+    ///   clamped roughness (`a`);
+    /// * location 3, `R32Float`: the view depth, where deferred shading puts the shaded point
+    ///   (the pre-Z depth loses millimetres with a glTF camera's tiny near plane).
     ///
-    /// 20 bytes per sample plus the pre-Z depth; every value is the very one the forward
+    /// 24 bytes per sample plus the pre-Z depth; every value is the very one the forward
     /// fragment lights.
     pub struct GBufferOut {
         #[location(0)]
@@ -309,6 +359,8 @@ pub mod forward {
         pub normals: Vec4,
         #[location(2)]
         pub radiance_roughness: Vec4,
+        #[location(3)]
+        pub view_depth: f32,
     }
 
     #[fragment]
@@ -320,8 +372,9 @@ pub mod forward {
         GBufferOut {
             albedo_metallic: m.albedo.extend(m.metallic.saturate()),
             normals: Vec4::new(n.x, n.y, g.x, g.y),
-            radiance_roughness: (LIGHTING.ambient * m.albedo * m.occlusion + m.emissive)
+            radiance_roughness: (ambient(m.normal) * m.albedo * m.occlusion + m.emissive)
                 .extend(m.roughness.clamp(MIN_ROUGHNESS, 1.0)),
+            view_depth: sp.view_depth,
         }
     }
 
@@ -336,7 +389,8 @@ pub mod forward {
 
         let albedo = m.albedo;
         let occlusion = m.occlusion;
-        let v = (CAMERA.eye - p).normalize();
+        let eye = CAMERA.eye_homogeneous;
+        let v = (eye.xyz() - p * eye.w).normalize();
         let s = Surface {
             p,
             n: m.normal,
@@ -349,7 +403,7 @@ pub mod forward {
             dither: dither_noise(input.clip.xy()),
         };
 
-        let mut color = LIGHTING.ambient * albedo * occlusion + m.emissive;
+        let mut color = ambient(m.normal) * albedo * occlusion + m.emissive;
         for i in 0u32..LIGHTING.directional_count {
             color += light_contribution(DIRECTIONAL[i], s);
         }

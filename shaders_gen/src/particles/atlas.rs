@@ -35,7 +35,8 @@ pub mod particle_atlas {
 
     pub struct AtlasParams {
         pub view: Mat4,
-        /// Pixels per world unit at view depth 1 (`projection[1][1] · height / 2`).
+        /// Pixels per world unit at view depth 1 (`projection[1][1] · height / 2`), or at every
+        /// depth for an orthographic camera.
         pub pixels_per_unit: f32,
         /// Particles nearer than this are not drawn.
         pub near: f32,
@@ -43,6 +44,8 @@ pub mod particle_atlas {
         pub cells_across: u32,
         /// Entries of `KEYS` (the sort's padded count).
         pub key_count: u32,
+        /// Non-zero for an orthographic camera: screen size does not shrink with view depth.
+        pub orthographic: u32,
     }
 
     #[uniform(group = 0, binding = 0)]
@@ -87,8 +90,12 @@ pub mod particle_atlas {
                 let depth = -(PARAMS.view * p.position.extend(1.0)).z;
                 let mut region = HIDDEN;
                 if depth > PARAMS.near {
+                    let mut scale = depth;
+                    if PARAMS.orthographic != 0u32 {
+                        scale = 1.0;
+                    }
                     let pixels =
-                        2.0 * half_width(EMITTERS[p.emitter], p) * PARAMS.pixels_per_unit / depth;
+                        2.0 * half_width(EMITTERS[p.emitter], p) * PARAMS.pixels_per_unit / scale;
                     let class = side_class(pixels);
                     STATE[class].fetch_add(1u32);
                     STATE[17].fetch_add(1u32);

@@ -70,10 +70,13 @@ pub mod particle_common {
         pub eye: Vec3,
         /// Directional lights at the start of `DIRECTIONAL`.
         pub directional_count: u32,
-        /// Ambient radiance.
-        pub ambient: Vec3,
+        /// Ambient radiance from straight up (the `pbr` library's `hemisphere_ambient`, at the
+        /// particle's rounded normal, with `ambient_ground`).
+        pub ambient_sky: Vec3,
         /// Tile size of the clustered grid, pixels.
         pub tile_size: u32,
+        /// Ambient radiance from straight down.
+        pub ambient_ground: Vec3,
         /// Tiles across and down.
         pub tiles: UVec2,
         /// Target size, pixels.
@@ -87,6 +90,9 @@ pub mod particle_common {
         /// View-depth distance over which a particle fades out in front of a surface (soft
         /// particles); 0 turns the fade off.
         pub soft_distance: f32,
+        /// Where view vectors point, homogeneous: `(eye, 1)`, or for an orthographic camera
+        /// the view's +Z axis with `w` 0; the view vector at `p` is `normalize(xyz − p w)`.
+        pub eye_homogeneous: Vec4,
     }
 
     /// PCG's output permutation of one LCG step: a well-mixed 32-bit hash.

@@ -141,7 +141,8 @@ pub mod particle_draw {
             view_depth: -(VIEW.view * world.extend(1.0)).z,
             region: REGIONS[slot],
             layer: emitter.texture,
-            toward_eye: (VIEW.eye - particle.position).normalize(),
+            toward_eye: (VIEW.eye_homogeneous.xyz() - particle.position * VIEW.eye_homogeneous.w)
+                .normalize(),
             emissive: emitter.emissive,
         }
     }
@@ -161,7 +162,7 @@ pub mod particle_draw {
     /// reference of `particle_light`'s texels.
     fn particle_lighting(p: Vec3, n: Vec3, dither: f32) -> Vec3 {
         let depth = -(VIEW.view * p.extend(1.0)).z;
-        let mut color = VIEW.ambient;
+        let mut color = hemisphere_ambient(VIEW.ambient_sky, VIEW.ambient_ground, n);
         for i in 0u32..VIEW.directional_count {
             color += particle_contribution(DIRECTIONAL[i], p, n, depth, dither);
         }

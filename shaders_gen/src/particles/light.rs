@@ -69,7 +69,7 @@ pub mod particle_light {
     /// Ambient plus every light of `p`'s froxel (or every light), shadowed.
     fn particle_lighting(p: Vec3, n: Vec3, dither: f32) -> Vec3 {
         let depth = -(VIEW.view * p.extend(1.0)).z;
-        let mut color = VIEW.ambient;
+        let mut color = hemisphere_ambient(VIEW.ambient_sky, VIEW.ambient_ground, n);
         for i in 0u32..VIEW.directional_count {
             color += particle_contribution(DIRECTIONAL[i], p, n, depth, dither);
         }
@@ -114,7 +114,8 @@ pub mod particle_light {
             let particle = PARTICLES[slot];
             let emitter = EMITTERS[particle.emitter];
             let uv = (local.as_vec2() + 0.5) / side as f32;
-            let toward_eye = (VIEW.eye - particle.position).normalize();
+            let eye = VIEW.eye_homogeneous;
+            let toward_eye = (eye.xyz() - particle.position * eye.w).normalize();
             let p = billboard_point(
                 particle.position,
                 half_width(emitter, particle),

@@ -5,7 +5,15 @@
 /// pass draws instance `v..v + 1` for view `v`, so one bind group serves every region), the
 /// mesh transform is the draw's `Draw` (the `view` library's, shared with pre-Z and forward).
 /// Depth only, reversed Z; the pipeline adds slope-scaled bias.
-#[shader_dsl::shader(uses(crate::shared::view))]
+///
+/// Alpha-masked materials (`alpha_mask`) cut out: `vs_caster_mask` passes both UV sets and the
+/// vertex colour's alpha to `fs_caster_mask`, which discards texels below the cutoff exactly as
+/// the masked pre-Z does (group 2 is the same `MaskMaterial` group). Opaque casters have no
+/// fragment stage.
+#[shader_dsl::shader(
+    axes(alpha_mask: bool = [false, true] => "mask"),
+    uses(crate::shared::view, crate::shared::material_uv),
+)]
 pub mod shadow_caster {
     /// A region's projection.
     pub struct CasterView {
@@ -13,14 +21,65 @@ pub mod shadow_caster {
         pub clip_from_world: Mat4,
     }
 
+    /// What the masked fragment needs: both UV sets and the vertex colour's alpha.
+    pub struct MaskVsOut {
+        #[builtin(position)]
+        pub clip: Vec4,
+        #[location(0)]
+        pub uv0: Vec2,
+        #[location(1)]
+        pub uv1: Vec2,
+        #[location(2)]
+        pub color_alpha: f32,
+    }
+
     #[storage(group = 0, binding = 0)]
     static VIEWS: [CasterView];
     #[uniform(group = 1, binding = 0)]
     static DRAW: Draw;
+    #[uniform(group = 2, binding = 0)]
+    #[when(alpha_mask)]
+    static MASK: MaskMaterial;
+    #[texture(group = 2, binding = 1)]
+    #[when(alpha_mask)]
+    static BASE_COLOR_TEX: Texture2d<f32>;
+    #[sampler(group = 2, binding = 2)]
+    #[when(alpha_mask)]
+    static MASK_SAMPLER: Sampler;
 
     #[vertex]
     pub fn vs_caster(#[location(0)] position: Vec3, #[builtin(instance_index)] view: u32) -> Vec4 {
         clip_position(VIEWS[view].clip_from_world, DRAW.world_from_mesh, position)
+    }
+
+    /// Masked casters' vertices: position, `TEXCOORD_0`, `TEXCOORD_1` and `COLOR_0`.
+    #[vertex]
+    pub fn vs_caster_mask(
+        #[location(0)] position: Vec3,
+        #[location(1)] uv0: Vec2,
+        #[location(2)] uv1: Vec2,
+        #[location(3)] color: Vec4,
+        #[builtin(instance_index)] view: u32,
+    ) -> MaskVsOut {
+        MaskVsOut {
+            clip: clip_position(VIEWS[view].clip_from_world, DRAW.world_from_mesh, position),
+            uv0,
+            uv1,
+            color_alpha: color.w,
+        }
+    }
+
+    /// Masked casters: texels below the cutoff leave no depth in the atlas.
+    #[fragment]
+    pub fn fs_caster_mask(input: MaskVsOut) {
+        if alpha_mask {
+            let uv = map_uv(MASK.base_color_uv, input.uv0, input.uv1);
+            let texel = BASE_COLOR_TEX.sample(MASK_SAMPLER, uv).w;
+            let alpha = MASK.base_color.w * texel * input.color_alpha;
+            if alpha < MASK.alpha_cutoff {
+                discard();
+            }
+        }
     }
 }
 

@@ -105,6 +105,10 @@ pub mod cull_append {
         /// outside the tile's depth range, where only the looser plane test happens to list
         /// the lights that reach it (measured: the grazing test at MSAA 4).
         pub box_test: u32,
+        /// Non-zero when `projection` is orthographic: the tiles' frustums have parallel sides,
+        /// and their view-space boxes the same `xy` extent at every depth (`light_grid`'s
+        /// `tile_rays`).
+        pub orthographic: u32,
     }
 
     /// Most lists one tile owns (and most depth slices of the clustered grid).

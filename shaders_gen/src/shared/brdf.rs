@@ -4,7 +4,8 @@
 /// `GpuLight` (the record in the light buffers), its `KIND_*` values, `light_incidence` (the
 /// direction and attenuation every response shares), `shade_light`: GGX distribution,
 /// Smith/Schlick-GGX geometry, Schlick Fresnel and Lambert diffuse; and `particle_light`, the
-/// view-independent half-Lambert response of particles.
+/// view-independent half-Lambert response of particles; `hemisphere_ambient`, the sky and ground
+/// ambient of every lit surface and particle.
 ///
 /// Falloff: `saturate(1 - (d / range)^4)^2 / max(d², 0.01²)`, with no window when `range` is 0
 /// (infinite). Spot cone: `smoothstep(cos_outer, cos_inner, cos θ)`.
@@ -58,6 +59,12 @@ pub mod pbr {
             }
         }
         l.extend(attenuation)
+    }
+
+    /// Hemisphere ambient radiance at unit normal `n`: `sky` from straight up (world +Y),
+    /// `ground` from straight down, blended linearly by `n.y * 0.5 + 0.5` in between.
+    pub fn hemisphere_ambient(sky: Vec3, ground: Vec3, n: Vec3) -> Vec3 {
+        ground + (sky - ground) * (n.y * 0.5 + 0.5)
     }
 
     /// The view-independent response of a particle at `p` to one light: Valve's half-Lambert,

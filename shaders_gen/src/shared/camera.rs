@@ -14,6 +14,10 @@ pub mod view {
         pub view_projection: Mat4,
         /// Eye position in world space.
         pub eye: Vec3,
+        /// Where view vectors point, homogeneous: `(eye, 1)` for a perspective camera, the
+        /// view's +Z axis in world space with `w` 0 for an orthographic one (parallel view
+        /// rays); the unit view vector at `p` is `normalize(xyz − p w)`.
+        pub eye_homogeneous: Vec4,
     }
 
     /// Per-draw transforms.
@@ -23,6 +27,10 @@ pub mod view {
         pub normal_from_mesh: Mat4,
         /// Material index.
         pub material: u32,
+        /// Sign of `world_from_mesh`'s determinant: -1 where the draw is mirrored (glTF: its
+        /// front faces wind clockwise; the bitangent, `cross(normal, tangent) * tangent.w`,
+        /// flips with it), else 1.
+        pub handedness: f32,
     }
 
     /// Clip position of a mesh-space position: world-from-mesh first, then view-projection.

@@ -21,10 +21,13 @@ pub mod light_grid {
         pub top: Vec4,
     }
 
-    /// The spread of a screen rectangle's corner rays: view-space `xy` at view depth 1.
+    /// The spread of a screen rectangle's corner rays: view-space `xy` at view depth 1 through
+    /// a perspective projection; with `parallel` non-zero (orthographic), the rays are parallel
+    /// and `min`, `max` are the rectangle's view-space `xy` at every depth.
     pub struct TileRays {
         pub min: Vec2,
         pub max: Vec2,
+        pub parallel: u32,
     }
 
     /// Cells of the 2.5D depth mask of a tile.
@@ -75,7 +78,8 @@ pub mod light_grid {
     }
 
     /// The side planes of the screen rectangle `[x0, x1] × [y0, y1]` in NDC, from the
-    /// projection rows (Gribb/Hartmann).
+    /// projection rows (Gribb/Hartmann): through the eye for a perspective projection, parallel
+    /// to the view axis for an orthographic one (its last row is `(0, 0, 0, 1)`).
     pub fn side_planes(projection: Mat4, x0: f32, x1: f32, y0: f32, y1: f32) -> SidePlanes {
         let m = projection;
         let row0 = Vec4::new(m.x_axis.x, m.y_axis.x, m.z_axis.x, m.w_axis.x);
@@ -138,38 +142,66 @@ pub mod light_grid {
         x.abs() + y.abs() + z.abs()
     }
 
+    /// How much the rays' spread scales at view depth `z`: `z` for rays through the eye, 1 for
+    /// parallel rays.
+    pub fn ray_scale(rays: TileRays, z: f32) -> f32 {
+        let mut s = z;
+        if rays.parallel != 0u32 {
+            s = 1.0;
+        }
+        s
+    }
+
     /// Whether the axis-aligned box at `c` with half extents `e` overlaps the view-space
     /// bounding box of the rectangle's frustum between view depths `zn` and `zf`.
     pub fn box_reaches_box(c: Vec3, e: Vec3, rays: TileRays, zn: f32, zf: f32) -> bool {
-        let lo = (rays.min * zn).min(rays.min * zf).extend(-zf);
-        let hi = (rays.max * zn).max(rays.max * zf).extend(-zn);
+        let sn = ray_scale(rays, zn);
+        let sf = ray_scale(rays, zf);
+        let lo = (rays.min * sn).min(rays.min * sf).extend(-zf);
+        let hi = (rays.max * sn).max(rays.max * sf).extend(-zn);
         let gap = (lo - (c + e)).max((c - e) - hi);
         gap.x <= 0.0 && gap.y <= 0.0 && gap.z <= 0.0
     }
 
-    /// View-space direction through NDC `(x, y)`, scaled to view depth 1.
-    pub fn view_ray(inv_projection: Mat4, x: f32, y: f32) -> Vec2 {
+    /// View-space direction through NDC `(x, y)`, scaled to view depth 1; with `parallel`
+    /// non-zero (an orthographic projection), the ray's view-space `xy`, the same at every depth.
+    pub fn view_ray(inv_projection: Mat4, parallel: u32, x: f32, y: f32) -> Vec2 {
         let p = inv_projection * Vec4::new(x, y, 0.5, 1.0);
         let v = p.xyz() / p.w;
-        v.xy() / -v.z
+        let mut ray = v.xy();
+        if parallel == 0u32 {
+            ray = v.xy() / -v.z;
+        }
+        ray
     }
 
     /// The corner rays of the screen rectangle `[x0, x1] × [y0, y1]` in NDC (a perspective
-    /// projection maps NDC `x` to view `x / −z` alone, and `y` likewise, so two corners do).
-    pub fn tile_rays(inv_projection: Mat4, x0: f32, x1: f32, y0: f32, y1: f32) -> TileRays {
-        let a = view_ray(inv_projection, x0, y0);
-        let b = view_ray(inv_projection, x1, y1);
+    /// projection maps NDC `x` to view `x / −z` alone, and `y` likewise, so two corners do; an
+    /// orthographic one, `orthographic` non-zero, maps NDC `x` to view `x` alone).
+    pub fn tile_rays(
+        inv_projection: Mat4,
+        orthographic: u32,
+        x0: f32,
+        x1: f32,
+        y0: f32,
+        y1: f32,
+    ) -> TileRays {
+        let a = view_ray(inv_projection, orthographic, x0, y0);
+        let b = view_ray(inv_projection, orthographic, x1, y1);
         TileRays {
             min: a.min(b),
             max: a.max(b),
+            parallel: orthographic,
         }
     }
 
     /// Whether a view-space sphere reaches the view-space bounding box of the rectangle's
     /// frustum between view depths `zn` and `zf` (the box's closest point within the radius).
     pub fn sphere_reaches_box(c: Vec3, r: f32, rays: TileRays, zn: f32, zf: f32) -> bool {
-        let lo = (rays.min * zn).min(rays.min * zf);
-        let hi = (rays.max * zn).max(rays.max * zf);
+        let sn = ray_scale(rays, zn);
+        let sf = ray_scale(rays, zf);
+        let lo = (rays.min * sn).min(rays.min * sf);
+        let hi = (rays.max * sn).max(rays.max * sf);
         let closest = c.clamp(lo.extend(-zf), hi.extend(-zn));
         (c - closest).length_squared() <= r * r
     }

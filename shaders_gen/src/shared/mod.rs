@@ -10,6 +10,7 @@ pub mod brdf;
 pub mod camera;
 pub mod decal;
 pub mod grid;
+pub mod material;
 pub mod normals;
 pub mod shadow;
 
@@ -18,5 +19,6 @@ pub use brdf::pbr;
 pub use camera::view;
 pub use decal::decal_apply;
 pub use grid::light_grid;
+pub use material::material_uv;
 pub use normals::octahedral;
 pub use shadow::shadow_atlas;

@@ -115,7 +115,18 @@ pub fn draw_forward(
             (4, wgpu::BindingResource::TextureView(&white)),
             (5, wgpu::BindingResource::TextureView(&white)),
             (6, wgpu::BindingResource::Sampler(&sampler)),
+            (7, wgpu::BindingResource::Sampler(&sampler)),
+            (8, wgpu::BindingResource::Sampler(&sampler)),
+            (9, wgpu::BindingResource::Sampler(&sampler)),
+            (10, wgpu::BindingResource::Sampler(&sampler)),
         ],
+    );
+    // TEXCOORD_1 and a white COLOR_0, one value for the whole draw (instance step).
+    let uv1_color: [f32; 6] = [0.0, 0.0, 1.0, 1.0, 1.0, 1.0];
+    let constant_streams = buffer(
+        gpu,
+        bytemuck::cast_slice(&uv1_color),
+        wgpu::BufferUsages::VERTEX,
     );
     let vertices = buffer(
         gpu,
@@ -132,13 +143,20 @@ pub fn draw_forward(
                 module: &p.module,
                 entry_point: Some("vs_forward"),
                 compilation_options: Default::default(),
-                buffers: &[Some(wgpu::VertexBufferLayout {
-                    array_stride: 48,
-                    step_mode: wgpu::VertexStepMode::Vertex,
-                    attributes: &wgpu::vertex_attr_array![
-                        0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4
-                    ],
-                })],
+                buffers: &[
+                    Some(wgpu::VertexBufferLayout {
+                        array_stride: 48,
+                        step_mode: wgpu::VertexStepMode::Vertex,
+                        attributes: &wgpu::vertex_attr_array![
+                            0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4
+                        ],
+                    }),
+                    Some(wgpu::VertexBufferLayout {
+                        array_stride: 24,
+                        step_mode: wgpu::VertexStepMode::Instance,
+                        attributes: &wgpu::vertex_attr_array![4 => Float32x2, 5 => Float32x4],
+                    }),
+                ],
             },
             primitive: wgpu::PrimitiveState::default(),
             depth_stencil: None,
@@ -169,6 +187,7 @@ pub fn draw_forward(
         pass.set_bind_group(1, &g1, &[]);
         pass.set_bind_group(2, &g2, &[]);
         pass.set_vertex_buffer(0, vertices.slice(..));
+        pass.set_vertex_buffer(1, constant_streams.slice(..));
         pass.draw(0..inputs.vertices.len() as u32, 0..1);
     }
     gpu.queue.submit([encoder.finish()]);

@@ -145,12 +145,22 @@ pub fn inputs<'a>(
     vertices: &'a [[f32; 12]],
 ) -> ForwardInputs<'a> {
     let tiles = UVec2::splat(SIZE.div_ceil(TILE));
+    // Every texture read through TEXCOORD_0 as it is: no KHR_texture_transform.
+    let identity_uv = forward::UvMap::new(Vec3::X, 0, Vec3::Y);
     ForwardInputs {
         size: SIZE,
-        camera: forward::Camera::new(s.view, s.projection, s.projection * s.view, s.eye),
+        camera: forward::Camera::new(
+            s.view,
+            s.projection,
+            s.projection * s.view,
+            s.eye,
+            s.eye.extend(1.0),
+        ),
         lighting: forward::Lighting::new(
             SURFACE.ambient,
             lights.len() as u32,
+            // A uniform ambient (sky = ground): the reference's `ambient · albedo`.
+            SURFACE.ambient,
             tiles,
             TILE,
             SLICES,
@@ -165,7 +175,7 @@ pub fn inputs<'a>(
         directional,
         grid,
         indices,
-        draw: forward::Draw::new(Mat4::IDENTITY, Mat4::IDENTITY, 0),
+        draw: forward::Draw::new(Mat4::IDENTITY, Mat4::IDENTITY, 0, 1.0),
         material: forward::Material::new(
             SURFACE.albedo.extend(1.0),
             SURFACE.emissive,
@@ -174,6 +184,11 @@ pub fn inputs<'a>(
             1.0,
             1.0,
             0.5,
+            identity_uv,
+            identity_uv,
+            identity_uv,
+            identity_uv,
+            identity_uv,
         ),
         vertices,
     }

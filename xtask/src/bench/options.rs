@@ -26,10 +26,11 @@ pub(super) fn load_scenes(args: &Args) -> Result<Vec<BenchScene>> {
         let name = p
             .file_stem()
             .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
-        scenes.push(BenchScene {
-            name,
-            scene: Scene::load(p)?,
-        });
+        let scene = Scene::load(p)?;
+        for warning in &scene.warnings {
+            eprintln!("warning: {}: {warning}", p.display());
+        }
+        scenes.push(BenchScene { name, scene });
     }
     anyhow::ensure!(
         !scenes.is_empty(),

@@ -32,7 +32,7 @@ mod parse;
 
 pub use output::{difference, particle_summary, save_png, save_text, shadow_summary};
 pub(crate) use parse::parse_exposure;
-use parse::{parse_radius_range, parse_vec3};
+use parse::{parse_ambient, parse_radius_range, parse_vec3};
 
 #[derive(Debug, Clone, clap::Args)]
 pub struct Args {
@@ -101,15 +101,20 @@ pub struct Args {
     pub camera: Option<usize>,
     /// Camera position X,Y,Z (with --target); default: the scene's first camera, else one
     /// framing the scene's bounds.
-    #[arg(long, value_parser = parse_vec3, requires = "target")]
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_vec3, requires = "target")]
     pub eye: Option<Vec3>,
     /// Point the camera looks at, X,Y,Z (with --eye).
-    #[arg(long, value_parser = parse_vec3, requires = "eye")]
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_vec3, requires = "eye")]
     pub target: Option<Vec3>,
     /// Exposure in stops (EV, the HDR colour is scaled by 2^EV before the ACES tonemap);
     /// defaults to a value calibrated for the courtyard, 0 for file scenes.
     #[arg(long, allow_negative_numbers = true, value_parser = parse_exposure)]
     pub exposure: Option<f32>,
+    /// Ambient light, linear RGB: SKY:GROUND (each R,G,B; the sky lights surfaces facing up,
+    /// the ground those facing down, blended in between), one R,G,B for both, or `off`.
+    /// Defaults to 0.3 (sky) over 0.1 (ground) grey for file scenes, the courtyard's own.
+    #[arg(long, value_parser = parse_ambient)]
+    pub ambient: Option<renderer::frame::Ambient>,
     /// lit | heatmap | decals | shadow-atlas | particle-atlas: the shaded image, the light (or
     /// decal) count of each pixel's list with a legend, the shadow atlas (depth as grey, regions
     /// outlined and labelled with their light and side), or the particle lighting atlas (fitted
@@ -210,6 +215,9 @@ pub fn setup(args: &Args) -> Result<Setup> {
         }
         let scene = Scene::load(&path)
             .with_context(|| format!("--scene {}: cannot load it", path.display()))?;
+        for warning in &scene.warnings {
+            eprintln!("warning: {}: {warning}", path.display());
+        }
         (scene, path.display().to_string())
     };
     let gpu =
@@ -259,6 +267,9 @@ pub fn setup(args: &Args) -> Result<Setup> {
     };
     if let Some(ev) = args.exposure {
         config.exposure = 2f32.powf(ev);
+    }
+    if let Some(ambient) = args.ambient {
+        config.ambient = ambient;
     }
     // Lights fill the built-in courtyard's open space in pools; a file's scene, its bounds.
     let (region, default_radius) = light_space(&scene, builtin);

@@ -1,6 +1,8 @@
-//! Parsing `cargo xtask render`'s option values: numbers, radius ranges, points, exposure.
+//! Parsing `cargo xtask render`'s option values: numbers, radius ranges, points, exposure,
+//! ambient light.
 
 use glam::Vec3;
+use renderer::frame::Ambient;
 
 /// Comma-separated finite numbers, exactly `N` of them.
 fn parse_numbers<const N: usize>(s: &str, what: &str) -> Result<[f32; N], String> {
@@ -39,6 +41,30 @@ pub(super) fn parse_vec3(s: &str) -> Result<Vec3, String> {
     parse_numbers::<3>(s, "X,Y,Z (three numbers, e.g. 0,2,5)").map(Vec3::from_array)
 }
 
+/// `off`, one `R,G,B` (sky and ground alike) or `SKY:GROUND` (each `R,G,B`): linear radiance,
+/// finite and not negative.
+pub(super) fn parse_ambient(s: &str) -> Result<Ambient, String> {
+    let what = "off, R,G,B or SKY_R,G,B:GROUND_R,G,B (e.g. 0.3,0.3,0.3:0.1,0.1,0.1)";
+    if s.trim() == "off" {
+        return Ok(Ambient::OFF);
+    }
+    let colour = |c: &str| {
+        let v = parse_numbers::<3>(c, what).map(Vec3::from_array)?;
+        if v.min_element() >= 0.0 {
+            Ok(v)
+        } else {
+            Err(format!("{s:?}: ambient radiance cannot be negative"))
+        }
+    };
+    match s.split_once(':') {
+        Some((sky, ground)) => Ok(Ambient {
+            sky: colour(sky)?,
+            ground: colour(ground)?,
+        }),
+        None => colour(s).map(Ambient::uniform),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -53,5 +79,72 @@ mod tests {
         assert_eq!(parse_vec3("0,2,-5"), Ok(Vec3::new(0.0, 2.0, -5.0)));
         assert!(parse_vec3("1,2").is_err());
         assert!(parse_vec3("1,2,NaN").is_err());
+    }
+
+    #[test]
+    fn ambient_parses_as_documented() {
+        assert_eq!(parse_ambient("off"), Ok(Ambient::OFF));
+        assert_eq!(
+            parse_ambient("0.5,0.25,0"),
+            Ok(Ambient {
+                sky: Vec3::new(0.5, 0.25, 0.0),
+                ground: Vec3::new(0.5, 0.25, 0.0),
+            })
+        );
+        assert_eq!(
+            parse_ambient("0.3,0.2,0.1:0.01,0.02,0.03"),
+            Ok(Ambient {
+                sky: Vec3::new(0.3, 0.2, 0.1),
+                ground: Vec3::new(0.01, 0.02, 0.03),
+            })
+        );
+        for bad in [
+            "",
+            "0.3",
+            "1,2,3:",
+            ":1,2,3",
+            "1,2,3:4,5",
+            "-1,0,0",
+            "0,0,0:0,-0.1,0",
+            "on",
+        ] {
+            assert!(parse_ambient(bad).is_err(), "{bad:?} must be refused");
+        }
+        let args = parse_cli(&["--ambient", "0.4,0.4,0.4:0,0,0.1"])
+            .unwrap_or_else(|e| panic!("refused: {e}"));
+        assert_eq!(
+            args.ambient,
+            Some(Ambient {
+                sky: Vec3::splat(0.4),
+                ground: Vec3::new(0.0, 0.0, 0.1),
+            })
+        );
+    }
+
+    /// `cargo xtask render`'s options as clap parses them from a command line.
+    #[derive(Debug, clap::Parser)]
+    struct Cli {
+        #[command(flatten)]
+        args: super::super::Args,
+    }
+
+    fn parse_cli(line: &[&str]) -> Result<super::super::Args, clap::Error> {
+        use clap::Parser as _;
+        Cli::try_parse_from(std::iter::once("render").chain(line.iter().copied())).map(|c| c.args)
+    }
+
+    #[test]
+    fn vector_options_take_negative_numbers_after_a_space() {
+        let args = parse_cli(&["--eye", "-18,0,0", "--target", "-0.5,-1,2"])
+            .unwrap_or_else(|e| panic!("refused: {e}"));
+        assert_eq!(args.eye, Some(Vec3::new(-18.0, 0.0, 0.0)));
+        assert_eq!(args.target, Some(Vec3::new(-0.5, -1.0, 2.0)));
+        let args = parse_cli(&["--eye=-1,2,3", "--target", "0,0,0", "--exposure", "-1.5"])
+            .unwrap_or_else(|e| panic!("refused: {e}"));
+        assert_eq!(args.eye, Some(Vec3::new(-1.0, 2.0, 3.0)));
+        assert_eq!(args.exposure, Some(-1.5));
+        // A flag where a value belongs is still refused (by the value parser), not swallowed.
+        assert!(parse_cli(&["--eye", "--target", "1,2,3"]).is_err());
+        assert!(parse_cli(&["--eye", "-18,0", "--target", "0,0,0"]).is_err());
     }
 }

@@ -60,15 +60,28 @@ pub(super) fn froxel_box(
     };
     for (px, py) in [(i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)] {
         let (nx, ny) = camera.pixel_to_ndc((px * tile) as f32, (py * tile) as f32);
-        let p = camera.unproject(nx, ny, 0.5);
-        // The corner's ray, scaled to view depth 1, at both depths.
-        let ray = p / -p.z;
         for z in [zn, zf] {
-            b.min = b.min.min(ray * z);
-            b.max = b.max.max(ray * z);
+            let p = corner_at(camera, nx, ny, z);
+            b.min = b.min.min(p);
+            b.max = b.max.max(p);
         }
     }
     b
+}
+
+/// The view-space point at view depth `z` on the line of points that project to NDC
+/// `(nx, ny)`.
+fn corner_at(camera: &CullCamera, nx: f32, ny: f32, z: f32) -> Vec3 {
+    if camera.is_orthographic() {
+        // The line runs from the near plane's point to the far plane's: interpolate by depth
+        // (both points share x and y, but nothing here relies on it).
+        let (a, b) = (camera.unproject(nx, ny, 0.0), camera.unproject(nx, ny, 1.0));
+        let t = (z + a.z) / (a.z - b.z);
+        return a + (b - a) * t;
+    }
+    // Perspective: the corner's ray through the eye, scaled to view depth 1, then to `z`.
+    let p = camera.unproject(nx, ny, 0.5);
+    p / -p.z * z
 }
 
 impl FroxelBox {

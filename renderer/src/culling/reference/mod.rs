@@ -25,6 +25,8 @@ mod depth;
 pub mod exact;
 mod frustum;
 mod methods;
+#[cfg(test)]
+mod ortho_tests;
 
 pub use cells::{Borderline, CellLists, ClusterGrid, Method, SUPER_TILE_PIXELS};
 pub use depth::{DepthBuffer, standard_sample_offset};
@@ -47,6 +49,12 @@ impl CullCamera {
     pub fn unproject(&self, ndc_x: f32, ndc_y: f32, depth: f32) -> Vec3 {
         let p = self.projection.inverse() * Vec4::new(ndc_x, ndc_y, depth, 1.0);
         p.truncate() / p.w
+    }
+
+    /// Whether the projection is orthographic: clip `w` is 1 for every point (its last row is
+    /// `(0, 0, 0, 1)`), so screen position does not depend on depth.
+    pub fn is_orthographic(&self) -> bool {
+        self.projection.row(3) == Vec4::W
     }
 
     /// NDC of a point in pixel coordinates (pixel corners at integers).

@@ -13,15 +13,18 @@ use crate::frame_data::{
 };
 use crate::graph::{BufferAccess, RenderGraph, TextureAccess, TextureDesc};
 use crate::passes::forward::{FrameGroup, draw_order, lighting_buffer};
-use crate::passes::{MeshPipeline, Pass, depth_state, draw_primitive, mesh_pipeline};
+use crate::passes::{
+    FacePipelines, MeshPipeline, Pass, depth_state, draw_primitive, face_pipeline, face_pipelines,
+    mesh_pipeline,
+};
 use crate::scene::AlphaMode;
 use crate::shader::ShaderProgram;
 
-/// A `forward` variant's program and its G-buffer pipelines (`[double_sided]`).
+/// A `forward` variant's program and its G-buffer pipelines (`[double_sided][mirrored]`).
 #[derive(Debug)]
 struct GBufferProgram {
     program: ShaderProgram,
-    pipelines: [wgpu::RenderPipeline; 2],
+    pipelines: FacePipelines,
 }
 
 /// The G-buffer pass: programs for decals from every decal (no lists this frame) and from the
@@ -42,7 +45,7 @@ impl GBufferPass {
             };
             let program =
                 ShaderProgram::new(&gpu.device, gpu.capabilities(), forward::variant(key)?)?;
-            let pipelines = [false, true].map(|double_sided| {
+            let pipelines = face_pipelines(|double_sided, mirrored| {
                 let targets = GBUFFER_FORMATS.map(|f| Some(f.into()));
                 mesh_pipeline(
                     &gpu.device,
@@ -50,8 +53,9 @@ impl GBufferPass {
                     &MeshPipeline {
                         label: "gbuffer",
                         vertex_entry: "vs_forward",
-                        streams: &STREAMS,
+                        streams: &crate::passes::FORWARD_STREAMS,
                         double_sided,
+                        mirrored,
                         depth: depth_state(false, wgpu::CompareFunction::LessEqual),
                         msaa: config.msaa,
                         fragment: Some(("fs_gbuffer", &targets)),
@@ -66,14 +70,6 @@ impl GBufferPass {
         })
     }
 }
-
-/// The vertex streams of `vs_forward`: position, normal, UV, tangent.
-const STREAMS: [wgpu::VertexFormat; 4] = [
-    wgpu::VertexFormat::Float32x3,
-    wgpu::VertexFormat::Float32x3,
-    wgpu::VertexFormat::Float32x2,
-    wgpu::VertexFormat::Float32x4,
-];
 
 impl Pass for GBufferPass {
     fn name(&self) -> &'static str {
@@ -94,8 +90,13 @@ impl Pass for GBufferPass {
         let depth = resources.depth.ok_or(missing("pre-Z depth"))?;
         let shadows = resources.shadows.clone().ok_or(missing("shadow atlas"))?;
         let lists = resources.light_lists.clone();
-        let names = ["gbuffer albedo", "gbuffer normals", "gbuffer radiance"];
-        let mut targets = [0, 1, 2].map(|i| {
+        let names = [
+            "gbuffer albedo",
+            "gbuffer normals",
+            "gbuffer radiance",
+            "gbuffer view depth",
+        ];
+        let mut targets = [0, 1, 2, 3].map(|i| {
             let desc =
                 TextureDesc::new_2d(c.width, c.height, GBUFFER_FORMATS[i]).with_samples(c.msaa);
             graph.create_texture(names[i], desc)
@@ -114,7 +115,8 @@ impl Pass for GBufferPass {
         let which = usize::from(lists.is_some());
         let group = FrameGroup::new(frame, &self.lighting, lists, shadows);
         let scene = Arc::clone(&frame.scene);
-        let eye = frame.camera.eye;
+        let instances = Arc::clone(&frame.instances);
+        let eye = frame.camera.eye_homogeneous();
         pass.execute(move |ctx| {
             let p = &programs[which];
             let frame_group = group.bind_group(ctx, &p.program.bind_group_layouts[0], "gbuffer");
@@ -128,36 +130,32 @@ impl Pass for GBufferPass {
                 if material.alpha_mode == AlphaMode::Blend {
                     continue;
                 }
-                pass.set_pipeline(&p.pipelines[usize::from(material.double_sided)]);
+                pass.set_pipeline(face_pipeline(
+                    &p.pipelines,
+                    material.double_sided,
+                    draw.mirrored(&instances),
+                ));
                 pass.set_bind_group(1, &draw.bind_group, &[]);
                 pass.set_bind_group(2, &material.bind_group, &[]);
                 let primitive = &scene.gpu.meshes[draw.mesh][draw.primitive];
-                draw_primitive(
-                    &mut pass,
-                    primitive,
-                    &[
-                        &primitive.positions,
-                        &primitive.normals,
-                        &primitive.uvs,
-                        &primitive.tangents,
-                    ],
-                );
+                draw_primitive(&mut pass, primitive, &scene.gpu.forward_streams(primitive));
             }
         });
-        let [albedo, normals, radiance] = targets;
+        let [albedo, normals, radiance, view_depth] = targets;
         resources.gbuffer = Some(GBufferHandles {
             albedo,
             normals,
             radiance,
+            view_depth,
         });
         Ok(())
     }
 }
 
-/// The G-buffer render pass: the three targets cleared, the pre-Z depth loaded.
+/// The G-buffer render pass: the four targets cleared, the pre-Z depth loaded.
 fn begin_gbuffer_pass<'e>(
     encoder: &'e mut wgpu::CommandEncoder,
-    views: &[wgpu::TextureView; 3],
+    views: &[wgpu::TextureView; 4],
     depth: &wgpu::TextureView,
 ) -> wgpu::RenderPass<'e> {
     let attachments = views.each_ref().map(|view| {

@@ -28,7 +28,8 @@ pub struct TbdrRecord {
     /// Bit `y · width + x` set where pixel `(x, y)` was shaded per sample.
     pub edge_bits: Vec<u32>,
     /// Per sample (samples of a pixel together, pixels row-major): depth, albedo and
-    /// metalness, normals, base radiance and roughness (`tbdr::CAPTURE_WORDS` floats).
+    /// metalness, normals, base radiance and roughness, view depth (`tbdr::CAPTURE_WORDS`
+    /// floats).
     pub gbuffer: Vec<f32>,
 }
 
@@ -188,7 +189,7 @@ pub fn kernel_params(
         c.edges.depth,
         c.edges.normal_cos,
         c.edges.material,
-        0.0,
+        u32::from(cam.orthographic),
     )
 }
 
@@ -357,6 +358,7 @@ pub(super) fn read_gbuffer<'p, 'g>(
         .read_texture(gbuffer.albedo, TextureAccess::Sampled)
         .read_texture(gbuffer.normals, TextureAccess::Sampled)
         .read_texture(gbuffer.radiance, TextureAccess::Sampled)
+        .read_texture(gbuffer.view_depth, TextureAccess::Sampled)
         .read_texture(shadows.atlas, TextureAccess::Sampled)
 }
 
@@ -370,7 +372,8 @@ pub(super) struct KernelBuffers<'a> {
 }
 
 /// Group 0 of `tbdr`: parameters, lights, spheres, depth and albedo (0–5), the shadow atlas
-/// (6–8), normals, radiance, the HDR output `out`, the edge bits and the capture (9–13).
+/// (6–8), normals, radiance, the HDR output `out`, the edge bits, the capture and the view
+/// depth (9–14).
 pub(super) fn bind_group(
     ctx: &crate::graph::PassContext<'_>,
     layout: &wgpu::BindGroupLayout,
@@ -381,11 +384,12 @@ pub(super) fn bind_group(
     shadows: &ShadowResources,
 ) -> wgpu::BindGroup {
     let view = |h| ctx.texture(h).create_view(&Default::default());
-    let (depth, albedo, normals, radiance) = (
+    let (depth, albedo, normals, radiance, view_depth) = (
         view(depth),
         view(gbuffer.albedo),
         view(gbuffer.normals),
         view(gbuffer.radiance),
+        view(gbuffer.view_depth),
     );
     let tv = wgpu::BindingResource::TextureView;
     let mut entries = crate::passes::entries(&[
@@ -403,6 +407,7 @@ pub(super) fn bind_group(
         tv(out),
         buffers.edge_bits.as_entire_binding(),
         buffers.captured.as_entire_binding(),
+        tv(&view_depth),
     ];
     entries.extend(
         rest.into_iter()

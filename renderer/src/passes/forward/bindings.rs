@@ -19,8 +19,9 @@ pub(crate) fn lighting_uniform(
     let c = &frame.config;
     let g = ListGeometry::new(lists.map(|l| l.method), c, &frame.camera);
     forward::Lighting::new(
-        c.ambient,
+        c.ambient.sky,
         frame.lights.punctual.len() as u32,
+        c.ambient.ground,
         g.tiles,
         g.tile,
         g.slices,

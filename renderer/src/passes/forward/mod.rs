@@ -17,7 +17,10 @@ use std::sync::Arc;
 
 use shaders_gen::forward::forward;
 
-use super::{MeshPipeline, Pass, depth_state, draw_primitive, mesh_pipeline};
+use super::{
+    FacePipelines, MeshPipeline, Pass, depth_state, draw_primitive, face_pipeline, face_pipelines,
+    mesh_pipeline,
+};
 use crate::GpuContext;
 use crate::frame_data::{
     DEPTH_FORMAT, FrameInputs, FrameResources, HDR_FORMAT, PreparedScene, RenderError, RenderPath,
@@ -27,13 +30,13 @@ use crate::graph::{BufferAccess, Handle, RenderGraph, Texture, TextureAccess, Te
 use crate::scene::AlphaMode;
 use crate::shader::ShaderProgram;
 
-/// The forward pass: its program and pipelines (`[blend][double_sided]`), its lighting
+/// The forward pass: its program and pipelines (`[blend][double_sided][mirrored]`), its lighting
 /// uniform, and on the deferred paths with MSAA the pipeline that expands the deferred image
 /// into every sample.
 #[derive(Debug)]
 pub struct ForwardPass {
     program: ShaderProgram,
-    pipelines: Arc<[[wgpu::RenderPipeline; 2]; 2]>,
+    pipelines: Arc<[FacePipelines; 2]>,
     lighting: wgpu::Buffer,
     expand: Option<Arc<Expand>>,
 }
@@ -66,7 +69,9 @@ impl ForwardPass {
         let blended = ShaderProgram::new(&gpu.device, caps, forward::variant(key(true))?)?;
         let prepass = config.path.has_prepass();
         let make = |program: &ShaderProgram, blend: bool| {
-            [false, true].map(|d| pipeline(&gpu.device, program, config.msaa, prepass, blend, d))
+            face_pipelines(|d, m| {
+                pipeline(&gpu.device, program, config.msaa, prepass, (blend, d, m))
+            })
         };
         let expand = if config.path.is_deferred() && config.msaa > 1 {
             Some(Arc::new(Expand::new(gpu, config.msaa)?))
@@ -140,28 +145,22 @@ fn pipeline(
     program: &ShaderProgram,
     msaa: u32,
     prepass: bool,
-    blend: bool,
-    double_sided: bool,
+    (blend, double_sided, mirrored): (bool, bool, bool),
 ) -> wgpu::RenderPipeline {
     let target = wgpu::ColorTargetState {
         format: HDR_FORMAT,
         blend: blend.then_some(wgpu::BlendState::ALPHA_BLENDING),
         write_mask: wgpu::ColorWrites::ALL,
     };
-    let streams = [
-        wgpu::VertexFormat::Float32x3,
-        wgpu::VertexFormat::Float32x3,
-        wgpu::VertexFormat::Float32x2,
-        wgpu::VertexFormat::Float32x4,
-    ];
     mesh_pipeline(
         device,
         program,
         &MeshPipeline {
             label: if blend { "forward blend" } else { "forward" },
             vertex_entry: "vs_forward",
-            streams: &streams,
+            streams: &super::FORWARD_STREAMS,
             double_sided,
+            mirrored,
             // With a pre-pass, opaque surfaces are in the depth buffer already and blended ones
             // test against it; without one, opaque draws write depth themselves. Both keep the
             // last drawn of coincident surfaces (`LessEqual`), so naive equals the pre-pass paths
@@ -178,14 +177,16 @@ fn pipeline(
     )
 }
 
-/// Draw order: opaque and masked first (any order), then blended back to front from `eye`.
-pub(crate) fn draw_order(scene: &PreparedScene, eye: glam::Vec3) -> Vec<usize> {
+/// Draw order: opaque and masked first (any order), then blended back to front from the
+/// homogeneous eye `eye` ([`crate::frame_data::FrameCamera::eye_homogeneous`]): by distance from
+/// a perspective camera's eye, by depth along an orthographic camera's parallel rays.
+pub(crate) fn draw_order(scene: &PreparedScene, eye: glam::Vec4) -> Vec<usize> {
     let blend = |i: usize| scene.materials[scene.draws[i].material].alpha_mode == AlphaMode::Blend;
     let mut order: Vec<usize> = (0..scene.draws.len()).collect();
     order.sort_by(|&a, &b| {
         blend(a).cmp(&blend(b)).then_with(|| {
             if blend(a) {
-                let d = |i: usize| scene.draws[i].center.distance_squared(eye);
+                let d = |i: usize| crate::frame_data::farness(eye, scene.draws[i].center);
                 d(b).total_cmp(&d(a))
             } else {
                 std::cmp::Ordering::Equal
@@ -301,8 +302,8 @@ impl ForwardPass {
         let layout = self.program.bind_group_layouts[0].clone();
         let pipelines = Arc::clone(&self.pipelines);
         let expand = self.expand.clone();
-        let scene = Arc::clone(&frame.scene);
-        let eye = frame.camera.eye;
+        let (scene, instances) = (Arc::clone(&frame.scene), Arc::clone(&frame.instances));
+        let eye = frame.camera.eye_homogeneous();
         let sky = sky_color(frame.config.sky);
         move |ctx| {
             let frame_group = group.bind_group(ctx, &layout, "forward frame");
@@ -363,17 +364,15 @@ impl ForwardPass {
                 if blended_only && !blend {
                     continue;
                 }
-                pass.set_pipeline(
-                    &pipelines[usize::from(blend)][usize::from(material.double_sided)],
-                );
+                pass.set_pipeline(face_pipeline(
+                    &pipelines[usize::from(blend)],
+                    material.double_sided,
+                    draw.mirrored(&instances),
+                ));
                 pass.set_bind_group(1, &draw.bind_group, &[]);
                 pass.set_bind_group(2, &material.bind_group, &[]);
                 let p = &scene.gpu.meshes[draw.mesh][draw.primitive];
-                draw_primitive(
-                    &mut pass,
-                    p,
-                    &[&p.positions, &p.normals, &p.uvs, &p.tangents],
-                );
+                draw_primitive(&mut pass, p, &scene.gpu.forward_streams(p));
             }
         }
     }

@@ -177,6 +177,7 @@ impl ParticleAtlas {
             camera.near,
             self.side / 2,
             self.key_count,
+            u32::from(camera.orthographic),
         );
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
     }

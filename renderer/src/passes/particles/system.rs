@@ -125,14 +125,16 @@ impl ParticleGpu {
             frame.lights.punctual.len() as u32,
             camera.eye,
             frame.lights.directional.len() as u32,
-            c.ambient,
+            c.ambient.sky,
             g.tile,
+            c.ambient.ground,
             g.tiles,
             frame.screen(),
             g.slices,
             g.near,
             g.far,
             c.soft_particle_distance,
+            camera.eye_homogeneous(),
         );
         frame
             .gpu

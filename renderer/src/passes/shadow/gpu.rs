@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use shaders_gen::shadow::{shadow_caster, shadow_compose};
 
-use super::super::{MeshPipeline, draw_primitive_instances, mesh_pipeline};
+use super::super::{MASK_STREAMS, MeshPipeline, draw_primitive_instances, mesh_pipeline};
 use crate::frame_data::{PreparedScene, RenderError};
 use crate::shader::ShaderProgram;
 use crate::shadow::atlas::AtlasRect;
@@ -20,12 +20,22 @@ const SLOPE_BIAS: f32 = -1.5;
 /// Constant depth bias of casters, in units of the depth format's precision at the caster.
 const CONSTANT_BIAS: i32 = -8;
 
+/// The caster pipelines: depth only for opaque materials; alpha-masked ones (the `alpha_mask`
+/// variant, group 2 the material's `prez_mask_group`) discard texels below their cutoff.
+#[derive(Debug, Clone)]
+pub struct CasterPipelines {
+    pub opaque: wgpu::RenderPipeline,
+    pub masked: wgpu::RenderPipeline,
+}
+
 /// Pipelines and layouts, shared by every frame.
 #[derive(Debug)]
 pub struct ShadowPipelines {
     caster_program: ShaderProgram,
+    /// Kept with its pipeline (the masked caster variant).
+    _masked_caster_program: ShaderProgram,
     compose_program: ShaderProgram,
-    pub caster: wgpu::RenderPipeline,
+    pub caster: CasterPipelines,
     pub clear: wgpu::RenderPipeline,
     pub copy: wgpu::RenderPipeline,
 }
@@ -34,7 +44,10 @@ impl ShadowPipelines {
     pub fn new(gpu: &crate::GpuContext) -> Result<Self, RenderError> {
         let device = &gpu.device;
         let caps = gpu.capabilities();
-        let caster_program = ShaderProgram::new(device, caps, &shadow_caster::VARIANTS[0])?;
+        let caster_variant =
+            |alpha_mask| shadow_caster::variant(shadow_caster::VariantKey { alpha_mask });
+        let caster_program = ShaderProgram::new(device, caps, caster_variant(false))?;
+        let masked_program = ShaderProgram::new(device, caps, caster_variant(true))?;
         let compose_program = ShaderProgram::new(device, caps, &shadow_compose::VARIANTS[0])?;
         let mut depth = region_depth(wgpu::CompareFunction::Greater);
         depth.bias = wgpu::DepthBiasState {
@@ -42,20 +55,41 @@ impl ShadowPipelines {
             slope_scale: SLOPE_BIAS,
             clamp: 0.0,
         };
-        let caster = mesh_pipeline(
-            device,
-            &caster_program,
-            &MeshPipeline {
-                label: "shadow casters",
-                vertex_entry: "vs_caster",
-                streams: &[wgpu::VertexFormat::Float32x3],
-                // Both faces cast: thin and open meshes must not leak light.
-                double_sided: true,
-                depth,
-                msaa: 1,
-                fragment: None,
-            },
-        );
+        let caster_pipeline = |program, masked: bool| {
+            mesh_pipeline(
+                device,
+                program,
+                &MeshPipeline {
+                    label: if masked {
+                        "shadow casters masked"
+                    } else {
+                        "shadow casters"
+                    },
+                    vertex_entry: if masked {
+                        "vs_caster_mask"
+                    } else {
+                        "vs_caster"
+                    },
+                    streams: if masked {
+                        &MASK_STREAMS
+                    } else {
+                        &[wgpu::VertexFormat::Float32x3]
+                    },
+                    // Both faces cast: thin and open meshes must not leak light.
+                    double_sided: true,
+                    // Nothing is culled, so the winding (mirrored draws) changes nothing here.
+                    mirrored: false,
+                    depth: depth.clone(),
+                    msaa: 1,
+                    // Opaque casters write depth without a fragment stage; masked ones discard.
+                    fragment: masked.then_some(("fs_caster_mask", &[][..])),
+                },
+            )
+        };
+        let caster = CasterPipelines {
+            opaque: caster_pipeline(&caster_program, false),
+            masked: caster_pipeline(&masked_program, true),
+        };
         // The clear draw binds nothing (its layout is empty), so it can run on either atlas.
         let empty = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("shadow clear"),
@@ -71,6 +105,7 @@ impl ShadowPipelines {
         );
         Ok(Self {
             caster_program,
+            _masked_caster_program: masked_program,
             compose_program,
             caster,
             clear,
@@ -252,7 +287,7 @@ fn storage(device: &wgpu::Device, label: &str, bytes: usize) -> wgpu::Buffer {
 pub struct Recording {
     pub regions: Vec<RegionPlan>,
     pub scene: Arc<PreparedScene>,
-    pub caster: wgpu::RenderPipeline,
+    pub caster: CasterPipelines,
     pub clear: wgpu::RenderPipeline,
     pub copy: wgpu::RenderPipeline,
     pub caster_group: wgpu::BindGroup,
@@ -318,12 +353,12 @@ impl Recording {
     }
 
     /// Draws `casters` into region `view` (the viewport is set): instance `view` selects the
-    /// region's clip matrix in the caster shader.
+    /// region's clip matrix in the caster shader. Alpha-masked casters draw with the masked
+    /// pipeline and their material's mask group.
     fn draw_casters<'a>(&'a self, pass: &mut wgpu::RenderPass<'a>, view: u32, casters: &[u32]) {
         if casters.is_empty() {
             return;
         }
-        pass.set_pipeline(&self.caster);
         pass.set_bind_group(0, &self.caster_group, &[]);
         for &c in casters {
             let Some(draw) = self.scene.draws.get(c as usize) else {
@@ -331,7 +366,23 @@ impl Recording {
             };
             pass.set_bind_group(1, &draw.bind_group, &[]);
             let p = &self.scene.gpu.meshes[draw.mesh][draw.primitive];
-            draw_primitive_instances(pass, p, &[&p.positions], view..view + 1);
+            let mask = self
+                .scene
+                .materials
+                .get(draw.material)
+                .and_then(|m| m.prez_mask_group.as_ref());
+            let instances = view..view + 1;
+            match mask {
+                Some(group) => {
+                    pass.set_pipeline(&self.caster.masked);
+                    pass.set_bind_group(2, group, &[]);
+                    draw_primitive_instances(pass, p, &self.scene.gpu.mask_streams(p), instances);
+                }
+                None => {
+                    pass.set_pipeline(&self.caster.opaque);
+                    draw_primitive_instances(pass, p, &[&p.positions], instances);
+                }
+            }
         }
     }
 }

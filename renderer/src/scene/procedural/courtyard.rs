@@ -9,7 +9,7 @@ use glam::{Vec3, Vec4};
 
 use super::SceneBuilder;
 use super::textures::{grille, leaves, stone_tiles};
-use crate::scene::{Aabb, AlphaMode, Material, Scene, SceneCamera, TextureRef};
+use crate::scene::{Aabb, AlphaMode, CameraProjection, Material, Scene, SceneCamera, TextureRef};
 
 /// The courtyard's exposure in stops, its ambient (a dusk sky's fill light) and its sky colour
 /// (linear HDR), chosen so that 1,024 lights read as pools of colour with the architecture still
@@ -167,10 +167,12 @@ pub fn courtyard() -> Scene {
     let target = Vec3::new(-2.5, 2.0, -5.0);
     b.camera(SceneCamera {
         world_from_view: glam::camera::rh::view::look_at_mat4(eye, target, Vec3::Y).inverse(),
-        yfov: 55f32.to_radians(),
-        aspect: None,
-        znear: 0.1,
-        zfar: Some(80.0),
+        projection: CameraProjection::Perspective {
+            yfov: 55f32.to_radians(),
+            aspect: None,
+            znear: 0.1,
+            zfar: Some(80.0),
+        },
     });
     b.build()
 }

@@ -42,6 +42,61 @@ pub fn slice_bounding_sphere(tan_x: f32, tan_y: f32, near: f32, far: f32) -> (f3
     (center, to_near.max(to_far))
 }
 
+/// How the camera's frustum widens with view depth: a perspective camera's slice at depth `d`
+/// spans `±tan_x d` by `±tan_y d`; an orthographic one's spans `±half_width` by `±half_height`
+/// at every depth.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum CameraLens {
+    Perspective { tan_x: f32, tan_y: f32 },
+    Orthographic { half_width: f32, half_height: f32 },
+}
+
+impl CameraLens {
+    /// A perspective lens of vertical field of view `fovy` (radians, clamped inside
+    /// `(0, π)`) and `aspect` width / height.
+    pub fn perspective(fovy: f32, aspect: f32) -> Self {
+        let tan_y = (fovy.clamp(1e-3, std::f32::consts::PI - 1e-3) * 0.5).tan();
+        Self::Perspective {
+            tan_x: tan_y * aspect.max(1e-3),
+            tan_y,
+        }
+    }
+
+    /// The lens of a wgpu projection: orthographic when its last row is `(0, 0, 0, 1)`.
+    pub fn of(projection: Mat4) -> Self {
+        if projection.row(3) == glam::Vec4::W {
+            // x_ndc = x_view · m00 + offset: the half extents are 1 / m00 and 1 / m11.
+            return Self::Orthographic {
+                half_width: 1.0 / projection.x_axis.x,
+                half_height: 1.0 / projection.y_axis.y,
+            };
+        }
+        Self::perspective(
+            crate::shadow::resolution::projection_fovy(projection),
+            projection.y_axis.y / projection.x_axis.x,
+        )
+    }
+
+    /// The bounding sphere of the frustum slice between view depths `near` and `far`: its
+    /// centre's view depth and its radius (centred on the view axis).
+    pub fn slice_sphere(&self, near: f32, far: f32) -> (f32, f32) {
+        match *self {
+            Self::Perspective { tan_x, tan_y } => slice_bounding_sphere(tan_x, tan_y, near, far),
+            Self::Orthographic {
+                half_width,
+                half_height,
+            } => {
+                // A box: its centre, and the distance to any of its corners.
+                let half_depth = (far - near) * 0.5;
+                let radius =
+                    (half_depth * half_depth + half_width * half_width + half_height * half_height)
+                        .sqrt();
+                (near + half_depth, radius)
+            }
+        }
+    }
+}
+
 /// Four cascades of a directional light over the camera's view depth [near, distance], split
 /// practically (lambda = 0.75 between log and uniform, [`cascade_splits`]), each fitted with a
 /// bounding sphere of the split's frustum slice ([`slice_bounding_sphere`]: its size does not
@@ -50,26 +105,19 @@ pub fn slice_bounding_sphere(tan_x: f32, tan_y: f32, near: f32, far: f32) -> (f3
 /// texel grid relative to the world), and a depth range extended towards the light to include
 /// every caster of `scene_bounds`.
 ///
-/// `camera_world_from_view` must be rigid (the inverse of the camera's view matrix); `fovy` is
-/// the vertical field of view, `aspect` width / height. The region is one texel wider than the
+/// `camera_world_from_view` must be rigid (the inverse of the camera's view matrix); `lens` how
+/// its frustum widens (perspective or orthographic). The region is one texel wider than the
 /// sphere on each side, so snapping never pushes the slice out of it. Light space is a fixed
 /// rotation of the world (it depends on `light_direction` only), with its origin at the world's.
-#[expect(
-    clippy::too_many_arguments,
-    reason = "the camera and the light, spelled out"
-)]
 pub fn cascade_views(
     camera_world_from_view: Mat4,
-    fovy: f32,
-    aspect: f32,
+    lens: CameraLens,
     near: f32,
     distance: f32,
     light_direction: Vec3,
     side: u32,
     scene_bounds: &Aabb,
 ) -> [LightView; 4] {
-    let tan_y = (fovy.clamp(1e-3, std::f32::consts::PI - 1e-3) * 0.5).tan();
-    let tan_x = tan_y * aspect.max(1e-3);
     let light_from_world = look_along(Vec3::ZERO, light_direction);
     let near = near.max(1e-4);
     let splits = cascade_splits(near, distance);
@@ -79,7 +127,7 @@ pub fn cascade_views(
         (!scene_light.is_empty() && scene_light.max.z.is_finite()).then_some(scene_light.max.z);
     std::array::from_fn(|i| {
         let slice_near = if i == 0 { near } else { splits[i - 1] };
-        let (center_depth, radius) = slice_bounding_sphere(tan_x, tan_y, slice_near, splits[i]);
+        let (center_depth, radius) = lens.slice_sphere(slice_near, splits[i]);
         let center_world =
             camera_world_from_view.transform_point3(Vec3::new(0.0, 0.0, -center_depth));
         let sphere = Sphere {

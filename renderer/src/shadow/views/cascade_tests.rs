@@ -26,8 +26,7 @@ fn light() -> Vec3 {
 fn cascades(world_from_view: Mat4) -> [LightView; 4] {
     cascade_views(
         world_from_view,
-        FOVY,
-        ASPECT,
+        CameraLens::perspective(FOVY, ASPECT),
         NEAR,
         DIST,
         light(),
@@ -184,7 +183,15 @@ fn casters_towards_the_light_are_inside_the_depth_range() {
         n = v.split_far;
     }
     // An empty scene only bounds the slice.
-    let empty = cascade_views(cam, FOVY, ASPECT, NEAR, DIST, light(), SIDE, &Aabb::EMPTY);
+    let empty = cascade_views(
+        cam,
+        CameraLens::perspective(FOVY, ASPECT),
+        NEAR,
+        DIST,
+        light(),
+        SIDE,
+        &Aabb::EMPTY,
+    );
     assert!(empty.iter().all(|v| v.clip_from_world.is_finite()));
 }
 
@@ -227,4 +234,48 @@ fn frustum_of_an_orthographic_cascade() {
     assert!(f.intersects_aabb(&tiny(centre)));
     let outside = inv.project_point3(Vec3::new(0.0, 0.0, 1.5));
     assert!(!f.intersects_aabb(&tiny(outside)));
+}
+
+#[test]
+fn an_orthographic_camera_gets_cascades_around_its_box() {
+    let (hw, hh) = (20.0, 12.0);
+    let projection = glam::camera::rh::proj::directx::orthographic(-hw, hw, -hh, hh, NEAR, 200.0);
+    let lens = CameraLens::of(projection);
+    assert_eq!(
+        lens,
+        CameraLens::Orthographic {
+            half_width: hw,
+            half_height: hh
+        }
+    );
+    let cam = camera(Vec3::new(-20.0, 8.0, 5.0), Vec3::new(10.0, 0.0, -3.0));
+    let views = cascade_views(cam, lens, NEAR, DIST, light(), SIDE, &scene());
+    let mut n = NEAR;
+    for v in &views {
+        // The slice is a box: ±hw by ±hh at every depth.
+        for i in 0..=4 {
+            let d = n + (v.split_far - n) * i as f32 / 4.0;
+            for (u, w) in [
+                (-1.0, -1.0),
+                (1.0, -1.0),
+                (-1.0, 1.0),
+                (1.0, 1.0),
+                (0.3, -0.2),
+            ] {
+                let p = cam.transform_point3(Vec3::new(u * hw, w * hh, -d));
+                let q = v.ndc(p);
+                assert!(q.x.abs() <= 1.0 && q.y.abs() <= 1.0, "{q}");
+                assert!(q.z >= 0.0 && q.z <= 1.0, "{q}");
+            }
+        }
+        // And no larger than the box's bounding sphere, a texel either side.
+        let half_depth = (v.split_far - n) * 0.5;
+        let radius = (half_depth * half_depth + hw * hw + hh * hh).sqrt();
+        let half = v.texel_world * SIDE as f32 * 0.5;
+        assert!(
+            half <= radius * 1.01 + 2.0 * v.texel_world,
+            "{half} against {radius}"
+        );
+        n = v.split_far;
+    }
 }

@@ -23,7 +23,8 @@ mod cascade_tests;
 mod tests;
 
 pub use cascade::{
-    CASCADE_COUNT, CASCADE_SPLIT_LAMBDA, cascade_splits, cascade_views, slice_bounding_sphere,
+    CASCADE_COUNT, CASCADE_SPLIT_LAMBDA, CameraLens, cascade_splits, cascade_views,
+    slice_bounding_sphere,
 };
 pub use cube::{CUBE_FACE_DIRECTIONS, CUBE_FACE_UPS, cube_face, cube_tan_half_fov, cube_views};
 

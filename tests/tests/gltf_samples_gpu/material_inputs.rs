@@ -1,0 +1,426 @@
+//! Material inputs on the GPU, on scenes built in code where each quad shows one rule as a
+//! colour: `COLOR_0` multiplies the base colour (and its alpha masks), each texture reads its
+//! own UV set through its own `KHR_texture_transform` and sampler (wrap modes), the mip chain is
+//! sampled only where the sampler has a mipmap filter, and alpha-masked casters cut out in the
+//! shadow atlas. Every quad reads green (or masks) only when its rule is honoured and red (or
+//! shows) when it is not; each is checked on every render path.
+
+use glam::{Vec2, Vec3, Vec4};
+use renderer::frame::{FrameCamera, RenderPath, RendererConfig};
+use renderer::scene::procedural::SceneBuilder;
+use renderer::scene::{
+    Aabb, AlphaMode, Filter, Image, Instance, LightKind, Material, Mesh, Primitive, Scene,
+    SceneLight, TextureRef, TextureSampler, UvTransform, Wrap,
+};
+use tests::frames::render_frame_from;
+use tests::gpu::gpu_test;
+
+pub const W: u32 = 160;
+pub const H: u32 = 120;
+
+/// A flat quad with corners `min`, `max` in the plane `z = min.z` facing +Z (or `y = min.y`
+/// facing +Y when `min.y == max.y`), every vertex with `uv0`, `uv1` (none when `None`) and
+/// `color` (none when `None`), or per-corner UVs from `uv0_of`.
+pub struct Quad {
+    pub min: Vec3,
+    pub max: Vec3,
+    pub uv0: fn(Vec2) -> Vec2,
+    pub uv1: Option<fn(Vec2) -> Vec2>,
+    pub color: Option<Vec4>,
+    pub material: usize,
+}
+
+impl Quad {
+    pub fn primitive(&self) -> Primitive {
+        let (a, b) = (self.min, self.max);
+        let horizontal = a.y == b.y;
+        // Corners in (s, t) ∈ {0, 1}², counter-clockwise seen from the facing side.
+        let corners = [
+            Vec2::new(0.0, 0.0),
+            Vec2::new(1.0, 0.0),
+            Vec2::new(1.0, 1.0),
+            Vec2::new(0.0, 1.0),
+        ];
+        let positions: Vec<Vec3> = corners
+            .iter()
+            .map(|st| {
+                if horizontal {
+                    Vec3::new(a.x + st.x * (b.x - a.x), a.y, b.z - st.y * (b.z - a.z))
+                } else {
+                    Vec3::new(a.x + st.x * (b.x - a.x), a.y + st.y * (b.y - a.y), a.z)
+                }
+            })
+            .collect();
+        let normal = if horizontal { Vec3::Y } else { Vec3::Z };
+        Primitive {
+            normals: vec![normal; 4],
+            uvs: corners.iter().map(|&st| (self.uv0)(st)).collect(),
+            uvs1: self
+                .uv1
+                .map_or_else(Vec::new, |f| corners.iter().map(|&st| f(st)).collect()),
+            colors: self.color.map_or_else(Vec::new, |c| vec![c; 4]),
+            tangents: vec![Vec4::new(1.0, 0.0, 0.0, 1.0); 4],
+            indices: vec![0, 1, 2, 0, 2, 3],
+            material: Some(self.material),
+            bounds: Aabb {
+                min: a.min(b),
+                max: a.max(b),
+            },
+            positions,
+        }
+    }
+}
+
+/// Adds `quad` to `scene` as its own mesh and instance.
+pub fn add_quad(scene: &mut Scene, quad: &Quad) {
+    let primitive = quad.primitive();
+    scene.bounds = scene.bounds.union(primitive.bounds);
+    scene.meshes.push(Mesh {
+        name: "quad".into(),
+        primitives: vec![primitive],
+    });
+    scene.instances.push(Instance {
+        mesh: scene.meshes.len() - 1,
+        world_from_mesh: glam::Mat4::IDENTITY,
+    });
+}
+
+/// The pixel `world` projects to.
+pub fn pixel(camera: &FrameCamera, world: Vec3) -> (u32, u32) {
+    let clip = camera.projection * camera.view * world.extend(1.0);
+    let ndc = clip.truncate() / clip.w;
+    (
+        ((ndc.x + 1.0) * 0.5 * W as f32) as u32,
+        ((1.0 - ndc.y) * 0.5 * H as f32) as u32,
+    )
+}
+
+pub fn rgb(rgba: &[u8], (x, y): (u32, u32)) -> [i32; 3] {
+    let i = ((y * W + x) * 4) as usize;
+    [rgba[i], rgba[i + 1], rgba[i + 2]].map(i32::from)
+}
+
+pub fn config(path: RenderPath) -> RendererConfig {
+    RendererConfig {
+        width: W,
+        height: H,
+        msaa: 1,
+        path,
+        ambient: renderer::frame::Ambient::OFF,
+        sky: Vec3::new(0.0, 0.0, 0.2),
+        ..Default::default()
+    }
+}
+
+fn nearest(wrap: Wrap) -> TextureSampler {
+    TextureSampler {
+        wrap_u: wrap,
+        wrap_v: wrap,
+        mag_filter: Filter::Nearest,
+        min_filter: Filter::Nearest,
+        mipmap_filter: None,
+    }
+}
+
+/// A texture reference reading `TEXCOORD_1` through `transform` with `wrap`, nearest filters.
+fn second_set(image: usize, wrap: Wrap, transform: UvTransform) -> TextureRef {
+    TextureRef {
+        tex_coord: 1,
+        sampler: nearest(wrap),
+        transform,
+        ..TextureRef::new(image)
+    }
+}
+
+/// What each quad of [`inputs_scene`] is, where its centre is, and what it must show.
+struct Check {
+    name: &'static str,
+    center: Vec3,
+    expect: Expect,
+}
+
+enum Expect {
+    /// Green well above red and blue.
+    Green,
+    /// The sky: the quad is masked away.
+    Sky,
+    /// Uniform over the quad's inner part (a mip level averaging the checker): largest minus
+    /// smallest luminance below 40.
+    Uniform,
+    /// Pure checker texels: the luminance spans more than 120.
+    Aliased,
+}
+
+const RED_GREEN: [u8; 8] = [255, 0, 0, 255, 0, 255, 0, 255];
+
+/// Quads at z = 0 before a camera at z = 5; see [`Check`]s for what each shows.
+fn inputs_scene() -> (Scene, Vec<Check>) {
+    let mut b = SceneBuilder::new();
+    let red_green = b.image(Image {
+        width: 2,
+        height: 1,
+        rgba8: RED_GREEN.to_vec(),
+    });
+    let checker = b.image(Image {
+        width: 2,
+        height: 2,
+        rgba8: [[0, 0, 0, 255], [255; 4], [255; 4], [0, 0, 0, 255]].concat(),
+    });
+    let base = Material {
+        base_color: Vec4::ONE,
+        metallic: 0.0,
+        roughness: 1.0,
+        double_sided: true,
+        ..Material::gltf_default()
+    };
+    let white = b.add_material(base.clone());
+    let masked = b.add_material(Material {
+        alpha_mode: AlphaMode::Mask { cutoff: 0.5 },
+        ..base.clone()
+    });
+    let textured = |b: &mut SceneBuilder, t: TextureRef| {
+        b.add_material(Material {
+            base_color_texture: Some(t),
+            ..base.clone()
+        })
+    };
+    let offset = |x: f32| UvTransform {
+        offset: Vec2::new(x, 0.0),
+        ..UvTransform::IDENTITY
+    };
+    // Each reads red through TEXCOORD_0 (u = 0.25) or with its rule ignored.
+    let repeat = textured(&mut b, second_set(red_green, Wrap::Repeat, offset(0.5)));
+    let mirror = textured(
+        &mut b,
+        second_set(
+            red_green,
+            Wrap::MirroredRepeat,
+            UvTransform {
+                scale: Vec2::new(4.0, 1.0),
+                ..UvTransform::IDENTITY
+            },
+        ),
+    );
+    let clamp = textured(
+        &mut b,
+        second_set(red_green, Wrap::ClampToEdge, offset(2.0)),
+    );
+    let rotate = textured(
+        &mut b,
+        second_set(
+            red_green,
+            Wrap::Repeat,
+            UvTransform {
+                rotation: std::f32::consts::FRAC_PI_2,
+                ..UvTransform::IDENTITY
+            },
+        ),
+    );
+    // Emissive checkers on black: the mip chain where the sampler filters mips, level 0 only
+    // where it has no mipmap filter.
+    let emissive = |b: &mut SceneBuilder, mipmap_filter| {
+        b.add_material(Material {
+            base_color: Vec4::new(0.0, 0.0, 0.0, 1.0),
+            emissive: Vec3::ONE,
+            emissive_texture: Some(TextureRef {
+                sampler: TextureSampler {
+                    mipmap_filter,
+                    ..nearest(Wrap::Repeat)
+                },
+                ..TextureRef::new(checker)
+            }),
+            ..base.clone()
+        })
+    };
+    let mipmapped = emissive(&mut b, Some(Filter::Linear));
+    let level0 = emissive(&mut b, None);
+    let mut scene = b.build();
+    scene.bounds = Aabb::EMPTY;
+    let at = |x: f32, y: f32| (Vec3::new(x, y, 0.0), Vec3::new(x + 1.0, y + 1.0, 0.0));
+    let red_uv0: fn(Vec2) -> Vec2 = |_| Vec2::new(0.25, 0.5);
+    let mut checks = Vec::new();
+    let mut quad = |name, (min, max): (Vec3, Vec3), q: Quad, expect| {
+        add_quad(&mut scene, &Quad { min, max, ..q });
+        checks.push(Check {
+            name,
+            center: (min + max) * 0.5,
+            expect,
+        });
+    };
+    let plain = |material| Quad {
+        min: Vec3::ZERO,
+        max: Vec3::ZERO,
+        uv0: red_uv0,
+        uv1: None,
+        color: None,
+        material,
+    };
+    quad(
+        "vertex colour × white base colour",
+        at(-3.5, 0.5),
+        Quad {
+            color: Some(Vec4::new(0.0, 1.0, 0.0, 1.0)),
+            ..plain(white)
+        },
+        Expect::Green,
+    );
+    quad(
+        "masked material, vertex alpha 0",
+        at(-3.5, -1.0),
+        Quad {
+            color: Some(Vec4::new(1.0, 1.0, 1.0, 0.0)),
+            ..plain(masked)
+        },
+        Expect::Sky,
+    );
+    // TEXCOORD_1 u = −0.75, offset 0.5: −0.25, repeated 0.75 (mirrored or clamped: red).
+    let repeat_uv1: fn(Vec2) -> Vec2 = |_| Vec2::new(-0.75, 0.5);
+    quad(
+        "repeat",
+        at(-2.0, 0.5),
+        Quad {
+            uv1: Some(repeat_uv1),
+            ..plain(repeat)
+        },
+        Expect::Green,
+    );
+    // u = 0.3 scaled by 4: 1.2, mirrored 0.8 (repeated 0.2: red; clamped: green, below).
+    let mirror_uv1: fn(Vec2) -> Vec2 = |_| Vec2::new(0.3, 0.5);
+    quad(
+        "mirrored repeat",
+        at(-0.5, 0.5),
+        Quad {
+            uv1: Some(mirror_uv1),
+            ..plain(mirror)
+        },
+        Expect::Green,
+    );
+    // u = 0.3 offset 2: 2.3, clamped 1 (repeated or mirrored 0.3: red).
+    quad(
+        "clamp to edge",
+        at(1.0, 0.5),
+        Quad {
+            uv1: Some(mirror_uv1),
+            ..plain(clamp)
+        },
+        Expect::Green,
+    );
+    // (0.3, 0.75) turned a quarter counter-clockwise: u' = v = 0.75 (unturned 0.3, turned the
+    // other way −0.75 → 0.25: red).
+    let rotate_uv1: fn(Vec2) -> Vec2 = |_| Vec2::new(0.3, 0.75);
+    quad(
+        "rotation",
+        at(2.5, 0.5),
+        Quad {
+            uv1: Some(rotate_uv1),
+            ..plain(rotate)
+        },
+        Expect::Green,
+    );
+    // 64 checker repeats over about 20 pixels.
+    let dense: fn(Vec2) -> Vec2 = |st| st * 64.0;
+    quad(
+        "mip chain",
+        at(-2.0, -1.5),
+        Quad {
+            uv0: dense,
+            ..plain(mipmapped)
+        },
+        Expect::Uniform,
+    );
+    quad(
+        "no mipmap filter",
+        at(-0.5, -1.5),
+        Quad {
+            uv0: dense,
+            ..plain(level0)
+        },
+        Expect::Aliased,
+    );
+    (scene, checks)
+}
+
+fn inputs_camera() -> FrameCamera {
+    FrameCamera::look_at(
+        Vec3::new(0.0, 0.0, 5.0),
+        Vec3::ZERO,
+        Vec3::Y,
+        60f32.to_radians(),
+        W as f32 / H as f32,
+        (0.1, 20.0),
+    )
+}
+
+/// A white directional light along −Z, unshadowed.
+pub fn head_on_light() -> SceneLight {
+    SceneLight {
+        kind: LightKind::Directional,
+        position: Vec3::ZERO,
+        direction: Vec3::NEG_Z,
+        color: Vec3::ONE,
+        intensity: 3.0,
+        range: None,
+        casts_shadow: false,
+    }
+}
+
+fn luminance([r, g, b]: [i32; 3]) -> i32 {
+    (r * 3 + g * 6 + b) / 10
+}
+
+/// What is wrong with `check` in `rgba`, if anything.
+fn failure(rgba: &[u8], camera: &FrameCamera, check: &Check) -> Option<String> {
+    let c = rgb(rgba, pixel(camera, check.center));
+    let wrong = |what: &str| Some(format!("{}: {what}", check.name));
+    match check.expect {
+        Expect::Green => (c[1] < c[0] + 40 || c[1] < c[2] + 40)
+            .then(|| wrong(&format!("{c:?} is not green")))
+            .flatten(),
+        Expect::Sky => (c != rgb(rgba, (0, 0)))
+            .then(|| wrong(&format!("{c:?} is not the sky")))
+            .flatten(),
+        Expect::Uniform | Expect::Aliased => {
+            let lum: Vec<i32> = (-6..=6)
+                .flat_map(|dy| (-6..=6).map(move |dx| (dx, dy)))
+                .map(|(dx, dy)| {
+                    let (x, y) = pixel(camera, check.center);
+                    luminance(rgb(rgba, ((x as i32 + dx) as u32, (y as i32 + dy) as u32)))
+                })
+                .collect();
+            let spread = lum.iter().max().unwrap_or(&0) - lum.iter().min().unwrap_or(&0);
+            let uniform = matches!(check.expect, Expect::Uniform);
+            if uniform && spread >= 40 {
+                wrong(&format!("luminance spans {spread}, not one averaged level"))
+            } else if !uniform && spread <= 120 {
+                wrong(&format!(
+                    "luminance spans only {spread}: not level 0's texels"
+                ))
+            } else {
+                None
+            }
+        }
+    }
+}
+
+#[test]
+fn vertex_colours_uv_sets_transforms_wraps_and_mips_on_every_path() {
+    gpu_test(|gpu| {
+        let (scene, checks) = inputs_scene();
+        let camera = inputs_camera();
+        let mut failures = Vec::new();
+        for path in RenderPath::ALL {
+            let frame = render_frame_from(gpu, &scene, config(path), &[head_on_light()], &camera);
+            if let Some(dir) = std::env::var_os("MATERIAL_INPUTS_DUMP") {
+                let file = std::path::Path::new(&dir).join(format!("inputs_{}.png", path.name()));
+                image::save_buffer(file, &frame.rgba, W, H, image::ColorType::Rgba8).expect("png");
+            }
+            failures.extend(
+                checks
+                    .iter()
+                    .filter_map(|c| failure(&frame.rgba, &camera, c))
+                    .map(|f| format!("{}: {f}", path.name())),
+            );
+        }
+        assert!(failures.is_empty(), "{failures:#?}");
+    });
+}
