@@ -5,7 +5,7 @@ use std::path::Path;
 use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
 
 use super::instancing::{self, NodeMeshes};
-use super::load_checks::{check_accessors, ignored_extensions, parse, precheck};
+use super::load_checks::{check_accessors, parse, precheck, unsupported_features};
 use super::{
     Aabb, Image, LightKind, Mesh, Primitive, Scene, SceneError, SceneLight, SceneWarning, camera,
     image_formats, modes, resources, tangents,
@@ -57,7 +57,7 @@ impl Scene {
         let base = base.or(Some(Path::new(".")));
         let buffers = gltf::import_buffers(&doc, base, blob).map_err(gltf_err)?;
         let images = gltf::import_images(&doc, base, &buffers).map_err(gltf_err)?;
-        let mut warnings = ignored_extensions(&doc);
+        let mut warnings = unsupported_features(&doc);
         let mut meshes = doc
             .meshes()
             .map(|m| match used.get(m.index()) {
@@ -247,7 +247,7 @@ impl Ctx<'_> {
         let indices = modes::triangle_list(p.mode(), indices);
         let normals: Vec<Vec3> = match reader.read_normals() {
             Some(it) => it.map(Vec3::from).collect(),
-            None => flat_normals(&positions, &indices),
+            None => tangents::flat_normals(&positions, &indices),
         };
         let uvs: Vec<Vec2> = match reader.read_tex_coords(0) {
             Some(it) => it.into_f32().map(Vec2::from).collect(),
@@ -322,20 +322,6 @@ fn unused_mesh(mesh: &gltf::Mesh<'_>, warnings: &mut Vec<SceneWarning>) -> Mesh 
         name,
         primitives: Vec::new(),
     }
-}
-
-/// Face normals for primitives without a NORMAL attribute (vertices shared by faces get the
-/// last face's normal).
-pub(super) fn flat_normals(positions: &[Vec3], indices: &[u32]) -> Vec<Vec3> {
-    let mut normals = vec![Vec3::Y; positions.len()];
-    for tri in indices.chunks_exact(3) {
-        let [a, b, c] = [0, 1, 2].map(|k| positions[tri[k] as usize]);
-        let n = (b - a).cross(c - a).normalize_or(Vec3::Y);
-        for &i in tri {
-            normals[i as usize] = n;
-        }
-    }
-    normals
 }
 
 fn light_of(light: &gltf::khr_lights_punctual::Light<'_>, world: Mat4) -> SceneLight {

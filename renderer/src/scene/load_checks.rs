@@ -33,18 +33,28 @@ pub(super) fn parse(bytes: &[u8]) -> Result<gltf::Gltf, gltf::Error> {
 }
 
 /// One warning per `extensionsUsed` entry outside [`SUPPORTED`], in the file's order (an
-/// entry listed twice is named once).
-pub(super) fn ignored_extensions(doc: &gltf::Document) -> Vec<SceneWarning> {
+/// entry listed twice is named once), then one for animations and one for skins if the file
+/// has any: what the file holds that the renderer ignores as a whole.
+pub(super) fn unsupported_features(doc: &gltf::Document) -> Vec<SceneWarning> {
     let mut named: Vec<&str> = Vec::new();
     for e in doc.extensions_used() {
         if !SUPPORTED.contains(&e) && !named.contains(&e) {
             named.push(e);
         }
     }
-    named
+    let mut warnings: Vec<SceneWarning> = named
         .into_iter()
         .map(|e| SceneWarning::IgnoredExtension(e.to_owned()))
-        .collect()
+        .collect();
+    let animations = doc.animations().len();
+    if animations > 0 {
+        warnings.push(SceneWarning::AnimationsNotPlayed { count: animations });
+    }
+    let skins = doc.skins().len();
+    if skins > 0 {
+        warnings.push(SceneWarning::SkinsNotApplied { count: skins });
+    }
+    warnings
 }
 
 /// A GLB whose header declares a total length shorter than the 12-byte header itself: gltf

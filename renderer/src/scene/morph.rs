@@ -85,7 +85,7 @@ pub(super) fn apply(
             *normal = normal.normalize_or(Vec3::Y);
         }
     } else {
-        p.normals = super::load::flat_normals(&p.positions, &p.indices);
+        p.normals = tangents::flat_normals(&p.positions, &p.indices);
     }
     if file_tangents {
         for tangent in &mut p.tangents {

@@ -1,4 +1,4 @@
-//! Tangent generation (MikkTSpace) for primitives whose file has none.
+//! Vertex data a file may omit, generated: flat normals, and tangents (MikkTSpace).
 
 use glam::{Vec2, Vec3, Vec4};
 
@@ -69,4 +69,18 @@ pub fn generate(positions: &[Vec3], normals: &[Vec3], uvs: &[Vec2], indices: &[u
 
 fn fallback(n: Vec3) -> Vec4 {
     n.any_orthonormal_vector().extend(1.0)
+}
+
+/// Face normals for primitives without a NORMAL attribute (vertices shared by faces get the
+/// last face's normal).
+pub(super) fn flat_normals(positions: &[Vec3], indices: &[u32]) -> Vec<Vec3> {
+    let mut normals = vec![Vec3::Y; positions.len()];
+    for tri in indices.chunks_exact(3) {
+        let [a, b, c] = [0, 1, 2].map(|k| positions[tri[k] as usize]);
+        let n = (b - a).cross(c - a).normalize_or(Vec3::Y);
+        for &i in tri {
+            normals[i as usize] = n;
+        }
+    }
+    normals
 }

@@ -48,4 +48,18 @@ pub enum SceneWarning {
          loaded, so TEXCOORD_0 is used instead"
     )]
     UnsupportedTexCoord { material: String, set: u32 },
+    /// The file has animations, which the renderer does not play: nodes stay at their
+    /// transforms in the file, morph targets at their default weights.
+    #[error(
+        "{count} animation(s) are not played; the scene draws at the file's node transforms and \
+         default morph weights"
+    )]
+    AnimationsNotPlayed { count: usize },
+    /// The file has skins, which the renderer does not apply: a skinned mesh draws its vertices
+    /// as stored (its bind pose) at its node's transform.
+    #[error(
+        "{count} skin(s) are not applied; skinned meshes draw in their bind pose at their node's \
+         transform"
+    )]
+    SkinsNotApplied { count: usize },
 }

@@ -274,3 +274,51 @@ fn each_ignored_used_extension_is_named_once_and_supported_ones_may_be_required(
     );
     assert_eq!(scene.triangle_count(), 1);
 }
+
+/// Animations and skins are not played or applied: a file that has them loads in its static
+/// pose, with one warning for each (counted from the file's JSON, not through the loader).
+#[test]
+fn animations_and_skins_are_named_once_each() {
+    let path = workspace().join("tests/scenes/SimpleSkin/SimpleSkin.gltf");
+    let json: String = std::fs::read_to_string(&path).expect("SimpleSkin is committed");
+    let count = |key: &str| -> usize {
+        let start = json
+            .find(&format!("\"{key}\""))
+            .expect("the key is in the file");
+        let body = &json[start..];
+        let open = body.find('[').expect("an array");
+        let mut depth = 0usize;
+        let mut items = 0usize;
+        for c in body[open..].chars() {
+            match c {
+                '[' | '{' => {
+                    if depth == 1 && c == '{' {
+                        items += 1;
+                    }
+                    depth += 1;
+                }
+                ']' | '}' => {
+                    depth -= 1;
+                    if depth == 0 {
+                        break;
+                    }
+                }
+                _ => {}
+            }
+        }
+        items
+    };
+    let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        scene.warnings,
+        [
+            SceneWarning::AnimationsNotPlayed {
+                count: count("animations")
+            },
+            SceneWarning::SkinsNotApplied {
+                count: count("skins")
+            },
+        ]
+    );
+    assert!(scene.triangle_count() > 0, "the skinned mesh still draws");
+}

@@ -27,6 +27,8 @@ use renderer::{GpuContext, GpuOptions, readback};
 
 use crate::bench::matrix::{PathChoice, parse_size};
 
+#[cfg(test)]
+mod cli_tests;
 mod output;
 mod parse;
 
