@@ -42,27 +42,32 @@ impl Bin {
 
     /// A GLB of `json` (which must include [`Bin::json`]) and this binary chunk.
     pub fn glb(&self, json: &str) -> Vec<u8> {
-        let pad = |mut v: Vec<u8>, with: u8| {
-            while !v.len().is_multiple_of(4) {
-                v.push(with);
-            }
-            v
-        };
-        let json = pad(json.as_bytes().to_vec(), b' ');
-        let bin = pad(self.bytes.clone(), 0);
-        let total = 12 + 8 + json.len() + 8 + bin.len();
-        let mut out = Vec::with_capacity(total);
-        out.extend_from_slice(b"glTF");
-        out.extend_from_slice(&2u32.to_le_bytes());
-        out.extend_from_slice(&(total as u32).to_le_bytes());
-        out.extend_from_slice(&(json.len() as u32).to_le_bytes());
-        out.extend_from_slice(b"JSON");
-        out.extend_from_slice(&json);
-        out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
-        out.extend_from_slice(b"BIN\0");
-        out.extend_from_slice(&bin);
-        out
+        glb(json, &self.bytes)
     }
+}
+
+/// A GLB holding `json` and the binary chunk `bin` (both padded to 4 bytes).
+pub fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
+    let pad = |mut v: Vec<u8>, with: u8| {
+        while !v.len().is_multiple_of(4) {
+            v.push(with);
+        }
+        v
+    };
+    let json = pad(json.as_bytes().to_vec(), b' ');
+    let bin = pad(bin.to_vec(), 0);
+    let total = 12 + 8 + json.len() + 8 + bin.len();
+    let mut out = Vec::with_capacity(total);
+    out.extend_from_slice(b"glTF");
+    out.extend_from_slice(&2u32.to_le_bytes());
+    out.extend_from_slice(&(total as u32).to_le_bytes());
+    out.extend_from_slice(&(json.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"JSON");
+    out.extend_from_slice(&json);
+    out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"BIN\0");
+    out.extend_from_slice(&bin);
+    out
 }
 
 /// The triangle (0,0,0), (1,0,0), (0,1,0) as view 0 (positions) and accessor 0.

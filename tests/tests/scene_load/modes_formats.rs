@@ -9,31 +9,8 @@ use std::io::Cursor;
 
 use renderer::scene::{Scene, SceneWarning};
 
+use super::gltf_builder::glb;
 use super::{check_consistent, workspace};
-
-/// A GLB holding `json` and the binary chunk `bin`.
-fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
-    let pad = |mut v: Vec<u8>, with: u8| {
-        while !v.len().is_multiple_of(4) {
-            v.push(with);
-        }
-        v
-    };
-    let json = pad(json.as_bytes().to_vec(), b' ');
-    let bin = pad(bin.to_vec(), 0);
-    let total = 12 + 8 + json.len() + 8 + bin.len();
-    let mut out = Vec::with_capacity(total);
-    out.extend_from_slice(b"glTF");
-    out.extend_from_slice(&2u32.to_le_bytes());
-    out.extend_from_slice(&(total as u32).to_le_bytes());
-    out.extend_from_slice(&(json.len() as u32).to_le_bytes());
-    out.extend_from_slice(b"JSON");
-    out.extend_from_slice(&json);
-    out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
-    out.extend_from_slice(b"BIN\0");
-    out.extend_from_slice(&bin);
-    out
-}
 
 fn png(image: image::DynamicImage) -> Vec<u8> {
     let mut bytes = Vec::new();
