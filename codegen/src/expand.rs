@@ -7,9 +7,18 @@
 //! `#[shader(.., uses(a, b))]` module expands to `a::__shader_library! { state }`, whose
 //! expansion calls `__with_library! { state library { .. } }`, which calls
 //! `b::__shader_library!`, and so on; the last step compiles the module with every library.
+//!
+//! A library may use libraries too. Each step adds the `uses(..)` of the library it received
+//! to the paths still to visit (each path once), so the chain collects the whole graph; the
+//! last step orders it (`front::order`: dependencies first, cycles refused) before compiling.
+//! A `#[library(uses(..))]` emits its forwarding macro at once, so modules can reach it, and
+//! starts a chain of its own inside its module whose last step validates the library with what
+//! it uses and emits its host items there.
 
-use crate::front::Library;
-use crate::link::{compile_linked, declarations_linked};
+use crate::front::{Library, Root, by_full_path, order, path_text};
+use crate::link::{
+    compile_library_linked, compile_linked, declarations_linked, library_declarations_linked,
+};
 use crate::pipeline::{compile, compile_library, declarations};
 use proc_macro2::{Span, TokenStream};
 use quote::{ToTokens, quote};
@@ -26,7 +35,20 @@ pub fn expand(args: TokenStream, item: TokenStream) -> syn::Result<TokenStream> 
         let compiled = compile(args, &item)?;
         return Ok(crate::emit::emit(&item, &compiled));
     }
-    for p in &uses {
+    check_rooted(&uses)?;
+    Ok(next_step(&State {
+        target: Target::Shader,
+        args,
+        item: item.into_token_stream(),
+        pending: uses,
+        done: vec![],
+    }))
+}
+
+/// Every path in `uses(..)` must start at the crate root (the chain resolves it from wherever
+/// the using module is).
+fn check_rooted(uses: &[syn::Path]) -> syn::Result<()> {
+    for p in uses {
         let rooted =
             p.leading_colon.is_some() || p.segments.first().is_some_and(|s| s.ident == "crate");
         if !rooted {
@@ -36,12 +58,7 @@ pub fn expand(args: TokenStream, item: TokenStream) -> syn::Result<TokenStream> 
             ));
         }
     }
-    Ok(next_step(&State {
-        args,
-        item: item.into_token_stream(),
-        pending: uses,
-        done: vec![],
-    }))
+    Ok(())
 }
 
 /// `#[library(..)]`: compiles and validates the library on its own, and emits its host items
@@ -52,8 +69,28 @@ pub fn expand_library(args: TokenStream, item: TokenStream) -> TokenStream {
         Ok(m) => m,
         Err(e) => return e.to_compile_error(),
     };
+    let uses = match crate::front::uses_of(args.clone()).and_then(|u| {
+        check_rooted(&u)?;
+        Ok(u)
+    }) {
+        Ok(u) => u,
+        Err(e) => return crate::emit::emit_library(&module, &args, &item, quote!(), Some(e)),
+    };
+    if !uses.is_empty() {
+        let chain = next_step(&State {
+            target: Target::Library,
+            args: args.clone(),
+            item: item.clone(),
+            pending: uses,
+            done: vec![],
+        });
+        return crate::emit::emit_library(&module, &args, &item, chain, None);
+    }
     match compile_library(args.clone(), &module) {
-        Ok(c) => crate::emit::emit_library(&module, &args, &item, Some(&c), None),
+        Ok(c) => {
+            let body = crate::emit::library_host_items(&c);
+            crate::emit::emit_library(&module, &args, &item, body, None)
+        }
         Err(err) => {
             let decls = crate::front::lower_with(
                 args.clone(),
@@ -63,7 +100,11 @@ pub fn expand_library(args: TokenStream, item: TokenStream) -> TokenStream {
             )
             .ok()
             .and_then(|m| crate::pipeline::with_keys(m).ok());
-            crate::emit::emit_library(&module, &args, &item, decls.as_ref(), Some(err))
+            let body = decls
+                .as_ref()
+                .map(crate::emit::library_host_items)
+                .unwrap_or_default();
+            crate::emit::emit_library(&module, &args, &item, body, Some(err))
         }
     }
 }
@@ -75,6 +116,20 @@ pub fn expand_with_library(input: TokenStream) -> TokenStream {
         Err(e) => return e.to_compile_error(),
     };
     let mut state = step.state;
+    match step.library.uses_paths() {
+        Ok(deps) => {
+            for dep in deps {
+                let text = path_text(&dep);
+                let seen = path_text(&step.library.path) == text
+                    || state.done.iter().any(|l| path_text(&l.path) == text)
+                    || state.pending.iter().any(|p| path_text(p) == text);
+                if !seen {
+                    state.pending.push(dep);
+                }
+            }
+        }
+        Err(e) => return e.to_compile_error(),
+    }
     state.done.push(step.library);
     if !state.pending.is_empty() {
         return next_step(&state);
@@ -83,20 +138,73 @@ pub fn expand_with_library(input: TokenStream) -> TokenStream {
         Ok(m) => m,
         Err(e) => return e.to_compile_error(),
     };
-    match compile_linked(state.args.clone(), &item, &state.done) {
-        Ok(c) => crate::emit::emit(&item, &c),
+    match state.target {
+        Target::Shader => finish_shader(&state, &item),
+        Target::Library => finish_library(&state, &item),
+    }
+}
+
+/// The collected graph in merge order (see `front::order`).
+fn ordered(state: &State, item: &syn::ItemMod, library: bool) -> syn::Result<Vec<Library>> {
+    let uses = crate::front::uses_of(state.args.clone())?;
+    let root = Root {
+        name: item.ident.to_string(),
+        uses: &uses,
+        library_item: library.then_some(item),
+    };
+    order(&root, &state.done, &by_full_path(&state.done))
+}
+
+/// The last step for a `#[shader]` module: the generated module, or the error and a stub.
+fn finish_shader(state: &State, item: &syn::ItemMod) -> TokenStream {
+    let compiled = ordered(state, item, false)
+        .and_then(|libs| compile_linked(state.args.clone(), item, &libs));
+    match compiled {
+        Ok(c) => crate::emit::emit(item, &c),
         Err(err) => {
             let mut out = err.to_compile_error();
-            let decls = declarations_linked(state.args.clone(), &item, &state.done)
-                .or_else(|| declarations(TokenStream::new(), &item));
-            out.extend(crate::emit::stub(&item, decls.as_ref()));
+            let decls = ordered(state, item, false)
+                .ok()
+                .and_then(|libs| declarations_linked(state.args.clone(), item, &libs))
+                .or_else(|| declarations(TokenStream::new(), item));
+            out.extend(crate::emit::stub(item, decls.as_ref()));
             out
         }
     }
 }
 
+/// The last step for a `#[library]` that uses libraries, inside its generated module: its host
+/// items, or the error (and the host items when its declarations lower).
+fn finish_library(state: &State, item: &syn::ItemMod) -> TokenStream {
+    let compiled = ordered(state, item, true)
+        .and_then(|libs| compile_library_linked(state.args.clone(), item, &libs));
+    match compiled {
+        Ok(c) => crate::emit::library_host_items(&c),
+        Err(err) => {
+            let mut out = err.to_compile_error();
+            let decls = ordered(state, item, true)
+                .ok()
+                .and_then(|libs| library_declarations_linked(state.args.clone(), item, &libs));
+            if let Some(d) = decls {
+                out.extend(crate::emit::library_host_items(&d));
+            }
+            out
+        }
+    }
+}
+
+/// What the chain compiles at its end.
+#[derive(Clone, Copy)]
+enum Target {
+    /// A `#[shader]` module: the last step emits the generated module.
+    Shader,
+    /// A `#[library]` that uses libraries: the last step emits its host items.
+    Library,
+}
+
 /// The chain's state: the using module, the libraries still to visit, those collected.
 struct State {
+    target: Target,
     args: TokenStream,
     item: TokenStream,
     pending: Vec<syn::Path>,
@@ -116,6 +224,13 @@ fn next_step(s: &State) -> TokenStream {
     )]
     let (next, rest) = s.pending.split_first().expect("a library left to visit");
     let (args, item) = (&s.args, &s.item);
+    let target = Ident::new(
+        match s.target {
+            Target::Shader => "shader",
+            Target::Library => "library_target",
+        },
+        Span::call_site(),
+    );
     let done = s.done.iter().map(|l| {
         let (p, a, i) = (&l.path, &l.args, &l.item);
         quote!({ #p } { #a } { #i })
@@ -129,7 +244,7 @@ fn next_step(s: &State) -> TokenStream {
     let mac = Ident::new("__shader_library", at);
     quote! {
         #next::#mac! {
-            shader { #args } { #item }
+            #target { #args } { #item }
             pending { #(#rest),* }
             calling { #next }
             done { #(#done)* }
@@ -156,7 +271,17 @@ fn keyword(input: ParseStream, word: &str) -> syn::Result<()> {
 
 impl Parse for Step {
     fn parse(input: ParseStream) -> syn::Result<Self> {
-        keyword(input, "shader")?;
+        let kind: Ident = input.parse()?;
+        let target = match kind.to_string().as_str() {
+            "shader" => Target::Shader,
+            "library_target" => Target::Library,
+            _ => {
+                return Err(syn::Error::new(
+                    kind.span(),
+                    "internal shader-dsl state: expected `shader` or `library_target`",
+                ));
+            }
+        };
         let (args, item) = (braced(input)?, braced(input)?);
         keyword(input, "pending")?;
         let pending = syn::parse2::<PathList>(braced(input)?)?.0;
@@ -170,23 +295,20 @@ impl Parse for Step {
             let path = syn::parse2(braced(&content)?)?;
             let args = braced(&content)?;
             let item = syn::parse2(braced(&content)?)?;
-            done.push(Library { path, args, item });
+            done.push(Library::new(path, args, item));
         }
         keyword(input, "library")?;
         let largs = braced(input)?;
         let litem = syn::parse2(braced(input)?)?;
         Ok(Step {
             state: State {
+                target,
                 args,
                 item,
                 pending,
                 done,
             },
-            library: Library {
-                path: calling,
-                args: largs,
-                item: litem,
-            },
+            library: Library::new(calling, largs, litem),
         })
     }
 }

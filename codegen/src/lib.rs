@@ -53,7 +53,9 @@ pub use expand::{expand, expand_library, expand_with_library};
 #[cfg(feature = "compiler")]
 pub use front::Library;
 #[cfg(feature = "compiler")]
-pub use link::{compile_linked, declarations_linked};
+pub use link::{
+    compile_library_linked, compile_linked, declarations_linked, library_declarations_linked,
+};
 #[cfg(feature = "compiler")]
 pub use pipeline::{
     Compiled, CompiledVariant, LinkedLibrary, NagaStructLayout, compile, compile_library,
@@ -61,8 +63,8 @@ pub use pipeline::{
 };
 #[cfg(feature = "compiler")]
 pub use sources::{
-    compile_source, compile_source_all, compile_source_all_with, compile_with_libraries,
-    libraries_of, library_modules, shader_modules,
+    compile_library_with_libraries, compile_source, compile_source_all, compile_source_all_with,
+    compile_with_libraries, libraries_of, library_modules, shader_modules,
 };
 
 /// Re-exports for generated code only. Not a public API.

@@ -1,9 +1,10 @@
 //! Finding DSL modules in Rust source text, for tools that compile without the proc-macro
 //! (`cargo xtask shaders`, golden tests): `#[shader]` and `#[library]` modules, and `uses(..)`
-//! resolved by the path's last segment among the libraries found.
+//! resolved by the path's last segment among the libraries found, through the whole library
+//! graph (a library's own `uses(..)` too).
 
-use crate::front::Library;
-use crate::link::compile_linked;
+use crate::front::{Library, Root};
+use crate::link::{compile_library_linked, compile_linked};
 use crate::pipeline::Compiled;
 use proc_macro2::TokenStream;
 
@@ -106,34 +107,67 @@ pub fn compile_with_libraries(
     item: &syn::ItemMod,
     available: &[(TokenStream, syn::ItemMod)],
 ) -> syn::Result<Compiled> {
-    let libs = resolve_libraries(args.clone(), available)?;
+    let libs = resolve_libraries(args.clone(), item, available)?;
     compile_linked(args, item, &libs)
+}
+
+/// Compiles a `#[library]` module on its own over its axes, finding the libraries it uses (and
+/// those they use) among `available` as [`compile_with_libraries`] does.
+pub fn compile_library_with_libraries(
+    args: TokenStream,
+    item: &syn::ItemMod,
+    available: &[(TokenStream, syn::ItemMod)],
+) -> syn::Result<Compiled> {
+    let uses = crate::front::uses_of(args.clone())?;
+    let root = Root {
+        name: item.ident.to_string(),
+        uses: &uses,
+        library_item: Some(item),
+    };
+    let libs = resolve_graph(&root, available)?;
+    compile_library_linked(args, item, &libs)
 }
 
 fn resolve_libraries(
     args: TokenStream,
+    item: &syn::ItemMod,
     available: &[(TokenStream, syn::ItemMod)],
 ) -> syn::Result<Vec<Library>> {
-    let mut libs = vec![];
-    for path in crate::front::uses_of(args)? {
+    let uses = crate::front::uses_of(args)?;
+    let root = Root {
+        name: item.ident.to_string(),
+        uses: &uses,
+        library_item: None,
+    };
+    resolve_graph(&root, available)
+}
+
+/// The library graph `root` reaches among `available`, each path resolved by its last segment.
+fn resolve_graph(
+    root: &Root,
+    available: &[(TokenStream, syn::ItemMod)],
+) -> syn::Result<Vec<Library>> {
+    let candidates: Vec<Library> = available
+        .iter()
+        .map(|(args, item)| {
+            let path = syn::Path::from(item.ident.clone());
+            Library::new(path, args.clone(), item.clone())
+        })
+        .collect();
+    let resolve = |path: &syn::Path| {
         let last = path.segments.last().map(|s| s.ident.to_string());
-        let Some((largs, litem)) = available
+        candidates
             .iter()
-            .find(|(_, m)| Some(m.ident.to_string()) == last)
-        else {
-            return Err(syn::Error::new(
-                syn::spanned::Spanned::span(&path),
-                format!(
-                    "no `#[library]` module named `{}` in the sources given",
-                    last.unwrap_or_default()
-                ),
-            ));
-        };
-        libs.push(Library {
-            path,
-            args: largs.clone(),
-            item: litem.clone(),
-        });
-    }
-    Ok(libs)
+            .position(|l| Some(l.name()) == last)
+            .ok_or_else(|| {
+                syn::Error::new(
+                    syn::spanned::Spanned::span(path),
+                    format!(
+                        "no `#[library]` module named `{}` in the sources given",
+                        last.unwrap_or_default()
+                    ),
+                )
+            })
+    };
+    crate::front::order(root, &candidates, &resolve)
 }

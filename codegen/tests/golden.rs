@@ -101,12 +101,14 @@ fn golden_libraries_on_their_own() {
     let mut checked = 0;
     for (stem, src) in corpus() {
         let file = syn::parse_file(&src).expect("corpus file parses");
-        for (args, item) in codegen::library_modules(&file) {
+        let libraries = codegen::library_modules(&file);
+        for (args, item) in &libraries {
             let lib = item.ident.to_string();
-            let compiled = codegen::compile_library(args, &item).unwrap_or_else(|e| {
-                let at = e.span().start();
-                panic!("{stem}.rs:{}:{}: {e}", at.line, at.column)
-            });
+            let compiled = codegen::compile_library_with_libraries(args.clone(), item, &libraries)
+                .unwrap_or_else(|e| {
+                    let at = e.span().start();
+                    panic!("{stem}.rs:{}:{}: {e}", at.line, at.column)
+                });
             for v in &compiled.variants {
                 let name = format!("{stem}@{lib}@{}", v.names[0]);
                 insta::with_settings!({

@@ -1,6 +1,6 @@
 //! Libraries and `#[invariant]` through the source-text API (no proc-macro): merging, the
-//! library's own validation, axis checks, host re-exports, and the SPIR-V `Invariant`
-//! decoration.
+//! library's own validation, axis checks, host re-exports, libraries that use libraries (the
+//! graph: order, diamonds, cycles, clashes), and the SPIR-V `Invariant` decoration.
 
 const LIB: &str = r#"
 #[library(axes(wide: bool = [false, true]))]
@@ -114,8 +114,17 @@ fn clashes_entry_points_and_paths_are_errors() {
     let nested = LIB.replace("#[library(", "#[library(uses(crate::other), ");
     let file = syn::parse_file(&nested).unwrap();
     let (args, item) = codegen::library_modules(&file).remove(0);
-    let e = codegen::compile_library(args, &item).expect_err("library using a library");
-    assert!(e.to_string().contains("cannot use another library"), "{e}");
+    let e = codegen::compile_library(args.clone(), &item).expect_err("its library is missing");
+    assert!(
+        e.to_string().contains("no library `other` was found"),
+        "{e}"
+    );
+    let e = codegen::compile_library_with_libraries(args, &item, &[]).expect_err("missing");
+    assert!(
+        e.to_string()
+            .contains("no `#[library]` module named `other` in the sources given"),
+        "{e}"
+    );
     let unknown = err(&user("wide: bool = [true]"));
     assert!(
         unknown.contains("no `#[library]` module named `helpers`"),
@@ -222,5 +231,190 @@ mod m {{
     assert!(
         e.contains("struct `Outer` of library `shapes` gets a different memory layout"),
         "{e}"
+    );
+}
+
+/// A graph: `base` at the bottom, `left` and `right` both use it, `top` uses `left` (so it
+/// reaches `base` only through it).
+const GRAPH: &str = r#"
+#[library(axes(wide: bool = [false, true]))]
+pub mod base {
+    pub struct Sample { pub value: Vec4 }
+    pub const SCALE: f32 = 2.0;
+    pub fn scaled(x: f32) -> f32 {
+        x * select(wide, SCALE, 1.0)
+    }
+}
+#[library(axes(wide: bool = [false, true]), uses(crate::base))]
+pub mod left {
+    pub const OFFSET: f32 = SCALE + 1.0;
+    pub fn left_of(s: Sample) -> f32 {
+        scaled(s.value.x) + OFFSET
+    }
+}
+#[library(axes(wide: bool = [false, true]), uses(crate::base))]
+pub mod right {
+    pub struct Pairing { pub first: Sample, pub weight: f32 }
+    pub fn right_of(p: Pairing) -> f32 {
+        scaled(p.first.value.y) * p.weight
+    }
+}
+"#;
+
+fn graph_user(uses: &str, axes: &str, body: &str) -> String {
+    format!(
+        r#"{GRAPH}
+#[shader(axes({axes}), uses({uses}))]
+mod m {{
+    #[storage(group = 0, binding = 0, read_write)]
+    static OUT: [f32];
+    #[storage(group = 0, binding = 1)]
+    static IN: [Sample];
+    #[compute(workgroup_size(1))]
+    fn main() {{
+        {body}
+    }}
+}}
+"#
+    )
+}
+
+fn library_named(src: &str, name: &str) -> (proc_macro2::TokenStream, syn::ItemMod) {
+    let file = syn::parse_file(src).unwrap();
+    codegen::library_modules(&file)
+        .into_iter()
+        .find(|(_, m)| m.ident == name)
+        .unwrap()
+}
+
+#[test]
+fn a_library_that_uses_a_library_brings_it_along() {
+    // The module names only `left`; `base` comes with it, before it.
+    let src = graph_user(
+        "crate::left",
+        "wide: bool = [true]",
+        "OUT[0] = left_of(IN[0]) + scaled(1.0);",
+    );
+    let c = codegen::compile_source(&src).unwrap_or_else(|e| panic!("{e}"));
+    let wgsl = &c.variants[0].wgsl;
+    assert!(
+        wgsl.contains("fn scaled(") && wgsl.contains("fn left_of("),
+        "{wgsl}"
+    );
+    let order: Vec<String> = c
+        .libraries
+        .iter()
+        .map(|l| l.path.segments.last().unwrap().ident.to_string())
+        .collect();
+    assert_eq!(order, ["base", "left"]);
+    // Each library exports its own host items only; the module re-exports both.
+    assert_eq!(c.libraries[0].exports, ["Sample", "SCALE"]);
+    assert_eq!(c.libraries[1].exports, ["OFFSET"]);
+    let host =
+        codegen::emit::emit(&syn::parse_str::<syn::ItemMod>("mod m {}").unwrap(), &c).to_string();
+    assert!(
+        host.contains("pub use crate :: base :: { Sample , SCALE }"),
+        "{host}"
+    );
+    assert!(
+        host.contains("pub use crate :: left :: { OFFSET }"),
+        "{host}"
+    );
+    assert!(!host.contains("pub struct Sample"), "{host}");
+}
+
+#[test]
+fn a_diamond_merges_its_shared_library_once() {
+    let src = graph_user(
+        "crate::left, crate::right",
+        "wide: bool = [false, true]",
+        "OUT[0] = left_of(IN[0]) + right_of(Pairing { first: IN[0], weight: 0.5 });",
+    );
+    let c = codegen::compile_source(&src).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(c.variants.len(), 2);
+    for v in &c.variants {
+        assert_eq!(v.wgsl.matches("fn scaled(").count(), 1, "{}", v.wgsl);
+        assert_eq!(v.wgsl.matches("struct Sample").count(), 1, "{}", v.wgsl);
+    }
+    assert_eq!(c.libraries.len(), 3);
+}
+
+#[test]
+fn a_library_is_validated_once_with_the_libraries_it_uses() {
+    let file = syn::parse_file(GRAPH).unwrap();
+    let available = codegen::library_modules(&file);
+    let (args, item) = library_named(GRAPH, "left");
+    let c = codegen::compile_library_with_libraries(args, &item, &available)
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(c.keys.len(), 2);
+    assert!(
+        c.variants[1].wgsl.contains("fn left_of(") && c.variants[1].wgsl.contains("fn scaled(")
+    );
+    // Its host items are its own; `base`'s are re-exported from `base`.
+    let host = codegen::emit::library_host_items(&c).to_string();
+    assert!(
+        host.contains("pub use crate :: base :: { Sample , SCALE }"),
+        "{host}"
+    );
+    assert!(host.contains("pub const OFFSET"), "{host}");
+    // An error in the library is reported although nothing uses it.
+    let broken = GRAPH.replace("scaled(s.value.x) + OFFSET", "scaled(s.value.x) + 1u32");
+    let file = syn::parse_file(&broken).unwrap();
+    let available = codegen::library_modules(&file);
+    let (args, item) = library_named(&broken, "left");
+    let e = codegen::compile_library_with_libraries(args, &item, &available).expect_err("broken");
+    assert!(e.to_string().contains("cannot apply `+`"), "{e}");
+}
+
+#[test]
+fn a_cycle_in_the_library_graph_is_an_error_naming_its_route() {
+    let cyclic = GRAPH.replace(
+        "#[library(axes(wide: bool = [false, true]))]\npub mod base {",
+        "#[library(axes(wide: bool = [false, true]), uses(crate::left))]\npub mod base {",
+    );
+    assert_ne!(cyclic, GRAPH);
+    let e = codegen::compile_source(&format!(
+        "{cyclic}{}",
+        graph_user("crate::left", "wide: bool = [true]", "OUT[0] = 1.0;").replace(GRAPH, "")
+    ))
+    .expect_err("cycle")
+    .to_string();
+    assert_eq!(
+        e,
+        "library cycle: crate::left → crate::base → crate::left; a library graph must have no cycles"
+    );
+    // The library itself reports the cycle through it.
+    let file = syn::parse_file(&cyclic).unwrap();
+    let available = codegen::library_modules(&file);
+    let (args, item) = library_named(&cyclic, "left");
+    let e = codegen::compile_library_with_libraries(args, &item, &available)
+        .expect_err("cycle")
+        .to_string();
+    assert_eq!(
+        e,
+        "library cycle: `left` uses itself through crate::base → crate::left; a library graph must have no cycles"
+    );
+}
+
+#[test]
+fn clashes_and_axes_name_the_route_through_the_graph() {
+    let clash = err(
+        &graph_user("crate::left", "wide: bool = [true]", "OUT[0] = 1.0;")
+            .replace("mod m {", "mod m {\n    const SCALE: f32 = 1.0;"),
+    );
+    assert!(
+        clash.contains("the name `SCALE` is defined both in library `base` (used through crate::left → crate::base) and in this module"),
+        "{clash}"
+    );
+    let axis = err(&graph_user(
+        "crate::right",
+        "msaa: u32 = [1]",
+        "OUT[0] = 1.0;",
+    ));
+    assert!(
+        axis.contains(
+            "library `base` (used through crate::right → crate::base) needs axis `wide: bool`"
+        ),
+        "{axis}"
     );
 }

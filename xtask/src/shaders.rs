@@ -95,7 +95,7 @@ pub fn run(args: &Args) -> Result<()> {
             continue;
         }
         let compiled = if is_library {
-            codegen::compile_library(args_tokens, &item)
+            codegen::compile_library_with_libraries(args_tokens, &item, &available)
         } else {
             codegen::compile_with_libraries(args_tokens, &item, &available)
         }

@@ -30,7 +30,8 @@ pub(crate) struct ModCtx {
     pub calls: Vec<Vec<(usize, Span)>>,
     /// Every module-level name, for conflict checks.
     pub names: HashMap<String, Span>,
-    /// The library each module-level name came from (`None`: the module itself).
+    /// The library each module-level name came from, as errors name it (`None`: the module
+    /// itself).
     pub origins: HashMap<String, Option<String>>,
     /// The library of the items being lowered now (`None`: the module itself).
     pub origin: Option<String>,
@@ -245,10 +246,10 @@ pub(crate) fn register(m: &mut ModCtx, name: &syn::Ident, what: &str) -> Result<
                 "the name `{s}` is defined twice in this shader module (types, values and axes share one namespace)"
             ),
             (Some(lib), None) | (None, Some(lib)) => format!(
-                "the name `{s}` is defined both in library `{lib}` and in this module (a module and the libraries it uses share one namespace); rename one of them"
+                "the name `{s}` is defined both in {lib} and in this module (a module and the libraries it uses share one namespace); rename one of them"
             ),
             (Some(a), Some(b)) => format!(
-                "the name `{s}` is defined in both library `{a}` and library `{b}` (the libraries a module uses share one namespace)"
+                "the name `{s}` is defined in both {a} and {b} (the libraries a module uses, and the libraries they use, share one namespace)"
             ),
         };
         let mut err = Error::new(name.span(), msg);

@@ -13,6 +13,7 @@ mod ctx;
 mod expr;
 mod fncall;
 mod items;
+mod lib_graph;
 mod libs;
 mod ops;
 mod resources;
@@ -24,7 +25,9 @@ mod types;
 pub(crate) use checks::mentions_axis;
 
 pub use ctx::Mode;
+pub(crate) use lib_graph::{Root, by_full_path, order, reached_by};
 pub use libs::Library;
+pub(crate) use libs::path_text;
 
 use ctx::ModCtx;
 
@@ -47,8 +50,8 @@ pub fn uses_of(args: TokenStream) -> Result<Vec<syn::Path>> {
     Ok(args::parse_args(args)?.uses)
 }
 
-/// Lowers a module with the libraries its `uses(..)` names merged in (`libs`, in the order of
-/// `uses(..)`), or a library on its own (`Mode::Library`, no `libs`).
+/// Lowers a module, or a library (`Mode::Library`), with the libraries its `uses(..)` reaches
+/// merged in: `libs`, ordered by [`order`] (dependencies first, each once).
 pub fn lower_with(
     args: TokenStream,
     item: &syn::ItemMod,
@@ -68,7 +71,11 @@ pub fn lower_with(
         libs::check_library_args(&args)?;
     }
     for p in &args.uses {
-        if !libs.iter().any(|l| l.path == *p) {
+        let last = p.segments.last().map(|s| s.ident.to_string());
+        let found = libs
+            .iter()
+            .any(|l| path_text(&l.path) == path_text(p) || Some(l.name()) == last);
+        if !found {
             let last = p
                 .segments
                 .last()
