@@ -1,6 +1,7 @@
 //! Material inputs on the GPU, on scenes built in code where each quad shows one rule as a
 //! colour: `COLOR_0` multiplies the base colour (and its alpha masks), each texture reads its
-//! own UV set through its own `KHR_texture_transform` and sampler (wrap modes), the mip chain is
+//! own UV set through its own `KHR_texture_transform` and sampler (wrap modes), magnification
+//! follows the sampler's filter (nearest: hard texel edges; linear: a ramp), the mip chain is
 //! sampled only where the sampler has a mipmap filter, and alpha-masked casters cut out in the
 //! shadow atlas. Every quad reads green (or masks) only when its rule is honoured and red (or
 //! shows) when it is not; each is checked on every render path.
@@ -149,9 +150,16 @@ enum Expect {
     Uniform,
     /// Pure checker texels: the luminance spans more than 120.
     Aliased,
+    /// A black and a white texel magnified across the quad, nearest: along its middle row no
+    /// pixel lies between them (more than 30 from both).
+    HardEdge,
+    /// The same, linear: at least 3 pixels of that row lie between them (5 measured at 160×120;
+    /// nearest leaves none).
+    Ramp,
 }
 
 const RED_GREEN: [u8; 8] = [255, 0, 0, 255, 0, 255, 0, 255];
+const BLACK_WHITE: [u8; 8] = [0, 0, 0, 255, 255, 255, 255, 255];
 
 /// Quads at z = 0 before a camera at z = 5; see [`Check`]s for what each shows.
 fn inputs_scene() -> (Scene, Vec<Check>) {
@@ -160,6 +168,11 @@ fn inputs_scene() -> (Scene, Vec<Check>) {
         width: 2,
         height: 1,
         rgba8: RED_GREEN.to_vec(),
+    });
+    let black_white = b.image(Image {
+        width: 2,
+        height: 1,
+        rgba8: BLACK_WHITE.to_vec(),
     });
     let checker = b.image(Image {
         width: 2,
@@ -188,7 +201,8 @@ fn inputs_scene() -> (Scene, Vec<Check>) {
         offset: Vec2::new(x, 0.0),
         ..UvTransform::IDENTITY
     };
-    // Each reads red through TEXCOORD_0 (u = 0.25) or with its rule ignored.
+    // Each reads red through TEXCOORD_0 (each quad's `uv0` below is red after the same
+    // transform and wrap) or with its rule ignored.
     let repeat = textured(&mut b, second_set(red_green, Wrap::Repeat, offset(0.5)));
     let mirror = textured(
         &mut b,
@@ -234,6 +248,23 @@ fn inputs_scene() -> (Scene, Vec<Check>) {
     };
     let mipmapped = emissive(&mut b, Some(Filter::Linear));
     let level0 = emissive(&mut b, None);
+    // The black and white texels emitted and magnified, clamped so the quad's ends are flat.
+    let magnified = |b: &mut SceneBuilder, filter| {
+        b.add_material(Material {
+            base_color: Vec4::new(0.0, 0.0, 0.0, 1.0),
+            emissive: Vec3::ONE,
+            emissive_texture: Some(TextureRef {
+                sampler: TextureSampler {
+                    mag_filter: filter,
+                    ..nearest(Wrap::ClampToEdge)
+                },
+                ..TextureRef::new(black_white)
+            }),
+            ..base.clone()
+        })
+    };
+    let mag_nearest = magnified(&mut b, Filter::Nearest);
+    let mag_linear = magnified(&mut b, Filter::Linear);
     let mut scene = b.build();
     scene.bounds = Aabb::EMPTY;
     let at = |x: f32, y: f32| (Vec3::new(x, y, 0.0), Vec3::new(x + 1.0, y + 1.0, 0.0));
@@ -279,6 +310,8 @@ fn inputs_scene() -> (Scene, Vec<Check>) {
         "repeat",
         at(-2.0, 0.5),
         Quad {
+            // TEXCOORD_0: 0.75 + 0.5 repeated is 0.25, red.
+            uv0: |_| Vec2::new(0.75, 0.5),
             uv1: Some(repeat_uv1),
             ..plain(repeat)
         },
@@ -290,6 +323,8 @@ fn inputs_scene() -> (Scene, Vec<Check>) {
         "mirrored repeat",
         at(-0.5, 0.5),
         Quad {
+            // TEXCOORD_0: 0.05 × 4 is 0.2, red.
+            uv0: |_| Vec2::new(0.05, 0.5),
             uv1: Some(mirror_uv1),
             ..plain(mirror)
         },
@@ -300,6 +335,8 @@ fn inputs_scene() -> (Scene, Vec<Check>) {
         "clamp to edge",
         at(1.0, 0.5),
         Quad {
+            // TEXCOORD_0: −1.9 + 2 is 0.1, red.
+            uv0: |_| Vec2::new(-1.9, 0.5),
             uv1: Some(mirror_uv1),
             ..plain(clamp)
         },
@@ -312,6 +349,8 @@ fn inputs_scene() -> (Scene, Vec<Check>) {
         "rotation",
         at(2.5, 0.5),
         Quad {
+            // TEXCOORD_0 (0.75, 0.25) turned: u' = 0.25, red.
+            uv0: |_| Vec2::new(0.75, 0.25),
             uv1: Some(rotate_uv1),
             ..plain(rotate)
         },
@@ -336,6 +375,26 @@ fn inputs_scene() -> (Scene, Vec<Check>) {
             ..plain(level0)
         },
         Expect::Aliased,
+    );
+    // One black and one white texel across about 20 pixels: texel centres at u = 0.25, 0.75.
+    let across: fn(Vec2) -> Vec2 = |st| Vec2::new(st.x, 0.5);
+    quad(
+        "nearest magnification",
+        at(1.0, -1.5),
+        Quad {
+            uv0: across,
+            ..plain(mag_nearest)
+        },
+        Expect::HardEdge,
+    );
+    quad(
+        "linear magnification",
+        at(2.5, -1.5),
+        Quad {
+            uv0: across,
+            ..plain(mag_linear)
+        },
+        Expect::Ramp,
     );
     (scene, checks)
 }
@@ -379,6 +438,31 @@ fn failure(rgba: &[u8], camera: &FrameCamera, check: &Check) -> Option<String> {
         Expect::Sky => (c != rgb(rgba, (0, 0)))
             .then(|| wrong(&format!("{c:?} is not the sky")))
             .flatten(),
+        Expect::HardEdge | Expect::Ramp => {
+            let (x0, _) = pixel(camera, check.center - Vec3::new(0.45, 0.0, 0.0));
+            let (x1, y) = pixel(camera, check.center + Vec3::new(0.45, 0.0, 0.0));
+            let row: Vec<i32> = (x0..=x1).map(|x| luminance(rgb(rgba, (x, y)))).collect();
+            let (lo, hi) = (
+                *row.iter().min().unwrap_or(&0),
+                *row.iter().max().unwrap_or(&0),
+            );
+            let between = row.iter().filter(|&&l| l > lo + 30 && l < hi - 30).count();
+            if hi - lo < 120 {
+                wrong(&format!(
+                    "the texels are not both there: luminance {lo}..{hi}"
+                ))
+            } else if matches!(check.expect, Expect::HardEdge) && between > 0 {
+                wrong(&format!(
+                    "{between} pixels between the texels: filtered, not nearest"
+                ))
+            } else if matches!(check.expect, Expect::Ramp) && between < 3 {
+                wrong(&format!(
+                    "{between} pixels between the texels: not a linear ramp"
+                ))
+            } else {
+                None
+            }
+        }
         Expect::Uniform | Expect::Aliased => {
             let lum: Vec<i32> = (-6..=6)
                 .flat_map(|dy| (-6..=6).map(move |dx| (dx, dy)))

@@ -5,6 +5,8 @@
 //!   and a light on the mirror plane, must render as the mirror image of each other: the frame
 //!   equals its own left-right flip, on every path that draws meshes (pre-Z, forward's three
 //!   list kinds, the G-buffer of TBDR and deferred), placed by the file and moved at run time;
+//!   two short-range lights just in front of the boxes make a pre-Z pass with the wrong winding
+//!   show too (the culled paths would drop the mirrored box's light);
 //! * Khronos's `NegativeScaleTest`, where the README says what must show: green checks, and no
 //!   red crosses (the back faces of the mirrored row, which show when culling keeps the wrong
 //!   winding), and its double-sided white spheres lit alike, mirrored or not (a mirrored sphere
@@ -116,6 +118,22 @@ fn symmetric_light() -> SceneLight {
     }
 }
 
+/// Two small lights in front of the boxes' camera-facing faces, mirror images of each other,
+/// whose range (0.6) reaches those faces and not the faces behind: a pre-Z pass that kept a
+/// mirrored box's back faces would push its tiles' depth bounds behind the light, and the
+/// culled paths would drop it there (naive forward, which culls nothing, would not see it).
+fn front_lights() -> [SceneLight; 2] {
+    [1.0, -1.0].map(|side| SceneLight {
+        kind: LightKind::Point,
+        position: Vec3::new(1.3 * side, 0.0, 1.1),
+        direction: Vec3::NEG_Z,
+        color: Vec3::new(1.0, 0.8, 0.5),
+        intensity: 1.5,
+        range: Some(0.6),
+        casts_shadow: false,
+    })
+}
+
 fn symmetric_camera() -> FrameCamera {
     FrameCamera::look_at(
         Vec3::new(0.0, 0.4, 5.0),
@@ -197,11 +215,12 @@ fn a_mirrored_node_renders_as_the_mirror_image_of_its_twin_on_every_path() {
     assert!(scene.instances[1].world_from_mesh.determinant() < 0.0);
     gpu_test(|gpu| {
         for path in PATHS {
+            let [right, left] = front_lights();
             let frame = render_frame_from(
                 gpu,
                 &scene,
                 config(path),
-                &[symmetric_light()],
+                &[symmetric_light(), right, left],
                 &symmetric_camera(),
             );
             assert_mirror_image(&frame.rgba, path.name());
