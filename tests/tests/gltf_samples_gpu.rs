@@ -35,5 +35,7 @@ mod material_models;
 mod material_shadows;
 #[path = "gltf_samples_gpu/negative_scale.rs"]
 mod negative_scale;
+#[path = "gltf_samples_gpu/quads.rs"]
+mod quads;
 #[path = "gltf_samples_gpu/tbdr_thin.rs"]
 mod tbdr_thin;

@@ -9,7 +9,7 @@ use renderer::scene::{Scene, TextureRef, UvTransform};
 use tests::frames::{largest_difference, render_frame_from};
 use tests::gpu::gpu_test;
 
-use super::material_inputs::head_on_light;
+use super::quads::head_on_light;
 use super::sample;
 
 const W: u32 = 320;

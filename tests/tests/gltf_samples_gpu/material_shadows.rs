@@ -13,7 +13,7 @@ use renderer::scene::{
 use tests::frames::render_frame_from;
 use tests::gpu::gpu_test;
 
-use super::material_inputs::{Quad, add_quad, config, pixel, rgb};
+use super::quads::{Quad, add_quad, config, pixel, rgb};
 
 /// Luminances at the floor under the hole, under the solid half, and beside the shadow.
 fn floor_luminances(path: RenderPath, masked: bool, gpu: &renderer::GpuContext) -> [i32; 3] {
@@ -78,13 +78,13 @@ fn floor_luminances(path: RenderPath, masked: bool, gpu: &renderer::GpuContext) 
         Vec3::new(2.0, 0.0, 0.0),
         Vec3::NEG_Z,
         70f32.to_radians(),
-        super::material_inputs::W as f32 / super::material_inputs::H as f32,
+        super::quads::W as f32 / super::quads::H as f32,
         (0.1, 20.0),
     );
     let frame = render_frame_from(gpu, &scene, config(path), &[light], &camera);
     if let Some(dir) = std::env::var_os("MATERIAL_INPUTS_DUMP") {
         let name = format!("masked_caster_{masked}_{}.png", path.name());
-        let (w, h) = (super::material_inputs::W, super::material_inputs::H);
+        let (w, h) = (super::quads::W, super::quads::H);
         image::save_buffer(
             std::path::Path::new(&dir).join(name),
             &frame.rgba,
