@@ -45,20 +45,28 @@ pub fn expand(args: TokenStream, item: TokenStream) -> syn::Result<TokenStream> 
     }))
 }
 
-/// Every path in `uses(..)` must start at the crate root (the chain resolves it from wherever
-/// the using module is).
+/// Every path in `uses(..)` must start at a crate root: `crate::` for a library of this crate,
+/// a crate's name for a library of a dependency (the chain resolves it from wherever the using
+/// module is).
 fn check_rooted(uses: &[syn::Path]) -> syn::Result<()> {
     for p in uses {
-        let rooted =
-            p.leading_colon.is_some() || p.segments.first().is_some_and(|s| s.ident == "crate");
-        if !rooted {
+        let first = p.segments.first().map(|s| s.ident.to_string());
+        let relative = matches!(first.as_deref(), Some("self" | "super" | "Self"));
+        if relative || p.segments.len() < 2 {
             return Err(syn::Error::new(
                 p.span(),
-                "a library path in `uses(..)` must start at the crate root: write `crate::path::to::library` (the path is resolved from the module that uses it, through the library's hidden `__shader_library` macro)",
+                "a library path in `uses(..)` must start at a crate root: write `crate::path::to::library` for a library of this crate, or `other_crate::path::to::library` for one of a dependency (the path is resolved from the module that uses it, through the library's hidden macros)",
             ));
         }
     }
     Ok(())
+}
+
+/// Whether `path` names a library of the crate being compiled (`crate::..`), whose module
+/// holds the crate-local forwarding macro; otherwise the library is another crate's, reached
+/// through the macro that crate exports at its root.
+fn in_this_crate(path: &syn::Path) -> bool {
+    path.leading_colon.is_none() && path.segments.first().is_some_and(|s| s.ident == "crate")
 }
 
 /// `#[library(..)]`: compiles and validates the library on its own, and emits its host items
@@ -237,13 +245,22 @@ fn next_step(s: &State) -> TokenStream {
     });
     // The macro's name carries the span of the path's last segment, so that a path that is not
     // a library fails there ("cannot find `__shader_library` in `name`").
-    let at = next
-        .segments
-        .last()
-        .map_or_else(Span::call_site, |s| s.ident.span());
-    let mac = Ident::new("__shader_library", at);
+    let last = next.segments.last();
+    let at = last.map_or_else(Span::call_site, |s| s.ident.span());
+    let callee = if in_this_crate(next) {
+        let mac = Ident::new("__shader_library", at);
+        quote!(#next::#mac)
+    } else {
+        // `other_crate::__shader_library_<name>`, or `$crate::..` for a path that came from
+        // another crate's exported macro.
+        let name = last.map(|s| s.ident.to_string()).unwrap_or_default();
+        let mac = Ident::new(&crate::emit::exported_library_macro(&name), at);
+        let root = next.segments.first().map(|s| &s.ident);
+        let colon = &next.leading_colon;
+        quote!(#colon #root::#mac)
+    };
     quote! {
-        #next::#mac! {
+        #callee! {
             #target { #args } { #item }
             pending { #(#rest),* }
             calling { #next }

@@ -143,12 +143,19 @@ pub(crate) fn reached_by(libs: &[Library], i: usize) -> Vec<usize> {
     (0..libs.len()).filter(|&k| reached[k]).collect()
 }
 
-/// A resolver by full path (as written, spaces ignored) among libraries collected by path.
+/// A resolver by full path (as written, spaces ignored) among libraries collected by path. A
+/// library reached by two paths (`other_crate::lib` from a module, `$crate::lib` from a library
+/// of that crate) resolves to one node: the first collected with the same item.
 pub(crate) fn by_full_path(libs: &[Library]) -> impl Fn(&syn::Path) -> Result<usize> + '_ {
     move |p: &syn::Path| {
         let want = path_text(p);
         libs.iter()
             .position(|l| path_text(&l.path) == want)
+            .map(|i| {
+                libs.iter()
+                    .position(|l| same_item(&l.item, &libs[i].item))
+                    .unwrap_or(i)
+            })
             .ok_or_else(|| {
                 Error::new(
                     p.span(),
