@@ -26,6 +26,7 @@ pub static MODULES: &[&codegen::rt::Module] = &[
     &culling::cull_prepare::MODULE,
     &culling::tile_cull::MODULE,
     &culling::cluster_cull::MODULE,
+    &culling::instance_cull::MODULE,
     &deferred::hdr_expand::MODULE,
     &deferred::tbdr::MODULE,
     &forward::prez::MODULE,

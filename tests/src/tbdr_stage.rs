@@ -51,6 +51,24 @@ pub fn gltf_stage() -> Stage {
     }
 }
 
+/// A generated city of 1,500 instances (towers, domes, columns, masked screens, glass) from its
+/// street camera, with 256 seeded lights along the streets around it.
+pub fn city_stage() -> Stage {
+    let city = renderer::scene::procedural::builtin("city:1500")
+        .expect("a valid name")
+        .expect("a built-in scene");
+    let (min, max) = city.light_radii;
+    let lights = procedural_lights(city.light_region, 256, 5, min, max);
+    let (w, h) = (192, 108);
+    Stage {
+        camera: default_camera(&city.scene, w as f32 / h as f32),
+        scene: city.scene,
+        lights,
+        size: (w, h),
+        look: |c| c,
+    }
+}
+
 /// One frame of `stage` on `path`, its pixels, and with `record` what TBDR recorded.
 pub fn frame(
     gpu: &GpuContext,

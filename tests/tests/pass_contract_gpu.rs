@@ -110,6 +110,7 @@ fn a_pass_from_outside_the_renderer_joins_the_frame() {
         assert_eq!(
             renderer.pass_names(),
             [
+                "scene culling",
                 "pre-z",
                 "light culling",
                 "shadow atlas",

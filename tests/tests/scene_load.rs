@@ -245,17 +245,50 @@ fn committed_scene_uploads_with_exact_buffers_and_texels() {
     tests::gpu::gpu_test(|gpu| {
         let uploaded = GpuScene::upload(&gpu.device, &gpu.queue, &scene);
         assert_eq!(uploaded.meshes.len(), scene.meshes.len());
-        let p = &scene.meshes[0].primitives[0];
-        let g = &uploaded.meshes[0][0];
-        assert_eq!(g.index_count as usize, p.indices.len());
         let read = |b: &wgpu::Buffer| {
             renderer::readback::read_buffer::<u8>(&gpu.device, &gpu.queue, b).expect("readback")
         };
-        assert_eq!(
+        let g = &uploaded.geometry;
+        let streams = [
             read(&g.positions),
-            bytemuck::cast_slice::<_, u8>(&p.positions)
-        );
-        assert_eq!(read(&g.indices), bytemuck::cast_slice::<_, u8>(&p.indices));
+            read(&g.normals),
+            read(&g.uvs),
+            read(&g.uvs1),
+            read(&g.colors),
+            read(&g.tangents),
+        ];
+        let indices = read(&g.indices);
+        // Every primitive's vertices at its base vertex in each shared stream, its indices at
+        // its first index; no TEXCOORD_1 reads TEXCOORD_0, no COLOR_0 reads white.
+        for (m, mesh) in scene.meshes.iter().enumerate() {
+            for (k, p) in mesh.primitives.iter().enumerate() {
+                let placed = &uploaded.meshes[m][k];
+                assert_eq!(placed.index_count as usize, p.indices.len());
+                let first = placed.first_index as usize * 4;
+                assert_eq!(
+                    &indices[first..first + p.indices.len() * 4],
+                    bytemuck::cast_slice::<_, u8>(&p.indices)
+                );
+                let white = vec![glam::Vec4::ONE; p.positions.len()];
+                let expected: [&[u8]; 6] = [
+                    bytemuck::cast_slice(&p.positions),
+                    bytemuck::cast_slice(&p.normals),
+                    bytemuck::cast_slice(&p.uvs),
+                    bytemuck::cast_slice(if p.uvs1.is_empty() { &p.uvs } else { &p.uvs1 }),
+                    bytemuck::cast_slice(if p.colors.is_empty() {
+                        &white
+                    } else {
+                        &p.colors
+                    }),
+                    bytemuck::cast_slice(&p.tangents),
+                ];
+                for (stream, want) in streams.iter().zip(expected) {
+                    let stride = want.len() / p.positions.len().max(1);
+                    let at = placed.base_vertex as usize * stride;
+                    assert_eq!(&stream[at..at + want.len()], want, "mesh {m} primitive {k}");
+                }
+            }
+        }
         let image = &scene.images[0];
         let texels = renderer::readback::read_texture_rgba8(
             &gpu.device,

@@ -1,7 +1,8 @@
 //! Deferred shading end to end: the TBDR images (each pixel shading its own samples, and
 //! deferred per-sample shading) and traditional deferred shading's (light volumes) equal the
-//! naive forward image at MSAA 1 and 4, on the committed glTF scene (every alpha mode) and the
-//! courtyard (thin grates, high-contrast silhouettes), and at edge pixels, which only
+//! naive forward image at MSAA 1 and 4, on the committed glTF scene (every alpha mode), the
+//! courtyard (thin grates, high-contrast silhouettes) and a generated city (GPU-culled draws,
+//! occluders, masked and blended instances), and at edge pixels, which only
 //! per-sample shading gets right. Every pixel has a maximum: the mean and 99th percentile bound
 //! the image, and each pixel is bounded by the largest difference of its kind (without MSAA,
 //! off the edges, on them; see the constants). The edge detector equals a CPU reference on the
@@ -16,7 +17,7 @@ use renderer::readback;
 use renderer::scene::SceneLight;
 use tests::gpu::gpu_test;
 use tests::image_compare::{largest_where, pixel_differences, stats};
-use tests::tbdr_stage::{courtyard_stage, frame, gltf_stage};
+use tests::tbdr_stage::{city_stage, courtyard_stage, frame, gltf_stage};
 
 /// Whole-image tolerance against naive forward, in 8-bit steps after tonemapping: mean and 99th
 /// percentile of each pixel's largest channel difference (RGB). The G-buffer quantises albedo to
@@ -120,7 +121,12 @@ fn every_pixel_bounded(what: &str, d: &[u8], record: &TbdrRecord) {
 #[test]
 fn deferred_paths_equal_naive_forward_at_msaa_1_and_4_and_per_sample_at_edges() {
     gpu_test(|gpu| {
-        for (name, stage) in [("courtyard", courtyard_stage()), ("glTF", gltf_stage())] {
+        let stages = [
+            ("courtyard", courtyard_stage()),
+            ("glTF", gltf_stage()),
+            ("city", city_stage()),
+        ];
+        for (name, stage) in stages {
             for msaa in [1, 4] {
                 let default = EdgeThresholds::default();
                 let (naive, _) = frame(gpu, &stage, RenderPath::NaivePrez, msaa, default, false);
@@ -350,6 +356,7 @@ fn the_shading_frequency_view_marks_edges_red_and_bad_settings_are_errors() {
         };
         let around = |shading: &[&'static str]| {
             let mut passes = vec![
+                "scene culling",
                 "pre-z",
                 "light culling",
                 "shadow atlas",

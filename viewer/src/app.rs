@@ -55,6 +55,9 @@ struct Running {
     drag: Option<(f64, f64)>,
     cursor: (f64, f64),
     timings: Vec<PassTiming>,
+    /// The newest frame's scene draws and CPU time (prepare + record + submit, ms).
+    draws: Option<renderer::frame_data::SceneDrawReport>,
+    cpu_ms: f64,
     last: Instant,
     light_count: usize,
     message: Option<String>,
@@ -181,6 +184,8 @@ impl App {
             drag: None,
             cursor: (0.0, 0.0),
             timings: vec![],
+            draws: None,
+            cpu_ms: 0.0,
             last: Instant::now(),
             light_count: self.args.lights,
             message: None,
@@ -232,6 +237,8 @@ impl App {
         if let Some(t) = report.timings {
             r.timings = t;
         }
+        r.draws = report.scene_draws.or(r.draws);
+        r.cpu_ms = report.cpu_upload_ms + report.cpu_graph_ms + report.cpu_submit_ms;
         let last = self.args.frames.is_some_and(|n| frame + 1 >= n);
         let shot = self.args.screenshot.as_ref().filter(|_| last);
         if let Some(path) = shot.filter(|_| !self.args.screenshot_overlay) {

@@ -12,7 +12,8 @@ use clap::Parser;
     about = "The renderer in a window: fly around, switch paths, see GPU timings"
 )]
 pub struct Args {
-    /// glTF scene (.gltf or .glb); without it, the built-in courtyard.
+    /// glTF scene (.gltf or .glb), or `city:N` for a generated city of N instances; without
+    /// it, the built-in courtyard.
     #[arg(long)]
     pub scene: Option<PathBuf>,
     /// Procedural point lights.

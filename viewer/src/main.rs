@@ -6,9 +6,8 @@
 //! Keys: WASD/QE fly, drag with the left mouse button to look, `1`-`8` path (naive, naive-prez,
 //! tiled, 2.5D, clustered, tbdr, tbdr-per-sample, deferred), `F` the deferred paths' shading
 //! frequency, `M` MSAA, `T` tile size, `H` heatmap, `C` decal heatmap, `V` shadow atlas, `P`
-//! particle lighting (atlas or per pixel), `O` the particle lighting atlas, `+`/`-` double or
-//! halve the
-//! lights, Esc quits. `--frames N --script .. --screenshot FILE` run it unattended (tests).
+//! particle lighting (atlas or per pixel), `O` the particle lighting atlas, `G` GPU draw
+//! culling, `+`/`-` double or halve the lights, Esc quits. `--frames N --script .. --screenshot FILE` run it unattended (tests).
 
 mod app;
 mod args;

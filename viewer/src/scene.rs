@@ -1,6 +1,7 @@
-//! What the viewer shows: the built-in courtyard (or a glTF file) with seeded procedural lights,
-//! decals and particles, its look (exposure, ambient, sky) and the camera it starts from; built the same way by the
-//! window and by headless checks.
+//! What the viewer shows: the built-in courtyard (or a generated city, `city:N`, or a glTF
+//! file) with seeded procedural lights, decals and particles, its look (exposure, ambient,
+//! sky) and the camera it starts from; built the same way by the window and by headless
+//! checks.
 
 use std::path::Path;
 
@@ -12,7 +13,6 @@ use renderer::frame::setup::{
     procedural_lights,
 };
 use renderer::particles::{ParticleSystem, builtin_system};
-use renderer::scene::procedural::courtyard;
 use renderer::scene::{Aabb, CameraProjection, Scene, SceneLight};
 
 use crate::fly::Fly;
@@ -35,7 +35,7 @@ pub struct Shown {
     pub builtin: bool,
 }
 
-/// The courtyard (`file == None`) or a glTF file, with `count` lights, `decals` decals and
+/// The courtyard (`file == None` or `courtyard`), a generated city (`city:N`) or a glTF file, with `count` lights, `decals` decals and
 /// about `particles` particles of `seed`.
 pub fn load(
     file: Option<&Path>,
@@ -44,18 +44,22 @@ pub fn load(
     particles: u32,
     seed: u64,
 ) -> Result<Shown> {
-    let scene = match file {
-        None => courtyard(),
-        Some(path) => {
+    let name = file.map_or("courtyard".into(), |p| p.to_string_lossy().into_owned());
+    let builtin =
+        renderer::scene::procedural::builtin(&name).map_err(|e| anyhow::anyhow!("--scene {e}"))?;
+    let (scene, (light_region, light_radii), courtyard) = match builtin {
+        Some(b) => (b.scene, (b.light_region, b.light_radii), b.courtyard),
+        None => {
+            let path = Path::new(&name);
             let scene = Scene::load(path)
                 .with_context(|| format!("--scene {}: cannot load it", path.display()))?;
             for warning in &scene.warnings {
                 eprintln!("warning: {}: {warning}", path.display());
             }
-            scene
+            let space = light_space(&scene, false);
+            (scene, space, false)
         }
     };
-    let (light_region, light_radii) = light_space(&scene, file.is_none());
     // The camera the renderer's tools open on (the scene's own, else one framing it). The fly
     // camera is perspective: on an orthographic file camera it starts at that camera's pose
     // with the framing camera's field of view.
@@ -80,7 +84,7 @@ pub fn load(
         light_region,
         light_radii,
         seed,
-        builtin: file.is_none(),
+        builtin: courtyard,
     };
     shown.lights = procedural(&shown, count);
     Ok(shown)

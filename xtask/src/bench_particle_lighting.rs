@@ -77,6 +77,7 @@ fn scene(count: u32, bench: &Bench) -> Result<Setup> {
         out: None,
         adapter: None,
         msaa_fallback: false,
+        no_cull_draws: false,
     };
     setup(&args)
 }

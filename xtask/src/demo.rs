@@ -69,6 +69,7 @@ pub fn run(args: &Args) -> Result<()> {
         out: None,
         adapter: args.adapter.clone(),
         msaa_fallback: true,
+        no_cull_draws: false,
     };
     let started = std::time::Instant::now();
     let mut s = setup(&render)?;
@@ -293,7 +294,13 @@ fn summary(s: &Setup, shot: &Shot, files: &[std::path::PathBuf], secs: f64) {
             "cull efficiency: {e:.1} lights listed per light that reaches the sample (1.0 is perfect)"
         );
     }
-    println!("CPU: frame graph {:.2} ms", shot.report.cpu_graph_ms);
+    if let Some(d) = shot.report.scene_draws {
+        println!("{}", crate::render::draws_line(&d));
+    }
+    println!(
+        "CPU: prepare {:.2} ms, frame graph {:.2} ms, submit {:.2} ms",
+        shot.report.cpu_upload_ms, shot.report.cpu_graph_ms, shot.report.cpu_submit_ms
+    );
     for f in files {
         println!("wrote {}", f.display());
     }

@@ -116,7 +116,15 @@ impl Renderer {
         let _ = self.gpu.wait_idle();
         let _ = self.culling_counters();
         let _ = self.particle_report();
+        let _ = self.scene_draws();
         self.drain_timings().pop()
+    }
+
+    /// The scene's draws in the main view and how many the newest culled frame whose count
+    /// has arrived drew, polling first; after [`Renderer::finish`], the last frame's.
+    pub fn scene_draws(&mut self) -> Option<crate::frame_data::SceneDrawReport> {
+        self.pass_mut::<crate::passes::scene_cull::SceneCullPass>()
+            .and_then(crate::passes::scene_cull::SceneCullPass::report)
     }
 
     /// The newest particle counters that have arrived (none without particles); after

@@ -311,8 +311,10 @@ impl Renderer {
         self.profiler.resolve_queries(&mut encoder);
         let cpu_graph_ms = started.elapsed().as_secs_f64() * 1e3;
 
+        let submit_started = Instant::now();
         self.in_flight
             .push_back(gpu.queue.submit([encoder.finish()]));
+        let cpu_submit_ms = submit_started.elapsed().as_secs_f64() * 1e3;
         // Only the newest frames matter to `wait_for_frames_in_flight`.
         while self.in_flight.len() > MAX_TRACKED_FRAMES {
             self.in_flight.pop_front();
@@ -324,6 +326,7 @@ impl Renderer {
         let mut report = FrameReport {
             cpu_graph_ms,
             cpu_upload_ms,
+            cpu_submit_ms,
             graph_dot,
             pool,
             ..Default::default()

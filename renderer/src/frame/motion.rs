@@ -40,11 +40,12 @@ impl Renderer {
         state.world_from_mesh = world_from_mesh;
         state.version += 1;
         if let Some(scene) = &self.scene {
-            for draw in scene.draws.iter().filter(|d| d.instance == index) {
-                let uniform = draw.uniform(world_from_mesh);
-                self.gpu
-                    .queue
-                    .write_buffer(&draw.buffer, 0, bytemuck::bytes_of(&uniform));
+            let stride = size_of::<shaders_gen::forward::forward::Draw>() as u64;
+            for d in scene.draws_of_instance(index) {
+                let record = scene.draws[d].uniform(world_from_mesh);
+                let at = d as u64 * stride;
+                let bytes = bytemuck::bytes_of(&record);
+                self.gpu.queue.write_buffer(&scene.draw_records, at, bytes);
             }
         }
         Ok(())

@@ -10,10 +10,13 @@ use crate::passes::heatmap::HeatmapPass;
 use crate::passes::light_cull::LightCullPass;
 use crate::passes::particles::{ParticleDrawPass, ParticleLightPass, ParticleSimPass};
 use crate::passes::prez::PrezPass;
+use crate::passes::scene_cull::SceneCullPass;
 use crate::passes::shadow::{ShadowAtlasViewPass, ShadowPass};
 use crate::passes::tonemap::TonemapPass;
 
 /// The ordered passes of `config`:
+///
+/// Scene culling comes first on every path (the geometry passes draw its batches).
 ///
 /// | path | passes |
 /// |---|---|
@@ -39,7 +42,8 @@ pub fn passes_for(
     if config.view == FrameView::ShadingFrequency && !config.path.is_deferred() {
         return Err(RenderError::ShadingFrequencyNeedsTbdr);
     }
-    let mut passes: Vec<Box<dyn Pass>> = Vec::new();
+    // Every path draws the scene through the batches scene culling publishes.
+    let mut passes: Vec<Box<dyn Pass>> = vec![Box::new(SceneCullPass::new(gpu)?)];
     if config.path.has_prepass() {
         passes.push(Box::new(PrezPass::new(gpu, config)?));
     }

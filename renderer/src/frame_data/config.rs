@@ -256,6 +256,10 @@ pub struct RendererConfig {
     /// such lights infinite (every tile and froxel lists them; a light volume covers the
     /// screen).
     pub light_cutoff: f32,
+    /// Cull the scene's draws against the view frustum on the GPU before the geometry passes
+    /// draw them (`passes::scene_cull`). Off, every draw is drawn, in the same batches and
+    /// order: the frame is the same either way.
+    pub cull_draws: bool,
 }
 
 impl std::str::FromStr for RenderPath {
@@ -299,6 +303,7 @@ impl Default for RendererConfig {
             shadows: crate::shadow::ShadowConfig::default(),
             edges: EdgeThresholds::default(),
             light_cutoff: DEFAULT_LIGHT_CUTOFF,
+            cull_draws: true,
         }
     }
 }

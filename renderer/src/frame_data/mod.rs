@@ -1,5 +1,5 @@
 //! What every pass of a frame may read, below the passes: the renderer's configuration, the
-//! camera, the prepared scene and its draw lists, the lights, the decals, the particle systems, the
+//! camera, the prepared scene and its draw lists and batches, the lights, the decals, the particle systems, the
 //! shared texture formats, the
 //! graph resources passes hand each other ([`FrameResources`]) and the frame report.
 //!
@@ -9,6 +9,7 @@
 mod camera;
 mod config;
 mod decals;
+mod draw_batches;
 mod error;
 mod formats;
 mod inputs;
@@ -24,15 +25,16 @@ pub use config::{
     RendererConfig,
 };
 pub use decals::{GpuDecals, cull_box};
+pub use draw_batches::{BatchKey, BatchLayout, DrawBatch, mirroring_changed};
 pub use error::RenderError;
 pub use formats::{DEPTH_FORMAT, GBUFFER_FORMATS, HDR_FORMAT};
 pub use inputs::{FrameInputs, ParticleInput};
 pub use lights::{LightSet, effective_range, with_effective_ranges};
 pub use material_inputs::{sampler_descriptor, uv_map};
-pub use report::{FrameReport, ParticleReport};
+pub use report::{FrameReport, ParticleReport, SceneDrawReport};
 pub use resources::{
     FrameResources, GBufferHandles, LightListHandles, ListGeometry, ParticleResources,
-    ShadowResources,
+    SceneDrawList, ShadowResources,
 };
 pub use scene::{
     DrawItem, InstanceState, PlannedDraw, PreparedMaterial, PreparedScene, draw_plan,

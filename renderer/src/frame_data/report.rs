@@ -14,6 +14,9 @@ pub struct FrameReport {
     /// CPU time of the passes' per-frame preparation before that (uniforms, culling items;
     /// grows with the light count), in milliseconds.
     pub cpu_upload_ms: f64,
+    /// CPU time to finish the command buffer and submit it, in milliseconds. The three CPU
+    /// fields together are the renderer's CPU cost of a frame.
+    pub cpu_submit_ms: f64,
     /// The compiled graph as Graphviz DOT.
     pub graph_dot: String,
     /// Culling counters of the newest frame whose copy has arrived (read asynchronously).
@@ -25,9 +28,26 @@ pub struct FrameReport {
     /// The particles of the newest frame whose counters have arrived (read asynchronously;
     /// absent without particles).
     pub particles: Option<ParticleReport>,
+    /// The scene's draws for the main view and how many the GPU culling kept (read
+    /// asynchronously, like the culling counters).
+    pub scene_draws: Option<SceneDrawReport>,
     /// What the frame graph's transient pool reused, created and held this frame: `held` stays
     /// flat across frames of one configuration.
     pub pool: crate::graph::PoolStats,
+}
+
+/// The scene's opaque and masked draws in the main view's batches, and what culling kept.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct SceneDrawReport {
+    /// Slots in the batches (draws that are not blended).
+    pub slots: u32,
+    /// Batches, one multi-draw each in every geometry pass.
+    pub batches: u32,
+    /// Blended draws (sorted and drawn apart).
+    pub blended: u32,
+    /// Slots the newest culled frame whose count has arrived drew (absent while culling is
+    /// off or no count has arrived yet).
+    pub visible: Option<u32>,
 }
 
 /// What the particle passes counted in one frame.

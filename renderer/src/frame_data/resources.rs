@@ -74,6 +74,26 @@ impl ListGeometry {
     }
 }
 
+/// The scene's draws for the main view's geometry passes (pre-Z, forward, G-buffer): the batch
+/// layout and each slot's `DrawIndexedIndirect` arguments, whose instance counts the culling
+/// pass set (1 drawn, 0 culled).
+#[derive(Debug, Clone)]
+pub struct SceneDrawList {
+    pub layout: std::sync::Arc<super::BatchLayout>,
+    /// The arguments in the graph: read them (`BufferAccess::Indirect`) so culling runs first.
+    pub args: Handle<Buffer>,
+    /// The arguments' buffer, five `u32` per slot.
+    pub args_buffer: wgpu::Buffer,
+    /// Draw each batch with one `multi_draw_indexed_indirect`; otherwise (the device cannot
+    /// draw indirectly with a first instance) every slot directly, culling nothing.
+    pub indirect: bool,
+}
+
+impl SceneDrawList {
+    /// Bytes of one slot's arguments.
+    pub const ARGS_BYTES: u64 = 20;
+}
+
 /// The shadow atlas as shading passes bind it (`shadow_atlas` library, group 0 bindings 6–8).
 #[derive(Debug, Clone)]
 pub struct ShadowResources {
@@ -184,6 +204,9 @@ pub struct FrameResources {
     /// traditional deferred path). The light volumes read it after the base pass wrote `hdr`,
     /// which orders them.
     pub deferred_edges: Option<wgpu::Buffer>,
+    /// How the geometry passes draw the scene this frame: its batches and their indirect
+    /// arguments, culled for the view (`passes::scene_cull`).
+    pub scene_draws: Option<SceneDrawList>,
     imports: Vec<(Handle<Buffer>, wgpu::Buffer)>,
     texture_imports: Vec<(Handle<Texture>, wgpu::Texture)>,
 }
@@ -200,6 +223,7 @@ impl FrameResources {
             particle_lists: None,
             particles: None,
             gbuffer: None,
+            scene_draws: None,
             deferred_edges: None,
             imports: Vec::new(),
             texture_imports: Vec::new(),

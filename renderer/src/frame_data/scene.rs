@@ -1,5 +1,7 @@
-//! A scene prepared for drawing: its GPU buffers and images, one uniform + bind group per draw,
-//! and one material bind group per material (with 1×1 defaults for absent textures).
+//! A scene prepared for drawing: its GPU geometry and images, one storage buffer of draw
+//! records (every primitive of every instance, bound once as group 1 of every geometry pass
+//! and indexed by the draw's instance index), and one material bind group per material (with
+//! 1×1 defaults for absent textures).
 
 use std::sync::Arc;
 
@@ -18,9 +20,8 @@ pub struct DrawItem {
     pub mesh: usize,
     pub primitive: usize,
     pub material: usize,
-    pub bind_group: wgpu::BindGroup,
-    /// The `Draw` uniform behind `bind_group` (rewritten when its instance moves).
-    pub buffer: wgpu::Buffer,
+    /// Where its primitive lies in the scene's shared geometry buffers.
+    pub geometry: crate::scene::GpuPrimitive,
     /// The scene instance (node) the draw belongs to.
     pub instance: usize,
     /// The primitive's bounds in mesh space.
@@ -81,7 +82,7 @@ impl InstanceState {
 }
 
 impl DrawItem {
-    /// The uniform of this draw at `world_from_mesh`.
+    /// The record of this draw at `world_from_mesh`.
     pub fn uniform(&self, world_from_mesh: Mat4) -> forward::Draw {
         draw_uniform(world_from_mesh, self.material)
     }
@@ -110,11 +111,24 @@ pub struct PreparedMaterial {
 #[derive(Debug)]
 pub struct PreparedScene {
     pub gpu: GpuScene,
+    /// Draw `d` is record `d` of `draw_records` and is drawn as instance `d`.
     pub draws: Vec<DrawItem>,
+    /// The `view` library's `DRAWS`: one `Draw` record per entry of `draws` (rewritten in
+    /// place when an instance moves).
+    pub draw_records: wgpu::Buffer,
+    /// Group 1 of the pre-Z, forward, G-buffer and shadow-caster programs: `draw_records`.
+    pub draw_group: wgpu::BindGroup,
     pub materials: Vec<PreparedMaterial>,
 }
 
 impl PreparedScene {
+    /// The draws of scene instance `instance` (draws are in instance order, [`draw_plan`]).
+    pub fn draws_of_instance(&self, instance: usize) -> std::ops::Range<usize> {
+        let start = self.draws.partition_point(|d| d.instance < instance);
+        let end = self.draws.partition_point(|d| d.instance <= instance);
+        start..end
+    }
+
     /// Whether any material is alpha-blended (drawn after the opaque surfaces, absent from the
     /// pre-Z depth).
     pub fn has_blended(&self) -> bool {
@@ -124,8 +138,8 @@ impl PreparedScene {
     }
 
     /// Uploads `scene` and builds its bind groups against the layouts the DSL reflects for the
-    /// forward program's groups 1 (draw) and 2 (material), which the pre-Z programs share for
-    /// group 1, and the masked pre-Z program's group 2. wgpu treats layouts with equal entries
+    /// forward program's groups 1 (the draw records) and 2 (material), which the pre-Z and
+    /// shadow-caster programs share for group 1, and the masked pre-Z program's group 2. wgpu treats layouts with equal entries
     /// as one, so these groups bind with every pipeline of those programs.
     ///
     /// `scene` must have passed [`Scene::check_for_device`] (`Renderer::prepare_scene` checks).
@@ -148,37 +162,42 @@ impl PreparedScene {
             &mut samplers,
             &Material::gltf_default(),
         ));
-        let draws = draw_plan(scene)
+        let plan = draw_plan(scene);
+        let mut records: Vec<forward::Draw> = plan.iter().map(|d| d.uniform).collect();
+        if records.is_empty() {
+            // A storage binding is never empty; nothing draws this record.
+            records.push(draw_uniform(Mat4::IDENTITY, 0));
+        }
+        let draw_records = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("draw records"),
+            contents: bytemuck::cast_slice(&records),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        });
+        let draw_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("draw records"),
+            layout: &layouts.draw,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: draw_records.as_entire_binding(),
+            }],
+        });
+        let draws = plan
             .into_iter()
-            .map(|plan| {
-                let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("draw"),
-                    contents: bytemuck::bytes_of(&plan.uniform),
-                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                });
-                let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("draw"),
-                    layout: &layouts.draw,
-                    entries: &[wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: buffer.as_entire_binding(),
-                    }],
-                });
-                DrawItem {
-                    mesh: plan.mesh,
-                    primitive: plan.primitive,
-                    material: plan.material,
-                    bind_group,
-                    buffer,
-                    instance: plan.instance,
-                    local_bounds: plan.local_bounds,
-                    center: plan.center,
-                }
+            .map(|plan| DrawItem {
+                mesh: plan.mesh,
+                primitive: plan.primitive,
+                material: plan.material,
+                geometry: gpu.meshes[plan.mesh][plan.primitive],
+                instance: plan.instance,
+                local_bounds: plan.local_bounds,
+                center: plan.center,
             })
             .collect();
         Arc::new(Self {
             gpu,
             draws,
+            draw_records,
+            draw_group,
             materials,
         })
     }
@@ -287,7 +306,7 @@ impl Defaults {
     }
 }
 
-/// The bind-group layouts of the scene's per-draw and per-material groups.
+/// The bind-group layouts of the scene's draw-record and per-material groups.
 struct SceneLayouts {
     draw: wgpu::BindGroupLayout,
     material: wgpu::BindGroupLayout,

@@ -12,7 +12,10 @@ pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::SUBGROUP
     .union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS)
     .union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES)
     // MSAA 2 and 8, and multisampled Rgba16Float beyond the WebGPU guarantee.
-    .union(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES);
+    .union(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES)
+    // Indirect draws that find their draw record by instance index (GPU-culled scenes); without
+    // it the geometry passes draw each slot directly.
+    .union(wgpu::Features::INDIRECT_FIRST_INSTANCE);
 
 /// Largest compute workgroup the kernels use: a 32×32 tile, one invocation per pixel.
 pub const WANTED_WORKGROUP_INVOCATIONS: u32 = 32 * 32;

@@ -17,10 +17,11 @@ pub mod heatmap;
 pub mod light_cull;
 pub mod particles;
 pub mod prez;
+pub mod scene_cull;
 pub mod shadow;
 pub mod tonemap;
 
-use crate::frame_data::{FrameInputs, FrameReport, FrameResources, RenderError};
+use crate::frame_data::{FrameInputs, FrameReport, FrameResources, RenderError, SceneDrawList};
 use crate::graph::RenderGraph;
 
 /// One pass of the frame. A frame calls, for every pass in list order: [`Pass::prepare`], then
@@ -63,31 +64,98 @@ pub trait Pass: std::fmt::Debug + std::any::Any {
     }
 }
 
-/// Draws `primitive` with the given vertex streams bound to slots 0.. in order.
-pub(crate) fn draw_primitive<'a>(
-    pass: &mut wgpu::RenderPass<'a>,
-    primitive: &'a crate::scene::GpuPrimitive,
-    streams: &[&'a wgpu::Buffer],
-) {
-    draw_primitive_instances(pass, primitive, streams, 0..1);
+/// Records draws of a prepared scene into a render pass: the scene's shared vertex streams,
+/// index buffer and draw records (group 1) are bound once, and a pipeline or a group-2 bind
+/// group is set only where it changes from the previous draw. Every pass that draws the scene
+/// (pre-Z, forward, G-buffer, shadow casters) records through it.
+pub(crate) struct SceneDraws<'p, 'a> {
+    pass: &'p mut wgpu::RenderPass<'a>,
+    pipeline: Option<&'a wgpu::RenderPipeline>,
+    group2: Option<&'a wgpu::BindGroup>,
 }
 
-/// [`draw_primitive`] with the instance range `instances` (a shader may index by it).
-pub(crate) fn draw_primitive_instances<'a>(
-    pass: &mut wgpu::RenderPass<'a>,
-    primitive: &'a crate::scene::GpuPrimitive,
-    streams: &[&'a wgpu::Buffer],
-    instances: std::ops::Range<u32>,
-) {
-    for (slot, buffer) in streams.iter().enumerate() {
-        pass.set_vertex_buffer(slot as u32, buffer.slice(..));
+impl<'p, 'a> SceneDraws<'p, 'a> {
+    /// Binds `scene`'s `streams` and draw records on `pass`.
+    pub(crate) fn new(
+        pass: &'p mut wgpu::RenderPass<'a>,
+        scene: &'a crate::frame_data::PreparedScene,
+        streams: crate::scene::VertexStreams,
+    ) -> Self {
+        scene.gpu.bind_streams(pass, streams);
+        pass.set_bind_group(1, &scene.draw_group, &[]);
+        Self {
+            pass,
+            pipeline: None,
+            group2: None,
+        }
     }
-    pass.set_index_buffer(primitive.indices.slice(..), wgpu::IndexFormat::Uint32);
-    pass.draw_indexed(0..primitive.index_count, 0, instances);
+
+    /// Draws `geometry` with `pipeline` and `group2` as instance `instance`, the index the
+    /// vertex shader reads its record by (a draw's index in `PreparedScene::draws`, or a
+    /// shadow cast's).
+    pub(crate) fn draw(
+        &mut self,
+        pipeline: &'a wgpu::RenderPipeline,
+        group2: Option<&'a wgpu::BindGroup>,
+        geometry: crate::scene::GpuPrimitive,
+        instance: u32,
+    ) {
+        self.set_state(pipeline, group2);
+        self.pass.draw_indexed(
+            geometry.indices(),
+            geometry.base_vertex,
+            instance..instance + 1,
+        );
+    }
+
+    /// Draws every batch of `list` with the pipeline and group 2 `state` picks for it: one
+    /// multi-draw of its slots' indirect arguments (the slots culling left out draw no
+    /// instance), or, on a device that cannot draw indirectly with a first instance, each slot
+    /// directly.
+    pub(crate) fn draw_batches(
+        &mut self,
+        list: &'a SceneDrawList,
+        scene: &'a crate::frame_data::PreparedScene,
+        mut state: impl FnMut(
+            &crate::frame_data::DrawBatch,
+        ) -> (&'a wgpu::RenderPipeline, Option<&'a wgpu::BindGroup>),
+    ) {
+        for batch in &list.layout.batches {
+            let (pipeline, group2) = state(batch);
+            if list.indirect {
+                self.set_state(pipeline, group2);
+                let offset = u64::from(batch.first_slot) * SceneDrawList::ARGS_BYTES;
+                self.pass
+                    .multi_draw_indexed_indirect(&list.args_buffer, offset, batch.slot_count);
+            } else {
+                for slot in batch.slots() {
+                    let d = list.layout.slot_draws[slot as usize];
+                    self.draw(pipeline, group2, scene.draws[d as usize].geometry, d);
+                }
+            }
+        }
+    }
+
+    fn set_state(
+        &mut self,
+        pipeline: &'a wgpu::RenderPipeline,
+        group2: Option<&'a wgpu::BindGroup>,
+    ) {
+        if !self.pipeline.is_some_and(|p| std::ptr::eq(p, pipeline)) {
+            self.pass.set_pipeline(pipeline);
+            self.pipeline = Some(pipeline);
+        }
+        if let Some(group) = group2
+            && !self.group2.is_some_and(|g| std::ptr::eq(g, group))
+        {
+            self.pass.set_bind_group(2, group, &[]);
+            self.group2 = Some(group);
+        }
+    }
 }
 
 /// The vertex streams of `vs_forward` (forward and G-buffer): position, normal, `TEXCOORD_0`,
-/// tangent, `TEXCOORD_1`, `COLOR_0` (`GpuScene::forward_streams`).
+/// tangent, `TEXCOORD_1`, `COLOR_0` (`VertexStreams::Forward`).
 pub(crate) const FORWARD_STREAMS: [wgpu::VertexFormat; 6] = [
     wgpu::VertexFormat::Float32x3,
     wgpu::VertexFormat::Float32x3,
@@ -98,7 +166,7 @@ pub(crate) const FORWARD_STREAMS: [wgpu::VertexFormat; 6] = [
 ];
 
 /// The vertex streams of the masked depth passes (pre-Z and shadow casters): position,
-/// `TEXCOORD_0`, `TEXCOORD_1`, `COLOR_0` (`GpuScene::mask_streams`).
+/// `TEXCOORD_0`, `TEXCOORD_1`, `COLOR_0` (`VertexStreams::Mask`).
 pub(crate) const MASK_STREAMS: [wgpu::VertexFormat; 4] = [
     wgpu::VertexFormat::Float32x3,
     wgpu::VertexFormat::Float32x2,

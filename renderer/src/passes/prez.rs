@@ -5,13 +5,13 @@
 use shaders_gen::forward::prez;
 
 use super::{
-    FacePipelines, MeshPipeline, Pass, depth_state, draw_primitive, face_pipeline, face_pipelines,
+    FacePipelines, MeshPipeline, Pass, SceneDraws, depth_state, face_pipeline, face_pipelines,
     mesh_pipeline,
 };
 use crate::GpuContext;
 use crate::frame_data::{DEPTH_FORMAT, FrameInputs, FrameResources, RenderError, RendererConfig};
-use crate::graph::{RenderGraph, TextureAccess, TextureDesc};
-use crate::scene::AlphaMode;
+use crate::graph::{BufferAccess, RenderGraph, TextureAccess, TextureDesc};
+use crate::scene::VertexStreams;
 use crate::shader::ShaderProgram;
 
 /// The pre-Z pass: its programs and pipelines (`[double_sided][mirrored]`, plain and
@@ -118,9 +118,16 @@ impl Pass for PrezPass {
         })?;
         let (plain, masked) = (self.plain.clone(), self.masked.clone());
         let scene = std::sync::Arc::clone(&frame.scene);
-        let instances = std::sync::Arc::clone(&frame.instances);
+        let list = resources
+            .scene_draws
+            .clone()
+            .ok_or(RenderError::MissingInput {
+                pass: "pre-z",
+                input: "the scene's draw batches (scene culling)",
+            })?;
         graph
             .add_pass(self.name())
+            .read_buffer(list.args, BufferAccess::Indirect)
             .write_texture(&mut depth, TextureAccess::DepthWrite)
             .execute(move |ctx| {
                 let view = ctx.texture(target).create_view(&Default::default());
@@ -140,27 +147,15 @@ impl Pass for PrezPass {
                     multiview_mask: None,
                 });
                 pass.set_bind_group(0, &camera_group, &[]);
-                for draw in &scene.draws {
-                    let material = &scene.materials[draw.material];
-                    // Blended surfaces must not hide what is behind them.
-                    if material.alpha_mode == AlphaMode::Blend {
-                        continue;
-                    }
-                    let (sided, mirrored) = (material.double_sided, draw.mirrored(&instances));
-                    pass.set_bind_group(1, &draw.bind_group, &[]);
-                    let p = &scene.gpu.meshes[draw.mesh][draw.primitive];
-                    match &material.prez_mask_group {
-                        Some(mask) => {
-                            pass.set_pipeline(face_pipeline(&masked, sided, mirrored));
-                            pass.set_bind_group(2, mask, &[]);
-                            draw_primitive(&mut pass, p, &scene.gpu.mask_streams(p));
-                        }
-                        None => {
-                            pass.set_pipeline(face_pipeline(&plain, sided, mirrored));
-                            draw_primitive(&mut pass, p, &[&p.positions]);
-                        }
-                    }
-                }
+                // Opaque draws read only slot 0 of the masked streams. Blended surfaces are in
+                // no batch: they must not hide what is behind them.
+                let mut draws = SceneDraws::new(&mut pass, &scene, VertexStreams::Mask);
+                draws.draw_batches(&list, &scene, |batch| {
+                    let pipelines = if batch.masked { &masked } else { &plain };
+                    let pipeline = face_pipeline(pipelines, batch.double_sided, batch.mirrored);
+                    let mask = &scene.materials[batch.material].prez_mask_group;
+                    (pipeline, mask.as_ref().filter(|_| batch.masked))
+                });
             });
         resources.depth = Some(depth);
         Ok(())

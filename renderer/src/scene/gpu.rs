@@ -1,28 +1,63 @@
-//! A loaded [`Scene`] on the GPU: one buffer per vertex attribute (so each pass binds only what
-//! its shader reads), index buffers, and every image as a texture with a full mip chain and the
-//! views materials need (sRGB for colour, linear for data).
+//! A loaded [`Scene`] on the GPU: every mesh's vertices in one shared buffer per vertex
+//! attribute and every index in one shared index buffer (a primitive is a range of each), and
+//! every image as a texture with a full mip chain and the views materials need (sRGB for
+//! colour, linear for data).
 //!
-//! A primitive without `TEXCOORD_1` draws with its `TEXCOORD_0` buffer in that stream, and one
-//! without `COLOR_0` with a shared all-white buffer (as long as the scene's largest primitive).
+//! A pass binds the streams its shader reads once and draws each primitive with its index range
+//! and base vertex, so drawing a scene records no vertex or index buffer per draw. A primitive
+//! without `TEXCOORD_1` has its `TEXCOORD_0` copied into that stream, and one without `COLOR_0`
+//! white.
 
 use wgpu::util::DeviceExt as _;
 
-use super::{Scene, TextureRef};
+use super::{Primitive, Scene, TextureRef};
 
-/// One primitive's buffers.
-#[derive(Debug)]
+/// One primitive's place in the shared buffers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct GpuPrimitive {
-    pub positions: wgpu::Buffer,
-    pub normals: wgpu::Buffer,
-    pub uvs: wgpu::Buffer,
-    /// `TEXCOORD_1`, where the primitive has it.
-    pub uvs1: Option<wgpu::Buffer>,
-    /// `COLOR_0` (linear RGBA, `Float32x4`), where the primitive has it.
-    pub colors: Option<wgpu::Buffer>,
-    pub tangents: wgpu::Buffer,
-    pub indices: wgpu::Buffer,
+    /// Its first index in [`GeometryBuffers::indices`].
+    pub first_index: u32,
     pub index_count: u32,
+    /// Added to each of its indices: its first vertex in every vertex stream.
+    pub base_vertex: i32,
     pub material: Option<usize>,
+}
+
+impl GpuPrimitive {
+    /// Its index range in [`GeometryBuffers::indices`].
+    pub fn indices(&self) -> std::ops::Range<u32> {
+        self.first_index..self.first_index + self.index_count
+    }
+}
+
+/// The vertex streams and indices of every primitive of a scene, one buffer each.
+#[derive(Debug)]
+pub struct GeometryBuffers {
+    /// `POSITION`, `Float32x3`.
+    pub positions: wgpu::Buffer,
+    /// `NORMAL`, `Float32x3`.
+    pub normals: wgpu::Buffer,
+    /// `TEXCOORD_0`, `Float32x2`.
+    pub uvs: wgpu::Buffer,
+    /// `TEXCOORD_1` (`TEXCOORD_0` where a primitive has none), `Float32x2`.
+    pub uvs1: wgpu::Buffer,
+    /// `COLOR_0`, linear RGBA (white where a primitive has none), `Float32x4`.
+    pub colors: wgpu::Buffer,
+    /// `TANGENT`, `Float32x4`.
+    pub tangents: wgpu::Buffer,
+    /// `u32` indices, each primitive's relative to its own first vertex.
+    pub indices: wgpu::Buffer,
+}
+
+/// Which vertex streams a program reads, at slots 0.. in this order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum VertexStreams {
+    /// Position only: opaque depth (pre-Z, shadow casters).
+    Position,
+    /// Position, `TEXCOORD_0`, `TEXCOORD_1`, `COLOR_0`: alpha-masked depth.
+    Mask,
+    /// Position, normal, `TEXCOORD_0`, tangent, `TEXCOORD_1`, `COLOR_0`: `vs_forward`.
+    Forward,
 }
 
 /// An image as a texture (every mip level), with a linear and an sRGB view.
@@ -40,13 +75,62 @@ pub struct GpuImage {
 pub struct GpuScene {
     /// `meshes[m][p]` is primitive `p` of mesh `m`.
     pub meshes: Vec<Vec<GpuPrimitive>>,
+    pub geometry: GeometryBuffers,
     pub images: Vec<GpuImage>,
-    /// White `COLOR_0` for primitives without one, one per vertex of the largest primitive.
-    pub white: wgpu::Buffer,
 }
 
-impl GpuScene {
-    pub fn upload(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Self {
+/// The scene's vertex streams and indices concatenated on the CPU, before upload.
+#[derive(Default)]
+struct PackedGeometry {
+    positions: Vec<glam::Vec3>,
+    normals: Vec<glam::Vec3>,
+    uvs: Vec<glam::Vec2>,
+    uvs1: Vec<glam::Vec2>,
+    colors: Vec<glam::Vec4>,
+    tangents: Vec<glam::Vec4>,
+    indices: Vec<u32>,
+}
+
+impl PackedGeometry {
+    /// Appends `p`'s vertices and indices; returns where they went.
+    fn push(&mut self, p: &Primitive) -> GpuPrimitive {
+        let placed = GpuPrimitive {
+            first_index: self.indices.len() as u32,
+            index_count: p.indices.len() as u32,
+            base_vertex: self.positions.len() as i32,
+            material: p.material,
+        };
+        let n = p.positions.len();
+        self.positions.extend_from_slice(&p.positions);
+        self.normals.extend_from_slice(&p.normals);
+        self.uvs.extend_from_slice(&p.uvs);
+        self.uvs1
+            .extend_from_slice(if p.uvs1.is_empty() { &p.uvs } else { &p.uvs1 });
+        if p.colors.is_empty() {
+            self.colors.resize(self.colors.len() + n, glam::Vec4::ONE);
+        } else {
+            self.colors.extend_from_slice(&p.colors);
+        }
+        self.tangents.extend_from_slice(&p.tangents);
+        self.indices.extend_from_slice(&p.indices);
+        placed
+    }
+
+    /// The buffers (each holds at least one element, so an empty scene still binds).
+    fn upload(mut self, device: &wgpu::Device) -> GeometryBuffers {
+        if self.positions.is_empty() {
+            self.push(&Primitive {
+                positions: vec![glam::Vec3::ZERO],
+                normals: vec![glam::Vec3::Y],
+                uvs: vec![glam::Vec2::ZERO],
+                tangents: vec![glam::Vec4::X],
+                indices: vec![0],
+                uvs1: Vec::new(),
+                colors: Vec::new(),
+                material: None,
+                bounds: super::Aabb::EMPTY,
+            });
+        }
         let buffer = |label: &str, bytes: &[u8], usage| {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some(label),
@@ -55,45 +139,30 @@ impl GpuScene {
             })
         };
         let vertex = wgpu::BufferUsages::VERTEX;
+        GeometryBuffers {
+            positions: buffer("positions", bytemuck::cast_slice(&self.positions), vertex),
+            normals: buffer("normals", bytemuck::cast_slice(&self.normals), vertex),
+            uvs: buffer("uvs", bytemuck::cast_slice(&self.uvs), vertex),
+            uvs1: buffer("uvs1", bytemuck::cast_slice(&self.uvs1), vertex),
+            colors: buffer("colors", bytemuck::cast_slice(&self.colors), vertex),
+            tangents: buffer("tangents", bytemuck::cast_slice(&self.tangents), vertex),
+            indices: buffer(
+                "indices",
+                bytemuck::cast_slice(&self.indices),
+                wgpu::BufferUsages::INDEX,
+            ),
+        }
+    }
+}
+
+impl GpuScene {
+    pub fn upload(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Self {
+        let mut packed = PackedGeometry::default();
         let meshes = scene
             .meshes
             .iter()
-            .map(|mesh| {
-                mesh.primitives
-                    .iter()
-                    .map(|p| GpuPrimitive {
-                        positions: buffer("positions", bytemuck::cast_slice(&p.positions), vertex),
-                        normals: buffer("normals", bytemuck::cast_slice(&p.normals), vertex),
-                        uvs: buffer("uvs", bytemuck::cast_slice(&p.uvs), vertex),
-                        uvs1: (!p.uvs1.is_empty())
-                            .then(|| buffer("uvs1", bytemuck::cast_slice(&p.uvs1), vertex)),
-                        colors: (!p.colors.is_empty())
-                            .then(|| buffer("colors", bytemuck::cast_slice(&p.colors), vertex)),
-                        tangents: buffer("tangents", bytemuck::cast_slice(&p.tangents), vertex),
-                        indices: buffer(
-                            "indices",
-                            bytemuck::cast_slice(&p.indices),
-                            wgpu::BufferUsages::INDEX,
-                        ),
-                        index_count: p.indices.len() as u32,
-                        material: p.material,
-                    })
-                    .collect()
-            })
+            .map(|mesh| mesh.primitives.iter().map(|p| packed.push(p)).collect())
             .collect();
-        let vertices = scene
-            .meshes
-            .iter()
-            .flat_map(|m| &m.primitives)
-            .map(|p| p.positions.len())
-            .max()
-            .unwrap_or(0)
-            .max(1);
-        let white = buffer(
-            "white colors",
-            bytemuck::cast_slice(&vec![glam::Vec4::ONE; vertices]),
-            vertex,
-        );
         let colour_images = colour_images(scene);
         let images = scene
             .images
@@ -105,38 +174,30 @@ impl GpuScene {
             .collect();
         Self {
             meshes,
+            geometry: packed.upload(device),
             images,
-            white,
         }
     }
 
-    /// The vertex streams of `vs_forward`: position, normal, `TEXCOORD_0`, tangent,
-    /// `TEXCOORD_1`, `COLOR_0` ([`Self::uvs1`], [`Self::colors`]).
-    pub fn forward_streams<'a>(&'a self, p: &'a GpuPrimitive) -> [&'a wgpu::Buffer; 6] {
-        [
-            &p.positions,
-            &p.normals,
-            &p.uvs,
-            &p.tangents,
-            self.uvs1(p),
-            self.colors(p),
-        ]
-    }
-
-    /// The vertex streams of the masked depth passes (pre-Z and shadow casters): position,
-    /// `TEXCOORD_0`, `TEXCOORD_1`, `COLOR_0`.
-    pub fn mask_streams<'a>(&'a self, p: &'a GpuPrimitive) -> [&'a wgpu::Buffer; 4] {
-        [&p.positions, &p.uvs, self.uvs1(p), self.colors(p)]
-    }
-
-    /// `p`'s `TEXCOORD_1` stream: its own, else its `TEXCOORD_0`.
-    pub fn uvs1<'a>(&'a self, p: &'a GpuPrimitive) -> &'a wgpu::Buffer {
-        p.uvs1.as_ref().unwrap_or(&p.uvs)
-    }
-
-    /// `p`'s `COLOR_0` stream: its own, else white.
-    pub fn colors<'a>(&'a self, p: &'a GpuPrimitive) -> &'a wgpu::Buffer {
-        p.colors.as_ref().unwrap_or(&self.white)
+    /// Binds `streams` at vertex slots 0.. and the shared index buffer.
+    pub fn bind_streams<'a>(&'a self, pass: &mut wgpu::RenderPass<'a>, streams: VertexStreams) {
+        let g = &self.geometry;
+        let buffers: &[&wgpu::Buffer] = match streams {
+            VertexStreams::Position => &[&g.positions],
+            VertexStreams::Mask => &[&g.positions, &g.uvs, &g.uvs1, &g.colors],
+            VertexStreams::Forward => &[
+                &g.positions,
+                &g.normals,
+                &g.uvs,
+                &g.tangents,
+                &g.uvs1,
+                &g.colors,
+            ],
+        };
+        for (slot, buffer) in buffers.iter().enumerate() {
+            pass.set_vertex_buffer(slot as u32, buffer.slice(..));
+        }
+        pass.set_index_buffer(g.indices.slice(..), wgpu::IndexFormat::Uint32);
     }
 
     /// The view a material slot samples: sRGB for colour textures, linear for data.

@@ -24,27 +24,37 @@ impl Scene {
                 "scale the image down",
             )?;
         }
-        for mesh in &self.meshes {
-            for (p, primitive) in mesh.primitives.iter().enumerate() {
-                let bytes = [
-                    size_of_val(primitive.positions.as_slice()),
-                    size_of_val(primitive.normals.as_slice()),
-                    size_of_val(primitive.uvs.as_slice()),
-                    size_of_val(primitive.tangents.as_slice()),
-                    size_of_val(primitive.indices.as_slice()),
-                ];
-                let largest = bytes.into_iter().max().unwrap_or(0);
-                check_limit(
-                    &format!(
-                        "mesh `{}` primitive {p}'s largest vertex buffer (bytes)",
-                        mesh.name
-                    ),
-                    largest as u64,
-                    limits.max_buffer_size,
-                    "split the mesh",
-                )?;
-            }
-        }
+        // Every primitive's vertices share one buffer per attribute (the widest is 16 bytes a
+        // vertex) and its indices one index buffer (`GpuScene`).
+        let primitives = || self.meshes.iter().flat_map(|m| &m.primitives);
+        let vertices: u64 = primitives().map(|p| p.positions.len() as u64).sum();
+        let indices: u64 = primitives().map(|p| p.indices.len() as u64).sum();
+        check_limit(
+            "the scene's widest vertex stream (bytes, every mesh together)",
+            vertices * size_of::<glam::Vec4>() as u64,
+            limits.max_buffer_size,
+            "split the scene",
+        )?;
+        check_limit(
+            "the scene's index buffer (bytes, every mesh together)",
+            indices * size_of::<u32>() as u64,
+            limits.max_buffer_size,
+            "split the scene",
+        )?;
+        // One draw record per primitive of every instance, in one storage binding.
+        let draws: u64 = self
+            .instances
+            .iter()
+            .map(|i| self.meshes[i.mesh].primitives.len() as u64)
+            .sum();
+        check_limit(
+            "the scene's draw records (bytes, one per primitive of every instance)",
+            draws * size_of::<shaders_gen::forward::forward::Draw>() as u64,
+            limits
+                .max_storage_buffer_binding_size
+                .min(limits.max_buffer_size),
+            "split the scene",
+        )?;
         Ok(())
     }
 

@@ -26,7 +26,7 @@ mod warning;
 
 pub use camera::{CameraProjection, SceneCamera};
 pub use error::SceneError;
-pub use gpu::{GpuImage, GpuPrimitive, GpuScene};
+pub use gpu::{GeometryBuffers, GpuImage, GpuPrimitive, GpuScene, VertexStreams};
 pub use texture::{Filter, TextureSampler, UvTransform, Wrap};
 pub use warning::SceneWarning;
 

@@ -1,5 +1,6 @@
-//! Light-culling kernels: which items (lights today; decals and probes later, in their own
-//! ranges of the item list) can touch each screen tile or froxel.
+//! Culling kernels: which items (lights and decals, in their own ranges of the item list) can
+//! touch each screen tile or froxel, and (`instance_cull`) which of the scene's draws a view
+//! sees.
 //!
 //! Culling is hierarchical, in three dispatches: `cull_prepare::tile_depth` (per tile: depth
 //! bounds, 2.5D mask, occupied slices), `cull_prepare::coarse_cull` (per 128×128-pixel
@@ -15,9 +16,11 @@
 //! their own ranges), so a later item type extends the same lists without a redesign.
 
 pub mod clustered;
+pub mod instances;
 pub mod prepare;
 pub mod tiled;
 
 pub use clustered::cluster_cull;
+pub use instances::instance_cull;
 pub use prepare::cull_prepare;
 pub use tiled::tile_cull;

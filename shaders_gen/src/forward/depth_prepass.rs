@@ -3,8 +3,8 @@
 /// Depth pre-pass: transforms positions to clip space and writes depth only (no colour target;
 /// no fragment stage for opaque materials).
 ///
-/// `Camera` and `Draw` come from the `view` library, like `forward`'s, so one buffer serves both
-/// passes, and the clip position is the library's `clip_position`, also like `forward`'s; the
+/// `Camera` and the draw records `DRAWS` come from the `view` library, like `forward`'s, so one
+/// buffer serves both passes, and the clip position is the library's `clip_position`, also like `forward`'s; the
 /// position output is `#[invariant]`, so the forward pass's `LessEqual` test against this
 /// depth sees bit-identical values.
 ///
@@ -38,8 +38,6 @@ pub mod prez {
 
     #[uniform(group = 0, binding = 0)]
     static CAMERA: Camera;
-    #[uniform(group = 1, binding = 0)]
-    static DRAW: Draw;
     #[uniform(group = 2, binding = 0)]
     #[when(alpha_mask)]
     static MASK: MaskMaterial;
@@ -51,9 +49,13 @@ pub mod prez {
     static MASK_SAMPLER: Sampler;
 
     #[vertex]
-    pub fn vs_prez(#[location(0)] position: Vec3) -> VsOut {
+    pub fn vs_prez(#[location(0)] position: Vec3, #[builtin(instance_index)] draw: u32) -> VsOut {
         VsOut {
-            clip: clip_position(CAMERA.view_projection, DRAW.world_from_mesh, position),
+            clip: clip_position(
+                CAMERA.view_projection,
+                DRAWS[draw].world_from_mesh,
+                position,
+            ),
         }
     }
 
@@ -64,9 +66,14 @@ pub mod prez {
         #[location(1)] uv0: Vec2,
         #[location(2)] uv1: Vec2,
         #[location(3)] color: Vec4,
+        #[builtin(instance_index)] draw: u32,
     ) -> MaskVsOut {
         MaskVsOut {
-            clip: clip_position(CAMERA.view_projection, DRAW.world_from_mesh, position),
+            clip: clip_position(
+                CAMERA.view_projection,
+                DRAWS[draw].world_from_mesh,
+                position,
+            ),
             uv0,
             uv1,
             color_alpha: color.w,

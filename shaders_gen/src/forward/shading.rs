@@ -2,7 +2,7 @@
 
 /// Forward+ / clustered forward shading (the `pbr` library's `shade_light`: GGX distribution,
 /// Smith/Schlick-GGX geometry, Schlick Fresnel, Lambert diffuse) into an `Rgba16Float` linear
-/// HDR target at location 0. `Camera` and `Draw` come from the `view` library (shared with
+/// HDR target at location 0. `Camera` and the draw records `DRAWS` come from the `view` library (shared with
 /// `prez`), and so does the clip position; the cell lookups are the `light_grid` library's.
 ///
 /// `list` picks how the punctual light list of a fragment is found:
@@ -154,9 +154,6 @@ pub mod forward {
     #[when(list > 0)]
     static INDICES: [u32];
 
-    #[uniform(group = 1, binding = 0)]
-    static DRAW: Draw;
-
     #[uniform(group = 2, binding = 0)]
     static MATERIAL: Material;
     #[texture(group = 2, binding = 1)]
@@ -189,16 +186,18 @@ pub mod forward {
         #[location(3)] tangent: Vec4,
         #[location(4)] uv1: Vec2,
         #[location(5)] color: Vec4,
+        #[builtin(instance_index)] draw_index: u32,
     ) -> VsOut {
-        let world = DRAW.world_from_mesh * position.extend(1.0);
-        let n = (DRAW.normal_from_mesh * normal.extend(0.0)).xyz();
-        let t = (DRAW.world_from_mesh * tangent.xyz().extend(0.0)).xyz();
+        let draw = DRAWS[draw_index];
+        let world = draw.world_from_mesh * position.extend(1.0);
+        let n = (draw.normal_from_mesh * normal.extend(0.0)).xyz();
+        let t = (draw.world_from_mesh * tangent.xyz().extend(0.0)).xyz();
         VsOut {
-            clip: clip_position(CAMERA.view_projection, DRAW.world_from_mesh, position),
+            clip: clip_position(CAMERA.view_projection, draw.world_from_mesh, position),
             world: world.xyz(),
             normal: n,
             uv,
-            tangent: t.extend(tangent.w * DRAW.handedness),
+            tangent: t.extend(tangent.w * draw.handedness),
             uv1,
             color,
         }

@@ -1,9 +1,10 @@
 //! Depth-only drawing of shadow casters into atlas regions, and the region copy and clear of
 //! the static cache.
 
-/// Draws a caster into one atlas region: the region's view is `VIEWS[instance_index]` (the
-/// pass draws instance `v..v + 1` for view `v`, so one bind group serves every region), the
-/// mesh transform is the draw's `Draw` (the `view` library's, shared with pre-Z and forward).
+/// Draws a caster into one atlas region: the instance index selects a `Cast` record of `CASTS`
+/// (the pass draws instance `c..c + 1` for cast `c`), which names the draw (its record in the
+/// `view` library's `DRAWS`, shared with pre-Z and forward) and the region's view in `VIEWS`, so
+/// one bind group serves every region and every caster.
 /// Depth only, reversed Z; the pipeline adds slope-scaled bias.
 ///
 /// Alpha-masked materials (`alpha_mask`) cut out: `vs_caster_mask` passes both UV sets and the
@@ -21,6 +22,14 @@ pub mod shadow_caster {
         pub clip_from_world: Mat4,
     }
 
+    /// One caster drawn into one region.
+    pub struct Cast {
+        /// The draw: its index in `DRAWS`.
+        pub draw: u32,
+        /// The region: its index in `VIEWS`.
+        pub view: u32,
+    }
+
     /// What the masked fragment needs: both UV sets and the vertex colour's alpha.
     pub struct MaskVsOut {
         #[builtin(position)]
@@ -35,8 +44,8 @@ pub mod shadow_caster {
 
     #[storage(group = 0, binding = 0)]
     static VIEWS: [CasterView];
-    #[uniform(group = 1, binding = 0)]
-    static DRAW: Draw;
+    #[storage(group = 0, binding = 1)]
+    static CASTS: [Cast];
     #[uniform(group = 2, binding = 0)]
     #[when(alpha_mask)]
     static MASK: MaskMaterial;
@@ -48,8 +57,11 @@ pub mod shadow_caster {
     static MASK_SAMPLER: Sampler;
 
     #[vertex]
-    pub fn vs_caster(#[location(0)] position: Vec3, #[builtin(instance_index)] view: u32) -> Vec4 {
-        clip_position(VIEWS[view].clip_from_world, DRAW.world_from_mesh, position)
+    pub fn vs_caster(
+        #[location(0)] position: Vec3,
+        #[builtin(instance_index)] cast_index: u32,
+    ) -> Vec4 {
+        cast_position(CASTS[cast_index], position)
     }
 
     /// Masked casters' vertices: position, `TEXCOORD_0`, `TEXCOORD_1` and `COLOR_0`.
@@ -59,14 +71,23 @@ pub mod shadow_caster {
         #[location(1)] uv0: Vec2,
         #[location(2)] uv1: Vec2,
         #[location(3)] color: Vec4,
-        #[builtin(instance_index)] view: u32,
+        #[builtin(instance_index)] cast_index: u32,
     ) -> MaskVsOut {
         MaskVsOut {
-            clip: clip_position(VIEWS[view].clip_from_world, DRAW.world_from_mesh, position),
+            clip: cast_position(CASTS[cast_index], position),
             uv0,
             uv1,
             color_alpha: color.w,
         }
+    }
+
+    /// Clip position of a mesh-space position of `record`'s draw in its region's view.
+    fn cast_position(record: Cast, position: Vec3) -> Vec4 {
+        clip_position(
+            VIEWS[record.view].clip_from_world,
+            DRAWS[record.draw].world_from_mesh,
+            position,
+        )
     }
 
     /// Masked casters: texels below the cutoff leave no depth in the atlas.

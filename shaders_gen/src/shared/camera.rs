@@ -1,10 +1,14 @@
 //! The camera and per-draw transforms of the geometry passes, and their one clip-position
 //! computation.
 
-/// `Camera` and `Draw` (one layout for the depth pre-pass and the forward pass, so one buffer
-/// serves both) and `clip_position`, which both passes call, so the pre-pass depth and the
-/// forward pass's depth come from the very same arithmetic (see `#[invariant]` on their
-/// position outputs).
+/// `Camera`, the scene's draw records `DRAWS` (group 1, one storage buffer of every draw of the
+/// scene, read by the pre-Z, forward, G-buffer and shadow-caster programs alike, so one bind
+/// group serves every pass), and `clip_position`, which every geometry pass calls, so the
+/// pre-pass depth and the forward pass's depth come from the very same arithmetic (see
+/// `#[invariant]` on their position outputs).
+///
+/// A draw finds its record by its instance index: the renderer draws draw `d` as instance
+/// `d..d + 1` (`first_instance` = `d`), so no per-draw bind group exists.
 #[shader_dsl::library]
 pub mod view {
     /// The camera of a frame.
@@ -20,7 +24,7 @@ pub mod view {
         pub eye_homogeneous: Vec4,
     }
 
-    /// Per-draw transforms.
+    /// One draw's record: a primitive of a scene instance, where it is and what it is made of.
     pub struct Draw {
         pub world_from_mesh: Mat4,
         /// Inverse transpose of `world_from_mesh` (normals).
@@ -32,6 +36,10 @@ pub mod view {
         /// flips with it), else 1.
         pub handedness: f32,
     }
+
+    /// Every draw of the scene, indexed by the draw's instance index.
+    #[storage(group = 1, binding = 0)]
+    static DRAWS: [Draw];
 
     /// Clip position of a mesh-space position: world-from-mesh first, then view-projection.
     pub fn clip_position(view_projection: Mat4, world_from_mesh: Mat4, position: Vec3) -> Vec4 {

@@ -97,7 +97,8 @@ pub fn draw_forward(
     }
     group0.push((14, wgpu::BindingResource::Sampler(&decal_sampler)));
     let g0 = bind_group(gpu, &p, 0, group0);
-    let draw = uniform(gpu, &inputs.draw);
+    // The draw records (`DRAWS`): one, read as instance 0.
+    let draw = storage(gpu, std::slice::from_ref(&inputs.draw));
     let g1 = bind_group(gpu, &p, 1, vec![(0, draw.as_entire_binding())]);
     let material = uniform(gpu, &inputs.material);
     let white = texel(gpu, [1.0; 4]).create_view(&Default::default());

@@ -160,7 +160,8 @@ pub fn draw_prez(
 ) -> Vec<f32> {
     let p = program(gpu, prez::variant(prez::VariantKey::ALL[0]));
     let camera = uniform(gpu, camera);
-    let draw = uniform(gpu, draw);
+    // The draw records (`DRAWS`): one, read as instance 0.
+    let draw = storage(gpu, std::slice::from_ref(draw));
     let g0 = bind_group(gpu, &p, 0, vec![(0, camera.as_entire_binding())]);
     let g1 = bind_group(gpu, &p, 1, vec![(0, draw.as_entire_binding())]);
     let vertex_buffer = buffer(

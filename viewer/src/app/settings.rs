@@ -1,5 +1,5 @@
 //! The running window's responses that change its state: the settings keys (path, MSAA, tile,
-//! views, light count), each rebuilding the renderer; hot reload outcomes (a rebuild on the new
+//! views, draw culling, light count), each rebuilding the renderer; hot reload outcomes (a rebuild on the new
 //! WGSL, or the refusal shown); the overlay's status lines; and window resizes.
 
 use anyhow::Result;
@@ -12,9 +12,8 @@ use winit::keyboard::KeyCode;
 use super::{Running, build};
 
 impl Running {
-    /// A settings key: path, MSAA, tile, heatmap, decal heatmap, shadow atlas or light count;
-    /// rebuilds the
-    /// renderer.
+    /// A settings key: path, MSAA, tile, heatmap, decal heatmap, shadow atlas, draw culling or
+    /// light count; rebuilds the renderer.
     pub(super) fn action(&mut self, key: char, shown: &Shown) -> Result<()> {
         let mut config = self.config;
         match key {
@@ -68,6 +67,7 @@ impl Running {
                     _ => FrameView::ShadingFrequency,
                 }
             }
+            'g' => config.cull_draws = !config.cull_draws,
             '+' => self.light_count = (self.light_count * 2).clamp(1, 65_536),
             '-' => self.light_count = (self.light_count / 2).max(1),
             _ => return Ok(()),
@@ -123,6 +123,18 @@ impl Running {
                 c.particle_lighting.name()
             ),
             format!("{} lights, {}x{}", self.light_count, c.width, c.height),
+            self.draws.map_or_else(String::new, |d| {
+                let kept = match d.visible {
+                    Some(v) if c.cull_draws => format!("{v} drawn after GPU culling (G)"),
+                    _ => "all drawn, culling off (G)".into(),
+                };
+                format!(
+                    "{} draws in {} batches: {kept}; CPU {:.2} ms",
+                    d.slots + d.blended,
+                    d.batches,
+                    self.cpu_ms
+                )
+            }),
             format!("adapter: {}", self.gpu.report.name),
         ]);
         lines
@@ -154,6 +166,7 @@ impl Running {
             KeyCode::KeyC => self.action('c', shown)?,
             KeyCode::KeyP => self.action('p', shown)?,
             KeyCode::KeyO => self.action('o', shown)?,
+            KeyCode::KeyG => self.action('g', shown)?,
             KeyCode::Equal | KeyCode::NumpadAdd => self.action('+', shown)?,
             KeyCode::Minus | KeyCode::NumpadSubtract => self.action('-', shown)?,
             _ => {}

@@ -8,6 +8,7 @@
 
 mod axes;
 mod font;
+pub(crate) mod scale;
 #[cfg(test)]
 mod tests;
 
@@ -20,7 +21,7 @@ use plotters::coord::ranged1d::ValueFormatter;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use self::axes::{LightAxis, efficiency_axis, format_value, log_axis};
+use self::axes::{CountAxis, efficiency_axis, format_value, log_axis};
 pub(crate) use self::font::{FONT, register_font};
 use super::record::CellRecord;
 
@@ -150,11 +151,12 @@ fn write_gpu_chart(group: &Group, records: &[&CellRecord], path: &Path) -> Resul
         .filter(|r| r.tile == 0 || r.tile == 16)
         .collect();
     let lines = lines(&records);
-    let panels = GPU_PANELS.map(|(title, value)| (title, plotted(&lines, &records, value, true)));
+    let panels =
+        GPU_PANELS.map(|(title, value)| (title, plotted(&lines, &records, by_lights, value, true)));
     if panels.iter().all(|(_, series)| series.is_empty()) {
         return Ok(false);
     }
-    let x = LightAxis::of(&records);
+    let x = CountAxis::lights(&records);
     let title = format!("{}: GPU timestamps, median", group.describe());
     let size = (3 * PANEL_WIDTH + LEGEND_WIDTH, CHART_HEIGHT);
     render_png(path, size, |root| {
@@ -180,11 +182,11 @@ fn write_efficiency_chart(group: &Group, records: &[&CellRecord], path: &Path) -
         .filter(|r| !r.scalarize && r.cull_efficiency.is_some())
         .collect();
     let lines = lines(&records);
-    let series = plotted(&lines, &records, |r| r.cull_efficiency, false);
+    let series = plotted(&lines, &records, by_lights, |r| r.cull_efficiency, false);
     let Some(y) = efficiency_axis(&series) else {
         return Ok(false);
     };
-    let x = LightAxis::of(&records);
+    let x = CountAxis::lights(&records);
     let title = format!("{}: cull efficiency (1 = exact)", group.describe());
     let size = (PANEL_WIDTH + PANEL_WIDTH / 2 + LEGEND_WIDTH, CHART_HEIGHT);
     render_png(path, size, |root| {
@@ -236,14 +238,20 @@ fn color(index: usize) -> RGBColor {
     })
 }
 
-/// A line with the points it has in one panel: (light count, value), sorted by light count.
+/// A line with the points it has in one panel: (x, value), sorted by x.
 type Series<'a> = (&'a Line, Vec<(f64, f64)>);
 
-/// The points of each line for one panel's `value`; missing, non-finite (and on a log axis,
+/// The light count of a record, the x of most charts.
+fn by_lights(record: &CellRecord) -> Option<f64> {
+    Some(f64::from(record.lights))
+}
+
+/// The points `(x, value)` of each line for one panel's `value`; missing, non-finite (and on a log axis,
 /// non-positive) values are left out, and so are lines left without points.
 fn plotted<'a>(
     lines: &'a [Line],
     records: &[&CellRecord],
+    x: Figure,
     value: impl Fn(&CellRecord) -> Option<f64>,
     log: bool,
 ) -> Vec<Series<'a>> {
@@ -254,7 +262,7 @@ fn plotted<'a>(
             let mut points: Vec<(f64, f64)> = records
                 .iter()
                 .filter(|r| r.label() == line.label)
-                .filter_map(|r| Some((f64::from(r.lights), value(r).filter(plottable)?)))
+                .filter_map(|r| Some((x(r)?, value(r).filter(plottable)?)))
                 .collect();
             points.sort_by(|a, b| a.0.total_cmp(&b.0));
             (line, points)
@@ -293,11 +301,11 @@ fn titled<'a>(area: &Area<'a>, title: &str) -> Result<Area<'a>> {
     Ok(area.titled(title, (FONT, 24))?)
 }
 
-/// One plot: log-2 light counts across, `y` up, a line with markers per series.
+/// One plot: log-2 counts (`x`) across, `y` up, a line with markers per series.
 fn draw_panel<Y>(
     area: &Area<'_>,
     title: &str,
-    x: &LightAxis,
+    x: &CountAxis,
     y: Y,
     y_desc: &str,
     series: &[Series<'_>],
@@ -313,7 +321,7 @@ where
         .build_cartesian_2d(x.coord(), y)?;
     chart
         .configure_mesh()
-        .x_desc("lights")
+        .x_desc(x.desc)
         .y_desc(y_desc)
         .x_label_formatter(&|v| format!("{}", v.round()))
         .y_label_formatter(&|v| format_value(*v))

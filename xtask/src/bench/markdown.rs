@@ -50,6 +50,7 @@ pub fn report(meta: &str, all: &[CellRecord]) -> String {
     out += &scalarization(records);
     out += &super::shadows::markdown(all);
     out += &super::decals::markdown(all);
+    out += &super::scale::markdown(records);
     for ((scene, w, h, msaa), rows) in groups(records) {
         let _ = writeln!(out, "\n### {scene}, {w}×{h}, MSAA {msaa}\n");
         out += "GPU ms, median (p90); floor and ratio for the culling pass; CPU = build + \

@@ -57,6 +57,8 @@ pub struct Measured {
     pub total: Samples,
     pub cpu_graph_ms: Samples,
     pub cpu_upload_ms: Samples,
+    /// CPU ms to finish and submit the frame's commands.
+    pub cpu_submit_ms: Samples,
     /// CPU ms of shadow planning (empty without a shadow pass).
     pub shadow_cpu_ms: Samples,
     /// The shadow pass's report of the last timed frame.
@@ -107,6 +109,7 @@ pub fn measure(
     let mut timings: Vec<Vec<PassTiming>> = Vec::new();
     let mut cpu = Vec::new();
     let mut upload = Vec::new();
+    let mut submit = Vec::new();
     let mut shadow_cpu = Vec::new();
     let mut shadows = None;
     let mut note = String::new();
@@ -117,6 +120,7 @@ pub fn measure(
         rendered += 1;
         cpu.push(report.cpu_graph_ms);
         upload.push(report.cpu_upload_ms);
+        submit.push(report.cpu_submit_ms);
         if let Some(s) = report.shadows {
             shadow_cpu.push(s.cpu_plan_ms);
             shadows = Some(s);
@@ -170,6 +174,7 @@ pub fn measure(
         total: Samples::from(total),
         cpu_graph_ms: Samples::from(cpu),
         cpu_upload_ms: Samples::from(upload),
+        cpu_submit_ms: Samples::from(submit),
         shadow_cpu_ms: Samples::from(shadow_cpu),
         shadows,
         frames: timings.len() as u32,

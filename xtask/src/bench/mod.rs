@@ -31,6 +31,7 @@ mod measure;
 mod options;
 mod record;
 mod reports;
+mod scale;
 mod shadows;
 mod sweep;
 
@@ -70,12 +71,17 @@ pub struct Args {
     /// Scalarization: off, on (on needs SUBGROUP; left out without it).
     #[arg(long, value_delimiter = ',', default_value = "off,on")]
     scalarize: Vec<String>,
-    /// glTF scenes measured after the built-in courtyard.
+    /// Scenes measured after the built-in courtyard: glTF files, or `city:N` for a generated
+    /// city of N instances.
     #[arg(long)]
     scene: Vec<PathBuf>,
     /// Leave the built-in courtyard out (only the --scene files).
     #[arg(long)]
     no_demo_scene: bool,
+    /// Draw every draw of the scene, without GPU culling against the view (the baseline of the
+    /// scene-size table).
+    #[arg(long)]
+    no_cull_draws: bool,
     /// Timed frames per cell.
     #[arg(long, default_value_t = 30)]
     frames: u32,

@@ -3,7 +3,7 @@
 
 use anyhow::Result;
 use renderer::frame::RendererConfig;
-use renderer::scene::Scene;
+use renderer::scene::{Aabb, Scene};
 
 use super::Args;
 use super::matrix::{self, Axes, PathChoice, Setup};
@@ -12,25 +12,40 @@ use super::shadows::{ShadowAxes, ShadowKind, ShadowMode};
 pub(super) struct BenchScene {
     pub(super) name: String,
     pub(super) scene: Scene,
+    /// Where the moving lights go: the scene's bounds, or a generated city's streets around
+    /// its camera (a city's bounds grow with its size; its lit streets do not).
+    pub(super) light_box: Aabb,
 }
 
 pub(super) fn load_scenes(args: &Args) -> Result<Vec<BenchScene>> {
     let mut scenes = Vec::new();
     if !args.no_demo_scene {
+        let scene = renderer::scene::procedural::courtyard();
         scenes.push(BenchScene {
             name: crate::render::BUILTIN_SCENE.to_string(),
-            scene: renderer::scene::procedural::courtyard(),
+            light_box: scene.bounds,
+            scene,
         });
     }
     for p in &args.scene {
-        let name = p
-            .file_stem()
-            .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
-        let scene = Scene::load(p)?;
-        for warning in &scene.warnings {
-            eprintln!("warning: {}: {warning}", p.display());
-        }
-        scenes.push(BenchScene { name, scene });
+        let opened = crate::render::scene_arg::open_scene(Some(p))?;
+        let city = opened.name.starts_with("city:");
+        let name = if city || opened.courtyard {
+            opened.name
+        } else {
+            p.file_stem()
+                .map_or("scene".into(), |s| s.to_string_lossy().into_owned())
+        };
+        let light_box = if city {
+            opened.light_region
+        } else {
+            opened.scene.bounds
+        };
+        scenes.push(BenchScene {
+            name,
+            scene: opened.scene,
+            light_box,
+        });
     }
     anyhow::ensure!(
         !scenes.is_empty(),
@@ -96,6 +111,7 @@ pub(super) fn renderer_config(args: &Args, setup: &Setup) -> RendererConfig {
         scalarize: setup.scalarize,
         cull_brute_force: setup.brute_force,
         time_cull_dispatches: args.cull_dispatch_times,
+        cull_draws: !args.no_cull_draws,
         ..Default::default()
     };
     config.shadows.atlas_size = args.shadow_atlas;

@@ -58,6 +58,20 @@ pub struct CellRecord {
     pub cpu_graph_median_ms: f64,
     /// Median CPU time to write the frame's uniforms and culling items (before the graph).
     pub cpu_upload_median_ms: f64,
+    /// Median CPU time to finish and submit the frame's commands.
+    #[serde(default)]
+    pub cpu_submit_median_ms: f64,
+    /// The scene's instances (nodes with a mesh) and triangles.
+    #[serde(default)]
+    pub instances: u64,
+    #[serde(default)]
+    pub triangles: u64,
+    /// The scene's opaque and masked draws in the main view, and how many the last timed
+    /// frame drew after GPU culling (empty with culling off).
+    #[serde(default)]
+    pub draws: u32,
+    #[serde(default)]
+    pub draws_visible: Option<u32>,
     /// Bytes of the light grid (`(offset, count)` per cell); 0 without culling.
     pub grid_bytes: u64,
     /// Bytes of the index list the frame filled (entries requested × 4).
@@ -183,7 +197,7 @@ impl CellRecord {
     }
 
     /// Fills in what the timed frames of the cell measured.
-    pub fn fill(&mut self, m: &Measured, renderer: &Renderer) {
+    pub fn fill(&mut self, m: &Measured, renderer: &mut Renderer) {
         let record = self;
         let pass = |name: &str| m.passes.get(name);
         record.frames = m.frames;
@@ -206,6 +220,7 @@ impl CellRecord {
         record.gpu_total_median_ms = m.total.median().unwrap_or(0.0);
         record.cpu_graph_median_ms = m.cpu_graph_ms.median().unwrap_or(0.0);
         record.cpu_upload_median_ms = m.cpu_upload_ms.median().unwrap_or(0.0);
+        record.cpu_submit_median_ms = m.cpu_submit_ms.median().unwrap_or(0.0);
         if let Some((grid, index)) = renderer.culler().lists().map(|l| l.bytes()) {
             record.grid_bytes = grid;
             record.index_bytes_allocated = index;
@@ -213,6 +228,22 @@ impl CellRecord {
         }
         record.dropped = m.dropped;
         record.note.clone_from(&m.note);
+        if let Some(d) = renderer.scene_draws() {
+            record.draws = d.slots + d.blended;
+            record.draws_visible = d.visible.map(|v| v + d.blended);
+        }
+    }
+
+    /// The renderer's CPU per frame: prepare + record + submit, from the medians.
+    pub fn cpu_frame_ms(&self) -> f64 {
+        self.cpu_upload_median_ms + self.cpu_graph_median_ms + self.cpu_submit_median_ms
+    }
+
+    /// GPU time of the passes that draw the scene's geometry: pre-Z, and the G-buffer on the
+    /// deferred paths or forward on the others.
+    pub fn geometry_median_ms(&self) -> Option<f64> {
+        let main = self.gbuffer_median_ms.or(self.forward_median_ms)?;
+        Some(self.prez_median_ms.unwrap_or(0.0) + main)
     }
 
     /// Whether the cell belongs to the shadow axis (else to the light matrix).

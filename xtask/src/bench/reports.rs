@@ -24,6 +24,14 @@ pub(super) fn write_charts(records: &[CellRecord], out: &Path) -> Result<()> {
     for png in charts::write_charts(records, out)? {
         println!("wrote {}", png.display());
     }
+    let matrix: Vec<CellRecord> = records
+        .iter()
+        .filter(|r| !r.is_shadow_cell())
+        .cloned()
+        .collect();
+    if let Some(png) = charts::scale::write_scale_chart(&matrix, out)? {
+        println!("wrote {}", png.display());
+    }
     Ok(())
 }
 

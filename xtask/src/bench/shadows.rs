@@ -211,7 +211,7 @@ pub fn measure_cell(
     renderer.finish();
     let count = casts.len() as u32;
     let mut record = CellRecord::empty(name, setup, count);
-    record.fill(&m, &renderer);
+    record.fill(&m, &mut renderer);
     record.shadow_mode = cell.mode.name().into();
     record.shadow_kind = if cell.mode == ShadowMode::None {
         String::new()

@@ -140,7 +140,7 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
         if !shadow_cells.is_empty() {
             for &n in &axes.lights {
                 let lights = lights::MovingLights::new(
-                    bench_scene.scene.bounds,
+                    bench_scene.light_box,
                     n as usize,
                     args.light_density,
                     args.seed,
@@ -178,7 +178,7 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
         let mut previous: Option<(u32, Duration)> = None;
         for &n in &axes.lights {
             let lights = lights::MovingLights::new(
-                bench_scene.scene.bounds,
+                bench_scene.light_box,
                 n as usize,
                 args.light_density,
                 args.seed,
@@ -187,6 +187,8 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
                 renderer.set_decals(&decals::decal_set(&bench_scene.scene, d, args.seed))?;
                 let mut record = CellRecord::empty(&bench_scene.name, setup, n);
                 record.decals = d;
+                record.instances = bench_scene.scene.instances.len() as u64;
+                record.triangles = bench_scene.scene.triangle_count() as u64;
                 bar.set_message(format!(
                     "{} {}x{} msaa{} {} {n} lights {d} decals",
                     record.scene,
@@ -213,7 +215,7 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
                         let m =
                             measure::measure(&mut renderer, &target, &camera, &mut advance, plan)?;
                         previous = Some((n, m.wall_per_frame));
-                        record.fill(&m, &renderer);
+                        record.fill(&m, &mut renderer);
                         // The deferred paths cull in workgroup memory: no lists to measure.
                         let culled = setup.path.0.is_culled() && !setup.path.0.is_deferred();
                         // Cull efficiency is a property of the lights: measured once, without decals.

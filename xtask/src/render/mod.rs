@@ -8,8 +8,8 @@ use glam::Vec3;
 use renderer::culling::lists::CullCounters;
 use renderer::decals::DecalSet;
 use renderer::frame::setup::{
-    camera_of, courtyard_look, create_target, default_camera, light_space, pick_shadowed,
-    procedural_lights, scene_camera,
+    camera_of, courtyard_look, create_target, default_camera, pick_shadowed, procedural_lights,
+    scene_camera,
 };
 use renderer::frame::{
     FrameCamera, FrameReport, FrameView, ParticleLighting, Renderer, RendererConfig,
@@ -18,11 +18,8 @@ use renderer::frame_data::LightSet;
 use renderer::graph::PassTiming;
 use renderer::particles::{ParticleSystem, WARMUP_STEPS, builtin_system};
 use renderer::passes::particles::ParticleSimulation;
-use renderer::scene::procedural::courtyard;
 use renderer::scene::{Scene, SceneLight};
 
-/// The `--scene` name of the built-in scene.
-pub const BUILTIN_SCENE: &str = "courtyard";
 use renderer::{GpuContext, GpuOptions, readback};
 
 use crate::bench::matrix::{PathChoice, parse_size};
@@ -31,14 +28,18 @@ use crate::bench::matrix::{PathChoice, parse_size};
 mod cli_tests;
 mod output;
 mod parse;
+pub mod scene_arg;
 
-pub use output::{difference, particle_summary, save_png, save_text, shadow_summary};
+pub use scene_arg::BUILTIN_SCENE;
+
+pub use output::{difference, draws_line, particle_summary, save_png, save_text, shadow_summary};
 pub(crate) use parse::parse_exposure;
 use parse::{parse_ambient, parse_radius_range, parse_vec3};
 
 #[derive(Debug, Clone, clap::Args)]
 pub struct Args {
-    /// glTF scene (.gltf or .glb); without it (or with `courtyard`), the built-in courtyard.
+    /// glTF scene (.gltf or .glb), `city:N` for a generated city of N instances; without it (or
+    /// with `courtyard`), the built-in courtyard.
     #[arg(long)]
     pub scene: Option<PathBuf>,
     /// Procedural point lights added to the scene's own.
@@ -132,6 +133,10 @@ pub struct Args {
     /// Fall back to MSAA 1 where the adapter lacks the asked count (the demo's choice).
     #[arg(skip)]
     pub msaa_fallback: bool,
+    /// Draw every draw of the scene, without GPU culling against the view (the frame is the
+    /// same; for comparison).
+    #[arg(long)]
+    pub no_cull_draws: bool,
 }
 
 /// A scene, its lights and its camera on a device, ready for frames of any view.
@@ -201,27 +206,8 @@ pub fn setup(args: &Args) -> Result<Setup> {
     if !matches!(args.scalarize.as_str(), "auto" | "on" | "off") {
         bail!("--scalarize {:?}: use auto, on or off", args.scalarize);
     }
-    let builtin = args
-        .scene
-        .as_ref()
-        .is_none_or(|p| p.as_os_str() == BUILTIN_SCENE);
-    let (scene, scene_name) = if builtin {
-        (courtyard(), BUILTIN_SCENE.to_string())
-    } else {
-        let path = args.scene.clone().expect("not built-in");
-        if !path.is_file() {
-            bail!(
-                "--scene {}: no such file (give a .gltf or .glb file, or {BUILTIN_SCENE})",
-                path.display()
-            );
-        }
-        let scene = Scene::load(&path)
-            .with_context(|| format!("--scene {}: cannot load it", path.display()))?;
-        for warning in &scene.warnings {
-            eprintln!("warning: {}: {warning}", path.display());
-        }
-        (scene, path.display().to_string())
-    };
+    let opened = scene_arg::open_scene(args.scene.as_deref())?;
+    let (scene, scene_name, builtin) = (opened.scene, opened.name, opened.courtyard);
     let gpu =
         GpuContext::new_blocking(&GpuOptions::from_env().with_adapter_name(args.adapter.clone()))?;
     let max = gpu.device.limits().max_texture_dimension_2d;
@@ -260,6 +246,7 @@ pub fn setup(args: &Args) -> Result<Setup> {
         view,
         particle_lighting,
         particle_atlas_side: side,
+        cull_draws: !args.no_cull_draws,
         ..Default::default()
     };
     let mut config = if builtin {
@@ -273,8 +260,9 @@ pub fn setup(args: &Args) -> Result<Setup> {
     if let Some(ambient) = args.ambient {
         config.ambient = ambient;
     }
-    // Lights fill the built-in courtyard's open space in pools; a file's scene, its bounds.
-    let (region, default_radius) = light_space(&scene, builtin);
+    // Lights fill the built-in courtyard's open space in pools, the city's streets around its
+    // camera, a file's scene its bounds.
+    let (region, default_radius) = (opened.light_region, opened.light_radii);
     let (rmin, rmax) = args.light_radius.unwrap_or(default_radius);
     let mut lights = scene.lights.clone();
     lights.extend(procedural_lights(
@@ -372,6 +360,8 @@ pub fn shoot_with(s: &Setup, config: RendererConfig, efficiency: bool) -> Result
     }
     let mut report = renderer.render(&s.camera, &target)?;
     let timings = renderer.finish();
+    // The culled count arrives after the frame: the last frame's, now that it finished.
+    report.scene_draws = renderer.scene_draws().or(report.scene_draws);
     let counters = renderer.culling_counters();
     if let Some(c) = counters {
         // The renderer sizes its lists before the frame; a drop means they outgrew one storage
@@ -440,9 +430,12 @@ pub fn run(args: &Args, default_out: &str) -> Result<()> {
         s.config.tile,
         s.config.scalarize,
     );
+    if let Some(d) = shot.report.scene_draws {
+        println!("{}", draws_line(&d));
+    }
     println!(
-        "CPU: build + compile + encode the frame graph: {:.3} ms",
-        shot.report.cpu_graph_ms
+        "CPU: prepare {:.3} ms, build + compile + encode the frame graph {:.3} ms, submit {:.3} ms",
+        shot.report.cpu_upload_ms, shot.report.cpu_graph_ms, shot.report.cpu_submit_ms
     );
     match &shot.timings {
         Some(t) => {

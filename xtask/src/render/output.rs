@@ -79,3 +79,15 @@ pub fn particle_summary(p: &renderer::frame::ParticleReport) -> String {
         }
     )
 }
+
+/// The frame's scene draws in one line: how many, in how many batches, and what culling kept.
+pub fn draws_line(d: &renderer::frame_data::SceneDrawReport) -> String {
+    let kept = d.visible.map_or_else(
+        || "culling off".to_string(),
+        |v| format!("{v} drawn after GPU culling"),
+    );
+    format!(
+        "draws: {} opaque and masked in {} batches ({kept}), {} blended",
+        d.slots, d.batches, d.blended
+    )
+}

@@ -12,12 +12,12 @@ use crate::frame_data::{
     FrameInputs, FrameResources, GBUFFER_FORMATS, GBufferHandles, RenderError, RendererConfig,
 };
 use crate::graph::{BufferAccess, RenderGraph, TextureAccess, TextureDesc};
-use crate::passes::forward::{FrameGroup, draw_order, lighting_buffer};
+use crate::passes::forward::{FrameGroup, lighting_buffer};
 use crate::passes::{
-    FacePipelines, MeshPipeline, Pass, depth_state, draw_primitive, face_pipeline, face_pipelines,
+    FacePipelines, MeshPipeline, Pass, SceneDraws, depth_state, face_pipeline, face_pipelines,
     mesh_pipeline,
 };
-use crate::scene::AlphaMode;
+use crate::scene::VertexStreams;
 use crate::shader::ShaderProgram;
 
 /// A `forward` variant's program and its G-buffer pipelines (`[double_sided][mirrored]`).
@@ -101,9 +101,17 @@ impl Pass for GBufferPass {
                 TextureDesc::new_2d(c.width, c.height, GBUFFER_FORMATS[i]).with_samples(c.msaa);
             graph.create_texture(names[i], desc)
         });
+        let list = resources
+            .scene_draws
+            .clone()
+            .ok_or(RenderError::MissingInput {
+                pass: "gbuffer",
+                input: "the scene's draw batches (scene culling)",
+            })?;
         let mut pass = graph.add_pass(self.name());
         pass.read_texture(depth, TextureAccess::DepthRead)
-            .read_texture(shadows.atlas, TextureAccess::Sampled);
+            .read_texture(shadows.atlas, TextureAccess::Sampled)
+            .read_buffer(list.args, BufferAccess::Indirect);
         for t in &mut targets {
             pass.write_texture(t, TextureAccess::ColorAttachment);
         }
@@ -115,8 +123,6 @@ impl Pass for GBufferPass {
         let which = usize::from(lists.is_some());
         let group = FrameGroup::new(frame, &self.lighting, lists, shadows);
         let scene = Arc::clone(&frame.scene);
-        let instances = Arc::clone(&frame.instances);
-        let eye = frame.camera.eye_homogeneous();
         pass.execute(move |ctx| {
             let p = &programs[which];
             let frame_group = group.bind_group(ctx, &p.program.bind_group_layouts[0], "gbuffer");
@@ -124,22 +130,12 @@ impl Pass for GBufferPass {
             let depth_view = ctx.texture(depth).create_view(&Default::default());
             let mut pass = begin_gbuffer_pass(ctx.encoder, &views, &depth_view);
             pass.set_bind_group(0, &frame_group, &[]);
-            for i in draw_order(&scene, eye) {
-                let draw = &scene.draws[i];
-                let material = &scene.materials[draw.material];
-                if material.alpha_mode == AlphaMode::Blend {
-                    continue;
-                }
-                pass.set_pipeline(face_pipeline(
-                    &p.pipelines,
-                    material.double_sided,
-                    draw.mirrored(&instances),
-                ));
-                pass.set_bind_group(1, &draw.bind_group, &[]);
-                pass.set_bind_group(2, &material.bind_group, &[]);
-                let primitive = &scene.gpu.meshes[draw.mesh][draw.primitive];
-                draw_primitive(&mut pass, primitive, &scene.gpu.forward_streams(primitive));
-            }
+            // The opaque and masked batches, as pre-Z and the forward pass draw them.
+            let mut draws = SceneDraws::new(&mut pass, &scene, VertexStreams::Forward);
+            draws.draw_batches(&list, &scene, |batch| {
+                let pipeline = face_pipeline(&p.pipelines, batch.double_sided, batch.mirrored);
+                (pipeline, Some(&scene.materials[batch.material].bind_group))
+            });
         });
         let [albedo, normals, radiance, view_depth] = targets;
         resources.gbuffer = Some(GBufferHandles {

@@ -18,16 +18,16 @@ use std::sync::Arc;
 use shaders_gen::forward::forward;
 
 use super::{
-    FacePipelines, MeshPipeline, Pass, depth_state, draw_primitive, face_pipeline, face_pipelines,
+    FacePipelines, MeshPipeline, Pass, SceneDraws, depth_state, face_pipeline, face_pipelines,
     mesh_pipeline,
 };
 use crate::GpuContext;
 use crate::frame_data::{
     DEPTH_FORMAT, FrameInputs, FrameResources, HDR_FORMAT, PreparedScene, RenderError, RenderPath,
-    RendererConfig,
+    RendererConfig, SceneDrawList,
 };
 use crate::graph::{BufferAccess, Handle, RenderGraph, Texture, TextureAccess, TextureDesc};
-use crate::scene::AlphaMode;
+use crate::scene::VertexStreams;
 use crate::shader::ShaderProgram;
 
 /// The forward pass: its program and pipelines (`[blend][double_sided][mirrored]`), its lighting
@@ -177,22 +177,13 @@ fn pipeline(
     )
 }
 
-/// Draw order: opaque and masked first (any order), then blended back to front from the
-/// homogeneous eye `eye` ([`crate::frame_data::FrameCamera::eye_homogeneous`]): by distance from
-/// a perspective camera's eye, by depth along an orthographic camera's parallel rays.
-pub(crate) fn draw_order(scene: &PreparedScene, eye: glam::Vec4) -> Vec<usize> {
-    let blend = |i: usize| scene.materials[scene.draws[i].material].alpha_mode == AlphaMode::Blend;
-    let mut order: Vec<usize> = (0..scene.draws.len()).collect();
-    order.sort_by(|&a, &b| {
-        blend(a).cmp(&blend(b)).then_with(|| {
-            if blend(a) {
-                let d = |i: usize| crate::frame_data::farness(eye, scene.draws[i].center);
-                d(b).total_cmp(&d(a))
-            } else {
-                std::cmp::Ordering::Equal
-            }
-        })
-    });
+/// The blended draws `blended` back to front from the homogeneous eye `eye`
+/// ([`crate::frame_data::FrameCamera::eye_homogeneous`]): by distance from a perspective
+/// camera's eye, by depth along an orthographic camera's parallel rays. Ties keep scene order.
+pub(crate) fn blended_order(scene: &PreparedScene, blended: &[u32], eye: glam::Vec4) -> Vec<u32> {
+    let farness = |d: u32| crate::frame_data::farness(eye, scene.draws[d as usize].center);
+    let mut order = blended.to_vec();
+    order.sort_by(|&a, &b| farness(b).total_cmp(&farness(a)));
     order
 }
 
@@ -279,8 +270,13 @@ impl Pass for ForwardPass {
         }
         let shadows = resources.shadows.clone().ok_or(missing("shadow atlas"))?;
         pass.read_texture(shadows.atlas, TextureAccess::Sampled);
+        let list = resources
+            .scene_draws
+            .clone()
+            .ok_or(missing("the scene's draw batches"))?;
+        pass.read_buffer(list.args, BufferAccess::Indirect);
         let group = FrameGroup::new(frame, &self.lighting, lists, shadows);
-        let record = self.recorder(frame, targets, group);
+        let record = self.recorder(frame, targets, group, list);
         pass.execute(record);
         resources.hdr = Some(hdr);
         resources.hdr_multisampled = hdr_msaa;
@@ -298,12 +294,14 @@ impl ForwardPass {
         frame: &FrameInputs,
         targets: Targets,
         group: FrameGroup,
+        list: SceneDrawList,
     ) -> impl FnOnce(&mut crate::graph::PassContext<'_>) + 'static {
         let layout = self.program.bind_group_layouts[0].clone();
         let pipelines = Arc::clone(&self.pipelines);
         let expand = self.expand.clone();
         let (scene, instances) = (Arc::clone(&frame.scene), Arc::clone(&frame.instances));
-        let eye = frame.camera.eye_homogeneous();
+        // Sorted on the CPU every frame: only the blended draws.
+        let blended = blended_order(&scene, &list.layout.blended, frame.camera.eye_homogeneous());
         let sky = sky_color(frame.config.sky);
         move |ctx| {
             let frame_group = group.bind_group(ctx, &layout, "forward frame");
@@ -356,23 +354,24 @@ impl ForwardPass {
                 pass.draw(0..3, 0..1);
             }
             pass.set_bind_group(0, &frame_group, &[]);
-            let blended_only = targets.over.is_some();
-            for i in draw_order(&scene, eye) {
-                let draw = &scene.draws[i];
+            let mut draws = SceneDraws::new(&mut pass, &scene, VertexStreams::Forward);
+            // Over a deferred image only the blended surfaces are left to draw.
+            if targets.over.is_none() {
+                draws.draw_batches(&list, &scene, |batch| {
+                    let (sided, mirrored) = (batch.double_sided, batch.mirrored);
+                    let pipeline = face_pipeline(&pipelines[0], sided, mirrored);
+                    (pipeline, Some(&scene.materials[batch.material].bind_group))
+                });
+            }
+            for d in blended {
+                let draw = &scene.draws[d as usize];
                 let material = &scene.materials[draw.material];
-                let blend = material.alpha_mode == AlphaMode::Blend;
-                if blended_only && !blend {
-                    continue;
-                }
-                pass.set_pipeline(face_pipeline(
-                    &pipelines[usize::from(blend)],
+                let pipeline = face_pipeline(
+                    &pipelines[1],
                     material.double_sided,
                     draw.mirrored(&instances),
-                ));
-                pass.set_bind_group(1, &draw.bind_group, &[]);
-                pass.set_bind_group(2, &material.bind_group, &[]);
-                let p = &scene.gpu.meshes[draw.mesh][draw.primitive];
-                draw_primitive(&mut pass, p, &scene.gpu.forward_streams(p));
+                );
+                draws.draw(pipeline, Some(&material.bind_group), draw.geometry, d);
             }
         }
     }

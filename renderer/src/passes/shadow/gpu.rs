@@ -6,8 +6,9 @@ use std::sync::Arc;
 
 use shaders_gen::shadow::{shadow_caster, shadow_compose};
 
-use super::super::{MASK_STREAMS, MeshPipeline, draw_primitive_instances, mesh_pipeline};
+use super::super::{MASK_STREAMS, MeshPipeline, SceneDraws, mesh_pipeline};
 use crate::frame_data::{PreparedScene, RenderError};
+use crate::scene::VertexStreams;
 use crate::shader::ShaderProgram;
 use crate::shadow::atlas::AtlasRect;
 use crate::shadow::cache::{RegionPlan, RegionWork};
@@ -169,6 +170,11 @@ pub struct ShadowTargets {
     pub views: wgpu::Buffer,
     /// `VIEWS` of the caster pipeline (one clip matrix per region).
     pub caster_views: wgpu::Buffer,
+    /// `CASTS` of the caster pipeline (a draw and a region per caster drawn).
+    pub casts: wgpu::Buffer,
+    /// Casts `casts` holds.
+    pub cast_capacity: usize,
+    /// Group 0 of the caster pipelines: `caster_views` and `casts`.
     pub caster_group: wgpu::BindGroup,
     /// Group 0 of the copy pipeline (the static atlas).
     pub copy_group: Option<wgpu::BindGroup>,
@@ -191,7 +197,10 @@ impl ShadowTargets {
             atlas_texture(device, "shadow static cache", size).create_view(&Default::default())
         });
         let capacity = capacity.max(1);
-        let (views, caster_views, caster_group) = view_buffers(device, pipelines, capacity);
+        let (views, caster_views) = view_buffers(device, capacity);
+        let cast_capacity = 256;
+        let casts = cast_buffer(device, cast_capacity);
+        let caster_group = caster_group(device, pipelines, &caster_views, &casts);
         let copy_group = static_atlas.as_ref().map(|view| {
             device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("shadow static cache"),
@@ -212,6 +221,8 @@ impl ShadowTargets {
             }),
             views,
             caster_views,
+            casts,
+            cast_capacity,
             caster_group,
             copy_group,
             capacity,
@@ -222,18 +233,34 @@ impl ShadowTargets {
 impl ShadowTargets {
     /// Replaces the view buffers with ones for `capacity` views (the atlases stay).
     pub fn grow(&mut self, device: &wgpu::Device, pipelines: &ShadowPipelines, capacity: usize) {
-        (self.views, self.caster_views, self.caster_group) =
-            view_buffers(device, pipelines, capacity);
+        (self.views, self.caster_views) = view_buffers(device, capacity);
         self.capacity = capacity;
+        self.caster_group = caster_group(device, pipelines, &self.caster_views, &self.casts);
+    }
+
+    /// Writes a frame's casts, first replacing the cast buffer with a larger one if they do not
+    /// fit.
+    pub fn write_casts(
+        &mut self,
+        gpu: &crate::GpuContext,
+        pipelines: &ShadowPipelines,
+        casts: &[shadow_caster::Cast],
+    ) {
+        if casts.len() > self.cast_capacity {
+            self.cast_capacity = casts.len().next_power_of_two();
+            self.casts = cast_buffer(&gpu.device, self.cast_capacity);
+            self.caster_group =
+                caster_group(&gpu.device, pipelines, &self.caster_views, &self.casts);
+        }
+        if !casts.is_empty() {
+            gpu.queue
+                .write_buffer(&self.casts, 0, bytemuck::cast_slice(casts));
+        }
     }
 }
 
-/// `SHADOW_VIEWS`, the casters' `VIEWS` and the caster bind group, for `capacity` views.
-fn view_buffers(
-    device: &wgpu::Device,
-    pipelines: &ShadowPipelines,
-    capacity: usize,
-) -> (wgpu::Buffer, wgpu::Buffer, wgpu::BindGroup) {
+/// `SHADOW_VIEWS` and the casters' `VIEWS`, for `capacity` views.
+fn view_buffers(device: &wgpu::Device, capacity: usize) -> (wgpu::Buffer, wgpu::Buffer) {
     let views = storage(
         device,
         "shadow views",
@@ -244,12 +271,33 @@ fn view_buffers(
         "shadow caster views",
         capacity * size_of::<shadow_caster::CasterView>(),
     );
-    let caster_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("shadow caster views"),
+    (views, caster_views)
+}
+
+/// The casters' `CASTS`, for `capacity` casts.
+fn cast_buffer(device: &wgpu::Device, capacity: usize) -> wgpu::Buffer {
+    storage(
+        device,
+        "shadow casts",
+        capacity * size_of::<shadow_caster::Cast>(),
+    )
+}
+
+/// Group 0 of the caster pipelines.
+fn caster_group(
+    device: &wgpu::Device,
+    pipelines: &ShadowPipelines,
+    caster_views: &wgpu::Buffer,
+    casts: &wgpu::Buffer,
+) -> wgpu::BindGroup {
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("shadow caster views and casts"),
         layout: &pipelines.caster_program.bind_group_layouts[0],
-        entries: &super::super::entries(&[caster_views.as_entire_binding()]),
-    });
-    (views, caster_views, caster_group)
+        entries: &super::super::entries(&[
+            caster_views.as_entire_binding(),
+            casts.as_entire_binding(),
+        ]),
+    })
 }
 
 fn atlas_texture(device: &wgpu::Device, label: &str, size: u32) -> wgpu::Texture {
@@ -286,6 +334,8 @@ fn storage(device: &wgpu::Device, label: &str, bytes: usize) -> wgpu::Buffer {
 /// What the recording of one frame needs.
 pub struct Recording {
     pub regions: Vec<RegionPlan>,
+    /// Per region, its first cast in the static cache and in the atlas (`CastList::first`).
+    pub first_casts: Vec<[u32; 2]>,
     pub scene: Arc<PreparedScene>,
     pub caster: CasterPipelines,
     pub clear: wgpu::RenderPipeline,
@@ -315,7 +365,8 @@ impl Recording {
             for (view, r) in &redraws {
                 if let RegionWork::Compose { static_casters, .. } = &r.work {
                     self.clear_region(&mut pass, r.region.rect);
-                    self.draw_casters(&mut pass, *view, static_casters);
+                    let first = self.first_casts[*view as usize][0];
+                    self.draw_casters(&mut pass, first, static_casters);
                 }
             }
         }
@@ -332,11 +383,13 @@ impl Recording {
                         pass.set_bind_group(0, g, &[]);
                     }
                     pass.draw(0..3, 0..1);
-                    self.draw_casters(&mut pass, view, dynamic_casters);
+                    let first = self.first_casts[view as usize][1];
+                    self.draw_casters(&mut pass, first, dynamic_casters);
                 }
                 RegionWork::Direct { casters } => {
                     self.clear_region(&mut pass, r.region.rect);
-                    self.draw_casters(&mut pass, view, casters);
+                    let first = self.first_casts[view as usize][1];
+                    self.draw_casters(&mut pass, first, casters);
                 }
             }
         }
@@ -352,37 +405,30 @@ impl Recording {
         pass.draw(0..3, 0..1);
     }
 
-    /// Draws `casters` into region `view` (the viewport is set): instance `view` selects the
-    /// region's clip matrix in the caster shader. Alpha-masked casters draw with the masked
-    /// pipeline and their material's mask group.
-    fn draw_casters<'a>(&'a self, pass: &mut wgpu::RenderPass<'a>, view: u32, casters: &[u32]) {
+    /// Draws `casters` into the current region (the viewport is set) as casts `first..`: the
+    /// cast record names the draw and the region's clip matrix for the caster shader.
+    /// Alpha-masked casters draw with the masked pipeline and their material's mask group.
+    fn draw_casters<'a>(&'a self, pass: &mut wgpu::RenderPass<'a>, first: u32, casters: &[u32]) {
         if casters.is_empty() {
             return;
         }
         pass.set_bind_group(0, &self.caster_group, &[]);
-        for &c in casters {
+        let mut draws = SceneDraws::new(pass, &self.scene, VertexStreams::Mask);
+        for (cast, &c) in (first..).zip(casters) {
             let Some(draw) = self.scene.draws.get(c as usize) else {
                 continue;
             };
-            pass.set_bind_group(1, &draw.bind_group, &[]);
-            let p = &self.scene.gpu.meshes[draw.mesh][draw.primitive];
             let mask = self
                 .scene
                 .materials
                 .get(draw.material)
                 .and_then(|m| m.prez_mask_group.as_ref());
-            let instances = view..view + 1;
-            match mask {
-                Some(group) => {
-                    pass.set_pipeline(&self.caster.masked);
-                    pass.set_bind_group(2, group, &[]);
-                    draw_primitive_instances(pass, p, &self.scene.gpu.mask_streams(p), instances);
-                }
-                None => {
-                    pass.set_pipeline(&self.caster.opaque);
-                    draw_primitive_instances(pass, p, &[&p.positions], instances);
-                }
-            }
+            let pipeline = if mask.is_some() {
+                &self.caster.masked
+            } else {
+                &self.caster.opaque
+            };
+            draws.draw(pipeline, mask, draw.geometry, cast);
         }
     }
 }

@@ -8,6 +8,7 @@
 //! for shading ([`FrameResources::shadows`]) and adds a graph node only when some region needs
 //! a draw or a copy: a frame where nothing changed runs no shadow work at all.
 
+mod casts;
 mod gpu;
 mod view;
 
@@ -28,6 +29,7 @@ use crate::graph::{ImportAccess, RenderGraph, TextureAccess};
 use crate::scene::{Aabb, AlphaMode};
 use crate::shadow::cache::Caster;
 use crate::shadow::frame::{FramePlan, PlanInputs, ShadowPlanner, ViewRecord};
+use casts::CastList;
 use gpu::{Recording, ShadowPipelines, ShadowTargets};
 use shaders_gen::shared::shadow_atlas::NO_SHADOW;
 
@@ -42,6 +44,8 @@ pub struct ShadowPass {
     written: Option<(Arc<LightSet>, Vec<u32>, Vec<u32>)>,
     /// The view records in the views buffer.
     uploaded: Vec<forward::ShadowView>,
+    /// Where each region's casts start in the cast buffer (this frame's plan).
+    first_casts: Vec<[u32; 2]>,
 }
 
 impl ShadowPass {
@@ -69,6 +73,7 @@ impl ShadowPass {
             plan: FramePlan::default(),
             written: None,
             uploaded: Vec::new(),
+            first_casts: Vec::new(),
         })
     }
 
@@ -201,6 +206,10 @@ impl Pass for ShadowPass {
         };
         self.plan = self.planner.plan(&inputs);
         self.upload_views(frame);
+        let casts = CastList::new(&self.plan.regions);
+        self.targets
+            .write_casts(&frame.gpu, &self.pipelines, &casts.casts);
+        self.first_casts = casts.first;
         self.write_light_indices(frame);
         self.plan.report.cpu_plan_ms = started.elapsed().as_secs_f64() * 1e3;
         Ok(())
@@ -218,6 +227,7 @@ impl Pass for ShadowPass {
         if self.plan.has_work() {
             let recording = Recording {
                 regions: self.plan.regions.clone(),
+                first_casts: self.first_casts.clone(),
                 scene: Arc::clone(&frame.scene),
                 caster: self.pipelines.caster.clone(),
                 clear: self.pipelines.clear.clone(),

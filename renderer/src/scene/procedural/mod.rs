@@ -1,7 +1,11 @@
 //! Scenes built in code rather than loaded: boxes, planes and spheres with PBR materials (flat
 //! or with procedural textures), for tests that need a particular geometry (a grazing floor,
-//! thin rails) and for the built-in demo scene, [`courtyard`].
+//! thin rails), for the built-in demo scene, [`courtyard`], and for scenes at an engine's
+//! scale, [`city`] (a generated city of any number of instances sharing a few meshes).
+//! [`builtin`] finds either by the name the tools take (`courtyard`, `city:N`).
 
+mod builtin;
+mod city;
 mod courtyard;
 mod shapes;
 mod textures;
@@ -11,6 +15,9 @@ pub use courtyard::{
     LOOK_AMBIENT as COURTYARD_AMBIENT, LOOK_EV as COURTYARD_EV, LOOK_SKY as COURTYARD_SKY,
     courtyard,
 };
+
+pub use builtin::{BuiltinScene, builtin};
+pub use city::{CITY_BLOCK_PITCH, city};
 
 use glam::{Mat4, Vec3};
 
@@ -92,6 +99,38 @@ impl SceneBuilder {
         self.primitive("sphere", sphere(center, radius, material))
     }
 
+    /// Adds a mesh of one primitive without placing it; returns its index for [`Self::place`].
+    pub fn mesh(&mut self, name: &str, primitive: Primitive) -> usize {
+        let scene = self.scene();
+        scene.meshes.push(Mesh {
+            name: name.to_owned(),
+            primitives: vec![primitive],
+        });
+        scene.meshes.len() - 1
+    }
+
+    /// Places an instance of mesh `mesh` (from [`Self::mesh`]) at `world_from_mesh`.
+    pub fn place(&mut self, mesh: usize, world_from_mesh: Mat4) -> &mut Self {
+        let scene = self.scene();
+        let bounds = scene.meshes[mesh]
+            .primitives
+            .iter()
+            .fold(Aabb::EMPTY, |b, p| {
+                b.union(p.bounds.transformed(world_from_mesh))
+            });
+        scene.bounds = scene.bounds.union(bounds);
+        scene.instances.push(Instance {
+            mesh,
+            world_from_mesh,
+        });
+        self
+    }
+
+    /// Instances placed so far.
+    pub fn instance_count(&self) -> usize {
+        self.scene.as_ref().map_or(0, |s| s.instances.len())
+    }
+
     fn primitive(&mut self, kind: &str, primitive: Primitive) -> &mut Self {
         let scene = self.scene();
         scene.bounds = scene.bounds.union(primitive.bounds);
@@ -120,6 +159,17 @@ impl SceneBuilder {
         }
         scene
     }
+}
+
+/// The primitive of a box from `min` to `max` (see [`SceneBuilder::cuboid`]), for
+/// [`SceneBuilder::mesh`].
+pub fn box_primitive(min: Vec3, max: Vec3, material: usize, double_sided: bool) -> Primitive {
+    cuboid(min, max, material, double_sided)
+}
+
+/// The primitive of a sphere (see [`SceneBuilder::sphere`]), for [`SceneBuilder::mesh`].
+pub fn sphere_primitive(center: Vec3, radius: f32, material: usize) -> Primitive {
+    sphere(center, radius, material)
 }
 
 #[cfg(test)]

@@ -1,4 +1,4 @@
-//! The charts' axes: the light count across (log 2, ticked at the counts measured) and the value
+//! The charts' axes: the light count (or a scene's instances) across (log 2, ticked at the counts measured) and the value
 //! up (log 10 ticked at 1-2-5, or linear for cull efficiency), with tick labels free of float
 //! noise.
 
@@ -10,27 +10,37 @@ use plotters::prelude::*;
 
 use crate::bench::record::CellRecord;
 
-/// The light-count axis of a chart: log 2, ticked at the counts present (thinned out if many).
+/// The count axis of a chart (lights, or a scene's instances): log 2, ticked at the counts
+/// present (thinned out if many).
 #[derive(Debug, Clone)]
-pub(super) struct LightAxis {
+pub(super) struct CountAxis {
     range: Range<f64>,
     ticks: Vec<f64>,
+    /// What is counted, under the axis.
+    pub(super) desc: &'static str,
 }
 
-impl LightAxis {
-    pub(super) fn of(records: &[&CellRecord]) -> Self {
-        let mut counts: Vec<u32> = records.iter().map(|r| r.lights.max(1)).collect();
+impl CountAxis {
+    /// The light counts of `records`.
+    pub(super) fn lights(records: &[&CellRecord]) -> Self {
+        Self::of(records.iter().map(|r| u64::from(r.lights)), "lights")
+    }
+
+    /// An axis over `counts`, described as `desc`.
+    pub(super) fn of(counts: impl Iterator<Item = u64>, desc: &'static str) -> Self {
+        let mut counts: Vec<u64> = counts.map(|c| c.max(1)).collect();
         counts.sort_unstable();
         counts.dedup();
         let step = counts.len().div_ceil(12).max(1);
-        let ticks = counts.iter().step_by(step).map(|&c| f64::from(c)).collect();
+        let ticks = counts.iter().step_by(step).map(|&c| c as f64).collect();
         let (lo, hi) = match (counts.first(), counts.last()) {
-            (Some(&lo), Some(&hi)) => (f64::from(lo), f64::from(hi)),
+            (Some(&lo), Some(&hi)) => (lo as f64, hi as f64),
             _ => (1.0, 1.0),
         };
         Self {
             range: lo / 1.25..hi * 1.25,
             ticks,
+            desc,
         }
     }
 

@@ -1,0 +1,277 @@
+//! Scene culling on the GPU: before the geometry passes, one compute dispatch tests every
+//! opaque and masked draw's world box against the main view's frustum and writes the result
+//! into the indirect arguments the pre-Z, forward and G-buffer passes draw with
+//! ([`FrameResources::scene_draws`]), one multi-draw per batch of a pipeline and a material.
+//!
+//! The layout ([`BatchLayout`]), the arguments and the boxes live on the GPU across frames:
+//! a frame where nothing moved uploads the frustum and nothing else, so its CPU cost does not
+//! grow with the scene. A moved instance rewrites its draws' boxes; one that becomes mirrored
+//! or stops being so rebuilds the layout (its draws change pipeline).
+//!
+//! With [`crate::frame_data::RendererConfig::cull_draws`] off the dispatch does not run and
+//! every slot draws: the same batches in the same order, so culling changes only which draws
+//! run. A device without `INDIRECT_FIRST_INSTANCE` draws every slot directly.
+
+mod view_draws;
+
+use std::sync::Arc;
+
+use shaders_gen::culling::instance_cull::{self, CullParams};
+
+use super::Pass;
+use crate::GpuContext;
+use crate::frame_data::{
+    FrameInputs, FrameReport, FrameResources, RenderError, SceneDrawList, SceneDrawReport,
+};
+use crate::graph::{BufferAccess, ImportAccess, RenderGraph};
+use crate::readback_ring::ReadbackRing;
+use crate::shader::ShaderProgram;
+use view_draws::{CullShared, ViewDraws};
+
+/// The scene-culling pass.
+#[derive(Debug)]
+pub struct SceneCullPass {
+    /// The program, the frustum parameters and the counter of slots drawn this frame.
+    shared: CullShared,
+    pipeline: wgpu::ComputePipeline,
+    readback: ReadbackRing,
+    /// The prepared scene's draws on the GPU (built on the first frame of a scene).
+    draws: Option<ViewDraws>,
+    /// Whether the device draws indirectly with a first instance.
+    indirect: bool,
+    /// Whether this frame runs the dispatch.
+    culling: bool,
+    /// The newest count that arrived, and its frame.
+    last_visible: Option<(u64, u32)>,
+    /// For polling the count's readback.
+    device: wgpu::Device,
+}
+
+impl SceneCullPass {
+    pub fn new(gpu: &GpuContext) -> Result<Self, RenderError> {
+        let device = &gpu.device;
+        let variant = instance_cull::variant(instance_cull::VariantKey::ALL[0]);
+        let program = ShaderProgram::new(device, gpu.capabilities(), variant)?;
+        let pipeline = program.compute_pipeline(device, "cull_frustum")?;
+        let params = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("scene cull params"),
+            size: size_of::<CullParams>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let visible = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("scene draws visible"),
+            size: 4,
+            usage: wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::COPY_DST
+                | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        Ok(Self {
+            shared: CullShared {
+                program,
+                params,
+                visible,
+            },
+            pipeline,
+            readback: ReadbackRing::new(device, "scene draws visible", 1),
+            draws: None,
+            indirect: device
+                .features()
+                .contains(wgpu::Features::INDIRECT_FIRST_INSTANCE),
+            culling: false,
+            last_visible: None,
+            device: device.clone(),
+        })
+    }
+}
+
+/// The six planes of `view_projection` (wgpu depth 0..1), inside where `dot(xyz, p) + w >= 0`,
+/// normalised; a degenerate plane (an infinite far plane) keeps everything.
+pub fn frustum_planes(view_projection: glam::Mat4) -> [glam::Vec4; 6] {
+    let m = view_projection.as_dmat4();
+    let row = |i: usize| glam::DVec4::new(m.x_axis[i], m.y_axis[i], m.z_axis[i], m.w_axis[i]);
+    let (r0, r1, r2, r3) = (row(0), row(1), row(2), row(3));
+    [r3 + r0, r3 - r0, r3 + r1, r3 - r1, r2, r3 - r2].map(|p| {
+        let length = p.truncate().length();
+        if length < 1e-12 {
+            glam::Vec4::W
+        } else {
+            (p / length).as_vec4()
+        }
+    })
+}
+
+impl Pass for SceneCullPass {
+    fn name(&self) -> &'static str {
+        "scene culling"
+    }
+
+    fn prepare(&mut self, frame: &FrameInputs) -> Result<(), RenderError> {
+        let gpu = &frame.gpu;
+        let current = self
+            .draws
+            .take()
+            .filter(|d| Arc::ptr_eq(&d.scene, &frame.scene));
+        let mut draws = match current {
+            Some(mut d) => {
+                d.follow_instances(gpu, &self.shared, &frame.instances);
+                d
+            }
+            None => ViewDraws::new(gpu, &self.shared, frame),
+        };
+        self.culling = frame.config.cull_draws && self.indirect && draws.layout.slot_count() > 0;
+        if self.culling {
+            draws.culled();
+        } else {
+            draws.draw_every_slot(&gpu.queue);
+        }
+        let camera = &frame.camera;
+        let [left, right, bottom, top, near, far] = frustum_planes(camera.projection * camera.view);
+        let params = CullParams::new(
+            left,
+            right,
+            bottom,
+            top,
+            near,
+            far,
+            draws.layout.slot_count(),
+            1e-5 * (1.0 + draws.extent),
+            0,
+            0,
+        );
+        gpu.queue
+            .write_buffer(&self.shared.params, 0, bytemuck::bytes_of(&params));
+        self.draws = Some(draws);
+        Ok(())
+    }
+
+    fn add_to_graph(
+        &self,
+        graph: &mut RenderGraph,
+        _frame: &FrameInputs,
+        resources: &mut FrameResources,
+    ) -> Result<(), RenderError> {
+        let draws = self.draws.as_ref().ok_or(RenderError::MissingInput {
+            pass: "scene culling",
+            input: "the scene's draws (built in prepare)",
+        })?;
+        let mut args = resources.import_buffer(
+            graph,
+            "scene draw args",
+            &draws.args,
+            ImportAccess::ReadWrite,
+        );
+        if self.culling {
+            let (pipeline, group) = (self.pipeline.clone(), draws.bind_group.clone());
+            let visible = self.shared.visible.clone();
+            let groups = draws.layout.slot_count().div_ceil(instance_cull::WORKGROUP);
+            graph
+                .add_pass(self.name())
+                .write_buffer(&mut args, BufferAccess::StorageWrite)
+                .execute(move |ctx| {
+                    ctx.encoder.clear_buffer(&visible, 0, None);
+                    let mut pass = ctx.encoder.begin_compute_pass(&Default::default());
+                    pass.set_pipeline(&pipeline);
+                    pass.set_bind_group(0, &group, &[]);
+                    pass.dispatch_workgroups(groups, 1, 1);
+                });
+        }
+        resources.scene_draws = Some(SceneDrawList {
+            layout: Arc::clone(&draws.layout),
+            args,
+            args_buffer: draws.args.clone(),
+            indirect: self.indirect,
+        });
+        Ok(())
+    }
+
+    fn after_execute(
+        &mut self,
+        frame: &FrameInputs,
+        _resources: &FrameResources,
+        encoder: &mut wgpu::CommandEncoder,
+    ) {
+        if self.culling {
+            self.readback
+                .record(encoder, &[(&self.shared.visible, 4)], frame.index);
+        }
+    }
+
+    fn after_submit(&mut self, _frame: &FrameInputs, report: &mut FrameReport) {
+        self.readback.after_submit();
+        report.scene_draws = self.report();
+    }
+}
+
+impl SceneCullPass {
+    /// The scene's draws and the newest culled count that has arrived (polling first).
+    pub fn report(&mut self) -> Option<SceneDrawReport> {
+        if let Some((at, words)) = self.readback.poll(&self.device) {
+            self.last_visible = Some((at, words[0]));
+        }
+        let draws = self.draws.as_ref()?;
+        Some(SceneDrawReport {
+            slots: draws.layout.slot_count(),
+            batches: draws.layout.batches.len() as u32,
+            blended: draws.layout.blended.len() as u32,
+            visible: self
+                .last_visible
+                .filter(|_| self.culling)
+                .map(|(_, visible)| visible),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use super::frustum_planes;
+
+    fn inside(planes: &[glam::Vec4; 6], p: Vec3) -> bool {
+        planes.iter().all(|q| q.truncate().dot(p) + q.w >= 0.0)
+    }
+
+    #[test]
+    fn the_planes_keep_what_projects_into_the_view_and_nothing_else() {
+        let view =
+            glam::camera::rh::view::look_at_mat4(Vec3::new(0.0, 2.0, 10.0), Vec3::ZERO, Vec3::Y);
+        let projection = glam::camera::rh::proj::directx::perspective(1.0, 1.5, 0.5, 50.0);
+        let planes = frustum_planes(projection * view);
+        let clip = |p: Vec3| (projection * view).project_point3(p);
+        // A grid of points: the planes agree with the projection wherever it is unambiguous.
+        for x in -20..=20 {
+            for y in -20..=20 {
+                for z in -60..=12 {
+                    let p = Vec3::new(x as f32, y as f32, z as f32);
+                    let eye_depth = -(view.transform_point3(p).z);
+                    if eye_depth <= 0.0 {
+                        assert!(!inside(&planes, p), "{p} is behind the eye");
+                        continue;
+                    }
+                    let c = clip(p);
+                    let margin = 1e-3;
+                    let clearly_in = c.x.abs() < 1.0 - margin
+                        && c.y.abs() < 1.0 - margin
+                        && c.z > margin
+                        && c.z < 1.0 - margin;
+                    let clearly_out = c.x.abs() > 1.0 + margin
+                        || c.y.abs() > 1.0 + margin
+                        || c.z < -margin
+                        || c.z > 1.0 + margin;
+                    if clearly_in {
+                        assert!(inside(&planes, p), "{p} projects to {c}");
+                    }
+                    if clearly_out {
+                        assert!(!inside(&planes, p), "{p} projects to {c}");
+                    }
+                }
+            }
+        }
+        // An infinite far plane keeps everything in front.
+        let infinite = glam::camera::rh::proj::directx::perspective_infinite(1.0, 1.5, 0.5);
+        let planes = frustum_planes(infinite * view);
+        assert!(inside(&planes, Vec3::new(0.0, 0.0, -1e6)));
+    }
+}

@@ -1,0 +1,89 @@
+//! Culling the scene's draws on the GPU: each draw's world box against a view's frustum,
+//! written straight into the indirect arguments the geometry passes draw with.
+
+/// Frustum culling of the scene's draws for the main view.
+///
+/// The host lays the view's draws out in slots, grouped into batches that share a pipeline and
+/// a material (one multi-draw each), and writes every slot's `DrawIndexedIndirect` arguments
+/// once (five words: index count, instance count, first index, base vertex, first instance =
+/// the draw's index in the `view` library's `DRAWS`). Each frame, `cull_frustum` sets a slot's
+/// instance count to 1 where the draw's world box (`BOXES`, rewritten when an instance moves)
+/// meets the frustum, else 0, and counts the visible slots in `VISIBLE`.
+///
+/// A box is outside when it lies wholly on the outer side of one of the six planes (inside:
+/// `dot(plane.xyz, p) + plane.w >= 0`, planes normalised by the host), tested at the box corner
+/// furthest along the plane's normal, with a slack of `PARAMS.slack` world units so rounding
+/// never removes a box that touches the frustum. An empty box (min above max) is kept.
+#[shader_dsl::shader()]
+pub mod instance_cull {
+    pub const WORKGROUP: u32 = 64;
+
+    /// One view's frustum and the slot count.
+    pub struct CullParams {
+        pub left: Vec4,
+        pub right: Vec4,
+        pub bottom: Vec4,
+        pub top: Vec4,
+        pub near: Vec4,
+        pub far: Vec4,
+        /// Slots to cull (entries of `SLOT_DRAWS`).
+        pub slot_count: u32,
+        /// How far outside a plane a box may reach and still be kept, in world units.
+        pub slack: f32,
+        pub pad0: u32,
+        pub pad1: u32,
+    }
+
+    /// A draw's bounds in world space (`w` unused).
+    pub struct DrawBox {
+        pub min: Vec4,
+        pub max: Vec4,
+    }
+
+    #[uniform(group = 0, binding = 0)]
+    static PARAMS: CullParams;
+    #[storage(group = 0, binding = 1)]
+    static BOXES: [DrawBox];
+    #[storage(group = 0, binding = 2)]
+    static SLOT_DRAWS: [u32];
+    #[storage(group = 0, binding = 3, read_write)]
+    static ARGS: [u32];
+    #[storage(group = 0, binding = 4, read_write)]
+    static VISIBLE: [Atomic<u32>];
+
+    /// Whether `b` reaches the inner side of `plane`.
+    fn reaches(plane: Vec4, b: DrawBox) -> bool {
+        let far_corner = Vec3::new(
+            select(plane.x >= 0.0, b.max.x, b.min.x),
+            select(plane.y >= 0.0, b.max.y, b.min.y),
+            select(plane.z >= 0.0, b.max.z, b.min.z),
+        );
+        plane.xyz().dot(far_corner) + plane.w >= -PARAMS.slack
+    }
+
+    /// Whether `b` meets the frustum.
+    fn in_frustum(b: DrawBox) -> bool {
+        if b.min.x > b.max.x {
+            return true;
+        }
+        reaches(PARAMS.left, b)
+            && reaches(PARAMS.right, b)
+            && reaches(PARAMS.bottom, b)
+            && reaches(PARAMS.top, b)
+            && reaches(PARAMS.near, b)
+            && reaches(PARAMS.far, b)
+    }
+
+    /// One slot: its draw's box against the frustum, into its instance count.
+    #[compute(workgroup_size(64, 1, 1))]
+    pub fn cull_frustum(#[builtin(global_invocation_id)] gid: UVec3) {
+        let slot = gid.x;
+        if slot < PARAMS.slot_count {
+            let visible = in_frustum(BOXES[SLOT_DRAWS[slot]]);
+            ARGS[slot * 5u32 + 1u32] = select(visible, 1u32, 0u32);
+            if visible {
+                VISIBLE[0].fetch_add(1);
+            }
+        }
+    }
+}

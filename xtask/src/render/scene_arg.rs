@@ -1,0 +1,64 @@
+//! What a tool's `--scene` opens: a built-in scene by name (`courtyard`, `city:N`) or a glTF
+//! file, with where procedural lights go in it.
+
+use std::path::Path;
+
+use anyhow::{Context as _, Result, bail};
+use renderer::frame::setup::light_space;
+use renderer::scene::procedural::{BuiltinScene, builtin};
+use renderer::scene::{Aabb, Scene};
+
+/// The `--scene` name of the built-in scene.
+pub const BUILTIN_SCENE: &str = "courtyard";
+
+/// A scene a tool opened.
+pub struct OpenedScene {
+    pub scene: Scene,
+    /// The file, or the built-in scene's name.
+    pub name: String,
+    pub light_region: Aabb,
+    pub light_radii: (f32, f32),
+    /// The courtyard, which has its own look.
+    pub courtyard: bool,
+}
+
+/// Opens `arg`: none or `courtyard` is the built-in courtyard, `city:N` a generated city, and
+/// anything else a `.gltf` or `.glb` file (its warnings printed).
+pub fn open_scene(arg: Option<&Path>) -> Result<OpenedScene> {
+    let name = arg.map_or(BUILTIN_SCENE.into(), |p| p.to_string_lossy().into_owned());
+    if let Some(b) = builtin(&name).map_err(|e| anyhow::anyhow!("--scene {e}"))? {
+        let BuiltinScene {
+            scene,
+            light_region,
+            light_radii,
+            courtyard,
+        } = b;
+        return Ok(OpenedScene {
+            scene,
+            name,
+            light_region,
+            light_radii,
+            courtyard,
+        });
+    }
+    let path = Path::new(&name);
+    if !path.is_file() {
+        bail!(
+            "--scene {name}: no such file (give a .gltf or .glb file, {}, or city:N for a \
+             generated city of N instances)",
+            BUILTIN_SCENE
+        );
+    }
+    let scene = Scene::load(path).with_context(|| format!("--scene {name}: cannot load it"))?;
+    for warning in &scene.warnings {
+        eprintln!("warning: {name}: {warning}");
+    }
+    let (light_region, light_radii) = light_space(&scene, false);
+    Ok(OpenedScene {
+        scene,
+        name,
+        light_region,
+        light_radii,
+        courtyard: false,
+    })
+}
