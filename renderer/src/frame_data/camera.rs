@@ -78,6 +78,38 @@ impl FrameCamera {
             self.eye.extend(1.0)
         }
     }
+
+    /// The six planes of the view frustum ([`frustum_planes`] of view-projection).
+    pub fn frustum_planes(&self) -> [glam::Vec4; 6] {
+        frustum_planes(self.projection * self.view)
+    }
+}
+
+/// The six planes of `view_projection` (wgpu depth 0..1), inside where `dot(xyz, p) + w >= 0`,
+/// normalised; a degenerate plane (an infinite far plane) keeps everything.
+pub fn frustum_planes(view_projection: glam::Mat4) -> [glam::Vec4; 6] {
+    let m = view_projection.as_dmat4();
+    let row = |i: usize| glam::DVec4::new(m.x_axis[i], m.y_axis[i], m.z_axis[i], m.w_axis[i]);
+    let (r0, r1, r2, r3) = (row(0), row(1), row(2), row(3));
+    [r3 + r0, r3 - r0, r3 + r1, r3 - r1, r2, r3 - r2].map(|p| {
+        let length = p.truncate().length();
+        if length < 1e-12 {
+            glam::Vec4::W
+        } else {
+            (p / length).as_vec4()
+        }
+    })
+}
+
+/// Whether `b` reaches the inner side of every plane of `planes` (tested at its corner furthest
+/// along each plane's normal), `slack` world units outside counting as inside. An empty box is
+/// kept.
+pub fn box_in_frustum(planes: &[glam::Vec4; 6], b: crate::scene::Aabb, slack: f32) -> bool {
+    b.is_empty()
+        || planes.iter().all(|q| {
+            let corner = glam::Vec3::select(q.truncate().cmpge(glam::Vec3::ZERO), b.max, b.min);
+            q.truncate().dot(corner) + q.w >= -slack
+        })
 }
 
 /// How far `p` lies from the camera whose homogeneous eye is `eye` (see

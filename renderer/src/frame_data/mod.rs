@@ -19,7 +19,7 @@ mod report;
 mod resources;
 mod scene;
 
-pub use camera::{CameraUniform, FrameCamera, farness};
+pub use camera::{CameraUniform, FrameCamera, box_in_frustum, farness, frustum_planes};
 pub use config::{
     Ambient, DEFAULT_LIGHT_CUTOFF, EdgeThresholds, FrameView, ParticleLighting, RenderPath,
     RendererConfig,

@@ -26,8 +26,9 @@ pub(super) fn markdown(records: &[CellRecord]) -> String {
     }
     let mut out = String::from(
         "\n## Cost against scene size (generated city)\n\nThe same street camera over cities of \
-         growing size (`--scene city:N`). Drawn = draws (one per instance primitive) the GPU culling \
-         kept in the last timed frame (blended draws are always drawn), or all with culling off. CPU = the renderer's CPU per frame: prepare (uniforms, \
+         growing size (`--scene city:N`). Drawn = the opaque and masked draws (one per instance \
+         primitive) the GPU culling kept in the last timed frame, plus every blended draw (those \
+         are culled against the frustum on the CPU, uncounted), or all with culling off. CPU = the renderer's CPU per frame: prepare (uniforms, \
          culling items, shadow planning), record (build, compile and encode the frame graph) and \
          submit, medians in ms. GPU = timestamps, median ms; geometry = pre-Z + G-buffer \
          (deferred paths) or forward.\n\n",

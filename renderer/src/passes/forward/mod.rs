@@ -23,8 +23,8 @@ use super::{
 };
 use crate::GpuContext;
 use crate::frame_data::{
-    DEPTH_FORMAT, FrameInputs, FrameResources, HDR_FORMAT, PreparedScene, RenderError, RenderPath,
-    RendererConfig, SceneDrawList,
+    DEPTH_FORMAT, FrameInputs, FrameResources, HDR_FORMAT, InstanceState, PreparedScene,
+    RenderError, RenderPath, RendererConfig, SceneDrawList, box_in_frustum,
 };
 use crate::graph::{BufferAccess, Handle, RenderGraph, Texture, TextureAccess, TextureDesc};
 use crate::scene::VertexStreams;
@@ -177,14 +177,34 @@ fn pipeline(
     )
 }
 
-/// The blended draws `blended` back to front from the homogeneous eye `eye`
-/// ([`crate::frame_data::FrameCamera::eye_homogeneous`]): by distance from a perspective
-/// camera's eye, by depth along an orthographic camera's parallel rays. Ties keep scene order.
-pub(crate) fn blended_order(scene: &PreparedScene, blended: &[u32], eye: glam::Vec4) -> Vec<u32> {
-    let farness = |d: u32| crate::frame_data::farness(eye, scene.draws[d as usize].center);
-    let mut order = blended.to_vec();
-    order.sort_by(|&a, &b| farness(b).total_cmp(&farness(a)));
-    order
+/// The blended draws of `blended` (those that meet `camera`'s frustum, with `cull`), back to
+/// front from its
+/// homogeneous eye ([`crate::frame_data::FrameCamera::eye_homogeneous`]): by distance from a
+/// perspective camera's eye, by depth along an orthographic camera's parallel rays, each draw
+/// where its instance is now. Ties keep scene order.
+pub(crate) fn blended_order(
+    scene: &PreparedScene,
+    instances: &[InstanceState],
+    blended: &[u32],
+    camera: &crate::frame_data::FrameCamera,
+    cull: bool,
+) -> Vec<u32> {
+    let planes = camera.frustum_planes();
+    let eye = camera.eye_homogeneous();
+    let mut order: Vec<(f32, u32)> = blended
+        .iter()
+        .filter_map(|&d| {
+            let draw = &scene.draws[d as usize];
+            let world = instances.get(draw.instance).map_or(draw.local_bounds, |i| {
+                draw.local_bounds.transformed(i.world_from_mesh)
+            });
+            let slack = 1e-4 * (world.max - world.min).length();
+            (!cull || box_in_frustum(&planes, world, slack))
+                .then(|| (crate::frame_data::farness(eye, world.center()), d))
+        })
+        .collect();
+    order.sort_by(|a, b| b.0.total_cmp(&a.0));
+    order.into_iter().map(|(_, d)| d).collect()
 }
 
 /// The colour and depth targets of the pass.
@@ -301,7 +321,13 @@ impl ForwardPass {
         let expand = self.expand.clone();
         let (scene, instances) = (Arc::clone(&frame.scene), Arc::clone(&frame.instances));
         // Sorted on the CPU every frame: only the blended draws.
-        let blended = blended_order(&scene, &list.layout.blended, frame.camera.eye_homogeneous());
+        let blended = blended_order(
+            &scene,
+            &instances,
+            &list.layout.blended,
+            &frame.camera,
+            frame.config.cull_draws,
+        );
         let sky = sky_color(frame.config.sky);
         move |ctx| {
             let frame_group = group.bind_group(ctx, &layout, "forward frame");
@@ -354,26 +380,43 @@ impl ForwardPass {
                 pass.draw(0..3, 0..1);
             }
             pass.set_bind_group(0, &frame_group, &[]);
-            let mut draws = SceneDraws::new(&mut pass, &scene, VertexStreams::Forward);
             // Over a deferred image only the blended surfaces are left to draw.
-            if targets.over.is_none() {
-                draws.draw_batches(&list, &scene, |batch| {
-                    let (sided, mirrored) = (batch.double_sided, batch.mirrored);
-                    let pipeline = face_pipeline(&pipelines[0], sided, mirrored);
-                    (pipeline, Some(&scene.materials[batch.material].bind_group))
-                });
-            }
-            for d in blended {
-                let draw = &scene.draws[d as usize];
-                let material = &scene.materials[draw.material];
-                let pipeline = face_pipeline(
-                    &pipelines[1],
-                    material.double_sided,
-                    draw.mirrored(&instances),
-                );
-                draws.draw(pipeline, Some(&material.bind_group), draw.geometry, d);
-            }
+            let opaque = targets.over.is_none();
+            draw_scene(
+                &mut pass, &scene, &instances, &list, &pipelines, opaque, &blended,
+            );
         }
+    }
+}
+
+/// Records the scene into the forward pass: with `opaque`, the opaque and masked batches of
+/// `list`; then the blended draws of `blended`, in that order.
+fn draw_scene<'a>(
+    pass: &mut wgpu::RenderPass<'a>,
+    scene: &'a PreparedScene,
+    instances: &[InstanceState],
+    list: &'a SceneDrawList,
+    pipelines: &'a [FacePipelines; 2],
+    opaque: bool,
+    blended: &[u32],
+) {
+    let mut draws = SceneDraws::new(pass, scene, VertexStreams::Forward);
+    if opaque {
+        draws.draw_batches(list, scene, |batch| {
+            let (sided, mirrored) = (batch.double_sided, batch.mirrored);
+            let pipeline = face_pipeline(&pipelines[0], sided, mirrored);
+            (pipeline, Some(&scene.materials[batch.material].bind_group))
+        });
+    }
+    for &d in blended {
+        let draw = &scene.draws[d as usize];
+        let material = &scene.materials[draw.material];
+        let pipeline = face_pipeline(
+            &pipelines[1],
+            material.double_sided,
+            draw.mirrored(instances),
+        );
+        draws.draw(pipeline, Some(&material.bind_group), draw.geometry, d);
     }
 }
 

@@ -86,22 +86,6 @@ impl SceneCullPass {
     }
 }
 
-/// The six planes of `view_projection` (wgpu depth 0..1), inside where `dot(xyz, p) + w >= 0`,
-/// normalised; a degenerate plane (an infinite far plane) keeps everything.
-pub fn frustum_planes(view_projection: glam::Mat4) -> [glam::Vec4; 6] {
-    let m = view_projection.as_dmat4();
-    let row = |i: usize| glam::DVec4::new(m.x_axis[i], m.y_axis[i], m.z_axis[i], m.w_axis[i]);
-    let (r0, r1, r2, r3) = (row(0), row(1), row(2), row(3));
-    [r3 + r0, r3 - r0, r3 + r1, r3 - r1, r2, r3 - r2].map(|p| {
-        let length = p.truncate().length();
-        if length < 1e-12 {
-            glam::Vec4::W
-        } else {
-            (p / length).as_vec4()
-        }
-    })
-}
-
 impl Pass for SceneCullPass {
     fn name(&self) -> &'static str {
         "scene culling"
@@ -127,7 +111,7 @@ impl Pass for SceneCullPass {
             draws.draw_every_slot(&gpu.queue);
         }
         let camera = &frame.camera;
-        let [left, right, bottom, top, near, far] = frustum_planes(camera.projection * camera.view);
+        let [left, right, bottom, top, near, far] = camera.frustum_planes();
         let params = CullParams::new(
             left,
             right,
@@ -227,7 +211,7 @@ impl SceneCullPass {
 mod tests {
     use glam::Vec3;
 
-    use super::frustum_planes;
+    use crate::frame_data::frustum_planes;
 
     fn inside(planes: &[glam::Vec4; 6], p: Vec3) -> bool {
         planes.iter().all(|q| q.truncate().dot(p) + q.w >= 0.0)

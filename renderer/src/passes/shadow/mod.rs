@@ -46,6 +46,18 @@ pub struct ShadowPass {
     uploaded: Vec<forward::ShadowView>,
     /// Where each region's casts start in the cast buffer (this frame's plan).
     first_casts: Vec<[u32; 2]>,
+    /// The casters of the scene and instances they were built from, kept while neither
+    /// changes, so a frame where nothing moved does not walk the scene's draws.
+    casters: Option<CasterCache>,
+}
+
+/// A scene's shadow casters where its instances were.
+#[derive(Debug)]
+struct CasterCache {
+    scene: Arc<crate::frame_data::PreparedScene>,
+    instances: Arc<Vec<crate::frame_data::InstanceState>>,
+    casters: Vec<Caster>,
+    bounds: Aabb,
 }
 
 impl ShadowPass {
@@ -74,6 +86,7 @@ impl ShadowPass {
             written: None,
             uploaded: Vec::new(),
             first_casts: Vec::new(),
+            casters: None,
         })
     }
 
@@ -159,6 +172,26 @@ fn view_record(v: &ViewRecord) -> forward::ShadowView {
     )
 }
 
+impl ShadowPass {
+    /// Keeps the cached casters while the scene and its instances are the ones they were built
+    /// from, else builds them afresh.
+    fn refresh_casters(&mut self, frame: &FrameInputs) {
+        let current = self.casters.take().filter(|c| {
+            Arc::ptr_eq(&c.scene, &frame.scene) && Arc::ptr_eq(&c.instances, &frame.instances)
+        });
+        self.casters = Some(current.unwrap_or_else(|| {
+            let casters = casters(frame);
+            let bounds = casters.iter().fold(Aabb::EMPTY, |b, c| b.union(c.bounds));
+            CasterCache {
+                scene: Arc::clone(&frame.scene),
+                instances: Arc::clone(&frame.instances),
+                casters,
+                bounds,
+            }
+        }));
+    }
+}
+
 /// The frame's shadow casters: every draw that is not blended, where its instance is now.
 fn casters(frame: &FrameInputs) -> Vec<Caster> {
     let scene = &frame.scene;
@@ -191,8 +224,21 @@ impl Pass for ShadowPass {
             return Ok(());
         }
         let started = std::time::Instant::now();
-        let casters = casters(frame);
-        let scene_bounds = casters.iter().fold(Aabb::EMPTY, |b, c| b.union(c.bounds));
+        let lights = &frame.lights;
+        let shadowed = lights
+            .punctual_sources
+            .iter()
+            .chain(&lights.directional_sources)
+            .any(|l| l.casts_shadow);
+        // Without a light that casts a shadow the plan has no region: no caster is needed, and
+        // the scene's draws are not walked.
+        if shadowed {
+            self.refresh_casters(frame);
+        }
+        let (casters, scene_bounds) = match &self.casters {
+            Some(c) if shadowed => (c.casters.as_slice(), c.bounds),
+            _ => (&[][..], Aabb::EMPTY),
+        };
         let inputs = PlanInputs {
             config,
             punctual: &frame.lights.punctual_sources,
@@ -202,7 +248,7 @@ impl Pass for ShadowPass {
             camera_near: frame.camera.near,
             viewport_height: frame.config.height as f32,
             scene_bounds,
-            casters: &casters,
+            casters,
         };
         self.plan = self.planner.plan(&inputs);
         self.upload_views(frame);
