@@ -3,12 +3,12 @@
 //! The bytes are loaded as a self-contained scene ([`Scene::from_slice`]: a GLB, or a `.gltf`
 //! with `data:` URIs). A scene that loads is checked against WebGPU's default limits (what
 //! `Renderer::prepare_scene` checks against the device's) and, when it fits, prepared as the
-//! renderer would before allocating: the draw list with its uniforms, the material uniforms and
-//! the instance states. Any error must be a `SceneError` with a message; the prepared data must
-//! be consistent with the scene.
+//! renderer would before allocating: the draw list with its uniforms and the material uniforms.
+//! Any error must be a `SceneError` with a message; the prepared data must be consistent with
+//! the scene.
 
 use renderer::frame_data::{
-    DEFAULT_LIGHT_CUTOFF, InstanceState, draw_plan, material_uniform, with_effective_ranges,
+    DEFAULT_LIGHT_CUTOFF, draw_plan, material_uniform, with_effective_ranges,
 };
 use renderer::scene::Scene;
 
@@ -47,7 +47,6 @@ pub fn run(data: &[u8]) {
     for m in &scene.materials {
         let _ = material_uniform(m);
     }
-    assert_eq!(InstanceState::of_scene(&scene).len(), scene.instances.len());
     let _ = scene.triangle_count();
     for light in with_effective_ranges(&scene.lights, DEFAULT_LIGHT_CUTOFF) {
         if let Some(r) = light.range {

@@ -10,7 +10,21 @@ pub fn read_texture_rgba8(
     queue: &wgpu::Queue,
     texture: &wgpu::Texture,
 ) -> Result<Vec<u8>, GpuError> {
-    let (width, height) = (texture.width(), texture.height());
+    read_texture_level(device, queue, texture, 0)
+}
+
+/// Reads mip level `level` of a 4-bytes-per-texel 2D texture (`Rgba8Unorm`, `R32Float`, …)
+/// into tightly packed rows.
+pub fn read_texture_level(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+    level: u32,
+) -> Result<Vec<u8>, GpuError> {
+    let size = texture
+        .size()
+        .mip_level_size(level, wgpu::TextureDimension::D2);
+    let (width, height) = (size.width, size.height);
     let row_bytes = width * 4;
     let padded_row =
         row_bytes.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
@@ -24,7 +38,10 @@ pub fn read_texture_rgba8(
         label: Some("readback texture"),
     });
     encoder.copy_texture_to_buffer(
-        texture.as_image_copy(),
+        wgpu::TexelCopyTextureInfo {
+            mip_level: level,
+            ..texture.as_image_copy()
+        },
         wgpu::TexelCopyBufferInfo {
             buffer: &staging,
             layout: wgpu::TexelCopyBufferLayout {
@@ -33,7 +50,7 @@ pub fn read_texture_rgba8(
                 rows_per_image: Some(height),
             },
         },
-        texture.size(),
+        size,
     );
     queue.submit([encoder.finish()]);
     let padded = map_and_copy(device, &staging)?;

@@ -3,7 +3,14 @@
 //! MSAA 1 and 4 (the deferred paths are compared in `tbdr_gpu`); culling on equals culling off,
 //! pixel for pixel, over a scripted camera flight (the first frame, a fast turn, a walk that
 //! brings buildings in from off screen) while culling does leave draws out; and instances moved
-//! by handle (into view, out of it, mirrored) render the same as a city built with them there.
+//! by handle (into view, out of it, mirrored) render the same as a city built with them there;
+//! instances added and removed by handle likewise (`edits`); occlusion culling hides what a
+//! wall hides and nothing visible (`occlusion`).
+
+#[path = "gpu_driven_gpu/edits.rs"]
+mod edits;
+#[path = "gpu_driven_gpu/occlusion.rs"]
+mod occlusion;
 
 use glam::{Mat4, Vec3};
 use renderer::GpuContext;
@@ -57,7 +64,7 @@ fn the_city_culled_equals_naive_at_msaa_1_and_4() {
                     .report
                     .scene_draws
                     .expect("the scene's draws are reported");
-                let all = draws.slots + draws.blended;
+                let all = draws.draws + draws.blended;
                 assert_eq!(all, 1_500, "{path:?}: one draw per instance");
                 f.rgba
             };
@@ -159,9 +166,9 @@ fn culling_on_equals_culling_off_over_a_camera_flight() {
                 // The count arrives a frame or more late; the last frames have one.
                 if let Some(visible) = report.visible {
                     assert!(
-                        visible < report.slots / 2,
+                        visible < report.draws / 2,
                         "{path:?}, frame {i}: culling kept {visible} of {} draws",
-                        report.slots
+                        report.draws
                     );
                 }
             }
@@ -231,7 +238,10 @@ fn instances_moved_by_handle_render_as_a_city_built_with_them_there() {
             renderer.set_lights(&lights).expect("lights fit");
             let before = render_one_frame(gpu, &mut renderer, &camera).rgba;
             for &(i, m) in &moves {
-                renderer.set_instance_transform(i, m).expect("an instance");
+                let handle = renderer.scene_instance(i).expect("an instance");
+                renderer
+                    .set_instance_transform(handle, m)
+                    .expect("a live instance");
             }
             let moved = render_one_frame(gpu, &mut renderer, &camera).rgba;
             let expected = render_frame_from(gpu, &built, config, &lights, &camera).rgba;

@@ -328,11 +328,14 @@ fn a_moving_dynamic_caster_recomposes_only_the_regions_it_reaches() {
         let mut s = Session::new(gpu, cache_config(true), &lights);
         let (_, r1) = s.frame();
         let total = regions(&r1);
-        s.renderer.set_instance_dynamic(1, true).expect("instance");
+        let the_box = s.renderer.scene_instance(1).expect("instance 1");
+        s.renderer
+            .set_instance_dynamic(the_box, true)
+            .expect("instance");
         let (_, r2) = s.frame();
         let box_from = s.renderer.instances()[1].world_from_mesh;
         s.renderer
-            .set_instance_transform(1, moved(box_from))
+            .set_instance_transform(the_box, moved(box_from))
             .expect("instance");
         let (cached, r3) = s.frame();
         eprintln!(
@@ -355,13 +358,14 @@ fn a_moving_dynamic_caster_recomposes_only_the_regions_it_reaches() {
         }
 
         let mut fresh = Session::new(gpu, cache_config(false), &lights);
+        let the_box = fresh.renderer.scene_instance(1).expect("instance 1");
         fresh
             .renderer
-            .set_instance_dynamic(1, true)
+            .set_instance_dynamic(the_box, true)
             .expect("instance");
         fresh
             .renderer
-            .set_instance_transform(1, moved(box_from))
+            .set_instance_transform(the_box, moved(box_from))
             .expect("instance");
         let (uncached, r) = fresh.frame();
         assert_eq!(r.resolution_histogram, r3.resolution_histogram);

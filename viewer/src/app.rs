@@ -4,6 +4,7 @@
 //! edit shown). What the settings keys, reloads and resizes do to the running state is in
 //! [`settings`].
 
+mod edits;
 mod settings;
 
 use std::sync::Arc;
@@ -61,6 +62,8 @@ struct Running {
     last: Instant,
     light_count: usize,
     message: Option<String>,
+    /// Instances added with `I` (kept across renderer rebuilds).
+    added: edits::Added,
 }
 
 impl App {
@@ -189,6 +192,7 @@ impl App {
             last: Instant::now(),
             light_count: self.args.lights,
             message: None,
+            added: edits::Added::default(),
             gpu,
             surface,
             surface_config,

@@ -78,6 +78,7 @@ fn scene(count: u32, bench: &Bench) -> Result<Setup> {
         adapter: None,
         msaa_fallback: false,
         no_cull_draws: false,
+        no_occlusion: false,
     };
     setup(&args)
 }

@@ -70,6 +70,7 @@ pub fn run(args: &Args) -> Result<()> {
         adapter: args.adapter.clone(),
         msaa_fallback: true,
         no_cull_draws: false,
+        no_occlusion: false,
     };
     let started = std::time::Instant::now();
     let mut s = setup(&render)?;
@@ -208,9 +209,10 @@ fn moving_sphere(s: &Setup) -> Result<[ShadowReport; 3]> {
     renderer.prepare_scene(&s.scene)?;
     renderer.set_lights(&s.lights)?;
     let sphere = moving_instance(&s.scene).context("the courtyard has instances")?;
+    let start = s.scene.instances[sphere].world_from_mesh;
+    let sphere = renderer.scene_instance(sphere)?;
     renderer.set_instance_dynamic(sphere, true)?;
     let target = create_target(&s.gpu.device, &s.config);
-    let start = s.scene.instances[sphere].world_from_mesh;
     let mut reports = Vec::new();
     for offset in [0.0, 0.0, 0.6] {
         let moved = Mat4::from_translation(Vec3::new(0.0, offset, 0.0)) * start;

@@ -52,15 +52,16 @@ use std::sync::Arc;
 use std::time::Instant;
 
 pub use crate::frame_data::{
-    Ambient, DrawItem, FrameCamera, FrameReport, FrameView, ParticleLighting, ParticleReport,
-    PreparedMaterial, PreparedScene, RenderError, RenderPath, RendererConfig,
+    Ambient, DrawItem, FrameCamera, FrameReport, FrameView, InstanceHandle, InstanceState,
+    ParticleLighting, ParticleReport, PreparedMaterial, PreparedScene, RenderError, RenderPath,
+    RendererConfig,
 };
 pub use crate::passes::light_cull::Culler;
 
 use crate::GpuContext;
 use crate::decals::{DecalAtlasConfig, DecalSet};
 use crate::frame_data::{
-    CameraUniform, FrameInputs, FrameResources, GpuDecals, InstanceState, LightSet, ParticleInput,
+    CameraUniform, FrameInputs, FrameResources, GpuDecals, InstanceTable, LightSet, ParticleInput,
     with_effective_ranges,
 };
 use crate::graph::{ImportAccess, PassTiming, RenderGraph, TextureDesc, TransientPool};
@@ -80,9 +81,8 @@ pub struct Renderer {
     gpu: GpuContext,
     config: RendererConfig,
     passes: Vec<Box<dyn Pass>>,
-    scene: Option<Arc<PreparedScene>>,
-    /// Where each instance of the scene is, and which move (`motion`).
-    instances: Arc<Vec<InstanceState>>,
+    /// The scene, and its instances (edited by handle in `motion`).
+    scene: Option<(Arc<PreparedScene>, Arc<InstanceTable>)>,
     lights: Arc<LightSet>,
     decals: Arc<GpuDecals>,
     particles: Option<ParticleInput>,
@@ -134,7 +134,6 @@ impl Renderer {
             gpu: gpu.clone(),
             config,
             scene: None,
-            instances: Arc::new(Vec::new()),
             lights: Arc::new(LightSet::new(&gpu.device, &[])),
             decals: Arc::new(GpuDecals::empty(&gpu.device, &gpu.queue)),
             particles: None,
@@ -157,18 +156,23 @@ impl Renderer {
     /// stays.
     pub fn prepare_scene(&mut self, scene: &Scene) -> Result<(), RenderError> {
         scene.check_for_device(&self.gpu.device.limits())?;
-        self.scene = Some(PreparedScene::new(&self.gpu.device, &self.gpu.queue, scene));
-        self.instances = Arc::new(InstanceState::of_scene(scene));
+        let prepared = PreparedScene::new(&self.gpu.device, &self.gpu.queue, scene);
+        let instances = InstanceTable::new(&self.gpu, &prepared, scene);
+        self.scene = Some((prepared, Arc::new(instances)));
         Ok(())
     }
 
-    /// Replaces the lights (scene lights and any procedural ones), effective next frame. A point
+    /// Replaces the lights (scene lights and any procedural ones), effective next frame; they
+    /// are written into the current light buffers where they fit, so moving lights every frame
+    /// allocates nothing. A point
     /// or spot light without a range gets the effective range where its illuminance falls to
     /// [`RendererConfig::light_cutoff`] (after exposure).
     pub fn set_lights(&mut self, lights: &[SceneLight]) -> Result<(), RenderError> {
         let cutoff = self.config.light_cutoff / self.config.exposure.max(f32::MIN_POSITIVE);
         let lights = with_effective_ranges(lights, cutoff);
-        self.lights = Arc::new(LightSet::checked(&self.gpu.device, &lights)?);
+        let gpu = &self.gpu;
+        let set = LightSet::checked(&gpu.device, &gpu.queue, &lights, Some(&self.lights))?;
+        self.lights = Arc::new(set);
         Ok(())
     }
 
@@ -266,7 +270,7 @@ impl Renderer {
         &mut self,
         camera: &FrameCamera,
         target: &wgpu::Texture,
-        scene: Arc<PreparedScene>,
+        (scene, instances): (Arc<PreparedScene>, Arc<InstanceTable>),
     ) -> Result<FrameReport, RenderError> {
         self.frame_index += 1;
         let frame = FrameInputs {
@@ -274,7 +278,7 @@ impl Renderer {
             config: self.config,
             camera: *camera,
             scene,
-            instances: Arc::clone(&self.instances),
+            instances,
             lights: Arc::clone(&self.lights),
             decals: Arc::clone(&self.decals),
             particles: self.particles.clone(),

@@ -1,60 +1,108 @@
-//! Moving scene instances: which instances are dynamic (shadow casters drawn over the static
-//! cache every frame) and where they are.
+//! Editing the scene's instances between frames, by handle: add an instance of a mesh, remove
+//! one, move one, mark one dynamic (its shadows drawn over the static cache each frame).
+//!
+//! Each edit writes what it changes to the GPU (the instance's draw records) and nothing else;
+//! the passes follow on the next frame from the instances whose version moved
+//! ([`crate::frame_data::InstanceTable`]).
 
 use std::sync::Arc;
 
 use glam::Mat4;
 
 use super::Renderer;
-use crate::frame_data::{InstanceState, RenderError};
+use crate::frame_data::{
+    InstanceEditError, InstanceHandle, InstanceState, InstanceTable, RenderError,
+};
 
 impl Renderer {
-    /// The instances of the prepared scene (nodes with a mesh, in `Scene::instances` order).
+    /// The instance slots of the prepared scene: its nodes with a mesh in `Scene::instances`
+    /// order, then the slots of added instances. A removed instance's slot stays, with
+    /// `live` false, until an instance of the same mesh is added.
     pub fn instances(&self) -> &[InstanceState] {
-        &self.instances
+        self.scene.as_ref().map_or(&[], |(_, table)| &table.states)
     }
 
-    /// Marks instance `index` dynamic (its shadows are redrawn over the static cache each frame
-    /// they can change) or static (cached with the scene). Instances start static.
-    pub fn set_instance_dynamic(&mut self, index: usize, dynamic: bool) -> Result<(), RenderError> {
-        let state = self.instance_mut(index)?;
-        if state.dynamic != dynamic {
-            state.dynamic = dynamic;
-            state.version += 1;
-        }
-        Ok(())
+    /// The handle of the prepared scene's instance `index` (`Scene::instances` order), while
+    /// it is in the scene.
+    pub fn scene_instance(&self, index: usize) -> Result<InstanceHandle, RenderError> {
+        let table = self.table()?;
+        table.handle(index).ok_or(RenderError::NoSuchInstance {
+            index,
+            count: table.states.len(),
+        })
     }
 
-    /// Moves instance `index` to `world_from_mesh`, from the next frame. Moving a static
+    /// The instance `handle` names, if it is still in the scene.
+    pub fn instance(&self, handle: InstanceHandle) -> Option<&InstanceState> {
+        self.scene.as_ref()?.1.get(handle)
+    }
+
+    /// Adds an instance of the prepared scene's mesh `mesh` at `world_from_mesh`, static,
+    /// from the next frame. It takes the slot and draws of a removed instance of the same mesh
+    /// where there is one; nothing else is uploaded again.
+    pub fn add_instance(
+        &mut self,
+        mesh: usize,
+        world_from_mesh: Mat4,
+    ) -> Result<InstanceHandle, RenderError> {
+        let gpu = self.gpu.clone();
+        let (prepared, table) = self.scene.as_mut().ok_or(RenderError::NoScene)?;
+        let table = Arc::make_mut(table);
+        table
+            .add(&gpu, prepared, mesh, world_from_mesh, false)
+            .map_err(|e| edit_error(e, 0))
+    }
+
+    /// Removes `handle`'s instance from the next frame; the handle is refused from now on.
+    pub fn remove_instance(&mut self, handle: InstanceHandle) -> Result<(), RenderError> {
+        self.table_mut()?
+            .remove(handle)
+            .map_err(|e| edit_error(e, handle.index()))
+    }
+
+    /// Marks `handle`'s instance dynamic (its shadows are redrawn over the static cache each
+    /// frame they can change) or static (cached with the scene). Instances start static.
+    pub fn set_instance_dynamic(
+        &mut self,
+        handle: InstanceHandle,
+        dynamic: bool,
+    ) -> Result<(), RenderError> {
+        self.table_mut()?
+            .set_dynamic(handle, dynamic)
+            .map_err(|e| edit_error(e, handle.index()))
+    }
+
+    /// Moves `handle`'s instance to `world_from_mesh`, from the next frame. Moving a static
     /// instance invalidates the cached shadows of every light it can reach; mark instances that
     /// move often dynamic.
     pub fn set_instance_transform(
         &mut self,
-        index: usize,
+        handle: InstanceHandle,
         world_from_mesh: Mat4,
     ) -> Result<(), RenderError> {
-        let state = self.instance_mut(index)?;
-        if state.world_from_mesh == world_from_mesh {
-            return Ok(());
-        }
-        state.world_from_mesh = world_from_mesh;
-        state.version += 1;
-        if let Some(scene) = &self.scene {
-            let stride = size_of::<shaders_gen::forward::forward::Draw>() as u64;
-            for d in scene.draws_of_instance(index) {
-                let record = scene.draws[d].uniform(world_from_mesh);
-                let at = d as u64 * stride;
-                let bytes = bytemuck::bytes_of(&record);
-                self.gpu.queue.write_buffer(&scene.draw_records, at, bytes);
-            }
-        }
-        Ok(())
+        let gpu = self.gpu.clone();
+        self.table_mut()?
+            .set_transform(&gpu, handle, world_from_mesh)
+            .map_err(|e| edit_error(e, handle.index()))
     }
 
-    fn instance_mut(&mut self, index: usize) -> Result<&mut InstanceState, RenderError> {
-        let count = self.instances.len();
-        Arc::make_mut(&mut self.instances)
-            .get_mut(index)
-            .ok_or(RenderError::NoSuchInstance { index, count })
+    fn table(&self) -> Result<&InstanceTable, RenderError> {
+        self.scene
+            .as_ref()
+            .map(|(_, t)| t.as_ref())
+            .ok_or(RenderError::NoScene)
+    }
+
+    fn table_mut(&mut self) -> Result<&mut InstanceTable, RenderError> {
+        let (_, table) = self.scene.as_mut().ok_or(RenderError::NoScene)?;
+        Ok(Arc::make_mut(table))
+    }
+}
+
+fn edit_error(e: InstanceEditError, index: usize) -> RenderError {
+    match e {
+        InstanceEditError::Stale => RenderError::StaleInstance { index },
+        InstanceEditError::NoSuchMesh { mesh, count } => RenderError::NoSuchMesh { mesh, count },
+        InstanceEditError::NotFinite => RenderError::NotFiniteTransform,
     }
 }

@@ -11,12 +11,15 @@ use crate::passes::light_cull::LightCullPass;
 use crate::passes::particles::{ParticleDrawPass, ParticleLightPass, ParticleSimPass};
 use crate::passes::prez::PrezPass;
 use crate::passes::scene_cull::SceneCullPass;
+use crate::passes::scene_cull::occlusion::OcclusionCullPass;
 use crate::passes::shadow::{ShadowAtlasViewPass, ShadowPass};
 use crate::passes::tonemap::TonemapPass;
 
 /// The ordered passes of `config`:
 ///
-/// Scene culling comes first on every path (the geometry passes draw its batches).
+/// Scene culling comes first on every path (the geometry passes draw its batches). With
+/// occlusion culling (`cull_draws` and `occlusion_cull`), pre-Z is followed by occlusion
+/// culling and the late pre-Z.
 ///
 /// | path | passes |
 /// |---|---|
@@ -46,6 +49,10 @@ pub fn passes_for(
     let mut passes: Vec<Box<dyn Pass>> = vec![Box::new(SceneCullPass::new(gpu)?)];
     if config.path.has_prepass() {
         passes.push(Box::new(PrezPass::new(gpu, config)?));
+        if config.cull_draws && config.occlusion_cull {
+            passes.push(Box::new(OcclusionCullPass::new(gpu, config)?));
+            passes.push(Box::new(PrezPass::late(gpu, config)?));
+        }
     }
     if config.path.is_culled() {
         passes.push(Box::new(LightCullPass::new(gpu)));

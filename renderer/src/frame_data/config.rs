@@ -260,6 +260,12 @@ pub struct RendererConfig {
     /// draw them (`passes::scene_cull`). Off, every draw is drawn, in the same batches and
     /// order: the frame is the same either way.
     pub cull_draws: bool,
+    /// With `cull_draws`, on the paths with a depth pre-pass: two-phase occlusion culling
+    /// (`passes::scene_cull::occlusion`). Pre-Z draws what was visible last frame, a depth
+    /// pyramid is built from it, every draw in the frustum is tested against the pyramid, and
+    /// the newly visible ones are drawn into the depth too; the passes after pre-Z draw both.
+    /// The frame is the same either way.
+    pub occlusion_cull: bool,
 }
 
 impl std::str::FromStr for RenderPath {
@@ -304,6 +310,7 @@ impl Default for RendererConfig {
             edges: EdgeThresholds::default(),
             light_cutoff: DEFAULT_LIGHT_CUTOFF,
             cull_draws: true,
+            occlusion_cull: true,
         }
     }
 }

@@ -6,8 +6,13 @@
 //! slots on the GPU. Every path draws the same batches in the same order, culled or not, so
 //! culling changes which draws run and nothing else.
 
-use super::scene::{InstanceState, PreparedScene};
+use super::instances::InstanceTable;
+use super::scene::PreparedScene;
 use crate::scene::AlphaMode;
+
+/// A slot that holds no draw (a batch's spare slot, or one whose draw left): its arguments
+/// draw nothing.
+pub const NO_DRAW: u32 = shaders_gen::culling::instance_cull::NO_DRAW;
 
 /// Draws that share a pipeline and a material, in consecutive slots.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -18,7 +23,7 @@ pub struct DrawBatch {
     pub double_sided: bool,
     /// Mirrored by its instances' transforms (the clockwise pipelines).
     pub mirrored: bool,
-    /// Its slots.
+    /// Its slots, spare ones included.
     pub first_slot: u32,
     pub slot_count: u32,
 }
@@ -35,125 +40,194 @@ impl DrawBatch {
     }
 }
 
+/// Where a draw goes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DrawPlace {
+    /// A slot of the batch with this key.
+    Batch(BatchKey),
+    /// The blended draws, sorted each frame.
+    Blended,
+    /// Nowhere: its instance was removed.
+    Hidden,
+}
+
 /// A scene's draws as the geometry passes draw them.
+///
+/// Every batch has spare slots (an eighth of its draws, at least two) that hold [`NO_DRAW`],
+/// so an instance added to the scene, or one whose mirroring changed, takes a slot in place
+/// ([`BatchLayout::place`]); only when its batch is full, or new, is the layout built again.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct BatchLayout {
     /// Opaque and masked batches, ordered by (masked, double-sided, mirrored, material).
     pub batches: Vec<DrawBatch>,
-    /// The draw (index into `PreparedScene::draws`) of each slot; ascending within a batch.
+    /// The draw (index into `InstanceTable::draws`) of each slot, or [`NO_DRAW`].
     pub slot_draws: Vec<u32>,
-    /// The blended draws, in scene order (`passes::forward` sorts them each frame).
+    /// The blended draws, ascending (`passes::forward` sorts them each frame).
     pub blended: Vec<u32>,
+    /// Each draw's slot, or [`NO_DRAW`] (blended, hidden).
+    slot_of_draw: Vec<u32>,
+    /// Each batch's empty slots.
+    free_slots: Vec<Vec<u32>>,
 }
 
 /// What puts a draw in a batch: (masked, double-sided, mirrored, material).
 pub type BatchKey = (bool, bool, bool, usize);
 
+/// The batch is full or missing: the layout must be built again.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct NoRoom;
+
+/// Where draw `d` of `table` goes (mirroring picks the pipeline, so a move that mirrors or
+/// unmirrors an instance moves its draws to another batch).
+pub fn draw_place(scene: &PreparedScene, table: &InstanceTable, d: usize) -> DrawPlace {
+    let draw = &table.draws[d];
+    if !table.states.get(draw.instance).is_some_and(|s| s.live) {
+        return DrawPlace::Hidden;
+    }
+    let material = &scene.materials[draw.material];
+    let masked = match material.alpha_mode {
+        AlphaMode::Blend => return DrawPlace::Blended,
+        AlphaMode::Mask { .. } => material.prez_mask_group.is_some(),
+        AlphaMode::Opaque => false,
+    };
+    DrawPlace::Batch((
+        masked,
+        material.double_sided,
+        draw.mirrored(&table.states),
+        draw.material,
+    ))
+}
+
 impl BatchLayout {
-    /// The layout of `scene` with its instances where `instances` put them (mirroring picks the
-    /// pipeline, so a move that mirrors or unmirrors an instance calls for a new layout).
-    pub fn new(scene: &PreparedScene, instances: &[InstanceState]) -> Self {
-        Self::from_keys(scene.draws.iter().map(|draw| {
-            let material = &scene.materials[draw.material];
-            let masked = match material.alpha_mode {
-                AlphaMode::Blend => return None,
-                AlphaMode::Mask { .. } => material.prez_mask_group.is_some(),
-                AlphaMode::Opaque => false,
-            };
-            Some((
-                masked,
-                material.double_sided,
-                draw.mirrored(instances),
-                draw.material,
-            ))
-        }))
+    /// The layout of `table`'s draws.
+    pub fn new(scene: &PreparedScene, table: &InstanceTable) -> Self {
+        Self::from_places((0..table.draws.len()).map(|d| draw_place(scene, table, d)))
     }
 
-    /// The layout of draws `0..` with these batch keys (`None`: blended).
-    pub fn from_keys(keys: impl Iterator<Item = Option<BatchKey>>) -> Self {
+    /// The layout of draws `0..` placed so.
+    pub fn from_places(places: impl Iterator<Item = DrawPlace>) -> Self {
         let mut keyed = Vec::new();
         let mut blended = Vec::new();
-        for (d, key) in keys.enumerate() {
-            match key {
-                Some(key) => keyed.push((key, d as u32)),
-                None => blended.push(d as u32),
+        let mut draws = 0;
+        for (d, place) in places.enumerate() {
+            draws = d + 1;
+            match place {
+                DrawPlace::Batch(key) => keyed.push((key, d as u32)),
+                DrawPlace::Blended => blended.push(d as u32),
+                DrawPlace::Hidden => {}
             }
         }
         // Stable: draws keep their scene order within a batch.
         keyed.sort_by_key(|&(key, _)| key);
-        let mut batches: Vec<DrawBatch> = Vec::new();
-        for (slot, &((masked, double_sided, mirrored, material), _)) in keyed.iter().enumerate() {
-            match batches.last_mut() {
-                Some(b) if b.key() == (masked, double_sided, mirrored, material) => {
-                    b.slot_count += 1;
-                }
-                _ => batches.push(DrawBatch {
-                    material,
-                    masked,
-                    double_sided,
-                    mirrored,
-                    first_slot: slot as u32,
-                    slot_count: 1,
-                }),
-            }
-        }
-        Self {
-            batches,
-            slot_draws: keyed.into_iter().map(|(_, d)| d).collect(),
+        let mut layout = Self {
             blended,
+            slot_of_draw: vec![NO_DRAW; draws],
+            ..Self::default()
+        };
+        for run in keyed.chunk_by(|a, b| a.0 == b.0) {
+            let (masked, double_sided, mirrored, material) = run[0].0;
+            let first_slot = layout.slot_draws.len() as u32;
+            let spare = run.len() / 8 + 2;
+            for &(_, d) in run {
+                layout.slot_of_draw[d as usize] = layout.slot_draws.len() as u32;
+                layout.slot_draws.push(d);
+            }
+            let free = (0..spare).map(|i| first_slot + (run.len() + spare - 1 - i) as u32);
+            layout.free_slots.push(free.collect());
+            layout
+                .slot_draws
+                .extend(std::iter::repeat_n(NO_DRAW, spare));
+            layout.batches.push(DrawBatch {
+                material,
+                masked,
+                double_sided,
+                mirrored,
+                first_slot,
+                slot_count: (run.len() + spare) as u32,
+            });
         }
+        layout
     }
 
-    /// Slots in all batches.
+    /// Slots in all batches, spare ones included.
     pub fn slot_count(&self) -> u32 {
         self.slot_draws.len() as u32
     }
-}
 
-/// Whether some instance is mirrored in `after` and not in `before` or the other way round (a
-/// scene's batch layout must then be rebuilt).
-pub fn mirroring_changed(before: &[InstanceState], after: &[InstanceState]) -> bool {
-    before.len() != after.len()
-        || before
-            .iter()
-            .zip(after)
-            .any(|(b, a)| b.mirrored() != a.mirrored())
+    /// Slots that hold a draw.
+    pub fn draw_count(&self) -> u32 {
+        let free: usize = self.free_slots.iter().map(Vec::len).sum();
+        (self.slot_draws.len() - free) as u32
+    }
+
+    /// Draw `d`'s slot, if it has one.
+    pub fn slot_of(&self, d: u32) -> Option<u32> {
+        self.slot_of_draw
+            .get(d as usize)
+            .copied()
+            .filter(|&s| s != NO_DRAW)
+    }
+
+    /// Moves draw `d` to `place`, returning the slots whose draw changed; [`NoRoom`] when its
+    /// batch has no spare slot or does not exist (the layout is then unchanged).
+    pub fn place(&mut self, d: u32, place: DrawPlace) -> Result<Vec<u32>, NoRoom> {
+        let index = d as usize;
+        let current = self.slot_of(d).map(|s| self.batch_of_slot(s));
+        let blended = self.blended.binary_search(&d);
+        match (place, current) {
+            (DrawPlace::Batch(key), Some(b)) if self.batches[b].key() == key => {
+                return Ok(Vec::new());
+            }
+            (DrawPlace::Blended, _) if blended.is_ok() => return Ok(Vec::new()),
+            (DrawPlace::Hidden, None) if blended.is_err() => return Ok(Vec::new()),
+            _ => {}
+        }
+        let target = match place {
+            DrawPlace::Batch(key) => {
+                let b = self
+                    .batches
+                    .binary_search_by_key(&key, DrawBatch::key)
+                    .map_err(|_| NoRoom)?;
+                Some((b, *self.free_slots[b].last().ok_or(NoRoom)?))
+            }
+            _ => None,
+        };
+        if index >= self.slot_of_draw.len() {
+            self.slot_of_draw.resize(index + 1, NO_DRAW);
+        }
+        let mut changed = Vec::new();
+        if let Some(b) = current {
+            let slot = self.slot_of_draw[index];
+            self.slot_draws[slot as usize] = NO_DRAW;
+            self.free_slots[b].push(slot);
+            self.slot_of_draw[index] = NO_DRAW;
+            changed.push(slot);
+        }
+        if let Ok(at) = blended {
+            self.blended.remove(at);
+        }
+        match (place, target) {
+            (DrawPlace::Batch(_), Some((b, slot))) => {
+                self.free_slots[b].pop();
+                self.slot_draws[slot as usize] = d;
+                self.slot_of_draw[index] = slot;
+                changed.push(slot);
+            }
+            (DrawPlace::Blended, _) => {
+                let at = self.blended.partition_point(|&x| x < d);
+                self.blended.insert(at, d);
+            }
+            _ => {}
+        }
+        Ok(changed)
+    }
+
+    /// The batch that holds `slot`.
+    fn batch_of_slot(&self, slot: u32) -> usize {
+        self.batches.partition_point(|b| b.first_slot <= slot) - 1
+    }
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn batches_group_by_pipeline_then_material_and_keep_scene_order_inside() {
-        let opaque = |m| Some((false, false, false, m));
-        let keys = [
-            opaque(2),
-            None,
-            Some((true, true, false, 1)),
-            opaque(0),
-            opaque(2),
-            Some((false, false, true, 0)),
-            None,
-            opaque(0),
-        ];
-        let layout = BatchLayout::from_keys(keys.into_iter());
-        let batches: Vec<(BatchKey, u32, u32)> = layout
-            .batches
-            .iter()
-            .map(|b| (b.key(), b.first_slot, b.slot_count))
-            .collect();
-        assert_eq!(
-            batches,
-            [
-                ((false, false, false, 0), 0, 2),
-                ((false, false, false, 2), 2, 2),
-                ((false, false, true, 0), 4, 1),
-                ((true, true, false, 1), 5, 1),
-            ]
-        );
-        assert_eq!(layout.slot_draws, [3, 7, 0, 4, 5, 2]);
-        assert_eq!(layout.blended, [1, 6]);
-        assert_eq!(layout.slot_count(), 6);
-    }
-}
+#[path = "draw_batches_tests.rs"]
+mod tests;

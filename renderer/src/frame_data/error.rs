@@ -52,10 +52,20 @@ pub enum RenderError {
     )]
     TooManyLights { count: usize, max: usize },
     #[error(
-        "instance {index} does not exist: the prepared scene has {count} instances (nodes with \
-         a mesh, in `Scene::instances` order); call prepare_scene first"
+        "instance {index} does not exist: the prepared scene has {count} instance slots (its \
+         nodes with a mesh in `Scene::instances` order, then instances added); call \
+         prepare_scene first"
     )]
     NoSuchInstance { index: usize, count: usize },
+    #[error(
+        "the instance handle names instance slot {index}, whose instance was removed (or \
+         belongs to an earlier scene)"
+    )]
+    StaleInstance { index: usize },
+    #[error("mesh {mesh} does not exist: the prepared scene has {count} meshes")]
+    NoSuchMesh { mesh: usize, count: usize },
+    #[error("an instance transform must be finite; this one has a NaN or an infinity")]
+    NotFiniteTransform,
     #[error(
         "shadow atlas of {asked}² texels: use a size from {min} to this device's largest \
          texture side, {max}"

@@ -4,7 +4,7 @@
 use std::sync::Arc;
 
 use super::{
-    CameraUniform, FrameCamera, GpuDecals, InstanceState, LightSet, PreparedScene, RendererConfig,
+    CameraUniform, FrameCamera, GpuDecals, InstanceTable, LightSet, PreparedScene, RendererConfig,
 };
 use crate::GpuContext;
 
@@ -25,8 +25,10 @@ pub struct FrameInputs {
     pub config: RendererConfig,
     pub camera: FrameCamera,
     pub scene: Arc<PreparedScene>,
-    /// Where each scene instance is this frame (index = `DrawItem::instance`).
-    pub instances: Arc<Vec<InstanceState>>,
+    /// The scene's instances and their draws this frame. Passes keep what they derive from
+    /// it by its revision, never the table itself (the renderer edits it in place between
+    /// frames).
+    pub instances: Arc<InstanceTable>,
     pub lights: Arc<LightSet>,
     /// Decals in layer order, with their atlas.
     pub decals: Arc<GpuDecals>,

@@ -69,10 +69,15 @@ impl LightSet {
             as usize
     }
 
-    /// [`LightSet::new`], or [`super::RenderError::TooManyLights`] past [`LightSet::max_lights`].
+    /// [`LightSet::new`], or [`super::RenderError::TooManyLights`] past [`LightSet::max_lights`];
+    /// with `previous`, the lights are written into its buffers where they fit (no new buffer:
+    /// an engine that moves its lights every frame re-uploads them in place), else into new
+    /// ones.
     pub fn checked(
         device: &wgpu::Device,
+        queue: &wgpu::Queue,
         lights: &[SceneLight],
+        previous: Option<&LightSet>,
     ) -> Result<Self, super::RenderError> {
         let max = Self::max_lights(device);
         if lights.len() > max {
@@ -81,11 +86,51 @@ impl LightSet {
                 max,
             });
         }
-        Ok(Self::new(device, lights))
+        let c = Converted::new(lights);
+        let store = |label: &str, records: &[forward::GpuLight], old: Option<&wgpu::Buffer>| {
+            let records = with_placeholder(records);
+            let bytes: &[u8] = bytemuck::cast_slice(records);
+            match old {
+                Some(old) if old.size() >= bytes.len() as u64 => {
+                    queue.write_buffer(old, 0, bytes);
+                    old.clone()
+                }
+                _ => light_storage(device, label, records),
+            }
+        };
+        let punctual = store("lights", &c.punctual, previous.map(|p| &p.punctual_buffer));
+        let directional = store(
+            "directional lights",
+            &c.directional,
+            previous.map(|p| &p.directional_buffer),
+        );
+        Ok(c.into_set(punctual, directional))
     }
 
     /// Converts scene lights (and any procedural ones) and uploads them.
     pub fn new(device: &wgpu::Device, lights: &[SceneLight]) -> Self {
+        let c = Converted::new(lights);
+        let punctual = light_storage(device, "lights", with_placeholder(&c.punctual));
+        let directional = light_storage(
+            device,
+            "directional lights",
+            with_placeholder(&c.directional),
+        );
+        c.into_set(punctual, directional)
+    }
+}
+
+/// A [`LightSet`] before its buffers.
+struct Converted {
+    punctual: Vec<forward::GpuLight>,
+    directional: Vec<forward::GpuLight>,
+    spheres: Vec<LightSphere>,
+    punctual_sources: Vec<SceneLight>,
+    directional_sources: Vec<SceneLight>,
+}
+
+impl Converted {
+    fn new(lights: &[SceneLight]) -> Self {
         let mut punctual = Vec::new();
         let mut directional = Vec::new();
         let mut spheres = Vec::new();
@@ -111,13 +156,23 @@ impl LightSet {
             punctual.push(gpu_light);
         }
         Self {
-            punctual_buffer: light_storage(device, "lights", &punctual),
-            directional_buffer: light_storage(device, "directional lights", &directional),
             punctual,
             directional,
             spheres,
             punctual_sources,
             directional_sources,
+        }
+    }
+
+    fn into_set(self, punctual_buffer: wgpu::Buffer, directional_buffer: wgpu::Buffer) -> LightSet {
+        LightSet {
+            punctual: self.punctual,
+            directional: self.directional,
+            spheres: self.spheres,
+            punctual_sources: self.punctual_sources,
+            directional_sources: self.directional_sources,
+            punctual_buffer,
+            directional_buffer,
         }
     }
 }
@@ -144,29 +199,41 @@ fn gpu_light(l: &SceneLight) -> forward::GpuLight {
     )
 }
 
-/// A storage buffer holding `lights` (at least one element, so the binding is never empty).
-fn light_storage(device: &wgpu::Device, label: &str, lights: &[forward::GpuLight]) -> wgpu::Buffer {
-    let placeholder = [forward::GpuLight::new(
-        Vec3::ZERO,
-        0.0,
-        Vec3::ZERO,
-        0.0,
-        Vec3::Z,
-        0,
-        1.0,
-        1.0,
-        NO_SHADOW,
-    )];
-    let contents = if lights.is_empty() {
-        &placeholder[..]
+/// `lights`, or one placeholder record when there is none (a binding is never empty).
+fn with_placeholder(lights: &[forward::GpuLight]) -> &[forward::GpuLight] {
+    static PLACEHOLDER: std::sync::LazyLock<[forward::GpuLight; 1]> =
+        std::sync::LazyLock::new(|| {
+            [forward::GpuLight::new(
+                Vec3::ZERO,
+                0.0,
+                Vec3::ZERO,
+                0.0,
+                Vec3::Z,
+                0,
+                1.0,
+                1.0,
+                NO_SHADOW,
+            )]
+        });
+    if lights.is_empty() {
+        &*PLACEHOLDER
     } else {
         lights
-    };
+    }
+}
+
+/// A storage buffer holding `records`.
+fn light_storage(
+    device: &wgpu::Device,
+    label: &str,
+    records: &[forward::GpuLight],
+) -> wgpu::Buffer {
     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some(label),
-        contents: bytemuck::cast_slice(contents),
-        // COPY_DST: the shadow pass writes each light's `shadow` index as its atlas changes;
-        // COPY_SRC: tools and tests read the records back as the kernels see them.
+        contents: bytemuck::cast_slice(records),
+        // COPY_DST: the shadow pass writes each light's `shadow` index as its atlas changes,
+        // and new lights are written in place; COPY_SRC: tools and tests read the records back
+        // as the kernels see them.
         usage: wgpu::BufferUsages::STORAGE
             | wgpu::BufferUsages::COPY_DST
             | wgpu::BufferUsages::COPY_SRC,

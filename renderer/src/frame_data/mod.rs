@@ -13,6 +13,7 @@ mod draw_batches;
 mod error;
 mod formats;
 mod inputs;
+mod instances;
 mod lights;
 mod material_inputs;
 mod report;
@@ -25,18 +26,19 @@ pub use config::{
     RendererConfig,
 };
 pub use decals::{GpuDecals, cull_box};
-pub use draw_batches::{BatchKey, BatchLayout, DrawBatch, mirroring_changed};
+pub use draw_batches::{BatchKey, BatchLayout, DrawBatch, DrawPlace, NO_DRAW, NoRoom, draw_place};
 pub use error::RenderError;
 pub use formats::{DEPTH_FORMAT, GBUFFER_FORMATS, HDR_FORMAT};
 pub use inputs::{FrameInputs, ParticleInput};
+pub use instances::{DrawItem, InstanceEditError, InstanceHandle, InstanceState, InstanceTable};
 pub use lights::{LightSet, effective_range, with_effective_ranges};
 pub use material_inputs::{sampler_descriptor, uv_map};
 pub use report::{FrameReport, ParticleReport, SceneDrawReport};
 pub use resources::{
-    FrameResources, GBufferHandles, LightListHandles, ListGeometry, ParticleResources,
-    SceneDrawList, ShadowResources,
+    FrameResources, GBufferHandles, LightListHandles, ListGeometry, OcclusionDraws,
+    ParticleResources, SceneDrawList, ShadowResources,
 };
 pub use scene::{
-    DrawItem, InstanceState, PlannedDraw, PreparedMaterial, PreparedScene, draw_plan,
+    MeshDraw, PlannedDraw, PreparedMaterial, PreparedScene, draw_plan, is_mirrored,
     material_uniform,
 };

@@ -39,15 +39,20 @@ pub struct FrameReport {
 /// The scene's opaque and masked draws in the main view's batches, and what culling kept.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct SceneDrawReport {
-    /// Slots in the batches (draws that are not blended).
+    /// Opaque and masked draws, each in a slot of the batches.
+    pub draws: u32,
+    /// Slots in the batches: the draws and the spare slots kept for instances an engine adds
+    /// (they draw nothing).
     pub slots: u32,
     /// Batches, one multi-draw each in every geometry pass.
     pub batches: u32,
     /// Blended draws (sorted and drawn apart).
     pub blended: u32,
     /// Slots the newest culled frame whose count has arrived drew (absent while culling is
-    /// off or no count has arrived yet).
+    /// off or no count has arrived yet); with occlusion culling, in either phase.
     pub visible: Option<u32>,
+    /// Whether the scene's draws are occlusion-culled too.
+    pub occlusion: bool,
 }
 
 /// What the particle passes counted in one frame.

@@ -87,6 +87,31 @@ pub struct SceneDrawList {
     /// Draw each batch with one `multi_draw_indexed_indirect`; otherwise (the device cannot
     /// draw indirectly with a first instance) every slot directly, culling nothing.
     pub indirect: bool,
+    /// With occlusion culling, what its second phase needs; `args` are then the first
+    /// phase's until the occlusion pass replaces them with `OcclusionDraws::all`.
+    pub occlusion: Option<OcclusionDraws>,
+}
+
+/// Occlusion culling's second phase as scene culling hands it on: the inputs of the test and
+/// the arguments it writes.
+#[derive(Debug, Clone)]
+pub struct OcclusionDraws {
+    /// The draws' world boxes and each slot's draw (as the first phase reads them).
+    pub boxes: wgpu::Buffer,
+    pub slot_draws: wgpu::Buffer,
+    pub slot_count: u32,
+    /// The frustum test's slack, in world units.
+    pub slack: f32,
+    /// Whether each slot was visible (written by the second phase for the next frame).
+    pub history: wgpu::Buffer,
+    /// The second phase's arguments: the slots found visible that the first did not draw.
+    pub late: Handle<Buffer>,
+    pub late_buffer: wgpu::Buffer,
+    /// Every slot drawn in either phase.
+    pub all: Handle<Buffer>,
+    pub all_buffer: wgpu::Buffer,
+    /// Two counters: slots drawn in the first phase, and in either (cleared by scene culling).
+    pub visible: wgpu::Buffer,
 }
 
 impl SceneDrawList {

@@ -1,7 +1,6 @@
-//! A scene prepared for drawing: its GPU geometry and images, one storage buffer of draw
-//! records (every primitive of every instance, bound once as group 1 of every geometry pass
-//! and indexed by the draw's instance index), and one material bind group per material (with
-//! 1×1 defaults for absent textures).
+//! A scene prepared for drawing: its GPU geometry and images, what each mesh draws, and one
+//! material bind group per material (with 1×1 defaults for absent textures). Its instances
+//! and their draw records are apart, in [`super::InstanceTable`], which an engine edits.
 
 use std::sync::Arc;
 
@@ -14,41 +13,14 @@ use crate::scene::{Aabb, AlphaMode, GpuScene, Material, Scene, TextureRef};
 use crate::shader::bind_group_layout_entries;
 use shaders_gen::shared::material_uv::MaskMaterial;
 
-/// One primitive of one instance.
-#[derive(Debug)]
-pub struct DrawItem {
-    pub mesh: usize,
-    pub primitive: usize,
-    pub material: usize,
-    /// Where its primitive lies in the scene's shared geometry buffers.
-    pub geometry: crate::scene::GpuPrimitive,
-    /// The scene instance (node) the draw belongs to.
-    pub instance: usize,
-    /// The primitive's bounds in mesh space.
-    pub local_bounds: Aabb,
-    /// Centre of the world bounds where the scene placed it, for sorting blended draws.
-    pub center: Vec3,
-}
-
-/// Where a scene instance (a node with a mesh) is this frame, and whether it moves.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct InstanceState {
-    pub world_from_mesh: Mat4,
-    /// Dynamic instances are drawn over the static shadow cache every frame they can shadow a
-    /// region; static ones are cached.
-    pub dynamic: bool,
-    /// Bumped whenever `world_from_mesh` changes.
-    pub version: u64,
-}
-
 /// Whether `world_from_mesh` mirrors (a negative determinant): glTF 2.0 then has the primitive's
 /// front faces wind clockwise, so its draws use the clockwise pipelines and a flipped bitangent.
 pub fn is_mirrored(world_from_mesh: Mat4) -> bool {
     world_from_mesh.determinant() < 0.0
 }
 
-/// The `Draw` uniform of a primitive of material `material` placed at `world_from_mesh`.
-fn draw_uniform(world_from_mesh: Mat4, material: usize) -> forward::Draw {
+/// The `Draw` record of a primitive of material `material` placed at `world_from_mesh`.
+pub(super) fn draw_uniform(world_from_mesh: Mat4, material: usize) -> forward::Draw {
     forward::Draw::new(
         world_from_mesh,
         world_from_mesh.inverse().transpose(),
@@ -61,39 +33,14 @@ fn draw_uniform(world_from_mesh: Mat4, material: usize) -> forward::Draw {
     )
 }
 
-impl InstanceState {
-    /// Whether the instance is mirrored where it is now ([`is_mirrored`]).
-    pub fn mirrored(&self) -> bool {
-        is_mirrored(self.world_from_mesh)
-    }
-
-    /// The instances of `scene`, static, where the file placed them.
-    pub fn of_scene(scene: &Scene) -> Vec<Self> {
-        scene
-            .instances
-            .iter()
-            .map(|i| Self {
-                world_from_mesh: i.world_from_mesh,
-                dynamic: false,
-                version: 0,
-            })
-            .collect()
-    }
-}
-
-impl DrawItem {
-    /// The record of this draw at `world_from_mesh`.
-    pub fn uniform(&self, world_from_mesh: Mat4) -> forward::Draw {
-        draw_uniform(world_from_mesh, self.material)
-    }
-
-    /// Whether the draw is mirrored where `instances` (the frame's, `FrameInputs::instances`)
-    /// place it: a moved instance can become mirrored or stop being so.
-    pub fn mirrored(&self, instances: &[InstanceState]) -> bool {
-        instances
-            .get(self.instance)
-            .is_some_and(InstanceState::mirrored)
-    }
+/// What every instance of a mesh draws, one per primitive.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MeshDraw {
+    pub material: usize,
+    /// Where the primitive lies in the scene's shared geometry buffers.
+    pub geometry: crate::scene::GpuPrimitive,
+    /// The primitive's bounds in mesh space.
+    pub local_bounds: Aabb,
 }
 
 /// What a material draws with.
@@ -111,24 +58,15 @@ pub struct PreparedMaterial {
 #[derive(Debug)]
 pub struct PreparedScene {
     pub gpu: GpuScene,
-    /// Draw `d` is record `d` of `draw_records` and is drawn as instance `d`.
-    pub draws: Vec<DrawItem>,
-    /// The `view` library's `DRAWS`: one `Draw` record per entry of `draws` (rewritten in
-    /// place when an instance moves).
-    pub draw_records: wgpu::Buffer,
-    /// Group 1 of the pre-Z, forward, G-buffer and shadow-caster programs: `draw_records`.
-    pub draw_group: wgpu::BindGroup,
+    /// `mesh_draws[mesh]`: what an instance of `mesh` draws (its draws in
+    /// [`super::InstanceTable`] follow this order).
+    pub mesh_draws: Vec<Vec<MeshDraw>>,
+    /// The layout of group 1 (the draw records) of the geometry programs.
+    pub draw_layout: wgpu::BindGroupLayout,
     pub materials: Vec<PreparedMaterial>,
 }
 
 impl PreparedScene {
-    /// The draws of scene instance `instance` (draws are in instance order, [`draw_plan`]).
-    pub fn draws_of_instance(&self, instance: usize) -> std::ops::Range<usize> {
-        let start = self.draws.partition_point(|d| d.instance < instance);
-        let end = self.draws.partition_point(|d| d.instance <= instance);
-        start..end
-    }
-
     /// Whether any material is alpha-blended (drawn after the opaque surfaces, absent from the
     /// pre-Z depth).
     pub fn has_blended(&self) -> bool {
@@ -162,42 +100,28 @@ impl PreparedScene {
             &mut samplers,
             &Material::gltf_default(),
         ));
-        let plan = draw_plan(scene);
-        let mut records: Vec<forward::Draw> = plan.iter().map(|d| d.uniform).collect();
-        if records.is_empty() {
-            // A storage binding is never empty; nothing draws this record.
-            records.push(draw_uniform(Mat4::IDENTITY, 0));
-        }
-        let draw_records = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("draw records"),
-            contents: bytemuck::cast_slice(&records),
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-        });
-        let draw_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("draw records"),
-            layout: &layouts.draw,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: draw_records.as_entire_binding(),
-            }],
-        });
-        let draws = plan
-            .into_iter()
-            .map(|plan| DrawItem {
-                mesh: plan.mesh,
-                primitive: plan.primitive,
-                material: plan.material,
-                geometry: gpu.meshes[plan.mesh][plan.primitive],
-                instance: plan.instance,
-                local_bounds: plan.local_bounds,
-                center: plan.center,
+        // Primitives without a material use the glTF default material, last.
+        let default_material = scene.materials.len();
+        let mesh_draws = scene
+            .meshes
+            .iter()
+            .zip(&gpu.meshes)
+            .map(|(mesh, placed)| {
+                mesh.primitives
+                    .iter()
+                    .zip(placed)
+                    .map(|(p, &geometry)| MeshDraw {
+                        material: p.material.unwrap_or(default_material),
+                        geometry,
+                        local_bounds: p.bounds,
+                    })
+                    .collect()
             })
             .collect();
         Arc::new(Self {
             gpu,
-            draws,
-            draw_records,
-            draw_group,
+            mesh_draws,
+            draw_layout: layouts.draw,
             materials,
         })
     }
@@ -213,7 +137,6 @@ pub struct PlannedDraw {
     pub material: usize,
     pub uniform: forward::Draw,
     pub local_bounds: Aabb,
-    pub center: Vec3,
 }
 
 /// Every draw of `scene`, in instance then primitive order; primitives without a material use
@@ -236,7 +159,6 @@ pub fn draw_plan(scene: &Scene) -> Vec<PlannedDraw> {
                 material,
                 uniform: draw_uniform(world, material),
                 local_bounds: primitive.bounds,
-                center: primitive.bounds.transformed(world).center(),
             });
         }
     }

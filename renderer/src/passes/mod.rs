@@ -75,14 +75,15 @@ pub(crate) struct SceneDraws<'p, 'a> {
 }
 
 impl<'p, 'a> SceneDraws<'p, 'a> {
-    /// Binds `scene`'s `streams` and draw records on `pass`.
+    /// Binds `scene`'s `streams` and `instances`' draw records on `pass`.
     pub(crate) fn new(
         pass: &'p mut wgpu::RenderPass<'a>,
         scene: &'a crate::frame_data::PreparedScene,
+        instances: &'a crate::frame_data::InstanceTable,
         streams: crate::scene::VertexStreams,
     ) -> Self {
         scene.gpu.bind_streams(pass, streams);
-        pass.set_bind_group(1, &scene.draw_group, &[]);
+        pass.set_bind_group(1, &instances.draw_group, &[]);
         Self {
             pass,
             pipeline: None,
@@ -91,7 +92,7 @@ impl<'p, 'a> SceneDraws<'p, 'a> {
     }
 
     /// Draws `geometry` with `pipeline` and `group2` as instance `instance`, the index the
-    /// vertex shader reads its record by (a draw's index in `PreparedScene::draws`, or a
+    /// vertex shader reads its record by (a draw's index in `InstanceTable::draws`, or a
     /// shadow cast's).
     pub(crate) fn draw(
         &mut self,
@@ -111,11 +112,11 @@ impl<'p, 'a> SceneDraws<'p, 'a> {
     /// Draws every batch of `list` with the pipeline and group 2 `state` picks for it: one
     /// multi-draw of its slots' indirect arguments (the slots culling left out draw no
     /// instance), or, on a device that cannot draw indirectly with a first instance, each slot
-    /// directly.
+    /// directly (empty slots skipped).
     pub(crate) fn draw_batches(
         &mut self,
         list: &'a SceneDrawList,
-        scene: &'a crate::frame_data::PreparedScene,
+        instances: &'a crate::frame_data::InstanceTable,
         mut state: impl FnMut(
             &crate::frame_data::DrawBatch,
         ) -> (&'a wgpu::RenderPipeline, Option<&'a wgpu::BindGroup>),
@@ -130,7 +131,9 @@ impl<'p, 'a> SceneDraws<'p, 'a> {
             } else {
                 for slot in batch.slots() {
                     let d = list.layout.slot_draws[slot as usize];
-                    self.draw(pipeline, group2, scene.draws[d as usize].geometry, d);
+                    if let Some(draw) = instances.draws.get(d as usize) {
+                        self.draw(pipeline, group2, draw.geometry, d);
+                    }
                 }
             }
         }

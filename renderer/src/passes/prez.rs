@@ -1,6 +1,10 @@
 //! Depth pre-pass: every opaque and masked draw into the MSAA depth buffer, so culling sees the
 //! scene's depth and forward shading runs once per visible sample. Masked materials discard
 //! texels below their cutoff here too, so they leave no depth where they are see-through.
+//!
+//! With occlusion culling it runs twice: first the draws visible last frame, into a cleared
+//! depth buffer; then ([`PrezPass::late`], after `passes::scene_cull::occlusion`) the draws the
+//! occlusion test found visible that the first half left out, over that depth.
 
 use shaders_gen::forward::prez;
 
@@ -23,6 +27,8 @@ pub struct PrezPass {
     masked: FacePipelines,
     /// Group 0 over the renderer's camera uniform (the buffer lives as long as the renderer).
     camera_group: Option<wgpu::BindGroup>,
+    /// The second half (occlusion culling's late draws, over the first half's depth).
+    late: bool,
 }
 
 impl PrezPass {
@@ -46,6 +52,17 @@ impl PrezPass {
             masked: pipelines(&mask_program, true),
             program,
             camera_group: None,
+            late: false,
+        })
+    }
+
+    /// The second half of pre-Z under occlusion culling: the draws its test found visible that
+    /// the first half did not draw, over the first half's depth. It adds nothing to a frame
+    /// without occlusion culling.
+    pub fn late(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
+        Ok(Self {
+            late: true,
+            ..Self::new(gpu, config)?
         })
     }
 }
@@ -82,7 +99,7 @@ fn pipeline(
 
 impl Pass for PrezPass {
     fn name(&self) -> &'static str {
-        "pre-z"
+        if self.late { "pre-z (late)" } else { "pre-z" }
     }
 
     fn prepare(&mut self, frame: &FrameInputs) -> Result<(), RenderError> {
@@ -106,25 +123,39 @@ impl Pass for PrezPass {
         frame: &FrameInputs,
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
-        let c = &frame.config;
-        let mut depth = graph.create_texture(
-            "depth",
-            TextureDesc::new_2d(c.width, c.height, DEPTH_FORMAT).with_samples(c.msaa),
-        );
-        let target = depth;
-        let camera_group = self.camera_group.clone().ok_or(RenderError::MissingInput {
+        let missing = |input| RenderError::MissingInput {
             pass: "pre-z",
-            input: "camera bind group (built in prepare)",
-        })?;
-        let (plain, masked) = (self.plain.clone(), self.masked.clone());
-        let scene = std::sync::Arc::clone(&frame.scene);
-        let list = resources
+            input,
+        };
+        let mut list = resources
             .scene_draws
             .clone()
-            .ok_or(RenderError::MissingInput {
-                pass: "pre-z",
-                input: "the scene's draw batches (scene culling)",
-            })?;
+            .ok_or(missing("the scene's draw batches (scene culling)"))?;
+        let (mut depth, load) = if self.late {
+            // The second half draws occlusion culling's late slots over the first's depth.
+            let Some(occlusion) = list.occlusion.clone() else {
+                return Ok(());
+            };
+            list.args = occlusion.late;
+            list.args_buffer = occlusion.late_buffer;
+            let depth = resources.depth.ok_or(missing("the first half's depth"))?;
+            (depth, wgpu::LoadOp::Load)
+        } else {
+            let c = &frame.config;
+            let desc = TextureDesc::new_2d(c.width, c.height, DEPTH_FORMAT).with_samples(c.msaa);
+            (
+                graph.create_texture("depth", desc),
+                wgpu::LoadOp::Clear(1.0),
+            )
+        };
+        let target = depth;
+        let camera_group = self
+            .camera_group
+            .clone()
+            .ok_or(missing("camera bind group (built in prepare)"))?;
+        let (plain, masked) = (self.plain.clone(), self.masked.clone());
+        let scene = std::sync::Arc::clone(&frame.scene);
+        let instances = std::sync::Arc::clone(&frame.instances);
         graph
             .add_pass(self.name())
             .read_buffer(list.args, BufferAccess::Indirect)
@@ -137,7 +168,7 @@ impl Pass for PrezPass {
                     depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                         view: &view,
                         depth_ops: Some(wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(1.0),
+                            load,
                             store: wgpu::StoreOp::Store,
                         }),
                         stencil_ops: None,
@@ -149,8 +180,8 @@ impl Pass for PrezPass {
                 pass.set_bind_group(0, &camera_group, &[]);
                 // Opaque draws read only slot 0 of the masked streams. Blended surfaces are in
                 // no batch: they must not hide what is behind them.
-                let mut draws = SceneDraws::new(&mut pass, &scene, VertexStreams::Mask);
-                draws.draw_batches(&list, &scene, |batch| {
+                let mut draws = SceneDraws::new(&mut pass, &scene, &instances, VertexStreams::Mask);
+                draws.draw_batches(&list, &instances, |batch| {
                     let pipelines = if batch.masked { &masked } else { &plain };
                     let pipeline = face_pipeline(pipelines, batch.double_sided, batch.mirrored);
                     let mask = &scene.materials[batch.material].prez_mask_group;

@@ -8,15 +8,19 @@
 /// once (five words: index count, instance count, first index, base vertex, first instance =
 /// the draw's index in the `view` library's `DRAWS`). Each frame, `cull_frustum` sets a slot's
 /// instance count to 1 where the draw's world box (`BOXES`, rewritten when an instance moves)
-/// meets the frustum, else 0, and counts the visible slots in `VISIBLE`.
+/// meets the frustum (and, in the first phase of occlusion culling, was visible last frame),
+/// else 0, and counts the slots drawn in `VISIBLE`.
 ///
 /// A box is outside when it lies wholly on the outer side of one of the six planes (inside:
 /// `dot(plane.xyz, p) + plane.w >= 0`, planes normalised by the host), tested at the box corner
 /// furthest along the plane's normal, with a slack of `PARAMS.slack` world units so rounding
-/// never removes a box that touches the frustum. An empty box (min above max) is kept.
+/// never removes a box that touches the frustum. An empty box (min above max) is kept. A slot
+/// holding `NO_DRAW` (a batch's spare slot, kept for instances an engine adds) draws nothing.
 #[shader_dsl::shader()]
 pub mod instance_cull {
     pub const WORKGROUP: u32 = 64;
+    /// A slot without a draw.
+    pub const NO_DRAW: u32 = 0xFFFF_FFFF;
 
     /// One view's frustum and the slot count.
     pub struct CullParams {
@@ -30,7 +34,9 @@ pub mod instance_cull {
         pub slot_count: u32,
         /// How far outside a plane a box may reach and still be kept, in world units.
         pub slack: f32,
-        pub pad0: u32,
+        /// 1: the first phase of occlusion culling, which draws only the slots `HISTORY` marks
+        /// visible last frame (`occlusion_cull` tests the rest); 0: every slot in the frustum.
+        pub use_history: u32,
         pub pad1: u32,
     }
 
@@ -50,6 +56,8 @@ pub mod instance_cull {
     static ARGS: [u32];
     #[storage(group = 0, binding = 4, read_write)]
     static VISIBLE: [Atomic<u32>];
+    #[storage(group = 0, binding = 5)]
+    static HISTORY: [u32];
 
     /// Whether `b` reaches the inner side of `plane`.
     fn reaches(plane: Vec4, b: DrawBox) -> bool {
@@ -79,7 +87,9 @@ pub mod instance_cull {
     pub fn cull_frustum(#[builtin(global_invocation_id)] gid: UVec3) {
         let slot = gid.x;
         if slot < PARAMS.slot_count {
-            let visible = in_frustum(BOXES[SLOT_DRAWS[slot]]);
+            let draw = SLOT_DRAWS[slot];
+            let seen = PARAMS.use_history == 0u32 || HISTORY[slot] != 0u32;
+            let visible = draw != NO_DRAW && seen && in_frustum(BOXES[draw]);
             ARGS[slot * 5u32 + 1u32] = select(visible, 1u32, 0u32);
             if visible {
                 VISIBLE[0].fetch_add(1);

@@ -1,6 +1,6 @@
 //! Culling kernels: which items (lights and decals, in their own ranges of the item list) can
-//! touch each screen tile or froxel, and (`instance_cull`) which of the scene's draws a view
-//! sees.
+//! touch each screen tile or froxel, and (`instance_cull`, `occlusion_cull` with its depth
+//! pyramid) which of the scene's draws a view sees.
 //!
 //! Culling is hierarchical, in three dispatches: `cull_prepare::tile_depth` (per tile: depth
 //! bounds, 2.5D mask, occupied slices), `cull_prepare::coarse_cull` (per 128×128-pixel
@@ -17,10 +17,12 @@
 
 pub mod clustered;
 pub mod instances;
+pub mod occlusion;
 pub mod prepare;
 pub mod tiled;
 
 pub use clustered::cluster_cull;
 pub use instances::instance_cull;
+pub use occlusion::{depth_pyramid_reduce, depth_pyramid_seed, occlusion_cull};
 pub use prepare::cull_prepare;
 pub use tiled::tile_cull;

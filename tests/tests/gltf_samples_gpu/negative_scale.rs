@@ -243,13 +243,14 @@ fn an_instance_moved_into_a_mirror_renders_mirrored_and_back() {
                 .expect("lights fit");
             let camera = symmetric_camera();
             let unmirrored = render_one_frame(gpu, &mut renderer, &camera).rgba;
+            let twin = renderer.scene_instance(1).expect("instance 1");
             renderer
-                .set_instance_transform(1, mirror_x() * twin_placement())
+                .set_instance_transform(twin, mirror_x() * twin_placement())
                 .expect("instance 1");
             let mirrored = render_one_frame(gpu, &mut renderer, &camera).rgba;
             assert_mirror_image(&mirrored, &format!("{} moved into the mirror", path.name()));
             renderer
-                .set_instance_transform(1, turned)
+                .set_instance_transform(twin, turned)
                 .expect("instance 1");
             let back = render_one_frame(gpu, &mut renderer, &camera).rgba;
             let (beyond, ..) = asymmetry(&back);

@@ -1,5 +1,6 @@
 //! The running window's responses that change its state: the settings keys (path, MSAA, tile,
-//! views, draw culling, light count), each rebuilding the renderer; hot reload outcomes (a rebuild on the new
+//! views, draw culling, light count), each rebuilding the renderer (instances added with `I`
+//! are added again); hot reload outcomes (a rebuild on the new
 //! WGSL, or the refusal shown); the overlay's status lines; and window resizes.
 
 use anyhow::Result;
@@ -67,7 +68,15 @@ impl Running {
                     _ => FrameView::ShadingFrequency,
                 }
             }
-            'g' => config.cull_draws = !config.cull_draws,
+            // Frustum and occlusion culling → frustum only → none → both again.
+            'g' => {
+                (config.cull_draws, config.occlusion_cull) =
+                    match (config.cull_draws, config.occlusion_cull) {
+                        (true, true) => (true, false),
+                        (true, false) => (false, false),
+                        _ => (true, true),
+                    };
+            }
             '+' => self.light_count = (self.light_count * 2).clamp(1, 65_536),
             '-' => self.light_count = (self.light_count / 2).max(1),
             _ => return Ok(()),
@@ -78,6 +87,7 @@ impl Running {
                 self.renderer = r;
                 self.config = config;
                 self.message = None;
+                self.added.replay(&mut self.renderer)?;
             }
             // A combination the renderer refuses (a heatmap of the naive path): say so.
             Err(e) => self.message = Some(e.to_string()),
@@ -94,6 +104,9 @@ impl Running {
                 match build(&self.gpu, self.config, shown, &lights) {
                     Ok(r) => {
                         self.renderer = r;
+                        if let Err(e) = self.added.replay(&mut self.renderer) {
+                            eprintln!("the added instances were not added again: {e:#}");
+                        }
                         format!("hot reload: {n} shader variant(s) replaced")
                     }
                     Err(e) => format!("hot reload: the renderer did not rebuild: {e:#}"),
@@ -124,15 +137,21 @@ impl Running {
             ),
             format!("{} lights, {}x{}", self.light_count, c.width, c.height),
             self.draws.map_or_else(String::new, |d| {
+                let culling = if d.occlusion {
+                    "frustum and occlusion culling"
+                } else {
+                    "frustum culling"
+                };
                 let kept = match d.visible {
-                    Some(v) if c.cull_draws => format!("{v} drawn after GPU culling (G)"),
+                    Some(v) if c.cull_draws => format!("{v} drawn after GPU {culling} (G)"),
                     _ => "all drawn, culling off (G)".into(),
                 };
                 format!(
-                    "{} draws in {} batches: {kept}; CPU {:.2} ms",
-                    d.slots + d.blended,
+                    "{} draws in {} batches: {kept}; CPU {:.2} ms; {} instances added (I, U)",
+                    d.draws + d.blended,
                     d.batches,
-                    self.cpu_ms
+                    self.cpu_ms,
+                    self.added.count()
                 )
             }),
             format!("adapter: {}", self.gpu.report.name),
@@ -167,6 +186,8 @@ impl Running {
             KeyCode::KeyP => self.action('p', shown)?,
             KeyCode::KeyO => self.action('o', shown)?,
             KeyCode::KeyG => self.action('g', shown)?,
+            KeyCode::KeyI => self.add_instances(shown)?,
+            KeyCode::KeyU => self.remove_instances()?,
             KeyCode::Equal | KeyCode::NumpadAdd => self.action('+', shown)?,
             KeyCode::Minus | KeyCode::NumpadSubtract => self.action('-', shown)?,
             _ => {}

@@ -34,7 +34,7 @@ pub struct FramePlan {
 pub struct Samples(Vec<f64>);
 
 impl Samples {
-    fn from(mut v: Vec<f64>) -> Self {
+    pub fn from(mut v: Vec<f64>) -> Self {
         v.sort_by(f64::total_cmp);
         Self(v)
     }
@@ -45,6 +45,10 @@ impl Samples {
 
     pub fn p90(&self) -> Option<f64> {
         (!self.0.is_empty()).then(|| percentile(&self.0, 0.9))
+    }
+
+    pub fn max(&self) -> Option<f64> {
+        self.0.last().copied()
     }
 }
 

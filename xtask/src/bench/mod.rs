@@ -17,13 +17,15 @@
 //!
 //! Module map: [`sweep`] (the run: every cell, in this process or one per group), [`options`]
 //! (scenes, axes and renderer set-ups from the arguments), [`matrix`] (axes → set-ups),
-//! [`lights`] (the moving light set), [`shadows`] (the shadow axis), [`measure`] (frames of one
+//! [`lights`] (the moving light set), [`shadows`] (the shadow axis), [`edits`] (editing the scene
+//! by handle), [`measure`] (frames of one
 //! cell), [`calibrate`] (ceilings and floors), [`record`] (the CSV row), [`reports`] (the run's
 //! header and written reports), [`markdown`] and [`charts`] (reports).
 
 pub mod calibrate;
 pub(crate) mod charts;
 pub(crate) mod decals;
+mod edits;
 mod lights;
 mod markdown;
 pub(crate) mod matrix;
@@ -82,6 +84,10 @@ pub struct Args {
     /// scene-size table).
     #[arg(long)]
     no_cull_draws: bool,
+    /// Cull the scene's draws against the view frustum only, without two-phase occlusion
+    /// culling.
+    #[arg(long)]
+    no_occlusion: bool,
     /// Timed frames per cell.
     #[arg(long, default_value_t = 30)]
     frames: u32,

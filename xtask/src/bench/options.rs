@@ -112,6 +112,7 @@ pub(super) fn renderer_config(args: &Args, setup: &Setup) -> RendererConfig {
         cull_brute_force: setup.brute_force,
         time_cull_dispatches: args.cull_dispatch_times,
         cull_draws: !args.no_cull_draws,
+        occlusion_cull: !args.no_occlusion,
         ..Default::default()
     };
     config.shadows.atlas_size = args.shadow_atlas;

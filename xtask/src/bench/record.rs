@@ -139,6 +139,25 @@ pub struct CellRecord {
     /// Traditional deferred: the light volumes.
     #[serde(default)]
     pub volumes_median_ms: Option<f64>,
+    /// Occlusion culling's second phase (`--no-occlusion` leaves it out): the late pre-Z, and
+    /// the depth pyramid plus the late culling dispatch (the sum of their medians).
+    #[serde(default)]
+    pub prez_late_median_ms: Option<f64>,
+    #[serde(default)]
+    pub occlusion_median_ms: Option<f64>,
+    /// Editing the scene by handle (`bench::edits`, the first cell of each setup): CPU µs to
+    /// add an instance (median and most), move one and remove one, and CPU ms of the frames
+    /// that follow edits.
+    #[serde(default)]
+    pub edit_add_median_us: Option<f64>,
+    #[serde(default)]
+    pub edit_add_max_us: Option<f64>,
+    #[serde(default)]
+    pub edit_move_median_us: Option<f64>,
+    #[serde(default)]
+    pub edit_remove_median_us: Option<f64>,
+    #[serde(default)]
+    pub edit_frame_cpu_median_ms: Option<f64>,
 }
 
 impl CellRecord {
@@ -213,6 +232,14 @@ impl CellRecord {
         record.tonemap_median_ms = pass("tonemap").and_then(|s| s.median());
         record.tonemap_p90_ms = pass("tonemap").and_then(|s| s.p90());
         record.gbuffer_median_ms = pass("gbuffer").and_then(|s| s.median());
+        record.prez_late_median_ms = pass("pre-z (late)").and_then(|s| s.median());
+        record.occlusion_median_ms = match (
+            pass("depth pyramid").and_then(|s| s.median()),
+            pass("scene culling (late)").and_then(|s| s.median()),
+        ) {
+            (Some(a), Some(b)) => Some(a + b),
+            _ => None,
+        };
         record.deferred_median_ms = pass("tbdr shading")
             .or(pass("deferred base"))
             .and_then(|s| s.median());
@@ -229,7 +256,7 @@ impl CellRecord {
         record.dropped = m.dropped;
         record.note.clone_from(&m.note);
         if let Some(d) = renderer.scene_draws() {
-            record.draws = d.slots + d.blended;
+            record.draws = d.draws + d.blended;
             record.draws_visible = d.visible.map(|v| v + d.blended);
         }
     }
@@ -243,7 +270,8 @@ impl CellRecord {
     /// deferred paths or forward on the others.
     pub fn geometry_median_ms(&self) -> Option<f64> {
         let main = self.gbuffer_median_ms.or(self.forward_median_ms)?;
-        Some(self.prez_median_ms.unwrap_or(0.0) + main)
+        let prez = self.prez_median_ms.unwrap_or(0.0) + self.prez_late_median_ms.unwrap_or(0.0);
+        Some(prez + self.occlusion_median_ms.unwrap_or(0.0) + main)
     }
 
     /// Whether the cell belongs to the shadow axis (else to the light matrix).

@@ -30,16 +30,18 @@ pub(super) fn markdown(records: &[CellRecord]) -> String {
          primitive) the GPU culling kept in the last timed frame, plus every blended draw (those \
          are culled against the frustum on the CPU, uncounted), or all with culling off. CPU = the renderer's CPU per frame: prepare (uniforms, \
          culling items, shadow planning), record (build, compile and encode the frame graph) and \
-         submit, medians in ms. GPU = timestamps, median ms; geometry = pre-Z + G-buffer \
-         (deferred paths) or forward.\n\n",
+         submit, medians in ms. GPU = timestamps, median ms; occlusion = two-phase occlusion \
+         culling's second phase (depth pyramid, late test, late pre-Z; `off` with \
+         `--no-occlusion`); geometry = pre-Z + occlusion + G-buffer (deferred paths) or \
+         forward.\n\n",
     );
     out += "| path | MSAA | lights | instances | triangles | drawn | CPU frame | prepare | \
-            record | submit | pre-Z | G-buffer | forward | geometry | GPU total |\n";
-    out += "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-    for r in cities {
+            record | submit | pre-Z | occlusion | G-buffer | forward | geometry | GPU total |\n";
+    out += "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    for &r in &cities {
         let _ = writeln!(
             out,
-            "| {} | {} | {} | {} | {} | {} | {:.3} | {:.3} | {:.3} | {:.3} | {} | {} | {} | {} | {:.3} |",
+            "| {} | {} | {} | {} | {} | {} | {:.3} | {:.3} | {:.3} | {:.3} | {} | {} | {} | {} | {} | {:.3} |",
             r.label(),
             r.msaa,
             r.lights,
@@ -54,10 +56,49 @@ pub(super) fn markdown(records: &[CellRecord]) -> String {
             r.cpu_graph_median_ms,
             r.cpu_submit_median_ms,
             ms(r.prez_median_ms),
+            r.occlusion_median_ms.map_or_else(
+                || "off".to_string(),
+                |o| format!("{:.3}", o + r.prez_late_median_ms.unwrap_or(0.0))
+            ),
             ms(r.gbuffer_median_ms),
             ms(r.forward_median_ms),
             ms(r.geometry_median_ms()),
             r.gpu_total_median_ms,
+        );
+    }
+    out + &edits_markdown(&cities)
+}
+
+/// The cost of editing each city by handle (`bench::edits`): empty when no record has it.
+fn edits_markdown(cities: &[&CellRecord]) -> String {
+    let edited: Vec<&&CellRecord> = cities
+        .iter()
+        .filter(|r| r.edit_add_median_us.is_some())
+        .collect();
+    if edited.is_empty() {
+        return String::new();
+    }
+    let mut out = String::from(
+        "\nEditing the scene by handle between frames: 100 instances added (their draws \
+         appended), moved and removed, then 100 added again into the removed slots, each edit \
+         timed alone on the CPU (µs; add: median and most); a frame rendered after every tenth \
+         edit, and the CPU of those frames (ms, median; the passes catch up with the edits \
+         there).\n\n| path | MSAA | instances | add | add (most) | move | remove | CPU frame \
+         after edits |\n|---|---:|---:|---:|---:|---:|---:|---:|\n",
+    );
+    let us = |v: Option<f64>| v.map_or_else(|| "–".into(), |v| format!("{v:.1}"));
+    for r in edited {
+        let _ = writeln!(
+            out,
+            "| {} | {} | {} | {} | {} | {} | {} | {} |",
+            r.label(),
+            r.msaa,
+            r.instances,
+            us(r.edit_add_median_us),
+            us(r.edit_add_max_us),
+            us(r.edit_move_median_us),
+            us(r.edit_remove_median_us),
+            ms(r.edit_frame_cpu_median_ms),
         );
     }
     out
@@ -88,7 +129,14 @@ mod tests {
     #[test]
     fn the_section_lists_cities_by_path_then_size_and_sums_the_cpu() {
         let records = [
-            city(10_000, "tiled", 1.0),
+            CellRecord {
+                edit_add_median_us: Some(12.5),
+                edit_add_max_us: Some(40.0),
+                edit_move_median_us: Some(3.3),
+                edit_remove_median_us: Some(1.0),
+                edit_frame_cpu_median_ms: Some(0.9),
+                ..city(10_000, "tiled", 1.0)
+            },
             city(1_000, "tiled", 0.1),
             CellRecord {
                 scene: "courtyard".into(),
@@ -97,7 +145,7 @@ mod tests {
         ];
         let md = markdown(&records);
         let rows: Vec<&str> = md.lines().filter(|l| l.starts_with("| tiled")).collect();
-        assert_eq!(rows.len(), 2, "{md}");
+        assert_eq!(rows.len(), 3, "{md}");
         assert!(
             rows[0].contains("| 1000 | 100000 | all 0 | 0.800 |"),
             "{}",
@@ -109,6 +157,12 @@ mod tests {
             rows[1]
         );
         assert!(rows[1].ends_with("| 3.000 | 4.000 |"), "{}", rows[1]);
+        assert!(rows[1].contains("| off |"), "no occlusion timings: {}", rows[1]);
+        // Only the city whose edits were timed has an edit row.
+        assert_eq!(
+            rows[2],
+            "| tiled | 4 | 10000 | 12.5 | 40.0 | 3.3 | 1.0 | 0.900 |"
+        );
         assert_eq!(markdown(&records[2..]), "");
     }
 }

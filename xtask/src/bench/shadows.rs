@@ -190,8 +190,9 @@ pub fn measure_cell(
     let target = create_target(&gpu.device, &config);
     let camera = default_camera(scene, setup.width as f32 / setup.height as f32);
     let mover = moving_instance(scene).context("the scene has no instance to move")?;
-    renderer.set_instance_dynamic(mover, true)?;
     let start = scene.instances[mover].world_from_mesh;
+    let mover = renderer.scene_instance(mover)?;
+    renderer.set_instance_dynamic(mover, true)?;
     let casts = pick(cell, &lights.at(0), &camera, setup.height);
     let mut advance = |r: &mut Renderer, frame: u32| -> Result<()> {
         match cell.mode {

@@ -11,6 +11,7 @@ use renderer::frame::setup::{create_target, default_camera};
 use renderer::frame::{RenderPath, Renderer};
 use renderer::{GpuContext, GpuOptions};
 
+use super::edits;
 use super::matrix::{self, Support};
 use super::measure::{self, FramePlan, Reaching};
 use super::options::{axes, load_scenes, renderer_config, shadow_axes};
@@ -216,6 +217,16 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
                             measure::measure(&mut renderer, &target, &camera, &mut advance, plan)?;
                         previous = Some((n, m.wall_per_frame));
                         record.fill(&m, &mut renderer);
+                        // Once per setup, after its first cell is timed.
+                        if n == axes.lights[0] && d == args.decals[0] {
+                            edits::measure(
+                                &mut renderer,
+                                &bench_scene.scene,
+                                &target,
+                                &camera,
+                                &mut record,
+                            )?;
+                        }
                         // The deferred paths cull in workgroup memory: no lists to measure.
                         let culled = setup.path.0.is_culled() && !setup.path.0.is_deferred();
                         // Cull efficiency is a property of the lights: measured once, without decals.

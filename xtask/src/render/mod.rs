@@ -137,6 +137,10 @@ pub struct Args {
     /// same; for comparison).
     #[arg(long)]
     pub no_cull_draws: bool,
+    /// Cull against the view frustum only, without two-phase occlusion culling (the frame is
+    /// the same; for comparison).
+    #[arg(long)]
+    pub no_occlusion: bool,
 }
 
 /// A scene, its lights and its camera on a device, ready for frames of any view.
@@ -247,6 +251,7 @@ pub fn setup(args: &Args) -> Result<Setup> {
         particle_lighting,
         particle_atlas_side: side,
         cull_draws: !args.no_cull_draws,
+        occlusion_cull: !args.no_occlusion,
         ..Default::default()
     };
     let mut config = if builtin {

@@ -82,12 +82,17 @@ pub fn particle_summary(p: &renderer::frame::ParticleReport) -> String {
 
 /// The frame's scene draws in one line: how many, in how many batches, and what culling kept.
 pub fn draws_line(d: &renderer::frame_data::SceneDrawReport) -> String {
+    let culling = if d.occlusion {
+        "GPU frustum and occlusion culling"
+    } else {
+        "GPU frustum culling"
+    };
     let kept = d.visible.map_or_else(
         || "culling off".to_string(),
-        |v| format!("{v} drawn after GPU culling"),
+        |v| format!("{v} drawn after {culling}"),
     );
     format!(
         "draws: {} opaque and masked in {} batches ({kept}), {} blended",
-        d.slots, d.batches, d.blended
+        d.draws, d.batches, d.blended
     )
 }

@@ -122,7 +122,7 @@ impl Pass for GBufferPass {
         let programs = Arc::clone(&self.programs);
         let which = usize::from(lists.is_some());
         let group = FrameGroup::new(frame, &self.lighting, lists, shadows);
-        let scene = Arc::clone(&frame.scene);
+        let (scene, instances) = (Arc::clone(&frame.scene), Arc::clone(&frame.instances));
         pass.execute(move |ctx| {
             let p = &programs[which];
             let frame_group = group.bind_group(ctx, &p.program.bind_group_layouts[0], "gbuffer");
@@ -131,8 +131,8 @@ impl Pass for GBufferPass {
             let mut pass = begin_gbuffer_pass(ctx.encoder, &views, &depth_view);
             pass.set_bind_group(0, &frame_group, &[]);
             // The opaque and masked batches, as pre-Z and the forward pass draw them.
-            let mut draws = SceneDraws::new(&mut pass, &scene, VertexStreams::Forward);
-            draws.draw_batches(&list, &scene, |batch| {
+            let mut draws = SceneDraws::new(&mut pass, &scene, &instances, VertexStreams::Forward);
+            draws.draw_batches(&list, &instances, |batch| {
                 let pipeline = face_pipeline(&p.pipelines, batch.double_sided, batch.mirrored);
                 (pipeline, Some(&scene.materials[batch.material].bind_group))
             });

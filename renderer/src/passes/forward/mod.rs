@@ -23,7 +23,7 @@ use super::{
 };
 use crate::GpuContext;
 use crate::frame_data::{
-    DEPTH_FORMAT, FrameInputs, FrameResources, HDR_FORMAT, InstanceState, PreparedScene,
+    DEPTH_FORMAT, FrameInputs, FrameResources, HDR_FORMAT, InstanceTable, PreparedScene,
     RenderError, RenderPath, RendererConfig, SceneDrawList, box_in_frustum,
 };
 use crate::graph::{BufferAccess, Handle, RenderGraph, Texture, TextureAccess, TextureDesc};
@@ -183,8 +183,7 @@ fn pipeline(
 /// perspective camera's eye, by depth along an orthographic camera's parallel rays, each draw
 /// where its instance is now. Ties keep scene order.
 pub(crate) fn blended_order(
-    scene: &PreparedScene,
-    instances: &[InstanceState],
+    instances: &InstanceTable,
     blended: &[u32],
     camera: &crate::frame_data::FrameCamera,
     cull: bool,
@@ -194,10 +193,13 @@ pub(crate) fn blended_order(
     let mut order: Vec<(f32, u32)> = blended
         .iter()
         .filter_map(|&d| {
-            let draw = &scene.draws[d as usize];
-            let world = instances.get(draw.instance).map_or(draw.local_bounds, |i| {
-                draw.local_bounds.transformed(i.world_from_mesh)
-            });
+            let world = instances
+                .draws
+                .get(d as usize)?
+                .world_bounds(&instances.states);
+            if world.is_empty() {
+                return None;
+            }
             let slack = 1e-4 * (world.max - world.min).length();
             (!cull || box_in_frustum(&planes, world, slack))
                 .then(|| (crate::frame_data::farness(eye, world.center()), d))
@@ -322,7 +324,6 @@ impl ForwardPass {
         let (scene, instances) = (Arc::clone(&frame.scene), Arc::clone(&frame.instances));
         // Sorted on the CPU every frame: only the blended draws.
         let blended = blended_order(
-            &scene,
             &instances,
             &list.layout.blended,
             &frame.camera,
@@ -394,27 +395,27 @@ impl ForwardPass {
 fn draw_scene<'a>(
     pass: &mut wgpu::RenderPass<'a>,
     scene: &'a PreparedScene,
-    instances: &[InstanceState],
+    instances: &'a InstanceTable,
     list: &'a SceneDrawList,
     pipelines: &'a [FacePipelines; 2],
     opaque: bool,
     blended: &[u32],
 ) {
-    let mut draws = SceneDraws::new(pass, scene, VertexStreams::Forward);
+    let mut draws = SceneDraws::new(pass, scene, instances, VertexStreams::Forward);
     if opaque {
-        draws.draw_batches(list, scene, |batch| {
+        draws.draw_batches(list, instances, |batch| {
             let (sided, mirrored) = (batch.double_sided, batch.mirrored);
             let pipeline = face_pipeline(&pipelines[0], sided, mirrored);
             (pipeline, Some(&scene.materials[batch.material].bind_group))
         });
     }
     for &d in blended {
-        let draw = &scene.draws[d as usize];
+        let draw = &instances.draws[d as usize];
         let material = &scene.materials[draw.material];
         let pipeline = face_pipeline(
             &pipelines[1],
             material.double_sided,
-            draw.mirrored(instances),
+            draw.mirrored(&instances.states),
         );
         draws.draw(pipeline, Some(&material.bind_group), draw.geometry, d);
     }

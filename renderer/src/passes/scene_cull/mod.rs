@@ -12,6 +12,7 @@
 //! every slot draws: the same batches in the same order, so culling changes only which draws
 //! run. A device without `INDIRECT_FIRST_INSTANCE` draws every slot directly.
 
+pub mod occlusion;
 mod view_draws;
 
 use std::sync::Arc;
@@ -21,7 +22,8 @@ use shaders_gen::culling::instance_cull::{self, CullParams};
 use super::Pass;
 use crate::GpuContext;
 use crate::frame_data::{
-    FrameInputs, FrameReport, FrameResources, RenderError, SceneDrawList, SceneDrawReport,
+    FrameInputs, FrameReport, FrameResources, OcclusionDraws, RenderError, SceneDrawList,
+    SceneDrawReport,
 };
 use crate::graph::{BufferAccess, ImportAccess, RenderGraph};
 use crate::readback_ring::ReadbackRing;
@@ -39,8 +41,9 @@ pub struct SceneCullPass {
     draws: Option<ViewDraws>,
     /// Whether the device draws indirectly with a first instance.
     indirect: bool,
-    /// Whether this frame runs the dispatch.
+    /// Whether this frame runs the dispatch, and whether it is occlusion culling's first phase.
     culling: bool,
+    occlusion: bool,
     /// The newest count that arrived, and its frame.
     last_visible: Option<(u64, u32)>,
     /// For polling the count's readback.
@@ -61,7 +64,7 @@ impl SceneCullPass {
         });
         let visible = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("scene draws visible"),
-            size: 4,
+            size: 8,
             usage: wgpu::BufferUsages::STORAGE
                 | wgpu::BufferUsages::COPY_DST
                 | wgpu::BufferUsages::COPY_SRC,
@@ -74,12 +77,13 @@ impl SceneCullPass {
                 visible,
             },
             pipeline,
-            readback: ReadbackRing::new(device, "scene draws visible", 1),
+            readback: ReadbackRing::new(device, "scene draws visible", 2),
             draws: None,
             indirect: device
                 .features()
                 .contains(wgpu::Features::INDIRECT_FIRST_INSTANCE),
             culling: false,
+            occlusion: false,
             last_visible: None,
             device: device.clone(),
         })
@@ -104,7 +108,9 @@ impl Pass for SceneCullPass {
             }
             None => ViewDraws::new(gpu, &self.shared, frame),
         };
-        self.culling = frame.config.cull_draws && self.indirect && draws.layout.slot_count() > 0;
+        let c = &frame.config;
+        self.culling = c.cull_draws && self.indirect && draws.layout.slot_count() > 0;
+        self.occlusion = self.culling && c.occlusion_cull && c.path.has_prepass();
         if self.culling {
             draws.culled();
         } else {
@@ -120,8 +126,8 @@ impl Pass for SceneCullPass {
             near,
             far,
             draws.layout.slot_count(),
-            1e-5 * (1.0 + draws.extent),
-            0,
+            draws.slack(),
+            u32::from(self.occlusion),
             0,
         );
         gpu.queue
@@ -161,11 +167,30 @@ impl Pass for SceneCullPass {
                     pass.dispatch_workgroups(groups, 1, 1);
                 });
         }
+        let occlusion = self.occlusion.then(|| {
+            let o = &draws.occlusion;
+            let mut import = |name, buffer| {
+                resources.import_buffer(graph, name, buffer, ImportAccess::ReadWrite)
+            };
+            OcclusionDraws {
+                boxes: draws.box_buffer.clone(),
+                slot_draws: draws.slot_draws.clone(),
+                slot_count: draws.layout.slot_count(),
+                slack: draws.slack(),
+                history: o.history.clone(),
+                late: import("scene draw args, late", &o.late),
+                late_buffer: o.late.clone(),
+                all: import("scene draw args, both phases", &o.all),
+                all_buffer: o.all.clone(),
+                visible: self.shared.visible.clone(),
+            }
+        });
         resources.scene_draws = Some(SceneDrawList {
             layout: Arc::clone(&draws.layout),
             args,
             args_buffer: draws.args.clone(),
             indirect: self.indirect,
+            occlusion,
         });
         Ok(())
     }
@@ -178,7 +203,7 @@ impl Pass for SceneCullPass {
     ) {
         if self.culling {
             self.readback
-                .record(encoder, &[(&self.shared.visible, 4)], frame.index);
+                .record(encoder, &[(&self.shared.visible, 8)], frame.index);
         }
     }
 
@@ -192,13 +217,17 @@ impl SceneCullPass {
     /// The scene's draws and the newest culled count that has arrived (polling first).
     pub fn report(&mut self) -> Option<SceneDrawReport> {
         if let Some((at, words)) = self.readback.poll(&self.device) {
-            self.last_visible = Some((at, words[0]));
+            // With occlusion culling, the slots drawn in either phase.
+            let drawn = if self.occlusion { words[1] } else { words[0] };
+            self.last_visible = Some((at, drawn));
         }
         let draws = self.draws.as_ref()?;
         Some(SceneDrawReport {
+            draws: draws.layout.draw_count(),
             slots: draws.layout.slot_count(),
             batches: draws.layout.batches.len() as u32,
             blended: draws.layout.blended.len() as u32,
+            occlusion: self.occlusion,
             visible: self
                 .last_visible
                 .filter(|_| self.culling)

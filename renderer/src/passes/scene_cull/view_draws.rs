@@ -5,11 +5,10 @@
 use std::sync::Arc;
 
 use shaders_gen::culling::instance_cull::DrawBox;
-use wgpu::util::DeviceExt as _;
 
 use crate::GpuContext;
 use crate::frame_data::{
-    BatchLayout, FrameInputs, InstanceState, PreparedScene, mirroring_changed,
+    BatchLayout, FrameInputs, InstanceTable, NO_DRAW, PreparedScene, draw_place,
 };
 use crate::scene::Aabb;
 use crate::shader::ShaderProgram;
@@ -17,150 +16,305 @@ use crate::shader::ShaderProgram;
 #[derive(Debug)]
 pub struct ViewDraws {
     pub scene: Arc<PreparedScene>,
-    /// The instances the boxes and the layout follow.
-    instances: Arc<Vec<InstanceState>>,
+    /// The instance table's revision the boxes and the layout follow, and each instance's
+    /// version then.
+    revision: u64,
+    versions: Vec<u64>,
     pub layout: Arc<BatchLayout>,
-    /// Every slot's arguments, instance count 1 (all drawn).
+    /// Every slot's arguments, instance count 1 (all drawn; spare slots draw nothing).
     all_drawn: Vec<u32>,
     /// Whether `args` holds `all_drawn` (no culling since it was written).
     args_all_drawn: bool,
     pub args: wgpu::Buffer,
-    slot_draws: wgpu::Buffer,
-    boxes: wgpu::Buffer,
+    pub occlusion: OcclusionBuffers,
+    pub slot_draws: wgpu::Buffer,
+    /// Every draw's world box (empty for a removed instance's), and its GPU copy with room
+    /// for `box_capacity` boxes.
+    boxes: Vec<DrawBox>,
+    pub box_buffer: wgpu::Buffer,
+    box_capacity: usize,
     pub bind_group: wgpu::BindGroup,
-    /// The diagonal of every draw's box together (the culling slack scales with it).
-    pub extent: f32,
+    /// Every box together (the culling slack scales with its diagonal).
+    bounds: Aabb,
 }
 
-/// The world box of every draw of `scene` where `instances` put them.
-fn world_boxes(scene: &PreparedScene, instances: &[InstanceState]) -> Vec<DrawBox> {
-    scene
-        .draws
-        .iter()
-        .map(|d| {
-            let world = instances.get(d.instance).map_or(d.local_bounds, |i| {
-                d.local_bounds.transformed(i.world_from_mesh)
-            });
-            draw_box(world)
-        })
-        .collect()
-}
-
-fn draw_box(b: Aabb) -> DrawBox {
+/// The box of draw `d` where `table` puts it (a removed instance's is empty and never drawn:
+/// it holds no slot).
+fn draw_box(table: &InstanceTable, d: usize) -> DrawBox {
+    let b = table.draws[d].world_bounds(&table.states);
     DrawBox::new(b.min.extend(0.0), b.max.extend(0.0))
 }
 
-/// Every slot's arguments with instance count 1.
-fn arguments(scene: &PreparedScene, layout: &BatchLayout) -> Vec<u32> {
-    layout
-        .slot_draws
-        .iter()
-        .flat_map(|&d| {
-            let g = scene.draws[d as usize].geometry;
+/// Slot `slot`'s arguments with instance count 1 (all zero for an empty slot).
+fn slot_arguments(table: &InstanceTable, layout: &BatchLayout, slot: usize) -> [u32; 5] {
+    match layout.slot_draws[slot] {
+        NO_DRAW => [0; 5],
+        d => {
+            let g = table.draws[d as usize].geometry;
             [g.index_count, 1, g.first_index, g.base_vertex as u32, d]
-        })
-        .collect()
+        }
+    }
 }
 
-/// A buffer of `words` (at least one word, so an empty scene still binds).
+/// A storage buffer of `bytes` (at least 4).
 fn buffer(
     device: &wgpu::Device,
     label: &str,
-    words: &[u32],
+    bytes: u64,
     usage: wgpu::BufferUsages,
 ) -> wgpu::Buffer {
-    let padded: &[u32] = if words.is_empty() { &[0; 5] } else { words };
-    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+    device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
-        contents: bytemuck::cast_slice(padded),
-        usage: usage | wgpu::BufferUsages::COPY_DST,
+        size: bytes.max(4),
+        usage: usage | wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
     })
+}
+
+/// A batch layout built afresh, with its slots and arguments on the GPU.
+struct LaidOut {
+    layout: Arc<BatchLayout>,
+    all_drawn: Vec<u32>,
+    args: wgpu::Buffer,
+    occlusion: OcclusionBuffers,
+    slot_draws: wgpu::Buffer,
+}
+
+/// What occlusion culling keeps per slot: the second phase's arguments, the arguments of
+/// every slot drawn in either phase, and whether each slot was visible last frame (all zero
+/// for a new layout: its first frame draws everything in the second phase).
+#[derive(Debug, Clone)]
+pub struct OcclusionBuffers {
+    pub late: wgpu::Buffer,
+    pub all: wgpu::Buffer,
+    pub history: wgpu::Buffer,
+}
+
+impl LaidOut {
+    fn new(gpu: &GpuContext, scene: &PreparedScene, table: &InstanceTable) -> Self {
+        let layout = BatchLayout::new(scene, table);
+        let all_drawn: Vec<u32> = (0..layout.slot_draws.len())
+            .flat_map(|slot| slot_arguments(table, &layout, slot))
+            .collect();
+        let bytes = |words: usize| (words * 4) as u64;
+        let indirect = wgpu::BufferUsages::INDIRECT;
+        let args = buffer(
+            &gpu.device,
+            "scene draw args",
+            bytes(all_drawn.len()),
+            indirect,
+        );
+        gpu.queue
+            .write_buffer(&args, 0, bytemuck::cast_slice(&all_drawn));
+        let copy = |label: &str| {
+            let b = buffer(&gpu.device, label, bytes(all_drawn.len()), indirect);
+            gpu.queue
+                .write_buffer(&b, 0, bytemuck::cast_slice(&all_drawn));
+            b
+        };
+        let occlusion = OcclusionBuffers {
+            late: copy("scene draw args, late"),
+            all: copy("scene draw args, both phases"),
+            history: buffer(
+                &gpu.device,
+                "scene slot history",
+                bytes(layout.slot_draws.len()),
+                wgpu::BufferUsages::empty(),
+            ),
+        };
+        let slot_draws = buffer(
+            &gpu.device,
+            "scene slot draws",
+            bytes(layout.slot_draws.len()),
+            wgpu::BufferUsages::empty(),
+        );
+        gpu.queue
+            .write_buffer(&slot_draws, 0, bytemuck::cast_slice(&layout.slot_draws));
+        Self {
+            layout: Arc::new(layout),
+            all_drawn,
+            args,
+            occlusion,
+            slot_draws,
+        }
+    }
 }
 
 impl ViewDraws {
     /// The draws of `frame`'s scene where its instances are, every slot drawn.
     pub fn new(gpu: &GpuContext, shared: &CullShared, frame: &FrameInputs) -> Self {
-        let device = &gpu.device;
-        let scene = Arc::clone(&frame.scene);
-        let layout = BatchLayout::new(&scene, &frame.instances);
-        let boxes = world_boxes(&scene, &frame.instances);
-        let extent = boxes.iter().fold(Aabb::EMPTY, |b, d| {
-            b.with_point(d.min.truncate()).with_point(d.max.truncate())
-        });
-        let extent = if extent.is_empty() {
-            0.0
-        } else {
-            (extent.max - extent.min).length()
-        };
-        let storage = wgpu::BufferUsages::STORAGE;
-        let all_drawn = arguments(&scene, &layout);
-        let args = buffer(
-            device,
-            "scene draw args",
-            &all_drawn,
-            storage | wgpu::BufferUsages::INDIRECT,
+        let table = &frame.instances;
+        let boxes: Vec<DrawBox> = (0..table.draws.len()).map(|d| draw_box(table, d)).collect();
+        let box_capacity = boxes.len() + boxes.len() / 4 + 16;
+        let box_buffer = buffer(
+            &gpu.device,
+            "scene draw boxes",
+            (box_capacity * size_of::<DrawBox>()) as u64,
+            wgpu::BufferUsages::empty(),
         );
-        let slot_draws = buffer(device, "scene slot draws", &layout.slot_draws, storage);
-        let box_words: &[u32] = bytemuck::cast_slice(&boxes);
-        let boxes = buffer(device, "scene draw boxes", box_words, storage);
-        let bind_group = bind_group(device, shared, [&slot_draws, &args, &boxes]);
+        gpu.queue
+            .write_buffer(&box_buffer, 0, bytemuck::cast_slice(&boxes));
+        let bounds = boxes
+            .iter()
+            .filter(|d| d.min.x <= d.max.x)
+            .fold(Aabb::EMPTY, |b, d| {
+                b.with_point(d.min.truncate()).with_point(d.max.truncate())
+            });
+        let scene = Arc::clone(&frame.scene);
+        let slots = LaidOut::new(gpu, &scene, table);
+        let bind_group = bind_group(
+            &gpu.device,
+            shared,
+            [
+                &slots.slot_draws,
+                &slots.args,
+                &box_buffer,
+                &slots.occlusion.history,
+            ],
+        );
         Self {
             scene,
-            instances: Arc::clone(&frame.instances),
-            layout: Arc::new(layout),
-            all_drawn,
+            revision: table.revision,
+            versions: table.states.iter().map(|s| s.version).collect(),
+            layout: slots.layout,
+            all_drawn: slots.all_drawn,
             args_all_drawn: true,
-            args,
-            slot_draws,
-            boxes,
+            args: slots.args,
+            occlusion: slots.occlusion,
+            slot_draws: slots.slot_draws,
             bind_group,
-            extent,
+            boxes,
+            box_buffer,
+            box_capacity,
+            bounds,
         }
     }
 
-    /// Follows moved instances: rewrites the boxes of their draws, and rebuilds the layout
-    /// (slots and arguments) when one's mirroring changed.
+    /// How far outside a frustum plane a box may reach and still be kept: rounding never
+    /// removes a box that touches the frustum (it scales with every box together).
+    pub fn slack(&self) -> f32 {
+        let extent = if self.bounds.is_empty() {
+            0.0
+        } else {
+            (self.bounds.max - self.bounds.min).length()
+        };
+        1e-5 * (1.0 + extent)
+    }
+
+    /// Builds the layout afresh and uploads its slots and arguments.
+    fn lay_out(&mut self, gpu: &GpuContext, shared: &CullShared, table: &InstanceTable) {
+        let slots = LaidOut::new(gpu, &self.scene, table);
+        self.layout = slots.layout;
+        self.all_drawn = slots.all_drawn;
+        self.args = slots.args;
+        self.occlusion = slots.occlusion;
+        self.slot_draws = slots.slot_draws;
+        self.args_all_drawn = true;
+        self.rebind(&gpu.device, shared);
+    }
+
+    fn rebind(&mut self, device: &wgpu::Device, shared: &CullShared) {
+        let buffers = [
+            &self.slot_draws,
+            &self.args,
+            &self.box_buffer,
+            &self.occlusion.history,
+        ];
+        self.bind_group = bind_group(device, shared, buffers);
+    }
+
+    /// Follows the instance table: for every instance added, removed or changed since the
+    /// last frame, rewrites its draws' boxes and moves its draws to their batches' slots
+    /// (spare slots, written one by one), building the layout again only when a batch is full
+    /// or new.
     pub fn follow_instances(
         &mut self,
         gpu: &GpuContext,
         shared: &CullShared,
-        instances: &Arc<Vec<InstanceState>>,
+        table: &InstanceTable,
     ) {
-        if Arc::ptr_eq(&self.instances, instances) {
+        if table.revision == self.revision {
             return;
         }
-        let (before, after) = (&self.instances, instances);
-        if mirroring_changed(before, after) {
-            let layout = BatchLayout::new(&self.scene, after);
-            let storage = wgpu::BufferUsages::STORAGE;
-            self.all_drawn = arguments(&self.scene, &layout);
-            let usage = storage | wgpu::BufferUsages::INDIRECT;
-            self.args = buffer(&gpu.device, "scene draw args", &self.all_drawn, usage);
-            self.slot_draws = buffer(&gpu.device, "scene slot draws", &layout.slot_draws, storage);
-            self.layout = Arc::new(layout);
-            self.args_all_drawn = true;
-            let buffers = [&self.slot_draws, &self.args, &self.boxes];
-            self.bind_group = bind_group(&gpu.device, shared, buffers);
-        }
-        for (index, state) in after.iter().enumerate() {
-            if before
-                .get(index)
-                .is_some_and(|b| b.version == state.version)
-            {
+        let mut relayout = false;
+        let mut changed_slots = Vec::new();
+        let mut changed_boxes = Vec::new();
+        let layout = Arc::make_mut(&mut self.layout);
+        for (index, state) in table.states.iter().enumerate() {
+            if self.versions.get(index) == Some(&state.version) {
                 continue;
             }
-            let range = self.scene.draws_of_instance(index);
-            let boxes: Vec<DrawBox> = self.scene.draws[range.clone()]
-                .iter()
-                .map(|d| draw_box(d.local_bounds.transformed(state.world_from_mesh)))
-                .collect();
-            let at = range.start as u64 * size_of::<DrawBox>() as u64;
-            if !boxes.is_empty() {
-                gpu.queue
-                    .write_buffer(&self.boxes, at, bytemuck::cast_slice(&boxes));
+            for d in state.draws() {
+                if !relayout {
+                    match layout.place(d as u32, draw_place(&self.scene, table, d)) {
+                        Ok(slots) => changed_slots.extend(slots),
+                        Err(_) => relayout = true,
+                    }
+                }
+                let b = draw_box(table, d);
+                if d >= self.boxes.len() {
+                    self.boxes.resize(d + 1, b);
+                }
+                self.boxes[d] = b;
+                if b.min.x <= b.max.x {
+                    self.bounds = self
+                        .bounds
+                        .with_point(b.min.truncate())
+                        .with_point(b.max.truncate());
+                }
+            }
+            changed_boxes.push(state.draws());
+        }
+        self.versions.clear();
+        self.versions.extend(table.states.iter().map(|s| s.version));
+        self.revision = table.revision;
+        self.write_boxes(gpu, shared, &changed_boxes);
+        if relayout {
+            self.lay_out(gpu, shared, table);
+            return;
+        }
+        for slot in changed_slots {
+            let args = slot_arguments(table, &self.layout, slot as usize);
+            let at = slot as usize * 5;
+            self.all_drawn[at..at + 5].copy_from_slice(&args);
+            let draw = self.layout.slot_draws[slot as usize];
+            let queue = &gpu.queue;
+            queue.write_buffer(
+                &self.slot_draws,
+                u64::from(slot) * 4,
+                bytemuck::bytes_of(&draw),
+            );
+            let o = &self.occlusion;
+            for buffer in [&self.args, &o.late, &o.all] {
+                queue.write_buffer(buffer, (at * 4) as u64, bytemuck::cast_slice(&args));
             }
         }
-        self.instances = Arc::clone(instances);
+    }
+
+    /// Uploads the boxes of `ranges`, or every box into a buffer twice as large when they
+    /// outgrew it.
+    fn write_boxes(
+        &mut self,
+        gpu: &GpuContext,
+        shared: &CullShared,
+        ranges: &[std::ops::Range<usize>],
+    ) {
+        let stride = size_of::<DrawBox>();
+        if self.boxes.len() > self.box_capacity {
+            self.box_capacity = self.boxes.len().max(2 * self.box_capacity);
+            let bytes = (self.box_capacity * stride) as u64;
+            let usage = wgpu::BufferUsages::empty();
+            self.box_buffer = buffer(&gpu.device, "scene draw boxes", bytes, usage);
+            gpu.queue
+                .write_buffer(&self.box_buffer, 0, bytemuck::cast_slice(&self.boxes));
+            self.rebind(&gpu.device, shared);
+            return;
+        }
+        for r in ranges.iter().filter(|r| !r.is_empty()) {
+            let bytes = bytemuck::cast_slice(&self.boxes[r.clone()]);
+            gpu.queue
+                .write_buffer(&self.box_buffer, (r.start * stride) as u64, bytes);
+        }
     }
 
     /// Makes every slot draw (culling is off this frame), writing the arguments only if a
@@ -187,11 +341,12 @@ pub struct CullShared {
     pub visible: wgpu::Buffer,
 }
 
-/// Group 0 of `instance_cull`: parameters, boxes, slot draws, arguments, visible counter.
+/// Group 0 of `instance_cull`: parameters, boxes, slot draws, arguments, visible counter,
+/// history.
 fn bind_group(
     device: &wgpu::Device,
     shared: &CullShared,
-    [slot_draws, args, boxes]: [&wgpu::Buffer; 3],
+    [slot_draws, args, boxes, history]: [&wgpu::Buffer; 4],
 ) -> wgpu::BindGroup {
     device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("scene culling"),
@@ -202,6 +357,7 @@ fn bind_group(
             slot_draws.as_entire_binding(),
             args.as_entire_binding(),
             shared.visible.as_entire_binding(),
+            history.as_entire_binding(),
         ]),
     })
 }

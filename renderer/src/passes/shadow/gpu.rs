@@ -337,6 +337,7 @@ pub struct Recording {
     /// Per region, its first cast in the static cache and in the atlas (`CastList::first`).
     pub first_casts: Vec<[u32; 2]>,
     pub scene: Arc<PreparedScene>,
+    pub instances: Arc<crate::frame_data::InstanceTable>,
     pub caster: CasterPipelines,
     pub clear: wgpu::RenderPipeline,
     pub copy: wgpu::RenderPipeline,
@@ -413,9 +414,9 @@ impl Recording {
             return;
         }
         pass.set_bind_group(0, &self.caster_group, &[]);
-        let mut draws = SceneDraws::new(pass, &self.scene, VertexStreams::Mask);
+        let mut draws = SceneDraws::new(pass, &self.scene, &self.instances, VertexStreams::Mask);
         for (cast, &c) in (first..).zip(casters) {
-            let Some(draw) = self.scene.draws.get(c as usize) else {
+            let Some(draw) = self.instances.draws.get(c as usize) else {
                 continue;
             };
             let mask = self

@@ -51,11 +51,12 @@ pub struct ShadowPass {
     casters: Option<CasterCache>,
 }
 
-/// A scene's shadow casters where its instances were.
+/// A scene's shadow casters where its instances were (at that revision of its instance
+/// table).
 #[derive(Debug)]
 struct CasterCache {
     scene: Arc<crate::frame_data::PreparedScene>,
-    instances: Arc<Vec<crate::frame_data::InstanceState>>,
+    revision: u64,
     casters: Vec<Caster>,
     bounds: Aabb,
 }
@@ -177,14 +178,14 @@ impl ShadowPass {
     /// from, else builds them afresh.
     fn refresh_casters(&mut self, frame: &FrameInputs) {
         let current = self.casters.take().filter(|c| {
-            Arc::ptr_eq(&c.scene, &frame.scene) && Arc::ptr_eq(&c.instances, &frame.instances)
+            Arc::ptr_eq(&c.scene, &frame.scene) && c.revision == frame.instances.revision
         });
         self.casters = Some(current.unwrap_or_else(|| {
             let casters = casters(frame);
             let bounds = casters.iter().fold(Aabb::EMPTY, |b, c| b.union(c.bounds));
             CasterCache {
                 scene: Arc::clone(&frame.scene),
-                instances: Arc::clone(&frame.instances),
+                revision: frame.instances.revision,
                 casters,
                 bounds,
             }
@@ -192,19 +193,21 @@ impl ShadowPass {
     }
 }
 
-/// The frame's shadow casters: every draw that is not blended, where its instance is now.
+/// The frame's shadow casters: every draw that is not blended, where its instance is now (a
+/// removed instance's with empty bounds, so that it reaches no region while the list keeps
+/// its length).
 fn casters(frame: &FrameInputs) -> Vec<Caster> {
-    let scene = &frame.scene;
-    scene
+    let (scene, table) = (&frame.scene, &frame.instances);
+    table
         .draws
         .iter()
         .enumerate()
         .filter(|(_, d)| scene.materials[d.material].alpha_mode != AlphaMode::Blend)
         .filter_map(|(i, d)| {
-            let state = frame.instances.get(d.instance)?;
+            let state = table.states.get(d.instance)?;
             Some(Caster {
                 draw: i as u32,
-                bounds: d.local_bounds.transformed(state.world_from_mesh),
+                bounds: d.world_bounds(&table.states),
                 dynamic: state.dynamic,
                 version: state.version,
             })
@@ -275,6 +278,7 @@ impl Pass for ShadowPass {
                 regions: self.plan.regions.clone(),
                 first_casts: self.first_casts.clone(),
                 scene: Arc::clone(&frame.scene),
+                instances: Arc::clone(&frame.instances),
                 caster: self.pipelines.caster.clone(),
                 clear: self.pipelines.clear.clone(),
                 copy: self.pipelines.copy.clone(),

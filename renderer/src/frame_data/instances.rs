@@ -1,0 +1,373 @@
+//! The scene's instances and their draws as an engine edits them: add, remove, move and mark
+//! dynamic by [`InstanceHandle`], each change written to the GPU where it lands and nothing
+//! else re-uploaded.
+//!
+//! An instance draws every primitive of its mesh; its draws are consecutive entries of
+//! [`InstanceTable::draws`] and records of the `view` library's `DRAWS` (group 1 of every
+//! geometry pass), which the geometry passes index by instance index. A removed instance keeps
+//! its slot and its draws, dead (drawn by no pass), until an instance of the same mesh is added
+//! and takes them over; only an instance of a mesh with no free slot appends draws. The
+//! records buffer grows by doubling, copied on the GPU.
+//!
+//! Every change bumps [`InstanceTable::revision`] and the instance's
+//! [`InstanceState::version`]; passes keep what they derived (batches, boxes, shadow casters)
+//! and, when the revision moved, update it from the instances whose version moved.
+
+use std::ops::Range;
+
+use glam::Mat4;
+use shaders_gen::forward::forward;
+
+use super::scene::{PreparedScene, is_mirrored};
+use crate::GpuContext;
+use crate::scene::{Aabb, GpuPrimitive, Scene};
+
+/// An instance of the renderer's scene, as [`crate::frame::Renderer::add_instance`] returned
+/// it or [`crate::frame::Renderer::scene_instance`] named it. A handle outlives its instance:
+/// once the instance is removed, the handle is refused, even after its slot is reused.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct InstanceHandle {
+    index: u32,
+    generation: u32,
+}
+
+impl InstanceHandle {
+    /// The instance's slot: its index in [`crate::frame::Renderer::instances`].
+    pub fn index(self) -> usize {
+        self.index as usize
+    }
+}
+
+/// One instance: which mesh, where, and whether it moves.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InstanceState {
+    /// Its mesh, an index into the scene's meshes.
+    pub mesh: usize,
+    pub world_from_mesh: Mat4,
+    /// Dynamic instances are drawn over the static shadow cache every frame they can shadow a
+    /// region; static ones are cached.
+    pub dynamic: bool,
+    /// False once removed: its draws are drawn by no pass.
+    pub live: bool,
+    /// Bumped whenever anything above changes.
+    pub version: u64,
+    /// Its draws: `first_draw..first_draw + draw_count` of [`InstanceTable::draws`].
+    pub first_draw: u32,
+    pub draw_count: u32,
+    /// Bumped each time the slot is given to a new instance (handles of older ones fail).
+    generation: u32,
+}
+
+impl InstanceState {
+    /// Whether the instance is mirrored where it is now ([`is_mirrored`]).
+    pub fn mirrored(&self) -> bool {
+        is_mirrored(self.world_from_mesh)
+    }
+
+    /// Its draws' indices.
+    pub fn draws(&self) -> Range<usize> {
+        self.first_draw as usize..(self.first_draw + self.draw_count) as usize
+    }
+}
+
+/// One primitive of one instance.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DrawItem {
+    /// The instance (index into [`InstanceTable::states`]) it belongs to.
+    pub instance: usize,
+    pub material: usize,
+    /// Where its primitive lies in the scene's shared geometry buffers.
+    pub geometry: GpuPrimitive,
+    /// The primitive's bounds in mesh space.
+    pub local_bounds: Aabb,
+}
+
+impl DrawItem {
+    /// The record of this draw at `world_from_mesh`.
+    pub fn uniform(&self, world_from_mesh: Mat4) -> forward::Draw {
+        super::scene::draw_uniform(world_from_mesh, self.material)
+    }
+
+    /// Whether the draw is mirrored where its instance is now: a moved instance can become
+    /// mirrored or stop being so.
+    pub fn mirrored(&self, instances: &[InstanceState]) -> bool {
+        instances
+            .get(self.instance)
+            .is_some_and(InstanceState::mirrored)
+    }
+
+    /// Its world bounds where `instances` put its instance; empty when the instance is dead.
+    pub fn world_bounds(&self, instances: &[InstanceState]) -> Aabb {
+        match instances.get(self.instance) {
+            Some(i) if i.live => self.local_bounds.transformed(i.world_from_mesh),
+            Some(_) => Aabb::EMPTY,
+            None => self.local_bounds,
+        }
+    }
+}
+
+/// The instances, their draws, and the draw records on the GPU.
+#[derive(Debug, Clone)]
+pub struct InstanceTable {
+    pub states: Vec<InstanceState>,
+    pub draws: Vec<DrawItem>,
+    /// Removed instances by mesh, for reuse.
+    free: Vec<Vec<u32>>,
+    /// The `view` library's `DRAWS`: one `Draw` record per draw, `capacity` records long.
+    records: wgpu::Buffer,
+    capacity: usize,
+    /// Group 1 of the pre-Z, forward, G-buffer and shadow-caster programs: `records`.
+    pub draw_group: wgpu::BindGroup,
+    layout: wgpu::BindGroupLayout,
+    /// Bumped by every change.
+    pub revision: u64,
+}
+
+/// Why an instance edit was refused.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum InstanceEditError {
+    /// The handle's instance was removed (or never existed in this scene).
+    Stale,
+    /// The mesh index is past the scene's meshes.
+    NoSuchMesh { mesh: usize, count: usize },
+    /// The transform has a NaN or an infinity.
+    NotFinite,
+}
+
+impl InstanceTable {
+    /// The instances of `scene` where the file placed them, static, its draws' records on the
+    /// GPU with room for a quarter more.
+    pub fn new(gpu: &GpuContext, prepared: &PreparedScene, scene: &Scene) -> Self {
+        let mut table = Self::empty(gpu, prepared, 0);
+        for instance in &scene.instances {
+            table.push(prepared, instance.mesh, instance.world_from_mesh, false);
+        }
+        let capacity = table.draws.len() + table.draws.len() / 4 + 16;
+        table.grow_records(gpu, capacity, false);
+        table.write_records(gpu, 0..table.draws.len());
+        table.revision = 0;
+        table
+    }
+
+    fn empty(gpu: &GpuContext, prepared: &PreparedScene, capacity: usize) -> Self {
+        let layout = prepared.draw_layout.clone();
+        let records = records_buffer(&gpu.device, capacity);
+        let draw_group = draw_group(&gpu.device, &layout, &records);
+        Self {
+            states: Vec::new(),
+            draws: Vec::new(),
+            free: vec![Vec::new(); prepared.mesh_draws.len()],
+            records,
+            capacity: capacity.max(1),
+            draw_group,
+            layout,
+            revision: 0,
+        }
+    }
+
+    /// The handle of the live instance in slot `index`.
+    pub fn handle(&self, index: usize) -> Option<InstanceHandle> {
+        let s = self.states.get(index).filter(|s| s.live)?;
+        Some(InstanceHandle {
+            index: index as u32,
+            generation: s.generation,
+        })
+    }
+
+    /// The live instance `handle` names.
+    pub fn get(&self, handle: InstanceHandle) -> Option<&InstanceState> {
+        self.states
+            .get(handle.index())
+            .filter(|s| s.live && s.generation == handle.generation)
+    }
+
+    /// Adds an instance of `mesh` at `world_from_mesh`: into the slot of a removed instance of
+    /// the same mesh if there is one (its draws reused), else appended with new draws.
+    pub fn add(
+        &mut self,
+        gpu: &GpuContext,
+        prepared: &PreparedScene,
+        mesh: usize,
+        world_from_mesh: Mat4,
+        dynamic: bool,
+    ) -> Result<InstanceHandle, InstanceEditError> {
+        let count = prepared.mesh_draws.len();
+        if mesh >= count {
+            return Err(InstanceEditError::NoSuchMesh { mesh, count });
+        }
+        check_finite(world_from_mesh)?;
+        let index = match self.free[mesh].pop() {
+            Some(index) => {
+                let s = &mut self.states[index as usize];
+                s.world_from_mesh = world_from_mesh;
+                s.dynamic = dynamic;
+                s.live = true;
+                s.version += 1;
+                s.generation += 1;
+                index as usize
+            }
+            None => {
+                let needed = self.draws.len() + prepared.mesh_draws[mesh].len();
+                if needed > self.capacity {
+                    self.grow_records(gpu, needed.max(2 * self.capacity), true);
+                }
+                self.push(prepared, mesh, world_from_mesh, dynamic)
+            }
+        };
+        self.write_records(gpu, self.states[index].draws());
+        self.revision += 1;
+        self.handle(index).ok_or(InstanceEditError::Stale)
+    }
+
+    /// Removes `handle`'s instance: its draws stop drawing, its slot waits for the next
+    /// instance of its mesh.
+    pub fn remove(&mut self, handle: InstanceHandle) -> Result<(), InstanceEditError> {
+        let state = self.live_mut(handle)?;
+        state.live = false;
+        state.version += 1;
+        let mesh = state.mesh;
+        if let Some(free) = self.free.get_mut(mesh) {
+            free.push(handle.index);
+        }
+        self.revision += 1;
+        Ok(())
+    }
+
+    /// Moves `handle`'s instance, rewriting its draws' records.
+    pub fn set_transform(
+        &mut self,
+        gpu: &GpuContext,
+        handle: InstanceHandle,
+        world_from_mesh: Mat4,
+    ) -> Result<(), InstanceEditError> {
+        check_finite(world_from_mesh)?;
+        let state = self.live_mut(handle)?;
+        if state.world_from_mesh == world_from_mesh {
+            return Ok(());
+        }
+        state.world_from_mesh = world_from_mesh;
+        state.version += 1;
+        let draws = state.draws();
+        self.write_records(gpu, draws);
+        self.revision += 1;
+        Ok(())
+    }
+
+    /// Marks `handle`'s instance dynamic or static.
+    pub fn set_dynamic(
+        &mut self,
+        handle: InstanceHandle,
+        dynamic: bool,
+    ) -> Result<(), InstanceEditError> {
+        let state = self.live_mut(handle)?;
+        if state.dynamic != dynamic {
+            state.dynamic = dynamic;
+            state.version += 1;
+            self.revision += 1;
+        }
+        Ok(())
+    }
+
+    fn live_mut(
+        &mut self,
+        handle: InstanceHandle,
+    ) -> Result<&mut InstanceState, InstanceEditError> {
+        self.states
+            .get_mut(handle.index())
+            .filter(|s| s.live && s.generation == handle.generation)
+            .ok_or(InstanceEditError::Stale)
+    }
+
+    /// Appends an instance and its draws (the records are not written).
+    fn push(
+        &mut self,
+        prepared: &PreparedScene,
+        mesh: usize,
+        world_from_mesh: Mat4,
+        dynamic: bool,
+    ) -> usize {
+        let index = self.states.len();
+        let templates = prepared.mesh_draws.get(mesh).map_or(&[][..], Vec::as_slice);
+        self.states.push(InstanceState {
+            mesh,
+            world_from_mesh,
+            dynamic,
+            live: true,
+            version: 0,
+            first_draw: self.draws.len() as u32,
+            draw_count: templates.len() as u32,
+            generation: 0,
+        });
+        self.draws.extend(templates.iter().map(|t| DrawItem {
+            instance: index,
+            material: t.material,
+            geometry: t.geometry,
+            local_bounds: t.local_bounds,
+        }));
+        index
+    }
+
+    /// Writes the records of `draws` where their instances are.
+    fn write_records(&self, gpu: &GpuContext, draws: Range<usize>) {
+        if draws.is_empty() {
+            return;
+        }
+        let records: Vec<forward::Draw> = self.draws[draws.clone()]
+            .iter()
+            .map(|d| d.uniform(self.states[d.instance].world_from_mesh))
+            .collect();
+        let at = (draws.start * size_of::<forward::Draw>()) as u64;
+        gpu.queue
+            .write_buffer(&self.records, at, bytemuck::cast_slice(&records));
+    }
+
+    /// A records buffer of `capacity` records, the current ones copied over on the GPU when
+    /// `copy`.
+    fn grow_records(&mut self, gpu: &GpuContext, capacity: usize, copy: bool) {
+        let records = records_buffer(&gpu.device, capacity);
+        if copy && !self.draws.is_empty() {
+            let bytes = (self.draws.len() * size_of::<forward::Draw>()) as u64;
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            encoder.copy_buffer_to_buffer(&self.records, 0, &records, 0, bytes);
+            gpu.queue.submit([encoder.finish()]);
+        }
+        self.draw_group = draw_group(&gpu.device, &self.layout, &records);
+        self.records = records;
+        self.capacity = capacity.max(1);
+    }
+}
+
+fn check_finite(m: Mat4) -> Result<(), InstanceEditError> {
+    if m.is_finite() {
+        Ok(())
+    } else {
+        Err(InstanceEditError::NotFinite)
+    }
+}
+
+fn records_buffer(device: &wgpu::Device, capacity: usize) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("draw records"),
+        // A storage binding is never empty.
+        size: (capacity.max(1) * size_of::<forward::Draw>()) as u64,
+        usage: wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_DST
+            | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    })
+}
+
+fn draw_group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    records: &wgpu::Buffer,
+) -> wgpu::BindGroup {
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("draw records"),
+        layout,
+        entries: &[wgpu::BindGroupEntry {
+            binding: 0,
+            resource: records.as_entire_binding(),
+        }],
+    })
+}
