@@ -30,6 +30,8 @@ pub struct Frame {
     pub rgba: Vec<u8>,
     pub report: FrameReport,
     pub culling: Option<CullCounters>,
+    /// The frame's graph in Graphviz DOT (`Renderer::graph_dot`).
+    pub graph_dot: String,
 }
 
 /// Renders `scene` lit by `lights` with `config`, from a camera framing the scene's bounds.
@@ -93,5 +95,6 @@ pub fn render_one_frame(gpu: &GpuContext, renderer: &mut Renderer, camera: &Fram
         rgba,
         report,
         culling,
+        graph_dot: renderer.graph_dot().unwrap_or_default(),
     }
 }

@@ -42,6 +42,8 @@ fn config(path: RenderPath, msaa: u32, cull_draws: bool) -> RendererConfig {
         path,
         tile: 16,
         cull_draws,
+        // Occlusion culling on every city, the smallest included.
+        occlusion_min_draws: 0,
         ..Default::default()
     }
 }

@@ -112,6 +112,8 @@ fn a_pass_from_outside_the_renderer_joins_the_frame() {
             [
                 "scene culling",
                 "pre-z",
+                "occlusion culling",
+                "pre-z (late)",
                 "light culling",
                 "shadow atlas",
                 "particle simulation",
@@ -135,10 +137,10 @@ fn a_pass_from_outside_the_renderer_joins_the_frame() {
         let camera = framing_camera(scene.bounds, WIDTH as f32 / HEIGHT as f32);
         let report = renderer.render(&camera, &target).expect("frame");
         renderer.finish();
+        let dot = renderer.graph_dot().expect("a compiled graph");
         assert!(
-            report.graph_dot.contains("hdr snapshot"),
-            "the compiled graph schedules the pass:\n{}",
-            report.graph_dot
+            dot.contains("hdr snapshot"),
+            "the compiled graph schedules the pass:\n{dot}"
         );
 
         // The snapshot is the frame's HDR image: wherever the output shows light the HDR holds
@@ -160,5 +162,26 @@ fn a_pass_from_outside_the_renderer_joins_the_frame() {
             lit += usize::from(brightest > 0.05);
         }
         assert!(lit > hdr.len() / 20, "the frame must be lit ({lit} pixels)");
+
+        // The graph is compiled once: the next frame of the same shape reuses its plan (and
+        // draws the same), a frame of another size compiles again.
+        assert!(report.graph_compiled, "the first frame compiles its graph");
+        let again = renderer.render(&camera, &target).expect("frame");
+        renderer.finish();
+        assert!(!again.graph_compiled, "the same graph reuses the plan");
+        let ldr_again =
+            readback::read_texture_rgba8(&gpu.device, &gpu.queue, &target).expect("ldr");
+        assert_eq!(ldr_again, ldr, "a reused plan draws the same frame");
+        renderer
+            .resize(WIDTH / 2, HEIGHT)
+            .expect("a size the device takes");
+        let half = RendererConfig {
+            width: WIDTH / 2,
+            ..config
+        };
+        let smaller = create_target(&gpu.device, &half);
+        let resized = renderer.render(&camera, &smaller).expect("frame");
+        renderer.finish();
+        assert!(resized.graph_compiled, "a new size compiles again");
     });
 }

@@ -358,6 +358,8 @@ fn the_shading_frequency_view_marks_edges_red_and_bad_settings_are_errors() {
             let mut passes = vec![
                 "scene culling",
                 "pre-z",
+                "occlusion culling",
+                "pre-z (late)",
                 "light culling",
                 "shadow atlas",
                 "particle simulation",

@@ -120,7 +120,7 @@ pub fn run(args: &Args) -> Result<()> {
     save_png(&files[4], &particle_atlas.rgba, size)?;
     save_png(&files[5], &frequency.rgba, size)?;
     save_png(&files[6], &volumes.rgba, size)?;
-    save_text(&files[7], &lit.report.graph_dot)?;
+    save_text(&files[7], &lit.graph_dot)?;
     summary(&s, &lit, &files, started.elapsed().as_secs_f64());
     print_deferred(
         &lit,

@@ -3,7 +3,8 @@
 //!
 //! `frame` is a thin orchestrator. For the configured path it holds an ordered list of passes
 //! ([`crate::passes::Pass`], chosen in `pass_list`); each frame it asks every pass to prepare and
-//! to add itself to a [`RenderGraph`], then compiles, records and submits the graph. It knows no
+//! to add itself to a [`RenderGraph`], then compiles it (reusing the last plan while the
+//! graph's shape holds), records and submits it. It knows no
 //! pass's internals. The renderer never creates a window: the caller owns the target texture.
 //!
 //! ```no_run
@@ -64,7 +65,7 @@ use crate::frame_data::{
     CameraUniform, FrameInputs, FrameResources, GpuDecals, InstanceTable, LightSet, ParticleInput,
     with_effective_ranges,
 };
-use crate::graph::{ImportAccess, PassTiming, RenderGraph, TextureDesc, TransientPool};
+use crate::graph::{GraphCache, ImportAccess, PassTiming, RenderGraph, TextureDesc, TransientPool};
 use crate::particles::ParticleSystem;
 use crate::passes::Pass;
 use crate::passes::particles::ParticleSimulation;
@@ -88,6 +89,8 @@ pub struct Renderer {
     particles: Option<ParticleInput>,
     camera_uniform: CameraUniform,
     pool: TransientPool,
+    /// The last compiled graph's shape and plan, reused while the shape holds.
+    graph_cache: GraphCache,
     profiler: wgpu_profiler::GpuProfiler,
     frame_index: u64,
     /// Submissions of frames that may still run on the GPU, oldest first.
@@ -139,6 +142,7 @@ impl Renderer {
             particles: None,
             camera_uniform: CameraUniform::new(&gpu.device),
             pool: TransientPool::new(),
+            graph_cache: GraphCache::new(),
             profiler: wgpu_profiler::GpuProfiler::new(&gpu.device, settings)
                 .map_err(|e| RenderError::Profiler(e.to_string()))?,
             frame_index: 0,
@@ -149,6 +153,13 @@ impl Renderer {
 
     pub fn config(&self) -> &RendererConfig {
         &self.config
+    }
+
+    /// The newest frame's graph in Graphviz DOT (passes in order, culled ones dashed, resources
+    /// with their pool slots), drawn now from the compiled plan it kept; `None` before the
+    /// first frame.
+    pub fn graph_dot(&self) -> Option<String> {
+        self.graph_cache.to_dot()
     }
 
     /// Uploads a scene; it replaces the previous one. A scene that is inconsistent or does not
@@ -302,8 +313,9 @@ impl Renderer {
         for pass in &self.passes {
             pass.add_to_graph(&mut graph, &frame, &mut resources)?;
         }
-        let mut compiled = graph.compile()?;
-        let graph_dot = compiled.to_dot();
+        let compilations = self.graph_cache.counts().0;
+        let mut compiled = graph.compile_cached(&mut self.graph_cache)?;
+        let graph_compiled = self.graph_cache.counts().0 > compilations;
         compiled.bind_texture(output, target);
         resources.bind_imports(&mut compiled);
         let gpu = &self.gpu;
@@ -331,7 +343,7 @@ impl Renderer {
             cpu_graph_ms,
             cpu_upload_ms,
             cpu_submit_ms,
-            graph_dot,
+            graph_compiled,
             pool,
             ..Default::default()
         };

@@ -17,8 +17,10 @@ pub struct FrameReport {
     /// CPU time to finish the command buffer and submit it, in milliseconds. The three CPU
     /// fields together are the renderer's CPU cost of a frame.
     pub cpu_submit_ms: f64,
-    /// The compiled graph as Graphviz DOT.
-    pub graph_dot: String,
+    /// Whether this frame compiled its graph; false when the graph had the last compiled
+    /// one's shape and reused its plan (`graph::GraphCache`). The graph's DOT is drawn on
+    /// request: `Renderer::graph_dot`.
+    pub graph_compiled: bool,
     /// Culling counters of the newest frame whose copy has arrived (read asynchronously).
     /// `dropped > 0` means lights were left out of some lists that frame; the renderer logs a
     /// warning and grows the index list for the next frame where the device allows.

@@ -2,6 +2,7 @@
 //! transient pool plan. Nothing here touches the GPU.
 
 use std::collections::BTreeSet;
+use std::sync::Arc;
 
 use super::builder::RenderGraph;
 use super::context::PoolObject;
@@ -9,20 +10,27 @@ use super::error::GraphError;
 use super::nodes::{AccessKind, Lifetime, PassNode, ResourceDesc, ResourceNode, Usage};
 use super::pool::{SlotPlan, plan_slots};
 
-/// A graph ready to execute: passes in order, culled passes, lifetimes and the pool plan.
+/// A graph ready to execute: its passes and resources, and the plan compiling made.
 #[derive(Debug)]
 pub struct CompiledGraph {
     pub(crate) passes: Vec<PassNode>,
     pub(crate) resources: Vec<ResourceNode>,
-    /// Indices of the passes to run, in order.
-    pub(crate) order: Vec<usize>,
-    /// Per resource: its lifetime over `order`, `None` if no kept pass uses it.
-    pub(crate) lifetimes: Vec<Option<Lifetime>>,
-    /// Physical slots for transients, and each transient's slot.
-    pub(crate) slots: Vec<SlotPlan>,
-    pub(crate) slot_of: Vec<Option<usize>>,
+    pub(crate) plan: Arc<Plan>,
     /// GPU objects of imported resources, bound before execution.
     pub(crate) bound: Vec<Option<PoolObject>>,
+}
+
+/// What compiling decides: it depends only on the graph's shape (its resources and what each
+/// pass reads and writes), never on what the passes record.
+#[derive(Debug, PartialEq)]
+pub(crate) struct Plan {
+    /// Indices of the passes to run, in order.
+    pub order: Vec<usize>,
+    /// Per resource: its lifetime over `order`, `None` if no kept pass uses it.
+    pub lifetimes: Vec<Option<Lifetime>>,
+    /// Physical slots for transients, and each transient's slot.
+    pub slots: Vec<SlotPlan>,
+    pub slot_of: Vec<Option<usize>>,
 }
 
 impl RenderGraph {
@@ -46,10 +54,12 @@ impl RenderGraph {
         Ok(CompiledGraph {
             passes: self.passes,
             resources: self.resources,
-            order,
-            lifetimes,
-            slots,
-            slot_of,
+            plan: Arc::new(Plan {
+                order,
+                lifetimes,
+                slots,
+                slot_of,
+            }),
             bound: Vec::new(),
         })
     }
@@ -58,7 +68,8 @@ impl RenderGraph {
 impl CompiledGraph {
     /// Names of the passes that will run, in order.
     pub fn pass_order(&self) -> Vec<&str> {
-        self.order
+        self.plan
+            .order
             .iter()
             .map(|&p| self.passes[p].name.as_str())
             .collect()
@@ -67,7 +78,7 @@ impl CompiledGraph {
     /// Names of the passes culled because nothing needs their results.
     pub fn culled_passes(&self) -> Vec<&str> {
         (0..self.passes.len())
-            .filter(|p| !self.order.contains(p))
+            .filter(|p| !self.plan.order.contains(p))
             .map(|p| self.passes[p].name.as_str())
             .collect()
     }
@@ -75,18 +86,18 @@ impl CompiledGraph {
     /// The lifetime of the resource called `name`.
     pub fn lifetime(&self, name: &str) -> Option<Lifetime> {
         let index = self.resources.iter().position(|r| r.name == name)?;
-        self.lifetimes[index]
+        self.plan.lifetimes[index]
     }
 
     /// The pool slot of the transient called `name` (equal slots share one GPU object).
     pub fn slot(&self, name: &str) -> Option<usize> {
         let index = self.resources.iter().position(|r| r.name == name)?;
-        self.slot_of[index]
+        self.plan.slot_of[index]
     }
 
     /// Number of physical transient objects this frame needs.
     pub fn slot_count(&self) -> usize {
-        self.slots.len()
+        self.plan.slots.len()
     }
 }
 

@@ -1,6 +1,8 @@
 //! Recording a compiled graph: pool objects for transients, imports bound by the caller, one
 //! debug group and one GPU timestamp scope per pass.
 
+use std::sync::Arc;
+
 use super::compile::CompiledGraph;
 use super::context::{PassContext, PoolObject};
 use super::error::GraphError;
@@ -65,7 +67,7 @@ impl CompiledGraph {
         self.bound.resize(n, None);
         let mut objects = std::mem::take(&mut self.bound);
         for (i, r) in self.resources.iter().enumerate() {
-            if r.import.is_none() || self.lifetimes[i].is_none() {
+            if r.import.is_none() || self.plan.lifetimes[i].is_none() {
                 continue;
             }
             let expected = kind_name(&r.desc);
@@ -85,13 +87,14 @@ impl CompiledGraph {
                 Some(_) => {}
             }
         }
-        let (physical, stats) = pool.acquire(device, &self.slots);
-        for (i, slot) in self.slot_of.iter().enumerate() {
+        let (physical, stats) = pool.acquire(device, &self.plan.slots);
+        for (i, slot) in self.plan.slot_of.iter().enumerate() {
             if let Some(slot) = slot {
                 objects[i] = Some(physical[*slot].clone());
             }
         }
-        for &p in &self.order {
+        let plan = Arc::clone(&self.plan);
+        for &p in &plan.order {
             let pass = &mut self.passes[p];
             let mut scope = profiler.scope(pass.name.clone(), &mut *encoder);
             if let Some(record) = pass.execute.take() {

@@ -4,7 +4,9 @@
 //!
 //! Lifecycle: [`RenderGraph`] (passes are added) → [`RenderGraph::compile`] →
 //! [`CompiledGraph`] (order, lifetimes, pool plan; no GPU needed) →
-//! [`CompiledGraph::execute`] (records the passes on a device).
+//! [`CompiledGraph::execute`] (records the passes on a device). A renderer compiles through a
+//! [`GraphCache`] ([`RenderGraph::compile_cached`]): a frame whose graph has the last one's
+//! shape reuses its plan, and DOT is drawn from the cache on request.
 //!
 //! Handles are versioned: writing a resource takes `&mut Handle` and advances it, so a read
 //! always names the exact write it depends on. Mistakes are [`GraphError`]s at compile time,
@@ -12,9 +14,10 @@
 //!
 //! Files are layered, each using only those below it: `resource`, `error` → `context` (what a
 //! recording function gets) → `nodes` (the shared plain data) → `builder`, `pool` → `compile` →
-//! `execute`, `dot`. `cargo xtask check-invariants` rejects any import circle between them.
+//! `execute`, `dot` → `cache`. `cargo xtask check-invariants` rejects any import circle between them.
 
 mod builder;
+mod cache;
 mod compile;
 mod context;
 mod dot;
@@ -25,6 +28,7 @@ mod pool;
 mod resource;
 
 pub use builder::{PassBuilder, PassId, RenderGraph};
+pub use cache::GraphCache;
 pub use compile::CompiledGraph;
 pub use context::PassContext;
 pub use error::GraphError;

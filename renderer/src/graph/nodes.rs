@@ -19,7 +19,7 @@ pub(crate) enum AccessKind {
     Buffer(BufferAccess),
 }
 
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub(crate) struct ResourceNode {
     pub name: String,
     pub desc: ResourceDesc,
@@ -44,6 +44,29 @@ pub(crate) struct PassNode {
     pub after: Vec<usize>,
     pub side_effects: bool,
     pub execute: Option<ExecuteFn>,
+}
+
+impl PassNode {
+    /// The pass without its recording function: what the graph's plan depends on.
+    pub fn shape(&self) -> Self {
+        Self {
+            name: self.name.clone(),
+            reads: self.reads.clone(),
+            writes: self.writes.clone(),
+            after: self.after.clone(),
+            side_effects: self.side_effects,
+            execute: None,
+        }
+    }
+
+    /// Whether `other` reads, writes and orders like this pass, under the same name.
+    pub fn same_shape(&self, other: &Self) -> bool {
+        self.name == other.name
+            && self.reads == other.reads
+            && self.writes == other.writes
+            && self.after == other.after
+            && self.side_effects == other.side_effects
+    }
 }
 
 impl std::fmt::Debug for PassNode {

@@ -292,3 +292,48 @@ fn dot_dump_shows_passes_resources_and_culling() {
     assert!(dot.contains("imported ReadOnly"), "{dot}");
     assert!(dot.contains("-> p3 [label=\"v1\"]"), "{dot}");
 }
+
+/// A graph of one transient written by "a" and read by "b" (kept by an imported output), its
+/// transient `size` texels wide.
+fn two_passes(size: u32) -> RenderGraph {
+    let mut g = RenderGraph::new();
+    let desc = TextureDesc::new_2d(size, 4, wgpu::TextureFormat::Rgba8Unorm);
+    let mut t = g.create_texture("t", desc);
+    let mut out = g.import_texture("out", desc, ImportAccess::ReadWrite);
+    g.add_pass("a")
+        .write_texture(&mut t, TextureAccess::ColorAttachment)
+        .execute(|_| {});
+    g.add_pass("b")
+        .read_texture(t, TextureAccess::Sampled)
+        .write_texture(&mut out, TextureAccess::ColorAttachment)
+        .execute(|_| {});
+    g
+}
+
+#[test]
+fn a_graph_of_the_same_shape_reuses_the_plan_and_another_compiles() {
+    let mut cache = GraphCache::new();
+    assert_eq!(cache.to_dot(), None);
+    let first = two_passes(8).compile_cached(&mut cache).expect("valid");
+    let fresh = two_passes(8).compile().expect("valid");
+    assert_eq!(first.plan, fresh.plan);
+    assert_eq!(cache.counts(), (1, 0));
+    let again = two_passes(8).compile_cached(&mut cache).expect("valid");
+    assert_eq!(cache.counts(), (1, 1), "the same shape reuses the plan");
+    assert!(std::sync::Arc::ptr_eq(&first.plan, &again.plan));
+    assert_eq!(cache.to_dot(), Some(fresh.to_dot()));
+    // Another size is another shape: compiled again, and drawn so.
+    let wider = two_passes(16).compile_cached(&mut cache).expect("valid");
+    assert_eq!(cache.counts(), (2, 1));
+    assert_eq!(wider.plan, two_passes(16).compile().expect("valid").plan);
+    // A pass reading something else is another shape too.
+    let mut g = two_passes(16);
+    let extra = g.create_buffer("extra", BufferDesc { size: 4 });
+    g.add_pass("c").read_buffer(extra, BufferAccess::Uniform);
+    assert!(g.compile_cached(&mut cache).is_err(), "read before write");
+    assert_eq!(cache.counts(), (2, 1), "an invalid graph changes nothing");
+    let mut g = two_passes(16);
+    g.add_pass("c").side_effects().execute(|_| {});
+    g.compile_cached(&mut cache).expect("valid");
+    assert_eq!(cache.counts(), (3, 1), "an added pass compiles again");
+}

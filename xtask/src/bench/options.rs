@@ -29,14 +29,13 @@ pub(super) fn load_scenes(args: &Args) -> Result<Vec<BenchScene>> {
     }
     for p in &args.scene {
         let opened = crate::render::scene_arg::open_scene(Some(p))?;
-        let city = opened.name.starts_with("city:");
-        let name = if city || opened.courtyard {
+        let name = if opened.generated || opened.courtyard {
             opened.name
         } else {
             p.file_stem()
                 .map_or("scene".into(), |s| s.to_string_lossy().into_owned())
         };
-        let light_box = if city {
+        let light_box = if opened.generated {
             opened.light_region
         } else {
             opened.scene.bounds

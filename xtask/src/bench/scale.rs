@@ -157,7 +157,11 @@ mod tests {
             rows[1]
         );
         assert!(rows[1].ends_with("| 3.000 | 4.000 |"), "{}", rows[1]);
-        assert!(rows[1].contains("| off |"), "no occlusion timings: {}", rows[1]);
+        assert!(
+            rows[1].contains("| off |"),
+            "no occlusion timings: {}",
+            rows[1]
+        );
         // Only the city whose edits were timed has an edit row.
         assert_eq!(
             rows[2],

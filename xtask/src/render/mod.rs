@@ -166,6 +166,8 @@ pub struct Shot {
     pub counters: Option<CullCounters>,
     /// Lights listed ÷ lights reaching, over probed surface samples (culled paths, when asked).
     pub efficiency: Option<f64>,
+    /// The frame's graph in Graphviz DOT.
+    pub graph_dot: String,
 }
 
 /// Checks every option, opens the device and loads the scene. Bad input is an error naming the
@@ -406,6 +408,7 @@ pub fn shoot_with(s: &Setup, config: RendererConfig, efficiency: bool) -> Result
         timings,
         counters,
         efficiency,
+        graph_dot: renderer.graph_dot().unwrap_or_default(),
     })
 }
 
@@ -421,7 +424,7 @@ pub fn run(args: &Args, default_out: &str) -> Result<()> {
     let size = (s.config.width, s.config.height);
     save_png(&out, &shot.rgba, size)?;
     let dot = out.with_extension("dot");
-    save_text(&dot, &shot.report.graph_dot)?;
+    save_text(&dot, &shot.graph_dot)?;
     println!("adapter: {}", s.gpu.report);
     println!(
         "scene {} ({} triangles), {} lights, {}x{}, MSAA {}, path {}, tile {}, scalarize {}",

@@ -20,6 +20,9 @@ pub struct OpenedScene {
     pub light_radii: (f32, f32),
     /// The courtyard, which has its own look.
     pub courtyard: bool,
+    /// A generated scene (`city:N`): its bounds grow with its size, its lit region does not,
+    /// so lights that must stay comparable across sizes go in `light_region`.
+    pub generated: bool,
 }
 
 /// Opens `arg`: none or `courtyard` is the built-in courtyard, `city:N` a generated city, and
@@ -39,6 +42,7 @@ pub fn open_scene(arg: Option<&Path>) -> Result<OpenedScene> {
             light_region,
             light_radii,
             courtyard,
+            generated: !courtyard,
         });
     }
     let path = Path::new(&name);
@@ -60,5 +64,6 @@ pub fn open_scene(arg: Option<&Path>) -> Result<OpenedScene> {
         light_region,
         light_radii,
         courtyard: false,
+        generated: false,
     })
 }

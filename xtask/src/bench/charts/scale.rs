@@ -16,9 +16,10 @@ const PANELS: [(&str, Figure); 3] = [
     ("CPU per frame (prepare + record + submit)", |r| {
         Some(r.cpu_frame_ms())
     }),
-    ("GPU geometry passes (pre-Z + G-buffer or forward)", |r| {
-        r.geometry_median_ms()
-    }),
+    (
+        "GPU geometry passes (pre-Z, occlusion, G-buffer or forward)",
+        |r| r.geometry_median_ms(),
+    ),
     ("GPU whole frame (all passes)", |r| {
         Some(r.gpu_total_median_ms)
     }),
