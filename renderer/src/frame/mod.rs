@@ -53,9 +53,9 @@ use std::sync::Arc;
 use std::time::Instant;
 
 pub use crate::frame_data::{
-    Ambient, DrawItem, FrameCamera, FrameReport, FrameView, InstanceHandle, InstanceState,
-    ParticleLighting, ParticleReport, PreparedMaterial, PreparedScene, RenderError, RenderPath,
-    RendererConfig,
+    Ambient, DecalUpload, DrawItem, FrameCamera, FrameReport, FrameView, InstanceHandle,
+    InstanceState, ParticleLighting, ParticleReport, PreparedMaterial, PreparedScene, RenderError,
+    RenderPath, RendererConfig,
 };
 pub use crate::passes::light_cull::Culler;
 
@@ -190,8 +190,10 @@ impl Renderer {
     /// Replaces the decals (validated, their atlas packed with the default
     /// [`DecalAtlasConfig`]), effective next frame. Decals are culled into the same cell lists
     /// as lights and applied by forward shading before lighting, in their layer order
-    /// ([`DecalSet::layer_order`]).
-    pub fn set_decals(&mut self, decals: &DecalSet) -> Result<(), RenderError> {
+    /// ([`DecalSet::layer_order`]). A set with the current set's materials (decals added,
+    /// removed or moved) keeps the packed atlas and writes only the decals' records; the
+    /// result says which happened.
+    pub fn set_decals(&mut self, decals: &DecalSet) -> Result<DecalUpload, RenderError> {
         self.set_decals_with(decals, DecalAtlasConfig::default())
     }
 
@@ -200,10 +202,12 @@ impl Renderer {
         &mut self,
         decals: &DecalSet,
         atlas: DecalAtlasConfig,
-    ) -> Result<(), RenderError> {
+    ) -> Result<DecalUpload, RenderError> {
         let gpu = &self.gpu;
-        self.decals = Arc::new(GpuDecals::new(&gpu.device, &gpu.queue, decals, atlas)?);
-        Ok(())
+        let (set, upload) =
+            GpuDecals::updated(&gpu.device, &gpu.queue, decals, atlas, &self.decals)?;
+        self.decals = Arc::new(set);
+        Ok(upload)
     }
 
     /// Replaces the particle systems (validated against this device), effective next frame.

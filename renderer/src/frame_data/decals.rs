@@ -1,6 +1,7 @@
 //! The frame's decals on the GPU: the records shading reads and the boxes culling tests, both in
 //! layer order (the order cell lists keep and shading applies), and the decal atlas's four
-//! textures with their sampler.
+//! textures with their sampler. A new set over the same materials keeps the packed atlas and
+//! rewrites only the records ([`GpuDecals::updated`]).
 
 use bytemuck::Zeroable as _;
 use glam::{Mat4, Vec4};
@@ -8,7 +9,9 @@ use shaders_gen::forward::forward::GpuDecal;
 use wgpu::util::DeviceExt as _;
 
 use crate::culling::hierarchy::CullBox;
-use crate::decals::{Channel, Decal, DecalAtlas, DecalAtlasConfig, DecalError, DecalSet};
+use crate::decals::{
+    AtlasEntry, Channel, Decal, DecalAtlas, DecalAtlasConfig, DecalError, DecalMaterial, DecalSet,
+};
 
 /// Stands for "never" in distance fades (beyond any camera distance, finite in `f32` maths).
 const FAR_DISTANCE: f32 = 1.0e30;
@@ -28,6 +31,27 @@ pub struct GpuDecals {
     /// Atlas side in texels and mip levels (1×1 and 1 without decals).
     pub atlas_size: u32,
     pub mip_levels: u32,
+    /// What the atlas was packed from and where each material went: a later set with the same
+    /// materials and configuration keeps the atlas ([`GpuDecals::updated`]).
+    packed: Option<Packed>,
+}
+
+/// The materials and configuration an atlas was packed from, and its entries.
+#[derive(Debug)]
+struct Packed {
+    materials: Vec<DecalMaterial>,
+    config: DecalAtlasConfig,
+    entries: Vec<AtlasEntry>,
+}
+
+/// What [`GpuDecals::updated`] had to do.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DecalUpload {
+    /// The materials or the atlas configuration changed (or there were no decals): the atlas
+    /// was packed and uploaded again.
+    Repacked,
+    /// Same materials: only the decals' records and boxes were written.
+    RecordsOnly,
 }
 
 impl GpuDecals {
@@ -41,7 +65,58 @@ impl GpuDecals {
             sampler: sampler(device),
             atlas_size: 1,
             mip_levels: 1,
+            packed: None,
         }
+    }
+
+    /// [`GpuDecals::new`], keeping `previous`'s atlas when `set` has the same materials and
+    /// `config` is the same (decals added, removed or moved over one material palette): then
+    /// only the records are written, into `previous`'s buffer where they fit.
+    pub fn updated(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        set: &DecalSet,
+        config: DecalAtlasConfig,
+        previous: &GpuDecals,
+    ) -> Result<(Self, DecalUpload), DecalError> {
+        let reusable = previous
+            .packed
+            .as_ref()
+            .filter(|p| p.config == config && p.materials == set.materials);
+        let Some(packed) = reusable.filter(|_| !set.decals.is_empty()) else {
+            return Ok((
+                Self::new(device, queue, set, config)?,
+                DecalUpload::Repacked,
+            ));
+        };
+        set.validate()?;
+        check_count(device, set)?;
+        let order = set.layer_order();
+        let records: Vec<GpuDecal> = order
+            .iter()
+            .map(|&i| record(&set.decals[i], &packed.entries))
+            .collect();
+        let bytes: &[u8] = bytemuck::cast_slice(&records);
+        let records = if previous.records.size() >= bytes.len() as u64 {
+            queue.write_buffer(&previous.records, 0, bytes);
+            previous.records.clone()
+        } else {
+            records_buffer(device, &records)
+        };
+        let gpu = Self {
+            boxes: order.iter().map(|&i| cull_box(&set.decals[i])).collect(),
+            records,
+            views: previous.views.clone(),
+            sampler: previous.sampler.clone(),
+            atlas_size: previous.atlas_size,
+            mip_levels: previous.mip_levels,
+            packed: Some(Packed {
+                materials: packed.materials.clone(),
+                config,
+                entries: packed.entries.clone(),
+            }),
+        };
+        Ok((gpu, DecalUpload::RecordsOnly))
     }
 
     /// Validates `set`, packs its atlas and uploads it with the decals in layer order.
@@ -52,13 +127,7 @@ impl GpuDecals {
         config: DecalAtlasConfig,
     ) -> Result<Self, DecalError> {
         set.validate()?;
-        let max = Self::max_decals(device);
-        if set.decals.len() > max {
-            return Err(DecalError::TooMany {
-                count: set.decals.len(),
-                max,
-            });
-        }
+        check_count(device, set)?;
         if set.decals.is_empty() {
             return Ok(Self::empty(device, queue));
         }
@@ -66,7 +135,7 @@ impl GpuDecals {
         let order = set.layer_order();
         let records: Vec<GpuDecal> = order
             .iter()
-            .map(|&i| record(&set.decals[i], &atlas))
+            .map(|&i| record(&set.decals[i], &atlas.entries))
             .collect();
         let boxes = order.iter().map(|&i| cull_box(&set.decals[i])).collect();
         Ok(Self {
@@ -77,6 +146,11 @@ impl GpuDecals {
             sampler: sampler(device),
             atlas_size: atlas.size,
             mip_levels: atlas.mip_levels,
+            packed: Some(Packed {
+                materials: set.materials.clone(),
+                config,
+                entries: atlas.entries,
+            }),
         })
     }
 
@@ -125,11 +199,23 @@ pub fn cull_box(decal: &Decal) -> CullBox {
     )
 }
 
-/// The shading record of a validated decal.
-fn record(decal: &Decal, atlas: &DecalAtlas) -> GpuDecal {
+/// [`DecalError::TooMany`] past what one storage binding holds on `device`.
+fn check_count(device: &wgpu::Device, set: &DecalSet) -> Result<(), DecalError> {
+    let max = GpuDecals::max_decals(device);
+    if set.decals.len() > max {
+        return Err(DecalError::TooMany {
+            count: set.decals.len(),
+            max,
+        });
+    }
+    Ok(())
+}
+
+/// The shading record of a validated decal, its material at `entries[decal.material]`.
+fn record(decal: &Decal, entries: &[AtlasEntry]) -> GpuDecal {
     // World → the unit cube [−0.5, 0.5]³ → [−1, 1]³.
     let box_from_world = Mat4::from_scale(glam::Vec3::splat(2.0)) * decal.world_from_box.inverse();
-    let entry = &atlas.entries[decal.material];
+    let entry = &entries[decal.material];
     let [angle_start, angle_end] = decal.angle_fade;
     let (cos_start, cos_end) = (angle_start.cos(), angle_end.cos());
     let [distance_start, distance_end] = decal.distance_fade.map(|d| d.min(FAR_DISTANCE));
@@ -162,7 +248,8 @@ fn records_buffer(device: &wgpu::Device, records: &[GpuDecal]) -> wgpu::Buffer {
     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("decals"),
         contents: bytemuck::cast_slice(records),
-        usage: wgpu::BufferUsages::STORAGE,
+        // COPY_DST: a later set over the same materials is written in place.
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
     })
 }
 

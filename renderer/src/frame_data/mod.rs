@@ -25,7 +25,7 @@ pub use config::{
     Ambient, DEFAULT_LIGHT_CUTOFF, EdgeThresholds, FrameView, ParticleLighting, RenderPath,
     RendererConfig,
 };
-pub use decals::{GpuDecals, cull_box};
+pub use decals::{DecalUpload, GpuDecals, cull_box};
 pub use draw_batches::{BatchKey, BatchLayout, DrawBatch, DrawPlace, NO_DRAW, NoRoom, draw_place};
 pub use error::RenderError;
 pub use formats::{DEPTH_FORMAT, GBUFFER_FORMATS, HDR_FORMAT};
