@@ -4,7 +4,6 @@
 //! edit shown). What the settings keys, reloads and resizes do to the running state is in
 //! [`settings`].
 
-mod edits;
 mod settings;
 
 use std::sync::Arc;
@@ -63,7 +62,7 @@ struct Running {
     light_count: usize,
     message: Option<String>,
     /// Instances added with `I` (kept across renderer rebuilds).
-    added: edits::Added,
+    added: viewer::instances::Added,
 }
 
 impl App {
@@ -192,7 +191,7 @@ impl App {
             last: Instant::now(),
             light_count: self.args.lights,
             message: None,
-            added: edits::Added::default(),
+            added: viewer::instances::Added::default(),
             gpu,
             surface,
             surface_config,

@@ -186,8 +186,8 @@ impl Running {
             KeyCode::KeyP => self.action('p', shown)?,
             KeyCode::KeyO => self.action('o', shown)?,
             KeyCode::KeyG => self.action('g', shown)?,
-            KeyCode::KeyI => self.add_instances(shown)?,
-            KeyCode::KeyU => self.remove_instances()?,
+            KeyCode::KeyI => self.added.add_batch(&mut self.renderer, shown, &self.fly)?,
+            KeyCode::KeyU => self.added.remove_batch(&mut self.renderer)?,
             KeyCode::Equal | KeyCode::NumpadAdd => self.action('+', shown)?,
             KeyCode::Minus | KeyCode::NumpadSubtract => self.action('-', shown)?,
             _ => {}

@@ -1,53 +1,51 @@
 //! Editing the shown scene by handle while it runs: `I` adds a hundred instances (copies of the
-//! scene's own meshes) in a field in front of the camera, `U` removes the newest hundred. The
-//! renderer is not rebuilt; the added instances are added again when a settings key rebuilds
-//! it.
+//! scene's own meshes, each scaled to about a metre) on a grid ahead of the camera, `U` removes
+//! the newest hundred. The renderer is not rebuilt; a settings key that rebuilds it adds them
+//! again ([`Added::replay`]).
 
 use anyhow::Result;
 use glam::{Mat4, Quat, Vec3};
 use renderer::frame::{InstanceHandle, Renderer};
-use viewer::scene::Shown;
 
-use super::Running;
+use crate::fly::Fly;
+use crate::scene::Shown;
 
 /// Instances one key press adds or removes.
-const BATCH: usize = 100;
+pub const BATCH: usize = 100;
 
 /// The instances added so far, in order, and their handles in the running renderer.
 #[derive(Debug, Default)]
-pub(super) struct Added {
+pub struct Added {
     placed: Vec<(usize, Mat4)>,
     handles: Vec<InstanceHandle>,
 }
 
 impl Added {
     /// How many are in the scene.
-    pub(super) fn count(&self) -> usize {
+    pub fn count(&self) -> usize {
         self.placed.len()
     }
 
     /// Adds them all again to a renderer just rebuilt.
-    pub(super) fn replay(&mut self, renderer: &mut Renderer) -> Result<()> {
+    pub fn replay(&mut self, renderer: &mut Renderer) -> Result<()> {
         self.handles.clear();
         for &(mesh, at) in &self.placed {
             self.handles.push(renderer.add_instance(mesh, at)?);
         }
         Ok(())
     }
-}
 
-impl Running {
-    /// `I`: a hundred instances of the scene's meshes on a grid ahead of the camera, each
-    /// scaled to about a metre and turned by its place in the grid.
-    pub(super) fn add_instances(&mut self, shown: &Shown) -> Result<()> {
+    /// A hundred instances of `shown`'s meshes on a grid ahead of `fly`, each turned by its
+    /// place in the grid.
+    pub fn add_batch(&mut self, renderer: &mut Renderer, shown: &Shown, fly: &Fly) -> Result<()> {
         let instances = &shown.scene.instances;
         if instances.is_empty() {
             return Ok(());
         }
-        let forward = self.fly.forward();
+        let forward = fly.forward();
         let flat = Vec3::new(forward.x, 0.0, forward.z).normalize_or(Vec3::NEG_Z);
         let side = flat.cross(Vec3::Y);
-        let start = self.added.count();
+        let start = self.count();
         for k in start..start + BATCH {
             let source = &instances[(k * 7919) % instances.len()];
             let bounds = shown.scene.meshes[source.mesh]
@@ -56,27 +54,26 @@ impl Running {
                 .fold(renderer::scene::Aabb::EMPTY, |b, p| b.union(p.bounds));
             let size = (bounds.max - bounds.min).max_element().max(1e-3);
             let (row, column) = ((k / 10) as f32, (k % 10) as f32 - 4.5);
-            let at = self.fly.eye + flat * (4.0 + 1.5 * row) + side * (1.5 * column);
+            let at = fly.eye + flat * (4.0 + 1.5 * row) + side * (1.5 * column);
             let world = Mat4::from_scale_rotation_translation(
                 Vec3::splat(1.0 / size),
                 Quat::from_rotation_y(k as f32 * 0.7),
                 at,
             ) * Mat4::from_translation(-bounds.center());
-            let handle = self.renderer.add_instance(source.mesh, world)?;
-            self.added.placed.push((source.mesh, world));
-            self.added.handles.push(handle);
+            let handle = renderer.add_instance(source.mesh, world)?;
+            self.placed.push((source.mesh, world));
+            self.handles.push(handle);
         }
         Ok(())
     }
 
-    /// `U`: removes the newest hundred added instances.
-    pub(super) fn remove_instances(&mut self) -> Result<()> {
+    /// Removes the newest hundred added instances.
+    pub fn remove_batch(&mut self, renderer: &mut Renderer) -> Result<()> {
         for _ in 0..BATCH {
-            let (Some(handle), Some(_)) = (self.added.handles.pop(), self.added.placed.pop())
-            else {
+            let (Some(handle), Some(_)) = (self.handles.pop(), self.placed.pop()) else {
                 break;
             };
-            self.renderer.remove_instance(handle)?;
+            renderer.remove_instance(handle)?;
         }
         Ok(())
     }
