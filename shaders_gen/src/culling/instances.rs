@@ -11,12 +11,9 @@
 /// meets the frustum (and, in the first phase of occlusion culling, was visible last frame),
 /// else 0, and counts the slots drawn in `VISIBLE`.
 ///
-/// A box is outside when it lies wholly on the outer side of one of the six planes (inside:
-/// `dot(plane.xyz, p) + plane.w >= 0`, planes normalised by the host), tested at the box corner
-/// furthest along the plane's normal, with a slack of `PARAMS.slack` world units so rounding
-/// never removes a box that touches the frustum. An empty box (min above max) is kept. A slot
-/// holding `NO_DRAW` (a batch's spare slot, kept for instances an engine adds) draws nothing.
-#[shader_dsl::shader()]
+/// The box test is the `box_frustum` library's. A slot holding `NO_DRAW` (a batch's spare
+/// slot, kept for instances an engine adds) draws nothing.
+#[shader_dsl::shader(uses(crate::shared::box_frustum))]
 pub mod instance_cull {
     pub const WORKGROUP: u32 = 64;
     /// A slot without a draw.
@@ -24,12 +21,7 @@ pub mod instance_cull {
 
     /// One view's frustum and the slot count.
     pub struct CullParams {
-        pub left: Vec4,
-        pub right: Vec4,
-        pub bottom: Vec4,
-        pub top: Vec4,
-        pub near: Vec4,
-        pub far: Vec4,
+        pub frustum: Frustum,
         /// Slots to cull (entries of `SLOT_DRAWS`).
         pub slot_count: u32,
         /// How far outside a plane a box may reach and still be kept, in world units.
@@ -38,12 +30,6 @@ pub mod instance_cull {
         /// visible last frame (`occlusion_cull` tests the rest); 0: every slot in the frustum.
         pub use_history: u32,
         pub pad1: u32,
-    }
-
-    /// A draw's bounds in world space (`w` unused).
-    pub struct DrawBox {
-        pub min: Vec4,
-        pub max: Vec4,
     }
 
     #[uniform(group = 0, binding = 0)]
@@ -59,29 +45,6 @@ pub mod instance_cull {
     #[storage(group = 0, binding = 5)]
     static HISTORY: [u32];
 
-    /// Whether `b` reaches the inner side of `plane`.
-    fn reaches(plane: Vec4, b: DrawBox) -> bool {
-        let far_corner = Vec3::new(
-            select(plane.x >= 0.0, b.max.x, b.min.x),
-            select(plane.y >= 0.0, b.max.y, b.min.y),
-            select(plane.z >= 0.0, b.max.z, b.min.z),
-        );
-        plane.xyz().dot(far_corner) + plane.w >= -PARAMS.slack
-    }
-
-    /// Whether `b` meets the frustum.
-    fn in_frustum(b: DrawBox) -> bool {
-        if b.min.x > b.max.x {
-            return true;
-        }
-        reaches(PARAMS.left, b)
-            && reaches(PARAMS.right, b)
-            && reaches(PARAMS.bottom, b)
-            && reaches(PARAMS.top, b)
-            && reaches(PARAMS.near, b)
-            && reaches(PARAMS.far, b)
-    }
-
     /// One slot: its draw's box against the frustum, into its instance count.
     #[compute(workgroup_size(64, 1, 1))]
     pub fn cull_frustum(#[builtin(global_invocation_id)] gid: UVec3) {
@@ -89,7 +52,9 @@ pub mod instance_cull {
         if slot < PARAMS.slot_count {
             let draw = SLOT_DRAWS[slot];
             let seen = PARAMS.use_history == 0u32 || HISTORY[slot] != 0u32;
-            let visible = draw != NO_DRAW && seen && in_frustum(BOXES[draw]);
+            let visible = draw != NO_DRAW
+                && seen
+                && draw_in_frustum(PARAMS.frustum, BOXES[draw], PARAMS.slack);
             ARGS[slot * 5u32 + 1u32] = select(visible, 1u32, 0u32);
             if visible {
                 VISIBLE[0].fetch_add(1);

@@ -91,7 +91,7 @@ pub mod depth_pyramid_reduce {
 }
 
 /// The second phase: every slot in the frustum against the depth pyramid.
-#[shader_dsl::shader()]
+#[shader_dsl::shader(uses(crate::shared::box_frustum))]
 pub mod occlusion_cull {
     pub const WORKGROUP: u32 = 64;
     /// A slot without a draw (as `instance_cull::NO_DRAW`).
@@ -100,12 +100,7 @@ pub mod occlusion_cull {
     /// The view, the frame and the pyramid.
     pub struct OcclusionParams {
         pub clip_from_world: Mat4,
-        pub left: Vec4,
-        pub right: Vec4,
-        pub bottom: Vec4,
-        pub top: Vec4,
-        pub near: Vec4,
-        pub far: Vec4,
+        pub frustum: Frustum,
         /// The frame in pixels.
         pub screen: UVec2,
         /// Levels of the pyramid (level 0 is half the frame).
@@ -119,16 +114,10 @@ pub mod occlusion_cull {
         pub pad2: u32,
     }
 
-    /// A draw's bounds in world space (`w` unused), as `instance_cull::DrawBox`.
-    pub struct OcclusionBox {
-        pub min: Vec4,
-        pub max: Vec4,
-    }
-
     #[uniform(group = 0, binding = 0)]
     static PARAMS: OcclusionParams;
     #[storage(group = 0, binding = 1)]
-    static BOXES: [OcclusionBox];
+    static BOXES: [DrawBox];
     #[storage(group = 0, binding = 2)]
     static SLOT_DRAWS: [u32];
     #[storage(group = 0, binding = 3)]
@@ -145,29 +134,6 @@ pub mod occlusion_cull {
     static VISIBLE: [Atomic<u32>];
     #[texture(group = 0, binding = 8, unfilterable)]
     static PYRAMID: Texture2d<f32>;
-
-    /// Whether `b` reaches the inner side of `plane`.
-    fn reaches(plane: Vec4, b: OcclusionBox) -> bool {
-        let far_corner = Vec3::new(
-            select(plane.x >= 0.0, b.max.x, b.min.x),
-            select(plane.y >= 0.0, b.max.y, b.min.y),
-            select(plane.z >= 0.0, b.max.z, b.min.z),
-        );
-        plane.xyz().dot(far_corner) + plane.w >= -PARAMS.slack
-    }
-
-    /// Whether `b` meets the frustum (an empty box always does, as in `instance_cull`).
-    fn in_frustum(b: OcclusionBox) -> bool {
-        if b.min.x > b.max.x {
-            return true;
-        }
-        reaches(PARAMS.left, b)
-            && reaches(PARAMS.right, b)
-            && reaches(PARAMS.bottom, b)
-            && reaches(PARAMS.top, b)
-            && reaches(PARAMS.near, b)
-            && reaches(PARAMS.far, b)
-    }
 
     /// The farthest depth of the pyramid over pixels `lo..=hi`: at the lowest level where the
     /// rectangle spans at most 2×2 texels, the largest of those texels. Level `l` texel `t`
@@ -194,7 +160,7 @@ pub mod occlusion_cull {
     }
 
     /// Whether `b` lies wholly behind what the pyramid holds over its screen rectangle.
-    fn occluded(b: OcclusionBox) -> bool {
+    fn occluded(b: DrawBox) -> bool {
         if b.min.x > b.max.x {
             return false;
         }
@@ -245,7 +211,7 @@ pub mod occlusion_cull {
             let mut visible = false;
             if draw != NO_DRAW {
                 let b = BOXES[draw];
-                visible = in_frustum(b) && !occluded(b);
+                visible = draw_in_frustum(PARAMS.frustum, b, PARAMS.slack) && !occluded(b);
             }
             let early = EARLY_ARGS[slot * 5u32 + 1u32] != 0u32;
             LATE_ARGS[slot * 5u32 + 1u32] = select(visible && !early, 1u32, 0u32);

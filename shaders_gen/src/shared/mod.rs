@@ -7,8 +7,8 @@
 //!
 //! They are also the renderer's shader library for other crates: an engine's crate that depends
 //! on `shaders_gen` (and `shader-dsl`, `codegen`) writes `uses(shaders_gen::shared::pbr)`, and
-//! likewise `view`, `light_grid`, `shadow_atlas`, `decal_apply`, `octahedral`, `material_uv` and
-//! `cull_append`; `deferred::gbuffer_read::tbdr_gbuffer` reads the deferred G-buffer.
+//! likewise `view`, `light_grid`, `shadow_atlas`, `decal_apply`, `octahedral`, `material_uv`,
+//! `cull_append` and `box_frustum`; `deferred::gbuffer_read::tbdr_gbuffer` reads the deferred G-buffer.
 //!
 //! This example is such a crate (a doc test is one): its module uses the PBR library and the
 //! G-buffer library (which uses the light-grid, shadow-atlas and octahedral libraries itself, so
@@ -68,6 +68,7 @@ pub mod append;
 pub mod brdf;
 pub mod camera;
 pub mod decal;
+pub mod frustum;
 pub mod grid;
 pub mod material;
 pub mod normals;
@@ -77,6 +78,7 @@ pub use append::cull_append;
 pub use brdf::pbr;
 pub use camera::view;
 pub use decal::decal_apply;
+pub use frustum::box_frustum;
 pub use grid::light_grid;
 pub use material::material_uv;
 pub use normals::octahedral;

@@ -17,7 +17,7 @@ mod view_draws;
 
 use std::sync::Arc;
 
-use shaders_gen::culling::instance_cull::{self, CullParams};
+use shaders_gen::culling::instance_cull::{self, CullParams, Frustum};
 
 use super::Pass;
 use crate::GpuContext;
@@ -122,12 +122,7 @@ impl Pass for SceneCullPass {
         let camera = &frame.camera;
         let [left, right, bottom, top, near, far] = camera.frustum_planes();
         let params = CullParams::new(
-            left,
-            right,
-            bottom,
-            top,
-            near,
-            far,
+            Frustum::new(left, right, bottom, top, near, far),
             draws.layout.slot_count(),
             draws.slack(),
             u32::from(self.occlusion),

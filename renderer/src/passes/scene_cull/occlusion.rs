@@ -9,7 +9,7 @@
 
 use shaders_gen::culling::{
     depth_pyramid_reduce, depth_pyramid_seed,
-    occlusion_cull::{self, OcclusionParams},
+    occlusion_cull::{self, Frustum, OcclusionParams},
 };
 
 use crate::GpuContext;
@@ -247,12 +247,7 @@ impl OcclusionCullPass {
         let [left, right, bottom, top, near, far] = camera.frustum_planes();
         let params = OcclusionParams::new(
             camera.projection * camera.view,
-            left,
-            right,
-            bottom,
-            top,
-            near,
-            far,
+            Frustum::new(left, right, bottom, top, near, far),
             frame.screen(),
             pyramid.levels.len() as u32,
             occlusion.slot_count,
