@@ -23,13 +23,15 @@ impl Renderer {
     }
 
     /// The handle of the prepared scene's instance `index` (`Scene::instances` order), while
-    /// it is in the scene.
+    /// it is in the scene (an instance added into its slot after it was removed is not it).
     pub fn scene_instance(&self, index: usize) -> Result<InstanceHandle, RenderError> {
         let table = self.table()?;
-        table.handle(index).ok_or(RenderError::NoSuchInstance {
-            index,
-            count: table.states.len(),
-        })
+        table
+            .scene_handle(index)
+            .ok_or(RenderError::NoSuchInstance {
+                index,
+                count: table.states.len(),
+            })
     }
 
     /// The instance `handle` names, if it is still in the scene.

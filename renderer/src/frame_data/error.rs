@@ -52,14 +52,14 @@ pub enum RenderError {
     )]
     TooManyLights { count: usize, max: usize },
     #[error(
-        "instance {index} does not exist: the prepared scene has {count} instance slots (its \
-         nodes with a mesh in `Scene::instances` order, then instances added); call \
-         prepare_scene first"
+        "instance {index} is not in the scene: the prepared scene has {count} instance slots \
+         (its nodes with a mesh in `Scene::instances` order, then instances added), and a \
+         removed one is gone; call prepare_scene first"
     )]
     NoSuchInstance { index: usize, count: usize },
     #[error(
-        "the instance handle names instance slot {index}, whose instance was removed (or \
-         belongs to an earlier scene)"
+        "the instance handle names instance slot {index}, whose instance was removed, or an \
+         earlier scene's instance"
     )]
     StaleInstance { index: usize },
     #[error("mesh {mesh} does not exist: the prepared scene has {count} meshes")]

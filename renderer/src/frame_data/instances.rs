@@ -24,9 +24,12 @@ use crate::scene::{Aabb, GpuPrimitive, Scene};
 
 /// An instance of the renderer's scene, as [`crate::frame::Renderer::add_instance`] returned
 /// it or [`crate::frame::Renderer::scene_instance`] named it. A handle outlives its instance:
-/// once the instance is removed, the handle is refused, even after its slot is reused.
+/// once the instance is removed, the handle is refused, even after its slot is reused, and so
+/// is a handle of an earlier scene's instance.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct InstanceHandle {
+    /// The table (one per prepared scene) that gave it.
+    table: u32,
     index: u32,
     generation: u32,
 }
@@ -121,6 +124,10 @@ pub struct InstanceTable {
     layout: wgpu::BindGroupLayout,
     /// Bumped by every change.
     pub revision: u64,
+    /// This table's identity in its handles (a new table per prepared scene).
+    id: u32,
+    /// The instances the scene itself placed (slots `0..scene_instances`).
+    scene_instances: usize,
 }
 
 /// Why an instance edit was refused.
@@ -142,6 +149,7 @@ impl InstanceTable {
         for instance in &scene.instances {
             table.push(prepared, instance.mesh, instance.world_from_mesh, false);
         }
+        table.scene_instances = table.states.len();
         let capacity = table.draws.len() + table.draws.len() / 4 + 16;
         table.grow_records(gpu, capacity, false);
         table.write_records(gpu, 0..table.draws.len());
@@ -150,6 +158,7 @@ impl InstanceTable {
     }
 
     fn empty(gpu: &GpuContext, prepared: &PreparedScene, capacity: usize) -> Self {
+        static NEXT_ID: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(1);
         let layout = prepared.draw_layout.clone();
         let records = records_buffer(&gpu.device, capacity);
         let draw_group = draw_group(&gpu.device, &layout, &records);
@@ -162,6 +171,8 @@ impl InstanceTable {
             draw_group,
             layout,
             revision: 0,
+            id: NEXT_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
+            scene_instances: 0,
         }
     }
 
@@ -169,16 +180,24 @@ impl InstanceTable {
     pub fn handle(&self, index: usize) -> Option<InstanceHandle> {
         let s = self.states.get(index).filter(|s| s.live)?;
         Some(InstanceHandle {
+            table: self.id,
             index: index as u32,
             generation: s.generation,
         })
+    }
+
+    /// The handle of the scene's own instance `index` (`Scene::instances` order), while it is
+    /// in the scene: not that of an added instance that took its slot after it was removed.
+    pub fn scene_handle(&self, index: usize) -> Option<InstanceHandle> {
+        self.handle(index)
+            .filter(|h| index < self.scene_instances && h.generation == 0)
     }
 
     /// The live instance `handle` names.
     pub fn get(&self, handle: InstanceHandle) -> Option<&InstanceState> {
         self.states
             .get(handle.index())
-            .filter(|s| s.live && s.generation == handle.generation)
+            .filter(|s| handle.table == self.id && s.live && s.generation == handle.generation)
     }
 
     /// Adds an instance of `mesh` at `world_from_mesh`: into the slot of a removed instance of
@@ -274,7 +293,7 @@ impl InstanceTable {
     ) -> Result<&mut InstanceState, InstanceEditError> {
         self.states
             .get_mut(handle.index())
-            .filter(|s| s.live && s.generation == handle.generation)
+            .filter(|s| handle.table == self.id && s.live && s.generation == handle.generation)
             .ok_or(InstanceEditError::Stale)
     }
 

@@ -9,7 +9,9 @@
 /// the draw's index in the `view` library's `DRAWS`). Each frame, `cull_frustum` sets a slot's
 /// instance count to 1 where the draw's world box (`BOXES`, rewritten when an instance moves)
 /// meets the frustum (and, in the first phase of occlusion culling, was visible last frame),
-/// else 0, and counts the slots drawn in `VISIBLE`.
+/// else 0, and counts the slots drawn in `VISIBLE[0]`, and in `VISIBLE[1]` too when no second
+/// phase follows (`occlusion_cull` counts both phases' there), so `VISIBLE[1]` is always the
+/// frame's drawn count.
 ///
 /// The box test is the `box_frustum` library's. A slot holding `NO_DRAW` (a batch's spare
 /// slot, kept for instances an engine adds) draws nothing.
@@ -58,6 +60,10 @@ pub mod instance_cull {
             ARGS[slot * 5u32 + 1u32] = select(visible, 1u32, 0u32);
             if visible {
                 VISIBLE[0].fetch_add(1);
+                // Without a second phase these are every slot drawn.
+                if PARAMS.use_history == 0u32 {
+                    VISIBLE[1].fetch_add(1);
+                }
             }
         }
     }

@@ -203,7 +203,15 @@ fn stale_handles_unknown_meshes_and_broken_transforms_are_refused() {
             .set_instance_transform(first, Mat4::IDENTITY)
             .expect_err("the old handle");
         assert!(matches!(err, RenderError::StaleInstance { .. }), "{err}");
-        assert!(renderer.scene_instance(0).is_ok_and(|h| h == again));
+        // Slot 0 now holds an added instance, not the scene's instance 0.
+        let err = renderer
+            .scene_instance(0)
+            .expect_err("the scene's instance 0 is gone");
+        assert!(
+            matches!(err, RenderError::NoSuchInstance { index: 0, .. }),
+            "{err}"
+        );
+        assert_eq!(renderer.instance(again).map(|s| s.mesh), Some(mesh));
         let meshes = base.scene.meshes.len();
         let err = renderer
             .add_instance(meshes, Mat4::IDENTITY)
@@ -223,5 +231,20 @@ fn stale_handles_unknown_meshes_and_broken_transforms_are_refused() {
             renderer.instance(again).map(|s| s.world_from_mesh),
             Some(Mat4::IDENTITY)
         );
+        // A new scene: the earlier scene's handles are refused, whatever their slots hold now
+        // (slot 1 holds the same mesh, never removed, in both).
+        let second = renderer.scene_instance(1).expect("instance 1");
+        renderer.prepare_scene(&base.scene).expect("the city fits");
+        for old in [again, second] {
+            let err = renderer
+                .set_instance_transform(old, Mat4::IDENTITY)
+                .expect_err("a handle of the earlier scene");
+            assert!(matches!(err, RenderError::StaleInstance { .. }), "{err}");
+            assert!(renderer.instance(old).is_none());
+        }
+        let fresh = renderer
+            .scene_instance(0)
+            .expect("the new scene's instance 0");
+        assert_ne!(fresh, again);
     });
 }

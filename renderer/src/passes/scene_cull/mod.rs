@@ -215,9 +215,8 @@ impl SceneCullPass {
     /// The scene's draws and the newest culled count that has arrived (polling first).
     pub fn report(&mut self) -> Option<SceneDrawReport> {
         if let Some((at, words)) = self.readback.poll(&self.device) {
-            // With occlusion culling, the slots drawn in either phase.
-            let drawn = if self.occlusion { words[1] } else { words[0] };
-            self.last_visible = Some((at, drawn));
+            // The slots drawn, in either phase with occlusion culling (`instance_cull`).
+            self.last_visible = Some((at, words[1]));
         }
         let draws = self.draws.as_ref()?;
         Some(SceneDrawReport {
