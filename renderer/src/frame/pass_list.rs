@@ -48,10 +48,12 @@ pub fn passes_for(
     // Every path draws the scene through the batches scene culling publishes.
     let mut passes: Vec<Box<dyn Pass>> = vec![Box::new(SceneCullPass::new(gpu)?)];
     if config.path.has_prepass() {
-        passes.push(Box::new(PrezPass::new(gpu, config)?));
-        if config.cull_draws && config.occlusion_cull {
+        let prez = PrezPass::new(gpu, config)?;
+        let late = (config.cull_draws && config.occlusion_cull).then(|| prez.late());
+        passes.push(Box::new(prez));
+        if let Some(late) = late {
             passes.push(Box::new(OcclusionCullPass::new(gpu, config)?));
-            passes.push(Box::new(PrezPass::late(gpu, config)?));
+            passes.push(Box::new(late));
         }
     }
     if config.path.is_culled() {

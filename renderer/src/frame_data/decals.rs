@@ -32,8 +32,9 @@ pub struct GpuDecals {
     pub atlas_size: u32,
     pub mip_levels: u32,
     /// What the atlas was packed from and where each material went: a later set with the same
-    /// materials and configuration keeps the atlas ([`GpuDecals::updated`]).
-    packed: Option<Packed>,
+    /// materials and configuration keeps the atlas ([`GpuDecals::updated`]), sharing this
+    /// record rather than copying its images.
+    packed: Option<std::sync::Arc<Packed>>,
 }
 
 /// The materials and configuration an atlas was packed from, and its entries.
@@ -110,11 +111,7 @@ impl GpuDecals {
             sampler: previous.sampler.clone(),
             atlas_size: previous.atlas_size,
             mip_levels: previous.mip_levels,
-            packed: Some(Packed {
-                materials: packed.materials.clone(),
-                config,
-                entries: packed.entries.clone(),
-            }),
+            packed: Some(std::sync::Arc::clone(packed)),
         };
         Ok((gpu, DecalUpload::RecordsOnly))
     }
@@ -146,11 +143,11 @@ impl GpuDecals {
             sampler: sampler(device),
             atlas_size: atlas.size,
             mip_levels: atlas.mip_levels,
-            packed: Some(Packed {
+            packed: Some(std::sync::Arc::new(Packed {
                 materials: set.materials.clone(),
                 config,
                 entries: atlas.entries,
-            }),
+            })),
         })
     }
 

@@ -10,8 +10,10 @@
 //! records buffer grows by doubling, copied on the GPU.
 //!
 //! Every change bumps [`InstanceTable::revision`] and the instance's
-//! [`InstanceState::version`]; passes keep what they derived (batches, boxes, shadow casters)
-//! and, when the revision moved, update it from the instances whose version moved.
+//! [`InstanceState::version`], and logs the instance ([`InstanceTable::changed_since`]);
+//! passes keep what they derived (batches, boxes, shadow casters) and, when the revision
+//! moved, update it from the instances the log names, so a frame after an edit costs what
+//! the edit touched, not what the scene holds.
 
 use std::ops::Range;
 
@@ -124,6 +126,8 @@ pub struct InstanceTable {
     layout: wgpu::BindGroupLayout,
     /// Bumped by every change.
     pub revision: u64,
+    /// The instance each recent change touched.
+    log: ChangeLog,
     /// This table's identity in its handles (a new table per prepared scene).
     id: u32,
     /// The instances the scene itself placed (slots `0..scene_instances`).
@@ -145,13 +149,14 @@ impl InstanceTable {
     /// The instances of `scene` where the file placed them, static, its draws' records on the
     /// GPU with room for a quarter more.
     pub fn new(gpu: &GpuContext, prepared: &PreparedScene, scene: &Scene) -> Self {
-        let mut table = Self::empty(gpu, prepared, 0);
+        let draws: usize = (scene.instances.iter())
+            .map(|i| prepared.mesh_draws.get(i.mesh).map_or(0, Vec::len))
+            .sum();
+        let mut table = Self::empty(gpu, prepared, draws + draws / 4 + 16);
         for instance in &scene.instances {
             table.push(prepared, instance.mesh, instance.world_from_mesh, false);
         }
         table.scene_instances = table.states.len();
-        let capacity = table.draws.len() + table.draws.len() / 4 + 16;
-        table.grow_records(gpu, capacity, false);
         table.write_records(gpu, 0..table.draws.len());
         table.revision = 0;
         table
@@ -171,6 +176,7 @@ impl InstanceTable {
             draw_group,
             layout,
             revision: 0,
+            log: ChangeLog::default(),
             id: NEXT_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
             scene_instances: 0,
         }
@@ -228,13 +234,13 @@ impl InstanceTable {
             None => {
                 let needed = self.draws.len() + prepared.mesh_draws[mesh].len();
                 if needed > self.capacity {
-                    self.grow_records(gpu, needed.max(2 * self.capacity), true);
+                    self.grow_records(gpu, needed.max(2 * self.capacity));
                 }
                 self.push(prepared, mesh, world_from_mesh, dynamic)
             }
         };
         self.write_records(gpu, self.states[index].draws());
-        self.revision += 1;
+        self.bump(index);
         self.handle(index).ok_or(InstanceEditError::Stale)
     }
 
@@ -248,7 +254,7 @@ impl InstanceTable {
         if let Some(free) = self.free.get_mut(mesh) {
             free.push(handle.index);
         }
-        self.revision += 1;
+        self.bump(handle.index());
         Ok(())
     }
 
@@ -268,7 +274,7 @@ impl InstanceTable {
         state.version += 1;
         let draws = state.draws();
         self.write_records(gpu, draws);
-        self.revision += 1;
+        self.bump(handle.index());
         Ok(())
     }
 
@@ -282,9 +288,28 @@ impl InstanceTable {
         if state.dynamic != dynamic {
             state.dynamic = dynamic;
             state.version += 1;
-            self.revision += 1;
+            self.bump(handle.index());
         }
         Ok(())
+    }
+
+    /// The instances changed since `revision` (in change order, an instance once per change),
+    /// or `None` when the log no longer reaches back that far: the caller then looks at every
+    /// instance.
+    pub fn changed_since(&self, revision: u64) -> Option<&[u32]> {
+        self.log.since(revision)
+    }
+
+    /// Records a change of instance `index`: a new revision, logged.
+    fn bump(&mut self, index: usize) {
+        self.log.record(index as u32);
+        self.revision += 1;
+    }
+
+    /// This table's identity: a pass that followed another table (an earlier scene's) starts
+    /// again.
+    pub fn id(&self) -> u32 {
+        self.id
     }
 
     fn live_mut(
@@ -340,11 +365,10 @@ impl InstanceTable {
             .write_buffer(&self.records, at, bytemuck::cast_slice(&records));
     }
 
-    /// A records buffer of `capacity` records, the current ones copied over on the GPU when
-    /// `copy`.
-    fn grow_records(&mut self, gpu: &GpuContext, capacity: usize, copy: bool) {
+    /// A records buffer of `capacity` records, the current ones copied over on the GPU.
+    fn grow_records(&mut self, gpu: &GpuContext, capacity: usize) {
         let records = records_buffer(&gpu.device, capacity);
-        if copy && !self.draws.is_empty() {
+        if !self.draws.is_empty() {
             let bytes = (self.draws.len() * size_of::<forward::Draw>()) as u64;
             let mut encoder = gpu.device.create_command_encoder(&Default::default());
             encoder.copy_buffer_to_buffer(&self.records, 0, &records, 0, bytes);
@@ -353,6 +377,34 @@ impl InstanceTable {
         self.draw_group = draw_group(&gpu.device, &self.layout, &records);
         self.records = records;
         self.capacity = capacity.max(1);
+    }
+}
+
+/// The instance of every change since revision `start`: entry `i` made revision
+/// `start + i + 1`. It keeps at most [`ChangeLog::CAP`] changes, dropping the older half when
+/// full: passes follow every frame, so they lag by one frame's edits, and one that lags by
+/// more than the log holds walks every instance instead.
+#[derive(Debug, Clone, Default)]
+struct ChangeLog {
+    entries: Vec<u32>,
+    start: u64,
+}
+
+impl ChangeLog {
+    const CAP: usize = 1 << 16;
+
+    fn record(&mut self, instance: u32) {
+        if self.entries.len() >= Self::CAP {
+            let dropped = self.entries.len() / 2;
+            self.entries.drain(..dropped);
+            self.start += dropped as u64;
+        }
+        self.entries.push(instance);
+    }
+
+    fn since(&self, revision: u64) -> Option<&[u32]> {
+        let from = usize::try_from(revision.checked_sub(self.start)?).ok()?;
+        self.entries.get(from..)
     }
 }
 
@@ -389,4 +441,36 @@ fn draw_group(
             resource: records.as_entire_binding(),
         }],
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::ChangeLog;
+
+    #[test]
+    fn the_change_log_names_the_changes_since_a_revision_until_it_forgets_them() {
+        let mut log = ChangeLog::default();
+        assert_eq!(log.since(0), Some(&[][..]));
+        for i in 0..5 {
+            log.record(10 + i);
+        }
+        assert_eq!(log.since(0), Some(&[10, 11, 12, 13, 14][..]));
+        assert_eq!(log.since(3), Some(&[13, 14][..]));
+        assert_eq!(log.since(5), Some(&[][..]));
+        assert_eq!(log.since(6), None, "a revision the table never had");
+        // Past its capacity it drops the older half: revisions before that are forgotten.
+        let total = ChangeLog::CAP as u64 + 10;
+        for i in 5..total {
+            log.record(i as u32);
+        }
+        assert_eq!(log.since(0), None);
+        assert_eq!(
+            log.since(total - 2),
+            Some(&[total as u32 - 2, total as u32 - 1][..])
+        );
+        let oldest_kept = total - log.entries.len() as u64;
+        assert!(log.since(oldest_kept).is_some());
+        assert!(log.since(oldest_kept - 1).is_none());
+        assert!(log.entries.len() <= ChangeLog::CAP);
+    }
 }

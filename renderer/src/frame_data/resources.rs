@@ -90,6 +90,9 @@ pub struct SceneDrawList {
     /// With occlusion culling, what its second phase needs; `args` are then the first
     /// phase's until the occlusion pass replaces them with `OcclusionDraws::all`.
     pub occlusion: Option<OcclusionDraws>,
+    /// The blended draws to draw this frame, back to front from the main camera (those in
+    /// its frustum with `cull_draws`).
+    pub blended: std::sync::Arc<[u32]>,
 }
 
 /// Occlusion culling's second phase as scene culling hands it on: the inputs of the test and

@@ -57,13 +57,16 @@ impl PrezPass {
     }
 
     /// The second half of pre-Z under occlusion culling: the draws its test found visible that
-    /// the first half did not draw, over the first half's depth. It adds nothing to a frame
-    /// without occlusion culling.
-    pub fn late(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
-        Ok(Self {
+    /// the first half did not draw, over the first half's depth, with the first half's
+    /// programs and pipelines. It adds nothing to a frame without occlusion culling.
+    pub fn late(&self) -> Self {
+        Self {
+            program: self.program.clone(),
+            plain: self.plain.clone(),
+            masked: self.masked.clone(),
+            camera_group: None,
             late: true,
-            ..Self::new(gpu, config)?
-        })
+        }
     }
 }
 

@@ -20,6 +20,9 @@ enum Edit {
     MoveAdded(usize, Mat4),
     /// Removes the `n`-th added instance.
     RemoveAdded(usize),
+    /// Marks the `n`-th added instance dynamic and static again, `times` times each: more
+    /// changes than the table's change log keeps, so the passes must walk every instance.
+    ToggleDynamic(usize, usize),
 }
 
 /// The mesh named `name`.
@@ -91,6 +94,7 @@ fn instances_added_and_removed_by_handle_render_as_a_city_built_with_them() {
             })
             .collect(),
         vec![
+            Edit::ToggleDynamic(2, 40_000),
             Edit::MoveAdded(0, ahead(22.0, 4.0, Vec3::new(2.0, 4.0, -2.0))),
             Edit::RemoveAdded(1),
             Edit::RemoveAdded(6),
@@ -117,6 +121,7 @@ fn instances_added_and_removed_by_handle_render_as_a_city_built_with_them() {
                     }
                 }
                 Edit::RemoveAdded(n) => built[added_at[n]] = None,
+                Edit::ToggleDynamic(..) => {}
             }
         }
     }
@@ -150,6 +155,15 @@ fn instances_added_and_removed_by_handle_render_as_a_city_built_with_them() {
                             .expect("a live instance"),
                         Edit::RemoveAdded(n) => {
                             renderer.remove_instance(added[n]).expect("a live instance");
+                        }
+                        Edit::ToggleDynamic(n, times) => {
+                            for _ in 0..times {
+                                for dynamic in [true, false] {
+                                    renderer
+                                        .set_instance_dynamic(added[n], dynamic)
+                                        .expect("a live instance");
+                                }
+                            }
                         }
                     }
                 }

@@ -24,7 +24,7 @@ use super::{
 use crate::GpuContext;
 use crate::frame_data::{
     DEPTH_FORMAT, FrameInputs, FrameResources, HDR_FORMAT, InstanceTable, PreparedScene,
-    RenderError, RenderPath, RendererConfig, SceneDrawList, box_in_frustum,
+    RenderError, RenderPath, RendererConfig, SceneDrawList,
 };
 use crate::graph::{BufferAccess, Handle, RenderGraph, Texture, TextureAccess, TextureDesc};
 use crate::scene::VertexStreams;
@@ -177,38 +177,6 @@ fn pipeline(
     )
 }
 
-/// The blended draws of `blended` (those that meet `camera`'s frustum, with `cull`), back to
-/// front from its
-/// homogeneous eye ([`crate::frame_data::FrameCamera::eye_homogeneous`]): by distance from a
-/// perspective camera's eye, by depth along an orthographic camera's parallel rays, each draw
-/// where its instance is now. Ties keep scene order.
-pub(crate) fn blended_order(
-    instances: &InstanceTable,
-    blended: &[u32],
-    camera: &crate::frame_data::FrameCamera,
-    cull: bool,
-) -> Vec<u32> {
-    let planes = camera.frustum_planes();
-    let eye = camera.eye_homogeneous();
-    let mut order: Vec<(f32, u32)> = blended
-        .iter()
-        .filter_map(|&d| {
-            let world = instances
-                .draws
-                .get(d as usize)?
-                .world_bounds(&instances.states);
-            if world.is_empty() {
-                return None;
-            }
-            let slack = 1e-4 * (world.max - world.min).length();
-            (!cull || box_in_frustum(&planes, world, slack))
-                .then(|| (crate::frame_data::farness(eye, world.center()), d))
-        })
-        .collect();
-    order.sort_by(|a, b| b.0.total_cmp(&a.0));
-    order.into_iter().map(|(_, d)| d).collect()
-}
-
 /// The colour and depth targets of the pass.
 struct Targets {
     resolved: Handle<Texture>,
@@ -322,13 +290,8 @@ impl ForwardPass {
         let pipelines = Arc::clone(&self.pipelines);
         let expand = self.expand.clone();
         let (scene, instances) = (Arc::clone(&frame.scene), Arc::clone(&frame.instances));
-        // Sorted on the CPU every frame: only the blended draws.
-        let blended = blended_order(
-            &instances,
-            &list.layout.blended,
-            &frame.camera,
-            frame.config.cull_draws,
-        );
+        // Sorted on the CPU every frame by scene culling (only the blended draws in view).
+        let blended = Arc::clone(&list.blended);
         let sky = sky_color(frame.config.sky);
         move |ctx| {
             let frame_group = group.bind_group(ctx, &layout, "forward frame");

@@ -100,7 +100,7 @@ impl Pass for SceneCullPass {
         let current = self
             .draws
             .take()
-            .filter(|d| Arc::ptr_eq(&d.scene, &frame.scene));
+            .filter(|d| Arc::ptr_eq(&d.scene, &frame.scene) && d.follows(&frame.instances));
         let mut draws = match current {
             Some(mut d) => {
                 d.follow_instances(gpu, &self.shared, &frame.instances);
@@ -137,7 +137,7 @@ impl Pass for SceneCullPass {
     fn add_to_graph(
         &self,
         graph: &mut RenderGraph,
-        _frame: &FrameInputs,
+        frame: &FrameInputs,
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
         let draws = self.draws.as_ref().ok_or(RenderError::MissingInput {
@@ -189,6 +189,9 @@ impl Pass for SceneCullPass {
             args_buffer: draws.args.clone(),
             indirect: self.indirect,
             occlusion,
+            blended: draws
+                .blended_back_to_front(&frame.camera, frame.config.cull_draws)
+                .into(),
         });
         Ok(())
     }

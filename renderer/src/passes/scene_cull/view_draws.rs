@@ -8,7 +8,8 @@ use shaders_gen::culling::instance_cull::DrawBox;
 
 use crate::GpuContext;
 use crate::frame_data::{
-    BatchLayout, FrameInputs, InstanceTable, NO_DRAW, PreparedScene, draw_place,
+    BatchLayout, FrameCamera, FrameInputs, InstanceTable, NO_DRAW, PreparedScene, box_in_frustum,
+    draw_place, farness,
 };
 use crate::scene::Aabb;
 use crate::shader::ShaderProgram;
@@ -16,10 +17,9 @@ use crate::shader::ShaderProgram;
 #[derive(Debug)]
 pub struct ViewDraws {
     pub scene: Arc<PreparedScene>,
-    /// The instance table's revision the boxes and the layout follow, and each instance's
-    /// version then.
+    /// The instance table (its id) and its revision the boxes and the layout follow.
+    table: u32,
     revision: u64,
-    versions: Vec<u64>,
     pub layout: Arc<BatchLayout>,
     /// Every slot's arguments, instance count 1 (all drawn; spare slots draw nothing).
     all_drawn: Vec<u32>,
@@ -174,8 +174,8 @@ impl ViewDraws {
         );
         Self {
             scene,
+            table: table.id(),
             revision: table.revision,
-            versions: table.states.iter().map(|s| s.version).collect(),
             layout: slots.layout,
             all_drawn: slots.all_drawn,
             args_all_drawn: true,
@@ -201,6 +201,36 @@ impl ViewDraws {
         1e-5 * (1.0 + extent)
     }
 
+    /// The blended draws that meet `camera`'s frustum (all of them without `cull`), back to
+    /// front from its homogeneous eye ([`crate::frame_data::FrameCamera::eye_homogeneous`]):
+    /// by distance from a perspective camera's eye, by depth along an orthographic camera's
+    /// parallel rays. Ties keep scene order. It reads the boxes kept here, so it costs a test
+    /// and a key per blended draw and a sort of those in view, and never walks the instances.
+    pub fn blended_back_to_front(&self, camera: &FrameCamera, cull: bool) -> Vec<u32> {
+        let planes = camera.frustum_planes();
+        let eye = camera.eye_homogeneous();
+        let mut order: Vec<(f32, u32)> = self
+            .layout
+            .blended
+            .iter()
+            .filter_map(|&d| {
+                let b = self.boxes.get(d as usize)?;
+                let world = Aabb {
+                    min: b.min.truncate(),
+                    max: b.max.truncate(),
+                };
+                if world.is_empty() {
+                    return None;
+                }
+                let slack = 1e-4 * (world.max - world.min).length();
+                (!cull || box_in_frustum(&planes, world, slack))
+                    .then(|| (farness(eye, world.center()), d))
+            })
+            .collect();
+        order.sort_by(|a, b| b.0.total_cmp(&a.0));
+        order.into_iter().map(|(_, d)| d).collect()
+    }
+
     /// Builds the layout afresh and uploads its slots and arguments.
     fn lay_out(&mut self, gpu: &GpuContext, shared: &CullShared, table: &InstanceTable) {
         let slots = LaidOut::new(gpu, &self.scene, table);
@@ -223,10 +253,15 @@ impl ViewDraws {
         self.bind_group = bind_group(device, shared, buffers);
     }
 
+    /// Whether these draws follow `table` (not an earlier scene's table).
+    pub fn follows(&self, table: &InstanceTable) -> bool {
+        self.table == table.id()
+    }
+
     /// Follows the instance table: for every instance added, removed or changed since the
-    /// last frame, rewrites its draws' boxes and moves its draws to their batches' slots
-    /// (spare slots, written one by one), building the layout again only when a batch is full
-    /// or new.
+    /// last frame (as its change log names them), rewrites its draws' boxes and moves its
+    /// draws to their batches' slots (spare slots, written one by one), building the layout
+    /// again only when a batch is full or new.
     pub fn follow_instances(
         &mut self,
         gpu: &GpuContext,
@@ -236,14 +271,20 @@ impl ViewDraws {
         if table.revision == self.revision {
             return;
         }
+        let changed: Vec<usize> = match table.changed_since(self.revision) {
+            Some(log) => {
+                let mut changed: Vec<usize> = log.iter().map(|&i| i as usize).collect();
+                changed.sort_unstable();
+                changed.dedup();
+                changed
+            }
+            None => (0..table.states.len()).collect(),
+        };
         let mut relayout = false;
         let mut changed_slots = Vec::new();
         let mut changed_boxes = Vec::new();
         let layout = Arc::make_mut(&mut self.layout);
-        for (index, state) in table.states.iter().enumerate() {
-            if self.versions.get(index) == Some(&state.version) {
-                continue;
-            }
+        for state in changed.into_iter().filter_map(|i| table.states.get(i)) {
             for d in state.draws() {
                 if !relayout {
                     match layout.place(d as u32, draw_place(&self.scene, table, d)) {
@@ -265,8 +306,6 @@ impl ViewDraws {
             }
             changed_boxes.push(state.draws());
         }
-        self.versions.clear();
-        self.versions.extend(table.states.iter().map(|s| s.version));
         self.revision = table.revision;
         self.write_boxes(gpu, shared, &changed_boxes);
         if relayout {
