@@ -4,9 +4,12 @@
 //! pixel for pixel, over a scripted camera flight (the first frame, a fast turn, a walk that
 //! brings buildings in from off screen) while culling does leave draws out; and instances moved
 //! by handle (into view, out of it, mirrored) render the same as a city built with them there;
-//! instances added and removed by handle likewise (`edits`); occlusion culling hides what a
-//! wall hides and nothing visible (`occlusion`).
+//! instances added and removed by handle likewise (`edits`), and meshes, materials and images
+//! added at run time (`assets`); occlusion culling hides what a wall hides and nothing visible
+//! (`occlusion`).
 
+#[path = "gpu_driven_gpu/assets.rs"]
+mod assets;
 #[path = "gpu_driven_gpu/edits.rs"]
 mod edits;
 #[path = "gpu_driven_gpu/occlusion.rs"]

@@ -43,6 +43,7 @@
 //! ```
 
 mod access;
+mod assets;
 pub mod capture;
 mod motion;
 mod pass_list;

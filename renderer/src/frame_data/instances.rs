@@ -221,6 +221,9 @@ impl InstanceTable {
             return Err(InstanceEditError::NoSuchMesh { mesh, count });
         }
         check_finite(world_from_mesh)?;
+        if self.free.len() < count {
+            self.free.resize(count, Vec::new());
+        }
         let index = match self.free[mesh].pop() {
             Some(index) => {
                 let s = &mut self.states[index as usize];

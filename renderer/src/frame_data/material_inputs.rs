@@ -9,6 +9,7 @@ use shaders_gen::shared::material_uv::UvMap;
 use crate::scene::{Filter, TextureRef, TextureSampler, Wrap};
 
 /// The wgpu sampler of each distinct [`TextureSampler`] a scene uses, made once.
+#[derive(Debug, Clone)]
 pub(super) struct Samplers {
     made: HashMap<TextureSampler, wgpu::Sampler>,
 }

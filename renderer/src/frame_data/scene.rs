@@ -9,7 +9,10 @@ use shaders_gen::forward::forward;
 use wgpu::util::DeviceExt as _;
 
 use super::material_inputs::{Samplers, uv_map};
-use crate::scene::{Aabb, AlphaMode, GpuScene, Material, Scene, TextureRef};
+use crate::scene::limits::{check_geometry, check_image, check_material, check_mesh};
+use crate::scene::{
+    Aabb, AlphaMode, GpuScene, Image, Material, Mesh, Scene, SceneError, TextureRef,
+};
 use crate::shader::bind_group_layout_entries;
 use shaders_gen::shared::material_uv::MaskMaterial;
 
@@ -44,7 +47,7 @@ pub struct MeshDraw {
 }
 
 /// What a material draws with.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct PreparedMaterial {
     pub bind_group: wgpu::BindGroup,
     /// Group 2 of the masked pre-Z and masked shadow-caster programs, for alpha-masked
@@ -54,16 +57,28 @@ pub struct PreparedMaterial {
     pub double_sided: bool,
 }
 
-/// A scene on the GPU, ready for the passes.
-#[derive(Debug)]
+/// A scene on the GPU, ready for the passes. Meshes, materials and images can be added to it
+/// ([`PreparedScene::add_mesh`], [`PreparedScene::add_material`],
+/// [`PreparedScene::add_image`]); it keeps its [`PreparedScene::id`] through them, so passes
+/// keep what they built for it.
+#[derive(Debug, Clone)]
 pub struct PreparedScene {
+    /// This scene's identity: a new one per `prepare_scene`, the same after additions.
+    pub id: u32,
     pub gpu: GpuScene,
     /// `mesh_draws[mesh]`: what an instance of `mesh` draws (its draws in
     /// [`super::InstanceTable`] follow this order).
     pub mesh_draws: Vec<Vec<MeshDraw>>,
     /// The layout of group 1 (the draw records) of the geometry programs.
     pub draw_layout: wgpu::BindGroupLayout,
+    /// The scene's materials, then the glTF default material (the material of primitives
+    /// without one, at [`PreparedScene::default_material`]), then materials added.
     pub materials: Vec<PreparedMaterial>,
+    pub default_material: usize,
+    /// What an added material is prepared with.
+    layouts: SceneLayouts,
+    defaults: Defaults,
+    samplers: Samplers,
 }
 
 impl PreparedScene {
@@ -118,12 +133,87 @@ impl PreparedScene {
                     .collect()
             })
             .collect();
+        static NEXT_ID: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(1);
         Arc::new(Self {
+            id: NEXT_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
             gpu,
             mesh_draws,
-            draw_layout: layouts.draw,
+            draw_layout: layouts.draw.clone(),
             materials,
+            default_material,
+            layouts,
+            defaults,
+            samplers,
         })
+    }
+
+    /// Uploads `mesh` after the scene's meshes and returns its index (what
+    /// [`super::InstanceTable::add`] takes). Its primitives name materials by index into
+    /// [`PreparedScene::materials`]; one without a material draws with the default material.
+    pub fn add_mesh(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        mesh: &Mesh,
+    ) -> Result<usize, SceneError> {
+        check_mesh(mesh, self.materials.len())?;
+        let (vertices, indices) = self.gpu.geometry.counts();
+        let new = |f: fn(&crate::scene::Primitive) -> usize| -> u64 {
+            mesh.primitives.iter().map(|p| f(p) as u64).sum()
+        };
+        let limits = device.limits();
+        check_geometry(
+            vertices + new(|p| p.positions.len()),
+            indices + new(|p| p.indices.len()),
+            &limits,
+        )?;
+        let index = self.gpu.add_mesh(device, queue, mesh);
+        let draws = mesh
+            .primitives
+            .iter()
+            .zip(&self.gpu.meshes[index])
+            .map(|(p, &geometry)| MeshDraw {
+                material: p.material.unwrap_or(self.default_material),
+                geometry,
+                local_bounds: p.bounds,
+            })
+            .collect();
+        self.mesh_draws.push(draws);
+        Ok(index)
+    }
+
+    /// Prepares `material` after the others and returns its index (what an added mesh's
+    /// primitives name). Its textures name images of [`GpuScene::images`].
+    pub fn add_material(
+        &mut self,
+        device: &wgpu::Device,
+        material: &Material,
+    ) -> Result<usize, SceneError> {
+        check_material(material, self.gpu.images.len())?;
+        let prepared = prepare_material(
+            device,
+            &self.layouts,
+            &self.gpu,
+            &self.defaults,
+            &mut self.samplers,
+            material,
+        );
+        self.materials.push(prepared);
+        Ok(self.materials.len() - 1)
+    }
+
+    /// Uploads `image` after the scene's images and returns its index (what an added
+    /// material's textures name); `colour` averages its mip levels in linear light (base
+    /// colour and emissive textures), else as stored (normals, metallic-roughness, occlusion).
+    pub fn add_image(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        image: &Image,
+        colour: bool,
+    ) -> Result<usize, SceneError> {
+        check_image(self.gpu.images.len(), image, &device.limits())?;
+        Ok(self.gpu.add_image(device, queue, image, colour))
     }
 }
 
@@ -189,6 +279,7 @@ pub fn material_uniform(m: &Material) -> forward::Material {
 }
 
 /// 1×1 textures standing in for absent material textures.
+#[derive(Debug, Clone)]
 struct Defaults {
     white: wgpu::TextureView,
     flat_normal: wgpu::TextureView,
@@ -229,6 +320,7 @@ impl Defaults {
 }
 
 /// The bind-group layouts of the scene's draw-record and per-material groups.
+#[derive(Debug, Clone)]
 struct SceneLayouts {
     draw: wgpu::BindGroupLayout,
     material: wgpu::BindGroupLayout,

@@ -3,6 +3,10 @@
 //! every image as a texture with a full mip chain and the views materials need (sRGB for
 //! colour, linear for data).
 //!
+//! Meshes and images can be added after the upload ([`GpuScene::add_mesh`],
+//! [`GpuScene::add_image`]): the streams grow by doubling, their contents copied on the GPU, so
+//! an added mesh uploads its own vertices and nothing else.
+//!
 //! A pass binds the streams its shader reads once and draws each primitive with its index range
 //! and base vertex, so drawing a scene records no vertex or index buffer per draw. A primitive
 //! without `TEXCOORD_1` has its `TEXCOORD_0` copied into that stream, and one without `COLOR_0`
@@ -31,7 +35,7 @@ impl GpuPrimitive {
 }
 
 /// The vertex streams and indices of every primitive of a scene, one buffer each.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct GeometryBuffers {
     /// `POSITION`, `Float32x3`.
     pub positions: wgpu::Buffer,
@@ -47,6 +51,128 @@ pub struct GeometryBuffers {
     pub tangents: wgpu::Buffer,
     /// `u32` indices, each primitive's relative to its own first vertex.
     pub indices: wgpu::Buffer,
+    /// Vertices and indices written, and the room each stream has.
+    vertices: u64,
+    vertex_capacity: u64,
+    index_count: u64,
+    index_capacity: u64,
+}
+
+/// Bytes per vertex of each stream, in [`GeometryBuffers::vertex_streams_mut`] order.
+const STREAM_STRIDES: [u64; 6] = [12, 12, 8, 8, 16, 16];
+
+impl GeometryBuffers {
+    /// The vertices and indices the streams hold.
+    pub fn counts(&self) -> (u64, u64) {
+        (self.vertices, self.index_count)
+    }
+
+    fn vertex_streams_mut(&mut self) -> [&mut wgpu::Buffer; 6] {
+        [
+            &mut self.positions,
+            &mut self.normals,
+            &mut self.uvs,
+            &mut self.uvs1,
+            &mut self.colors,
+            &mut self.tangents,
+        ]
+    }
+
+    /// Appends `packed` after what the streams hold (growing them first where it does not
+    /// fit); returns the vertex and index offsets it went to.
+    fn append(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        packed: &PackedGeometry,
+    ) -> (u64, u64) {
+        let (vertices, indices) = (packed.positions.len() as u64, packed.indices.len() as u64);
+        if self.vertices + vertices > self.vertex_capacity
+            || self.index_count + indices > self.index_capacity
+        {
+            self.grow(
+                device,
+                queue,
+                self.vertices + vertices,
+                self.index_count + indices,
+            );
+        }
+        let at = (self.vertices, self.index_count);
+        let new_streams: [&[u8]; 6] = [
+            bytemuck::cast_slice(&packed.positions),
+            bytemuck::cast_slice(&packed.normals),
+            bytemuck::cast_slice(&packed.uvs),
+            bytemuck::cast_slice(&packed.uvs1),
+            bytemuck::cast_slice(&packed.colors),
+            bytemuck::cast_slice(&packed.tangents),
+        ];
+        let first = self.vertices;
+        for ((buffer, stride), bytes) in self
+            .vertex_streams_mut()
+            .into_iter()
+            .zip(STREAM_STRIDES)
+            .zip(new_streams)
+        {
+            queue.write_buffer(buffer, first * stride, bytes);
+        }
+        queue.write_buffer(
+            &self.indices,
+            self.index_count * 4,
+            bytemuck::cast_slice(&packed.indices),
+        );
+        self.vertices += vertices;
+        self.index_count += indices;
+        at
+    }
+
+    /// New streams with room for at least `vertices` and `indices` (twice the old room at
+    /// least), the old contents copied over on the GPU.
+    fn grow(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, vertices: u64, indices: u64) {
+        let vertex_capacity = vertices.max(2 * self.vertex_capacity);
+        let index_capacity = indices.max(2 * self.index_capacity);
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("scene geometry growth"),
+        });
+        let used = self.vertices;
+        let mut replace = |buffer: &mut wgpu::Buffer, stride: u64, room: u64, used: u64, usage| {
+            let grown = device.create_buffer(&wgpu::BufferDescriptor {
+                label: buffer_label(usage),
+                size: stride * room,
+                usage: usage | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            encoder.copy_buffer_to_buffer(buffer, 0, &grown, 0, stride * used);
+            *buffer = grown;
+        };
+        for (buffer, stride) in self.vertex_streams_mut().into_iter().zip(STREAM_STRIDES) {
+            replace(
+                buffer,
+                stride,
+                vertex_capacity,
+                used,
+                wgpu::BufferUsages::VERTEX,
+            );
+        }
+        let index_count = self.index_count;
+        replace(
+            &mut self.indices,
+            4,
+            index_capacity,
+            index_count,
+            wgpu::BufferUsages::INDEX,
+        );
+        queue.submit([encoder.finish()]);
+        self.vertex_capacity = vertex_capacity;
+        self.index_capacity = index_capacity;
+    }
+}
+
+fn buffer_label(usage: wgpu::BufferUsages) -> Option<&'static str> {
+    Some(if usage.contains(wgpu::BufferUsages::INDEX) {
+        "scene indices"
+    } else {
+        "scene vertex stream"
+    })
 }
 
 /// Which vertex streams a program reads, at slots 0.. in this order.
@@ -61,7 +187,7 @@ pub enum VertexStreams {
 }
 
 /// An image as a texture (every mip level), with a linear and an sRGB view.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct GpuImage {
     pub texture: wgpu::Texture,
     /// For data: normals, metallic-roughness, occlusion.
@@ -71,7 +197,7 @@ pub struct GpuImage {
 }
 
 /// Every mesh primitive and image of a scene, uploaded.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct GpuScene {
     /// `meshes[m][p]` is primitive `p` of mesh `m`.
     pub meshes: Vec<Vec<GpuPrimitive>>,
@@ -135,9 +261,10 @@ impl PackedGeometry {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some(label),
                 contents: bytes,
-                usage: usage | wgpu::BufferUsages::COPY_SRC,
+                usage: usage | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
             })
         };
+        let (vertices, indices) = (self.positions.len() as u64, self.indices.len() as u64);
         let vertex = wgpu::BufferUsages::VERTEX;
         GeometryBuffers {
             positions: buffer("positions", bytemuck::cast_slice(&self.positions), vertex),
@@ -151,6 +278,10 @@ impl PackedGeometry {
                 bytemuck::cast_slice(&self.indices),
                 wgpu::BufferUsages::INDEX,
             ),
+            vertices,
+            vertex_capacity: vertices,
+            index_count: indices,
+            index_capacity: indices,
         }
     }
 }
@@ -177,6 +308,43 @@ impl GpuScene {
             geometry: packed.upload(device),
             images,
         }
+    }
+
+    /// Uploads `mesh`'s primitives after the others (the streams grow if they must) and
+    /// returns its index in [`GpuScene::meshes`].
+    pub fn add_mesh(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        mesh: &super::Mesh,
+    ) -> usize {
+        let mut packed = PackedGeometry::default();
+        let placed: Vec<GpuPrimitive> = mesh.primitives.iter().map(|p| packed.push(p)).collect();
+        let (first_vertex, first_index) = self.geometry.append(device, queue, &packed);
+        self.meshes.push(
+            placed
+                .into_iter()
+                .map(|p| GpuPrimitive {
+                    first_index: p.first_index + first_index as u32,
+                    base_vertex: p.base_vertex + first_vertex as i32,
+                    ..p
+                })
+                .collect(),
+        );
+        self.meshes.len() - 1
+    }
+
+    /// Uploads `image` (its mip levels averaged in linear light when `colour`) and returns its
+    /// index in [`GpuScene::images`].
+    pub fn add_image(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        image: &super::Image,
+        colour: bool,
+    ) -> usize {
+        self.images.push(upload_image(device, queue, image, colour));
+        self.images.len() - 1
     }
 
     /// Binds `streams` at vertex slots 0.. and the shared index buffer.

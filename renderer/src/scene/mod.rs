@@ -9,7 +9,7 @@ mod error;
 mod gpu;
 mod image_formats;
 mod instancing;
-mod limits;
+pub(crate) mod limits;
 mod load;
 mod load_checks;
 mod material_load;

@@ -26,7 +26,7 @@ enum Edit {
 }
 
 /// The mesh named `name`.
-fn mesh(scene: &Scene, name: &str) -> usize {
+pub(super) fn mesh(scene: &Scene, name: &str) -> usize {
     scene
         .meshes
         .iter()

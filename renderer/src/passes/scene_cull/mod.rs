@@ -100,9 +100,11 @@ impl Pass for SceneCullPass {
         let current = self
             .draws
             .take()
-            .filter(|d| Arc::ptr_eq(&d.scene, &frame.scene) && d.follows(&frame.instances));
+            .filter(|d| d.scene.id == frame.scene.id && d.follows(&frame.instances));
         let mut draws = match current {
             Some(mut d) => {
+                // The same scene, perhaps with meshes and materials added since.
+                d.scene = Arc::clone(&frame.scene);
                 d.follow_instances(gpu, &self.shared, &frame.instances);
                 d
             }

@@ -55,7 +55,8 @@ pub struct ShadowPass {
 /// table).
 #[derive(Debug)]
 struct CasterCache {
-    scene: Arc<crate::frame_data::PreparedScene>,
+    /// The scene's id ([`crate::frame_data::PreparedScene::id`]).
+    scene: u32,
     revision: u64,
     casters: Vec<Caster>,
     bounds: Aabb,
@@ -177,14 +178,17 @@ impl ShadowPass {
     /// Keeps the cached casters while the scene and its instances are the ones they were built
     /// from, else builds them afresh.
     fn refresh_casters(&mut self, frame: &FrameInputs) {
-        let current = self.casters.take().filter(|c| {
-            Arc::ptr_eq(&c.scene, &frame.scene) && c.revision == frame.instances.revision
-        });
+        // Meshes and materials added to the scene change no caster until instances use them
+        // (which moves the revision).
+        let current = self
+            .casters
+            .take()
+            .filter(|c| c.scene == frame.scene.id && c.revision == frame.instances.revision);
         self.casters = Some(current.unwrap_or_else(|| {
             let casters = casters(frame);
             let bounds = casters.iter().fold(Aabb::EMPTY, |b, c| b.union(c.bounds));
             CasterCache {
-                scene: Arc::clone(&frame.scene),
+                scene: frame.scene.id,
                 revision: frame.instances.revision,
                 casters,
                 bounds,

@@ -1,0 +1,59 @@
+//! Adding meshes, materials and images to the prepared scene between frames, as an engine
+//! streams a level in: each upload writes only what it adds (the geometry streams grow by
+//! doubling, copied on the GPU) and the passes keep what they built for the scene, which keeps
+//! its identity. Instances of an added mesh are then added by handle
+//! ([`Renderer::add_instance`]).
+
+use std::sync::Arc;
+
+use super::Renderer;
+use crate::frame_data::{PreparedScene, RenderError};
+use crate::scene::{Image, Material, Mesh};
+
+impl Renderer {
+    /// Adds `mesh` to the prepared scene, from the next frame, and returns its mesh index for
+    /// [`Renderer::add_instance`]. Its primitives name materials by index: the scene's
+    /// materials, then the glTF default material ([`Renderer::default_material`]), then those
+    /// added with [`Renderer::add_material`]; a primitive without one uses the default.
+    /// Inconsistent data (attribute lengths, indices past the vertices, an unknown material)
+    /// and geometry past the device's buffer limits are refused with [`RenderError::Scene`].
+    pub fn add_mesh(&mut self, mesh: &Mesh) -> Result<usize, RenderError> {
+        let gpu = self.gpu.clone();
+        Ok(self
+            .prepared_mut()?
+            .add_mesh(&gpu.device, &gpu.queue, mesh)?)
+    }
+
+    /// Adds `material` to the prepared scene and returns its index for an added mesh's
+    /// primitives. Its textures name the scene's images, then those added with
+    /// [`Renderer::add_image`].
+    pub fn add_material(&mut self, material: &Material) -> Result<usize, RenderError> {
+        let gpu = self.gpu.clone();
+        Ok(self.prepared_mut()?.add_material(&gpu.device, material)?)
+    }
+
+    /// Uploads `image` (with its mip chain) and returns its index for an added material's
+    /// textures. `colour` says the image holds colour (base colour, emissive): its mip levels
+    /// are then averaged in linear light; data (normals, metallic-roughness, occlusion) is
+    /// averaged as stored.
+    pub fn add_image(&mut self, image: &Image, colour: bool) -> Result<usize, RenderError> {
+        let gpu = self.gpu.clone();
+        Ok(self
+            .prepared_mut()?
+            .add_image(&gpu.device, &gpu.queue, image, colour)?)
+    }
+
+    /// The index of the glTF default material in the prepared scene's materials (after the
+    /// scene's own).
+    pub fn default_material(&self) -> Result<usize, RenderError> {
+        let (prepared, _) = self.scene.as_ref().ok_or(RenderError::NoScene)?;
+        Ok(prepared.default_material)
+    }
+
+    /// The prepared scene, to change (copied first if a frame still holds it: its GPU
+    /// objects are shared, not copied).
+    fn prepared_mut(&mut self) -> Result<&mut PreparedScene, RenderError> {
+        let (prepared, _) = self.scene.as_mut().ok_or(RenderError::NoScene)?;
+        Ok(Arc::make_mut(prepared))
+    }
+}
