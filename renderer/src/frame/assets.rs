@@ -1,4 +1,5 @@
-//! Adding meshes, materials and images to the prepared scene between frames, as an engine
+//! Adding meshes, materials and images to the prepared scene between frames, and replacing
+//! materials,, as an engine
 //! streams a level in: each upload writes only what it adds (the geometry streams grow by
 //! doubling, copied on the GPU) and the passes keep what they built for the scene, which keeps
 //! its identity. Instances of an added mesh are then added by handle
@@ -30,6 +31,16 @@ impl Renderer {
     pub fn add_material(&mut self, material: &Material) -> Result<usize, RenderError> {
         let gpu = self.gpu.clone();
         Ok(self.prepared_mut()?.add_material(&gpu.device, material)?)
+    }
+
+    /// Replaces material `index` of the prepared scene (as [`Renderer::add_mesh`] numbers
+    /// materials) from the next frame: its parameters and textures, or its alpha mode and
+    /// sidedness (its draws then move to other batches). Nothing else is uploaded.
+    pub fn set_material(&mut self, index: usize, material: &Material) -> Result<(), RenderError> {
+        let gpu = self.gpu.clone();
+        Ok(self
+            .prepared_mut()?
+            .set_material(&gpu.device, index, material)?)
     }
 
     /// Uploads `image` (with its mip chain) and returns its index for an added material's

@@ -75,6 +75,9 @@ pub struct PreparedScene {
     /// without one, at [`PreparedScene::default_material`]), then materials added.
     pub materials: Vec<PreparedMaterial>,
     pub default_material: usize,
+    /// Bumped when a material changes how its draws are batched (its alpha mode or
+    /// sidedness, [`PreparedScene::set_material`]): passes then place every draw again.
+    pub placement_revision: u64,
     /// What an added material is prepared with.
     layouts: SceneLayouts,
     defaults: Defaults,
@@ -141,6 +144,7 @@ impl PreparedScene {
             draw_layout: layouts.draw.clone(),
             materials,
             default_material,
+            placement_revision: 0,
             layouts,
             defaults,
             samplers,
@@ -200,6 +204,38 @@ impl PreparedScene {
         );
         self.materials.push(prepared);
         Ok(self.materials.len() - 1)
+    }
+
+    /// Replaces material `index` (parameters and textures) in place: its draws draw with the
+    /// new one from the next frame. A change of alpha mode or sidedness moves its draws to
+    /// other batches (every draw is placed again, once).
+    pub fn set_material(
+        &mut self,
+        device: &wgpu::Device,
+        index: usize,
+        material: &Material,
+    ) -> Result<(), SceneError> {
+        let count = self.materials.len();
+        if index >= count {
+            return Err(SceneError::Inconsistent(format!(
+                "material {index} does not exist: the prepared scene has {count} materials"
+            )));
+        }
+        check_material(material, self.gpu.images.len())?;
+        let prepared = prepare_material(
+            device,
+            &self.layouts,
+            &self.gpu,
+            &self.defaults,
+            &mut self.samplers,
+            material,
+        );
+        let old = &self.materials[index];
+        if (old.alpha_mode, old.double_sided) != (prepared.alpha_mode, prepared.double_sided) {
+            self.placement_revision += 1;
+        }
+        self.materials[index] = prepared;
+        Ok(())
     }
 
     /// Uploads `image` after the scene's images and returns its index (what an added

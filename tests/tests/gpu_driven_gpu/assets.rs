@@ -1,10 +1,10 @@
-//! Meshes, materials and images added to a prepared city at run time render as a city built
-//! with them from the start, on the forward and deferred paths, culled and not; and meshes and
+//! Meshes, materials and images added to a prepared city at run time, and materials replaced
+//! (recoloured, or turned to glass), render as a city built with them from the start, on the forward and deferred paths, culled and not; and meshes and
 //! materials naming what does not exist are refused with the reason.
 
-use glam::{Mat4, Quat, Vec3};
+use glam::{Mat4, Quat, Vec3, Vec4};
 use renderer::frame::{RenderError, RenderPath, Renderer};
-use renderer::scene::{Image, Instance, TextureRef};
+use renderer::scene::{AlphaMode, Image, Instance, TextureRef};
 use tests::frames::{largest_difference, render_frame_from, render_one_frame};
 use tests::gpu::gpu_test;
 
@@ -36,7 +36,7 @@ fn meshes_materials_and_images_added_at_run_time_render_as_a_city_built_with_the
     let facade = scene
         .materials
         .iter()
-        .position(|m| m.alpha_mode == renderer::scene::AlphaMode::Opaque)
+        .position(|m| m.alpha_mode == AlphaMode::Opaque)
         .expect("an opaque facade");
     let mut material = scene.materials[facade].clone();
     material.name = "added checker".into();
@@ -196,5 +196,60 @@ fn meshes_and_materials_that_name_nothing_are_refused() {
             renderer.add_mesh(&scene.meshes[0]).expect("a mesh"),
             scene.meshes.len()
         );
+    });
+}
+
+#[test]
+fn materials_replaced_at_run_time_render_as_a_city_built_with_them() {
+    let base = city(300);
+    let scene = &base.scene;
+    let lights = street_lights(&base);
+    let camera = street_camera(scene);
+    let opaque: Vec<usize> = (0..scene.materials.len())
+        .filter(|&m| scene.materials[m].alpha_mode == AlphaMode::Opaque)
+        .collect();
+    // One facade material recoloured, every other one turned into blended glass: their draws
+    // leave the opaque batches for the blended list.
+    let mut replaced = scene.clone();
+    let recoloured = opaque[0];
+    replaced.materials[recoloured].base_color = Vec4::new(0.9, 0.2, 0.1, 1.0);
+    for &m in opaque.iter().skip(1).step_by(2) {
+        let material = &mut replaced.materials[m];
+        material.alpha_mode = AlphaMode::Blend;
+        material.base_color.w = 0.5;
+    }
+    let changed: Vec<usize> = (0..scene.materials.len())
+        .filter(|&m| replaced.materials[m] != scene.materials[m])
+        .collect();
+    assert!(changed.len() > 2, "a recoloured material and glass");
+    gpu_test(|gpu| {
+        for (path, cull) in [(RenderPath::Tiled, true), (RenderPath::Tbdr, true)] {
+            let config = config(path, 4, cull);
+            let mut renderer = Renderer::new(gpu, config).expect("renderer");
+            renderer.prepare_scene(scene).expect("the city fits");
+            renderer.set_lights(&lights).expect("lights fit");
+            let first = render_one_frame(gpu, &mut renderer, &camera).rgba;
+            for &m in &changed {
+                renderer
+                    .set_material(m, &replaced.materials[m])
+                    .expect("a material of the scene");
+            }
+            let edited = render_one_frame(gpu, &mut renderer, &camera).rgba;
+            let expected = render_frame_from(gpu, &replaced, config, &lights, &camera).rgba;
+            let worst = largest_difference(&edited, &expected);
+            assert_eq!(
+                worst, 0,
+                "{path:?}: the city with replaced materials differs from the built one by {worst}"
+            );
+            assert!(
+                largest_difference(&first, &edited) > 64,
+                "{path:?}: the change shows"
+            );
+            let count = renderer.default_material().expect("a scene") + 1;
+            let err = renderer
+                .set_material(count, &scene.materials[0])
+                .expect_err("no such material");
+            assert!(err.to_string().contains("does not exist"), "{err}");
+        }
     });
 }

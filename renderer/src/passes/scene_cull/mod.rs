@@ -97,10 +97,7 @@ impl Pass for SceneCullPass {
 
     fn prepare(&mut self, frame: &FrameInputs) -> Result<(), RenderError> {
         let gpu = &frame.gpu;
-        let current = self
-            .draws
-            .take()
-            .filter(|d| d.scene.id == frame.scene.id && d.follows(&frame.instances));
+        let current = self.draws.take().filter(|d| d.follows(frame));
         let mut draws = match current {
             Some(mut d) => {
                 // The same scene, perhaps with meshes and materials added since.

@@ -17,8 +17,10 @@ use crate::shader::ShaderProgram;
 #[derive(Debug)]
 pub struct ViewDraws {
     pub scene: Arc<PreparedScene>,
-    /// The instance table (its id) and its revision the boxes and the layout follow.
+    /// The instance table (its id) and its revision the boxes and the layout follow, and the
+    /// scene's placement revision they were placed at.
     table: u32,
+    placement: u64,
     revision: u64,
     pub layout: Arc<BatchLayout>,
     /// Every slot's arguments, instance count 1 (all drawn; spare slots draw nothing).
@@ -175,6 +177,7 @@ impl ViewDraws {
         Self {
             scene,
             table: table.id(),
+            placement: frame.scene.placement_revision,
             revision: table.revision,
             layout: slots.layout,
             all_drawn: slots.all_drawn,
@@ -253,9 +256,13 @@ impl ViewDraws {
         self.bind_group = bind_group(device, shared, buffers);
     }
 
-    /// Whether these draws follow `table` (not an earlier scene's table).
-    pub fn follows(&self, table: &InstanceTable) -> bool {
-        self.table == table.id()
+    /// Whether these draws can follow `frame`'s scene and instances: the same instance
+    /// table, and a scene whose materials batch draws as they did (else every draw is
+    /// placed again).
+    pub fn follows(&self, frame: &FrameInputs) -> bool {
+        self.table == frame.instances.id()
+            && self.scene.id == frame.scene.id
+            && self.placement == frame.scene.placement_revision
     }
 
     /// Follows the instance table: for every instance added, removed or changed since the

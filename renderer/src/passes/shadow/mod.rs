@@ -55,8 +55,8 @@ pub struct ShadowPass {
 /// table).
 #[derive(Debug)]
 struct CasterCache {
-    /// The scene's id ([`crate::frame_data::PreparedScene::id`]).
-    scene: u32,
+    /// The scene's id and placement revision (blended materials cast no shadow).
+    scene: (u32, u64),
     revision: u64,
     casters: Vec<Caster>,
     bounds: Aabb,
@@ -180,15 +180,15 @@ impl ShadowPass {
     fn refresh_casters(&mut self, frame: &FrameInputs) {
         // Meshes and materials added to the scene change no caster until instances use them
         // (which moves the revision).
-        let current = self
-            .casters
-            .take()
-            .filter(|c| c.scene == frame.scene.id && c.revision == frame.instances.revision);
+        let current = self.casters.take().filter(|c| {
+            c.scene == (frame.scene.id, frame.scene.placement_revision)
+                && c.revision == frame.instances.revision
+        });
         self.casters = Some(current.unwrap_or_else(|| {
             let casters = casters(frame);
             let bounds = casters.iter().fold(Aabb::EMPTY, |b, c| b.union(c.bounds));
             CasterCache {
-                scene: frame.scene.id,
+                scene: (frame.scene.id, frame.scene.placement_revision),
                 revision: frame.instances.revision,
                 casters,
                 bounds,
