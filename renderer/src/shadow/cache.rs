@@ -45,6 +45,17 @@ pub struct Caster {
     pub version: u64,
 }
 
+/// Which casters differ from the list the cache planned with last.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CasterChanges<'a> {
+    /// Not known: every caster is compared with last frame's.
+    Unknown,
+    /// These casters (indices, ascending) changed or are new; every other one is as it was,
+    /// and none was dropped. The caller knows this from the instance table's change log, so
+    /// a frame costs what changed, not what the scene holds.
+    Only(&'a [u32]),
+}
+
 /// The work of one region.
 #[derive(Debug, Clone, PartialEq)]
 pub enum RegionWork {
@@ -129,7 +140,8 @@ struct RegionState {
 /// Culling is incremental: a region whose view is unchanged re-tests only the casters that
 /// changed since the last frame (moved, switched between static and dynamic), so a frame where
 /// nothing moved costs one comparison per caster and per region, not casters × regions frustum
-/// tests.
+/// tests; told which casters changed ([`CasterChanges::Only`]), it does not compare them
+/// either, and a frame costs what changed and what reaches the changed regions.
 #[derive(Debug, Default)]
 pub struct ShadowCache {
     regions: HashMap<RegionKey, RegionState>,
@@ -154,8 +166,22 @@ impl ShadowCache {
         casters: &[Caster],
         cached: bool,
     ) -> Vec<RegionPlan> {
-        let changed = changed_casters(&self.casters, casters);
-        let nothing_changed = changed.as_ref().is_some_and(|m| !m.contains(&true));
+        self.plan_changes(regions, casters, cached, CasterChanges::Unknown)
+    }
+
+    /// [`ShadowCache::plan`], told which casters changed since the last plan.
+    pub fn plan_changes(
+        &mut self,
+        regions: &[RegionInput],
+        casters: &[Caster],
+        cached: bool,
+        changes: CasterChanges<'_>,
+    ) -> Vec<RegionPlan> {
+        let changed = match changes {
+            CasterChanges::Unknown => changed_casters(&self.casters, casters),
+            CasterChanges::Only(list) => Some(self.with_new_casters(list, casters)),
+        };
+        let nothing_changed = changed.as_ref().is_some_and(Vec::is_empty);
         // Uncached frames leave nothing behind in the static cache.
         if !cached {
             self.regions.clear();
@@ -191,9 +217,33 @@ impl ShadowCache {
         }
         let frame = self.frame;
         self.regions.retain(|_, s| s.frame == frame);
-        self.casters.clear();
-        self.casters.extend_from_slice(casters);
+        match changes {
+            CasterChanges::Unknown => {
+                self.casters.clear();
+                self.casters.extend_from_slice(casters);
+            }
+            CasterChanges::Only(_) => {
+                let kept = self.casters.len().min(casters.len());
+                self.casters.extend_from_slice(&casters[kept..]);
+                for &i in changed.iter().flatten() {
+                    self.casters[i as usize] = casters[i as usize];
+                }
+            }
+        }
         plans
+    }
+
+    /// `list`, with every caster past the last plan's list (new ones) added, ascending and
+    /// within `casters`.
+    fn with_new_casters(&self, list: &[u32], casters: &[Caster]) -> Vec<u32> {
+        let new = self.casters.len().min(casters.len())..casters.len();
+        let mut changed: Vec<u32> = (list.iter().copied())
+            .filter(|&i| (i as usize) < casters.len())
+            .chain(new.map(|i| i as u32))
+            .collect();
+        changed.sort_unstable();
+        changed.dedup();
+        changed
     }
 }
 
@@ -202,7 +252,7 @@ fn region_work(
     region: &RegionInput,
     old: Option<&RegionState>,
     casters: &[Caster],
-    changed: Option<&[bool]>,
+    changed: Option<&[u32]>,
     cached: bool,
     frame: u64,
 ) -> (RegionWork, RegionState) {
@@ -237,10 +287,14 @@ fn region_work(
     (work, state)
 }
 
-/// Which casters differ from the last frame's, as a mask; `None` when the list itself changed
-/// (another length), and every region culls afresh.
-fn changed_casters(last: &[Caster], now: &[Caster]) -> Option<Vec<bool>> {
-    (last.len() == now.len()).then(|| last.iter().zip(now).map(|(a, b)| a != b).collect())
+/// Which casters differ from the last frame's (indices, ascending); `None` when the list
+/// itself changed (another length), and every region culls afresh.
+fn changed_casters(last: &[Caster], now: &[Caster]) -> Option<Vec<u32>> {
+    (last.len() == now.len()).then(|| {
+        (0..now.len() as u32)
+            .filter(|&i| last[i as usize] != now[i as usize])
+            .collect()
+    })
 }
 
 /// The casters reaching `region` (indices, ascending): the old list with only the changed
@@ -249,23 +303,21 @@ fn reaching(
     region: &RegionInput,
     old: Option<&RegionState>,
     casters: &[Caster],
-    changed: Option<&[bool]>,
+    changed: Option<&[u32]>,
 ) -> Vec<u32> {
     let frustum = || Frustum::from_clip(region.view.clip_from_world);
     let reused = old.filter(|o| o.clip_from_world == region.view.clip_from_world);
     match (reused, changed) {
-        (Some(o), Some(mask)) => {
+        (Some(o), Some(changed)) => {
             let f = frustum();
             let mut list: Vec<u32> = o
                 .reaching
                 .iter()
                 .copied()
-                .filter(|&i| !mask[i as usize])
+                .filter(|i| changed.binary_search(i).is_err())
                 .chain(
-                    mask.iter()
-                        .enumerate()
-                        .filter(|&(i, &m)| m && f.intersects_aabb(&casters[i].bounds))
-                        .map(|(i, _)| i as u32),
+                    (changed.iter().copied())
+                        .filter(|&i| f.intersects_aabb(&casters[i as usize].bounds)),
                 )
                 .collect();
             list.sort_unstable();

@@ -182,18 +182,21 @@ fn uncached_frames_draw_every_region_with_what_reaches_it() {
 fn incremental_culling_equals_culling_afresh() {
     let mut rng = Lcg(7);
     let regions = faces();
-    let mut casters: Vec<Caster> = (0..40)
-        .map(|i| {
-            let p = Vec3::new(
-                rng.range(-12.0, 12.0),
-                rng.range(-12.0, 12.0),
-                rng.range(-12.0, 12.0),
-            );
-            cube_at(i, p, i % 3 == 0, 0)
-        })
-        .collect();
+    let cube = |rng: &mut Lcg, i: u32| {
+        let p = Vec3::new(
+            rng.range(-12.0, 12.0),
+            rng.range(-12.0, 12.0),
+            rng.range(-12.0, 12.0),
+        );
+        cube_at(i, p, i % 3 == 0, 0)
+    };
+    let mut casters: Vec<Caster> = (0..40).map(|i| cube(&mut rng, i)).collect();
+    // One cache compares every caster with the last frame's; the other is told which changed
+    // (and casters are appended, as added instances append draws).
     let mut incremental = ShadowCache::default();
+    let mut told = ShadowCache::default();
     for frame in 0..60 {
+        let mut changed = Vec::new();
         for _ in 0..(frame % 4) {
             let i = (rng.next() % casters.len() as u64) as usize;
             let c = &mut casters[i];
@@ -203,15 +206,35 @@ fn incremental_culling_equals_culling_afresh() {
                 max: c.bounds.max + step,
             };
             c.version += 1;
+            changed.push(i as u32);
         }
-        incremental.plan(&regions, &casters, true);
+        if frame % 7 == 3 {
+            let new = cube(&mut rng, casters.len() as u32);
+            changed.push(casters.len() as u32);
+            casters.push(new);
+        }
+        changed.sort_unstable();
+        changed.dedup();
+        let compared = incremental.plan(&regions, &casters, true);
+        let changes = if frame == 0 {
+            CasterChanges::Unknown
+        } else {
+            CasterChanges::Only(&changed)
+        };
+        assert_eq!(
+            told.plan_changes(&regions, &casters, true, changes),
+            compared,
+            "frame {frame}: told the changes, the plan is the same"
+        );
         for r in &regions {
             let fresh = reaching(r, None, &casters, None);
-            assert_eq!(
-                incremental.regions[&r.key].reaching, fresh,
-                "frame {frame}, face {}",
-                r.key.face
-            );
+            for cache in [&incremental, &told] {
+                assert_eq!(
+                    cache.regions[&r.key].reaching, fresh,
+                    "frame {frame}, face {}",
+                    r.key.face
+                );
+            }
         }
     }
 }

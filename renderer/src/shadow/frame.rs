@@ -8,7 +8,9 @@ use std::collections::HashMap;
 use glam::{Mat4, Vec4};
 
 use super::atlas::{AtlasRect, ShadowAtlas, ShadowGrant, ShadowRequest};
-use super::cache::{CacheCounts, Caster, RegionInput, RegionKey, RegionPlan, ShadowCache};
+use super::cache::{
+    CacheCounts, Caster, CasterChanges, RegionInput, RegionKey, RegionPlan, ShadowCache,
+};
 use super::resolution::{Hysteresis, desired_log2, projected_radius_px};
 use super::views::{CameraLens, LightView, cascade_views, cube_views, spot_view};
 use super::{ShadowConfig, ShadowReport};
@@ -34,6 +36,8 @@ pub struct PlanInputs<'a> {
     /// Bounds of every caster (the scene), for infinite ranges and cascade depth.
     pub scene_bounds: Aabb,
     pub casters: &'a [Caster],
+    /// Which casters changed since the last plan, where the caller knows.
+    pub caster_changes: CasterChanges<'a>,
 }
 
 /// One view as the GPU record (`shadow_atlas::ShadowView`) needs it.
@@ -124,7 +128,9 @@ impl ShadowPlanner {
                 *s = Some(first);
             }
         }
-        plan.regions = self.cache.plan(&regions, input.casters, c.cache);
+        plan.regions =
+            self.cache
+                .plan_changes(&regions, input.casters, c.cache, input.caster_changes);
         let mut histogram: HashMap<u32, u32> = HashMap::new();
         for g in &atlas_plan.grants {
             *histogram.entry(g.side).or_default() += g.rects.len() as u32;

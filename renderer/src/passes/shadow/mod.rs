@@ -8,6 +8,7 @@
 //! for shading ([`FrameResources::shadows`]) and adds a graph node only when some region needs
 //! a draw or a copy: a frame where nothing changed runs no shadow work at all.
 
+mod casters;
 mod casts;
 mod gpu;
 mod view;
@@ -26,9 +27,10 @@ use crate::frame_data::{
     ShadowResources,
 };
 use crate::graph::{ImportAccess, RenderGraph, TextureAccess};
-use crate::scene::{Aabb, AlphaMode};
-use crate::shadow::cache::Caster;
+use crate::scene::Aabb;
+use crate::shadow::cache::CasterChanges;
 use crate::shadow::frame::{FramePlan, PlanInputs, ShadowPlanner, ViewRecord};
+use casters::CasterCache;
 use casts::CastList;
 use gpu::{Recording, ShadowPipelines, ShadowTargets};
 use shaders_gen::shared::shadow_atlas::NO_SHADOW;
@@ -46,20 +48,13 @@ pub struct ShadowPass {
     uploaded: Vec<forward::ShadowView>,
     /// Where each region's casts start in the cast buffer (this frame's plan).
     first_casts: Vec<[u32; 2]>,
-    /// The casters of the scene and instances they were built from, kept while neither
-    /// changes, so a frame where nothing moved does not walk the scene's draws.
+    /// The casters of the scene and instances they were built from, followed through the
+    /// instance table's change log, so a frame where nothing moved does not walk the scene's
+    /// draws.
     casters: Option<CasterCache>,
-}
-
-/// A scene's shadow casters where its instances were (at that revision of its instance
-/// table).
-#[derive(Debug)]
-struct CasterCache {
-    /// The scene's id and placement revision (blended materials cast no shadow).
-    scene: (u32, u64),
-    revision: u64,
-    casters: Vec<Caster>,
-    bounds: Aabb,
+    /// Whether the shadow cache's last plan was made with `casters` (a plan without shadowed
+    /// lights is made with none): only then can it be told which casters changed since.
+    planned_with_casters: bool,
 }
 
 impl ShadowPass {
@@ -89,6 +84,7 @@ impl ShadowPass {
             uploaded: Vec::new(),
             first_casts: Vec::new(),
             casters: None,
+            planned_with_casters: false,
         })
     }
 
@@ -174,51 +170,6 @@ fn view_record(v: &ViewRecord) -> forward::ShadowView {
     )
 }
 
-impl ShadowPass {
-    /// Keeps the cached casters while the scene and its instances are the ones they were built
-    /// from, else builds them afresh.
-    fn refresh_casters(&mut self, frame: &FrameInputs) {
-        // Meshes and materials added to the scene change no caster until instances use them
-        // (which moves the revision).
-        let current = self.casters.take().filter(|c| {
-            c.scene == (frame.scene.id, frame.scene.placement_revision)
-                && c.revision == frame.instances.revision
-        });
-        self.casters = Some(current.unwrap_or_else(|| {
-            let casters = casters(frame);
-            let bounds = casters.iter().fold(Aabb::EMPTY, |b, c| b.union(c.bounds));
-            CasterCache {
-                scene: (frame.scene.id, frame.scene.placement_revision),
-                revision: frame.instances.revision,
-                casters,
-                bounds,
-            }
-        }));
-    }
-}
-
-/// The frame's shadow casters: every draw that is not blended, where its instance is now (a
-/// removed instance's with empty bounds, so that it reaches no region while the list keeps
-/// its length).
-fn casters(frame: &FrameInputs) -> Vec<Caster> {
-    let (scene, table) = (&frame.scene, &frame.instances);
-    table
-        .draws
-        .iter()
-        .enumerate()
-        .filter(|(_, d)| scene.materials[d.material].alpha_mode != AlphaMode::Blend)
-        .filter_map(|(i, d)| {
-            let state = table.states.get(d.instance)?;
-            Some(Caster {
-                draw: i as u32,
-                bounds: d.world_bounds(&table.states),
-                dynamic: state.dynamic,
-                version: state.version,
-            })
-        })
-        .collect()
-}
-
 impl Pass for ShadowPass {
     fn name(&self) -> &'static str {
         "shadow atlas"
@@ -239,9 +190,19 @@ impl Pass for ShadowPass {
             .any(|l| l.casts_shadow);
         // Without a light that casts a shadow the plan has no region: no caster is needed, and
         // the scene's draws are not walked.
-        if shadowed {
-            self.refresh_casters(frame);
-        }
+        let changed = match (&mut self.casters, shadowed) {
+            (Some(c), true) => c.follow(frame),
+            (None, true) => {
+                self.casters = Some(CasterCache::new(frame));
+                None
+            }
+            (_, false) => None,
+        };
+        let caster_changes = match &changed {
+            Some(list) if self.planned_with_casters => CasterChanges::Only(list),
+            _ => CasterChanges::Unknown,
+        };
+        self.planned_with_casters = shadowed;
         let (casters, scene_bounds) = match &self.casters {
             Some(c) if shadowed => (c.casters.as_slice(), c.bounds),
             _ => (&[][..], Aabb::EMPTY),
@@ -256,6 +217,7 @@ impl Pass for ShadowPass {
             viewport_height: frame.config.height as f32,
             scene_bounds,
             casters,
+            caster_changes,
         };
         self.plan = self.planner.plan(&inputs);
         self.upload_views(frame);
