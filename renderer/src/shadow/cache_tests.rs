@@ -239,3 +239,25 @@ fn incremental_culling_equals_culling_afresh() {
         }
     }
 }
+
+/// A caster moved in a frame the cache was told of, then moved back in a frame it was not:
+/// the list it compares with must be the told frame's, or it would miss the move back.
+#[test]
+fn a_caster_moved_while_told_and_back_while_not_leaves_the_face_it_left() {
+    let mut cache = ShadowCache::default();
+    let start = casters();
+    cache.plan(&faces(), &start, true);
+    let mut moved = start.clone();
+    moved[2] = cube_at(2, Vec3::new(0.0, 0.0, -4.0), true, 0);
+    cache.plan_changes(&faces(), &moved, true, CasterChanges::Only(&[2]));
+    assert!(cache.regions[&faces()[5].key].reaching.contains(&2));
+    cache.plan(&faces(), &start, true);
+    for r in &faces() {
+        assert_eq!(
+            cache.regions[&r.key].reaching,
+            reaching(r, None, &start, None),
+            "face {}",
+            r.key.face
+        );
+    }
+}
