@@ -14,7 +14,8 @@ use std::hash::{Hash as _, Hasher as _};
 use glam::Mat4;
 
 use super::atlas::AtlasRect;
-use super::views::{Frustum, LightView};
+use super::grid::{CasterGrid, RegionTest};
+use super::views::LightView;
 use crate::scene::Aabb;
 
 /// A region's identity from frame to frame: the light's stable id and the face (0 for spot
@@ -55,6 +56,9 @@ pub enum CasterChanges<'a> {
     /// a frame costs what changed, not what the scene holds.
     Only(&'a [u32]),
 }
+
+/// Casters below which every full cull tests them all (the grid costs more than it saves).
+const GRID_MIN_CASTERS: usize = 256;
 
 /// The work of one region.
 #[derive(Debug, Clone, PartialEq)]
@@ -147,6 +151,8 @@ pub struct ShadowCache {
     regions: HashMap<RegionKey, RegionState>,
     /// The last frame's casters.
     casters: Vec<Caster>,
+    /// The grid of `casters`, while none changed.
+    grid: Option<CasterGrid>,
     /// Frames planned so far.
     frame: u64,
 }
@@ -156,6 +162,7 @@ impl ShadowCache {
     pub fn clear(&mut self) {
         self.regions.clear();
         self.casters.clear();
+        self.grid = None;
     }
 
     /// Plans `regions` against `casters`: cached when `cached`, else every region is drawn
@@ -186,6 +193,20 @@ impl ShadowCache {
         if !cached {
             self.regions.clear();
         }
+        if !nothing_changed {
+            self.grid = None;
+        }
+        // A region new or with another view culls every caster: through the grid, built
+        // when a frame needs it and kept while no caster changes.
+        let full_culls = changed.is_none()
+            || regions.iter().any(|r| {
+                (self.regions.get(&r.key))
+                    .is_none_or(|o| o.clip_from_world != r.view.clip_from_world)
+            });
+        if full_culls && self.grid.is_none() && casters.len() >= GRID_MIN_CASTERS {
+            self.grid = Some(CasterGrid::new(casters));
+        }
+        let grid = self.grid.as_ref();
         self.frame += 1;
         let mut plans = Vec::with_capacity(regions.len());
         for region in regions {
@@ -202,8 +223,9 @@ impl ShadowCache {
                 }
                 old => {
                     let old = old.map(|o| &*o);
+                    let changed = changed.as_deref();
                     let (work, state) =
-                        region_work(region, old, casters, changed.as_deref(), cached, self.frame);
+                        region_work(region, old, (casters, grid), changed, cached, self.frame);
                     if cached {
                         self.regions.insert(region.key, state);
                     }
@@ -251,12 +273,12 @@ impl ShadowCache {
 fn region_work(
     region: &RegionInput,
     old: Option<&RegionState>,
-    casters: &[Caster],
+    (casters, grid): (&[Caster], Option<&CasterGrid>),
     changed: Option<&[u32]>,
     cached: bool,
     frame: u64,
 ) -> (RegionWork, RegionState) {
-    let reaching = reaching(region, old, casters, changed);
+    let reaching = reaching(region, old, (casters, grid), changed);
     let (statics, dynamics): (Vec<&Caster>, Vec<&Caster>) = reaching
         .iter()
         .map(|&i| &casters[i as usize])
@@ -298,37 +320,33 @@ fn changed_casters(last: &[Caster], now: &[Caster]) -> Option<Vec<u32>> {
 }
 
 /// The casters reaching `region` (indices, ascending): the old list with only the changed
-/// casters re-tested when the region's view is unchanged, else every caster tested.
+/// casters re-tested when the region's view is unchanged, else every caster tested (those
+/// `grid` finds near the region's frustum, with a grid).
 fn reaching(
     region: &RegionInput,
     old: Option<&RegionState>,
-    casters: &[Caster],
+    (casters, grid): (&[Caster], Option<&CasterGrid>),
     changed: Option<&[u32]>,
 ) -> Vec<u32> {
-    let frustum = || Frustum::from_clip(region.view.clip_from_world);
+    let test = RegionTest::new(region.view.clip_from_world);
+    let reaches = |&i: &u32| test.reaches(&casters[i as usize].bounds);
     let reused = old.filter(|o| o.clip_from_world == region.view.clip_from_world);
     match (reused, changed) {
         (Some(o), Some(changed)) => {
-            let f = frustum();
             let mut list: Vec<u32> = o
                 .reaching
                 .iter()
                 .copied()
                 .filter(|i| changed.binary_search(i).is_err())
-                .chain(
-                    (changed.iter().copied())
-                        .filter(|&i| f.intersects_aabb(&casters[i as usize].bounds)),
-                )
+                .chain(changed.iter().copied().filter(reaches))
                 .collect();
             list.sort_unstable();
             list
         }
-        _ => {
-            let f = frustum();
-            (0..casters.len() as u32)
-                .filter(|&i| f.intersects_aabb(&casters[i as usize].bounds))
-                .collect()
-        }
+        _ => match grid.and_then(|g| g.candidates(&test)) {
+            Some(near) => near.into_iter().filter(reaches).collect(),
+            None => (0..casters.len() as u32).filter(reaches).collect(),
+        },
     }
 }
 

@@ -228,7 +228,7 @@ fn incremental_culling_equals_culling_afresh() {
             "frame {frame}: told the changes, the plan is the same"
         );
         for r in &regions {
-            let fresh = reaching(r, None, &casters, None);
+            let fresh = reaching(r, None, (&casters, None), None);
             for cache in [&incremental, &told] {
                 assert_eq!(
                     cache.regions[&r.key].reaching, fresh,
@@ -255,7 +255,7 @@ fn a_caster_moved_while_told_and_back_while_not_leaves_the_face_it_left() {
     for r in &faces() {
         assert_eq!(
             cache.regions[&r.key].reaching,
-            reaching(r, None, &start, None),
+            reaching(r, None, (&start, None), None),
             "face {}",
             r.key.face
         );

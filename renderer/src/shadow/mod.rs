@@ -10,6 +10,7 @@
 pub mod atlas;
 pub mod cache;
 pub mod frame;
+pub mod grid;
 pub mod resolution;
 pub mod views;
 
