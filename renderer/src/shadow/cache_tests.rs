@@ -188,7 +188,7 @@ fn incremental_culling_equals_culling_afresh() {
             rng.range(-12.0, 12.0),
             rng.range(-12.0, 12.0),
         );
-        cube_at(i, p, i % 3 == 0, 0)
+        cube_at(i, p, i.is_multiple_of(3), 0)
     };
     let mut casters: Vec<Caster> = (0..40).map(|i| cube(&mut rng, i)).collect();
     // One cache compares every caster with the last frame's; the other is told which changed
