@@ -15,6 +15,7 @@ mod formats;
 mod inputs;
 mod instances;
 mod lights;
+mod material_groups;
 mod material_inputs;
 mod report;
 mod resources;
@@ -32,13 +33,11 @@ pub use formats::{DEPTH_FORMAT, GBUFFER_FORMATS, HDR_FORMAT};
 pub use inputs::{FrameInputs, ParticleInput};
 pub use instances::{DrawItem, InstanceEditError, InstanceHandle, InstanceState, InstanceTable};
 pub use lights::{LightSet, effective_range, with_effective_ranges};
+pub use material_groups::{PreparedMaterial, material_uniform};
 pub use material_inputs::{sampler_descriptor, uv_map};
 pub use report::{FrameReport, ParticleReport, SceneDrawReport};
 pub use resources::{
     FrameResources, GBufferHandles, LightListHandles, ListGeometry, OcclusionDraws,
     ParticleResources, SceneDrawList, ShadowResources,
 };
-pub use scene::{
-    MeshDraw, PlannedDraw, PreparedMaterial, PreparedScene, draw_plan, is_mirrored,
-    material_uniform,
-};
+pub use scene::{MeshDraw, PlannedDraw, PreparedScene, draw_plan, is_mirrored};

@@ -204,7 +204,8 @@ impl ShadowCache {
                     .is_none_or(|o| o.clip_from_world != r.view.clip_from_world)
             });
         if full_culls && self.grid.is_none() && casters.len() >= GRID_MIN_CASTERS {
-            self.grid = Some(CasterGrid::new(casters));
+            let boxes: Vec<Aabb> = casters.iter().map(|c| c.bounds).collect();
+            self.grid = Some(CasterGrid::new(&boxes));
         }
         let grid = self.grid.as_ref();
         self.frame += 1;

@@ -10,7 +10,6 @@
 
 use glam::{Mat4, UVec3, Vec3, Vec4};
 
-use super::cache::Caster;
 use super::views::Frustum;
 use crate::scene::Aabb;
 
@@ -58,16 +57,17 @@ impl CasterGrid {
     /// A caster over more cells than this is kept apart.
     const LARGE: u32 = 64;
 
-    /// The grid of `casters` (empty ones, which reach nothing, left out): about one cell per
-    /// two casters, cubic cells as far as the bounds allow.
-    pub fn new(casters: &[Caster]) -> Self {
-        let bounds = casters.iter().fold(Aabb::EMPTY, |b, c| b.union(c.bounds));
+    /// The grid of the casters whose boxes are `boxes`, in caster order (empty boxes, which
+    /// reach nothing, left out): about one cell per two casters, cubic cells as far as the
+    /// bounds allow.
+    pub fn new(boxes: &[Aabb]) -> Self {
+        let bounds = boxes.iter().fold(Aabb::EMPTY, |b, &c| b.union(c));
         let extent = if bounds.is_empty() {
             Vec3::ONE
         } else {
             (bounds.max - bounds.min).max(Vec3::splat(1e-3))
         };
-        let target = (casters.len() as f32 / 2.0).max(1.0);
+        let target = (boxes.len() as f32 / 2.0).max(1.0);
         let side = (extent.x * extent.y * extent.z / target).cbrt();
         let dims = (extent / side)
             .ceil()
@@ -84,11 +84,11 @@ impl CasterGrid {
             cells: vec![Vec::new(); (dims.x * dims.y * dims.z) as usize],
             large: Vec::new(),
         };
-        for (i, c) in casters.iter().enumerate() {
-            if c.bounds.is_empty() {
+        for (i, b) in boxes.iter().enumerate() {
+            if b.is_empty() {
                 continue;
             }
-            let (lo, hi) = grid.range(c.bounds);
+            let (lo, hi) = grid.range(*b);
             let span = (hi - lo + UVec3::ONE).element_product();
             if span > Self::LARGE {
                 grid.large.push(i as u32);
@@ -177,7 +177,6 @@ mod tests {
 
     use super::{CasterGrid, RegionTest};
     use crate::scene::Aabb;
-    use crate::shadow::cache::Caster;
     use crate::shadow::views::cube_views;
 
     /// A 64-bit LCG, floats in `[lo, hi)`.
@@ -204,32 +203,27 @@ mod tests {
     #[test]
     fn culling_through_the_grid_finds_what_testing_every_caster_finds() {
         let mut rng = Lcg(11);
-        let mut casters: Vec<Caster> = (0..3_000u32)
-            .map(|draw| {
+        let mut casters: Vec<Aabb> = (0..3_000u32)
+            .map(|_| {
                 let at = rng.point(-400.0, 400.0);
                 let half = Vec3::new(
                     rng.range(0.2, 8.0),
                     rng.range(0.2, 20.0),
                     rng.range(0.2, 8.0),
                 );
-                Caster {
-                    draw,
-                    bounds: Aabb {
-                        min: at - half,
-                        max: at + half,
-                    },
-                    dynamic: false,
-                    version: 0,
+                Aabb {
+                    min: at - half,
+                    max: at + half,
                 }
             })
             .collect();
         // A ground under everything (kept apart: it spans every cell) and removed draws.
-        casters[0].bounds = Aabb {
+        casters[0] = Aabb {
             min: Vec3::new(-420.0, -1.0, -420.0),
             max: Vec3::new(420.0, 0.0, 420.0),
         };
         for c in casters.iter_mut().skip(1).step_by(97) {
-            c.bounds = Aabb::EMPTY;
+            *c = Aabb::EMPTY;
         }
         let grid = CasterGrid::new(&casters);
         assert_eq!(grid.large, [0], "only the ground spans too many cells");
@@ -252,7 +246,7 @@ mod tests {
         let mut found_any = 0;
         for (v, &clip) in views.iter().enumerate() {
             let test = RegionTest::new(clip);
-            let reaches = |&i: &u32| test.reaches(&casters[i as usize].bounds);
+            let reaches = |&i: &u32| test.reaches(&casters[i as usize]);
             let every: Vec<u32> = (0..casters.len() as u32).filter(reaches).collect();
             let through_grid: Vec<u32> = match grid.candidates(&test) {
                 Some(near) => {
