@@ -164,7 +164,7 @@ impl InstanceTable {
 
     fn empty(gpu: &GpuContext, prepared: &PreparedScene, capacity: usize) -> Self {
         static NEXT_ID: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(1);
-        let layout = prepared.draw_layout.clone();
+        let layout = prepared.draw_layout().clone();
         let records = records_buffer(&gpu.device, capacity);
         let draw_group = draw_group(&gpu.device, &layout, &records);
         Self {
@@ -296,11 +296,18 @@ impl InstanceTable {
         Ok(())
     }
 
-    /// The instances changed since `revision` (in change order, an instance once per change),
-    /// or `None` when the log no longer reaches back that far: the caller then looks at every
-    /// instance.
-    pub fn changed_since(&self, revision: u64) -> Option<&[u32]> {
-        self.log.since(revision)
+    /// The instances changed since `revision` (ascending, each once), or `None` when the log
+    /// no longer reaches back that far: the caller then looks at every instance.
+    pub fn changed_since(&self, revision: u64) -> Option<Vec<usize>> {
+        let mut changed: Vec<usize> = self
+            .log
+            .since(revision)?
+            .iter()
+            .map(|&i| i as usize)
+            .collect();
+        changed.sort_unstable();
+        changed.dedup();
+        Some(changed)
     }
 
     /// Records a change of instance `index`: a new revision, logged.

@@ -55,8 +55,6 @@ pub struct PreparedScene {
     /// `mesh_draws[mesh]`: what an instance of `mesh` draws (its draws in
     /// [`super::InstanceTable`] follow this order).
     pub mesh_draws: Vec<Vec<MeshDraw>>,
-    /// The layout of group 1 (the draw records) of the geometry programs.
-    pub draw_layout: wgpu::BindGroupLayout,
     /// The scene's materials, then the glTF default material (the material of primitives
     /// without one, at [`PreparedScene::default_material`]), then materials added.
     pub materials: Vec<PreparedMaterial>,
@@ -71,6 +69,11 @@ pub struct PreparedScene {
 }
 
 impl PreparedScene {
+    /// The layout of group 1 (the draw records) of the geometry programs.
+    pub fn draw_layout(&self) -> &wgpu::BindGroupLayout {
+        &self.layouts.draw
+    }
+
     /// Whether any material is alpha-blended (drawn after the opaque surfaces, absent from the
     /// pre-Z depth).
     pub fn has_blended(&self) -> bool {
@@ -127,7 +130,6 @@ impl PreparedScene {
             id: NEXT_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
             gpu,
             mesh_draws,
-            draw_layout: layouts.draw.clone(),
             materials,
             default_material,
             placement_revision: 0,
@@ -179,15 +181,7 @@ impl PreparedScene {
         device: &wgpu::Device,
         material: &Material,
     ) -> Result<usize, SceneError> {
-        check_material(material, self.gpu.images.len())?;
-        let prepared = prepare_material(
-            device,
-            &self.layouts,
-            &self.gpu,
-            &self.defaults,
-            &mut self.samplers,
-            material,
-        );
+        let prepared = self.prepare(device, material)?;
         self.materials.push(prepared);
         Ok(self.materials.len() - 1)
     }
@@ -207,21 +201,30 @@ impl PreparedScene {
                 "material {index} does not exist: the prepared scene has {count} materials"
             )));
         }
-        check_material(material, self.gpu.images.len())?;
-        let prepared = prepare_material(
-            device,
-            &self.layouts,
-            &self.gpu,
-            &self.defaults,
-            &mut self.samplers,
-            material,
-        );
+        let prepared = self.prepare(device, material)?;
         let old = &self.materials[index];
         if (old.alpha_mode, old.double_sided) != (prepared.alpha_mode, prepared.double_sided) {
             self.placement_revision += 1;
         }
         self.materials[index] = prepared;
         Ok(())
+    }
+
+    /// `material`'s bind groups, once its textures are checked against the scene's images.
+    fn prepare(
+        &mut self,
+        device: &wgpu::Device,
+        material: &Material,
+    ) -> Result<PreparedMaterial, SceneError> {
+        check_material(material, self.gpu.images.len())?;
+        Ok(prepare_material(
+            device,
+            &self.layouts,
+            &self.gpu,
+            &self.defaults,
+            &mut self.samplers,
+            material,
+        ))
     }
 
     /// Uploads `image` after the scene's images and returns its index (what an added

@@ -133,46 +133,40 @@ impl GeometryBuffers {
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("scene geometry growth"),
         });
-        let used = self.vertices;
-        let mut replace = |buffer: &mut wgpu::Buffer, stride: u64, room: u64, used: u64, usage| {
+        // A buffer of `size` bytes in place of `buffer`, its first `used` bytes copied over.
+        let mut replace = |buffer: &mut wgpu::Buffer, size: u64, used: u64, usage, label| {
             let grown = device.create_buffer(&wgpu::BufferDescriptor {
-                label: buffer_label(usage),
-                size: stride * room,
+                label: Some(label),
+                size,
                 usage: usage | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             });
-            encoder.copy_buffer_to_buffer(buffer, 0, &grown, 0, stride * used);
+            encoder.copy_buffer_to_buffer(buffer, 0, &grown, 0, used);
             *buffer = grown;
         };
+        let vertices_used = self.vertices;
         for (buffer, stride) in self.vertex_streams_mut().into_iter().zip(STREAM_STRIDES) {
+            let (size, used) = (stride * vertex_capacity, stride * vertices_used);
             replace(
                 buffer,
-                stride,
-                vertex_capacity,
+                size,
                 used,
                 wgpu::BufferUsages::VERTEX,
+                "scene vertex stream",
             );
         }
-        let index_count = self.index_count;
+        let (size, used) = (4 * index_capacity, 4 * self.index_count);
         replace(
             &mut self.indices,
-            4,
-            index_capacity,
-            index_count,
+            size,
+            used,
             wgpu::BufferUsages::INDEX,
+            "scene indices",
         );
         queue.submit([encoder.finish()]);
         self.vertex_capacity = vertex_capacity;
         self.index_capacity = index_capacity;
     }
-}
-
-fn buffer_label(usage: wgpu::BufferUsages) -> Option<&'static str> {
-    Some(if usage.contains(wgpu::BufferUsages::INDEX) {
-        "scene indices"
-    } else {
-        "scene vertex stream"
-    })
 }
 
 /// Which vertex streams a program reads, at slots 0.. in this order.

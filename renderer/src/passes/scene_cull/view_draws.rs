@@ -278,15 +278,9 @@ impl ViewDraws {
         if table.revision == self.revision {
             return;
         }
-        let changed: Vec<usize> = match table.changed_since(self.revision) {
-            Some(log) => {
-                let mut changed: Vec<usize> = log.iter().map(|&i| i as usize).collect();
-                changed.sort_unstable();
-                changed.dedup();
-                changed
-            }
-            None => (0..table.states.len()).collect(),
-        };
+        let changed = table
+            .changed_since(self.revision)
+            .unwrap_or_else(|| (0..table.states.len()).collect());
         let mut relayout = false;
         let mut changed_slots = Vec::new();
         let mut changed_boxes = Vec::new();

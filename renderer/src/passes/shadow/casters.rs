@@ -50,13 +50,10 @@ impl CasterCache {
         if self.revision == table.revision {
             return Some(Vec::new());
         }
-        let Some(log) = table.changed_since(self.revision) else {
+        let Some(instances) = table.changed_since(self.revision) else {
             *self = Self::new(frame);
             return None;
         };
-        let mut instances: Vec<usize> = log.iter().map(|&i| i as usize).collect();
-        instances.sort_unstable();
-        instances.dedup();
         let mut changed = Vec::new();
         let mut shrinks = false;
         for state in instances.iter().filter_map(|&i| table.states.get(i)) {
