@@ -5,11 +5,14 @@
 //! brings buildings in from off screen) while culling does leave draws out; and instances moved
 //! by handle (into view, out of it, mirrored) render the same as a city built with them there;
 //! instances added and removed by handle likewise (`edits`), and meshes, materials and images
-//! added at run time (`assets`); occlusion culling hides what a wall hides and nothing visible
+//! added at run time (`assets`); material textures reached by index through the material atlas
+//! sample as the hardware sampler does (`atlas`); occlusion culling hides what a wall hides and nothing visible
 //! (`occlusion`).
 
 #[path = "gpu_driven_gpu/assets.rs"]
 mod assets;
+#[path = "gpu_driven_gpu/atlas.rs"]
+mod atlas;
 #[path = "gpu_driven_gpu/edits.rs"]
 mod edits;
 #[path = "gpu_driven_gpu/occlusion.rs"]

@@ -21,17 +21,13 @@ fn level_size(width: u32, height: u32, level: u32) -> (u32, u32) {
 pub fn mip_chain(image: &Image, srgb: bool) -> Vec<u8> {
     let levels = level_count(image.width, image.height);
     let mut out = image.rgba8.clone();
-    let decode: Box<dyn Fn(u8, usize) -> f32> = if srgb {
-        let table: Vec<f32> = (0..=255u8).map(srgb_to_linear).collect();
-        Box::new(move |v, channel| {
-            if channel == 3 {
-                f32::from(v) / 255.0
-            } else {
-                table[usize::from(v)]
-            }
-        })
+    // Decoding is a table per channel kind: sRGB colour channels to linear, alpha and data as
+    // stored.
+    let data_table: [f32; 256] = std::array::from_fn(|v| v as f32 / 255.0);
+    let colour_table: [f32; 256] = if srgb {
+        std::array::from_fn(|v| srgb_to_linear(v as u8))
     } else {
-        Box::new(|v, _| f32::from(v) / 255.0)
+        data_table
     };
     let encode = |v: f32, channel: usize| -> u8 {
         let v = if srgb && channel != 3 {
@@ -41,32 +37,43 @@ pub fn mip_chain(image: &Image, srgb: bool) -> Vec<u8> {
         };
         (v.clamp(0.0, 1.0) * 255.0).round() as u8
     };
-    let mut above: Vec<f32> = image
+    let mut above: Vec<[f32; 4]> = image
         .rgba8
-        .iter()
-        .enumerate()
-        .map(|(i, &v)| decode(v, i % 4))
+        .chunks_exact(4)
+        .map(|t| {
+            [
+                colour_table[usize::from(t[0])],
+                colour_table[usize::from(t[1])],
+                colour_table[usize::from(t[2])],
+                data_table[usize::from(t[3])],
+            ]
+        })
         .collect();
     for level in 1..levels {
         let (aw, ah) = level_size(image.width, image.height, level - 1);
         let (w, h) = level_size(image.width, image.height, level);
-        let mut next = vec![0.0f32; (w * h * 4) as usize];
+        let columns: Vec<std::ops::Range<u32>> = (0..w).map(|x| source_span(x, w, aw)).collect();
+        let mut next = Vec::with_capacity((w * h) as usize);
         for y in 0..h {
-            for x in 0..w {
-                let (xs, ys) = (source_span(x, w, aw), source_span(y, h, ah));
-                let count = (xs.len() * ys.len()) as f32;
-                for c in 0..4 {
-                    let mut sum = 0.0;
-                    for sy in ys.clone() {
-                        for sx in xs.clone() {
-                            sum += above[((sy * aw + sx) * 4) as usize + c];
+            let rows = source_span(y, h, ah);
+            for xs in &columns {
+                let count = (xs.len() * rows.len()) as f32;
+                let mut sum = [0.0f32; 4];
+                for sy in rows.clone() {
+                    let row = &above[(sy * aw) as usize..][..aw as usize];
+                    for texel in &row[xs.start as usize..xs.end as usize] {
+                        for (s, v) in sum.iter_mut().zip(texel) {
+                            *s += v;
                         }
                     }
-                    next[((y * w + x) * 4) as usize + c] = sum / count;
                 }
+                next.push(sum.map(|s| s / count));
             }
         }
-        out.extend(next.iter().enumerate().map(|(i, &v)| encode(v, i % 4)));
+        out.extend(
+            next.iter()
+                .flat_map(|t| (0..4).map(move |c| encode(t[c], c))),
+        );
         above = next;
     }
     out

@@ -12,6 +12,7 @@ mod instancing;
 pub(crate) mod limits;
 mod load;
 mod load_checks;
+mod material_atlas;
 mod material_load;
 mod mips;
 mod modes;
@@ -27,6 +28,7 @@ mod warning;
 pub use camera::{CameraProjection, SceneCamera};
 pub use error::SceneError;
 pub use gpu::{GeometryBuffers, GpuImage, GpuPrimitive, GpuScene, VertexStreams};
+pub use material_atlas::{AtlasError, AtlasKey, MaterialAtlas};
 pub use texture::{Filter, TextureSampler, UvTransform, Wrap};
 pub use warning::SceneWarning;
 

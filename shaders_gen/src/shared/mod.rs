@@ -65,6 +65,7 @@
 //! ```
 
 pub mod append;
+pub mod atlas;
 pub mod brdf;
 pub mod camera;
 pub mod decal;
@@ -75,6 +76,7 @@ pub mod normals;
 pub mod shadow;
 
 pub use append::cull_append;
+pub use atlas::material_atlas;
 pub use brdf::pbr;
 pub use camera::view;
 pub use decal::decal_apply;
