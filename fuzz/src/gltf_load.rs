@@ -3,13 +3,11 @@
 //! The bytes are loaded as a self-contained scene ([`Scene::from_slice`]: a GLB, or a `.gltf`
 //! with `data:` URIs). A scene that loads is checked against WebGPU's default limits (what
 //! `Renderer::prepare_scene` checks against the device's) and, when it fits, prepared as the
-//! renderer would before allocating: the draw list with its uniforms and the material uniforms.
+//! renderer would before allocating: the draw list with its uniforms and each material texture's coordinates.
 //! Any error must be a `SceneError` with a message; the prepared data must be consistent with
 //! the scene.
 
-use renderer::frame_data::{
-    DEFAULT_LIGHT_CUTOFF, draw_plan, material_uniform, with_effective_ranges,
-};
+use renderer::frame_data::{DEFAULT_LIGHT_CUTOFF, draw_plan, uv_map, with_effective_ranges};
 use renderer::scene::Scene;
 
 /// Loads and prepares `data`. Panics only on a broken contract.
@@ -45,7 +43,15 @@ pub fn run(data: &[u8]) {
         assert!(d.instance < scene.instances.len());
     }
     for m in &scene.materials {
-        let _ = material_uniform(m);
+        for t in [
+            m.base_color_texture,
+            m.normal_texture,
+            m.metallic_roughness_texture,
+            m.occlusion_texture,
+            m.emissive_texture,
+        ] {
+            let _ = uv_map(t);
+        }
     }
     let _ = scene.triangle_count();
     for light in with_effective_ranges(&scene.lights, DEFAULT_LIGHT_CUTOFF) {

@@ -239,11 +239,11 @@ fn an_unsupported_required_extension_is_named() {
 }
 
 #[test]
-fn committed_scene_uploads_with_exact_buffers_and_texels() {
+fn committed_scene_uploads_with_exact_buffers() {
     use renderer::scene::GpuScene;
     let scene = Scene::load(committed_scene()).unwrap_or_else(|e| panic!("{e}"));
     tests::gpu::gpu_test(|gpu| {
-        let uploaded = GpuScene::upload(&gpu.device, &gpu.queue, &scene);
+        let uploaded = GpuScene::upload(&gpu.device, &scene);
         assert_eq!(uploaded.meshes.len(), scene.meshes.len());
         let read = |b: &wgpu::Buffer| {
             renderer::readback::read_buffer::<u8>(&gpu.device, &gpu.queue, b).expect("readback")
@@ -289,13 +289,5 @@ fn committed_scene_uploads_with_exact_buffers_and_texels() {
                 }
             }
         }
-        let image = &scene.images[0];
-        let texels = renderer::readback::read_texture_rgba8(
-            &gpu.device,
-            &gpu.queue,
-            &uploaded.images[0].texture,
-        )
-        .expect("readback");
-        assert_eq!(texels, image.rgba8, "texels arrive unchanged");
     });
 }

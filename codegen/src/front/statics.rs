@@ -127,6 +127,7 @@ pub(crate) fn lower_static(m: &mut ModCtx, st: &BareStatic) -> Result<()> {
         binding: attr.group_binding,
         unfilterable: attr.unfilterable,
         when,
+        from_library: m.origin.is_some(),
         span: st.ident.span(),
     });
     Ok(())

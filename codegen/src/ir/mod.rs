@@ -151,6 +151,9 @@ pub struct Global {
     pub unfilterable: bool,
     /// `#[when(predicate)]`: the static exists only in variants where the predicate holds.
     pub when: Option<Expr>,
+    /// Merged in from a library by `uses(..)`: a module with entry points leaves its binding
+    /// out of variants that use nothing of its group ([`crate::variants::kept_globals`]).
+    pub from_library: bool,
     /// Span of the name.
     pub span: Span,
 }

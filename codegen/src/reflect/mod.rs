@@ -199,11 +199,12 @@ pub fn reflect(m: &Module, env: &Env, subgroup: bool) -> Reflection {
             outputs,
         });
     }
+    let kept = crate::variants::kept_globals(m, env);
     let mut bindings: Vec<BindingInfo> = m
         .globals
         .iter()
         .enumerate()
-        .filter(|(_, g)| crate::variants::global_present(g, m, env))
+        .filter(|(i, _)| kept[*i])
         .filter_map(|(i, g)| {
             let (group, binding) = g.binding?;
             let vis = if visibility[i] == Visibility::default() {

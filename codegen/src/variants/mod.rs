@@ -12,8 +12,8 @@ mod prune;
 pub use env::Env;
 pub use eval::{Value, eval};
 pub use prune::{
-    Branch, branch, check_capabilities, check_globals, global_present, reachable_functions,
-    used_globals,
+    Branch, branch, check_capabilities, check_globals, global_present, kept_globals,
+    reachable_functions, used_globals,
 };
 
 use crate::ir::{Lit, Module};

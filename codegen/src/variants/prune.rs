@@ -136,6 +136,44 @@ pub fn used_globals(m: &Module, env: &Env, entry: usize) -> Vec<bool> {
     used
 }
 
+/// Which statics a variant emits and reflects: those present ([`global_present`]), except
+/// the bindings merged from a library into a bind group that no entry point of the module
+/// uses in this variant: a library's group costs a variant nothing it does not read (a masked
+/// pass's material group is not in its opaque variant's layout), while a group the variant
+/// does use keeps every binding, as the host binds it. A library compiled on its own keeps
+/// everything, as it keeps every function.
+pub fn kept_globals(m: &Module, env: &Env) -> Vec<bool> {
+    let present: Vec<bool> = m
+        .globals
+        .iter()
+        .map(|g| global_present(g, m, env))
+        .collect();
+    let has_entries = m.functions.iter().any(|f| f.stage.is_some());
+    if m.library || !has_entries || !m.globals.iter().any(|g| g.from_library) {
+        return present;
+    }
+    let mut used_groups = std::collections::BTreeSet::new();
+    for (i, f) in m.functions.iter().enumerate() {
+        if f.stage.is_some() {
+            for (g, used) in used_globals(m, env, i).into_iter().enumerate() {
+                if let (true, Some((group, _))) = (used, m.globals[g].binding) {
+                    used_groups.insert(group);
+                }
+            }
+        }
+    }
+    m.globals
+        .iter()
+        .zip(present)
+        .map(|(g, present)| {
+            let unused_library_group = g.from_library
+                && g.binding
+                    .is_some_and(|(group, _)| !used_groups.contains(&group));
+            present && !unused_library_group
+        })
+        .collect()
+}
+
 /// Whether a `static` exists in this variant (its `#[when(..)]` holds, or it has none).
 pub fn global_present(g: &crate::ir::Global, m: &Module, env: &Env) -> bool {
     g.when

@@ -30,7 +30,9 @@ impl Renderer {
     /// [`Renderer::add_image`].
     pub fn add_material(&mut self, material: &Material) -> Result<usize, RenderError> {
         let gpu = self.gpu.clone();
-        Ok(self.prepared_mut()?.add_material(&gpu.device, material)?)
+        Ok(self
+            .prepared_mut()?
+            .add_material(&gpu.device, &gpu.queue, material)?)
     }
 
     /// Replaces material `index` of the prepared scene (as [`Renderer::add_mesh`] numbers
@@ -40,18 +42,15 @@ impl Renderer {
         let gpu = self.gpu.clone();
         Ok(self
             .prepared_mut()?
-            .set_material(&gpu.device, index, material)?)
+            .set_material(&gpu.device, &gpu.queue, index, material)?)
     }
 
-    /// Uploads `image` (with its mip chain) and returns its index for an added material's
-    /// textures. `colour` says the image holds colour (base colour, emissive): its mip levels
-    /// are then averaged in linear light; data (normals, metallic-roughness, occlusion) is
-    /// averaged as stored.
-    pub fn add_image(&mut self, image: &Image, colour: bool) -> Result<usize, RenderError> {
+    /// Keeps `image` and returns its index for an added material's textures. It is packed
+    /// into the material atlas (with its mip chain, averaged in linear light where a material
+    /// reads it as colour) with the first material that uses it.
+    pub fn add_image(&mut self, image: &Image) -> Result<usize, RenderError> {
         let gpu = self.gpu.clone();
-        Ok(self
-            .prepared_mut()?
-            .add_image(&gpu.device, &gpu.queue, image, colour)?)
+        Ok(self.prepared_mut()?.add_image(&gpu.device, image)?)
     }
 
     /// The index of the glTF default material in the prepared scene's materials (after the

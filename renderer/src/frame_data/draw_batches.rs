@@ -1,5 +1,6 @@
 //! How the geometry passes draw a prepared scene: its opaque and masked draws laid out in
-//! slots, grouped into batches that share a pipeline and a material (one multi-draw each), and
+//! slots, grouped into batches that share a pipeline (one multi-draw each: every material is
+//! reached through the draw's record, so materials do not split batches), and
 //! its blended draws apart (sorted back to front every frame).
 //!
 //! The layout is GPU-free; `passes::scene_cull` uploads it as indirect arguments and culls the
@@ -14,11 +15,10 @@ use crate::scene::AlphaMode;
 /// draw nothing.
 pub const NO_DRAW: u32 = shaders_gen::culling::instance_cull::NO_DRAW;
 
-/// Draws that share a pipeline and a material, in consecutive slots.
+/// Draws that share a pipeline, in consecutive slots.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct DrawBatch {
-    pub material: usize,
-    /// Alpha-masked (the masked depth pipelines and the material's mask group).
+    /// Alpha-masked (the masked depth pipelines).
     pub masked: bool,
     pub double_sided: bool,
     /// Mirrored by its instances' transforms (the clockwise pipelines).
@@ -31,7 +31,7 @@ pub struct DrawBatch {
 impl DrawBatch {
     /// What its draws share.
     pub fn key(&self) -> BatchKey {
-        (self.masked, self.double_sided, self.mirrored, self.material)
+        (self.masked, self.double_sided, self.mirrored)
     }
 
     /// Its slots' range.
@@ -58,7 +58,7 @@ pub enum DrawPlace {
 /// ([`BatchLayout::place`]); only when its batch is full, or new, is the layout built again.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct BatchLayout {
-    /// Opaque and masked batches, ordered by (masked, double-sided, mirrored, material).
+    /// Opaque and masked batches, ordered by (masked, double-sided, mirrored).
     pub batches: Vec<DrawBatch>,
     /// The draw (index into `InstanceTable::draws`) of each slot, or [`NO_DRAW`].
     pub slot_draws: Vec<u32>,
@@ -70,8 +70,8 @@ pub struct BatchLayout {
     free_slots: Vec<Vec<u32>>,
 }
 
-/// What puts a draw in a batch: (masked, double-sided, mirrored, material).
-pub type BatchKey = (bool, bool, bool, usize);
+/// What puts a draw in a batch: (masked, double-sided, mirrored).
+pub type BatchKey = (bool, bool, bool);
 
 /// The batch is full or missing: the layout must be built again.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -87,15 +87,10 @@ pub fn draw_place(scene: &PreparedScene, table: &InstanceTable, d: usize) -> Dra
     let material = &scene.materials[draw.material];
     let masked = match material.alpha_mode {
         AlphaMode::Blend => return DrawPlace::Blended,
-        AlphaMode::Mask { .. } => material.prez_mask_group.is_some(),
+        AlphaMode::Mask { .. } => true,
         AlphaMode::Opaque => false,
     };
-    DrawPlace::Batch((
-        masked,
-        material.double_sided,
-        draw.mirrored(&table.states),
-        draw.material,
-    ))
+    DrawPlace::Batch((masked, material.double_sided, draw.mirrored(&table.states)))
 }
 
 impl BatchLayout {
@@ -125,7 +120,7 @@ impl BatchLayout {
             ..Self::default()
         };
         for run in keyed.chunk_by(|a, b| a.0 == b.0) {
-            let (masked, double_sided, mirrored, material) = run[0].0;
+            let (masked, double_sided, mirrored) = run[0].0;
             let first_slot = layout.slot_draws.len() as u32;
             let spare = run.len() / 8 + 2;
             for &(_, d) in run {
@@ -138,7 +133,6 @@ impl BatchLayout {
                 .slot_draws
                 .extend(std::iter::repeat_n(NO_DRAW, spare));
             layout.batches.push(DrawBatch {
-                material,
                 masked,
                 double_sided,
                 mirrored,

@@ -2,21 +2,21 @@
 
 use super::*;
 
-fn opaque(m: usize) -> DrawPlace {
-    DrawPlace::Batch((false, false, false, m))
+fn opaque() -> DrawPlace {
+    DrawPlace::Batch((false, false, false))
 }
 
 #[test]
-fn batches_group_by_pipeline_then_material_and_keep_scene_order_inside() {
+fn batches_group_by_pipeline_and_keep_scene_order_inside() {
     let places = [
-        opaque(2),
+        opaque(),
         DrawPlace::Blended,
-        DrawPlace::Batch((true, true, false, 1)),
-        opaque(0),
-        opaque(2),
-        DrawPlace::Batch((false, false, true, 0)),
+        DrawPlace::Batch((true, true, false)),
+        opaque(),
+        opaque(),
+        DrawPlace::Batch((false, false, true)),
         DrawPlace::Blended,
-        opaque(0),
+        opaque(),
         DrawPlace::Hidden,
     ];
     let layout = BatchLayout::from_places(places.into_iter());
@@ -29,20 +29,16 @@ fn batches_group_by_pipeline_then_material_and_keep_scene_order_inside() {
     assert_eq!(
         batches,
         [
-            ((false, false, false, 0), 0, 4),
-            ((false, false, false, 2), 4, 4),
-            ((false, false, true, 0), 8, 3),
-            ((true, true, false, 1), 11, 3),
+            ((false, false, false), 0, 6),
+            ((false, false, true), 6, 3),
+            ((true, true, false), 9, 3),
         ]
     );
     let n = NO_DRAW;
-    assert_eq!(
-        layout.slot_draws,
-        [3, 7, n, n, 0, 4, n, n, 5, n, n, 2, n, n]
-    );
+    assert_eq!(layout.slot_draws, [0, 3, 4, 7, n, n, 5, n, n, 2, n, n]);
     assert_eq!(layout.blended, [1, 6]);
     assert_eq!(layout.slot_of(8), None, "a hidden draw has no slot");
-    assert_eq!(layout.slot_of(7), Some(1));
+    assert_eq!(layout.slot_of(7), Some(3));
     assert_eq!(layout.draw_count(), 6);
 }
 
@@ -53,9 +49,9 @@ fn batches_group_by_pipeline_then_material_and_keep_scene_order_inside() {
 #[test]
 fn placing_keeps_every_draw_in_one_slot_of_its_batch() {
     let keys = [
-        opaque(0),
-        opaque(1),
-        DrawPlace::Batch((false, false, true, 1)),
+        opaque(),
+        DrawPlace::Batch((false, true, false)),
+        DrawPlace::Batch((false, false, true)),
     ];
     let mut seed = 0x2545_f491_u64;
     let mut next = |n: u64| {

@@ -1,93 +1,33 @@
-//! A material's bind groups: its uniform, its five textures (1×1 stand-ins for absent ones)
-//! and their samplers as group 2 of the forward and G-buffer programs, and its alpha mask as
-//! group 2 of the masked pre-Z and shadow-caster programs, built against the layouts the DSL
-//! reflects.
+//! A scene's materials on the GPU: one storage buffer of `GpuMaterial` records and the material
+//! atlas of their textures (`scene::MaterialAtlas`), bound once as group 2 of every geometry
+//! program: the forward and G-buffer programs' layout, and the masked pre-Z and shadow-caster
+//! programs' own. A draw's record names its material, so no draw has a bind group of its own.
 
-use glam::Vec3;
 use shaders_gen::forward::forward;
-use shaders_gen::shared::material_uv::MaskMaterial;
+use shaders_gen::shared::material_table::{GpuMaterial, NO_TEXTURE};
 use wgpu::util::DeviceExt as _;
 
-use super::material_inputs::{Samplers, uv_map};
-use crate::scene::{AlphaMode, GpuScene, Material, TextureRef};
+use super::material_inputs::uv_map;
+use crate::scene::{AlphaMode, AtlasKey, Image, Material, MaterialAtlas, SceneError, TextureRef};
 use crate::shader::bind_group_layout_entries;
 
-/// What a material draws with.
-#[derive(Debug, Clone)]
+/// What batching needs of a material: the pipelines its draws take.
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PreparedMaterial {
-    pub bind_group: wgpu::BindGroup,
-    /// Group 2 of the masked pre-Z and masked shadow-caster programs, for alpha-masked
-    /// materials.
-    pub prez_mask_group: Option<wgpu::BindGroup>,
     pub alpha_mode: AlphaMode,
     pub double_sided: bool,
 }
 
-/// The `Material` uniform of `m` (the alpha cutoff is 0 unless the material is masked), with each
-/// texture's UV set and transform.
-pub fn material_uniform(m: &Material) -> forward::Material {
-    let cutoff = match m.alpha_mode {
-        AlphaMode::Mask { cutoff } => cutoff,
-        _ => 0.0,
-    };
-    forward::Material::new(
-        m.base_color,
-        m.emissive,
-        m.metallic,
-        m.roughness,
-        m.normal_scale,
-        m.occlusion_strength,
-        cutoff,
-        uv_map(m.base_color_texture),
-        uv_map(m.normal_texture),
-        uv_map(m.metallic_roughness_texture),
-        uv_map(m.occlusion_texture),
-        uv_map(m.emissive_texture),
-    )
-}
-
-/// 1×1 textures standing in for absent material textures.
-#[derive(Debug, Clone)]
-pub(super) struct Defaults {
-    white: wgpu::TextureView,
-    flat_normal: wgpu::TextureView,
-    black: wgpu::TextureView,
-}
-
-impl Defaults {
-    pub(super) fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Self {
-        let texel = |rgba: [u8; 4], format| {
-            device
-                .create_texture_with_data(
-                    queue,
-                    &wgpu::TextureDescriptor {
-                        label: Some("default texel"),
-                        size: wgpu::Extent3d {
-                            width: 1,
-                            height: 1,
-                            depth_or_array_layers: 1,
-                        },
-                        mip_level_count: 1,
-                        sample_count: 1,
-                        dimension: wgpu::TextureDimension::D2,
-                        format,
-                        usage: wgpu::TextureUsages::TEXTURE_BINDING,
-                        view_formats: &[],
-                    },
-                    wgpu::util::TextureDataOrder::LayerMajor,
-                    &rgba,
-                )
-                .create_view(&Default::default())
-        };
+impl PreparedMaterial {
+    pub fn of(m: &Material) -> Self {
         Self {
-            white: texel([255; 4], wgpu::TextureFormat::Rgba8UnormSrgb),
-            flat_normal: texel([128, 128, 255, 255], wgpu::TextureFormat::Rgba8Unorm),
-            black: texel([0, 0, 0, 255], wgpu::TextureFormat::Rgba8UnormSrgb),
+            alpha_mode: m.alpha_mode,
+            double_sided: m.double_sided,
         }
     }
 }
 
-/// The bind-group layouts of the scene's draw-record and per-material groups.
+/// The bind-group layouts of the scene's draw-record and material groups.
 #[derive(Debug, Clone)]
 pub(super) struct SceneLayouts {
     pub(super) draw: wgpu::BindGroupLayout,
@@ -124,112 +64,127 @@ impl SceneLayouts {
     }
 }
 
-pub(super) fn prepare_material(
-    device: &wgpu::Device,
-    layouts: &SceneLayouts,
-    gpu: &GpuScene,
-    defaults: &Defaults,
-    samplers: &mut Samplers,
-    m: &Material,
-) -> PreparedMaterial {
-    let uniform = material_uniform(m);
-    let cutoff = uniform.alpha_cutoff;
-    let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("material"),
-        contents: bytemuck::bytes_of(&uniform),
-        usage: wgpu::BufferUsages::UNIFORM,
-    });
-    let view =
-        |t: Option<TextureRef>, colour: bool, fallback: &wgpu::TextureView| -> wgpu::TextureView {
-            t.map_or_else(|| fallback.clone(), |t| gpu.view(t, colour).clone())
-        };
-    let views = [
-        view(m.base_color_texture, true, &defaults.white),
-        view(m.normal_texture, false, &defaults.flat_normal),
-        view(m.metallic_roughness_texture, false, &defaults.white),
-        view(m.occlusion_texture, false, &defaults.white),
-        view(
-            m.emissive_texture,
-            true,
-            if m.emissive == Vec3::ZERO {
-                &defaults.black
-            } else {
-                &defaults.white
-            },
-        ),
-    ];
-    let mut entries = vec![wgpu::BindGroupEntry {
-        binding: 0,
-        resource: buffer.as_entire_binding(),
-    }];
-    entries.extend(views.iter().enumerate().map(|(i, v)| wgpu::BindGroupEntry {
-        binding: i as u32 + 1,
-        resource: wgpu::BindingResource::TextureView(v),
-    }));
-    // Bindings 6–10: each texture's sampler, in the order of the views.
-    let samplers = [
-        m.base_color_texture,
-        m.normal_texture,
-        m.metallic_roughness_texture,
-        m.occlusion_texture,
-        m.emissive_texture,
-    ]
-    .map(|t| samplers.of(device, t));
-    entries.extend(
-        samplers
+/// Every material's record and texture, and the two bind groups that reach them.
+#[derive(Debug, Clone)]
+pub(super) struct MaterialTable {
+    atlas: std::sync::Arc<MaterialAtlas>,
+    records: wgpu::Buffer,
+    /// Records the buffer has room for.
+    capacity: usize,
+    /// Group 2 of the forward and G-buffer programs.
+    pub(super) group: wgpu::BindGroup,
+    /// Group 2 of the masked pre-Z and masked shadow-caster programs.
+    pub(super) mask_group: wgpu::BindGroup,
+}
+
+impl MaterialTable {
+    /// Packs every texture of `materials` into a new atlas and writes their records, with room
+    /// for twice as many.
+    pub(super) fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        layouts: &SceneLayouts,
+        images: &[std::sync::Arc<Image>],
+        materials: &[Material],
+    ) -> Result<Self, SceneError> {
+        let keys: Vec<AtlasKey> = materials.iter().flat_map(atlas_keys).collect();
+        let atlas = MaterialAtlas::new(device, queue, images, &keys)
+            .map_err(|e| SceneError::Inconsistent(format!("material textures: {e}")))?;
+        let capacity = (materials.len() * 2).max(8);
+        let mut records: Vec<GpuMaterial> = materials
             .iter()
-            .enumerate()
-            .map(|(i, s)| wgpu::BindGroupEntry {
-                binding: i as u32 + 6,
-                resource: wgpu::BindingResource::Sampler(s),
-            }),
-    );
-    let prez_mask_group = matches!(m.alpha_mode, AlphaMode::Mask { .. })
-        .then(|| mask_group(device, layouts, m, cutoff, &views[0], &samplers[0]));
-    PreparedMaterial {
-        prez_mask_group,
-        bind_group: device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("material"),
-            layout: &layouts.material,
-            entries: &entries,
-        }),
-        alpha_mode: m.alpha_mode,
-        double_sided: m.double_sided,
+            .map(|m| material_record(m, &atlas))
+            .collect();
+        records.resize(capacity, bytemuck::Zeroable::zeroed());
+        let records = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("materials"),
+            contents: bytemuck::cast_slice(&records),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        });
+        let group = |layout: &wgpu::BindGroupLayout, label| {
+            let mut entries = vec![wgpu::BindGroupEntry {
+                binding: 0,
+                resource: records.as_entire_binding(),
+            }];
+            entries.extend(atlas.bind_group_entries());
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(label),
+                layout,
+                entries: &entries,
+            })
+        };
+        Ok(Self {
+            group: group(&layouts.material, "materials"),
+            mask_group: group(&layouts.mask_material, "materials (masked depth)"),
+            atlas: std::sync::Arc::new(atlas),
+            records,
+            capacity,
+        })
+    }
+
+    /// Writes `material`'s record at `index` in place, or returns `false` when that needs a
+    /// new table (a texture the atlas does not hold, or no room).
+    pub(super) fn write(&self, queue: &wgpu::Queue, index: usize, material: &Material) -> bool {
+        let held = atlas_keys(material).all(|k| self.atlas.index(&k).is_some());
+        if !held || index >= self.capacity {
+            return false;
+        }
+        let record = material_record(material, &self.atlas);
+        let offset = (index * size_of::<GpuMaterial>()) as u64;
+        queue.write_buffer(&self.records, offset, bytemuck::bytes_of(&record));
+        true
     }
 }
 
-/// Group 2 of the masked pre-Z and masked shadow-caster programs (one layout): the material's
-/// alpha, cutoff, and base colour texture with its coordinates and sampler.
-fn mask_group(
-    device: &wgpu::Device,
-    layouts: &SceneLayouts,
-    m: &Material,
-    cutoff: f32,
-    base_color: &wgpu::TextureView,
-    sampler: &wgpu::Sampler,
-) -> wgpu::BindGroup {
-    let mask = MaskMaterial::new(m.base_color, uv_map(m.base_color_texture), cutoff);
-    let mask_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("mask material"),
-        contents: bytemuck::bytes_of(&mask),
-        usage: wgpu::BufferUsages::UNIFORM,
-    });
-    device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("pre-z mask material"),
-        layout: &layouts.mask_material,
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: mask_buffer.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: wgpu::BindingResource::TextureView(base_color),
-            },
-            wgpu::BindGroupEntry {
-                binding: 2,
-                resource: wgpu::BindingResource::Sampler(sampler),
-            },
-        ],
-    })
+/// Each texture reference of `m` as the atlas keys it (base colour and emissive are colour).
+fn atlas_keys(m: &Material) -> impl Iterator<Item = AtlasKey> {
+    [
+        (m.base_color_texture, true),
+        (m.normal_texture, false),
+        (m.metallic_roughness_texture, false),
+        (m.occlusion_texture, false),
+        (m.emissive_texture, true),
+    ]
+    .into_iter()
+    .filter_map(|(t, colour)| t.map(|t| key(t, colour)))
+}
+
+fn key(t: TextureRef, colour: bool) -> AtlasKey {
+    AtlasKey {
+        image: t.image,
+        sampler: t.sampler,
+        colour,
+    }
+}
+
+/// The `GpuMaterial` record of `m` (the alpha cutoff is 0 unless the material is masked), with
+/// each texture's UV set, transform and atlas index.
+pub fn material_record(m: &Material, atlas: &MaterialAtlas) -> GpuMaterial {
+    let cutoff = match m.alpha_mode {
+        AlphaMode::Mask { cutoff } => cutoff,
+        _ => 0.0,
+    };
+    let index = |t: Option<TextureRef>, colour| {
+        t.and_then(|t| atlas.index(&key(t, colour)))
+            .unwrap_or(NO_TEXTURE)
+    };
+    GpuMaterial::new(
+        m.base_color,
+        m.emissive,
+        m.metallic,
+        m.roughness,
+        m.normal_scale,
+        m.occlusion_strength,
+        cutoff,
+        uv_map(m.base_color_texture),
+        uv_map(m.normal_texture),
+        uv_map(m.metallic_roughness_texture),
+        uv_map(m.occlusion_texture),
+        uv_map(m.emissive_texture),
+        index(m.base_color_texture, true),
+        index(m.normal_texture, false),
+        index(m.metallic_roughness_texture, false),
+        index(m.occlusion_texture, false),
+        index(m.emissive_texture, true),
+    )
 }

@@ -1,40 +1,10 @@
-//! How a prepared material reads its textures: one wgpu sampler per distinct glTF sampler of the
-//! scene, and each texture reference's UV set and `KHR_texture_transform` as the shaders'
-//! `UvMap`.
-
-use std::collections::HashMap;
+//! How a prepared material reads its textures: each texture reference's UV set and
+//! `KHR_texture_transform` as the shaders' `UvMap`, and the wgpu sampler a glTF sampler would be
+//! (the material atlas does its wrap and filters in the shader; tests compare the two).
 
 use shaders_gen::shared::material_uv::UvMap;
 
 use crate::scene::{Filter, TextureRef, TextureSampler, Wrap};
-
-/// The wgpu sampler of each distinct [`TextureSampler`] a scene uses, made once.
-#[derive(Debug, Clone)]
-pub(super) struct Samplers {
-    made: HashMap<TextureSampler, wgpu::Sampler>,
-}
-
-impl Samplers {
-    pub(super) fn new() -> Self {
-        Self {
-            made: HashMap::new(),
-        }
-    }
-
-    /// The sampler of `texture` (the default sampler where there is no texture: absent
-    /// textures are 1×1 stand-ins, which every sampler reads alike).
-    pub(super) fn of(
-        &mut self,
-        device: &wgpu::Device,
-        texture: Option<TextureRef>,
-    ) -> wgpu::Sampler {
-        let key = texture.map_or_else(TextureSampler::default, |t| t.sampler);
-        self.made
-            .entry(key)
-            .or_insert_with(|| device.create_sampler(&sampler_descriptor(key)))
-            .clone()
-    }
-}
 
 /// The wgpu sampler of a glTF sampler. Without a mipmap filter only level 0 is read
 /// (`lod_max_clamp` 0), as glTF's `NEAREST` and `LINEAR` minification filters mean.

@@ -1,6 +1,6 @@
-//! A scene prepared for drawing: its GPU geometry and images, what each mesh draws, and its
-//! materials' bind groups (`material_groups`), with meshes, materials and images added and
-//! materials replaced between frames. Its instances and their draw records are apart, in
+//! A scene prepared for drawing: its GPU geometry, what each mesh draws, and its materials
+//! (one buffer of records and the atlas of their textures, `material_groups`), with meshes,
+//! materials and images added and materials replaced between frames. Its instances and their draw records are apart, in
 //! [`super::InstanceTable`], which an engine edits.
 
 use std::sync::Arc;
@@ -8,8 +8,7 @@ use std::sync::Arc;
 use glam::Mat4;
 use shaders_gen::forward::forward;
 
-use super::material_groups::{Defaults, PreparedMaterial, SceneLayouts, prepare_material};
-use super::material_inputs::Samplers;
+use super::material_groups::{MaterialTable, PreparedMaterial, SceneLayouts};
 use crate::scene::limits::{check_geometry, check_image, check_material, check_mesh};
 use crate::scene::{Aabb, AlphaMode, GpuScene, Image, Material, Mesh, Scene, SceneError};
 
@@ -62,10 +61,14 @@ pub struct PreparedScene {
     /// Bumped when a material changes how its draws are batched (its alpha mode or
     /// sidedness, [`PreparedScene::set_material`]): passes then place every draw again.
     pub placement_revision: u64,
-    /// What an added material is prepared with.
+    /// The layouts the material groups are built against.
     layouts: SceneLayouts,
-    defaults: Defaults,
-    samplers: Samplers,
+    /// The scene's images (added ones after them), kept for packing the atlas again when a
+    /// material brings a texture it does not hold.
+    images: Vec<Arc<Image>>,
+    /// Every material as given, in [`PreparedScene::materials`] order.
+    sources: Vec<Material>,
+    table: MaterialTable,
 }
 
 impl PreparedScene {
@@ -82,31 +85,36 @@ impl PreparedScene {
             .any(|m| m.alpha_mode == AlphaMode::Blend)
     }
 
-    /// Uploads `scene` and builds its bind groups against the layouts the DSL reflects for the
-    /// forward program's groups 1 (the draw records) and 2 (material), which the pre-Z and
-    /// shadow-caster programs share for group 1, and the masked pre-Z program's group 2. wgpu treats layouts with equal entries
-    /// as one, so these groups bind with every pipeline of those programs.
+    /// Group 2 of the forward and G-buffer programs: every material's record and texture.
+    pub fn material_group(&self) -> &wgpu::BindGroup {
+        &self.table.group
+    }
+
+    /// Group 2 of the masked pre-Z and masked shadow-caster programs.
+    pub fn mask_group(&self) -> &wgpu::BindGroup {
+        &self.table.mask_group
+    }
+
+    /// Uploads `scene`'s geometry, writes its materials' records and packs their textures into
+    /// the material atlas, with bind groups against the layouts the DSL reflects for the
+    /// forward program's groups 1 (the draw records) and 2 (materials), which the pre-Z and
+    /// shadow-caster programs share for group 1, and the masked pre-Z program's group 2.
     ///
-    /// `scene` must have passed [`Scene::check_for_device`] (`Renderer::prepare_scene` checks).
-    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Arc<Self> {
+    /// `scene` must have passed [`Scene::check_for_device`] (`Renderer::prepare_scene` checks);
+    /// the atlas can still refuse textures that need more layers than the device has.
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &Scene,
+    ) -> Result<Arc<Self>, SceneError> {
         let layouts = SceneLayouts::new(device);
-        let gpu = GpuScene::upload(device, queue, scene);
-        let defaults = Defaults::new(device, queue);
-        let mut samplers = Samplers::new();
-        let mut materials: Vec<PreparedMaterial> = scene
-            .materials
-            .iter()
-            .map(|m| prepare_material(device, &layouts, &gpu, &defaults, &mut samplers, m))
-            .collect();
+        let gpu = GpuScene::upload(device, scene);
         // Primitives without a material use the glTF default material, last (`draw_plan`).
-        materials.push(prepare_material(
-            device,
-            &layouts,
-            &gpu,
-            &defaults,
-            &mut samplers,
-            &Material::gltf_default(),
-        ));
+        let mut sources = scene.materials.clone();
+        sources.push(Material::gltf_default());
+        let images: Vec<Arc<Image>> = scene.images.iter().cloned().map(Arc::new).collect();
+        let table = MaterialTable::new(device, queue, &layouts, &images, &sources)?;
+        let materials = sources.iter().map(PreparedMaterial::of).collect();
         // Primitives without a material use the glTF default material, last.
         let default_material = scene.materials.len();
         let mesh_draws = scene
@@ -126,7 +134,7 @@ impl PreparedScene {
             })
             .collect();
         static NEXT_ID: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(1);
-        Arc::new(Self {
+        Ok(Arc::new(Self {
             id: NEXT_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
             gpu,
             mesh_draws,
@@ -134,9 +142,10 @@ impl PreparedScene {
             default_material,
             placement_revision: 0,
             layouts,
-            defaults,
-            samplers,
-        })
+            images,
+            sources,
+            table,
+        }))
     }
 
     /// Uploads `mesh` after the scene's meshes and returns its index (what
@@ -174,16 +183,20 @@ impl PreparedScene {
         Ok(index)
     }
 
-    /// Prepares `material` after the others and returns its index (what an added mesh's
-    /// primitives name). Its textures name images of [`GpuScene::images`].
+    /// Adds `material` after the others and returns its index (what an added mesh's
+    /// primitives name). Its textures name images of the scene (added ones included).
     pub fn add_material(
         &mut self,
         device: &wgpu::Device,
+        queue: &wgpu::Queue,
         material: &Material,
     ) -> Result<usize, SceneError> {
-        let prepared = self.prepare(device, material)?;
-        self.materials.push(prepared);
-        Ok(self.materials.len() - 1)
+        check_material(material, self.images.len())?;
+        self.sources.push(material.clone());
+        self.materials.push(PreparedMaterial::of(material));
+        let index = self.materials.len() - 1;
+        self.write_material(device, queue, index)?;
+        Ok(index)
     }
 
     /// Replaces material `index` (parameters and textures) in place: its draws draw with the
@@ -192,6 +205,7 @@ impl PreparedScene {
     pub fn set_material(
         &mut self,
         device: &wgpu::Device,
+        queue: &wgpu::Queue,
         index: usize,
         material: &Material,
     ) -> Result<(), SceneError> {
@@ -201,44 +215,44 @@ impl PreparedScene {
                 "material {index} does not exist: the prepared scene has {count} materials"
             )));
         }
-        let prepared = self.prepare(device, material)?;
-        let old = &self.materials[index];
+        check_material(material, self.images.len())?;
+        let prepared = PreparedMaterial::of(material);
+        let old = self.materials[index];
         if (old.alpha_mode, old.double_sided) != (prepared.alpha_mode, prepared.double_sided) {
             self.placement_revision += 1;
         }
+        let previous = std::mem::replace(&mut self.sources[index], material.clone());
         self.materials[index] = prepared;
+        if let Err(e) = self.write_material(device, queue, index) {
+            // Nothing changed: the table still holds the previous material.
+            self.sources[index] = previous;
+            self.materials[index] = old;
+            return Err(e);
+        }
         Ok(())
     }
 
-    /// `material`'s bind groups, once its textures are checked against the scene's images.
-    fn prepare(
-        &mut self,
-        device: &wgpu::Device,
-        material: &Material,
-    ) -> Result<PreparedMaterial, SceneError> {
-        check_material(material, self.gpu.images.len())?;
-        Ok(prepare_material(
-            device,
-            &self.layouts,
-            &self.gpu,
-            &self.defaults,
-            &mut self.samplers,
-            material,
-        ))
-    }
-
-    /// Uploads `image` after the scene's images and returns its index (what an added
-    /// material's textures name); `colour` averages its mip levels in linear light (base
-    /// colour and emissive textures), else as stored (normals, metallic-roughness, occlusion).
-    pub fn add_image(
+    /// Writes material `index`'s record in place, or builds the table again (the atlas packed
+    /// anew) when its textures are new to the atlas or the buffer is full.
+    fn write_material(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
-        image: &Image,
-        colour: bool,
-    ) -> Result<usize, SceneError> {
-        check_image(self.gpu.images.len(), image, &device.limits())?;
-        Ok(self.gpu.add_image(device, queue, image, colour))
+        index: usize,
+    ) -> Result<(), SceneError> {
+        if !self.table.write(queue, index, &self.sources[index]) {
+            self.table =
+                MaterialTable::new(device, queue, &self.layouts, &self.images, &self.sources)?;
+        }
+        Ok(())
+    }
+
+    /// Keeps `image` after the scene's images and returns its index (what an added material's
+    /// textures name). It reaches the GPU with the first material that uses it.
+    pub fn add_image(&mut self, device: &wgpu::Device, image: &Image) -> Result<usize, SceneError> {
+        check_image(self.images.len(), image, &device.limits())?;
+        self.images.push(Arc::new(image.clone()));
+        Ok(self.images.len() - 1)
     }
 }
 

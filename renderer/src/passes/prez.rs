@@ -187,8 +187,7 @@ impl Pass for PrezPass {
                 draws.draw_batches(&list, &instances, |batch| {
                     let pipelines = if batch.masked { &masked } else { &plain };
                     let pipeline = face_pipeline(pipelines, batch.double_sided, batch.mirrored);
-                    let mask = &scene.materials[batch.material].prez_mask_group;
-                    (pipeline, mask.as_ref().filter(|_| batch.masked))
+                    (pipeline, batch.masked.then(|| scene.mask_group()))
                 });
             });
         resources.depth = Some(depth);

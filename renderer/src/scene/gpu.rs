@@ -1,11 +1,10 @@
 //! A loaded [`Scene`] on the GPU: every mesh's vertices in one shared buffer per vertex
-//! attribute and every index in one shared index buffer (a primitive is a range of each), and
-//! every image as a texture with a full mip chain and the views materials need (sRGB for
-//! colour, linear for data).
+//! attribute and every index in one shared index buffer (a primitive is a range of each). The
+//! scene's images go to the material atlas (`frame_data`'s material table).
 //!
-//! Meshes and images can be added after the upload ([`GpuScene::add_mesh`],
-//! [`GpuScene::add_image`]): the streams grow by doubling, their contents copied on the GPU, so
-//! an added mesh uploads its own vertices and nothing else.
+//! Meshes can be added after the upload ([`GpuScene::add_mesh`]): the streams grow by
+//! doubling, their contents copied on the GPU, so an added mesh uploads its own vertices and
+//! nothing else.
 //!
 //! A pass binds the streams its shader reads once and draws each primitive with its index range
 //! and base vertex, so drawing a scene records no vertex or index buffer per draw. A primitive
@@ -14,7 +13,7 @@
 
 use wgpu::util::DeviceExt as _;
 
-use super::{Primitive, Scene, TextureRef};
+use super::{Primitive, Scene};
 
 /// One primitive's place in the shared buffers.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -180,23 +179,12 @@ pub enum VertexStreams {
     Forward,
 }
 
-/// An image as a texture (every mip level), with a linear and an sRGB view.
-#[derive(Debug, Clone)]
-pub struct GpuImage {
-    pub texture: wgpu::Texture,
-    /// For data: normals, metallic-roughness, occlusion.
-    pub linear: wgpu::TextureView,
-    /// For colour: base colour, emissive.
-    pub srgb: wgpu::TextureView,
-}
-
-/// Every mesh primitive and image of a scene, uploaded.
+/// Every mesh primitive of a scene, uploaded (its images go to the material atlas).
 #[derive(Debug, Clone)]
 pub struct GpuScene {
     /// `meshes[m][p]` is primitive `p` of mesh `m`.
     pub meshes: Vec<Vec<GpuPrimitive>>,
     pub geometry: GeometryBuffers,
-    pub images: Vec<GpuImage>,
 }
 
 /// The scene's vertex streams and indices concatenated on the CPU, before upload.
@@ -281,26 +269,16 @@ impl PackedGeometry {
 }
 
 impl GpuScene {
-    pub fn upload(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Self {
+    pub fn upload(device: &wgpu::Device, scene: &Scene) -> Self {
         let mut packed = PackedGeometry::default();
         let meshes = scene
             .meshes
             .iter()
             .map(|mesh| mesh.primitives.iter().map(|p| packed.push(p)).collect())
             .collect();
-        let colour_images = colour_images(scene);
-        let images = scene
-            .images
-            .iter()
-            .enumerate()
-            .map(|(index, image)| {
-                upload_image(device, queue, image, colour_images.contains(&index))
-            })
-            .collect();
         Self {
             meshes,
             geometry: packed.upload(device),
-            images,
         }
     }
 
@@ -328,19 +306,6 @@ impl GpuScene {
         self.meshes.len() - 1
     }
 
-    /// Uploads `image` (its mip levels averaged in linear light when `colour`) and returns its
-    /// index in [`GpuScene::images`].
-    pub fn add_image(
-        &mut self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        image: &super::Image,
-        colour: bool,
-    ) -> usize {
-        self.images.push(upload_image(device, queue, image, colour));
-        self.images.len() - 1
-    }
-
     /// Binds `streams` at vertex slots 0.. and the shared index buffer.
     pub fn bind_streams<'a>(&'a self, pass: &mut wgpu::RenderPass<'a>, streams: VertexStreams) {
         let g = &self.geometry;
@@ -360,62 +325,5 @@ impl GpuScene {
             pass.set_vertex_buffer(slot as u32, buffer.slice(..));
         }
         pass.set_index_buffer(g.indices.slice(..), wgpu::IndexFormat::Uint32);
-    }
-
-    /// The view a material slot samples: sRGB for colour textures, linear for data.
-    pub fn view(&self, texture: TextureRef, colour: bool) -> &wgpu::TextureView {
-        let image = &self.images[texture.image];
-        if colour { &image.srgb } else { &image.linear }
-    }
-}
-
-/// The images some material uses as colour (base colour or emissive): their mip levels are
-/// averaged in linear light. An image used only as data (normals, metallic-roughness,
-/// occlusion) is averaged as stored.
-fn colour_images(scene: &Scene) -> std::collections::HashSet<usize> {
-    scene
-        .materials
-        .iter()
-        .flat_map(|m| [m.base_color_texture, m.emissive_texture])
-        .flatten()
-        .map(|t| t.image)
-        .collect()
-}
-
-/// `image` as a texture with its full mip chain (`colour`: averaged in linear light) and its
-/// linear and sRGB views.
-fn upload_image(
-    device: &wgpu::Device,
-    queue: &wgpu::Queue,
-    image: &super::Image,
-    colour: bool,
-) -> GpuImage {
-    let texture = device.create_texture_with_data(
-        queue,
-        &wgpu::TextureDescriptor {
-            label: Some("scene image"),
-            size: wgpu::Extent3d {
-                width: image.width,
-                height: image.height,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: super::mips::level_count(image.width, image.height),
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::Rgba8Unorm,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[wgpu::TextureFormat::Rgba8UnormSrgb],
-        },
-        wgpu::util::TextureDataOrder::LayerMajor,
-        &super::mips::mip_chain(image, colour),
-    );
-    let srgb = texture.create_view(&wgpu::TextureViewDescriptor {
-        format: Some(wgpu::TextureFormat::Rgba8UnormSrgb),
-        ..Default::default()
-    });
-    GpuImage {
-        linear: texture.create_view(&Default::default()),
-        srgb,
-        texture,
     }
 }

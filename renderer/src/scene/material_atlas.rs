@@ -82,7 +82,7 @@ impl MaterialAtlas {
     pub fn new(
         device: &wgpu::Device,
         queue: &wgpu::Queue,
-        images: &[Image],
+        images: &[impl std::borrow::Borrow<Image>],
         keys: &[AtlasKey],
     ) -> Result<Self, AtlasError> {
         let limits = device.limits();
@@ -91,7 +91,7 @@ impl MaterialAtlas {
         // Each set's stored levels: the chain from the first level that fits a page.
         let chains: Vec<Vec<(u32, u32, Vec<u8>)>> = level_sets
             .iter()
-            .map(|set| stored_levels(&images[set.image], set.colour, max_side))
+            .map(|set| stored_levels(images[set.image].borrow(), set.colour, max_side))
             .collect();
         let widest = chains
             .iter()
@@ -317,7 +317,10 @@ fn texture_records(
 
 /// Every distinct set of levels the keys need, in the order the keys first name them (so the
 /// packing is deterministic).
-fn distinct_level_sets(images: &[Image], keys: &[AtlasKey]) -> Result<Vec<LevelsKey>, AtlasError> {
+fn distinct_level_sets(
+    images: &[impl std::borrow::Borrow<Image>],
+    keys: &[AtlasKey],
+) -> Result<Vec<LevelsKey>, AtlasError> {
     let mut seen = std::collections::HashSet::new();
     let mut sets = Vec::new();
     for key in keys {

@@ -14,7 +14,7 @@
 /// shading does.
 #[shader_dsl::shader(
     axes(alpha_mask: bool = [false, true] => "mask"),
-    uses(crate::shared::view, crate::shared::material_uv),
+    uses(crate::shared::view, crate::shared::material_uv, crate::shared::material_table),
 )]
 pub mod prez {
     pub struct VsOut {
@@ -34,19 +34,14 @@ pub mod prez {
         pub uv1: Vec2,
         #[location(2)]
         pub color_alpha: f32,
+        /// The draw's material (`MATERIALS` index).
+        #[location(3)]
+        #[interpolate(flat)]
+        pub material: u32,
     }
 
     #[uniform(group = 0, binding = 0)]
     static CAMERA: Camera;
-    #[uniform(group = 2, binding = 0)]
-    #[when(alpha_mask)]
-    static MASK: MaskMaterial;
-    #[texture(group = 2, binding = 1)]
-    #[when(alpha_mask)]
-    static BASE_COLOR_TEX: Texture2d<f32>;
-    #[sampler(group = 2, binding = 2)]
-    #[when(alpha_mask)]
-    static MASK_SAMPLER: Sampler;
 
     #[vertex]
     pub fn vs_prez(#[location(0)] position: Vec3, #[builtin(instance_index)] draw: u32) -> VsOut {
@@ -77,6 +72,7 @@ pub mod prez {
             uv0,
             uv1,
             color_alpha: color.w,
+            material: DRAWS[draw].material,
         }
     }
 
@@ -84,10 +80,8 @@ pub mod prez {
     #[fragment]
     pub fn fs_prez_mask(input: MaskVsOut) {
         if alpha_mask {
-            let uv = map_uv(MASK.base_color_uv, input.uv0, input.uv1);
-            let texel = BASE_COLOR_TEX.sample(MASK_SAMPLER, uv).w;
-            let alpha = MASK.base_color.w * texel * input.color_alpha;
-            if alpha < MASK.alpha_cutoff {
+            let d = uv_derivatives(input.uv0, input.uv1);
+            if masked_out(input.material, d, input.color_alpha) {
                 discard();
             }
         }

@@ -30,8 +30,9 @@
 /// material with a positive `alpha_cutoff` discards texels below it.
 ///
 /// The vertex colour (`COLOR_0`) multiplies the base colour, alpha included. Each of the five
-/// textures is read through its own UV set and `KHR_texture_transform` (`material_uv`'s
-/// `map_uv` over the material's `UvMap`s) with its own sampler (group 2 bindings 6–10).
+/// textures is read through its own UV set and `KHR_texture_transform` from the material atlas,
+/// with its glTF sampler's wrap and filters (`material_table`'s `material_texel`): the draw's
+/// record names its material in `MATERIALS`, so every draw shares group 2.
 ///
 /// With `scalarize` (tiled and clustered only), when every lane of the subgroup shares one list
 /// the list is read through `subgroup_broadcast_first` (uniform loads and loop, as in DOOM
@@ -52,6 +53,7 @@
         crate::shared::decal_apply,
         crate::shared::octahedral,
         crate::shared::material_uv,
+        crate::shared::material_table,
     ),
 )]
 pub mod forward {
@@ -87,24 +89,6 @@ pub mod forward {
         pub decal_section: u32,
     }
 
-    /// glTF metallic-roughness factors, each multiplying its texture, and where each texture is
-    /// read (`UvMap`: UV set and `KHR_texture_transform`).
-    pub struct Material {
-        pub base_color: Vec4,
-        pub emissive: Vec3,
-        pub metallic: f32,
-        pub roughness: f32,
-        pub normal_scale: f32,
-        pub occlusion_strength: f32,
-        /// Positive for alpha-masked materials: texels below it are discarded.
-        pub alpha_cutoff: f32,
-        pub base_color_uv: UvMap,
-        pub normal_uv: UvMap,
-        pub metallic_roughness_uv: UvMap,
-        pub occlusion_uv: UvMap,
-        pub emissive_uv: UvMap,
-    }
-
     /// What the light loop needs of the shaded point.
     struct Surface {
         p: Vec3,
@@ -137,6 +121,10 @@ pub mod forward {
         /// `COLOR_0`, linear RGBA (white where a primitive has none).
         #[location(5)]
         pub color: Vec4,
+        /// The draw's material (`MATERIALS` index).
+        #[location(6)]
+        #[interpolate(flat)]
+        pub material: u32,
     }
 
     #[uniform(group = 0, binding = 0)]
@@ -153,30 +141,6 @@ pub mod forward {
     #[storage(group = 0, binding = 5)]
     #[when(list > 0)]
     static INDICES: [u32];
-
-    #[uniform(group = 2, binding = 0)]
-    static MATERIAL: Material;
-    #[texture(group = 2, binding = 1)]
-    static BASE_COLOR_TEX: Texture2d<f32>;
-    #[texture(group = 2, binding = 2)]
-    static NORMAL_TEX: Texture2d<f32>;
-    #[texture(group = 2, binding = 3)]
-    static METALLIC_ROUGHNESS_TEX: Texture2d<f32>;
-    #[texture(group = 2, binding = 4)]
-    static OCCLUSION_TEX: Texture2d<f32>;
-    #[texture(group = 2, binding = 5)]
-    static EMISSIVE_TEX: Texture2d<f32>;
-    // One sampler per texture: each reference has its glTF sampler (wrap and filters).
-    #[sampler(group = 2, binding = 6)]
-    static BASE_COLOR_SAMPLER: Sampler;
-    #[sampler(group = 2, binding = 7)]
-    static NORMAL_SAMPLER: Sampler;
-    #[sampler(group = 2, binding = 8)]
-    static METALLIC_ROUGHNESS_SAMPLER: Sampler;
-    #[sampler(group = 2, binding = 9)]
-    static OCCLUSION_SAMPLER: Sampler;
-    #[sampler(group = 2, binding = 10)]
-    static EMISSIVE_SAMPLER: Sampler;
 
     #[vertex]
     pub fn vs_forward(
@@ -200,6 +164,7 @@ pub mod forward {
             tangent: t.extend(tangent.w * draw.handedness),
             uv1,
             color,
+            material: draw.material,
         }
     }
 
@@ -271,23 +236,29 @@ pub mod forward {
     }
 
     fn shading_point(input: VsOut, front: bool) -> ShadingPoint {
-        let uv0 = input.uv;
-        let uv1 = input.uv1;
-        let base_uv = map_uv(MATERIAL.base_color_uv, uv0, uv1);
-        let base =
-            MATERIAL.base_color * BASE_COLOR_TEX.sample(BASE_COLOR_SAMPLER, base_uv) * input.color;
+        let m = MATERIALS[input.material];
+        let d = uv_derivatives(input.uv, input.uv1);
+        let base = m.base_color
+            * material_texel(m.base_color_texture, true, m.base_color_uv, d, Vec4::ONE)
+            * input.color;
         // Alpha mask: a positive cutoff marks a masked material (0 for opaque and blend).
-        if MATERIAL.alpha_cutoff > 0.0 && base.w < MATERIAL.alpha_cutoff {
+        if m.alpha_cutoff > 0.0 && base.w < m.alpha_cutoff {
             discard();
         }
-        let mr_uv = map_uv(MATERIAL.metallic_roughness_uv, uv0, uv1);
-        let mr = METALLIC_ROUGHNESS_TEX.sample(METALLIC_ROUGHNESS_SAMPLER, mr_uv);
-        let occlusion_uv = map_uv(MATERIAL.occlusion_uv, uv0, uv1);
-        let occlusion_texel = OCCLUSION_TEX.sample(OCCLUSION_SAMPLER, occlusion_uv).x;
-        let emissive_uv = map_uv(MATERIAL.emissive_uv, uv0, uv1);
-        let emissive = MATERIAL.emissive * EMISSIVE_TEX.sample(EMISSIVE_SAMPLER, emissive_uv).xyz();
-        let normal_uv = map_uv(MATERIAL.normal_uv, uv0, uv1);
-        let tangent_normal = NORMAL_TEX.sample(NORMAL_SAMPLER, normal_uv).xyz() * 2.0 - 1.0;
+        let mr = material_texel(
+            m.metallic_roughness_texture,
+            false,
+            m.metallic_roughness_uv,
+            d,
+            Vec4::ONE,
+        );
+        let occlusion_texel =
+            material_texel(m.occlusion_texture, false, m.occlusion_uv, d, Vec4::ONE).x;
+        let emissive = m.emissive
+            * material_texel(m.emissive_texture, true, m.emissive_uv, d, Vec4::ONE).xyz();
+        let flat = Vec4::new(0.5, 0.5, 1.0, 1.0);
+        let tangent_normal =
+            material_texel(m.normal_texture, false, m.normal_uv, d, flat).xyz() * 2.0 - 1.0;
 
         // Tangent frame (Gram-Schmidt), bitangent handedness in tangent.w.
         // Back faces (double-sided materials) are lit with the flipped normal (glTF 2.0).
@@ -295,8 +266,8 @@ pub mod forward {
         let t = (input.tangent.xyz() - nn * nn.dot(input.tangent.xyz())).normalize();
         let b = nn.cross(t) * input.tangent.w;
         let ts = Vec3::new(
-            tangent_normal.x * MATERIAL.normal_scale,
-            tangent_normal.y * MATERIAL.normal_scale,
+            tangent_normal.x * m.normal_scale,
+            tangent_normal.y * m.normal_scale,
             tangent_normal.z,
         );
         let n = (t * ts.x + b * ts.y + nn * ts.z).normalize();
@@ -313,9 +284,9 @@ pub mod forward {
         let material = DecalSurface {
             albedo: base.xyz(),
             normal: n,
-            occlusion: 1.0 + MATERIAL.occlusion_strength * (occlusion_texel - 1.0),
-            roughness: MATERIAL.roughness * mr.y,
-            metallic: MATERIAL.metallic * mr.z,
+            occlusion: 1.0 + m.occlusion_strength * (occlusion_texel - 1.0),
+            roughness: m.roughness * mr.y,
+            metallic: m.metallic * mr.z,
             emissive,
         };
         let mut cell = 0u32;

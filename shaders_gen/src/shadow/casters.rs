@@ -9,11 +9,11 @@
 ///
 /// Alpha-masked materials (`alpha_mask`) cut out: `vs_caster_mask` passes both UV sets and the
 /// vertex colour's alpha to `fs_caster_mask`, which discards texels below the cutoff exactly as
-/// the masked pre-Z does (group 2 is the same `MaskMaterial` group). Opaque casters have no
+/// the masked pre-Z does (group 2 is the scene's one material group, `material_table`). Opaque casters have no
 /// fragment stage.
 #[shader_dsl::shader(
     axes(alpha_mask: bool = [false, true] => "mask"),
-    uses(crate::shared::view, crate::shared::material_uv),
+    uses(crate::shared::view, crate::shared::material_uv, crate::shared::material_table),
 )]
 pub mod shadow_caster {
     /// A region's projection.
@@ -40,21 +40,16 @@ pub mod shadow_caster {
         pub uv1: Vec2,
         #[location(2)]
         pub color_alpha: f32,
+        /// The draw's material (`MATERIALS` index).
+        #[location(3)]
+        #[interpolate(flat)]
+        pub material: u32,
     }
 
     #[storage(group = 0, binding = 0)]
     static VIEWS: [CasterView];
     #[storage(group = 0, binding = 1)]
     static CASTS: [Cast];
-    #[uniform(group = 2, binding = 0)]
-    #[when(alpha_mask)]
-    static MASK: MaskMaterial;
-    #[texture(group = 2, binding = 1)]
-    #[when(alpha_mask)]
-    static BASE_COLOR_TEX: Texture2d<f32>;
-    #[sampler(group = 2, binding = 2)]
-    #[when(alpha_mask)]
-    static MASK_SAMPLER: Sampler;
 
     #[vertex]
     pub fn vs_caster(
@@ -78,6 +73,7 @@ pub mod shadow_caster {
             uv0,
             uv1,
             color_alpha: color.w,
+            material: DRAWS[CASTS[cast_index].draw].material,
         }
     }
 
@@ -94,10 +90,8 @@ pub mod shadow_caster {
     #[fragment]
     pub fn fs_caster_mask(input: MaskVsOut) {
         if alpha_mask {
-            let uv = map_uv(MASK.base_color_uv, input.uv0, input.uv1);
-            let texel = BASE_COLOR_TEX.sample(MASK_SAMPLER, uv).w;
-            let alpha = MASK.base_color.w * texel * input.color_alpha;
-            if alpha < MASK.alpha_cutoff {
+            let d = uv_derivatives(input.uv0, input.uv1);
+            if masked_out(input.material, d, input.color_alpha) {
                 discard();
             }
         }

@@ -82,6 +82,6 @@ pub use camera::view;
 pub use decal::decal_apply;
 pub use frustum::box_frustum;
 pub use grid::light_grid;
-pub use material::material_uv;
+pub use material::{material_table, material_uv};
 pub use normals::octahedral;
 pub use shadow::shadow_atlas;

@@ -28,7 +28,7 @@ pub struct ForwardInputs<'a> {
     pub grid: &'a [glam::UVec2],
     pub indices: &'a [u32],
     pub draw: forward::Draw,
-    pub material: forward::Material,
+    pub material: forward::GpuMaterial,
     /// Interleaved vertices: position, normal, uv, tangent (12 floats).
     pub vertices: &'a [[f32; 12]],
 }
@@ -100,28 +100,14 @@ pub fn draw_forward(
     // The draw records (`DRAWS`): one, read as instance 0.
     let draw = storage(gpu, std::slice::from_ref(&inputs.draw));
     let g1 = bind_group(gpu, &p, 1, vec![(0, draw.as_entire_binding())]);
-    let material = uniform(gpu, &inputs.material);
-    let white = texel(gpu, [1.0; 4]).create_view(&Default::default());
-    let flat = texel(gpu, [0.5, 0.5, 1.0, 1.0]).create_view(&Default::default());
-    let sampler = gpu.device.create_sampler(&Default::default());
-    let g2 = bind_group(
-        gpu,
-        &p,
-        2,
-        vec![
-            (0, material.as_entire_binding()),
-            (1, wgpu::BindingResource::TextureView(&white)),
-            (2, wgpu::BindingResource::TextureView(&flat)),
-            (3, wgpu::BindingResource::TextureView(&white)),
-            (4, wgpu::BindingResource::TextureView(&white)),
-            (5, wgpu::BindingResource::TextureView(&white)),
-            (6, wgpu::BindingResource::Sampler(&sampler)),
-            (7, wgpu::BindingResource::Sampler(&sampler)),
-            (8, wgpu::BindingResource::Sampler(&sampler)),
-            (9, wgpu::BindingResource::Sampler(&sampler)),
-            (10, wgpu::BindingResource::Sampler(&sampler)),
-        ],
-    );
+    // The material (`MATERIALS`: one record, without textures) and an empty material atlas.
+    let material = storage(gpu, std::slice::from_ref(&inputs.material));
+    let no_images: &[renderer::scene::Image] = &[];
+    let atlas = renderer::scene::MaterialAtlas::new(&gpu.device, &gpu.queue, no_images, &[])
+        .expect("an empty atlas");
+    let mut group2 = vec![(0, material.as_entire_binding())];
+    group2.extend(atlas.bind_group_entries().map(|e| (e.binding, e.resource)));
+    let g2 = bind_group(gpu, &p, 2, group2);
     // TEXCOORD_1 and a white COLOR_0, one value for the whole draw (instance step).
     let uv1_color: [f32; 6] = [0.0, 0.0, 1.0, 1.0, 1.0, 1.0];
     let constant_streams = buffer(

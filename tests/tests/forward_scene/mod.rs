@@ -4,6 +4,7 @@
 use glam::camera::rh;
 use glam::{Mat4, UVec2, Vec3, Vec4, Vec4Swizzles as _};
 use shaders_gen::forward::forward;
+use shaders_gen::shared::material_table::NO_TEXTURE;
 
 use crate::forward_kernels::ForwardInputs;
 use crate::forward_reference::{Light, Surface};
@@ -176,7 +177,7 @@ pub fn inputs<'a>(
         grid,
         indices,
         draw: forward::Draw::new(Mat4::IDENTITY, Mat4::IDENTITY, 0, 1.0),
-        material: forward::Material::new(
+        material: forward::GpuMaterial::new(
             SURFACE.albedo.extend(1.0),
             SURFACE.emissive,
             SURFACE.metallic,
@@ -189,6 +190,11 @@ pub fn inputs<'a>(
             identity_uv,
             identity_uv,
             identity_uv,
+            NO_TEXTURE,
+            NO_TEXTURE,
+            NO_TEXTURE,
+            NO_TEXTURE,
+            NO_TEXTURE,
         ),
         vertices,
     }

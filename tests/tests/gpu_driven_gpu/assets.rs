@@ -99,7 +99,7 @@ fn meshes_materials_and_images_added_at_run_time_render_as_a_city_built_with_the
             renderer.prepare_scene(scene).expect("the city fits");
             renderer.set_lights(&lights).expect("lights fit");
             let first = render_one_frame(gpu, &mut renderer, &camera).rgba;
-            let image = renderer.add_image(&checker, true).expect("an image");
+            let image = renderer.add_image(&checker).expect("an image");
             assert_eq!(image, scene.images.len());
             let added = renderer
                 .add_material(&with_image(image))
@@ -189,7 +189,7 @@ fn meshes_and_materials_that_name_nothing_are_refused() {
             height: 4,
             rgba8: Vec::new(),
         };
-        let err = renderer.add_image(&empty, true).expect_err("no pixels");
+        let err = renderer.add_image(&empty).expect_err("no pixels");
         assert!(err.to_string().contains("0x4 pixels"), "{err}");
         // Nothing refused was added: the next mesh takes the next index.
         assert_eq!(

@@ -121,10 +121,8 @@ impl<'a> Writer<'a> {
         if !self.m.globals.is_empty() {
             self.out.push('\n');
         }
-        for g in &self.m.globals {
-            if !crate::variants::global_present(g, self.m, self.env) {
-                continue;
-            }
+        let kept = crate::variants::kept_globals(self.m, self.env);
+        for (g, _) in self.m.globals.iter().zip(kept).filter(|(_, k)| *k) {
             let start = self.out.len();
             if let Some((group, binding)) = g.binding {
                 let _ = write!(self.out, "@group({group}) @binding({binding}) ");

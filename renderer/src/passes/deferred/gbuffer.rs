@@ -134,7 +134,7 @@ impl Pass for GBufferPass {
             let mut draws = SceneDraws::new(&mut pass, &scene, &instances, VertexStreams::Forward);
             draws.draw_batches(&list, &instances, |batch| {
                 let pipeline = face_pipeline(&p.pipelines, batch.double_sided, batch.mirrored);
-                (pipeline, Some(&scene.materials[batch.material].bind_group))
+                (pipeline, Some(scene.material_group()))
             });
         });
         let [albedo, normals, radiance, view_depth] = targets;

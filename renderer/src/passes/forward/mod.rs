@@ -369,7 +369,7 @@ fn draw_scene<'a>(
         draws.draw_batches(list, instances, |batch| {
             let (sided, mirrored) = (batch.double_sided, batch.mirrored);
             let pipeline = face_pipeline(&pipelines[0], sided, mirrored);
-            (pipeline, Some(&scene.materials[batch.material].bind_group))
+            (pipeline, Some(scene.material_group()))
         });
     }
     for &d in blended {
@@ -380,7 +380,7 @@ fn draw_scene<'a>(
             material.double_sided,
             draw.mirrored(&instances.states),
         );
-        draws.draw(pipeline, Some(&material.bind_group), draw.geometry, d);
+        draws.draw(pipeline, Some(scene.material_group()), draw.geometry, d);
     }
 }
 

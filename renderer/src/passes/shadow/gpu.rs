@@ -408,7 +408,7 @@ impl Recording {
 
     /// Draws `casters` into the current region (the viewport is set) as casts `first..`: the
     /// cast record names the draw and the region's clip matrix for the caster shader.
-    /// Alpha-masked casters draw with the masked pipeline and their material's mask group.
+    /// Alpha-masked casters draw with the masked pipeline and the scene's mask group.
     fn draw_casters<'a>(&'a self, pass: &mut wgpu::RenderPass<'a>, first: u32, casters: &[u32]) {
         if casters.is_empty() {
             return;
@@ -419,17 +419,17 @@ impl Recording {
             let Some(draw) = self.instances.draws.get(c as usize) else {
                 continue;
             };
-            let mask = self
+            let masked = self
                 .scene
                 .materials
                 .get(draw.material)
-                .and_then(|m| m.prez_mask_group.as_ref());
-            let pipeline = if mask.is_some() {
-                &self.caster.masked
+                .is_some_and(|m| matches!(m.alpha_mode, crate::scene::AlphaMode::Mask { .. }));
+            let (pipeline, group) = if masked {
+                (&self.caster.masked, Some(self.scene.mask_group()))
             } else {
-                &self.caster.opaque
+                (&self.caster.opaque, None)
             };
-            draws.draw(pipeline, mask, draw.geometry, cast);
+            draws.draw(pipeline, group, draw.geometry, cast);
         }
     }
 }
