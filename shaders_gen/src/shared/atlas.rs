@@ -91,9 +91,12 @@ pub mod material_atlas {
             at = (texel + 0.5) / l.size;
         }
         let p = l.origin + at * l.extent;
-        let mut texel = ATLAS_DATA.sample_level(ATLAS_SAMPLER, p, l.layer, 0.0);
+        // One tap, through the view the texture's kind needs.
+        let mut texel = Vec4::ZERO;
         if colour {
             texel = ATLAS_COLOUR.sample_level(ATLAS_SAMPLER, p, l.layer, 0.0);
+        } else {
+            texel = ATLAS_DATA.sample_level(ATLAS_SAMPLER, p, l.layer, 0.0);
         }
         texel
     }
