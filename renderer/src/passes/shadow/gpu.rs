@@ -22,7 +22,7 @@ const SLOPE_BIAS: f32 = -1.5;
 const CONSTANT_BIAS: i32 = -8;
 
 /// The caster pipelines: depth only for opaque materials; alpha-masked ones (the `alpha_mask`
-/// variant, group 2 the material's `prez_mask_group`) discard texels below their cutoff.
+/// variant, group 2 the scene's material group, `PreparedScene::mask_group`) discard texels below their cutoff.
 #[derive(Debug, Clone)]
 pub struct CasterPipelines {
     pub opaque: wgpu::RenderPipeline,
