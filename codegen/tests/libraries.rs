@@ -418,3 +418,51 @@ fn clashes_and_axes_name_the_route_through_the_graph() {
         "{axis}"
     );
 }
+
+/// A library's bindings in a group that no entry point of a variant uses are left out of that
+/// variant (its WGSL and its layout); a group the variant uses keeps every library binding,
+/// used or not, as the host binds it.
+#[test]
+fn a_library_group_no_entry_point_uses_is_left_out_of_the_variant() {
+    let src = r#"
+#[library]
+pub mod mats {
+    #[storage(group = 0, binding = 1)]
+    static SHARED: [f32];
+    #[storage(group = 2, binding = 0)]
+    static MATS: [f32];
+    pub fn mat(i: u32) -> f32 {
+        MATS[i]
+    }
+}
+
+#[shader(axes(masked: bool = [false, true]), uses(crate::mats))]
+mod m {
+    #[storage(group = 0, binding = 0, read_write)]
+    static OUT: [f32];
+    #[compute(workgroup_size(1))]
+    fn main() {
+        if masked {
+            OUT[0] = mat(0u32);
+        } else {
+            OUT[0] = 1.0;
+        }
+    }
+}
+"#;
+    let c = codegen::compile_source(src).unwrap_or_else(|e| panic!("{e}"));
+    let bindings = |masked: usize| -> Vec<(u32, u32)> {
+        let v = &c.variants[c.key_variant[masked].expect("variant")];
+        v.reflection
+            .bindings
+            .iter()
+            .map(|b| (b.group, b.binding))
+            .collect()
+    };
+    // Group 0 is used (OUT), so the library's unused SHARED stays; group 2 only where read.
+    assert_eq!(bindings(0), [(0, 0), (0, 1)]);
+    assert_eq!(bindings(1), [(0, 0), (0, 1), (2, 0)]);
+    let plain = &c.variants[c.key_variant[0].expect("variant")].wgsl;
+    assert!(!plain.contains("MATS"), "{plain}");
+    assert!(plain.contains("SHARED"), "{plain}");
+}
