@@ -55,8 +55,8 @@ use std::time::Instant;
 
 pub use crate::frame_data::{
     Ambient, DecalUpload, DrawItem, FrameCamera, FrameReport, FrameView, InstanceHandle,
-    InstanceState, ParticleLighting, ParticleReport, PreparedMaterial, PreparedScene, RenderError,
-    RenderPath, RendererConfig,
+    InstanceState, ParticleLighting, ParticleReport, PreparedScene, RenderError, RenderPath,
+    RendererConfig,
 };
 pub use crate::passes::light_cull::Culler;
 

@@ -11,22 +11,6 @@ use super::material_inputs::uv_map;
 use crate::scene::{AlphaMode, AtlasKey, Image, Material, MaterialAtlas, SceneError, TextureRef};
 use crate::shader::bind_group_layout_entries;
 
-/// What batching needs of a material: the pipelines its draws take.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PreparedMaterial {
-    pub alpha_mode: AlphaMode,
-    pub double_sided: bool,
-}
-
-impl PreparedMaterial {
-    pub fn of(m: &Material) -> Self {
-        Self {
-            alpha_mode: m.alpha_mode,
-            double_sided: m.double_sided,
-        }
-    }
-}
-
 /// The bind-group layouts of the scene's draw-record and material groups.
 #[derive(Debug, Clone)]
 pub(super) struct SceneLayouts {
@@ -136,8 +120,9 @@ impl MaterialTable {
     }
 }
 
-/// Each texture reference of `m` as the atlas keys it (base colour and emissive are colour).
-fn atlas_keys(m: &Material) -> impl Iterator<Item = AtlasKey> {
+/// The five texture slots of `m` in `GpuMaterial` order (base colour, normal,
+/// metallic-roughness, occlusion, emissive), each with whether it holds sRGB colour.
+fn texture_slots(m: &Material) -> [(Option<TextureRef>, bool); 5] {
     [
         (m.base_color_texture, true),
         (m.normal_texture, false),
@@ -145,8 +130,13 @@ fn atlas_keys(m: &Material) -> impl Iterator<Item = AtlasKey> {
         (m.occlusion_texture, false),
         (m.emissive_texture, true),
     ]
-    .into_iter()
-    .filter_map(|(t, colour)| t.map(|t| key(t, colour)))
+}
+
+/// Each texture reference of `m` as the atlas keys it.
+fn atlas_keys(m: &Material) -> impl Iterator<Item = AtlasKey> {
+    texture_slots(m)
+        .into_iter()
+        .filter_map(|(t, colour)| t.map(|t| key(t, colour)))
 }
 
 fn key(t: TextureRef, colour: bool) -> AtlasKey {
@@ -164,10 +154,11 @@ pub fn material_record(m: &Material, atlas: &MaterialAtlas) -> GpuMaterial {
         AlphaMode::Mask { cutoff } => cutoff,
         _ => 0.0,
     };
-    let index = |t: Option<TextureRef>, colour| {
-        t.and_then(|t| atlas.index(&key(t, colour)))
-            .unwrap_or(NO_TEXTURE)
-    };
+    let [base_color, normal, metallic_roughness, occlusion, emissive] =
+        texture_slots(m).map(|(t, colour)| {
+            t.and_then(|t| atlas.index(&key(t, colour)))
+                .unwrap_or(NO_TEXTURE)
+        });
     GpuMaterial::new(
         m.base_color,
         m.emissive,
@@ -181,10 +172,10 @@ pub fn material_record(m: &Material, atlas: &MaterialAtlas) -> GpuMaterial {
         uv_map(m.metallic_roughness_texture),
         uv_map(m.occlusion_texture),
         uv_map(m.emissive_texture),
-        index(m.base_color_texture, true),
-        index(m.normal_texture, false),
-        index(m.metallic_roughness_texture, false),
-        index(m.occlusion_texture, false),
-        index(m.emissive_texture, true),
+        base_color,
+        normal,
+        metallic_roughness,
+        occlusion,
+        emissive,
     )
 }

@@ -33,7 +33,7 @@ pub use formats::{DEPTH_FORMAT, GBUFFER_FORMATS, HDR_FORMAT};
 pub use inputs::{FrameInputs, ParticleInput};
 pub use instances::{DrawItem, InstanceEditError, InstanceHandle, InstanceState, InstanceTable};
 pub use lights::{LightSet, effective_range, with_effective_ranges};
-pub use material_groups::{PreparedMaterial, material_record};
+pub use material_groups::material_record;
 pub use material_inputs::{sampler_descriptor, uv_map};
 pub use report::{FrameReport, ParticleReport, SceneDrawReport};
 pub use resources::{

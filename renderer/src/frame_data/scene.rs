@@ -8,7 +8,7 @@ use std::sync::Arc;
 use glam::Mat4;
 use shaders_gen::forward::forward;
 
-use super::material_groups::{MaterialTable, PreparedMaterial, SceneLayouts};
+use super::material_groups::{MaterialTable, SceneLayouts};
 use crate::scene::limits::{check_geometry, check_image, check_material, check_mesh};
 use crate::scene::{Aabb, AlphaMode, GpuScene, Image, Material, Mesh, Scene, SceneError};
 
@@ -55,8 +55,9 @@ pub struct PreparedScene {
     /// [`super::InstanceTable`] follow this order).
     pub mesh_draws: Vec<Vec<MeshDraw>>,
     /// The scene's materials, then the glTF default material (the material of primitives
-    /// without one, at [`PreparedScene::default_material`]), then materials added.
-    pub materials: Vec<PreparedMaterial>,
+    /// without one, at [`PreparedScene::default_material`]), then materials added, as given
+    /// (their records and textures are on the GPU in the material table).
+    pub materials: Vec<Material>,
     pub default_material: usize,
     /// Bumped when a material changes how its draws are batched (its alpha mode or
     /// sidedness, [`PreparedScene::set_material`]): passes then place every draw again.
@@ -66,8 +67,6 @@ pub struct PreparedScene {
     /// The scene's images (added ones after them), kept for packing the atlas again when a
     /// material brings a texture it does not hold.
     images: Vec<Arc<Image>>,
-    /// Every material as given, in [`PreparedScene::materials`] order.
-    sources: Vec<Material>,
     table: MaterialTable,
 }
 
@@ -110,11 +109,10 @@ impl PreparedScene {
         let layouts = SceneLayouts::new(device);
         let gpu = GpuScene::upload(device, scene);
         // Primitives without a material use the glTF default material, last (`draw_plan`).
-        let mut sources = scene.materials.clone();
-        sources.push(Material::gltf_default());
+        let mut materials = scene.materials.clone();
+        materials.push(Material::gltf_default());
         let images: Vec<Arc<Image>> = scene.images.iter().cloned().map(Arc::new).collect();
-        let table = MaterialTable::new(device, queue, &layouts, &images, &sources)?;
-        let materials = sources.iter().map(PreparedMaterial::of).collect();
+        let table = MaterialTable::new(device, queue, &layouts, &images, &materials)?;
         // Primitives without a material use the glTF default material, last.
         let default_material = scene.materials.len();
         let mesh_draws = scene
@@ -143,7 +141,6 @@ impl PreparedScene {
             placement_revision: 0,
             layouts,
             images,
-            sources,
             table,
         }))
     }
@@ -192,10 +189,13 @@ impl PreparedScene {
         material: &Material,
     ) -> Result<usize, SceneError> {
         check_material(material, self.images.len())?;
-        self.sources.push(material.clone());
-        self.materials.push(PreparedMaterial::of(material));
+        self.materials.push(material.clone());
         let index = self.materials.len() - 1;
-        self.write_material(device, queue, index)?;
+        if let Err(e) = self.write_material(device, queue, index) {
+            // Nothing changed: the table never held it.
+            self.materials.pop();
+            return Err(e);
+        }
         Ok(index)
     }
 
@@ -216,18 +216,16 @@ impl PreparedScene {
             )));
         }
         check_material(material, self.images.len())?;
-        let prepared = PreparedMaterial::of(material);
-        let old = self.materials[index];
-        if (old.alpha_mode, old.double_sided) != (prepared.alpha_mode, prepared.double_sided) {
-            self.placement_revision += 1;
-        }
-        let previous = std::mem::replace(&mut self.sources[index], material.clone());
-        self.materials[index] = prepared;
+        let previous = std::mem::replace(&mut self.materials[index], material.clone());
         if let Err(e) = self.write_material(device, queue, index) {
             // Nothing changed: the table still holds the previous material.
-            self.sources[index] = previous;
-            self.materials[index] = old;
+            self.materials[index] = previous;
             return Err(e);
+        }
+        if (previous.alpha_mode, previous.double_sided)
+            != (material.alpha_mode, material.double_sided)
+        {
+            self.placement_revision += 1;
         }
         Ok(())
     }
@@ -240,9 +238,9 @@ impl PreparedScene {
         queue: &wgpu::Queue,
         index: usize,
     ) -> Result<(), SceneError> {
-        if !self.table.write(queue, index, &self.sources[index]) {
+        if !self.table.write(queue, index, &self.materials[index]) {
             self.table =
-                MaterialTable::new(device, queue, &self.layouts, &self.images, &self.sources)?;
+                MaterialTable::new(device, queue, &self.layouts, &self.images, &self.materials)?;
         }
         Ok(())
     }
