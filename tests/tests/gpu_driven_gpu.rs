@@ -7,12 +7,15 @@
 //! instances added and removed by handle likewise (`edits`), and meshes, materials and images
 //! added at run time (`assets`); material textures reached by index through the material atlas
 //! sample as the hardware sampler does (`atlas`); occlusion culling hides what a wall hides and nothing visible
-//! (`occlusion`).
+//! (`occlusion`); blended draws ordered back to front on the GPU render as the CPU orders them
+//! (`blended`).
 
 #[path = "gpu_driven_gpu/assets.rs"]
 mod assets;
 #[path = "gpu_driven_gpu/atlas.rs"]
 mod atlas;
+#[path = "gpu_driven_gpu/blended.rs"]
+mod blended;
 #[path = "gpu_driven_gpu/edits.rs"]
 mod edits;
 #[path = "gpu_driven_gpu/occlusion.rs"]

@@ -52,6 +52,11 @@ pub enum RenderError {
     )]
     TooManyLights { count: usize, max: usize },
     #[error(
+        "the scene has {count} blended draws; this device sorts at most {max} back to front in \
+         one pass (its dispatch limit)"
+    )]
+    TooManyBlendedDraws { count: u32, max: u32 },
+    #[error(
         "instance {index} is not in the scene: the prepared scene has {count} instance slots \
          (its nodes with a mesh in `Scene::instances` order, then instances added), and a \
          removed one is gone; call prepare_scene first"

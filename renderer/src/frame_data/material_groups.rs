@@ -177,5 +177,6 @@ pub fn material_record(m: &Material, atlas: &MaterialAtlas) -> GpuMaterial {
         metallic_roughness,
         occlusion,
         emissive,
+        u32::from(m.double_sided),
     )
 }

@@ -38,6 +38,6 @@ pub use material_inputs::{sampler_descriptor, uv_map};
 pub use report::{FrameReport, ParticleReport, SceneDrawReport};
 pub use resources::{
     FrameResources, GBufferHandles, LightListHandles, ListGeometry, OcclusionDraws,
-    ParticleResources, SceneDrawList, ShadowResources,
+    ParticleResources, SceneDrawList, BlendedDraws, ShadowResources,
 };
 pub use scene::{MeshDraw, PlannedDraw, PreparedScene, draw_plan, is_mirrored};

@@ -92,7 +92,25 @@ pub struct SceneDrawList {
     pub occlusion: Option<OcclusionDraws>,
     /// The blended draws to draw this frame, back to front from the main camera (those in
     /// its frustum with `cull_draws`).
-    pub blended: std::sync::Arc<[u32]>,
+    pub blended: BlendedDraws,
+}
+
+/// A frame's blended draws, back to front from the main camera.
+#[derive(Debug, Clone)]
+pub enum BlendedDraws {
+    /// Ordered on the GPU ("blended order"): `count` draws' indirect arguments in
+    /// `args_buffer`, back to front, one multi-draw; those outside the frustum (with
+    /// `cull_draws`) draw no instance.
+    Sorted {
+        /// The arguments in the graph: read them (`BufferAccess::Indirect`) so the order is
+        /// written first.
+        args: Handle<Buffer>,
+        args_buffer: wgpu::Buffer,
+        count: u32,
+    },
+    /// Ordered on the CPU, on a device that cannot draw indirectly with a first instance:
+    /// the draws, those in the frustum only with `cull_draws`.
+    Listed(std::sync::Arc<[u32]>),
 }
 
 /// Occlusion culling's second phase as scene culling hands it on: the inputs of the test and

@@ -13,6 +13,7 @@
 pub mod deferred;
 pub mod depth_probe;
 pub mod forward;
+pub mod gpu_sort;
 pub mod heatmap;
 pub mod light_cull;
 pub mod particles;
@@ -124,10 +125,9 @@ impl<'p, 'a> SceneDraws<'p, 'a> {
         for batch in &list.layout.batches {
             let (pipeline, group2) = state(batch);
             if list.indirect {
-                self.set_state(pipeline, group2);
-                let offset = u64::from(batch.first_slot) * SceneDrawList::ARGS_BYTES;
-                self.pass
-                    .multi_draw_indexed_indirect(&list.args_buffer, offset, batch.slot_count);
+                let slot = u64::from(batch.first_slot);
+                let buffer = &list.args_buffer;
+                self.multi_draw(pipeline, group2, buffer, slot, batch.slot_count);
             } else {
                 for slot in batch.slots() {
                     let d = list.layout.slot_draws[slot as usize];
@@ -137,6 +137,21 @@ impl<'p, 'a> SceneDraws<'p, 'a> {
                 }
             }
         }
+    }
+
+    /// Draws with `pipeline` and `group2` the `count` indirect arguments of `args` from
+    /// `first` on (five words each).
+    pub(crate) fn multi_draw(
+        &mut self,
+        pipeline: &'a wgpu::RenderPipeline,
+        group2: Option<&'a wgpu::BindGroup>,
+        args: &'a wgpu::Buffer,
+        first: u64,
+        count: u32,
+    ) {
+        self.set_state(pipeline, group2);
+        let offset = first * SceneDrawList::ARGS_BYTES;
+        self.pass.multi_draw_indexed_indirect(args, offset, count);
     }
 
     fn set_state(

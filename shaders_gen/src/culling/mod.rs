@@ -1,6 +1,7 @@
 //! Culling kernels: which items (lights and decals, in their own ranges of the item list) can
-//! touch each screen tile or froxel, and (`instance_cull`, `occlusion_cull` with its depth
-//! pyramid) which of the scene's draws a view sees.
+//! touch each screen tile or froxel, (`instance_cull`, `occlusion_cull` with its depth
+//! pyramid) which of the scene's draws a view sees, and (`blended_order`) in which order its
+//! blended draws are drawn.
 //!
 //! Culling is hierarchical, in three dispatches: `cull_prepare::tile_depth` (per tile: depth
 //! bounds, 2.5D mask, occupied slices), `cull_prepare::coarse_cull` (per 128×128-pixel
@@ -15,12 +16,14 @@
 //! Items are ordered by type in the item buffer (lights first; decals and probes will follow in
 //! their own ranges), so a later item type extends the same lists without a redesign.
 
+pub mod blended;
 pub mod clustered;
 pub mod instances;
 pub mod occlusion;
 pub mod prepare;
 pub mod tiled;
 
+pub use blended::blended_order;
 pub use clustered::cluster_cull;
 pub use instances::instance_cull;
 pub use occlusion::{depth_pyramid_reduce, depth_pyramid_seed, occlusion_cull};

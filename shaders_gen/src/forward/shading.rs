@@ -26,7 +26,9 @@
 /// (grid entry `cell + decal_section`, ascending decal indices). Derivatives of the world
 /// position are taken once, before any list loop, so decals filter right in any control flow.
 ///
-/// With `blend` the output alpha is the material's (alpha blend); otherwise 1. Alpha mask: a
+/// With `blend` the output alpha is the material's (alpha blend); otherwise 1. The `blend`
+/// variant is drawn with no face culled: it takes the front face from `front_facing` and the
+/// draw's handedness and discards back faces of single-sided materials. Alpha mask: a
 /// material with a positive `alpha_cutoff` discards texels below it.
 ///
 /// The vertex colour (`COLOR_0`) multiplies the base colour, alpha included. Each of the five
@@ -125,6 +127,11 @@ pub mod forward {
         #[location(6)]
         #[interpolate(flat)]
         pub material: u32,
+        /// The draw's `handedness` (-1: mirrored, its front faces wind clockwise), for the
+        /// blended pipeline, which culls no face and finds the front itself.
+        #[location(7)]
+        #[interpolate(flat)]
+        pub handedness: f32,
     }
 
     #[uniform(group = 0, binding = 0)]
@@ -165,6 +172,7 @@ pub mod forward {
             uv1,
             color,
             material: draw.material,
+            handedness: draw.handedness,
         }
     }
 
@@ -350,7 +358,17 @@ pub mod forward {
 
     #[fragment]
     pub fn fs_forward(input: VsOut, #[builtin(front_facing)] front: bool) -> Vec4 {
-        let sp = shading_point(input, front);
+        // Blended draws share one pipeline that culls no face (so one multi-draw takes them
+        // all, sorted back to front whatever their sidedness): the fragment finds its front
+        // from the draw's handedness and drops a single-sided material's back faces.
+        let mut facing = front;
+        if blend {
+            facing = front == (input.handedness > 0.0);
+        }
+        let sp = shading_point(input, facing);
+        if blend && !facing && MATERIALS[input.material].double_sided == 0u32 {
+            discard();
+        }
         let m = sp.m;
         let p = sp.p;
         let nn = sp.geometric_normal;

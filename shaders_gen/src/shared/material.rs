@@ -54,6 +54,9 @@ pub mod material_table {
         pub metallic_roughness_texture: u32,
         pub occlusion_texture: u32,
         pub emissive_texture: u32,
+        /// 1 where both faces are drawn (glTF `doubleSided`), else 0. The blended forward
+        /// pipeline culls no face and reads it to drop back faces itself.
+        pub double_sided: u32,
     }
 
     /// A point's two UV sets and their screen derivatives.

@@ -23,22 +23,30 @@ use super::{
 };
 use crate::GpuContext;
 use crate::frame_data::{
-    DEPTH_FORMAT, FrameInputs, FrameResources, HDR_FORMAT, InstanceTable, PreparedScene,
-    RenderError, RenderPath, RendererConfig, SceneDrawList,
+    BlendedDraws, DEPTH_FORMAT, FrameInputs, FrameResources, HDR_FORMAT, InstanceTable,
+    PreparedScene, RenderError, RenderPath, RendererConfig, SceneDrawList,
 };
 use crate::graph::{BufferAccess, Handle, RenderGraph, Texture, TextureAccess, TextureDesc};
 use crate::scene::VertexStreams;
 use crate::shader::ShaderProgram;
 
-/// The forward pass: its program and pipelines (`[blend][double_sided][mirrored]`), its lighting
-/// uniform, and on the deferred paths with MSAA the pipeline that expands the deferred image
-/// into every sample.
+/// The forward pass: its program and pipelines, its lighting uniform, and on the deferred
+/// paths with MSAA the pipeline that expands the deferred image into every sample.
 #[derive(Debug)]
 pub struct ForwardPass {
     program: ShaderProgram,
-    pipelines: Arc<[FacePipelines; 2]>,
+    pipelines: Arc<ForwardPipelines>,
     lighting: wgpu::Buffer,
     expand: Option<Arc<Expand>>,
+}
+
+/// The opaque and masked draws' pipelines (`[double_sided][mirrored]`), and the one pipeline
+/// of every blended draw (no face culled: the `blend` variant drops single-sided back faces
+/// itself, so the back-to-front order never switches pipeline).
+#[derive(Debug)]
+struct ForwardPipelines {
+    opaque: FacePipelines,
+    blended: wgpu::RenderPipeline,
 }
 
 /// The `hdr_expand` program and pipeline.
@@ -68,10 +76,8 @@ impl ForwardPass {
         let opaque = ShaderProgram::new(&gpu.device, caps, forward::variant(key(false))?)?;
         let blended = ShaderProgram::new(&gpu.device, caps, forward::variant(key(true))?)?;
         let prepass = config.path.has_prepass();
-        let make = |program: &ShaderProgram, blend: bool| {
-            face_pipelines(|d, m| {
-                pipeline(&gpu.device, program, config.msaa, prepass, (blend, d, m))
-            })
+        let make = |program: &ShaderProgram, faces| {
+            pipeline(&gpu.device, program, config.msaa, prepass, faces)
         };
         let expand = if config.path.is_deferred() && config.msaa > 1 {
             Some(Arc::new(Expand::new(gpu, config.msaa)?))
@@ -79,7 +85,10 @@ impl ForwardPass {
             None
         };
         Ok(Self {
-            pipelines: Arc::new([make(&opaque, false), make(&blended, true)]),
+            pipelines: Arc::new(ForwardPipelines {
+                opaque: face_pipelines(|d, m| make(&opaque, (false, d, m))),
+                blended: make(&blended, (true, true, false)),
+            }),
             program: opaque,
             lighting: lighting_buffer(&gpu.device),
             expand,
@@ -265,6 +274,9 @@ impl Pass for ForwardPass {
             .clone()
             .ok_or(missing("the scene's draw batches"))?;
         pass.read_buffer(list.args, BufferAccess::Indirect);
+        if let BlendedDraws::Sorted { args, .. } = &list.blended {
+            pass.read_buffer(*args, BufferAccess::Indirect);
+        }
         let group = FrameGroup::new(frame, &self.lighting, lists, shadows);
         let record = self.recorder(frame, targets, group, list);
         pass.execute(record);
@@ -290,8 +302,6 @@ impl ForwardPass {
         let pipelines = Arc::clone(&self.pipelines);
         let expand = self.expand.clone();
         let (scene, instances) = (Arc::clone(&frame.scene), Arc::clone(&frame.instances));
-        // Sorted on the CPU every frame by scene culling (only the blended draws in view).
-        let blended = Arc::clone(&list.blended);
         let sky = sky_color(frame.config.sky);
         move |ctx| {
             let frame_group = group.bind_group(ctx, &layout, "forward frame");
@@ -346,41 +356,40 @@ impl ForwardPass {
             pass.set_bind_group(0, &frame_group, &[]);
             // Over a deferred image only the blended surfaces are left to draw.
             let opaque = targets.over.is_none();
-            draw_scene(
-                &mut pass, &scene, &instances, &list, &pipelines, opaque, &blended,
-            );
+            draw_scene(&mut pass, &scene, &instances, &list, &pipelines, opaque);
         }
     }
 }
 
 /// Records the scene into the forward pass: with `opaque`, the opaque and masked batches of
-/// `list`; then the blended draws of `blended`, in that order.
+/// `list`; then its blended draws back to front (one multi-draw where they were ordered on
+/// the GPU).
 fn draw_scene<'a>(
     pass: &mut wgpu::RenderPass<'a>,
     scene: &'a PreparedScene,
     instances: &'a InstanceTable,
     list: &'a SceneDrawList,
-    pipelines: &'a [FacePipelines; 2],
+    pipelines: &'a ForwardPipelines,
     opaque: bool,
-    blended: &[u32],
 ) {
     let mut draws = SceneDraws::new(pass, scene, instances, VertexStreams::Forward);
+    let materials = Some(scene.material_group());
     if opaque {
         draws.draw_batches(list, instances, |batch| {
             let (sided, mirrored) = (batch.double_sided, batch.mirrored);
-            let pipeline = face_pipeline(&pipelines[0], sided, mirrored);
-            (pipeline, Some(scene.material_group()))
+            (face_pipeline(&pipelines.opaque, sided, mirrored), materials)
         });
     }
-    for &d in blended {
-        let draw = &instances.draws[d as usize];
-        let material = &scene.materials[draw.material];
-        let pipeline = face_pipeline(
-            &pipelines[1],
-            material.double_sided,
-            draw.mirrored(&instances.states),
-        );
-        draws.draw(pipeline, Some(scene.material_group()), draw.geometry, d);
+    match &list.blended {
+        BlendedDraws::Sorted {
+            args_buffer, count, ..
+        } => draws.multi_draw(&pipelines.blended, materials, args_buffer, 0, *count),
+        BlendedDraws::Listed(blended) => {
+            for &d in blended.iter() {
+                let geometry = instances.draws[d as usize].geometry;
+                draws.draw(&pipelines.blended, materials, geometry, d);
+            }
+        }
     }
 }
 

@@ -1,7 +1,8 @@
 //! The particle passes and their GPU parts. Passes, in frame order:
 //! * [`ParticleSimPass`] (`simulate_pass`): one fixed step of the simulation (`simulate`), then
 //!   the lighting atlas's layout (`atlas`: region sizes from projected size, allocated on the
-//!   GPU, shrunk and reported when full) and the bitonic back-to-front sort (`sort`);
+//!   GPU, shrunk and reported when full) and the bitonic back-to-front sort
+//!   (`passes::gpu_sort`);
 //! * [`ParticleLightPass`] (`light_pass`): every atlas texel lit with the clustered lists,
 //!   shadows and ambient (atlas lighting only);
 //! * [`ParticleDrawPass`] (`draw_pass`): the blended billboards, lit from the atlas or per
@@ -17,7 +18,6 @@ pub mod draw_pass;
 pub mod light_pass;
 pub mod simulate;
 pub mod simulate_pass;
-pub mod sort;
 pub mod system;
 
 pub use atlas::{AtlasReport, ParticleAtlas};
@@ -25,4 +25,4 @@ pub use draw_pass::ParticleDrawPass;
 pub use light_pass::ParticleLightPass;
 pub use simulate::{ParticleSimulation, SimCounters};
 pub use simulate_pass::ParticleSimPass;
-pub use sort::GpuSort;
+pub use super::gpu_sort::GpuSort;

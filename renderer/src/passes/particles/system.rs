@@ -9,6 +9,7 @@ use wgpu::util::DeviceExt as _;
 use super::{GpuSort, ParticleAtlas, ParticleSimulation};
 use crate::GpuContext;
 use crate::frame_data::{FrameInputs, ListGeometry, ParticleInput, RenderError};
+use crate::particles::ParticleError;
 use crate::particles::sprites::{SPRITE_LAYERS, SPRITE_SIDE, sprite_levels, sprite_texels};
 
 /// The lighting atlas's format: three small floats in 32 bits.
@@ -44,11 +45,12 @@ impl ParticleGpu {
         let device = &gpu.device;
         let sim = ParticleSimulation::new(gpu, (*input.system).clone())?;
         let capacity = input.system.capacity;
-        let sort = GpuSort::new(
-            gpu,
-            super::sort::padded_count(capacity),
-            wgpu::BufferUsages::empty(),
-        )?;
+        let kernels = crate::passes::gpu_sort::SortKernels::new(gpu)?;
+        let sort = GpuSort::new(gpu, &kernels, capacity, wgpu::BufferUsages::empty())
+            .map_err(|e| ParticleError::TooMany {
+                asked: e.asked,
+                max: e.max,
+            })?;
         let side = if side == 0 {
             ParticleAtlas::min_side(capacity).max(DEFAULT_ATLAS_SIDE)
         } else {

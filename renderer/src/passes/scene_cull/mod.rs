@@ -12,6 +12,7 @@
 //! every slot draws: the same batches in the same order, so culling changes only which draws
 //! run. A device without `INDIRECT_FIRST_INSTANCE` draws every slot directly.
 
+mod blended;
 pub mod occlusion;
 mod view_draws;
 
@@ -22,12 +23,13 @@ use shaders_gen::culling::instance_cull::{self, CullParams, Frustum};
 use super::Pass;
 use crate::GpuContext;
 use crate::frame_data::{
-    FrameInputs, FrameReport, FrameResources, OcclusionDraws, RenderError, SceneDrawList,
-    SceneDrawReport,
+    BlendedDraws, FrameInputs, FrameReport, FrameResources, OcclusionDraws, RenderError,
+    SceneDrawList, SceneDrawReport,
 };
 use crate::graph::{BufferAccess, ImportAccess, RenderGraph};
 use crate::readback_ring::ReadbackRing;
 use crate::shader::ShaderProgram;
+use blended::BlendedKernels;
 use view_draws::{CullShared, ViewDraws};
 
 /// The scene-culling pass.
@@ -75,6 +77,7 @@ impl SceneCullPass {
                 program,
                 params,
                 visible,
+                blended: Arc::new(BlendedKernels::new(gpu)?),
             },
             pipeline,
             readback: ReadbackRing::new(device, "scene draws visible", 2),
@@ -102,10 +105,10 @@ impl Pass for SceneCullPass {
             Some(mut d) => {
                 // The same scene, perhaps with meshes and materials added since.
                 d.scene = Arc::clone(&frame.scene);
-                d.follow_instances(gpu, &self.shared, &frame.instances);
+                d.follow_instances(gpu, &self.shared, &frame.instances)?;
                 d
             }
-            None => ViewDraws::new(gpu, &self.shared, frame),
+            None => ViewDraws::new(gpu, &self.shared, frame)?,
         };
         let c = &frame.config;
         self.culling = c.cull_draws && self.indirect && draws.layout.slot_count() > 0;
@@ -129,6 +132,9 @@ impl Pass for SceneCullPass {
         );
         gpu.queue
             .write_buffer(&self.shared.params, 0, bytemuck::bytes_of(&params));
+        if let Some(b) = draws.blended.as_ref().filter(|_| self.indirect) {
+            b.prepare(&gpu.queue, &self.shared.blended, camera, c.cull_draws);
+        }
         self.draws = Some(draws);
         Ok(())
     }
@@ -182,15 +188,14 @@ impl Pass for SceneCullPass {
                 visible: self.shared.visible.clone(),
             }
         });
+        let blended = self.blended_draws(graph, frame, resources, draws);
         resources.scene_draws = Some(SceneDrawList {
             layout: Arc::clone(&draws.layout),
             args,
             args_buffer: draws.args.clone(),
             indirect: self.indirect,
             occlusion,
-            blended: draws
-                .blended_back_to_front(&frame.camera, frame.config.cull_draws)
-                .into(),
+            blended,
         });
         Ok(())
     }
@@ -214,6 +219,40 @@ impl Pass for SceneCullPass {
 }
 
 impl SceneCullPass {
+    /// The frame's blended draws back to front: ordered on the GPU by a pass of their own
+    /// where the device draws indirectly, else listed on the CPU.
+    fn blended_draws(
+        &self,
+        graph: &mut RenderGraph,
+        frame: &FrameInputs,
+        resources: &mut FrameResources,
+        draws: &ViewDraws,
+    ) -> BlendedDraws {
+        let cull = frame.config.cull_draws;
+        let Some(order) = draws.blended.as_ref().filter(|_| self.indirect) else {
+            return BlendedDraws::Listed(draws.blended_back_to_front(&frame.camera, cull).into());
+        };
+        let mut args = resources.import_buffer(
+            graph,
+            "blended draw args",
+            &order.args,
+            ImportAccess::ReadWrite,
+        );
+        let record = order.recorder(&self.shared.blended);
+        graph
+            .add_pass("blended order")
+            .write_buffer(&mut args, BufferAccess::StorageWrite)
+            .execute(move |ctx| {
+                let mut pass = ctx.encoder.begin_compute_pass(&Default::default());
+                record(&mut pass);
+            });
+        BlendedDraws::Sorted {
+            args,
+            args_buffer: order.args.clone(),
+            count: order.count(),
+        }
+    }
+
     /// The scene's draws and the newest culled count that has arrived (polling first).
     pub fn report(&mut self) -> Option<SceneDrawReport> {
         if let Some((at, words)) = self.readback.poll(&self.device) {

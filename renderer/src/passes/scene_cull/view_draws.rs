@@ -7,9 +7,10 @@ use std::sync::Arc;
 use shaders_gen::culling::instance_cull::DrawBox;
 
 use crate::GpuContext;
+use super::blended::{BlendedKernels, BlendedOrder};
 use crate::frame_data::{
-    BatchLayout, FrameCamera, FrameInputs, InstanceTable, NO_DRAW, PreparedScene, box_in_frustum,
-    draw_place, farness,
+    BatchLayout, FrameCamera, FrameInputs, InstanceTable, NO_DRAW, PreparedScene, RenderError,
+    box_in_frustum, draw_place, farness,
 };
 use crate::scene::Aabb;
 use crate::shader::ShaderProgram;
@@ -38,6 +39,8 @@ pub struct ViewDraws {
     pub bind_group: wgpu::BindGroup,
     /// Every box together (the culling slack scales with its diagonal).
     bounds: Aabb,
+    /// The blended draws' order on the GPU (none without blended draws).
+    pub blended: Option<BlendedOrder>,
 }
 
 /// The box of draw `d` where `table` puts it (a removed instance's is empty and never drawn:
@@ -144,7 +147,11 @@ impl LaidOut {
 
 impl ViewDraws {
     /// The draws of `frame`'s scene where its instances are, every slot drawn.
-    pub fn new(gpu: &GpuContext, shared: &CullShared, frame: &FrameInputs) -> Self {
+    pub fn new(
+        gpu: &GpuContext,
+        shared: &CullShared,
+        frame: &FrameInputs,
+    ) -> Result<Self, RenderError> {
         let table = &frame.instances;
         let boxes: Vec<DrawBox> = (0..table.draws.len()).map(|d| draw_box(table, d)).collect();
         let box_capacity = boxes.len() + boxes.len() / 4 + 16;
@@ -174,7 +181,7 @@ impl ViewDraws {
                 &slots.occlusion.history,
             ],
         );
-        Self {
+        let mut draws = Self {
             scene,
             table: table.id(),
             placement: frame.scene.placement_revision,
@@ -190,7 +197,10 @@ impl ViewDraws {
             box_buffer,
             box_capacity,
             bounds,
-        }
+            blended: None,
+        };
+        draws.follow_blended(gpu, shared, table)?;
+        Ok(draws)
     }
 
     /// How far outside a frustum plane a box may reach and still be kept: rounding never
@@ -254,6 +264,9 @@ impl ViewDraws {
             &self.occlusion.history,
         ];
         self.bind_group = bind_group(device, shared, buffers);
+        if let Some(b) = &mut self.blended {
+            b.rebind(device, &shared.blended, &self.box_buffer);
+        }
     }
 
     /// Whether these draws can follow `frame`'s scene and instances: the same instance
@@ -274,9 +287,9 @@ impl ViewDraws {
         gpu: &GpuContext,
         shared: &CullShared,
         table: &InstanceTable,
-    ) {
+    ) -> Result<(), RenderError> {
         if table.revision == self.revision {
-            return;
+            return Ok(());
         }
         let changed = table
             .changed_since(self.revision)
@@ -311,7 +324,7 @@ impl ViewDraws {
         self.write_boxes(gpu, shared, &changed_boxes);
         if relayout {
             self.lay_out(gpu, shared, table);
-            return;
+            return self.follow_blended(gpu, shared, table);
         }
         for slot in changed_slots {
             let args = slot_arguments(table, &self.layout, slot as usize);
@@ -329,6 +342,27 @@ impl ViewDraws {
                 queue.write_buffer(buffer, (at * 4) as u64, bytemuck::cast_slice(&args));
             }
         }
+        self.follow_blended(gpu, shared, table)
+    }
+
+    /// Builds the blended draws' order again where the layout's blended draws changed.
+    fn follow_blended(
+        &mut self,
+        gpu: &GpuContext,
+        shared: &CullShared,
+        table: &InstanceTable,
+    ) -> Result<(), RenderError> {
+        let list = &self.layout.blended;
+        if self.blended.as_ref().map_or(&[][..], |b| &b.draws) == list.as_slice() {
+            return Ok(());
+        }
+        self.blended = if list.is_empty() {
+            None
+        } else {
+            let kernels = &shared.blended;
+            Some(BlendedOrder::new(gpu, kernels, table, list, &self.box_buffer)?)
+        };
+        Ok(())
     }
 
     /// Uploads the boxes of `ranges`, or every box into a buffer twice as large when they
@@ -373,12 +407,14 @@ impl ViewDraws {
 }
 
 /// What every scene's culling binds besides its own buffers: the program, the frustum
-/// parameters and the visible counter (the pass's).
+/// parameters and the visible counter (the pass's), and the blended order's kernels.
 #[derive(Debug)]
 pub struct CullShared {
     pub program: ShaderProgram,
     pub params: wgpu::Buffer,
     pub visible: wgpu::Buffer,
+    /// The blended draws' ordering and sort kernels.
+    pub blended: Arc<BlendedKernels>,
 }
 
 /// Group 0 of `instance_cull`: parameters, boxes, slot draws, arguments, visible counter,

@@ -1,12 +1,45 @@
 //! The bitonic sort of `(key, payload)` pairs on the GPU (`particle_sort`): a buffer of a
-//! power of two of pairs, at least one block, sorted ascending by key then payload.
+//! power of two of pairs, at least one block, sorted ascending by key then payload. Blended
+//! particles (back to front) and the scene's blended draws (`scene_cull`) sort with it.
+
+use std::sync::Arc;
 
 use shaders_gen::particles::particle_sort::{self, SortParams};
 
 use crate::GpuContext;
 use crate::frame_data::RenderError;
-use crate::particles::ParticleError;
 use crate::shader::ShaderProgram;
+
+/// A sort asked for more pairs than a device's dispatches can take.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SortTooLarge {
+    pub asked: u32,
+    pub max: u32,
+}
+
+/// The sort's program and pipelines, shared by every sort built from them.
+#[derive(Debug)]
+pub struct SortKernels {
+    program: ShaderProgram,
+    /// `sort_local`, `merge_local`, `merge_global`.
+    pipelines: [wgpu::ComputePipeline; 3],
+}
+
+impl SortKernels {
+    pub fn new(gpu: &GpuContext) -> Result<Arc<Self>, RenderError> {
+        let device = &gpu.device;
+        let variant = particle_sort::variant(particle_sort::VariantKey::ALL[0]);
+        let program = ShaderProgram::new(device, gpu.capabilities(), variant)?;
+        Ok(Arc::new(Self {
+            pipelines: [
+                program.compute_pipeline(device, "sort_local")?,
+                program.compute_pipeline(device, "merge_local")?,
+                program.compute_pipeline(device, "merge_global")?,
+            ],
+            program,
+        }))
+    }
+}
 
 /// One dispatch of the sort: its kernel, its parameters' bind group and its workgroups.
 #[derive(Debug)]
@@ -26,7 +59,7 @@ enum Kernel {
 /// A sort of `keys` (a buffer of `count` `UVec2` pairs) in place.
 #[derive(Debug)]
 pub struct GpuSort {
-    pipelines: [wgpu::ComputePipeline; 3],
+    kernels: Arc<SortKernels>,
     steps: Vec<Step>,
     /// The pairs sorted: the buffer the sort was built for.
     pub keys: wgpu::Buffer,
@@ -95,17 +128,16 @@ impl GpuSort {
     /// sort last).
     pub fn new(
         gpu: &GpuContext,
+        kernels: &Arc<SortKernels>,
         items: u32,
         extra_usage: wgpu::BufferUsages,
-    ) -> Result<Self, RenderError> {
+    ) -> Result<Self, SortTooLarge> {
         let device = &gpu.device;
         let max = Self::max_items(device);
         if items > max {
-            return Err(ParticleError::TooMany { asked: items, max }.into());
+            return Err(SortTooLarge { asked: items, max });
         }
         let count = padded_count(items);
-        let variant = particle_sort::variant(particle_sort::VariantKey::ALL[0]);
-        let program = ShaderProgram::new(device, gpu.capabilities(), variant)?;
         let keys = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("sort pairs"),
             size: u64::from(count) * 8,
@@ -117,6 +149,7 @@ impl GpuSort {
         });
         let plan = plan(count);
         let (params, stride) = params_buffer(device, &plan, count);
+        let layout = &kernels.program.bind_group_layouts[0];
         let steps = plan
             .iter()
             .enumerate()
@@ -128,7 +161,7 @@ impl GpuSort {
                 },
                 bind_group: device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("sort step"),
-                    layout: &program.bind_group_layouts[0],
+                    layout,
                     entries: &[
                         wgpu::BindGroupEntry {
                             binding: 0,
@@ -147,11 +180,7 @@ impl GpuSort {
             })
             .collect();
         Ok(Self {
-            pipelines: [
-                program.compute_pipeline(device, "sort_local")?,
-                program.compute_pipeline(device, "merge_local")?,
-                program.compute_pipeline(device, "merge_global")?,
-            ],
+            kernels: Arc::clone(kernels),
             steps,
             keys,
             count,
@@ -162,7 +191,7 @@ impl GpuSort {
     /// Dispatches every step of the sort in `pass`.
     pub fn record(&self, pass: &mut wgpu::ComputePass<'_>) {
         for step in &self.steps {
-            pass.set_pipeline(&self.pipelines[step.kernel as usize]);
+            pass.set_pipeline(&self.kernels.pipelines[step.kernel as usize]);
             pass.set_bind_group(0, &step.bind_group, &[]);
             pass.dispatch_workgroups(step.groups, 1, 1);
         }
@@ -171,7 +200,7 @@ impl GpuSort {
     /// Dispatches in a compute pass of its own.
     pub fn record_in(&self, encoder: &mut wgpu::CommandEncoder) {
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("particle sort"),
+            label: Some("sort"),
             timestamp_writes: None,
         });
         self.record(&mut pass);
