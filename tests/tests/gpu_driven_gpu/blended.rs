@@ -21,8 +21,16 @@ use super::{SIZE, config};
 fn glass_stack() -> Scene {
     let mut b = SceneBuilder::new();
     let floor = b.material("floor", Vec3::new(0.5, 0.45, 0.4), 0.7);
-    b.cuboid(Vec3::new(-30.0, -0.1, -40.0), Vec3::new(30.0, 0.0, 10.0), floor);
-    b.cuboid(Vec3::new(-30.0, 0.0, -41.0), Vec3::new(30.0, 20.0, -40.0), floor);
+    b.cuboid(
+        Vec3::new(-30.0, -0.1, -40.0),
+        Vec3::new(30.0, 0.0, 10.0),
+        floor,
+    );
+    b.cuboid(
+        Vec3::new(-30.0, 0.0, -41.0),
+        Vec3::new(30.0, 20.0, -40.0),
+        floor,
+    );
     let glass = [
         (Vec4::new(0.9, 0.2, 0.2, 0.45), false),
         (Vec4::new(0.2, 0.8, 0.3, 0.35), true),
@@ -68,7 +76,10 @@ fn glass_stack() -> Scene {
             Vec3::ONE
         } * rng.range(0.6, 1.6);
         let shape = shapes[(rng.next_u64() % shapes.len() as u64) as usize];
-        b.place(shape, Mat4::from_scale_rotation_translation(scale, turn, at));
+        b.place(
+            shape,
+            Mat4::from_scale_rotation_translation(scale, turn, at),
+        );
     }
     b.build()
 }
@@ -127,6 +138,115 @@ fn blended_draws_ordered_on_the_gpu_render_as_the_cpu_orders_them() {
                     "camera {i}, {path:?}: the GPU's blended order differs from the CPU's by {worst}"
                 );
             }
+        }
+    });
+}
+
+/// `mesh` with only the triangles whose outward normal faces `eye` where `world_from_mesh`
+/// puts them (the vertices, hence the bounds and the draw's sort key, kept).
+fn front_faces_only(
+    mesh: &renderer::scene::Mesh,
+    world_from_mesh: Mat4,
+    eye: Vec3,
+) -> renderer::scene::Mesh {
+    let normal_from_mesh = world_from_mesh.inverse().transpose();
+    let mut out = mesh.clone();
+    for p in &mut out.primitives {
+        let faces_eye = |t: &[u32]| {
+            let a = world_from_mesh.transform_point3(p.positions[t[0] as usize]);
+            let n = normal_from_mesh.transform_vector3(p.normals[t[0] as usize]);
+            n.dot(eye - a) > 0.0
+        };
+        p.indices = p
+            .indices
+            .chunks(3)
+            .filter(|t| faces_eye(t))
+            .flatten()
+            .copied()
+            .collect();
+    }
+    out
+}
+
+#[test]
+fn blended_single_sided_draws_show_their_front_faces_only_mirrored_or_not() {
+    // A wall, and two single-sided glass boxes turned to show three faces each: one as
+    // modelled, one mirrored (its front faces wind clockwise).
+    let mut b = SceneBuilder::new();
+    let wall = b.material("wall", Vec3::new(0.8, 0.8, 0.75), 0.6);
+    b.cuboid(
+        Vec3::new(-20.0, -5.0, -12.0),
+        Vec3::new(20.0, 15.0, -11.0),
+        wall,
+    );
+    let glass = b.add_material(Material {
+        name: "glass".into(),
+        base_color: Vec4::new(0.3, 0.5, 0.9, 0.4),
+        roughness: 0.3,
+        alpha_mode: AlphaMode::Blend,
+        ..Material::gltf_default()
+    });
+    let cube = b.mesh(
+        "glass box",
+        box_primitive(Vec3::splat(-1.0), Vec3::ONE, glass, false),
+    );
+    let turn = Quat::from_rotation_y(0.6) * Quat::from_rotation_x(0.4);
+    let placed = [
+        Mat4::from_scale_rotation_translation(Vec3::splat(1.5), turn, Vec3::new(-3.0, 2.0, -4.0)),
+        Mat4::from_scale_rotation_translation(
+            Vec3::new(-1.5, 1.5, 1.5),
+            turn,
+            Vec3::new(3.0, 2.0, -4.0),
+        ),
+    ];
+    for world in placed {
+        b.place(cube, world);
+    }
+    let scene = b.build();
+    let eye = Vec3::new(0.0, 4.0, 8.0);
+    let aspect = SIZE.0 as f32 / SIZE.1 as f32;
+    let camera = FrameCamera::look_at(
+        eye,
+        Vec3::new(0.0, 2.0, -4.0),
+        Vec3::Y,
+        50f32.to_radians(),
+        aspect,
+        (0.1, 100.0),
+    );
+    // The reference: each box's mesh cut down to the faces turned to the eye.
+    let mut reference = scene.clone();
+    for (i, world) in placed.iter().enumerate() {
+        reference
+            .meshes
+            .push(front_faces_only(&scene.meshes[cube], *world, eye));
+        reference.instances[1 + i].mesh = reference.meshes.len() - 1;
+        let kept = reference
+            .meshes
+            .last()
+            .map(|m| m.primitives[0].indices.len());
+        assert_eq!(kept, Some(18), "box {i} shows three faces to the eye");
+    }
+    let mut bare_wall = scene.clone();
+    bare_wall.instances.truncate(1);
+    let region = Aabb {
+        min: Vec3::new(-8.0, 0.0, -8.0),
+        max: Vec3::new(8.0, 6.0, 4.0),
+    };
+    let lights = procedural_lights(region, 16, 3, 6.0, 12.0);
+    gpu_test(|gpu| {
+        for (path, msaa) in [(RenderPath::Tiled, 4), (RenderPath::Tbdr, 1)] {
+            let config = config(path, msaa, true);
+            let boxes = render_frame_from(gpu, &scene, config.clone(), &lights, &camera);
+            let faces = render_frame_from(gpu, &reference, config, &lights, &camera);
+            let worst = largest_difference(&boxes.rgba, &faces.rgba);
+            assert!(
+                worst <= 1,
+                "{path:?}: blended boxes differ from their front faces by {worst}"
+            );
+            let wall =
+                render_frame_from(gpu, &bare_wall, config(path, msaa, true), &lights, &camera);
+            let glass = largest_difference(&boxes.rgba, &wall.rgba);
+            assert!(glass > 20, "{path:?}: the glass shows ({glass})");
         }
     });
 }
