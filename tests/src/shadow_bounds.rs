@@ -271,8 +271,15 @@ pub fn check_band(
             } else {
                 s.iter().copied().max().unwrap_or(0)
             };
-            let texels = texel_distance_to_flip(&region, light, p, lit, SEARCH_TEXELS);
+            // A pixel within tolerance needs only to know whether a flip lies within its band;
+            // a wrong one is searched to the full distance for the report.
             let band = band_texels(light, p);
+            let limit = if difference > TOLERANCE {
+                SEARCH_TEXELS
+            } else {
+                band.min(SEARCH_TEXELS)
+            };
+            let texels = texel_distance_to_flip(&region, light, p, lit, limit);
             if difference > TOLERANCE {
                 let t = texels.unwrap_or(f32::INFINITY);
                 out.widest_partial = out.widest_partial.max(t);

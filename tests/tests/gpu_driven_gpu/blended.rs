@@ -235,16 +235,15 @@ fn blended_single_sided_draws_show_their_front_faces_only_mirrored_or_not() {
     let lights = procedural_lights(region, 16, 3, 6.0, 12.0);
     gpu_test(|gpu| {
         for (path, msaa) in [(RenderPath::Tiled, 4), (RenderPath::Tbdr, 1)] {
-            let config = config(path, msaa, true);
-            let boxes = render_frame_from(gpu, &scene, config.clone(), &lights, &camera);
-            let faces = render_frame_from(gpu, &reference, config, &lights, &camera);
+            let settings = config(path, msaa, true);
+            let boxes = render_frame_from(gpu, &scene, settings.clone(), &lights, &camera);
+            let faces = render_frame_from(gpu, &reference, settings.clone(), &lights, &camera);
             let worst = largest_difference(&boxes.rgba, &faces.rgba);
             assert!(
                 worst <= 1,
                 "{path:?}: blended boxes differ from their front faces by {worst}"
             );
-            let wall =
-                render_frame_from(gpu, &bare_wall, config(path, msaa, true), &lights, &camera);
+            let wall = render_frame_from(gpu, &bare_wall, settings, &lights, &camera);
             let glass = largest_difference(&boxes.rgba, &wall.rgba);
             assert!(glass > 20, "{path:?}: the glass shows ({glass})");
         }
