@@ -8,7 +8,8 @@ use glam::{UVec2, Vec3};
 use renderer::frame::setup::Rng;
 use renderer::particles::reference::{CpuParticle, CpuSimulation};
 use renderer::particles::{ParticleSystem, dust, smoke, sparks};
-use renderer::passes::particles::{GpuSort, ParticleSimulation, sort::padded_count};
+use renderer::passes::gpu_sort::{GpuSort, padded_count};
+use renderer::passes::particles::ParticleSimulation;
 use renderer::readback::read_buffer;
 use tests::gpu::gpu_test;
 

@@ -37,7 +37,7 @@ pub use material_groups::material_record;
 pub use material_inputs::{sampler_descriptor, uv_map};
 pub use report::{FrameReport, ParticleReport, SceneDrawReport};
 pub use resources::{
-    FrameResources, GBufferHandles, LightListHandles, ListGeometry, OcclusionDraws,
-    ParticleResources, SceneDrawList, BlendedDraws, ShadowResources,
+    BlendedDraws, FrameResources, GBufferHandles, LightListHandles, ListGeometry, OcclusionDraws,
+    ParticleResources, SceneDrawList, ShadowResources,
 };
 pub use scene::{MeshDraw, PlannedDraw, PreparedScene, draw_plan, is_mirrored};

@@ -11,7 +11,8 @@ use crate::frame_data::RenderError;
 use crate::shader::ShaderProgram;
 
 /// A sort asked for more pairs than a device's dispatches can take.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error("a GPU sort of {asked} items; this device's dispatches take at most {max}")]
 pub struct SortTooLarge {
     pub asked: u32,
     pub max: u32,
@@ -127,6 +128,16 @@ impl GpuSort {
     /// besides storage and copies. Pad entries are for the caller to fill (`u32::MAX` keys
     /// sort last).
     pub fn new(
+        gpu: &GpuContext,
+        items: u32,
+        extra_usage: wgpu::BufferUsages,
+    ) -> Result<Self, RenderError> {
+        let kernels = SortKernels::new(gpu)?;
+        Ok(Self::with_kernels(gpu, &kernels, items, extra_usage)?)
+    }
+
+    /// [`GpuSort::new`] with kernels built before (shared by several sorts).
+    pub fn with_kernels(
         gpu: &GpuContext,
         kernels: &Arc<SortKernels>,
         items: u32,

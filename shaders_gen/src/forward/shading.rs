@@ -366,8 +366,10 @@ pub mod forward {
             facing = front == (input.handedness > 0.0);
         }
         let sp = shading_point(input, facing);
-        if blend && !facing && MATERIALS[input.material].double_sided == 0u32 {
-            discard();
+        if blend {
+            if !facing && MATERIALS[input.material].double_sided == 0u32 {
+                discard();
+            }
         }
         let m = sp.m;
         let p = sp.p;

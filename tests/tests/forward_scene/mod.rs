@@ -195,6 +195,7 @@ pub fn inputs<'a>(
             NO_TEXTURE,
             NO_TEXTURE,
             NO_TEXTURE,
+            0,
         ),
         vertices,
     }

@@ -20,9 +20,9 @@ pub mod simulate;
 pub mod simulate_pass;
 pub mod system;
 
+pub use super::gpu_sort::GpuSort;
 pub use atlas::{AtlasReport, ParticleAtlas};
 pub use draw_pass::ParticleDrawPass;
 pub use light_pass::ParticleLightPass;
 pub use simulate::{ParticleSimulation, SimCounters};
 pub use simulate_pass::ParticleSimPass;
-pub use super::gpu_sort::GpuSort;

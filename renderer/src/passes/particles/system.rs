@@ -46,7 +46,7 @@ impl ParticleGpu {
         let sim = ParticleSimulation::new(gpu, (*input.system).clone())?;
         let capacity = input.system.capacity;
         let kernels = crate::passes::gpu_sort::SortKernels::new(gpu)?;
-        let sort = GpuSort::new(gpu, &kernels, capacity, wgpu::BufferUsages::empty())
+        let sort = GpuSort::with_kernels(gpu, &kernels, capacity, wgpu::BufferUsages::empty())
             .map_err(|e| ParticleError::TooMany {
                 asked: e.asked,
                 max: e.max,

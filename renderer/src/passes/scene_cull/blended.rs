@@ -68,11 +68,8 @@ impl BlendedOrder {
         boxes: &wgpu::Buffer,
     ) -> Result<Self, RenderError> {
         let count = draws.len() as u32;
-        let sort = GpuSort::new(gpu, &kernels.sort, count, wgpu::BufferUsages::empty())
-            .map_err(|e| RenderError::TooManyBlendedDraws {
-                count,
-                max: e.max,
-            })?;
+        let sort = GpuSort::with_kernels(gpu, &kernels.sort, count, wgpu::BufferUsages::empty())
+            .map_err(|e| RenderError::TooManyBlendedDraws { count, max: e.max })?;
         let words: Vec<u32> = draws
             .iter()
             .flat_map(|&d| {
@@ -106,7 +103,12 @@ impl BlendedOrder {
     }
 
     /// Binds `boxes` again (the box buffer grew).
-    pub fn rebind(&mut self, device: &wgpu::Device, kernels: &BlendedKernels, boxes: &wgpu::Buffer) {
+    pub fn rebind(
+        &mut self,
+        device: &wgpu::Device,
+        kernels: &BlendedKernels,
+        boxes: &wgpu::Buffer,
+    ) {
         self.bind_group = bind_group(
             device,
             kernels,

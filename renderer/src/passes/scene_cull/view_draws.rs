@@ -6,8 +6,8 @@ use std::sync::Arc;
 
 use shaders_gen::culling::instance_cull::DrawBox;
 
-use crate::GpuContext;
 use super::blended::{BlendedKernels, BlendedOrder};
+use crate::GpuContext;
 use crate::frame_data::{
     BatchLayout, FrameCamera, FrameInputs, InstanceTable, NO_DRAW, PreparedScene, RenderError,
     box_in_frustum, draw_place, farness,
@@ -360,7 +360,13 @@ impl ViewDraws {
             None
         } else {
             let kernels = &shared.blended;
-            Some(BlendedOrder::new(gpu, kernels, table, list, &self.box_buffer)?)
+            Some(BlendedOrder::new(
+                gpu,
+                kernels,
+                table,
+                list,
+                &self.box_buffer,
+            )?)
         };
         Ok(())
     }
