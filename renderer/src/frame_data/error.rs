@@ -56,8 +56,8 @@ pub enum RenderError {
          one pass (its dispatch limit)"
     )]
     TooManyBlendedDraws { count: u32, max: u32 },
-    #[error(transparent)]
-    SortTooLarge(#[from] crate::passes::gpu_sort::SortTooLarge),
+    #[error("a GPU sort of {asked} items; this device's dispatches take at most {max}")]
+    SortTooLarge { asked: u32, max: u32 },
     #[error(
         "instance {index} is not in the scene: the prepared scene has {count} instance slots \
          (its nodes with a mesh in `Scene::instances` order, then instances added), and a \

@@ -10,14 +10,6 @@ use crate::GpuContext;
 use crate::frame_data::RenderError;
 use crate::shader::ShaderProgram;
 
-/// A sort asked for more pairs than a device's dispatches can take.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
-#[error("a GPU sort of {asked} items; this device's dispatches take at most {max}")]
-pub struct SortTooLarge {
-    pub asked: u32,
-    pub max: u32,
-}
-
 /// The sort's program and pipelines, shared by every sort built from them.
 #[derive(Debug)]
 pub struct SortKernels {
@@ -133,7 +125,7 @@ impl GpuSort {
         extra_usage: wgpu::BufferUsages,
     ) -> Result<Self, RenderError> {
         let kernels = SortKernels::new(gpu)?;
-        Ok(Self::with_kernels(gpu, &kernels, items, extra_usage)?)
+        Self::with_kernels(gpu, &kernels, items, extra_usage)
     }
 
     /// [`GpuSort::new`] with kernels built before (shared by several sorts).
@@ -142,11 +134,11 @@ impl GpuSort {
         kernels: &Arc<SortKernels>,
         items: u32,
         extra_usage: wgpu::BufferUsages,
-    ) -> Result<Self, SortTooLarge> {
+    ) -> Result<Self, RenderError> {
         let device = &gpu.device;
         let max = Self::max_items(device);
         if items > max {
-            return Err(SortTooLarge { asked: items, max });
+            return Err(RenderError::SortTooLarge { asked: items, max });
         }
         let count = padded_count(items);
         let keys = device.create_buffer(&wgpu::BufferDescriptor {

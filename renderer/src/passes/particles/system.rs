@@ -45,12 +45,12 @@ impl ParticleGpu {
         let device = &gpu.device;
         let sim = ParticleSimulation::new(gpu, (*input.system).clone())?;
         let capacity = input.system.capacity;
-        let kernels = crate::passes::gpu_sort::SortKernels::new(gpu)?;
-        let sort = GpuSort::with_kernels(gpu, &kernels, capacity, wgpu::BufferUsages::empty())
-            .map_err(|e| ParticleError::TooMany {
-                asked: e.asked,
-                max: e.max,
-            })?;
+        let max = GpuSort::max_items(device);
+        if capacity > max {
+            let asked = capacity;
+            return Err(ParticleError::TooMany { asked, max }.into());
+        }
+        let sort = GpuSort::new(gpu, capacity, wgpu::BufferUsages::empty())?;
         let side = if side == 0 {
             ParticleAtlas::min_side(capacity).max(DEFAULT_ATLAS_SIDE)
         } else {

@@ -68,8 +68,12 @@ impl BlendedOrder {
         boxes: &wgpu::Buffer,
     ) -> Result<Self, RenderError> {
         let count = draws.len() as u32;
-        let sort = GpuSort::with_kernels(gpu, &kernels.sort, count, wgpu::BufferUsages::empty())
-            .map_err(|e| RenderError::TooManyBlendedDraws { count, max: e.max })?;
+        let max = GpuSort::max_items(&gpu.device);
+        if count > max {
+            return Err(RenderError::TooManyBlendedDraws { count, max });
+        }
+        let usage = wgpu::BufferUsages::empty();
+        let sort = GpuSort::with_kernels(gpu, &kernels.sort, count, usage)?;
         let words: Vec<u32> = draws
             .iter()
             .flat_map(|&d| {
