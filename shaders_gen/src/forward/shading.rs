@@ -364,13 +364,13 @@ pub mod forward {
         let mut facing = front;
         if blend {
             facing = front == (input.handedness > 0.0);
-        }
-        let sp = shading_point(input, facing);
-        if blend {
+            // Before any texture read or light: WGSL's discard demotes the invocation to a
+            // helper, so the derivatives `shading_point` takes stay defined.
             if !facing && MATERIALS[input.material].double_sided == 0u32 {
                 discard();
             }
         }
+        let sp = shading_point(input, facing);
         let m = sp.m;
         let p = sp.p;
         let nn = sp.geometric_normal;
