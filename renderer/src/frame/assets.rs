@@ -53,6 +53,13 @@ impl Renderer {
         Ok(self.prepared_mut()?.add_image(&gpu.device, image)?)
     }
 
+    /// The prepared scene's material atlas: its pages, each texture's index, and how often
+    /// textures were added to it in place.
+    pub fn material_atlas(&self) -> Result<&crate::scene::MaterialAtlas, RenderError> {
+        let (prepared, _) = self.scene.as_ref().ok_or(RenderError::NoScene)?;
+        Ok(prepared.material_atlas())
+    }
+
     /// The index of the glTF default material in the prepared scene's materials (after the
     /// scene's own).
     pub fn default_material(&self) -> Result<usize, RenderError> {

@@ -8,7 +8,9 @@ use shaders_gen::shared::material_table::{GpuMaterial, NO_TEXTURE};
 use wgpu::util::DeviceExt as _;
 
 use super::material_inputs::uv_map;
-use crate::scene::{AlphaMode, AtlasKey, Image, Material, MaterialAtlas, SceneError, TextureRef};
+use crate::scene::{
+    AlphaMode, AtlasGrowth, AtlasKey, Image, Material, MaterialAtlas, SceneError, TextureRef,
+};
 use crate::shader::bind_group_layout_entries;
 
 /// The bind-group layouts of the scene's draw-record and material groups.
@@ -51,7 +53,7 @@ impl SceneLayouts {
 /// Every material's record and texture, and the two bind groups that reach them.
 #[derive(Debug, Clone)]
 pub(super) struct MaterialTable {
-    atlas: std::sync::Arc<MaterialAtlas>,
+    pub(super) atlas: std::sync::Arc<MaterialAtlas>,
     records: wgpu::Buffer,
     /// Records the buffer has room for.
     capacity: usize,
@@ -85,39 +87,74 @@ impl MaterialTable {
             contents: bytemuck::cast_slice(&records),
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
         });
-        let group = |layout: &wgpu::BindGroupLayout, label| {
-            let mut entries = vec![wgpu::BindGroupEntry {
-                binding: 0,
-                resource: records.as_entire_binding(),
-            }];
-            entries.extend(atlas.bind_group_entries());
-            device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some(label),
-                layout,
-                entries: &entries,
-            })
-        };
+        let (group, mask_group) = groups(device, layouts, &records, &atlas);
         Ok(Self {
-            group: group(&layouts.material, "materials"),
-            mask_group: group(&layouts.mask_material, "materials (masked depth)"),
+            group,
+            mask_group,
             atlas: std::sync::Arc::new(atlas),
             records,
             capacity,
         })
     }
 
-    /// Writes `material`'s record at `index` in place, or returns `false` when that needs a
-    /// new table (a texture the atlas does not hold, or no room).
-    pub(super) fn write(&self, queue: &wgpu::Queue, index: usize, material: &Material) -> bool {
-        let held = atlas_keys(material).all(|k| self.atlas.index(&k).is_some());
-        if !held || index >= self.capacity {
+    /// Writes `material`'s record at `index` in place, adding its textures to the atlas in
+    /// place where it does not hold them, or returns `false` when that needs a new table (no
+    /// room for the record, or an image larger than an atlas page).
+    pub(super) fn write(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        (layouts, images): (&SceneLayouts, &[std::sync::Arc<Image>]),
+        index: usize,
+        material: &Material,
+    ) -> bool {
+        if index >= self.capacity {
             return false;
+        }
+        let keys: Vec<AtlasKey> = atlas_keys(material).collect();
+        if !keys.iter().all(|k| self.atlas.index(k).is_some()) {
+            let mut atlas = (*self.atlas).clone();
+            match atlas.add(device, queue, images, &keys) {
+                Ok(AtlasGrowth::Held) => {}
+                Ok(AtlasGrowth::Grown) => {
+                    (self.group, self.mask_group) = groups(device, layouts, &self.records, &atlas);
+                    self.atlas = std::sync::Arc::new(atlas);
+                }
+                // Packing anew reports what the device cannot hold.
+                Ok(AtlasGrowth::NeedsRepack) | Err(_) => return false,
+            }
         }
         let record = material_record(material, &self.atlas);
         let offset = (index * size_of::<GpuMaterial>()) as u64;
         queue.write_buffer(&self.records, offset, bytemuck::bytes_of(&record));
         true
     }
+}
+
+/// Group 2 of the forward and G-buffer programs, and of the masked depth programs: the
+/// material records and the atlas.
+fn groups(
+    device: &wgpu::Device,
+    layouts: &SceneLayouts,
+    records: &wgpu::Buffer,
+    atlas: &MaterialAtlas,
+) -> (wgpu::BindGroup, wgpu::BindGroup) {
+    let group = |layout: &wgpu::BindGroupLayout, label| {
+        let mut entries = vec![wgpu::BindGroupEntry {
+            binding: 0,
+            resource: records.as_entire_binding(),
+        }];
+        entries.extend(atlas.bind_group_entries());
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(label),
+            layout,
+            entries: &entries,
+        })
+    };
+    (
+        group(&layouts.material, "materials"),
+        group(&layouts.mask_material, "materials (masked depth)"),
+    )
 }
 
 /// The five texture slots of `m` in `GpuMaterial` order (base colour, normal,

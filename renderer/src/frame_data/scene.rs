@@ -230,19 +230,29 @@ impl PreparedScene {
         Ok(())
     }
 
-    /// Writes material `index`'s record in place, or builds the table again (the atlas packed
-    /// anew) when its textures are new to the atlas or the buffer is full.
+    /// Writes material `index`'s record in place (its textures added to the atlas in place
+    /// where new), or builds the table again (the atlas packed anew) when the buffer is full
+    /// or a new image is larger than an atlas page.
     fn write_material(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         index: usize,
     ) -> Result<(), SceneError> {
-        if !self.table.write(queue, index, &self.materials[index]) {
+        let inputs = (&self.layouts, &self.images[..]);
+        if !self
+            .table
+            .write(device, queue, inputs, index, &self.materials[index])
+        {
             self.table =
                 MaterialTable::new(device, queue, &self.layouts, &self.images, &self.materials)?;
         }
         Ok(())
+    }
+
+    /// The material atlas of the scene's textures.
+    pub fn material_atlas(&self) -> &crate::scene::MaterialAtlas {
+        &self.table.atlas
     }
 
     /// Keeps `image` after the scene's images and returns its index (what an added material's

@@ -28,7 +28,7 @@ mod warning;
 pub use camera::{CameraProjection, SceneCamera};
 pub use error::SceneError;
 pub use gpu::{GeometryBuffers, GpuPrimitive, GpuScene, VertexStreams};
-pub use material_atlas::{AtlasError, AtlasKey, MaterialAtlas};
+pub use material_atlas::{AtlasError, AtlasGrowth, AtlasKey, MaterialAtlas};
 pub use texture::{Filter, TextureSampler, UvTransform, Wrap};
 pub use warning::SceneWarning;
 

@@ -101,10 +101,17 @@ fn meshes_materials_and_images_added_at_run_time_render_as_a_city_built_with_the
             let first = render_one_frame(gpu, &mut renderer, &camera).rgba;
             let image = renderer.add_image(&checker).expect("an image");
             assert_eq!(image, scene.images.len());
+            let atlas = |r: &Renderer| {
+                let a = r.material_atlas().expect("a scene");
+                (a.additions(), a.pages())
+            };
+            let (before, pages) = atlas(&renderer);
             let added = renderer
                 .add_material(&with_image(image))
                 .expect("a material");
             assert_eq!(added, renderer.default_material().expect("a scene") + 1);
+            // The checker went into the atlas in place, not by packing every image again.
+            assert_eq!(atlas(&renderer), (before + 1, pages));
             let tower = renderer
                 .add_mesh(&with_material("tower", Some(added)))
                 .expect("a mesh");

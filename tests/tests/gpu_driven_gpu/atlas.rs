@@ -10,7 +10,7 @@ use renderer::GpuContext;
 use renderer::frame::setup::Rng;
 use renderer::frame_data::sampler_descriptor;
 use renderer::readback::read_buffer;
-use renderer::scene::{AtlasKey, Filter, Image, MaterialAtlas, TextureSampler, Wrap};
+use renderer::scene::{AtlasGrowth, AtlasKey, Filter, Image, MaterialAtlas, TextureSampler, Wrap};
 use renderer::shader::ShaderProgram;
 use wgpu::util::DeviceExt as _;
 
@@ -247,6 +247,45 @@ fn an_atlas_of_several_layers_samples_every_texture_as_the_hardware_sampler() {
         let atlas = MaterialAtlas::new(&gpu.device, &gpu.queue, &images, &keys).expect("atlas");
         let (side, layers) = atlas.pages();
         assert!(side == 256 && layers >= 3, "{side}² × {layers}");
+        probe(gpu, &atlas, &images, &keys);
+    });
+}
+
+/// The same textures added to an atlas a few at a time: each addition goes into the pages'
+/// free space or new layers (the old ones copied on the GPU), every texture keeps its index,
+/// and every texture samples as on its own.
+#[test]
+fn an_atlas_grown_in_place_samples_every_texture_as_the_hardware_sampler() {
+    let images: Vec<Image> = (0..24).map(|i| image(64 >> (i % 3), 64, 40 + i)).collect();
+    let keys: Vec<AtlasKey> = (0..images.len())
+        .map(|image| AtlasKey {
+            image,
+            sampler: TextureSampler::default(),
+            colour: image % 2 == 1,
+        })
+        .collect();
+    gpu_test(|gpu| {
+        let (device, queue) = (&gpu.device, &gpu.queue);
+        let mut atlas = MaterialAtlas::new(device, queue, &images, &keys[..2]).expect("atlas");
+        assert_eq!(atlas.pages(), (256, 1));
+        for chunk in [2..3, 3..10, 10..24] {
+            let before: Vec<Option<u32>> =
+                keys[..chunk.start].iter().map(|k| atlas.index(k)).collect();
+            let growth = atlas
+                .add(device, queue, &images, &keys[chunk.clone()])
+                .expect("room");
+            assert_eq!(growth, AtlasGrowth::Grown);
+            let after: Vec<Option<u32>> =
+                keys[..chunk.start].iter().map(|k| atlas.index(k)).collect();
+            assert_eq!(before, after, "textures held keep their indices");
+        }
+        let held = atlas
+            .add(device, queue, &images, &keys[5..7])
+            .expect("held");
+        assert_eq!(held, AtlasGrowth::Held);
+        let (side, layers) = atlas.pages();
+        assert!(side == 256 && layers >= 3, "{side}² × {layers}");
+        assert_eq!(atlas.additions(), 3);
         probe(gpu, &atlas, &images, &keys);
     });
 }

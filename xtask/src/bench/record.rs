@@ -145,6 +145,9 @@ pub struct CellRecord {
     pub prez_late_median_ms: Option<f64>,
     #[serde(default)]
     pub occlusion_median_ms: Option<f64>,
+    /// The blended draws' order on the GPU (keys, sort, arguments), where the scene has any.
+    #[serde(default)]
+    pub blended_order_median_ms: Option<f64>,
     /// Editing the scene by handle (`bench::edits`, the first cell of each setup): CPU µs to
     /// add an instance (median and most), move one and remove one, and CPU ms of the frames
     /// that follow edits.
@@ -244,6 +247,7 @@ impl CellRecord {
             .or(pass("deferred base"))
             .and_then(|s| s.median());
         record.volumes_median_ms = pass("light volumes").and_then(|s| s.median());
+        record.blended_order_median_ms = pass("blended order").and_then(|s| s.median());
         record.gpu_total_median_ms = m.total.median().unwrap_or(0.0);
         record.cpu_graph_median_ms = m.cpu_graph_ms.median().unwrap_or(0.0);
         record.cpu_upload_median_ms = m.cpu_upload_ms.median().unwrap_or(0.0);
