@@ -284,7 +284,8 @@ fn an_atlas_grown_in_place_samples_every_texture_as_the_hardware_sampler() {
             .expect("held");
         assert_eq!(held, AtlasGrowth::Held);
         let (side, layers) = atlas.pages();
-        assert!(side == 256 && layers >= 3, "{side}² × {layers}");
+        // Grown past its first layer, so the copy of old layers ran.
+        assert!(side == 256 && layers >= 2, "{side}² × {layers}");
         assert_eq!(atlas.additions(), 3);
         probe(gpu, &atlas, &images, &keys);
     });
