@@ -1,5 +1,6 @@
-//! What the material atlas stores of one image: its levels from the first that fits
-//! (`stored_levels`), each written inside its one-texel wrap border (`write_bordered`), and the
+//! What the material atlas stores of one image: the texture it serves (`AtlasKey`), its levels
+//! from the first that fits (`stored_levels`), shared by the textures whose borders agree
+//! (`LevelsKey`), each written inside its one-texel wrap border (`write_bordered`), and the
 //! shader's wrap and filter bits of a sampler.
 
 use shaders_gen::shared::material_atlas::{
@@ -7,13 +8,41 @@ use shaders_gen::shared::material_atlas::{
     WRAP_CLAMP, WRAP_MIRROR, WRAP_REPEAT,
 };
 
-use super::{AtlasKey, LevelsKey, Placed};
 use crate::scene::mips::{level_count, mip_chain};
 use crate::scene::{Filter, Image, TextureSampler, Wrap};
+
+/// One material texture: an image, the sampler that reads it, and whether its texels are sRGB
+/// colour (base colour, emissive) or data (normals, metallic-roughness, occlusion).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct AtlasKey {
+    pub image: usize,
+    pub sampler: TextureSampler,
+    pub colour: bool,
+}
+
+/// The levels of one image with one kind of border.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub(super) struct LevelsKey {
+    pub(super) image: usize,
+    pub(super) colour: bool,
+    pub(super) repeat_u: bool,
+    pub(super) repeat_v: bool,
+}
+
+/// Where one stored level went.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Placed {
+    pub(super) layer: u32,
+    pub(super) x: u32,
+    pub(super) y: u32,
+    pub(super) width: u32,
+    pub(super) height: u32,
+}
 
 /// One stored level: width, height and RGBA8 texels.
 pub(super) type Level = (u32, u32, Vec<u8>);
 
+/// The levels `key` samples: its image, as colour or data, with its borders.
 pub(super) fn levels_key(key: &AtlasKey) -> LevelsKey {
     LevelsKey {
         image: key.image,
@@ -22,6 +51,7 @@ pub(super) fn levels_key(key: &AtlasKey) -> LevelsKey {
         repeat_v: key.sampler.wrap_v == Wrap::Repeat,
     }
 }
+
 /// The levels of `image` stored in the atlas, `(width, height, RGBA8 texels)`, from the first
 /// whose bordered rectangle fits `max_side` (a texture larger than the device's largest is
 /// sampled as if its first fitting level were its level 0).

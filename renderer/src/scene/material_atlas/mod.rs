@@ -21,17 +21,12 @@ use etagere::{AtlasAllocator, size2};
 use shaders_gen::shared::material_atlas::{AtlasLevel, AtlasTexture};
 use wgpu::util::DeviceExt as _;
 
-use super::{Image, TextureSampler};
-use levels::{Level, filter_bits, levels_key, stored_levels, wrap_bits, write_bordered};
+pub use levels::AtlasKey;
 
-/// One material texture: an image, the sampler that reads it, and whether its texels are sRGB
-/// colour (base colour, emissive) or data (normals, metallic-roughness, occlusion).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct AtlasKey {
-    pub image: usize,
-    pub sampler: TextureSampler,
-    pub colour: bool,
-}
+use super::Image;
+use levels::{
+    Level, LevelsKey, Placed, filter_bits, levels_key, stored_levels, wrap_bits, write_bordered,
+};
 
 /// What the atlas cannot hold.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -56,25 +51,6 @@ pub enum AtlasGrowth {
     /// A new image's largest level does not fit a page: nothing changed, and the atlas must be
     /// packed anew with every texture ([`MaterialAtlas::new`]).
     NeedsRepack,
-}
-
-/// The levels of one image with one kind of border.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-struct LevelsKey {
-    image: usize,
-    colour: bool,
-    repeat_u: bool,
-    repeat_v: bool,
-}
-
-/// Where one stored level went.
-#[derive(Debug, Clone, Copy)]
-struct Placed {
-    layer: u32,
-    x: u32,
-    y: u32,
-    width: u32,
-    height: u32,
 }
 
 /// A stored set of levels: its first level record, how many, and level 0's size.
