@@ -105,15 +105,18 @@ fn compare(gpu: &GpuContext, name: &str, light: SceneLight) -> (Comparison, Tigh
         (1, 1),
         "{name}: {report:?}"
     );
-    let unshadowed = render_frame_from(
-        gpu,
-        &scene,
-        c,
-        &[SceneLight {
+    // The same light without its shadow, on the same renderer.
+    renderer
+        .set_lights(&[SceneLight {
             casts_shadow: false,
             ..light
-        }],
-        &camera,
+        }])
+        .expect("lights fit");
+    let unshadowed = render_one_frame(gpu, &mut renderer, &camera);
+    let report_off = unshadowed.report.shadows.clone().expect("shadow report");
+    assert_eq!(
+        report_off.shadowed, 0,
+        "{name}: the reference has no shadow"
     );
     let cmp = shadow_scene::compare_with_ray_cast(
         &camera,
