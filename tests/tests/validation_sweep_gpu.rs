@@ -102,6 +102,10 @@ fn sweep(gpu: &GpuContext, stage: &Stage) -> Counts {
                     stage.name,
                     path.name()
                 );
+                if scalarize && subgroup && !path.is_culled() {
+                    // The naive paths have no list to scalarize: the same shaders as plain.
+                    continue;
+                }
                 let made = Renderer::new(gpu, config);
                 if scalarize && !subgroup {
                     match made {
@@ -109,10 +113,6 @@ fn sweep(gpu: &GpuContext, stage: &Stage) -> Counts {
                         Err(e) => panic!("{what}: refused with {e}, not NoSubgroup"),
                         Ok(_) => panic!("{what}: made a scalarized renderer without subgroups"),
                     }
-                    continue;
-                }
-                if scalarize && !path.is_culled() {
-                    // The naive paths have no list to scalarize: the same shaders as plain.
                     continue;
                 }
                 let mut renderer = made.unwrap_or_else(|e| panic!("{what}: {e}"));

@@ -31,6 +31,13 @@ impl GpuPrimitive {
     pub fn indices(&self) -> std::ops::Range<u32> {
         self.first_index..self.first_index + self.index_count
     }
+
+    /// Its `DrawIndexedIndirect` arguments, one instance numbered `instance` (the index the
+    /// vertex shader reads its draw record by).
+    pub fn indirect_args(&self, instance: u32) -> [u32; 5] {
+        let base_vertex = self.base_vertex as u32;
+        [self.index_count, 1, self.first_index, base_vertex, instance]
+    }
 }
 
 /// The vertex streams and indices of every primitive of a scene, one buffer each.

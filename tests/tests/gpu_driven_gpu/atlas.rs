@@ -232,9 +232,8 @@ fn atlas_textures_sample_as_the_hardware_sampler_for_every_wrap_filter_and_level
     });
 }
 
-/// Textures that fill several layers: each still samples as on its own.
-#[test]
-fn an_atlas_of_several_layers_samples_every_texture_as_the_hardware_sampler() {
+/// 24 images of 64², colour and data in turn: more than one layer of 256².
+fn several_layers() -> (Vec<Image>, Vec<AtlasKey>) {
     let images: Vec<Image> = (0..24).map(|i| image(64, 64, 10 + i)).collect();
     let keys: Vec<AtlasKey> = (0..images.len())
         .map(|image| AtlasKey {
@@ -243,6 +242,13 @@ fn an_atlas_of_several_layers_samples_every_texture_as_the_hardware_sampler() {
             colour: image % 2 == 0,
         })
         .collect();
+    (images, keys)
+}
+
+/// Textures that fill several layers: each still samples as on its own.
+#[test]
+fn an_atlas_of_several_layers_samples_every_texture_as_the_hardware_sampler() {
+    let (images, keys) = several_layers();
     gpu_test(|gpu| {
         let atlas = MaterialAtlas::new(&gpu.device, &gpu.queue, &images, &keys).expect("atlas");
         let (side, layers) = atlas.pages();
@@ -257,14 +263,7 @@ fn an_atlas_of_several_layers_samples_every_texture_as_the_hardware_sampler() {
 #[test]
 fn an_atlas_grown_in_place_samples_every_texture_as_the_hardware_sampler() {
     // The images and keys of the test above, so only the placement differs.
-    let images: Vec<Image> = (0..24).map(|i| image(64, 64, 10 + i)).collect();
-    let keys: Vec<AtlasKey> = (0..images.len())
-        .map(|image| AtlasKey {
-            image,
-            sampler: TextureSampler::default(),
-            colour: image % 2 == 0,
-        })
-        .collect();
+    let (images, keys) = several_layers();
     gpu_test(|gpu| {
         let (device, queue) = (&gpu.device, &gpu.queue);
         let mut atlas = MaterialAtlas::new(device, queue, &images, &keys[..2]).expect("atlas");

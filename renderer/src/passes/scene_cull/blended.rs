@@ -76,10 +76,7 @@ impl BlendedOrder {
         let sort = GpuSort::with_kernels(gpu, &kernels.sort, count, usage)?;
         let words: Vec<u32> = draws
             .iter()
-            .flat_map(|&d| {
-                let g = table.draws[d as usize].geometry;
-                [g.index_count, 1, g.first_index, g.base_vertex as u32, d]
-            })
+            .flat_map(|&d| table.draws[d as usize].geometry.indirect_args(d))
             .collect();
         let device = &gpu.device;
         let templates = wgpu::util::DeviceExt::create_buffer_init(

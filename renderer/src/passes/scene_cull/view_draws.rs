@@ -54,10 +54,7 @@ fn draw_box(table: &InstanceTable, d: usize) -> DrawBox {
 fn slot_arguments(table: &InstanceTable, layout: &BatchLayout, slot: usize) -> [u32; 5] {
     match layout.slot_draws[slot] {
         NO_DRAW => [0; 5],
-        d => {
-            let g = table.draws[d as usize].geometry;
-            [g.index_count, 1, g.first_index, g.base_vertex as u32, d]
-        }
+        d => table.draws[d as usize].geometry.indirect_args(d),
     }
 }
 

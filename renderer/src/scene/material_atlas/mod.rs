@@ -209,12 +209,10 @@ impl MaterialAtlas {
                     0,
                 ));
             }
-            let (w, h, _) = chains[s].first().map_or((1, 1, Vec::new()), Clone::clone);
-            let levels = chains[s].len() as u32;
             let stored = StoredSet {
                 first_level,
-                levels,
-                size: (w, h),
+                levels: chains[s].len() as u32,
+                size: chains[s].first().map_or((1, 1), |(w, h, _)| (*w, *h)),
             };
             self.sets.insert(*set, stored);
         }
