@@ -46,4 +46,5 @@ pub static MODULES: &[&codegen::rt::Module] = &[
     &shadow::shadow_atlas_view::MODULE,
     &shadow::shadow_caster::MODULE,
     &shadow::shadow_compose::MODULE,
+    &shadow::shadow_cull::MODULE,
 ];

@@ -22,6 +22,7 @@ pub mod particle_light_reference;
 pub mod particle_stage;
 pub mod process_memory;
 pub mod shadow_bounds;
+pub mod shadow_probe;
 pub mod shadow_scene;
 pub mod tbdr_interp;
 pub mod tbdr_stage;

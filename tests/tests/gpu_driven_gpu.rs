@@ -8,7 +8,8 @@
 //! added at run time (`assets`); material textures reached by index through the material atlas
 //! sample as the hardware sampler does (`atlas`); occlusion culling hides what a wall hides and nothing visible
 //! (`occlusion`); blended draws ordered back to front on the GPU render as the CPU orders them
-//! (`blended`).
+//! (`blended`); shadow casters culled per atlas region on the GPU draw the atlas the CPU's
+//! caster lists draw (`shadows`).
 
 #[path = "gpu_driven_gpu/assets.rs"]
 mod assets;
@@ -20,6 +21,8 @@ mod blended;
 mod edits;
 #[path = "gpu_driven_gpu/occlusion.rs"]
 mod occlusion;
+#[path = "gpu_driven_gpu/shadows.rs"]
+mod shadows;
 
 use glam::{Mat4, Vec3};
 use renderer::GpuContext;

@@ -404,7 +404,8 @@ fn uncached_frames_redraw_every_region() {
                 (total, 0, 0),
                 "frame {frame}: {r:?}"
             );
-            assert!(c.draws > 0);
+            // Casters are culled and counted on the GPU; the count arrives a frame later.
+            assert!(frame == 0 || c.draws > 0, "frame {frame}: {c:?}");
         }
     });
 }

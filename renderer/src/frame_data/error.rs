@@ -56,6 +56,11 @@ pub enum RenderError {
          one pass (its dispatch limit)"
     )]
     TooManyBlendedDraws { count: u32, max: u32 },
+    #[error(
+        "the scene has {slots} shadow-caster slots; this device culls at most {max} per shadow \
+         region (its storage-binding and dispatch limits)"
+    )]
+    TooManyShadowCasters { slots: u32, max: u32 },
     #[error("a GPU sort of {asked} items; this device's dispatches take at most {max}")]
     SortTooLarge { asked: u32, max: u32 },
     #[error(

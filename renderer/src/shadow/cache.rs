@@ -9,12 +9,11 @@
 //! region, against the region's view frustum.
 
 use std::collections::HashMap;
-use std::hash::{Hash as _, Hasher as _};
 
 use glam::Mat4;
 
 use super::atlas::AtlasRect;
-use super::grid::{CasterGrid, RegionTest};
+use super::region_test::RegionTest;
 use super::views::LightView;
 use crate::scene::Aabb;
 
@@ -57,24 +56,17 @@ pub enum CasterChanges<'a> {
     Only(&'a [u32]),
 }
 
-/// Casters below which every full cull tests them all (the grid costs more than it saves).
-const GRID_MIN_CASTERS: usize = 256;
-
 /// The work of one region.
 #[derive(Debug, Clone, PartialEq)]
 pub enum RegionWork {
     /// Its depth in the shadow atlas is still right: no draw, no copy.
     Untouched,
-    /// Cached: when `redraw_static`, clear the region in the static cache and draw
-    /// `static_casters` there; then copy the static region into the shadow atlas and draw
-    /// `dynamic_casters` over it.
-    Compose {
-        redraw_static: bool,
-        static_casters: Vec<u32>,
-        dynamic_casters: Vec<u32>,
-    },
+    /// Cached: when `redraw_static`, clear the region in the static cache and draw its
+    /// static casters there; then copy the static region into the shadow atlas and draw its
+    /// dynamic casters over it.
+    Compose { redraw_static: bool },
     /// Uncached: clear the region in the shadow atlas and draw every caster there.
-    Direct { casters: Vec<u32> },
+    Direct,
 }
 
 /// One region's plan.
@@ -93,33 +85,24 @@ pub struct CacheCounts {
     pub copied: u32,
     /// Regions left alone.
     pub untouched: u32,
-    /// Caster draw calls.
+    /// Casters drawn into regions (a caster drawn into two regions counts twice). Culled
+    /// on the GPU, they are counted there and arrive a frame or two later: the newest count
+    /// that has arrived when the frame has work, 0 when it has none.
     pub draws: u32,
 }
 
 impl CacheCounts {
-    /// The counts of `plans`.
+    /// The region counts of `plans` (`draws` is the shadow pass's to fill).
     pub fn of(plans: &[RegionPlan]) -> Self {
         let mut c = Self::default();
         for p in plans {
-            match &p.work {
+            match p.work {
                 RegionWork::Untouched => c.untouched += 1,
-                RegionWork::Compose {
-                    redraw_static,
-                    static_casters,
-                    dynamic_casters,
-                } => {
+                RegionWork::Compose { redraw_static } => {
                     c.copied += 1;
-                    if *redraw_static {
-                        c.redrawn += 1;
-                        c.draws += static_casters.len() as u32;
-                    }
-                    c.draws += dynamic_casters.len() as u32;
+                    c.redrawn += u32::from(redraw_static);
                 }
-                RegionWork::Direct { casters } => {
-                    c.redrawn += 1;
-                    c.draws += casters.len() as u32;
-                }
+                RegionWork::Direct => c.redrawn += 1,
             }
         }
         c
@@ -131,28 +114,21 @@ impl CacheCounts {
 struct RegionState {
     rect: AtlasRect,
     clip_from_world: Mat4,
-    /// Indices into the frame's casters that reach the region, ascending.
-    reaching: Vec<u32>,
-    static_signature: u64,
-    dynamic_signature: u64,
     /// The last frame that planned the region (older regions are forgotten).
     frame: u64,
 }
 
 /// The regions' cached state across frames.
 ///
-/// Culling is incremental: a region whose view is unchanged re-tests only the casters that
-/// changed since the last frame (moved, switched between static and dynamic), so a frame where
-/// nothing moved costs one comparison per caster and per region, not casters × regions frustum
-/// tests; told which casters changed ([`CasterChanges::Only`]), it does not compare them
-/// either, and a frame costs what changed and what reaches the changed regions.
+/// A region whose view is unchanged is tested only against the casters that changed since the
+/// last frame (moved, switched between static and dynamic, added or removed), in their old and
+/// new state; not told which changed, the cache compares every caster with last frame's once,
+/// and told ([`CasterChanges::Only`]), it does not even do that.
 #[derive(Debug, Default)]
 pub struct ShadowCache {
     regions: HashMap<RegionKey, RegionState>,
     /// The last frame's casters.
     casters: Vec<Caster>,
-    /// The grid of `casters`, while none changed.
-    grid: Option<CasterGrid>,
     /// Frames planned so far.
     frame: u64,
 }
@@ -162,7 +138,6 @@ impl ShadowCache {
     pub fn clear(&mut self) {
         self.regions.clear();
         self.casters.clear();
-        self.grid = None;
     }
 
     /// Plans `regions` against `casters`: cached when `cached`, else every region is drawn
@@ -188,51 +163,36 @@ impl ShadowCache {
             CasterChanges::Unknown => changed_casters(&self.casters, casters),
             CasterChanges::Only(list) => Some(self.with_new_casters(list, casters)),
         };
-        let nothing_changed = changed.as_ref().is_some_and(Vec::is_empty);
         // Uncached frames leave nothing behind in the static cache.
         if !cached {
             self.regions.clear();
         }
-        if !nothing_changed {
-            self.grid = None;
-        }
-        // A region new or with another view culls every caster: through the grid, built
-        // when a frame needs it and kept while no caster changes.
-        let full_culls = changed.is_none()
-            || regions.iter().any(|r| {
-                (self.regions.get(&r.key))
-                    .is_none_or(|o| o.clip_from_world != r.view.clip_from_world)
-            });
-        if full_culls && self.grid.is_none() && casters.len() >= GRID_MIN_CASTERS {
-            let boxes: Vec<Aabb> = casters.iter().map(|c| c.bounds).collect();
-            self.grid = Some(CasterGrid::new(&boxes));
-        }
-        let grid = self.grid.as_ref();
         self.frame += 1;
         let mut plans = Vec::with_capacity(regions.len());
         for region in regions {
-            let old = self.regions.get_mut(&region.key);
-            let work = match old {
-                // Same view, same rectangle, no caster changed: the region is as it was.
-                Some(o)
-                    if nothing_changed
-                        && o.rect == region.rect
-                        && o.clip_from_world == region.view.clip_from_world =>
-                {
-                    o.frame = self.frame;
-                    RegionWork::Untouched
-                }
-                old => {
-                    let old = old.map(|o| &*o);
-                    let changed = changed.as_deref();
-                    let (work, state) =
-                        region_work(region, old, (casters, grid), changed, cached, self.frame);
-                    if cached {
-                        self.regions.insert(region.key, state);
-                    }
-                    work
-                }
+            let kept = self.regions.get(&region.key).filter(|o| {
+                o.rect == region.rect && o.clip_from_world == region.view.clip_from_world
+            });
+            let work = match (cached, kept, changed.as_deref()) {
+                (false, ..) => RegionWork::Direct,
+                (true, Some(_), Some(changed)) => self
+                    .touched(region, changed, casters)
+                    .map_or(RegionWork::Untouched, |redraw_static| RegionWork::Compose {
+                        redraw_static,
+                    }),
+                // New, moved or resized, or every caster may have changed.
+                (true, ..) => RegionWork::Compose {
+                    redraw_static: true,
+                },
             };
+            if cached {
+                let state = RegionState {
+                    rect: region.rect,
+                    clip_from_world: region.view.clip_from_world,
+                    frame: self.frame,
+                };
+                self.regions.insert(region.key, state);
+            }
             plans.push(RegionPlan {
                 region: *region,
                 work,
@@ -256,6 +216,27 @@ impl ShadowCache {
         plans
     }
 
+    /// What `changed` casters (indices into `casters`, this frame's list) did to an unmoved
+    /// `region`, each in its last plan's state and its new one: `None` when none may reach it,
+    /// `Some(true)` when a static one may (its static depth is drawn again), `Some(false)`
+    /// when only dynamic ones may (the region is composed again).
+    fn touched(&self, region: &RegionInput, changed: &[u32], casters: &[Caster]) -> Option<bool> {
+        let test = RegionTest::new(region.view.clip_from_world);
+        let mut dynamic = false;
+        for &i in changed {
+            let states = [self.casters.get(i as usize), casters.get(i as usize)];
+            for c in states.into_iter().flatten() {
+                if test.may_reach(&c.bounds) {
+                    if !c.dynamic {
+                        return Some(true);
+                    }
+                    dynamic = true;
+                }
+            }
+        }
+        dynamic.then_some(false)
+    }
+
     /// `list`, with every caster past the last plan's list (new ones) added, ascending and
     /// within `casters`.
     fn with_new_casters(&self, list: &[u32], casters: &[Caster]) -> Vec<u32> {
@@ -270,126 +251,14 @@ impl ShadowCache {
     }
 }
 
-/// The work of a region that is new, moved, or reached by a changed caster, and its new state.
-fn region_work(
-    region: &RegionInput,
-    old: Option<&RegionState>,
-    (casters, grid): (&[Caster], Option<&CasterGrid>),
-    changed: Option<&[u32]>,
-    cached: bool,
-    frame: u64,
-) -> (RegionWork, RegionState) {
-    let reaching = reaching(region, old, (casters, grid), changed);
-    let (statics, dynamics): (Vec<&Caster>, Vec<&Caster>) = reaching
-        .iter()
-        .map(|&i| &casters[i as usize])
-        .partition(|c| !c.dynamic);
-    let (static_signature, dynamic_signature) = (signature(&statics), signature(&dynamics));
-    let work = if cached {
-        cached_work(
-            old,
-            region,
-            static_signature,
-            dynamic_signature,
-            &statics,
-            &dynamics,
-        )
-    } else {
-        RegionWork::Direct {
-            casters: reaching.iter().map(|&i| casters[i as usize].draw).collect(),
-        }
-    };
-    let state = RegionState {
-        rect: region.rect,
-        clip_from_world: region.view.clip_from_world,
-        reaching,
-        static_signature,
-        dynamic_signature,
-        frame,
-    };
-    (work, state)
-}
-
-/// Which casters differ from the last frame's (indices, ascending); `None` when the list
-/// itself changed (another length), and every region culls afresh.
+/// Which casters differ from the last frame's or are new (indices, ascending); `None` when
+/// the list got shorter (another scene), and every region is drawn again.
 fn changed_casters(last: &[Caster], now: &[Caster]) -> Option<Vec<u32>> {
-    (last.len() == now.len()).then(|| {
+    (last.len() <= now.len()).then(|| {
         (0..now.len() as u32)
-            .filter(|&i| last[i as usize] != now[i as usize])
+            .filter(|&i| last.get(i as usize) != Some(&now[i as usize]))
             .collect()
     })
-}
-
-/// The casters reaching `region` (indices, ascending): the old list with only the changed
-/// casters re-tested when the region's view is unchanged, else every caster tested (those
-/// `grid` finds near the region's frustum, with a grid).
-fn reaching(
-    region: &RegionInput,
-    old: Option<&RegionState>,
-    (casters, grid): (&[Caster], Option<&CasterGrid>),
-    changed: Option<&[u32]>,
-) -> Vec<u32> {
-    let test = RegionTest::new(region.view.clip_from_world);
-    let reaches = |&i: &u32| test.reaches(&casters[i as usize].bounds);
-    let reused = old.filter(|o| o.clip_from_world == region.view.clip_from_world);
-    match (reused, changed) {
-        (Some(o), Some(changed)) => {
-            let mut list: Vec<u32> = o
-                .reaching
-                .iter()
-                .copied()
-                .filter(|i| changed.binary_search(i).is_err())
-                .chain(changed.iter().copied().filter(reaches))
-                .collect();
-            list.sort_unstable();
-            list
-        }
-        _ => match grid.and_then(|g| g.candidates(&test)) {
-            Some(near) => near.into_iter().filter(reaches).collect(),
-            None => (0..casters.len() as u32).filter(reaches).collect(),
-        },
-    }
-}
-
-/// A cached region's work, from its old state (if it had one) and its new one.
-fn cached_work(
-    old: Option<&RegionState>,
-    region: &RegionInput,
-    static_signature: u64,
-    dynamic_signature: u64,
-    statics: &[&Caster],
-    dynamics: &[&Caster],
-) -> RegionWork {
-    let static_valid = old.is_some_and(|o| {
-        o.rect == region.rect
-            && o.clip_from_world == region.view.clip_from_world
-            && o.static_signature == static_signature
-    });
-    let composed_valid =
-        static_valid && old.is_some_and(|o| o.dynamic_signature == dynamic_signature);
-    if composed_valid {
-        return RegionWork::Untouched;
-    }
-    RegionWork::Compose {
-        redraw_static: !static_valid,
-        static_casters: if static_valid {
-            Vec::new()
-        } else {
-            statics.iter().map(|c| c.draw).collect()
-        },
-        dynamic_casters: dynamics.iter().map(|c| c.draw).collect(),
-    }
-}
-
-/// A hash of which casters (and which versions of them) reach a region.
-fn signature(casters: &[&Caster]) -> u64 {
-    let mut h = std::collections::hash_map::DefaultHasher::new();
-    casters.len().hash(&mut h);
-    for c in casters {
-        c.draw.hash(&mut h);
-        c.version.hash(&mut h);
-    }
-    h.finish()
 }
 
 #[cfg(test)]

@@ -1,6 +1,7 @@
 //! The cache's decisions over frames: nothing to do when nothing changed, recomposition for
 //! moving dynamic casters and redraws for moving static ones, moved and vanished regions,
-//! uncached frames, and incremental culling equal to culling afresh.
+//! uncached frames, and plans that never leave a region stale (against a reference that
+//! culls every caster afresh).
 
 use glam::Vec3;
 
@@ -106,17 +107,14 @@ fn a_moving_dynamic_caster_recomposes_only_the_faces_it_reaches() {
         .map(|p| p.region.key.face)
         .collect();
     assert_eq!(composed, [1, 5]);
-    for p in &plans {
-        if let RegionWork::Compose {
-            redraw_static,
-            dynamic_casters,
-            ..
-        } = &p.work
-        {
-            assert!(!redraw_static, "static depth stays cached");
-            let reaches = p.region.key.face == 5;
-            assert_eq!(dynamic_casters.contains(&2), reaches);
-        }
+    for p in plans.iter().filter(|p| p.work != RegionWork::Untouched) {
+        assert_eq!(
+            p.work,
+            RegionWork::Compose {
+                redraw_static: false
+            },
+            "static depth stays cached"
+        );
     }
 }
 
@@ -162,24 +160,34 @@ fn a_moved_region_or_view_is_redrawn_and_a_vanished_one_forgotten() {
 }
 
 #[test]
-fn uncached_frames_draw_every_region_with_what_reaches_it() {
+fn uncached_frames_draw_every_region() {
     let mut cache = ShadowCache::default();
     for _ in 0..2 {
         let plans = cache.plan(&faces(), &casters(), false);
         assert_eq!(counts(&plans).redrawn, 6);
-        let down = &plans[3].work;
-        assert_eq!(
-            down,
-            &RegionWork::Direct { casters: vec![0] },
-            "−Y sees the floor"
-        );
+        assert!(plans.iter().all(|p| p.work == RegionWork::Direct));
     }
 }
 
-/// Random motions over many frames: the incrementally culled lists always equal culling
-/// every caster afresh.
+/// The static and dynamic casters (draw and version) that reach `region`, tested one by one
+/// with the exact test: what a region's depth depends on.
+fn reaching(region: &RegionInput, casters: &[Caster]) -> [Vec<(u32, u64)>; 2] {
+    let test = RegionTest::new(region.view.clip_from_world);
+    let of = |dynamic: bool| {
+        (casters.iter())
+            .filter(|c| c.dynamic == dynamic && test.reaches(&c.bounds))
+            .map(|c| (c.draw, c.version))
+            .collect()
+    };
+    [of(false), of(true)]
+}
+
+/// Random motions, switches between static and dynamic, and additions over many frames:
+/// wherever the static or dynamic casters reaching a region (with their versions) differ from
+/// last frame's, the plan redraws or recomposes it; a region it redraws has a changed caster
+/// near it; and a cache told which casters changed plans as one that compares them all.
 #[test]
-fn incremental_culling_equals_culling_afresh() {
+fn plans_follow_every_change_that_reaches_a_region_and_only_those() {
     let mut rng = Lcg(7);
     let regions = faces();
     let cube = |rng: &mut Lcg, i: u32| {
@@ -193,9 +201,13 @@ fn incremental_culling_equals_culling_afresh() {
     let mut casters: Vec<Caster> = (0..40).map(|i| cube(&mut rng, i)).collect();
     // One cache compares every caster with the last frame's; the other is told which changed
     // (and casters are appended, as added instances append draws).
-    let mut incremental = ShadowCache::default();
+    let mut compared = ShadowCache::default();
     let mut told = ShadowCache::default();
-    for frame in 0..60 {
+    compared.plan(&regions, &casters, true);
+    told.plan(&regions, &casters, true);
+    let (mut redraws, mut recomposes, mut untouched) = (0, 0, 0);
+    for frame in 0..120 {
+        let last = casters.clone();
         let mut changed = Vec::new();
         for _ in 0..(frame % 4) {
             let i = (rng.next() % casters.len() as u64) as usize;
@@ -205,6 +217,7 @@ fn incremental_culling_equals_culling_afresh() {
                 min: c.bounds.min + step,
                 max: c.bounds.max + step,
             };
+            c.dynamic ^= frame % 5 == 1;
             c.version += 1;
             changed.push(i as u32);
         }
@@ -215,7 +228,7 @@ fn incremental_culling_equals_culling_afresh() {
         }
         changed.sort_unstable();
         changed.dedup();
-        let compared = incremental.plan(&regions, &casters, true);
+        let plans = compared.plan(&regions, &casters, true);
         // Now and then not told: the cache compares with the list it kept.
         let changes = if frame % 10 == 0 {
             CasterChanges::Unknown
@@ -224,20 +237,63 @@ fn incremental_culling_equals_culling_afresh() {
         };
         assert_eq!(
             told.plan_changes(&regions, &casters, true, changes),
-            compared,
+            plans,
             "frame {frame}: told the changes, the plan is the same"
         );
-        for r in &regions {
-            let fresh = reaching(r, None, (&casters, None), None);
-            for cache in [&incremental, &told] {
-                assert_eq!(
-                    cache.regions[&r.key].reaching, fresh,
-                    "frame {frame}, face {}",
-                    r.key.face
-                );
-            }
+        for (r, plan) in regions.iter().zip(&plans) {
+            let tally = match check_plan(r, plan, (&last, &casters), &changed, frame) {
+                RegionWork::Compose {
+                    redraw_static: true,
+                } => &mut redraws,
+                RegionWork::Compose { .. } => &mut recomposes,
+                _ => &mut untouched,
+            };
+            *tally += 1;
         }
     }
+    assert!(
+        redraws > 20 && recomposes > 20 && untouched > 200,
+        "the flight exercises every decision: {redraws} redraws, {recomposes} \
+         recompositions, {untouched} untouched"
+    );
+}
+
+/// Checks one region's plan against the casters reaching it last frame and now; returns its
+/// work.
+fn check_plan(
+    r: &RegionInput,
+    plan: &RegionPlan,
+    (last, casters): (&[Caster], &[Caster]),
+    changed: &[u32],
+    frame: u32,
+) -> RegionWork {
+    let [statics, dynamics] = reaching(r, casters);
+    let [last_statics, last_dynamics] = reaching(r, last);
+    let face = r.key.face;
+    match plan.work {
+        RegionWork::Compose {
+            redraw_static: true,
+        } => {}
+        RegionWork::Compose { .. } => {
+            assert_eq!(statics, last_statics, "frame {frame}, face {face}");
+        }
+        RegionWork::Untouched => {
+            assert_eq!(statics, last_statics, "frame {frame}, face {face}");
+            assert_eq!(dynamics, last_dynamics, "frame {frame}, face {face}");
+        }
+        RegionWork::Direct => panic!("a cached plan draws no region directly"),
+    }
+    if plan.work != RegionWork::Untouched {
+        let test = RegionTest::new(r.view.clip_from_world);
+        let near = |c: &Caster| test.may_reach(&c.bounds);
+        assert!(
+            changed
+                .iter()
+                .any(|&i| { near(&casters[i as usize]) || last.get(i as usize).is_some_and(near) }),
+            "frame {frame}, face {face}: redrawn without a change near it"
+        );
+    }
+    plan.work.clone()
 }
 
 /// A caster moved in a frame the cache was told of, then moved back in a frame it was not:
@@ -249,15 +305,18 @@ fn a_caster_moved_while_told_and_back_while_not_leaves_the_face_it_left() {
     cache.plan(&faces(), &start, true);
     let mut moved = start.clone();
     moved[2] = cube_at(2, Vec3::new(0.0, 0.0, -4.0), true, 0);
-    cache.plan_changes(&faces(), &moved, true, CasterChanges::Only(&[2]));
-    assert!(cache.regions[&faces()[5].key].reaching.contains(&2));
-    cache.plan(&faces(), &start, true);
-    for r in &faces() {
-        assert_eq!(
-            cache.regions[&r.key].reaching,
-            reaching(r, None, (&start, None), None),
-            "face {}",
-            r.key.face
-        );
-    }
+    let plans = cache.plan_changes(&faces(), &moved, true, CasterChanges::Only(&[2]));
+    assert_ne!(
+        plans[5].work,
+        RegionWork::Untouched,
+        "the −Z face gains the box"
+    );
+    // Back without telling: the cache compares with the told frame's list, and the −Z face
+    // loses the box again.
+    let plans = cache.plan(&faces(), &start, true);
+    let composed: Vec<u32> = (plans.iter())
+        .filter(|p| p.work != RegionWork::Untouched)
+        .map(|p| p.region.key.face)
+        .collect();
+    assert_eq!(composed, [1, 5]);
 }

@@ -10,7 +10,7 @@
 pub mod atlas;
 pub mod cache;
 pub mod frame;
-pub mod grid;
+pub mod region_test;
 pub mod resolution;
 pub mod views;
 

@@ -102,7 +102,7 @@ fn cameras() -> [FrameCamera; 3] {
 
 /// The same adapter opened without `INDIRECT_FIRST_INSTANCE`: the renderer orders blended
 /// draws on the CPU there.
-fn without_indirect_first_instance(gpu: &GpuContext) -> GpuContext {
+pub(super) fn without_indirect_first_instance(gpu: &GpuContext) -> GpuContext {
     let (features, limits) =
         renderer::gpu::requirements::for_adapter(&gpu.adapter).expect("requirements");
     let (device, queue) = pollster::block_on(gpu.adapter.request_device(&wgpu::DeviceDescriptor {

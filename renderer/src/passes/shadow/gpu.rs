@@ -1,17 +1,19 @@
 //! The shadow pass's GPU objects: the shadow atlas and its static cache (both
 //! [`SHADOW_FORMAT`], reversed Z), the caster, clear and copy pipelines, the view buffers, and
-//! the recording of a frame's region work.
+//! the recording of a frame's work items (culled on the GPU and drawn by multi-draws, or
+//! listed on the CPU and drawn one by one).
 
 use std::sync::Arc;
 
 use shaders_gen::shadow::{shadow_caster, shadow_compose};
 
 use super::super::{MASK_STREAMS, MeshPipeline, SceneDraws, mesh_pipeline};
+use super::culling::CullDispatches;
+use super::work::{Start, WorkItem};
 use crate::frame_data::{PreparedScene, RenderError};
-use crate::scene::VertexStreams;
+use crate::scene::{AlphaMode, VertexStreams};
 use crate::shader::ShaderProgram;
 use crate::shadow::atlas::AtlasRect;
-use crate::shadow::cache::{RegionPlan, RegionWork};
 
 /// The atlas format: 32-bit float depth (reversed Z keeps its precision where it matters).
 pub const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
@@ -157,7 +159,7 @@ fn region_pipeline(
     })
 }
 
-/// The atlases and the per-frame buffers and bind groups.
+/// The atlases and the view buffers.
 #[derive(Debug)]
 pub struct ShadowTargets {
     /// Sampled by shading, drawn by the pass.
@@ -170,12 +172,6 @@ pub struct ShadowTargets {
     pub views: wgpu::Buffer,
     /// `VIEWS` of the caster pipeline (one clip matrix per region).
     pub caster_views: wgpu::Buffer,
-    /// `CASTS` of the caster pipeline (a draw and a region per caster drawn).
-    pub casts: wgpu::Buffer,
-    /// Casts `casts` holds.
-    pub cast_capacity: usize,
-    /// Group 0 of the caster pipelines: `caster_views` and `casts`.
-    pub caster_group: wgpu::BindGroup,
     /// Group 0 of the copy pipeline (the static atlas).
     pub copy_group: Option<wgpu::BindGroup>,
     /// Views `views` and `caster_views` hold.
@@ -198,9 +194,6 @@ impl ShadowTargets {
         });
         let capacity = capacity.max(1);
         let (views, caster_views) = view_buffers(device, capacity);
-        let cast_capacity = 256;
-        let casts = cast_buffer(device, cast_capacity);
-        let caster_group = caster_group(device, pipelines, &caster_views, &casts);
         let copy_group = static_atlas.as_ref().map(|view| {
             device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("shadow static cache"),
@@ -221,41 +214,15 @@ impl ShadowTargets {
             }),
             views,
             caster_views,
-            casts,
-            cast_capacity,
-            caster_group,
             copy_group,
             capacity,
         }
     }
-}
 
-impl ShadowTargets {
     /// Replaces the view buffers with ones for `capacity` views (the atlases stay).
-    pub fn grow(&mut self, device: &wgpu::Device, pipelines: &ShadowPipelines, capacity: usize) {
+    pub fn grow(&mut self, device: &wgpu::Device, capacity: usize) {
         (self.views, self.caster_views) = view_buffers(device, capacity);
         self.capacity = capacity;
-        self.caster_group = caster_group(device, pipelines, &self.caster_views, &self.casts);
-    }
-
-    /// Writes a frame's casts, first replacing the cast buffer with a larger one if they do not
-    /// fit.
-    pub fn write_casts(
-        &mut self,
-        gpu: &crate::GpuContext,
-        pipelines: &ShadowPipelines,
-        casts: &[shadow_caster::Cast],
-    ) {
-        if casts.len() > self.cast_capacity {
-            self.cast_capacity = casts.len().next_power_of_two();
-            self.casts = cast_buffer(&gpu.device, self.cast_capacity);
-            self.caster_group =
-                caster_group(&gpu.device, pipelines, &self.caster_views, &self.casts);
-        }
-        if !casts.is_empty() {
-            gpu.queue
-                .write_buffer(&self.casts, 0, bytemuck::cast_slice(casts));
-        }
     }
 }
 
@@ -274,30 +241,23 @@ fn view_buffers(device: &wgpu::Device, capacity: usize) -> (wgpu::Buffer, wgpu::
     (views, caster_views)
 }
 
-/// The casters' `CASTS`, for `capacity` casts.
-fn cast_buffer(device: &wgpu::Device, capacity: usize) -> wgpu::Buffer {
-    storage(
-        device,
-        "shadow casts",
-        capacity * size_of::<shadow_caster::Cast>(),
-    )
-}
-
-/// Group 0 of the caster pipelines.
-fn caster_group(
-    device: &wgpu::Device,
-    pipelines: &ShadowPipelines,
-    caster_views: &wgpu::Buffer,
-    casts: &wgpu::Buffer,
-) -> wgpu::BindGroup {
-    device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("shadow caster views and casts"),
-        layout: &pipelines.caster_program.bind_group_layouts[0],
-        entries: &super::super::entries(&[
-            caster_views.as_entire_binding(),
-            casts.as_entire_binding(),
-        ]),
-    })
+impl ShadowPipelines {
+    /// Group 0 of the caster pipelines: the regions' clip matrices and the cast records.
+    pub fn caster_group(
+        &self,
+        device: &wgpu::Device,
+        caster_views: &wgpu::Buffer,
+        casts: &wgpu::Buffer,
+    ) -> wgpu::BindGroup {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("shadow caster views and casts"),
+            layout: &self.caster_program.bind_group_layouts[0],
+            entries: &super::super::entries(&[
+                caster_views.as_entire_binding(),
+                casts.as_entire_binding(),
+            ]),
+        })
+    }
 }
 
 fn atlas_texture(device: &wgpu::Device, label: &str, size: u32) -> wgpu::Texture {
@@ -331,11 +291,26 @@ fn storage(device: &wgpu::Device, label: &str, bytes: usize) -> wgpu::Buffer {
     })
 }
 
+/// Where a frame's casts come from.
+pub enum CastSource {
+    /// Culled on the GPU, chunk by chunk: each work item draws its run of `dispatches.stride`
+    /// argument slots, the first `opaque` with the opaque pipeline, the rest masked.
+    Culled {
+        dispatches: CullDispatches,
+        args: wgpu::Buffer,
+        opaque: u32,
+    },
+    /// Listed on the CPU (`CastList`), drawn one by one: per item, its first cast and count.
+    Listed {
+        casts: Vec<shadow_caster::Cast>,
+        runs: Vec<(u32, u32)>,
+    },
+}
+
 /// What the recording of one frame needs.
 pub struct Recording {
-    pub regions: Vec<RegionPlan>,
-    /// Per region, its first cast in the static cache and in the atlas (`CastList::first`).
-    pub first_casts: Vec<[u32; 2]>,
+    pub items: Vec<WorkItem>,
+    pub casts: CastSource,
     pub scene: Arc<PreparedScene>,
     pub instances: Arc<crate::frame_data::InstanceTable>,
     pub caster: CasterPipelines,
@@ -347,89 +322,101 @@ pub struct Recording {
 }
 
 impl Recording {
-    /// Records the static-cache redraws, then the shadow atlas's compositions and direct draws.
+    /// Records the work items in order: per chunk of GPU-culled work, the culling dispatch,
+    /// then the chunk's static-cache redraws, then its draws into the shadow atlas.
     pub fn record(&self, encoder: &mut wgpu::CommandEncoder, atlas: &wgpu::TextureView) {
-        let redraws: Vec<(u32, &RegionPlan)> = self
-            .indexed()
-            .filter(|(_, r)| {
-                matches!(
-                    r.work,
-                    RegionWork::Compose {
-                        redraw_static: true,
-                        ..
-                    }
-                )
-            })
-            .collect();
-        if let (Some(static_view), false) = (&self.static_atlas, redraws.is_empty()) {
-            let mut pass = depth_pass(encoder, "shadow static cache", static_view);
-            for (view, r) in &redraws {
-                if let RegionWork::Compose { static_casters, .. } = &r.work {
-                    self.clear_region(&mut pass, r.region.rect);
-                    let first = self.first_casts[*view as usize][0];
-                    self.draw_casters(&mut pass, first, static_casters);
+        match &self.casts {
+            CastSource::Culled { dispatches, .. } => {
+                dispatches.clear_count(encoder);
+                for (c, chunk) in dispatches.chunks.iter().enumerate() {
+                    dispatches.cull(encoder, c);
+                    self.record_items(encoder, atlas, chunk.start as usize..chunk.end as usize);
                 }
             }
-        }
-        let mut pass = depth_pass(encoder, "shadow atlas", atlas);
-        for (view, r) in self.indexed() {
-            match &r.work {
-                RegionWork::Untouched => {}
-                RegionWork::Compose {
-                    dynamic_casters, ..
-                } => {
-                    set_region(&mut pass, r.region.rect);
-                    pass.set_pipeline(&self.copy);
-                    if let Some(g) = &self.copy_group {
-                        pass.set_bind_group(0, g, &[]);
-                    }
-                    pass.draw(0..3, 0..1);
-                    let first = self.first_casts[view as usize][1];
-                    self.draw_casters(&mut pass, first, dynamic_casters);
-                }
-                RegionWork::Direct { casters } => {
-                    self.clear_region(&mut pass, r.region.rect);
-                    let first = self.first_casts[view as usize][1];
-                    self.draw_casters(&mut pass, first, casters);
-                }
-            }
+            CastSource::Listed { .. } => self.record_items(encoder, atlas, 0..self.items.len()),
         }
     }
 
-    fn indexed(&self) -> impl Iterator<Item = (u32, &RegionPlan)> {
-        self.regions.iter().enumerate().map(|(i, r)| (i as u32, r))
-    }
-
-    fn clear_region(&self, pass: &mut wgpu::RenderPass<'_>, rect: AtlasRect) {
-        set_region(pass, rect);
-        pass.set_pipeline(&self.clear);
-        pass.draw(0..3, 0..1);
-    }
-
-    /// Draws `casters` into the current region (the viewport is set) as casts `first..`: the
-    /// cast record names the draw and the region's clip matrix for the caster shader.
-    /// Alpha-masked casters draw with the masked pipeline and the scene's mask group.
-    fn draw_casters<'a>(&'a self, pass: &mut wgpu::RenderPass<'a>, first: u32, casters: &[u32]) {
-        if casters.is_empty() {
+    /// Items `range`: the static cache's, then the shadow atlas's.
+    fn record_items(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        atlas: &wgpu::TextureView,
+        range: std::ops::Range<usize>,
+    ) {
+        let items = || {
+            (range.clone())
+                .map(|i| (i, &self.items[i]))
+                .map(move |(i, item)| (i, i - range.start, item))
+        };
+        let static_view = self.static_atlas.as_ref();
+        if let Some(view) = static_view.filter(|_| items().any(|(_, _, i)| i.in_static_cache())) {
+            let mut pass = depth_pass(encoder, "shadow static cache", view);
+            for (i, run, item) in items().filter(|(_, _, i)| i.in_static_cache()) {
+                set_region(&mut pass, item.rect);
+                pass.set_pipeline(&self.clear);
+                pass.draw(0..3, 0..1);
+                self.draw_item(&mut pass, i, run);
+            }
+        }
+        if !items().any(|(_, _, i)| !i.in_static_cache()) {
             return;
         }
+        let mut pass = depth_pass(encoder, "shadow atlas", atlas);
+        for (i, run, item) in items().filter(|(_, _, i)| !i.in_static_cache()) {
+            set_region(&mut pass, item.rect);
+            if item.start == Start::CopyStatic {
+                pass.set_pipeline(&self.copy);
+                if let Some(g) = &self.copy_group {
+                    pass.set_bind_group(0, g, &[]);
+                }
+            } else {
+                pass.set_pipeline(&self.clear);
+            }
+            pass.draw(0..3, 0..1);
+            self.draw_item(&mut pass, i, run);
+        }
+    }
+
+    /// Draws item `i`'s casters into its region (the viewport is set); `run` is its place in
+    /// its chunk. Alpha-masked casters draw with the masked pipeline and the scene's mask group.
+    fn draw_item<'a>(&'a self, pass: &mut wgpu::RenderPass<'a>, i: usize, run: usize) {
         pass.set_bind_group(0, &self.caster_group, &[]);
         let mut draws = SceneDraws::new(pass, &self.scene, &self.instances, VertexStreams::Mask);
-        for (cast, &c) in (first..).zip(casters) {
-            let Some(draw) = self.instances.draws.get(c as usize) else {
-                continue;
-            };
-            let masked = self
-                .scene
-                .materials
-                .get(draw.material)
-                .is_some_and(|m| matches!(m.alpha_mode, crate::scene::AlphaMode::Mask { .. }));
-            let (pipeline, group) = if masked {
-                (&self.caster.masked, Some(self.scene.mask_group()))
-            } else {
-                (&self.caster.opaque, None)
-            };
-            draws.draw(pipeline, group, draw.geometry, cast);
+        let mask_group = Some(self.scene.mask_group());
+        match &self.casts {
+            CastSource::Culled {
+                dispatches,
+                args,
+                opaque,
+            } => {
+                let first = run as u64 * u64::from(dispatches.stride);
+                let masked = dispatches.stride - opaque;
+                if *opaque > 0 {
+                    draws.multi_draw(&self.caster.opaque, None, args, first, *opaque);
+                }
+                if masked > 0 {
+                    let at = first + u64::from(*opaque);
+                    draws.multi_draw(&self.caster.masked, mask_group, args, at, masked);
+                }
+            }
+            CastSource::Listed { casts, runs } => {
+                let (first, count) = runs[i];
+                let listed = &casts[first as usize..(first + count) as usize];
+                for (cast, c) in (first..).zip(listed) {
+                    let Some(draw) = self.instances.draws.get(c.draw as usize) else {
+                        continue;
+                    };
+                    let masked = (self.scene.materials.get(draw.material))
+                        .is_some_and(|m| matches!(m.alpha_mode, AlphaMode::Mask { .. }));
+                    let (pipeline, group) = if masked {
+                        (&self.caster.masked, mask_group)
+                    } else {
+                        (&self.caster.opaque, None)
+                    };
+                    draws.draw(pipeline, group, draw.geometry, cast);
+                }
+            }
         }
     }
 }

@@ -9,9 +9,10 @@
 //! a draw or a copy: a frame where nothing changed runs no shadow work at all.
 
 mod casters;
-mod casts;
+mod culling;
 mod gpu;
 mod view;
+mod work;
 
 pub use gpu::SHADOW_FORMAT;
 pub use view::ShadowAtlasViewPass;
@@ -31,9 +32,10 @@ use crate::scene::Aabb;
 use crate::shadow::cache::CasterChanges;
 use crate::shadow::frame::{FramePlan, PlanInputs, ShadowPlanner, ViewRecord};
 use casters::CasterCache;
-use casts::CastList;
-use gpu::{Recording, ShadowPipelines, ShadowTargets};
+use culling::CasterCulling;
+use gpu::{CastSource, Recording, ShadowPipelines, ShadowTargets};
 use shaders_gen::shared::shadow_atlas::NO_SHADOW;
+use work::{CastList, WorkItem, work_items};
 
 /// The shadow pass.
 #[derive(Debug)]
@@ -46,8 +48,15 @@ pub struct ShadowPass {
     written: Option<(Arc<LightSet>, Vec<u32>, Vec<u32>)>,
     /// The view records in the views buffer.
     uploaded: Vec<forward::ShadowView>,
-    /// Where each region's casts start in the cast buffer (this frame's plan).
-    first_casts: Vec<[u32; 2]>,
+    /// This frame's work items, and their casts where the CPU lists them.
+    items: Vec<WorkItem>,
+    listed: Option<CastList>,
+    /// Casters culled per region on the GPU (their casts buffer serves the CPU lists too).
+    culling: CasterCulling,
+    /// Whether the device draws indirectly with a first instance (else the CPU lists casts).
+    indirect: bool,
+    /// Group 0 of the caster pipelines, with the view and cast buffers it binds.
+    caster_group: Option<(wgpu::Buffer, wgpu::Buffer, wgpu::BindGroup)>,
     /// The casters of the scene and instances they were built from, followed through the
     /// instance table's change log, so a frame where nothing moved does not walk the scene's
     /// draws.
@@ -82,7 +91,11 @@ impl ShadowPass {
             plan: FramePlan::default(),
             written: None,
             uploaded: Vec::new(),
-            first_casts: Vec::new(),
+            items: Vec::new(),
+            listed: None,
+            culling: CasterCulling::new(gpu)?,
+            indirect: (gpu.device.features()).contains(wgpu::Features::INDIRECT_FIRST_INSTANCE),
+            caster_group: None,
             casters: None,
             planned_with_casters: false,
         })
@@ -98,8 +111,7 @@ impl ShadowPass {
         let views = &self.plan.views;
         if views.len() > self.targets.capacity {
             let capacity = views.len().next_power_of_two();
-            self.targets
-                .grow(&frame.gpu.device, &self.pipelines, capacity);
+            self.targets.grow(&frame.gpu.device, capacity);
             // New buffers hold nothing yet.
             self.uploaded.clear();
         }
@@ -124,6 +136,40 @@ impl ShadowPass {
             bytemuck::cast_slice(&casters),
         );
         self.uploaded = records;
+    }
+
+    /// This frame's work items and what draws their casters: the GPU culling's buffers
+    /// brought to the scene and the work written, or, on a device without indirect first
+    /// instances, the casts listed here and written; then the caster group over the buffers.
+    fn prepare_casts(
+        &mut self,
+        frame: &FrameInputs,
+        changed: Option<&[u32]>,
+        shadowed: bool,
+    ) -> Result<(), RenderError> {
+        self.items = work_items(&self.plan.regions);
+        self.listed = None;
+        let Some(casters) = self.casters.as_ref().filter(|_| shadowed) else {
+            return Ok(());
+        };
+        let cull = frame.config.cull_draws;
+        let gpu = &frame.gpu;
+        if self.indirect {
+            self.culling.follow(frame, casters, changed);
+            (self.culling).prepare(gpu, &self.items, &self.plan.regions, cull)?;
+        } else {
+            let list = CastList::new(&self.items, &self.plan.regions, &casters.casters, cull);
+            self.culling.write_casts(gpu, &list.casts);
+            self.listed = Some(list);
+        }
+        let (views, casts) = (&self.targets.caster_views, self.culling.casts());
+        let current =
+            (self.caster_group.as_ref()).is_some_and(|(v, c, _)| v == views && c == casts);
+        if !current {
+            let group = self.pipelines.caster_group(&gpu.device, views, casts);
+            self.caster_group = Some((views.clone(), casts.clone(), group));
+        }
+        Ok(())
     }
 
     /// Writes the `shadow` field of every light whose first view changed.
@@ -221,10 +267,7 @@ impl Pass for ShadowPass {
         };
         self.plan = self.planner.plan(&inputs);
         self.upload_views(frame);
-        let casts = CastList::new(&self.plan.regions);
-        self.targets
-            .write_casts(&frame.gpu, &self.pipelines, &casts.casts);
-        self.first_casts = casts.first;
+        self.prepare_casts(frame, changed.as_deref(), shadowed)?;
         self.write_light_indices(frame);
         self.plan.report.cpu_plan_ms = started.elapsed().as_secs_f64() * 1e3;
         Ok(())
@@ -239,16 +282,27 @@ impl Pass for ShadowPass {
         let t = &self.targets;
         let mut atlas =
             resources.import_texture(graph, "shadow atlas", &t.atlas, ImportAccess::ReadWrite);
-        if self.plan.has_work() {
+        if let (false, Some((.., caster_group))) = (self.items.is_empty(), &self.caster_group) {
+            let casts = match &self.listed {
+                Some(list) => CastSource::Listed {
+                    casts: list.casts.clone(),
+                    runs: list.runs.clone(),
+                },
+                None => CastSource::Culled {
+                    dispatches: self.culling.dispatches(),
+                    args: self.culling.args().clone(),
+                    opaque: self.culling.layout().opaque,
+                },
+            };
             let recording = Recording {
-                regions: self.plan.regions.clone(),
-                first_casts: self.first_casts.clone(),
+                items: self.items.clone(),
+                casts,
                 scene: Arc::clone(&frame.scene),
                 instances: Arc::clone(&frame.instances),
                 caster: self.pipelines.caster.clone(),
                 clear: self.pipelines.clear.clone(),
                 copy: self.pipelines.copy.clone(),
-                caster_group: t.caster_group.clone(),
+                caster_group: caster_group.clone(),
                 copy_group: t.copy_group.clone(),
                 static_atlas: t.static_atlas.clone(),
             };
@@ -277,9 +331,28 @@ impl Pass for ShadowPass {
         Ok(())
     }
 
-    fn after_submit(&mut self, frame: &FrameInputs, report: &mut FrameReport) {
-        if frame.config.shadows.enabled {
-            report.shadows = Some(self.plan.report.clone());
+    fn after_execute(
+        &mut self,
+        frame: &FrameInputs,
+        _resources: &FrameResources,
+        encoder: &mut wgpu::CommandEncoder,
+    ) {
+        if self.listed.is_none() && !self.items.is_empty() {
+            self.culling.after_execute(encoder, frame.index);
         }
+    }
+
+    fn after_submit(&mut self, frame: &FrameInputs, report: &mut FrameReport) {
+        if !frame.config.shadows.enabled {
+            return;
+        }
+        self.culling.after_submit();
+        let mut shadows = self.plan.report.clone();
+        shadows.cache.draws = match (&self.listed, self.items.is_empty()) {
+            (_, true) => 0,
+            (Some(list), false) => list.casts.len() as u32,
+            (None, false) => self.culling.last_drawn.unwrap_or(0),
+        };
+        report.shadows = Some(shadows);
     }
 }

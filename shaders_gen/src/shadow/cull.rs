@@ -1,0 +1,139 @@
+//! Culling shadow casters on the GPU, per atlas region: which casters each region drawn this
+//! frame receives, written straight into the indirect arguments its caster draws read.
+
+/// Culls the scene's casters for a frame's shadow work: every (work item, caster slot) pair
+/// in one dispatch, `y` the work item and `x` the slot.
+///
+/// A work item is one region's draw into one atlas: its static casters into the static cache,
+/// its dynamic casters over the copied static depth, or every caster (uncached). The host
+/// lays the casters out once in slots (`SLOTS`: the geometry's index range and base vertex,
+/// and the draw, opaque casters first, then masked ones, each part with spare slots for
+/// instances an engine adds); a work item's slots are its own run of `stride` indirect
+/// arguments (five words each) and cast records (draw and region view, read by
+/// `shadow_caster` through the instance index, which is the run's position).
+///
+/// A slot draws one instance when it holds a draw, the draw casts (its box in `BOXES` is not
+/// empty: blended draws and removed instances have empty boxes), it belongs to the work's
+/// casters (`min.w`: 1 for a dynamic instance) and its box reaches the region: inside every
+/// plane of the region's clip volume and overlapping the volume's world box where it has one
+/// (`REGIONS`), the same test the CPU uses to tell which regions a moved caster touches. With
+/// `cull` 0 every caster of the work draws. `VISIBLE[0]` counts the casts drawn.
+///
+/// A device may bound a dispatch's arguments, so the host splits a frame's work into chunks:
+/// `first_work` is the chunk's first work item, and its runs start at 0.
+#[shader_dsl::shader(uses(crate::shared::box_frustum))]
+pub mod shadow_cull {
+    pub const WORKGROUP: u32 = 64;
+    /// A slot without a draw.
+    pub const NO_DRAW: u32 = 0xFFFF_FFFF;
+    /// Which casters a work item draws.
+    pub const ALL_CASTERS: u32 = 0;
+    pub const STATIC_CASTERS: u32 = 1;
+    pub const DYNAMIC_CASTERS: u32 = 2;
+
+    /// One dispatch's share of the frame's work.
+    pub struct ShadowCullParams {
+        /// Slots per work item (the length of every run).
+        pub stride: u32,
+        /// The chunk's first work item in `WORK`.
+        pub first_work: u32,
+        /// Work items in the chunk.
+        pub work_count: u32,
+        /// 0: every caster of the work draws (culling off).
+        pub cull: u32,
+    }
+
+    /// A caster slot: the draw's geometry and the draw.
+    pub struct CasterSlot {
+        pub index_count: u32,
+        pub first_index: u32,
+        /// The base vertex's bits (an `i32` in the indirect arguments).
+        pub base_vertex: u32,
+        /// The draw (`DRAWS` and `BOXES` index), or `NO_DRAW`.
+        pub draw: u32,
+    }
+
+    /// A region's clip volume in world space.
+    pub struct RegionVolume {
+        pub frustum: Frustum,
+        /// The volume's world box; `min.w` is 1 where the volume has one (0: it reaches
+        /// infinity).
+        pub min: Vec4,
+        pub max: Vec4,
+    }
+
+    /// One region's draw into one atlas.
+    pub struct ShadowWork {
+        /// The region: its index in `REGIONS` and in the casters' `VIEWS`.
+        pub view: u32,
+        /// `ALL_CASTERS`, `STATIC_CASTERS` or `DYNAMIC_CASTERS`.
+        pub casters: u32,
+        pub pad0: u32,
+        pub pad1: u32,
+    }
+
+    #[uniform(group = 0, binding = 0)]
+    static PARAMS: ShadowCullParams;
+    #[storage(group = 0, binding = 1)]
+    static BOXES: [DrawBox];
+    #[storage(group = 0, binding = 2)]
+    static SLOTS: [CasterSlot];
+    #[storage(group = 0, binding = 3)]
+    static REGIONS: [RegionVolume];
+    #[storage(group = 0, binding = 4)]
+    static WORK: [ShadowWork];
+    #[storage(group = 0, binding = 5, read_write)]
+    static ARGS: [u32];
+    #[storage(group = 0, binding = 6, read_write)]
+    static CASTS: [u32];
+    #[storage(group = 0, binding = 7, read_write)]
+    static VISIBLE: [Atomic<u32>];
+
+    /// Whether `b` (not empty) reaches `region`'s clip volume.
+    fn reaches_region(region: RegionVolume, b: DrawBox) -> bool {
+        let bounded = region.min.w > 0.5;
+        let overlaps = !bounded
+            || (b.min.x <= region.max.x
+                && b.min.y <= region.max.y
+                && b.min.z <= region.max.z
+                && b.max.x >= region.min.x
+                && b.max.y >= region.min.y
+                && b.max.z >= region.min.z);
+        overlaps && draw_in_frustum(region.frustum, b, 0.0)
+    }
+
+    /// One slot of one work item: its arguments and cast record.
+    #[compute(workgroup_size(64, 1, 1))]
+    pub fn cull_casters(#[builtin(global_invocation_id)] gid: UVec3) {
+        let slot = gid.x;
+        let run = gid.y;
+        if slot < PARAMS.stride && run < PARAMS.work_count {
+            let work = WORK[PARAMS.first_work + run];
+            let s = SLOTS[slot];
+            let mut drawn = false;
+            if s.draw != NO_DRAW {
+                let b = BOXES[s.draw];
+                let casts = b.min.x <= b.max.x;
+                let dynamic = b.min.w > 0.5;
+                let wanted = work.casters == ALL_CASTERS
+                    || (work.casters == STATIC_CASTERS && !dynamic)
+                    || (work.casters == DYNAMIC_CASTERS && dynamic);
+                drawn = casts
+                    && wanted
+                    && (PARAMS.cull == 0u32 || reaches_region(REGIONS[work.view], b));
+            }
+            let cast = run * PARAMS.stride + slot;
+            let at = cast * 5u32;
+            ARGS[at] = s.index_count;
+            ARGS[at + 1u32] = select(drawn, 1u32, 0u32);
+            ARGS[at + 2u32] = s.first_index;
+            ARGS[at + 3u32] = s.base_vertex;
+            ARGS[at + 4u32] = cast;
+            CASTS[cast * 2u32] = s.draw;
+            CASTS[cast * 2u32 + 1u32] = work.view;
+            if drawn {
+                VISIBLE[0].fetch_add(1);
+            }
+        }
+    }
+}
