@@ -102,16 +102,19 @@ fn shadow_casters_culled_per_region_on_the_gpu_draw_what_the_cpu_lists() {
     };
     gpu_test(|gpu| {
         let listing = without_indirect_first_instance(gpu);
+        let chunked = with_small_storage_bindings(gpu);
         // The cached run's atlases, step by step: the uncached run must draw the same depth.
         let mut cached_atlases: Vec<Vec<f32>> = Vec::new();
         for cache in [true, false] {
-            // GPU culling, every caster drawn into every region, the CPU's lists.
+            // GPU culling, every caster drawn into every region, the CPU's lists, and GPU
+            // culling in chunks of a few regions.
             let mut sessions = [
                 Session::new(gpu, shadow_config(true, cache), &lights),
                 Session::new(gpu, shadow_config(false, cache), &lights),
                 Session::new(&listing, shadow_config(true, cache), &lights),
+                Session::new(&chunked, shadow_config(true, cache), &lights),
             ];
-            let mut handles = [(); 3].map(|()| Vec::new());
+            let mut handles = [(); 4].map(|()| Vec::new());
             for step in 0..7 {
                 let view = if (3..5).contains(&step) {
                     &turned
@@ -139,12 +142,23 @@ fn shadow_casters_culled_per_region_on_the_gpu_draw_what_the_cpu_lists() {
                 }
                 let frames: Vec<(ShadowReport, Vec<f32>)> =
                     sessions.iter_mut().map(|s| s.frame(view)).collect();
-                let [(culled, atlas), (unculled, every), (listed, cpu)] = &frames[..] else {
+                let [
+                    (culled, atlas),
+                    (unculled, every),
+                    (listed, cpu),
+                    (_, chunks),
+                ] = &frames[..]
+                else {
                     unreachable!()
                 };
                 assert_eq!(work(culled), work(listed), "step {step}");
                 assert_eq!(work(culled), work(unculled), "step {step}");
-                for (name, other) in [("every caster", every), ("the CPU's lists", cpu)] {
+                let others = [
+                    ("every caster", every),
+                    ("the CPU's lists", cpu),
+                    ("culling in chunks", chunks),
+                ];
+                for (name, other) in others {
                     let wrong = differing(atlas, other);
                     assert_eq!(
                         wrong, 0,
@@ -177,6 +191,26 @@ fn shadow_casters_culled_per_region_on_the_gpu_draw_what_the_cpu_lists() {
             );
         }
     });
+}
+
+/// The same adapter with storage bindings of at most 128 KiB: the shadow culling's arguments
+/// for the city's casters then fit five regions at a time, so a frame culls and draws in
+/// chunks.
+fn with_small_storage_bindings(gpu: &GpuContext) -> GpuContext {
+    let (features, limits) =
+        renderer::gpu::requirements::for_adapter(&gpu.adapter).expect("requirements");
+    let limits = wgpu::Limits {
+        max_storage_buffer_binding_size: 128 << 10,
+        ..limits
+    };
+    let (device, queue) = pollster::block_on(gpu.adapter.request_device(&wgpu::DeviceDescriptor {
+        label: Some("device with small storage bindings"),
+        required_features: features,
+        required_limits: limits,
+        ..Default::default()
+    }))
+    .expect("a device with small storage bindings");
+    GpuContext::from_parts(gpu.instance.clone(), gpu.adapter.clone(), device, queue)
 }
 
 /// Texels of the atlas with depth written, after one more frame.

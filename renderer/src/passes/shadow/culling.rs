@@ -152,12 +152,14 @@ impl Records {
         }
     }
 
-    /// Makes room for `count` records of `size` bytes; `true` when the buffer was replaced.
+    /// Makes room for `count` records of `size` bytes, with room to spare within the
+    /// device's largest storage binding; `true` when the buffer was replaced.
     fn reserve(&mut self, device: &wgpu::Device, count: usize, size: usize) -> bool {
         if count <= self.capacity {
             return false;
         }
-        self.capacity = count.next_power_of_two();
+        let bindable = device.limits().max_storage_buffer_binding_size as usize / size;
+        self.capacity = count.next_power_of_two().min(bindable).max(count);
         self.buffer = storage(
             device,
             self.label,
