@@ -15,7 +15,10 @@ pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::SUBGROUP
     .union(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES)
     // Indirect draws that find their draw record by instance index (GPU-culled scenes); without
     // it the geometry passes draw each slot directly.
-    .union(wgpu::Features::INDIRECT_FIRST_INSTANCE);
+    .union(wgpu::Features::INDIRECT_FIRST_INSTANCE)
+    // Multi-draws whose count the GPU writes: shadow casters culled per region are packed and
+    // counted, so a region draws only what reaches it.
+    .union(wgpu::Features::MULTI_DRAW_INDIRECT_COUNT);
 
 /// Largest compute workgroup the kernels use: a 32×32 tile, one invocation per pixel.
 pub const WANTED_WORKGROUP_INVOCATIONS: u32 = 32 * 32;

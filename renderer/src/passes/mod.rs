@@ -154,6 +154,21 @@ impl<'p, 'a> SceneDraws<'p, 'a> {
         self.pass.multi_draw_indexed_indirect(args, offset, count);
     }
 
+    /// [`Self::multi_draw`] of at most `max` arguments, as many as the count at `count_at`
+    /// (bytes) of `counts` says.
+    pub(crate) fn multi_draw_count(
+        &mut self,
+        (pipeline, group2): (&'a wgpu::RenderPipeline, Option<&'a wgpu::BindGroup>),
+        args: &'a wgpu::Buffer,
+        first: u64,
+        (counts, count_at): (&'a wgpu::Buffer, u64),
+        max: u32,
+    ) {
+        self.set_state(pipeline, group2);
+        let offset = first * SceneDrawList::ARGS_BYTES;
+        (self.pass).multi_draw_indexed_indirect_count(args, offset, counts, count_at, max);
+    }
+
     fn set_state(
         &mut self,
         pipeline: &'a wgpu::RenderPipeline,

@@ -12,12 +12,18 @@
 /// arguments (five words each) and cast records (draw and region view, read by
 /// `shadow_caster` through the instance index, which is the run's position).
 ///
-/// A slot draws one instance when it holds a draw, the draw casts (its box in `BOXES` is not
-/// empty: blended draws and removed instances have empty boxes), it belongs to the work's
-/// casters (`min.w`: 1 for a dynamic instance) and its box reaches the region: inside every
-/// plane of the region's clip volume and overlapping the volume's world box where it has one
+/// A slot is drawn when it holds a draw, the draw casts (its box in `BOXES` is not empty:
+/// blended draws and removed instances have empty boxes), it belongs to the work's casters
+/// (`min.w`: 1 for a dynamic instance) and its box reaches the region: inside every plane of
+/// the region's clip volume and overlapping the volume's world box where it has one
 /// (`REGIONS`), the same test the CPU uses to tell which regions a moved caster touches. With
-/// `cull` 0 every caster of the work draws. `VISIBLE[0]` counts the casts drawn.
+/// `cull` 0 every caster of the work is drawn. `COUNTS[0]` counts the casts drawn.
+///
+/// With `compact` (a device that draws a count read from a buffer), the drawn casts are packed
+/// at the start of their part of the run, in no particular order (depth-only drawing keeps the
+/// nearest depth whatever the order), and `COUNTS[1 + 2w]` and `COUNTS[2 + 2w]` count work
+/// item `w`'s opaque and masked ones: the draws read only those, so a region costs what
+/// reaches it. Without, every slot is written, with no instance where it is not drawn.
 ///
 /// A device may bound a dispatch's arguments, so the host splits a frame's work into chunks:
 /// `first_work` is the chunk's first work item, and its runs start at 0.
@@ -41,6 +47,12 @@ pub mod shadow_cull {
         pub work_count: u32,
         /// 0: every caster of the work draws (culling off).
         pub cull: u32,
+        /// Slots of the opaque part (the masked part follows).
+        pub opaque: u32,
+        /// 1: drawn casts packed and counted per part (see the module).
+        pub compact: u32,
+        pub pad0: u32,
+        pub pad1: u32,
     }
 
     /// A caster slot: the draw's geometry and the draw.
@@ -87,7 +99,7 @@ pub mod shadow_cull {
     #[storage(group = 0, binding = 6, read_write)]
     static CASTS: [u32];
     #[storage(group = 0, binding = 7, read_write)]
-    static VISIBLE: [Atomic<u32>];
+    static COUNTS: [Atomic<u32>];
 
     /// Whether `b` (not empty) reaches `region`'s clip volume.
     fn reaches_region(region: RegionVolume, b: DrawBox) -> bool {
@@ -100,6 +112,19 @@ pub mod shadow_cull {
                 && b.max.y >= region.min.y
                 && b.max.z >= region.min.z);
         overlaps && draw_in_frustum(region.frustum, b, 0.0)
+    }
+
+    /// Writes cast `cast`: slot `s`'s geometry drawn `instances` times (0 or 1) as instance
+    /// `cast`, and its record (the draw and the region view).
+    fn write_cast(cast: u32, s: CasterSlot, view: u32, instances: u32) {
+        let at = cast * 5u32;
+        ARGS[at] = s.index_count;
+        ARGS[at + 1u32] = instances;
+        ARGS[at + 2u32] = s.first_index;
+        ARGS[at + 3u32] = s.base_vertex;
+        ARGS[at + 4u32] = cast;
+        CASTS[cast * 2u32] = s.draw;
+        CASTS[cast * 2u32 + 1u32] = view;
     }
 
     /// One slot of one work item: its arguments and cast record.
@@ -122,17 +147,23 @@ pub mod shadow_cull {
                     && wanted
                     && (PARAMS.cull == 0u32 || reaches_region(REGIONS[work.view], b));
             }
-            let cast = run * PARAMS.stride + slot;
-            let at = cast * 5u32;
-            ARGS[at] = s.index_count;
-            ARGS[at + 1u32] = select(drawn, 1u32, 0u32);
-            ARGS[at + 2u32] = s.first_index;
-            ARGS[at + 3u32] = s.base_vertex;
-            ARGS[at + 4u32] = cast;
-            CASTS[cast * 2u32] = s.draw;
-            CASTS[cast * 2u32 + 1u32] = work.view;
+            if PARAMS.compact == 0u32 {
+                write_cast(
+                    run * PARAMS.stride + slot,
+                    s,
+                    work.view,
+                    select(drawn, 1u32, 0u32),
+                );
+            } else if drawn {
+                let masked = slot >= PARAMS.opaque;
+                let part = select(masked, 1u32, 0u32);
+                let w = PARAMS.first_work + run;
+                let k = COUNTS[1u32 + 2u32 * w + part].fetch_add(1);
+                let start = select(masked, PARAMS.opaque, 0u32);
+                write_cast(run * PARAMS.stride + start + k, s, work.view, 1u32);
+            }
             if drawn {
-                VISIBLE[0].fetch_add(1);
+                COUNTS[0].fetch_add(1);
             }
         }
     }

@@ -193,7 +193,10 @@ pub struct CasterCulling {
     work: Records,
     args: Records,
     casts: Records,
-    visible: wgpu::Buffer,
+    /// `COUNTS`: the casts drawn, then two per work item (opaque, masked) when compacting.
+    counts: Records,
+    /// Whether drawn casts are packed and counted (the device draws a GPU-written count).
+    compact: bool,
     /// Bind groups per chunk, made for the buffers as they are now (cleared when one changes).
     chunks: Vec<Chunk>,
     /// This frame's chunks: ranges of work items.
@@ -253,7 +256,14 @@ impl CasterCulling {
                 wgpu::BufferUsages::INDIRECT | read_back,
             ),
             casts: Records::new(device, "shadow casts", 256, 8, read_back),
-            visible: storage(device, "shadow casts drawn", 4, read_back),
+            counts: Records::new(
+                device,
+                "shadow cast counts",
+                64,
+                4,
+                wgpu::BufferUsages::INDIRECT | read_back,
+            ),
+            compact: (device.features()).contains(wgpu::Features::MULTI_DRAW_INDIRECT_COUNT),
             chunks: Vec::new(),
             frame_chunks: Vec::new(),
             readback: ReadbackRing::new(device, "shadow casts drawn", 1),
@@ -396,6 +406,7 @@ impl CasterCulling {
         replaced |= self
             .work
             .reserve(device, items.len(), size_of::<ShadowWork>());
+        replaced |= self.counts.reserve(device, 1 + 2 * items.len(), 4);
         if replaced {
             self.chunks.clear();
         }
@@ -420,6 +431,10 @@ impl CasterCulling {
                 first as u32,
                 (end - first) as u32,
                 u32::from(cull),
+                self.layout.opaque,
+                u32::from(self.compact),
+                0,
+                0,
             );
             gpu.queue
                 .write_buffer(&self.chunks[c].params, 0, bytemuck::bytes_of(&params));
@@ -448,7 +463,7 @@ impl CasterCulling {
                 self.work.buffer.as_entire_binding(),
                 self.args.buffer.as_entire_binding(),
                 self.casts.buffer.as_entire_binding(),
-                self.visible.as_entire_binding(),
+                self.counts.buffer.as_entire_binding(),
             ]),
         });
         Chunk { params, group }
@@ -478,14 +493,16 @@ impl CasterCulling {
                 .collect(),
             chunks: self.frame_chunks.clone(),
             stride: self.layout.stride(),
-            visible: self.visible.clone(),
+            counts: self.counts.buffer.clone(),
+            compact: self.compact,
         }
     }
 
     /// After the frame's passes are recorded: copies the count for the report.
     pub fn after_execute(&mut self, encoder: &mut wgpu::CommandEncoder, frame: u64) {
         if !self.frame_chunks.is_empty() {
-            self.readback.record(encoder, &[(&self.visible, 4)], frame);
+            self.readback
+                .record(encoder, &[(&self.counts.buffer, 4)], frame);
         }
     }
 
@@ -504,13 +521,15 @@ pub struct CullDispatches {
     groups: Vec<wgpu::BindGroup>,
     pub chunks: Vec<Range<u32>>,
     pub stride: u32,
-    visible: wgpu::Buffer,
+    /// `COUNTS`, and whether the draws read their count from it.
+    pub counts: wgpu::Buffer,
+    pub compact: bool,
 }
 
 impl CullDispatches {
-    /// Clears the count; call once before the first chunk.
-    pub fn clear_count(&self, encoder: &mut wgpu::CommandEncoder) {
-        encoder.clear_buffer(&self.visible, 0, None);
+    /// Clears the counts; call once before the first chunk.
+    pub fn clear_counts(&self, encoder: &mut wgpu::CommandEncoder) {
+        encoder.clear_buffer(&self.counts, 0, None);
     }
 
     /// Culls chunk `c`: every slot of each of its work items.

@@ -327,7 +327,7 @@ impl Recording {
     pub fn record(&self, encoder: &mut wgpu::CommandEncoder, atlas: &wgpu::TextureView) {
         match &self.casts {
             CastSource::Culled { dispatches, .. } => {
-                dispatches.clear_count(encoder);
+                dispatches.clear_counts(encoder);
                 for (c, chunk) in dispatches.chunks.iter().enumerate() {
                     dispatches.cull(encoder, c);
                     self.record_items(encoder, atlas, chunk.start as usize..chunk.end as usize);
@@ -391,13 +391,30 @@ impl Recording {
                 opaque,
             } => {
                 let first = run as u64 * u64::from(dispatches.stride);
-                let masked = dispatches.stride - opaque;
-                if *opaque > 0 {
-                    draws.multi_draw(&self.caster.opaque, None, args, first, *opaque);
-                }
-                if masked > 0 {
-                    let at = first + u64::from(*opaque);
-                    draws.multi_draw(&self.caster.masked, mask_group, args, at, masked);
+                let parts = [
+                    ((&self.caster.opaque, None), first, *opaque),
+                    (
+                        (&self.caster.masked, mask_group),
+                        first + u64::from(*opaque),
+                        dispatches.stride - opaque,
+                    ),
+                ];
+                for (k, (state, at, slots)) in parts.into_iter().enumerate() {
+                    if slots == 0 {
+                        continue;
+                    }
+                    if dispatches.compact {
+                        let count_at = 4 * (1 + 2 * i as u64 + k as u64);
+                        draws.multi_draw_count(
+                            state,
+                            args,
+                            at,
+                            (&dispatches.counts, count_at),
+                            slots,
+                        );
+                    } else {
+                        draws.multi_draw(state.0, state.1, args, at, slots);
+                    }
                 }
             }
             CastSource::Listed { casts, runs } => {
