@@ -108,19 +108,21 @@ fn shadow_casters_culled_per_region_on_the_gpu_draw_what_the_cpu_lists() {
             "the test device packs culled casts (it draws counts written on the GPU)"
         );
         let listing = without_indirect_first_instance(gpu);
-        let chunked = with_small_storage_bindings(gpu);
+        let chunked = with_small_storage_bindings(gpu, true);
+        let unpacked = with_small_storage_bindings(gpu, false);
         // The cached run's atlases, step by step: the uncached run must draw the same depth.
         let mut cached_atlases: Vec<Vec<f32>> = Vec::new();
         for cache in [true, false] {
             // GPU culling (casts packed), every caster drawn into every region, the CPU's
-            // lists, and GPU culling in chunks of a few regions without packing.
+            // lists, and GPU culling in chunks of a few regions, packed and not.
             let mut sessions = [
                 Session::new(gpu, shadow_config(true, cache), &lights),
                 Session::new(gpu, shadow_config(false, cache), &lights),
                 Session::new(&listing, shadow_config(true, cache), &lights),
                 Session::new(&chunked, shadow_config(true, cache), &lights),
+                Session::new(&unpacked, shadow_config(true, cache), &lights),
             ];
-            let mut handles = [(); 4].map(|()| Vec::new());
+            let mut handles = [(); 5].map(|()| Vec::new());
             // 1: a static tower added; 2: a dome added, marked dynamic and moved; 3: the dome
             // moved (the regions it leaves are composed again); 4: the tower removed (the
             // regions it leaves are drawn again); 5: the camera turned (every cascade moves);
@@ -155,6 +157,7 @@ fn shadow_casters_culled_per_region_on_the_gpu_draw_what_the_cpu_lists() {
                     (unculled, every),
                     (listed, cpu),
                     (_, chunks),
+                    (_, plain),
                 ] = &frames[..]
                 else {
                     unreachable!()
@@ -165,6 +168,7 @@ fn shadow_casters_culled_per_region_on_the_gpu_draw_what_the_cpu_lists() {
                     ("every caster", every),
                     ("the CPU's lists", cpu),
                     ("culling in chunks", chunks),
+                    ("culling in chunks, unpacked", plain),
                 ];
                 for (name, other) in others {
                     let wrong = differing(atlas, other);
@@ -201,11 +205,11 @@ fn shadow_casters_culled_per_region_on_the_gpu_draw_what_the_cpu_lists() {
     });
 }
 
-/// The same adapter with storage bindings of at most 128 KiB and without
-/// `MULTI_DRAW_INDIRECT_COUNT`: the shadow culling's arguments for the city's casters then fit
-/// five regions at a time, so a frame culls and draws in chunks, and every slot is drawn, with
-/// no instance where culled (no packing).
-fn with_small_storage_bindings(gpu: &GpuContext) -> GpuContext {
+/// The same adapter with storage bindings of at most 128 KiB: the shadow culling's arguments
+/// for the city's casters then fit five regions at a time, so a frame culls and draws in
+/// chunks; without `packing` (`MULTI_DRAW_INDIRECT_COUNT`), every slot is drawn, with no
+/// instance where culled.
+fn with_small_storage_bindings(gpu: &GpuContext, packing: bool) -> GpuContext {
     let (features, limits) =
         renderer::gpu::requirements::for_adapter(&gpu.adapter).expect("requirements");
     let limits = wgpu::Limits {
@@ -214,7 +218,11 @@ fn with_small_storage_bindings(gpu: &GpuContext) -> GpuContext {
     };
     let (device, queue) = pollster::block_on(gpu.adapter.request_device(&wgpu::DeviceDescriptor {
         label: Some("device with small storage bindings"),
-        required_features: features - wgpu::Features::MULTI_DRAW_INDIRECT_COUNT,
+        required_features: if packing {
+            features
+        } else {
+            features - wgpu::Features::MULTI_DRAW_INDIRECT_COUNT
+        },
         required_limits: limits,
         ..Default::default()
     }))

@@ -11,97 +11,18 @@
 use std::ops::Range;
 
 use shaders_gen::shadow::shadow_cull::{
-    self, CasterSlot, DrawBox, Frustum, NO_DRAW, RegionVolume, ShadowCullParams, ShadowWork,
+    self, CasterSlot, DrawBox, Frustum, RegionVolume, ShadowCullParams, ShadowWork,
 };
 
 use super::casters::CasterCache;
+use super::slots::{SlotLayout, caster_box, caster_kind, slot_record};
 use super::work::WorkItem;
 use crate::GpuContext;
-use crate::frame_data::{FrameInputs, InstanceTable, PreparedScene, RenderError};
+use crate::frame_data::{FrameInputs, RenderError};
 use crate::readback_ring::ReadbackRing;
-use crate::scene::AlphaMode;
 use crate::shader::ShaderProgram;
-use crate::shadow::cache::{Caster, RegionPlan};
+use crate::shadow::cache::RegionPlan;
 use crate::shadow::region_test::RegionTest;
-
-/// The casters' slots: opaque casters, then alpha-masked ones, each part with spare slots.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SlotLayout {
-    /// Draws in slot order (`NO_DRAW` in spare slots).
-    pub draws: Vec<u32>,
-    /// Slots of the opaque part (the masked part follows).
-    pub opaque: u32,
-}
-
-impl SlotLayout {
-    /// The casters of `table`'s draws: blended draws cast nothing and get no slot.
-    pub fn new(scene: &PreparedScene, table: &InstanceTable) -> Self {
-        let (mut opaque, mut masked) = (Vec::new(), Vec::new());
-        for d in 0..table.draws.len() {
-            match caster_kind(scene, table, d) {
-                Some(false) => opaque.push(d as u32),
-                Some(true) => masked.push(d as u32),
-                None => {}
-            }
-        }
-        let spare = |part: &mut Vec<u32>| part.resize(part.len() + part.len() / 8 + 8, NO_DRAW);
-        spare(&mut opaque);
-        spare(&mut masked);
-        let opaque_slots = opaque.len() as u32;
-        opaque.extend(masked);
-        Self {
-            draws: opaque,
-            opaque: opaque_slots,
-        }
-    }
-
-    /// Slots per work item.
-    pub fn stride(&self) -> u32 {
-        self.draws.len() as u32
-    }
-
-    /// Puts draw `d` into a spare slot of its part; `None` when the part is full.
-    fn place(&mut self, d: u32, masked: bool) -> Option<usize> {
-        let part = if masked {
-            self.opaque as usize..self.draws.len()
-        } else {
-            0..self.opaque as usize
-        };
-        let slot = part.clone().find(|&s| self.draws[s] == NO_DRAW)?;
-        self.draws[slot] = d;
-        Some(slot)
-    }
-}
-
-/// `Some(masked)` for a draw that casts, `None` for a blended one.
-fn caster_kind(scene: &PreparedScene, table: &InstanceTable, d: usize) -> Option<bool> {
-    let material = scene.materials.get(table.draws[d].material)?;
-    match material.alpha_mode {
-        AlphaMode::Blend => None,
-        AlphaMode::Mask { .. } => Some(true),
-        AlphaMode::Opaque => Some(false),
-    }
-}
-
-fn slot_record(table: &InstanceTable, d: u32) -> CasterSlot {
-    match table.draws.get(d as usize) {
-        Some(draw) if d != NO_DRAW => {
-            let g = draw.geometry;
-            CasterSlot::new(g.index_count, g.first_index, g.base_vertex as u32, d)
-        }
-        _ => CasterSlot::new(0, 0, 0, NO_DRAW),
-    }
-}
-
-/// A caster's box for the GPU: empty (`min > max`) where it casts nothing, `min.w` 1 for a
-/// dynamic instance.
-fn caster_box(c: &Caster) -> DrawBox {
-    if c.bounds.is_empty() {
-        return DrawBox::new(glam::Vec4::ONE, glam::Vec4::ZERO);
-    }
-    let dynamic = if c.dynamic { 1.0 } else { 0.0 };
-    DrawBox::new(c.bounds.min.extend(dynamic), c.bounds.max.extend(0.0))
-}
 
 /// A region's volume for the GPU.
 fn region_volume(r: &RegionPlan) -> RegionVolume {

@@ -11,6 +11,7 @@
 mod casters;
 mod culling;
 mod gpu;
+mod slots;
 mod view;
 mod work;
 
