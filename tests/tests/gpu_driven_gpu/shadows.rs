@@ -112,6 +112,7 @@ fn shadow_casters_culled_per_region_on_the_gpu_draw_what_the_cpu_lists() {
         let unpacked = with_small_storage_bindings(gpu, false);
         // The cached run's atlases, step by step: the uncached run must draw the same depth.
         let mut cached_atlases: Vec<Vec<f32>> = Vec::new();
+        let mut last_uncached: Option<Vec<f32>> = None;
         for cache in [true, false] {
             // GPU culling (casts packed), every caster drawn into every region, the CPU's
             // lists, and GPU culling in chunks of a few regions, packed and not.
@@ -176,6 +177,26 @@ fn shadow_casters_culled_per_region_on_the_gpu_draw_what_the_cpu_lists() {
                         wrong, 0,
                         "cache {cache}, step {step}: {wrong} texels differ from {name}"
                     );
+                }
+                if cache {
+                    cached_atlases.push(atlas.clone());
+                } else {
+                    let wrong = differing(atlas, &cached_atlases[step]);
+                    assert_eq!(
+                        wrong, 0,
+                        "step {step}: {wrong} texels differ from the cached frame"
+                    );
+                    // Every edit shows in the atlas, so a cache that misses one fails above.
+                    let changed = last_uncached
+                        .as_ref()
+                        .map_or(0, |last| differing(atlas, last));
+                    if [1, 3, 4, 8].contains(&step) {
+                        assert!(
+                            changed > 100,
+                            "step {step}: the edit changes {changed} texels"
+                        );
+                    }
+                    last_uncached = Some(atlas.clone());
                 }
                 eprintln!(
                     "cache {cache}, step {step}: {} regions redrawn, {} copied; casts: GPU \
