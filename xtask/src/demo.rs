@@ -218,9 +218,15 @@ fn moving_sphere(s: &Setup) -> Result<[ShadowReport; 3]> {
         let moved = Mat4::from_translation(Vec3::new(0.0, offset, 0.0)) * start;
         renderer.set_instance_transform(sphere, moved)?;
         let report = renderer.render(&s.camera, &target)?;
-        reports.push(report.shadows.unwrap_or_default());
+        // Casts are counted on the GPU: the frame's own count, once it finished.
+        renderer.finish();
+        reports.push(
+            renderer
+                .shadow_report()
+                .or(report.shadows)
+                .unwrap_or_default(),
+        );
     }
-    renderer.finish();
     reports
         .try_into()
         .map_err(|_| anyhow::anyhow!("three frames were rendered"))

@@ -127,6 +127,14 @@ impl Renderer {
             .and_then(crate::passes::scene_cull::SceneCullPass::report)
     }
 
+    /// The last frame's shadow report (none without shadows), the casts it drew the newest
+    /// count that has arrived (they are counted on the GPU); after [`Renderer::finish`], the
+    /// last frame's own.
+    pub fn shadow_report(&mut self) -> Option<crate::shadow::ShadowReport> {
+        self.pass_mut::<crate::passes::shadow::ShadowPass>()
+            .and_then(crate::passes::shadow::ShadowPass::report)
+    }
+
     /// The newest particle counters that have arrived (none without particles); after
     /// [`Renderer::finish`], those of the last frame.
     pub fn particle_report(&mut self) -> Option<crate::frame_data::ParticleReport> {

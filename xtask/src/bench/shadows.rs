@@ -261,10 +261,13 @@ pub fn markdown(records: &[CellRecord]) -> String {
         "\n### Shadows\n\nGPU ms per frame, median (p90); a frame that skips the shadow pass \
          counts 0. Shadow CPU = planning and uploads (median ms). Share = shadow pass ÷ all \
          passes. Added = whole-frame GPU median over the same frame without shadows (shadow \
-         pass plus the lookups in forward shading). Regions, work and draws are those of the \
-         last timed frame.\n\n| path | lights | shadowed (got) | mode | regions | redrawn / \
-         copied / untouched | draws | degraded / evicted | shadow GPU | shadow CPU | forward \
-         | total | share | added |\n|---|---:|---|---|---:|---|---:|---|---:|---:|---:|---:|---:|---:|\n",
+         pass plus the lookups in forward shading). Regions and work are those of the last \
+         timed frame; draws = the casts drawn into regions, counted on the GPU where it culls \
+         them (the newest count that arrived by the last timed frame). CPU frame = the \
+         renderer's CPU per frame (prepare + record + submit, median ms).\n\n| path | lights \
+         | shadowed (got) | mode | regions | redrawn / copied / untouched | draws | degraded / \
+         evicted | shadow GPU | shadow CPU | CPU frame | forward | total | share | added \
+         |\n|---|---:|---|---|---:|---|---:|---|---:|---:|---:|---:|---:|---:|---:|\n",
     );
     for r in &rows {
         let shadowed = if r.shadow_mode == "none" {
@@ -287,7 +290,7 @@ pub fn markdown(records: &[CellRecord]) -> String {
             );
         let _ = writeln!(
             out,
-            "| {} {}×{} MSAA {} | {} | {shadowed} | {} | {} | {} / {} / {} | {} | {} / {} | {} ({}) | {} | {} | {:.3} | {share} | {added} |",
+            "| {} {}×{} MSAA {} | {} | {shadowed} | {} | {} | {} / {} / {} | {} | {} / {} | {} ({}) | {} | {:.3} | {} | {:.3} | {share} | {added} |",
             r.label(),
             r.width,
             r.height,
@@ -304,6 +307,7 @@ pub fn markdown(records: &[CellRecord]) -> String {
             ms(Some(shadow)),
             ms(Some(r.shadow_p90_ms.unwrap_or(0.0))),
             ms(r.shadow_cpu_median_ms),
+            r.cpu_frame_ms(),
             ms(r.forward_median_ms),
             r.gpu_total_median_ms,
         );

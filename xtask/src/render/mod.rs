@@ -369,6 +369,7 @@ pub fn shoot_with(s: &Setup, config: RendererConfig, efficiency: bool) -> Result
     let timings = renderer.finish();
     // The culled count arrives after the frame: the last frame's, now that it finished.
     report.scene_draws = renderer.scene_draws().or(report.scene_draws);
+    report.shadows = renderer.shadow_report().or(report.shadows);
     let counters = renderer.culling_counters();
     if let Some(c) = counters {
         // The renderer sizes its lists before the frame; a drop means they outgrew one storage

@@ -430,6 +430,11 @@ impl CasterCulling {
     /// After submitting: starts the copy and picks up the newest count that arrived.
     pub fn after_submit(&mut self) {
         self.readback.after_submit();
+        self.poll();
+    }
+
+    /// Picks up the newest count that arrived, without waiting.
+    pub fn poll(&mut self) {
         if let Some((_, words)) = self.readback.poll(&self.device) {
             self.last_drawn = words.first().copied();
         }

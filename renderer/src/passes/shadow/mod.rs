@@ -30,6 +30,7 @@ use crate::frame_data::{
 };
 use crate::graph::{ImportAccess, RenderGraph, TextureAccess};
 use crate::scene::Aabb;
+use crate::shadow::ShadowReport;
 use crate::shadow::cache::CasterChanges;
 use crate::shadow::frame::{FramePlan, PlanInputs, ShadowPlanner, ViewRecord};
 use casters::CasterCache;
@@ -58,6 +59,8 @@ pub struct ShadowPass {
     indirect: bool,
     /// Group 0 of the caster pipelines, with the view and cast buffers it binds.
     caster_group: Option<(wgpu::Buffer, wgpu::Buffer, wgpu::BindGroup)>,
+    /// The last frame's report, and whether the GPU counted its casts.
+    last_report: Option<(ShadowReport, bool)>,
     /// The casters of the scene and instances they were built from, followed through the
     /// instance table's change log, so a frame where nothing moved does not walk the scene's
     /// draws.
@@ -97,9 +100,21 @@ impl ShadowPass {
             culling: CasterCulling::new(gpu)?,
             indirect: (gpu.device.features()).contains(wgpu::Features::INDIRECT_FIRST_INSTANCE),
             caster_group: None,
+            last_report: None,
             casters: None,
             planned_with_casters: false,
         })
+    }
+
+    /// The last frame's report, its cast count the newest that has arrived (polling first):
+    /// after [`crate::frame::Renderer::finish`], the last frame's own.
+    pub fn report(&mut self) -> Option<ShadowReport> {
+        let (mut report, counted) = self.last_report.clone()?;
+        if counted {
+            self.culling.poll();
+            report.cache.draws = self.culling.last_drawn.unwrap_or(0);
+        }
+        Some(report)
     }
 
     /// This frame's plan (after `prepare`).
@@ -349,11 +364,13 @@ impl Pass for ShadowPass {
         }
         self.culling.after_submit();
         let mut shadows = self.plan.report.clone();
+        let counted = self.listed.is_none() && !self.items.is_empty();
         shadows.cache.draws = match (&self.listed, self.items.is_empty()) {
             (_, true) => 0,
             (Some(list), false) => list.casts.len() as u32,
             (None, false) => self.culling.last_drawn.unwrap_or(0),
         };
+        self.last_report = Some((shadows.clone(), counted));
         report.shadows = Some(shadows);
     }
 }
