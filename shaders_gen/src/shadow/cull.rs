@@ -1,8 +1,10 @@
 //! Culling shadow casters on the GPU, per atlas region: which casters each region drawn this
 //! frame receives, written straight into the indirect arguments its caster draws read.
 
-/// Culls the scene's casters for a frame's shadow work: every (work item, caster slot) pair
-/// in one dispatch, `y` the work item and `x` the slot.
+/// Culls the scene's casters for a frame's shadow work: one invocation per caster slot, which
+/// loads its caster once and tests it against every work item of the chunk in turn (the
+/// items' region volumes are the same for every invocation, so they stay in cache), so the
+/// casters are read once per chunk, not once per region.
 ///
 /// A work item is one region's draw into one atlas: its static casters into the static cache,
 /// its dynamic casters over the copied static depth, or every caster (uncached). The host
@@ -127,43 +129,46 @@ pub mod shadow_cull {
         CASTS[cast * 2u32 + 1u32] = view;
     }
 
-    /// One slot of one work item: its arguments and cast record.
+    /// One caster slot against every work item of the chunk: its arguments and cast records.
     #[compute(workgroup_size(64, 1, 1))]
     pub fn cull_casters(#[builtin(global_invocation_id)] gid: UVec3) {
         let slot = gid.x;
-        let run = gid.y;
-        if slot < PARAMS.stride && run < PARAMS.work_count {
-            let work = WORK[PARAMS.first_work + run];
+        if slot < PARAMS.stride {
             let s = SLOTS[slot];
-            let mut drawn = false;
+            let mut b = DrawBox {
+                min: Vec4::ONE,
+                max: Vec4::ZERO,
+            };
             if s.draw != NO_DRAW {
-                let b = BOXES[s.draw];
-                let casts = b.min.x <= b.max.x;
-                let dynamic = b.min.w > 0.5;
+                b = BOXES[s.draw];
+            }
+            // Empty boxes (and empty slots) cast nothing.
+            let casts = b.min.x <= b.max.x;
+            let dynamic = b.min.w > 0.5;
+            let masked = slot >= PARAMS.opaque;
+            let part = select(masked, 1u32, 0u32);
+            let start = select(masked, PARAMS.opaque, 0u32);
+            let mut drawn_count = 0u32;
+            for run in 0u32..PARAMS.work_count {
+                let w = PARAMS.first_work + run;
+                let work = WORK[w];
                 let wanted = work.casters == ALL_CASTERS
                     || (work.casters == STATIC_CASTERS && !dynamic)
                     || (work.casters == DYNAMIC_CASTERS && dynamic);
-                drawn = casts
+                let drawn = casts
                     && wanted
                     && (PARAMS.cull == 0u32 || reaches_region(REGIONS[work.view], b));
+                if PARAMS.compact == 0u32 {
+                    let instances = select(drawn, 1u32, 0u32);
+                    write_cast(run * PARAMS.stride + slot, s, work.view, instances);
+                } else if drawn {
+                    let k = COUNTS[1u32 + 2u32 * w + part].fetch_add(1);
+                    write_cast(run * PARAMS.stride + start + k, s, work.view, 1u32);
+                }
+                drawn_count = drawn_count + select(drawn, 1u32, 0u32);
             }
-            if PARAMS.compact == 0u32 {
-                write_cast(
-                    run * PARAMS.stride + slot,
-                    s,
-                    work.view,
-                    select(drawn, 1u32, 0u32),
-                );
-            } else if drawn {
-                let masked = slot >= PARAMS.opaque;
-                let part = select(masked, 1u32, 0u32);
-                let w = PARAMS.first_work + run;
-                let k = COUNTS[1u32 + 2u32 * w + part].fetch_add(1);
-                let start = select(masked, PARAMS.opaque, 0u32);
-                write_cast(run * PARAMS.stride + start + k, s, work.view, 1u32);
-            }
-            if drawn {
-                COUNTS[0].fetch_add(1);
+            if drawn_count > 0u32 {
+                COUNTS[0].fetch_add(drawn_count);
             }
         }
     }

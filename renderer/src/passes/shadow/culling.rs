@@ -460,13 +460,12 @@ impl CullDispatches {
 
     /// Culls chunk `c`: every slot of each of its work items.
     pub fn cull(&self, encoder: &mut wgpu::CommandEncoder, c: usize) {
-        let runs = self.chunks[c].len() as u32;
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("shadow caster culling"),
             timestamp_writes: None,
         });
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &self.groups[c], &[]);
-        pass.dispatch_workgroups(self.stride.div_ceil(shadow_cull::WORKGROUP), runs, 1);
+        pass.dispatch_workgroups(self.stride.div_ceil(shadow_cull::WORKGROUP), 1, 1);
     }
 }
