@@ -92,6 +92,11 @@ impl<'p, 'a> SceneDraws<'p, 'a> {
         }
     }
 
+    /// The render pass, for state outside the scene's draws (viewports, scissors).
+    pub(crate) fn pass(&mut self) -> &mut wgpu::RenderPass<'a> {
+        self.pass
+    }
+
     /// Draws `geometry` with `pipeline` and `group2` as instance `instance`, the index the
     /// vertex shader reads its record by (a draw's index in `InstanceTable::draws`, or a
     /// shadow cast's).

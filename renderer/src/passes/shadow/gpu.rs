@@ -344,94 +344,116 @@ impl Recording {
         atlas: &wgpu::TextureView,
         range: std::ops::Range<usize>,
     ) {
-        let items = || {
-            (range.clone())
-                .map(|i| (i, &self.items[i]))
-                .map(move |(i, item)| (i, i - range.start, item))
-        };
-        let static_view = self.static_atlas.as_ref();
-        if let Some(view) = static_view.filter(|_| items().any(|(_, _, i)| i.in_static_cache())) {
-            let mut pass = depth_pass(encoder, "shadow static cache", view);
-            for (i, run, item) in items().filter(|(_, _, i)| i.in_static_cache()) {
-                set_region(&mut pass, item.rect);
-                pass.set_pipeline(&self.clear);
-                pass.draw(0..3, 0..1);
-                self.draw_item(&mut pass, i, run);
-            }
-        }
-        if !items().any(|(_, _, i)| !i.in_static_cache()) {
-            return;
-        }
-        let mut pass = depth_pass(encoder, "shadow atlas", atlas);
-        for (i, run, item) in items().filter(|(_, _, i)| !i.in_static_cache()) {
-            set_region(&mut pass, item.rect);
-            if item.start == Start::CopyStatic {
-                pass.set_pipeline(&self.copy);
-                if let Some(g) = &self.copy_group {
-                    pass.set_bind_group(0, g, &[]);
-                }
+        let (into_static, into_atlas): (Vec<usize>, Vec<usize>) =
+            range.partition(|&i| self.items[i].in_static_cache());
+        let runs = [
+            (into_static, self.static_atlas.as_ref()),
+            (into_atlas, Some(atlas)),
+        ];
+        for (items, view) in runs {
+            let Some(view) = view.filter(|_| !items.is_empty()) else {
+                continue;
+            };
+            let label = if view == atlas {
+                "shadow atlas"
             } else {
-                pass.set_pipeline(&self.clear);
-            }
-            pass.draw(0..3, 0..1);
-            self.draw_item(&mut pass, i, run);
+                "shadow static cache"
+            };
+            let mut pass = depth_pass(encoder, label, view);
+            self.start_regions(&mut pass, &items);
+            self.draw_casters(&mut pass, &items);
         }
     }
 
-    /// Draws item `i`'s casters into its region (the viewport is set); `run` is its place in
-    /// its chunk. Alpha-masked casters draw with the masked pipeline and the scene's mask group.
-    fn draw_item<'a>(&'a self, pass: &mut wgpu::RenderPass<'a>, i: usize, run: usize) {
+    /// Clears or copies the regions of `items` (indices into the frame's items), each
+    /// pipeline set once.
+    fn start_regions(&self, pass: &mut wgpu::RenderPass<'_>, items: &[usize]) {
+        for copies in [false, true] {
+            let mut set = false;
+            for item in items.iter().map(|&i| &self.items[i]) {
+                if (item.start == Start::CopyStatic) != copies {
+                    continue;
+                }
+                if !set {
+                    pass.set_pipeline(if copies { &self.copy } else { &self.clear });
+                    if let Some(g) = self.copy_group.as_ref().filter(|_| copies) {
+                        pass.set_bind_group(0, g, &[]);
+                    }
+                    set = true;
+                }
+                set_region(pass, item.rect);
+                pass.draw(0..3, 0..1);
+            }
+        }
+    }
+
+    /// Draws the casters of `items` into their regions, after the regions started: the
+    /// scene's streams, the caster group and each pipeline bound once per pass. Culled on the
+    /// GPU, an item is two multi-draws (opaque, then masked casters, each of its run's part);
+    /// listed, its casts one by one.
+    fn draw_casters<'a>(&'a self, pass: &mut wgpu::RenderPass<'a>, items: &[usize]) {
         pass.set_bind_group(0, &self.caster_group, &[]);
-        let mut draws = SceneDraws::new(pass, &self.scene, &self.instances, VertexStreams::Mask);
         let mask_group = Some(self.scene.mask_group());
+        let first_item = items.first().copied().unwrap_or(0);
         match &self.casts {
             CastSource::Culled {
                 dispatches,
                 args,
                 opaque,
             } => {
-                let first = run as u64 * u64::from(dispatches.stride);
+                // Runs are numbered from the chunk's first item.
+                let chunk_start = (dispatches.chunks.iter())
+                    .find(|c| c.contains(&(first_item as u32)))
+                    .map_or(0, |c| c.start as usize);
                 let parts = [
-                    ((&self.caster.opaque, None), first, *opaque),
+                    ((&self.caster.opaque, None), 0, *opaque),
                     (
                         (&self.caster.masked, mask_group),
-                        first + u64::from(*opaque),
+                        *opaque,
                         dispatches.stride - opaque,
                     ),
                 ];
-                for (k, (state, at, slots)) in parts.into_iter().enumerate() {
+                for (k, (state, offset, slots)) in parts.into_iter().enumerate() {
                     if slots == 0 {
                         continue;
                     }
-                    if dispatches.compact {
-                        let count_at = 4 * (1 + 2 * i as u64 + k as u64);
-                        draws.multi_draw_count(
-                            state,
-                            args,
-                            at,
-                            (&dispatches.counts, count_at),
-                            slots,
-                        );
-                    } else {
-                        draws.multi_draw(state.0, state.1, args, at, slots);
+                    let mut draws =
+                        SceneDraws::new(pass, &self.scene, &self.instances, VertexStreams::Mask);
+                    for &i in items {
+                        let item = &self.items[i];
+                        set_region(draws.pass(), item.rect);
+                        let run = (i - chunk_start) as u64;
+                        let at = run * u64::from(dispatches.stride) + u64::from(offset);
+                        if dispatches.compact {
+                            let count_at = 4 * (1 + 2 * i as u64 + k as u64);
+                            let count = (&dispatches.counts, count_at);
+                            draws.multi_draw_count(state, args, at, count, slots);
+                        } else {
+                            draws.multi_draw(state.0, state.1, args, at, slots);
+                        }
                     }
                 }
             }
             CastSource::Listed { casts, runs } => {
-                let (first, count) = runs[i];
-                let listed = &casts[first as usize..(first + count) as usize];
-                for (cast, c) in (first..).zip(listed) {
-                    let Some(draw) = self.instances.draws.get(c.draw as usize) else {
-                        continue;
-                    };
-                    let masked = (self.scene.materials.get(draw.material))
-                        .is_some_and(|m| matches!(m.alpha_mode, AlphaMode::Mask { .. }));
-                    let (pipeline, group) = if masked {
-                        (&self.caster.masked, mask_group)
-                    } else {
-                        (&self.caster.opaque, None)
-                    };
-                    draws.draw(pipeline, group, draw.geometry, cast);
+                let mut draws =
+                    SceneDraws::new(pass, &self.scene, &self.instances, VertexStreams::Mask);
+                for &i in items {
+                    set_region(draws.pass(), self.items[i].rect);
+                    let (first, count) = runs[i];
+                    let listed = &casts[first as usize..(first + count) as usize];
+                    for (cast, c) in (first..).zip(listed) {
+                        let Some(draw) = self.instances.draws.get(c.draw as usize) else {
+                            continue;
+                        };
+                        let masked = (self.scene.materials.get(draw.material))
+                            .is_some_and(|m| matches!(m.alpha_mode, AlphaMode::Mask { .. }));
+                        let (pipeline, group) = if masked {
+                            (&self.caster.masked, mask_group)
+                        } else {
+                            (&self.caster.opaque, None)
+                        };
+                        draws.draw(pipeline, group, draw.geometry, cast);
+                    }
                 }
             }
         }
