@@ -257,8 +257,9 @@ pub struct RendererConfig {
     /// screen).
     pub light_cutoff: f32,
     /// Cull the scene's draws against the view frustum on the GPU before the geometry passes
-    /// draw them (`passes::scene_cull`). Off, every draw is drawn, in the same batches and
-    /// order: the frame is the same either way.
+    /// draw them (`passes::scene_cull`), and the shadow casters against each shadow region
+    /// drawn (`shadow_cull`). Off, every draw is drawn, in the same batches and order, and
+    /// every caster into every region drawn: the frame is the same either way.
     pub cull_draws: bool,
     /// With `cull_draws`, on the paths with a depth pre-pass: two-phase occlusion culling
     /// (`passes::scene_cull::occlusion`). Pre-Z draws what was visible last frame, a depth
