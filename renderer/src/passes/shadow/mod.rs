@@ -11,6 +11,7 @@
 mod casters;
 mod culling;
 mod gpu;
+mod record;
 mod slots;
 mod view;
 mod work;
@@ -35,7 +36,8 @@ use crate::shadow::cache::CasterChanges;
 use crate::shadow::frame::{FramePlan, PlanInputs, ShadowPlanner, ViewRecord};
 use casters::CasterCache;
 use culling::CasterCulling;
-use gpu::{CastSource, Recording, ShadowPipelines, ShadowTargets};
+use gpu::{ShadowPipelines, ShadowTargets};
+use record::{CastSource, Recording};
 use shaders_gen::shared::shadow_atlas::NO_SHADOW;
 use work::{CastList, WorkItem, work_items};
 
@@ -312,6 +314,7 @@ impl Pass for ShadowPass {
             };
             let recording = Recording {
                 items: self.items.clone(),
+                regions: self.plan.regions.len(),
                 casts,
                 scene: Arc::clone(&frame.scene),
                 instances: Arc::clone(&frame.instances),
