@@ -314,7 +314,6 @@ impl Pass for ShadowPass {
             };
             let recording = Recording {
                 items: self.items.clone(),
-                regions: self.plan.regions.len(),
                 casts,
                 scene: Arc::clone(&frame.scene),
                 instances: Arc::clone(&frame.instances),

@@ -1,8 +1,7 @@
 //! Recording a frame's shadow work: per chunk of work items, the culling dispatch, then the
 //! static cache's pass and the shadow atlas's pass, each starting its regions (clears and
-//! static-cache copies, or one clear of the whole atlas where every region starts cleared) and
-//! then drawing the casters: two multi-draws per item where the GPU culled them, one draw per
-//! cast where the CPU listed them.
+//! static-cache copies) and then drawing the casters: two multi-draws per item where the GPU
+//! culled them, one draw per cast where the CPU listed them.
 
 use std::sync::Arc;
 
@@ -35,8 +34,6 @@ pub enum CastSource {
 /// What the recording of one frame needs.
 pub struct Recording {
     pub items: Vec<WorkItem>,
-    /// Regions in the frame's plan (those drawn and those left untouched).
-    pub regions: usize,
     pub casts: CastSource,
     pub scene: Arc<PreparedScene>,
     pub instances: Arc<crate::frame_data::InstanceTable>,
@@ -51,30 +48,18 @@ pub struct Recording {
 impl Recording {
     /// Records the work items in order: per chunk of GPU-culled work, the culling dispatch,
     /// then the chunk's static-cache redraws, then its draws into the shadow atlas.
-    ///
-    /// Where every region of the plan starts cleared in an atlas (an uncached frame, or every
-    /// static region drawn again), that atlas's first pass clears the whole texture (one
-    /// clear instead of a triangle over each region: the regions' clears were a third of an
-    /// uncached frame's shadow pass in the city).
     pub fn record(&self, encoder: &mut wgpu::CommandEncoder, atlas: &wgpu::TextureView) {
-        let cleared = |start| self.items.iter().filter(|i| i.start == start).count();
-        let whole = [Start::ClearStatic, Start::Clear]
-            .map(|start| self.regions > 0 && cleared(start) == self.regions);
-        let mut clears = Clears {
-            whole,
-            pending: whole,
-        };
         match &self.casts {
             CastSource::Culled { dispatches, .. } => {
                 dispatches.clear_counts(encoder);
                 for (c, chunk) in dispatches.chunks.iter().enumerate() {
                     dispatches.cull(encoder, c);
                     let range = chunk.start as usize..chunk.end as usize;
-                    self.record_items(encoder, atlas, range, &mut clears);
+                    self.record_items(encoder, atlas, range);
                 }
             }
             CastSource::Listed { .. } => {
-                self.record_items(encoder, atlas, 0..self.items.len(), &mut clears);
+                self.record_items(encoder, atlas, 0..self.items.len());
             }
         }
     }
@@ -85,7 +70,6 @@ impl Recording {
         encoder: &mut wgpu::CommandEncoder,
         atlas: &wgpu::TextureView,
         range: std::ops::Range<usize>,
-        clears: &mut Clears,
     ) {
         let (into_static, into_atlas): (Vec<usize>, Vec<usize>) =
             range.partition(|&i| self.items[i].in_static_cache());
@@ -93,7 +77,7 @@ impl Recording {
             (into_static, self.static_atlas.as_ref()),
             (into_atlas, Some(atlas)),
         ];
-        for (k, (items, view)) in runs.into_iter().enumerate() {
+        for (items, view) in runs {
             let Some(view) = view.filter(|_| !items.is_empty()) else {
                 continue;
             };
@@ -102,20 +86,16 @@ impl Recording {
             } else {
                 "shadow static cache"
             };
-            let clear_all = std::mem::take(&mut clears.pending[k]);
-            let mut pass = depth_pass(encoder, label, view, clear_all);
-            self.start_regions(&mut pass, &items, clears.whole[k]);
+            let mut pass = depth_pass(encoder, label, view);
+            self.start_regions(&mut pass, &items);
             self.draw_casters(&mut pass, &items);
         }
     }
 
     /// Clears or copies the regions of `items` (indices into the frame's items), each
-    /// pipeline set once; no region is cleared where the whole atlas was (`cleared`).
-    fn start_regions(&self, pass: &mut wgpu::RenderPass<'_>, items: &[usize], cleared: bool) {
+    /// pipeline set once.
+    fn start_regions(&self, pass: &mut wgpu::RenderPass<'_>, items: &[usize]) {
         for copies in [false, true] {
-            if cleared && !copies {
-                continue;
-            }
             let mut set = false;
             for item in items.iter().map(|&i| &self.items[i]) {
                 if (item.start == Start::CopyStatic) != copies {
@@ -213,20 +193,13 @@ fn set_region(pass: &mut wgpu::RenderPass<'_>, rect: AtlasRect) {
     pass.set_scissor_rect(rect.x, rect.y, rect.side, rect.side);
 }
 
-/// Which atlases (static cache, shadow atlas) a frame clears whole, and which of those clears
-/// are still to come (the first pass into that atlas clears it).
-struct Clears {
-    whole: [bool; 2],
-    pending: [bool; 2],
-}
-
-/// A depth-only render pass over `view` that keeps its contents, or clears them all to 0 (the
-/// far plane, reversed Z) with `clear`.
+/// A depth-only render pass over `view` that keeps its contents. (Clearing a whole atlas in
+/// frames that redraw every region instead of a triangle per region was measured: −0.2 ms in
+/// the city's spot-light frames, +0.18 ms in the courtyard's, so regions are cleared alone.)
 fn depth_pass<'e>(
     encoder: &'e mut wgpu::CommandEncoder,
     label: &str,
     view: &wgpu::TextureView,
-    clear: bool,
 ) -> wgpu::RenderPass<'e> {
     encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some(label),
@@ -234,11 +207,7 @@ fn depth_pass<'e>(
         depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
             view,
             depth_ops: Some(wgpu::Operations {
-                load: if clear {
-                    wgpu::LoadOp::Clear(0.0)
-                } else {
-                    wgpu::LoadOp::Load
-                },
+                load: wgpu::LoadOp::Load,
                 store: wgpu::StoreOp::Store,
             }),
             stencil_ops: None,
