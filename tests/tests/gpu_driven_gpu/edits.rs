@@ -35,7 +35,7 @@ pub(super) fn mesh(scene: &Scene, name: &str) -> usize {
 }
 
 /// A sun that casts shadows, with the street lights.
-fn lights_with_sun(lights: &[SceneLight]) -> Vec<SceneLight> {
+pub(super) fn lights_with_sun(lights: &[SceneLight]) -> Vec<SceneLight> {
     let mut all = lights.to_vec();
     all.push(SceneLight {
         kind: renderer::scene::LightKind::Directional,

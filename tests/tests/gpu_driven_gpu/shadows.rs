@@ -12,31 +12,22 @@ use glam::{Mat4, Quat, Vec3};
 use renderer::GpuContext;
 use renderer::frame::setup::pick_shadowed;
 use renderer::frame::{FrameCamera, RenderPath, Renderer, RendererConfig};
-use renderer::scene::{LightKind, SceneLight};
+use renderer::scene::SceneLight;
 use renderer::shadow::ShadowReport;
 use tests::frames::render_one_frame;
 use tests::gpu::gpu_test;
 use tests::shadow_probe::{ShadowAtlasProbe, ShadowAtlasReader};
 
 use super::blended::without_indirect_first_instance;
-use super::edits::mesh;
+use super::edits::{lights_with_sun, mesh};
 use super::{SIZE, city, config, street_camera, street_lights};
 
 /// The city's street lights with six of them shadowed, and a sun.
 fn shadowed_lights(lights: &[SceneLight], camera: &FrameCamera) -> Vec<SceneLight> {
-    let mut all = lights.to_vec();
-    let picked = pick_shadowed(&mut all, camera, SIZE.1 as f32, 6);
+    let mut street = lights.to_vec();
+    let picked = pick_shadowed(&mut street, camera, SIZE.1 as f32, 6);
     assert_eq!(picked, 6, "six street lights are in view to shadow");
-    all.push(SceneLight {
-        kind: LightKind::Directional,
-        position: Vec3::ZERO,
-        direction: Vec3::new(0.4, -1.0, 0.3).normalize(),
-        color: Vec3::ONE,
-        intensity: 2.0,
-        range: None,
-        casts_shadow: true,
-    });
-    all
+    lights_with_sun(&street)
 }
 
 fn shadow_config(cull: bool, cache: bool) -> RendererConfig {

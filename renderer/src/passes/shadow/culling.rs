@@ -145,10 +145,7 @@ impl CasterCulling {
         Ok(Self {
             pipeline,
             follows: None,
-            layout: SlotLayout {
-                draws: Vec::new(),
-                opaque: 0,
-            },
+            layout: SlotLayout::default(),
             placed: 0,
             boxes: Records::new(
                 device,
@@ -240,12 +237,8 @@ impl CasterCulling {
         if count > self.boxes.capacity {
             return false;
         }
-        let added: Vec<u32> = changed
-            .iter()
-            .copied()
-            .filter(|&d| d as usize >= self.placed)
-            .collect();
-        for d in added {
+        let placed = self.placed;
+        for &d in changed.iter().filter(|&&d| d as usize >= placed) {
             let Some(kind) = caster_kind(&frame.scene, table, d as usize) else {
                 continue;
             };

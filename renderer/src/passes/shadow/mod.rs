@@ -54,7 +54,7 @@ pub struct ShadowPass {
     uploaded: Vec<forward::ShadowView>,
     /// This frame's work items, and their casts where the CPU lists them.
     items: Vec<WorkItem>,
-    listed: Option<CastList>,
+    listed: Option<Arc<CastList>>,
     /// Casters culled per region on the GPU (their casts buffer serves the CPU lists too).
     culling: CasterCulling,
     /// Whether the device draws indirectly with a first instance (else the CPU lists casts).
@@ -178,7 +178,7 @@ impl ShadowPass {
         } else {
             let list = CastList::new(&self.items, &self.plan.regions, &casters.casters, cull);
             self.culling.write_casts(gpu, &list.casts);
-            self.listed = Some(list);
+            self.listed = Some(Arc::new(list));
         }
         let (views, casts) = (&self.targets.caster_views, self.culling.casts());
         let current =
@@ -302,10 +302,7 @@ impl Pass for ShadowPass {
             resources.import_texture(graph, "shadow atlas", &t.atlas, ImportAccess::ReadWrite);
         if let (false, Some((.., caster_group))) = (self.items.is_empty(), &self.caster_group) {
             let casts = match &self.listed {
-                Some(list) => CastSource::Listed {
-                    casts: list.casts.clone(),
-                    runs: list.runs.clone(),
-                },
+                Some(list) => CastSource::Listed(Arc::clone(list)),
                 None => CastSource::Culled {
                     dispatches: self.culling.dispatches(),
                     args: self.culling.args().clone(),

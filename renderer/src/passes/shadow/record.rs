@@ -5,12 +5,10 @@
 
 use std::sync::Arc;
 
-use shaders_gen::shadow::shadow_caster;
-
 use super::super::SceneDraws;
 use super::culling::CullDispatches;
 use super::gpu::CasterPipelines;
-use super::work::{Start, WorkItem};
+use super::work::{CastList, Start, WorkItem};
 use crate::frame_data::PreparedScene;
 use crate::scene::{AlphaMode, VertexStreams};
 use crate::shadow::atlas::AtlasRect;
@@ -24,11 +22,8 @@ pub enum CastSource {
         args: wgpu::Buffer,
         opaque: u32,
     },
-    /// Listed on the CPU (`CastList`), drawn one by one: per item, its first cast and count.
-    Listed {
-        casts: Vec<shadow_caster::Cast>,
-        runs: Vec<(u32, u32)>,
-    },
+    /// Listed on the CPU, drawn one by one: per item, its first cast and count.
+    Listed(Arc<CastList>),
 }
 
 /// What the recording of one frame needs.
@@ -58,19 +53,21 @@ impl Recording {
                     self.record_items(encoder, atlas, range);
                 }
             }
-            CastSource::Listed { .. } => {
+            CastSource::Listed(_) => {
                 self.record_items(encoder, atlas, 0..self.items.len());
             }
         }
     }
 
-    /// Items `range`: the static cache's, then the shadow atlas's.
+    /// Items `range` (a chunk's: its runs are numbered from `range.start`): the static
+    /// cache's, then the shadow atlas's.
     fn record_items(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         atlas: &wgpu::TextureView,
         range: std::ops::Range<usize>,
     ) {
+        let chunk_start = range.start;
         let (into_static, into_atlas): (Vec<usize>, Vec<usize>) =
             range.partition(|&i| self.items[i].in_static_cache());
         let runs = [
@@ -88,7 +85,7 @@ impl Recording {
             };
             let mut pass = depth_pass(encoder, label, view);
             self.start_regions(&mut pass, &items);
-            self.draw_casters(&mut pass, &items);
+            self.draw_casters(&mut pass, &items, chunk_start);
         }
     }
 
@@ -117,21 +114,21 @@ impl Recording {
     /// Draws the casters of `items` into their regions, after the regions started: the
     /// scene's streams, the caster group and each pipeline bound once per pass. Culled on the
     /// GPU, an item is two multi-draws (opaque, then masked casters, each of its run's part);
-    /// listed, its casts one by one.
-    fn draw_casters<'a>(&'a self, pass: &mut wgpu::RenderPass<'a>, items: &[usize]) {
+    /// listed, its casts one by one. Item `i`'s run is `i - chunk_start`.
+    fn draw_casters<'a>(
+        &'a self,
+        pass: &mut wgpu::RenderPass<'a>,
+        items: &[usize],
+        chunk_start: usize,
+    ) {
         pass.set_bind_group(0, &self.caster_group, &[]);
         let mask_group = Some(self.scene.mask_group());
-        let first_item = items.first().copied().unwrap_or(0);
         match &self.casts {
             CastSource::Culled {
                 dispatches,
                 args,
                 opaque,
             } => {
-                // Runs are numbered from the chunk's first item.
-                let chunk_start = (dispatches.chunks.iter())
-                    .find(|c| c.contains(&(first_item as u32)))
-                    .map_or(0, |c| c.start as usize);
                 let parts = [
                     ((&self.caster.opaque, None), 0, *opaque),
                     (
@@ -161,7 +158,8 @@ impl Recording {
                     }
                 }
             }
-            CastSource::Listed { casts, runs } => {
+            CastSource::Listed(list) => {
+                let (casts, runs) = (&list.casts, &list.runs);
                 let mut draws =
                     SceneDraws::new(pass, &self.scene, &self.instances, VertexStreams::Mask);
                 for &i in items {

@@ -9,12 +9,15 @@ use crate::scene::AlphaMode;
 use crate::shadow::cache::Caster;
 
 /// The casters' slots: opaque casters, then alpha-masked ones, each part with spare slots.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct SlotLayout {
     /// Draws in slot order (`NO_DRAW` in spare slots).
     pub draws: Vec<u32>,
     /// Slots of the opaque part (the masked part follows).
     pub opaque: u32,
+    /// Per part (opaque, masked), its first spare slot: spares stay together at each part's
+    /// end, since a removed instance keeps its slots (its box is empty).
+    free: [usize; 2],
 }
 
 impl SlotLayout {
@@ -28,14 +31,16 @@ impl SlotLayout {
                 None => {}
             }
         }
+        let free = [opaque.len(), masked.len()];
         let spare = |part: &mut Vec<u32>| part.resize(part.len() + part.len() / 8 + 8, NO_DRAW);
         spare(&mut opaque);
         spare(&mut masked);
-        let opaque_slots = opaque.len() as u32;
+        let opaque_slots = opaque.len();
         opaque.extend(masked);
         Self {
             draws: opaque,
-            opaque: opaque_slots,
+            opaque: opaque_slots as u32,
+            free: [free[0], opaque_slots + free[1]],
         }
     }
 
@@ -46,13 +51,14 @@ impl SlotLayout {
 
     /// Puts draw `d` into a spare slot of its part; `None` when the part is full.
     pub fn place(&mut self, d: u32, masked: bool) -> Option<usize> {
-        let part = if masked {
-            self.opaque as usize..self.draws.len()
-        } else {
-            0..self.opaque as usize
-        };
-        let slot = part.clone().find(|&s| self.draws[s] == NO_DRAW)?;
+        let part = usize::from(masked);
+        let end = [self.opaque as usize, self.draws.len()][part];
+        let slot = self.free[part];
+        if slot == end {
+            return None;
+        }
         self.draws[slot] = d;
+        self.free[part] += 1;
         Some(slot)
     }
 }
