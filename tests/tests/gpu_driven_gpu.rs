@@ -5,7 +5,7 @@
 //! brings buildings in from off screen) while culling does leave draws out; and instances moved
 //! by handle (into view, out of it, mirrored) render the same as a city built with them there;
 //! instances added and removed by handle likewise (`edits`), and meshes, materials and images
-//! added at run time (`assets`); material textures reached by index through the material atlas
+//! added at run time (`assets`) and removed, their room taken by later ones (`removal`); material textures reached by index through the material atlas
 //! sample as the hardware sampler does (`atlas`); occlusion culling hides what a wall hides and nothing visible
 //! (`occlusion`); blended draws ordered back to front on the GPU render as the CPU orders them
 //! (`blended`); shadow casters culled per atlas region on the GPU draw the atlas the CPU's
@@ -21,6 +21,8 @@ mod blended;
 mod edits;
 #[path = "gpu_driven_gpu/occlusion.rs"]
 mod occlusion;
+#[path = "gpu_driven_gpu/removal.rs"]
+mod removal;
 #[path = "gpu_driven_gpu/shadows.rs"]
 mod shadows;
 

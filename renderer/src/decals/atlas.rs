@@ -9,10 +9,11 @@
 //! and a 2×2 box filter never mixes two allocations. Gutters repeat the nearest edge texel, so a
 //! bilinear tap just outside a decal's rectangle reads the decal itself.
 
-use etagere::{AllocatorOptions, AtlasAllocator, size2};
+use etagere::{AllocId, AllocatorOptions, AtlasAllocator, size2};
 use glam::Vec4;
 
 use super::DecalError;
+use super::atlas_space::AtlasSpace;
 use super::image::{Channel, DecalImage, DecalMaterial};
 
 /// How an atlas is built.
@@ -65,6 +66,15 @@ impl DecalAtlas {
         materials: &[DecalMaterial],
         config: DecalAtlasConfig,
     ) -> Result<Self, DecalError> {
+        Ok(Self::build_with_space(materials, config)?.0)
+    }
+
+    /// [`DecalAtlas::build`], with the atlas's room and each material's allocation in it, kept
+    /// to add and remove materials in place later.
+    pub(crate) fn build_with_space(
+        materials: &[DecalMaterial],
+        config: DecalAtlasConfig,
+    ) -> Result<(Self, AtlasSpace, Vec<AllocId>), DecalError> {
         if !(1..=8).contains(&config.mip_levels) {
             return Err(DecalError::AtlasConfig(format!(
                 "mip_levels {}: use 1 to 8",
@@ -81,12 +91,12 @@ impl DecalAtlas {
             m.check()?;
         }
         let gutter = 1u32 << (config.mip_levels - 1);
-        let (size, placed) = pack(materials, gutter, config.max_size)?;
+        let (size, allocator, placed) = pack(materials, gutter, config.max_size)?;
         let padded = |m: &DecalMaterial| padded_size(m, gutter);
         let mut base: [Vec<u8>; Channel::COUNT] =
             std::array::from_fn(|_| vec![0u8; (size * size * 4) as usize]);
         let mut entries = Vec::with_capacity(materials.len());
-        for (m, &(x, y)) in materials.iter().zip(&placed) {
+        for (m, &((x, y), _)) in materials.iter().zip(&placed) {
             let (w, h) = (m.base_color.width, m.base_color.height);
             for channel in Channel::ALL {
                 let neutral = DecalImage::solid(w, h, channel.neutral());
@@ -98,43 +108,60 @@ impl DecalAtlas {
                 };
                 blit_with_gutter(&mut base[channel as usize], size, image, slot);
             }
-            let s = size as f32;
-            entries.push(AtlasEntry {
-                texels: [x + gutter, y + gutter, w, h],
-                uv: Vec4::new(
-                    (x + gutter) as f32 / s,
-                    (y + gutter) as f32 / s,
-                    w as f32 / s,
-                    h as f32 / s,
-                ),
-                channels: m.channel_mask(),
-            });
+            entries.push(AtlasEntry::at((x, y), m, gutter, size));
         }
         let levels = std::array::from_fn(|c| {
             let channel = Channel::ALL[c];
             let mut chain = vec![std::mem::take(&mut base[c])];
             for level in 1..config.mip_levels {
                 let above = &chain[level as usize - 1];
-                chain.push(downsample(above, size >> (level - 1), channel));
+                let side = size >> (level - 1);
+                chain.push(downsample(above, (side, side), channel));
             }
             chain
         });
-        Ok(Self {
+        let space = AtlasSpace {
+            allocator,
+            size,
+            mip_levels: config.mip_levels,
+            gutter,
+        };
+        let atlas = Self {
             size,
             mip_levels: config.mip_levels,
             gutter,
             levels,
             entries,
-        })
+        };
+        Ok((atlas, space, placed.into_iter().map(|(_, id)| id).collect()))
     }
 }
 
-/// Positions (allocation corners) for every material in the smallest atlas that holds them.
+impl AtlasEntry {
+    /// The entry of material `m` allocated at `corner` of a `size`² atlas with `gutter`.
+    pub(super) fn at(corner: (u32, u32), m: &DecalMaterial, gutter: u32, size: u32) -> Self {
+        let ((x, y), (w, h)) = (corner, (m.base_color.width, m.base_color.height));
+        let s = size as f32;
+        Self {
+            texels: [x + gutter, y + gutter, w, h],
+            uv: Vec4::new(
+                (x + gutter) as f32 / s,
+                (y + gutter) as f32 / s,
+                w as f32 / s,
+                h as f32 / s,
+            ),
+            channels: m.channel_mask(),
+        }
+    }
+}
+
+/// The smallest atlas that holds every material: its side, its allocator, and each material's
+/// allocation (corner and id).
 fn pack(
     materials: &[DecalMaterial],
     gutter: u32,
     max_size: u32,
-) -> Result<(u32, Vec<(u32, u32)>), DecalError> {
+) -> Result<(u32, AtlasAllocator, Vec<((u32, u32), AllocId)>), DecalError> {
     let padded = |m: &DecalMaterial| padded_size(m, gutter);
     let area: u64 = materials
         .iter()
@@ -153,16 +180,16 @@ fn pack(
             ..Default::default()
         };
         let mut allocator = AtlasAllocator::with_options(size2(size as i32, size as i32), &options);
-        let placed: Option<Vec<(u32, u32)>> = materials
+        let placed: Option<Vec<((u32, u32), AllocId)>> = materials
             .iter()
             .map(|m| {
                 let (w, h) = padded(m);
                 let a = allocator.allocate(size2(w as i32, h as i32))?;
-                Some((a.rectangle.min.x as u32, a.rectangle.min.y as u32))
+                Some(((a.rectangle.min.x as u32, a.rectangle.min.y as u32), a.id))
             })
             .collect();
         match placed {
-            Some(p) => return Ok((size, p)),
+            Some(p) => return Ok((size, allocator, p)),
             None if size < max_size => size *= 2,
             None => {
                 return Err(DecalError::AtlasFull {
@@ -177,22 +204,23 @@ fn pack(
 
 /// A material's allocation: its image plus a gutter on every side, rounded up to the gutter
 /// grid (the allocator's alignment).
-fn padded_size(m: &DecalMaterial, gutter: u32) -> (u32, u32) {
+pub(super) fn padded_size(m: &DecalMaterial, gutter: u32) -> (u32, u32) {
     let round = |v: u32| (v + 2 * gutter).div_ceil(gutter) * gutter;
     (round(m.base_color.width), round(m.base_color.height))
 }
 
 /// Where a material's allocation is: corner, padded size, gutter.
 #[derive(Debug, Clone, Copy)]
-struct Slot {
-    corner: (u32, u32),
-    size: (u32, u32),
-    gutter: u32,
+pub(super) struct Slot {
+    pub(super) corner: (u32, u32),
+    pub(super) size: (u32, u32),
+    pub(super) gutter: u32,
 }
 
-/// Copies `image` to `slot`'s corner plus its gutter in an RGBA8 `size`² atlas and fills the
-/// rest of the slot (the gutter ring and the rounding beyond it) with the nearest edge texels.
-fn blit_with_gutter(atlas: &mut [u8], size: u32, image: &DecalImage, slot: Slot) {
+/// Copies `image` to `slot`'s corner plus its gutter in RGBA8 rows of `size` texels and fills
+/// the rest of the slot (the gutter ring and the rounding beyond it) with the nearest edge
+/// texels.
+pub(super) fn blit_with_gutter(atlas: &mut [u8], size: u32, image: &DecalImage, slot: Slot) {
     let (w, h) = (image.width, image.height);
     let ((x, y), (sw, sh), gutter) = (slot.corner, slot.size, slot.gutter);
     for ay in 0..sh {
@@ -206,20 +234,17 @@ fn blit_with_gutter(atlas: &mut [u8], size: u32, image: &DecalImage, slot: Slot)
     }
 }
 
-/// One mip level down (2×2 box filter): sRGB channels averaged in linear light, normals
-/// renormalised, the rest averaged as stored.
-fn downsample(above: &[u8], above_size: u32, channel: Channel) -> Vec<u8> {
-    let size = (above_size / 2).max(1);
-    let mut out = vec![0u8; (size * size * 4) as usize];
-    for y in 0..size {
-        for x in 0..size {
+/// One mip level down of a `(width, height)` level (2×2 box filter): sRGB channels averaged in
+/// linear light, normals renormalised, the rest averaged as stored.
+pub(super) fn downsample(above: &[u8], (width, height): (u32, u32), channel: Channel) -> Vec<u8> {
+    let (out_width, out_height) = ((width / 2).max(1), (height / 2).max(1));
+    let mut out = vec![0u8; (out_width * out_height * 4) as usize];
+    for y in 0..out_height {
+        for x in 0..out_width {
             let mut sum = [0f32; 4];
             for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
-                let (sx, sy) = (
-                    (2 * x + dx).min(above_size - 1),
-                    (2 * y + dy).min(above_size - 1),
-                );
-                let i = ((sy * above_size + sx) * 4) as usize;
+                let (sx, sy) = ((2 * x + dx).min(width - 1), (2 * y + dy).min(height - 1));
+                let i = ((sy * width + sx) * 4) as usize;
                 for c in 0..4 {
                     sum[c] += channel.decode(c, above[i + c]);
                 }
@@ -229,7 +254,7 @@ fn downsample(above: &[u8], above_size: u32, channel: Channel) -> Vec<u8> {
                 let n = glam::Vec3::new(avg[0], avg[1], avg[2]).normalize_or(glam::Vec3::Z);
                 avg[..3].copy_from_slice(&n.to_array());
             }
-            let i = ((y * size + x) * 4) as usize;
+            let i = ((y * out_width + x) * 4) as usize;
             for c in 0..4 {
                 out[i + c] = channel.encode(c, avg[c]);
             }

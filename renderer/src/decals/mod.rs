@@ -1,7 +1,8 @@
 //! Decals: textures projected through oriented boxes onto whatever surfaces lie inside them
 //! (DOOM 2016's clustered decals, reference 004). GPU-free: the decal items ([`Decal`], their
 //! boxes and the separating-axis tests the culling reference needs), the decal atlas
-//! ([`DecalAtlas`]: every material's channels packed with `etagere`, mip levels and gutters), the
+//! ([`DecalAtlas`]: every material's channels packed with `etagere`, mip levels and gutters, and
+//! materials added and removed in place), the
 //! built-in procedural materials, PNG loading, the JSON sidecar and seeded placement on a
 //! scene's surfaces.
 //!
@@ -10,6 +11,7 @@
 //! and forward shading applies them before lighting (`shaders_gen::shared::decal_apply`).
 
 mod atlas;
+mod atlas_space;
 mod decal;
 mod error;
 mod image;
@@ -19,6 +21,7 @@ pub mod procedural;
 pub mod sidecar;
 
 pub use atlas::{AtlasEntry, DecalAtlas, DecalAtlasConfig};
+pub(crate) use atlas_space::{AtlasSpace, PlacedMaterial};
 pub use decal::{Decal, DecalSet, box_on_surface};
 pub use error::DecalError;
 pub use image::{Channel, DecalImage, DecalMaterial, MAX_DECAL_IMAGE};

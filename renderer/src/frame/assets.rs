@@ -1,8 +1,8 @@
-//! Adding meshes, materials and images to the prepared scene between frames, and replacing
-//! materials,, as an engine
-//! streams a level in: each upload writes only what it adds (the geometry streams grow by
-//! doubling, copied on the GPU) and the passes keep what they built for the scene, which keeps
-//! its identity. Instances of an added mesh are then added by handle
+//! Adding meshes, materials and images to the prepared scene between frames, replacing
+//! materials, and removing meshes and materials, as an engine streams a level in and out: each
+//! upload writes only what it adds (into room that removed meshes and textures gave back, else
+//! the geometry streams grow by doubling, copied on the GPU) and the passes keep what they
+//! built for the scene, which keeps its identity. Instances of an added mesh are then added by handle
 //! ([`Renderer::add_instance`]).
 
 use std::sync::Arc;
@@ -10,6 +10,15 @@ use std::sync::Arc;
 use super::Renderer;
 use crate::frame_data::{PreparedScene, RenderError};
 use crate::scene::{Image, Material, Mesh};
+
+/// How much of the shared geometry streams meshes hold ([`Renderer::geometry_usage`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct GeometryUsage {
+    pub vertices: u64,
+    pub indices: u64,
+    pub vertex_capacity: u64,
+    pub index_capacity: u64,
+}
 
 impl Renderer {
     /// Adds `mesh` to the prepared scene, from the next frame, and returns its mesh index for
@@ -43,6 +52,48 @@ impl Renderer {
         Ok(self
             .prepared_mut()?
             .set_material(&gpu.device, &gpu.queue, index, material)?)
+    }
+
+    /// Removes mesh `mesh` from the prepared scene: its vertices and indices are given back, and
+    /// later meshes take that room before the streams grow. Its index is not reused: adding an
+    /// instance of it is [`RenderError::MeshRemoved`]. A mesh that live instances still use is
+    /// [`RenderError::MeshInUse`] (remove them first); an unknown or removed one is
+    /// [`RenderError::Scene`].
+    pub fn remove_mesh(&mut self, mesh: usize) -> Result<(), RenderError> {
+        let (_, table) = self.scene.as_ref().ok_or(RenderError::NoScene)?;
+        let instances = table.instances_of(mesh);
+        if instances > 0 {
+            return Err(RenderError::MeshInUse { mesh, instances });
+        }
+        Ok(self.prepared_mut()?.remove_mesh(mesh)?)
+    }
+
+    /// Removes material `index` from the prepared scene: the next [`Renderer::add_material`]
+    /// takes its index, and the material atlas releases the textures no other material
+    /// samples (later textures take their room). Refused with [`RenderError::Scene`] while a
+    /// mesh of the scene draws with it (remove the mesh, or replace the material with
+    /// [`Renderer::set_material`]), for the default material, and for an unknown or removed
+    /// index.
+    pub fn remove_material(&mut self, index: usize) -> Result<(), RenderError> {
+        let gpu = self.gpu.clone();
+        Ok(self
+            .prepared_mut()?
+            .remove_material(&gpu.device, &gpu.queue, index)?)
+    }
+
+    /// The prepared scene's geometry streams: vertices and indices held by meshes, and the
+    /// room the streams have (taken or free).
+    pub fn geometry_usage(&self) -> Result<GeometryUsage, RenderError> {
+        let (prepared, _) = self.scene.as_ref().ok_or(RenderError::NoScene)?;
+        let geometry = &prepared.gpu.geometry;
+        let (vertices, indices) = geometry.counts();
+        let (vertex_capacity, index_capacity) = geometry.capacity();
+        Ok(GeometryUsage {
+            vertices,
+            indices,
+            vertex_capacity,
+            index_capacity,
+        })
     }
 
     /// Keeps `image` and returns its index for an added material's textures. It is packed

@@ -59,6 +59,7 @@ pub use crate::frame_data::{
     RendererConfig,
 };
 pub use crate::passes::light_cull::Culler;
+pub use assets::GeometryUsage;
 
 use crate::GpuContext;
 use crate::decals::{DecalAtlasConfig, DecalSet};
@@ -192,8 +193,11 @@ impl Renderer {
     /// [`DecalAtlasConfig`]), effective next frame. Decals are culled into the same cell lists
     /// as lights and applied by forward shading before lighting, in their layer order
     /// ([`DecalSet::layer_order`]). A set with the current set's materials (decals added,
-    /// removed or moved) keeps the packed atlas and writes only the decals' records; the
-    /// result says which happened.
+    /// removed or moved) keeps the packed atlas and writes only the decals' records; one that
+    /// adds or removes materials keeps it too, each material the atlas holds (compared by
+    /// value) in its place, removed ones' room given back and new ones written into free room;
+    /// the atlas is packed again only when a new material finds no room or the configuration
+    /// changes. The result says which happened.
     pub fn set_decals(&mut self, decals: &DecalSet) -> Result<DecalUpload, RenderError> {
         self.set_decals_with(decals, DecalAtlasConfig::default())
     }

@@ -105,6 +105,7 @@ fn edit_error(e: InstanceEditError, index: usize) -> RenderError {
     match e {
         InstanceEditError::Stale => RenderError::StaleInstance { index },
         InstanceEditError::NoSuchMesh { mesh, count } => RenderError::NoSuchMesh { mesh, count },
+        InstanceEditError::MeshRemoved { mesh } => RenderError::MeshRemoved { mesh },
         InstanceEditError::NotFinite => RenderError::NotFiniteTransform,
     }
 }

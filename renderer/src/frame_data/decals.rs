@@ -1,7 +1,9 @@
 //! The frame's decals on the GPU: the records shading reads and the boxes culling tests, both in
 //! layer order (the order cell lists keep and shading applies), and the decal atlas's four
 //! textures with their sampler. A new set over the same materials keeps the packed atlas and
-//! rewrites only the records ([`GpuDecals::updated`]).
+//! rewrites only the records; one with other materials keeps the atlas too, removed materials'
+//! room given back and new ones written into free room, and packs it again only when a new
+//! one finds none ([`GpuDecals::updated`]).
 
 use bytemuck::Zeroable as _;
 use glam::{Mat4, Vec4};
@@ -10,7 +12,8 @@ use wgpu::util::DeviceExt as _;
 
 use crate::culling::hierarchy::CullBox;
 use crate::decals::{
-    AtlasEntry, Channel, Decal, DecalAtlas, DecalAtlasConfig, DecalError, DecalMaterial, DecalSet,
+    AtlasEntry, AtlasSpace, Channel, Decal, DecalAtlas, DecalAtlasConfig, DecalError,
+    DecalMaterial, DecalSet, PlacedMaterial,
 };
 
 /// Stands for "never" in distance fades (beyond any camera distance, finite in `f32` maths).
@@ -37,22 +40,29 @@ pub struct GpuDecals {
     packed: Option<std::sync::Arc<Packed>>,
 }
 
-/// The materials and configuration an atlas was packed from, and its entries.
+/// The materials and configuration an atlas was packed from, its entries, and its room with
+/// each material's allocation (to add and remove materials in place).
 #[derive(Debug)]
 struct Packed {
     materials: Vec<DecalMaterial>,
     config: DecalAtlasConfig,
     entries: Vec<AtlasEntry>,
+    space: AtlasSpace,
+    allocations: Vec<etagere::AllocId>,
 }
 
 /// What [`GpuDecals::updated`] had to do.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum DecalUpload {
-    /// The materials or the atlas configuration changed (or there were no decals): the atlas
-    /// was packed and uploaded again.
+    /// The atlas configuration changed, there were no decals, or a new material found no
+    /// free room: the atlas was packed and uploaded again.
     Repacked,
     /// Same materials: only the decals' records and boxes were written.
     RecordsOnly,
+    /// Materials were added or removed: removed ones gave their room back, new ones were
+    /// written into free room (their texels only), the others kept their place; then the
+    /// records were written.
+    MaterialsInPlace { added: usize, removed: usize },
 }
 
 impl GpuDecals {
@@ -80,11 +90,8 @@ impl GpuDecals {
         config: DecalAtlasConfig,
         previous: &GpuDecals,
     ) -> Result<(Self, DecalUpload), DecalError> {
-        let reusable = previous
-            .packed
-            .as_ref()
-            .filter(|p| p.config == config && p.materials == set.materials);
-        let Some(packed) = reusable.filter(|_| !set.decals.is_empty()) else {
+        let reusable = (previous.packed.as_ref()).filter(|p| p.config == config);
+        let Some(old) = reusable.filter(|_| !set.decals.is_empty()) else {
             return Ok((
                 Self::new(device, queue, set, config)?,
                 DecalUpload::Repacked,
@@ -92,6 +99,24 @@ impl GpuDecals {
         };
         set.validate()?;
         check_count(device, set)?;
+        let (packed, upload) = if old.materials == set.materials {
+            (std::sync::Arc::clone(old), DecalUpload::RecordsOnly)
+        } else {
+            let Some((packed, placed, removed)) = in_place(old, &set.materials)? else {
+                return Ok((
+                    Self::new(device, queue, set, config)?,
+                    DecalUpload::Repacked,
+                ));
+            };
+            for material in &placed {
+                write_material(queue, &previous.views, material);
+            }
+            let added = placed.len();
+            (
+                std::sync::Arc::new(packed),
+                DecalUpload::MaterialsInPlace { added, removed },
+            )
+        };
         let order = set.layer_order();
         let records: Vec<GpuDecal> = order
             .iter()
@@ -111,9 +136,9 @@ impl GpuDecals {
             sampler: previous.sampler.clone(),
             atlas_size: previous.atlas_size,
             mip_levels: previous.mip_levels,
-            packed: Some(std::sync::Arc::clone(packed)),
+            packed: Some(packed),
         };
-        Ok((gpu, DecalUpload::RecordsOnly))
+        Ok((gpu, upload))
     }
 
     /// Validates `set`, packs its atlas and uploads it with the decals in layer order.
@@ -128,7 +153,7 @@ impl GpuDecals {
         if set.decals.is_empty() {
             return Ok(Self::empty(device, queue));
         }
-        let atlas = DecalAtlas::build(&set.materials, config)?;
+        let (atlas, space, allocations) = DecalAtlas::build_with_space(&set.materials, config)?;
         let order = set.layer_order();
         let records: Vec<GpuDecal> = order
             .iter()
@@ -147,6 +172,8 @@ impl GpuDecals {
                 materials: set.materials.clone(),
                 config,
                 entries: atlas.entries,
+                space,
+                allocations,
             })),
         })
     }
@@ -182,6 +209,90 @@ impl GpuDecals {
             resource: wgpu::BindingResource::Sampler(&self.sampler),
         });
         entries
+    }
+}
+
+/// `old`'s atlas with `materials` in place of its own: each material `old` holds keeps its
+/// place, the others' rectangles are given back, and new ones are placed in free room (returned
+/// with their texels, to write), with how many were removed; `None` when a new one finds no
+/// room.
+fn in_place(
+    old: &Packed,
+    materials: &[DecalMaterial],
+) -> Result<Option<(Packed, Vec<PlacedMaterial>, usize)>, DecalError> {
+    let mut unused = vec![true; old.materials.len()];
+    let kept: Vec<Option<usize>> = (materials.iter())
+        .map(|m| {
+            let i = (0..old.materials.len()).find(|&i| unused[i] && old.materials[i] == *m)?;
+            unused[i] = false;
+            Some(i)
+        })
+        .collect();
+    let mut space = old.space.clone();
+    let removed = (unused.iter().enumerate()).filter(|&(_, &u)| u);
+    let removed = removed
+        .map(|(i, _)| space.give_back(old.allocations[i]))
+        .count();
+    let (mut entries, mut allocations, mut placed) = (Vec::new(), Vec::new(), Vec::new());
+    for (m, kept) in materials.iter().zip(kept) {
+        if let Some(i) = kept {
+            entries.push(old.entries[i]);
+            allocations.push(old.allocations[i]);
+            continue;
+        }
+        m.check()?;
+        let Some(material) = space.place(m) else {
+            return Ok(None);
+        };
+        entries.push(material.entry);
+        allocations.push(material.allocation);
+        placed.push(material);
+    }
+    let packed = Packed {
+        materials: materials.to_vec(),
+        config: old.config,
+        entries,
+        space,
+        allocations,
+    };
+    Ok(Some((packed, placed, removed)))
+}
+
+/// Writes a material placed in place into the atlas's channel textures, every level of its
+/// rectangle.
+fn write_material(
+    queue: &wgpu::Queue,
+    views: &[wgpu::TextureView; Channel::COUNT],
+    material: &PlacedMaterial,
+) {
+    let ((x, y), (width, height)) = (material.corner, material.size);
+    for (view, levels) in views.iter().zip(&material.levels) {
+        for (level, texels) in levels.iter().enumerate() {
+            let (w, h) = (width >> level, height >> level);
+            queue.write_texture(
+                wgpu::TexelCopyTextureInfo {
+                    texture: view.texture(),
+                    mip_level: level as u32,
+                    origin: wgpu::Origin3d {
+                        x: x >> level,
+                        y: y >> level,
+                        z: 0,
+                    },
+                    aspect: wgpu::TextureAspect::All,
+                },
+                texels,
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(w * 4),
+                    rows_per_image: Some(h),
+                },
+                wgpu::Extent3d {
+                    width: w,
+                    height: h,
+                    depth_or_array_layers: 1,
+                },
+            );
+        }
     }
 }
 

@@ -76,6 +76,10 @@ pub enum RenderError {
     StaleInstance { index: usize },
     #[error("mesh {mesh} does not exist: the prepared scene has {count} meshes")]
     NoSuchMesh { mesh: usize, count: usize },
+    #[error("mesh {mesh} was removed; add it again (add_mesh) for a new index")]
+    MeshRemoved { mesh: usize },
+    #[error("mesh {mesh} still has {instances} instances: remove them first")]
+    MeshInUse { mesh: usize, instances: usize },
     #[error("an instance transform must be finite; this one has a NaN or an infinity")]
     NotFiniteTransform,
     #[error(

@@ -141,6 +141,8 @@ pub enum InstanceEditError {
     Stale,
     /// The mesh index is past the scene's meshes.
     NoSuchMesh { mesh: usize, count: usize },
+    /// The mesh was removed.
+    MeshRemoved { mesh: usize },
     /// The transform has a NaN or an infinity.
     NotFinite,
 }
@@ -220,6 +222,9 @@ impl InstanceTable {
         if mesh >= count {
             return Err(InstanceEditError::NoSuchMesh { mesh, count });
         }
+        if prepared.mesh_removed(mesh) {
+            return Err(InstanceEditError::MeshRemoved { mesh });
+        }
         check_finite(world_from_mesh)?;
         if self.free.len() < count {
             self.free.resize(count, Vec::new());
@@ -245,6 +250,13 @@ impl InstanceTable {
         self.write_records(gpu, self.states[index].draws());
         self.bump(index);
         self.handle(index).ok_or(InstanceEditError::Stale)
+    }
+
+    /// How many live instances use mesh `mesh`.
+    pub fn instances_of(&self, mesh: usize) -> usize {
+        (self.states.iter())
+            .filter(|s| s.live && s.mesh == mesh)
+            .count()
     }
 
     /// Removes `handle`'s instance: its draws stop drawing, its slot waits for the next

@@ -131,6 +131,19 @@ impl MaterialTable {
     }
 }
 
+impl MaterialTable {
+    /// Releases the atlas's textures that no material of `materials` samples: later
+    /// materials' textures take their room. Returns how many were released.
+    pub(super) fn release_unused(&mut self, materials: &[Material]) -> usize {
+        let in_use: std::collections::HashSet<AtlasKey> =
+            materials.iter().flat_map(atlas_keys).collect();
+        if self.atlas.usage().0 == in_use.len() {
+            return 0;
+        }
+        std::sync::Arc::make_mut(&mut self.atlas).release(&in_use)
+    }
+}
+
 /// Group 2 of the forward and G-buffer programs, and of the masked depth programs: the
 /// material records and the atlas.
 fn groups(

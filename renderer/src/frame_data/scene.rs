@@ -1,6 +1,7 @@
 //! A scene prepared for drawing: its GPU geometry, what each mesh draws, and its materials
 //! (one buffer of records and the atlas of their textures, `material_groups`), with meshes,
-//! materials and images added and materials replaced between frames. Its instances and their draw records are apart, in
+//! materials and images added, meshes and materials removed and materials replaced between
+//! frames. Its instances and their draw records are apart, in
 //! [`super::InstanceTable`], which an engine edits.
 
 use std::sync::Arc;
@@ -62,6 +63,11 @@ pub struct PreparedScene {
     /// Bumped when a material changes how its draws are batched (its alpha mode or
     /// sidedness, [`PreparedScene::set_material`]): passes then place every draw again.
     pub placement_revision: u64,
+    /// Meshes removed ([`PreparedScene::remove_mesh`]): their indices name nothing.
+    removed_meshes: Vec<bool>,
+    /// Materials removed ([`PreparedScene::remove_material`]), whose indices the next added
+    /// materials take (each holds the default material meanwhile, which nothing draws with).
+    free_materials: Vec<usize>,
     /// The layouts the material groups are built against.
     layouts: SceneLayouts,
     /// The scene's images (added ones after them), kept for packing the atlas again when a
@@ -139,6 +145,8 @@ impl PreparedScene {
             materials,
             default_material,
             placement_revision: 0,
+            removed_meshes: vec![false; scene.meshes.len()],
+            free_materials: Vec::new(),
             layouts,
             images,
             table,
@@ -155,6 +163,16 @@ impl PreparedScene {
         mesh: &Mesh,
     ) -> Result<usize, SceneError> {
         check_mesh(mesh, self.materials.len())?;
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            if let Some(m) = primitive
+                .material
+                .filter(|m| self.free_materials.contains(m))
+            {
+                return Err(SceneError::Inconsistent(format!(
+                    "primitive {p} names material {m}, which was removed"
+                )));
+            }
+        }
         let (vertices, indices) = self.gpu.geometry.counts();
         let new = |f: fn(&crate::scene::Primitive) -> usize| -> u64 {
             mesh.primitives.iter().map(|p| f(p) as u64).sum()
@@ -177,11 +195,86 @@ impl PreparedScene {
             })
             .collect();
         self.mesh_draws.push(draws);
+        self.removed_meshes.push(false);
         Ok(index)
     }
 
-    /// Adds `material` after the others and returns its index (what an added mesh's
-    /// primitives name). Its textures name images of the scene (added ones included).
+    /// Whether mesh `mesh` was removed (its index names nothing; no instance may use it).
+    pub fn mesh_removed(&self, mesh: usize) -> bool {
+        self.removed_meshes.get(mesh).copied().unwrap_or(false)
+    }
+
+    /// Removes mesh `mesh`: its vertices and indices are given back for later meshes, and its
+    /// index stays, naming nothing (indices are never given to another mesh). The caller
+    /// makes sure no live instance uses it.
+    pub fn remove_mesh(&mut self, mesh: usize) -> Result<(), SceneError> {
+        let count = self.mesh_draws.len();
+        if mesh >= count {
+            return Err(SceneError::Inconsistent(format!(
+                "mesh {mesh} does not exist: the prepared scene has {count} meshes"
+            )));
+        }
+        if self.removed_meshes[mesh] {
+            return Err(SceneError::Inconsistent(format!(
+                "mesh {mesh} was removed already"
+            )));
+        }
+        self.gpu.remove_mesh(mesh);
+        self.mesh_draws[mesh].clear();
+        self.removed_meshes[mesh] = true;
+        Ok(())
+    }
+
+    /// Removes material `index`: its index is given to the next added material, and the atlas
+    /// releases the textures no other material samples. Refused for the default material, a
+    /// removed one, and one that a mesh still in the scene draws with.
+    pub fn remove_material(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        index: usize,
+    ) -> Result<(), SceneError> {
+        self.check_material_index(index)?;
+        if index == self.default_material {
+            return Err(SceneError::Inconsistent(format!(
+                "material {index} is the glTF default material, which primitives without a \
+                 material draw with; it cannot be removed"
+            )));
+        }
+        let user =
+            (self.mesh_draws.iter()).position(|draws| draws.iter().any(|d| d.material == index));
+        if let Some(mesh) = user {
+            return Err(SceneError::Inconsistent(format!(
+                "material {index} is drawn by mesh {mesh}: remove that mesh first, or replace \
+                 the material (set_material)"
+            )));
+        }
+        self.materials[index] = Material::gltf_default();
+        self.write_material(device, queue, index)?;
+        self.free_materials.push(index);
+        self.table.release_unused(&self.materials);
+        Ok(())
+    }
+
+    /// Refuses an index past the materials or of a removed material.
+    fn check_material_index(&self, index: usize) -> Result<(), SceneError> {
+        let count = self.materials.len();
+        if index >= count {
+            return Err(SceneError::Inconsistent(format!(
+                "material {index} does not exist: the prepared scene has {count} materials"
+            )));
+        }
+        if self.free_materials.contains(&index) {
+            return Err(SceneError::Inconsistent(format!(
+                "material {index} was removed"
+            )));
+        }
+        Ok(())
+    }
+
+    /// Adds `material` and returns its index (what an added mesh's primitives name): the index
+    /// of the last removed material, else one after the others. Its textures name images of
+    /// the scene (added ones included).
     pub fn add_material(
         &mut self,
         device: &wgpu::Device,
@@ -189,11 +282,21 @@ impl PreparedScene {
         material: &Material,
     ) -> Result<usize, SceneError> {
         check_material(material, self.images.len())?;
-        self.materials.push(material.clone());
-        let index = self.materials.len() - 1;
+        let Some(index) = self.free_materials.pop() else {
+            self.materials.push(material.clone());
+            let index = self.materials.len() - 1;
+            if let Err(e) = self.write_material(device, queue, index) {
+                // Nothing changed: the table never held it.
+                self.materials.pop();
+                return Err(e);
+            }
+            return Ok(index);
+        };
+        let removed = std::mem::replace(&mut self.materials[index], material.clone());
         if let Err(e) = self.write_material(device, queue, index) {
-            // Nothing changed: the table never held it.
-            self.materials.pop();
+            // Nothing changed: the slot still holds the removed material's stand-in.
+            self.materials[index] = removed;
+            self.free_materials.push(index);
             return Err(e);
         }
         Ok(index)
@@ -209,12 +312,7 @@ impl PreparedScene {
         index: usize,
         material: &Material,
     ) -> Result<(), SceneError> {
-        let count = self.materials.len();
-        if index >= count {
-            return Err(SceneError::Inconsistent(format!(
-                "material {index} does not exist: the prepared scene has {count} materials"
-            )));
-        }
+        self.check_material_index(index)?;
         check_material(material, self.images.len())?;
         let previous = std::mem::replace(&mut self.materials[index], material.clone());
         if let Err(e) = self.write_material(device, queue, index) {

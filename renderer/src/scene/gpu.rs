@@ -2,9 +2,10 @@
 //! attribute and every index in one shared index buffer (a primitive is a range of each). The
 //! scene's images go to the material atlas (`frame_data`'s material table).
 //!
-//! Meshes can be added after the upload ([`GpuScene::add_mesh`]): the streams grow by
-//! doubling, their contents copied on the GPU, so an added mesh uploads its own vertices and
-//! nothing else.
+//! Meshes can be added after the upload ([`GpuScene::add_mesh`]) and removed
+//! ([`GpuScene::remove_mesh`]): an added mesh takes free ranges of the streams (best fit, among
+//! those removed meshes gave back) and uploads its own vertices and nothing else; where none is
+//! long enough the streams grow by doubling, their contents copied on the GPU.
 //!
 //! A pass binds the streams its shader reads once and draws each primitive with its index range
 //! and base vertex, so drawing a scene records no vertex or index buffer per draw. A primitive
@@ -13,6 +14,9 @@
 
 use wgpu::util::DeviceExt as _;
 
+use std::ops::Range;
+
+use super::free_ranges::FreeRanges;
 use super::{Primitive, Scene};
 
 /// One primitive's place in the shared buffers.
@@ -28,7 +32,7 @@ pub struct GpuPrimitive {
 
 impl GpuPrimitive {
     /// Its index range in [`GeometryBuffers::indices`].
-    pub fn indices(&self) -> std::ops::Range<u32> {
+    pub fn indices(&self) -> Range<u32> {
         self.first_index..self.first_index + self.index_count
     }
 
@@ -57,20 +61,24 @@ pub struct GeometryBuffers {
     pub tangents: wgpu::Buffer,
     /// `u32` indices, each primitive's relative to its own first vertex.
     pub indices: wgpu::Buffer,
-    /// Vertices and indices written, and the room each stream has.
-    vertices: u64,
-    vertex_capacity: u64,
-    index_count: u64,
-    index_capacity: u64,
+    /// Which vertices and indices are taken (by meshes) and free (never used, or given back by
+    /// removed meshes), and the room each stream has.
+    vertex_space: FreeRanges,
+    index_space: FreeRanges,
 }
 
 /// Bytes per vertex of each stream, in [`GeometryBuffers::vertex_streams_mut`] order.
 const STREAM_STRIDES: [u64; 6] = [12, 12, 8, 8, 16, 16];
 
 impl GeometryBuffers {
-    /// The vertices and indices the streams hold.
+    /// The vertices and indices the streams hold for meshes.
     pub fn counts(&self) -> (u64, u64) {
-        (self.vertices, self.index_count)
+        (self.vertex_space.taken(), self.index_space.taken())
+    }
+
+    /// The vertices and indices the streams have room for (taken or free).
+    pub fn capacity(&self) -> (u64, u64) {
+        (self.vertex_space.capacity(), self.index_space.capacity())
     }
 
     fn vertex_streams_mut(&mut self) -> [&mut wgpu::Buffer; 6] {
@@ -84,26 +92,41 @@ impl GeometryBuffers {
         ]
     }
 
-    /// Appends `packed` after what the streams hold (growing them first where it does not
-    /// fit); returns the vertex and index offsets it went to.
-    fn append(
+    /// Writes `packed` into free ranges of the streams (growing them first where none is long
+    /// enough); returns the vertex and index ranges it took.
+    fn place(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         packed: &PackedGeometry,
-    ) -> (u64, u64) {
+    ) -> (Range<u64>, Range<u64>) {
         let (vertices, indices) = (packed.positions.len() as u64, packed.indices.len() as u64);
-        if self.vertices + vertices > self.vertex_capacity
-            || self.index_count + indices > self.index_capacity
-        {
-            self.grow(
-                device,
-                queue,
-                self.vertices + vertices,
-                self.index_count + indices,
-            );
+        let mut vertex_range = self.vertex_space.take(vertices);
+        let mut index_range = self.index_space.take(indices);
+        if vertex_range.is_none() || index_range.is_none() {
+            let (vertex_room, index_room) = self.capacity();
+            let grown_vertices = if vertex_range.is_none() {
+                (vertex_room + vertices).max(2 * vertex_room)
+            } else {
+                vertex_room
+            };
+            let grown_indices = if index_range.is_none() {
+                (index_room + indices).max(2 * index_room)
+            } else {
+                index_room
+            };
+            self.grow(device, queue, grown_vertices, grown_indices);
+            vertex_range = vertex_range.or_else(|| self.vertex_space.take(vertices));
+            index_range = index_range.or_else(|| self.index_space.take(indices));
         }
-        let at = (self.vertices, self.index_count);
+        #[expect(
+            clippy::expect_used,
+            reason = "the streams just grew by at least what was asked past their old room"
+        )]
+        let (vertex_range, index_range) = (
+            vertex_range.expect("grown vertex streams have room"),
+            index_range.expect("a grown index buffer has room"),
+        );
         let new_streams: [&[u8]; 6] = [
             bytemuck::cast_slice(&packed.positions),
             bytemuck::cast_slice(&packed.normals),
@@ -112,7 +135,7 @@ impl GeometryBuffers {
             bytemuck::cast_slice(&packed.colors),
             bytemuck::cast_slice(&packed.tangents),
         ];
-        let first = self.vertices;
+        let first = vertex_range.start;
         for ((buffer, stride), bytes) in self
             .vertex_streams_mut()
             .into_iter()
@@ -123,19 +146,24 @@ impl GeometryBuffers {
         }
         queue.write_buffer(
             &self.indices,
-            self.index_count * 4,
+            index_range.start * 4,
             bytemuck::cast_slice(&packed.indices),
         );
-        self.vertices += vertices;
-        self.index_count += indices;
-        at
+        (vertex_range, index_range)
     }
 
-    /// New streams with room for at least `vertices` and `indices` (twice the old room at
-    /// least), the old contents copied over on the GPU.
+    /// Gives a removed mesh's ranges back: later meshes may take them.
+    fn give_back(&mut self, (vertices, indices): (Range<u64>, Range<u64>)) {
+        self.vertex_space.give_back(vertices);
+        self.index_space.give_back(indices);
+    }
+
+    /// New streams with room for at least `vertices` and `indices`, what meshes took of the old
+    /// ones copied over on the GPU.
     fn grow(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, vertices: u64, indices: u64) {
-        let vertex_capacity = vertices.max(2 * self.vertex_capacity);
-        let index_capacity = indices.max(2 * self.index_capacity);
+        let (vertex_room, index_room) = self.capacity();
+        let vertex_capacity = vertices.max(vertex_room);
+        let index_capacity = indices.max(index_room);
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("scene geometry growth"),
         });
@@ -150,7 +178,7 @@ impl GeometryBuffers {
             encoder.copy_buffer_to_buffer(buffer, 0, &grown, 0, used);
             *buffer = grown;
         };
-        let vertices_used = self.vertices;
+        let vertices_used = self.vertex_space.end_taken();
         for (buffer, stride) in self.vertex_streams_mut().into_iter().zip(STREAM_STRIDES) {
             let (size, used) = (stride * vertex_capacity, stride * vertices_used);
             replace(
@@ -161,7 +189,7 @@ impl GeometryBuffers {
                 "scene vertex stream",
             );
         }
-        let (size, used) = (4 * index_capacity, 4 * self.index_count);
+        let (size, used) = (4 * index_capacity, 4 * self.index_space.end_taken());
         replace(
             &mut self.indices,
             size,
@@ -170,8 +198,8 @@ impl GeometryBuffers {
             "scene indices",
         );
         queue.submit([encoder.finish()]);
-        self.vertex_capacity = vertex_capacity;
-        self.index_capacity = index_capacity;
+        self.vertex_space.grow_to(vertex_capacity);
+        self.index_space.grow_to(index_capacity);
     }
 }
 
@@ -189,9 +217,11 @@ pub enum VertexStreams {
 /// Every mesh primitive of a scene, uploaded (its images go to the material atlas).
 #[derive(Debug, Clone)]
 pub struct GpuScene {
-    /// `meshes[m][p]` is primitive `p` of mesh `m`.
+    /// `meshes[m][p]` is primitive `p` of mesh `m` (none once the mesh is removed).
     pub meshes: Vec<Vec<GpuPrimitive>>,
     pub geometry: GeometryBuffers,
+    /// The vertex and index ranges each mesh took (empty once it is removed).
+    mesh_ranges: Vec<(Range<u64>, Range<u64>)>,
 }
 
 /// The scene's vertex streams and indices concatenated on the CPU, before upload.
@@ -267,10 +297,8 @@ impl PackedGeometry {
                 bytemuck::cast_slice(&self.indices),
                 wgpu::BufferUsages::INDEX,
             ),
-            vertices,
-            vertex_capacity: vertices,
-            index_count: indices,
-            index_capacity: indices,
+            vertex_space: FreeRanges::new(vertices, vertices),
+            index_space: FreeRanges::new(indices, indices),
         }
     }
 }
@@ -278,19 +306,28 @@ impl PackedGeometry {
 impl GpuScene {
     pub fn upload(device: &wgpu::Device, scene: &Scene) -> Self {
         let mut packed = PackedGeometry::default();
+        let mut mesh_ranges = Vec::with_capacity(scene.meshes.len());
         let meshes = scene
             .meshes
             .iter()
-            .map(|mesh| mesh.primitives.iter().map(|p| packed.push(p)).collect())
+            .map(|mesh| {
+                let start = (packed.positions.len() as u64, packed.indices.len() as u64);
+                let placed = mesh.primitives.iter().map(|p| packed.push(p)).collect();
+                let end = (packed.positions.len() as u64, packed.indices.len() as u64);
+                mesh_ranges.push((start.0..end.0, start.1..end.1));
+                placed
+            })
             .collect();
         Self {
             meshes,
             geometry: packed.upload(device),
+            mesh_ranges,
         }
     }
 
-    /// Uploads `mesh`'s primitives after the others (the streams grow if they must) and
-    /// returns its index in [`GpuScene::meshes`].
+    /// Uploads `mesh`'s primitives into free ranges of the streams (given back by removed
+    /// meshes, or past the others; the streams grow if they must) and returns its index in
+    /// [`GpuScene::meshes`].
     pub fn add_mesh(
         &mut self,
         device: &wgpu::Device,
@@ -299,18 +336,30 @@ impl GpuScene {
     ) -> usize {
         let mut packed = PackedGeometry::default();
         let placed: Vec<GpuPrimitive> = mesh.primitives.iter().map(|p| packed.push(p)).collect();
-        let (first_vertex, first_index) = self.geometry.append(device, queue, &packed);
+        let (vertices, indices) = self.geometry.place(device, queue, &packed);
         self.meshes.push(
             placed
                 .into_iter()
                 .map(|p| GpuPrimitive {
-                    first_index: p.first_index + first_index as u32,
-                    base_vertex: p.base_vertex + first_vertex as i32,
+                    first_index: p.first_index + indices.start as u32,
+                    base_vertex: p.base_vertex + vertices.start as i32,
                     ..p
                 })
                 .collect(),
         );
+        self.mesh_ranges.push((vertices, indices));
         self.meshes.len() - 1
+    }
+
+    /// Removes mesh `mesh` (its index stays, naming no primitive): its vertices and indices
+    /// are given back for later meshes. Nothing may draw it any more.
+    pub fn remove_mesh(&mut self, mesh: usize) {
+        if let (Some(primitives), Some(ranges)) =
+            (self.meshes.get_mut(mesh), self.mesh_ranges.get_mut(mesh))
+        {
+            primitives.clear();
+            self.geometry.give_back(std::mem::take(ranges));
+        }
     }
 
     /// Binds `streams` at vertex slots 0.. and the shared index buffer.

@@ -6,6 +6,7 @@
 
 mod camera;
 mod error;
+mod free_ranges;
 mod gpu;
 mod image_formats;
 mod instancing;

@@ -37,6 +37,8 @@ pub(super) struct Placed {
     pub(super) y: u32,
     pub(super) width: u32,
     pub(super) height: u32,
+    /// Its rectangle in its page's allocator, to give back when nothing samples it.
+    pub(super) allocation: etagere::AllocId,
 }
 
 /// One stored level: width, height and RGBA8 texels.

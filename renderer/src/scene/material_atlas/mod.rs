@@ -11,9 +11,11 @@
 //! The atlas grows in place ([`MaterialAtlas::add`]): a new image's levels go into the free
 //! space of the pages, or into new layers (the texture made again with the old layers copied
 //! on the GPU), and every texture held keeps its index; only an image larger than a page needs
-//! the atlas packed anew.
+//! the atlas packed anew. Textures no material samples any more are released
+//! ([`MaterialAtlas::release`]): their rectangles and records are taken by later additions.
 
 mod levels;
+mod release;
 
 use std::collections::HashMap;
 
@@ -24,6 +26,7 @@ use wgpu::util::DeviceExt as _;
 pub use levels::AtlasKey;
 
 use super::Image;
+use super::free_ranges::FreeRanges;
 use levels::{
     Level, LevelsKey, Placed, filter_bits, levels_key, stored_levels, wrap_bits, write_bordered,
 };
@@ -53,12 +56,14 @@ pub enum AtlasGrowth {
     NeedsRepack,
 }
 
-/// A stored set of levels: its first level record, how many, and level 0's size.
-#[derive(Debug, Clone, Copy)]
+/// A stored set of levels: its first level record, how many, level 0's size, and each
+/// level's rectangle (layer and allocation).
+#[derive(Debug, Clone)]
 struct StoredSet {
     first_level: u32,
     levels: u32,
     size: (u32, u32),
+    rectangles: Vec<(u32, etagere::AllocId)>,
 }
 
 /// The pages' allocators, one per layer (etagere's have no `Debug`).
@@ -86,6 +91,10 @@ pub struct MaterialAtlas {
     sets: HashMap<LevelsKey, StoredSet>,
     level_records: Vec<AtlasLevel>,
     texture_records: Vec<AtlasTexture>,
+    /// Level records that sets no longer held gave back, and texture records of released
+    /// textures: new ones take them first.
+    level_space: FreeRanges,
+    free_textures: Vec<u32>,
     /// Times textures were added in place since the atlas was packed.
     additions: u32,
 }
@@ -129,6 +138,8 @@ impl MaterialAtlas {
             sets: HashMap::new(),
             level_records: Vec::new(),
             texture_records: Vec::new(),
+            level_space: FreeRanges::new(0, 0),
+            free_textures: Vec::new(),
             additions: 0,
         };
         atlas.store(device, queue, keys, &new_sets, &chains, &placed);
@@ -197,22 +208,25 @@ impl MaterialAtlas {
     ) {
         let page = self.page_size as f32;
         for (s, set) in new_sets.iter().enumerate() {
-            let first_level = self.level_records.len() as u32;
+            let first_level = self.take_level_records(chains[s].len());
+            let mut rectangles = Vec::with_capacity(chains[s].len());
             for (l, (_, _, texels)) in chains[s].iter().enumerate() {
                 let p = placed[&(s, l)];
                 write_bordered(queue, &self.texture, p, texels, set.repeat_u, set.repeat_v);
-                self.level_records.push(AtlasLevel::new(
+                rectangles.push((p.layer, p.allocation));
+                self.level_records[first_level as usize + l] = AtlasLevel::new(
                     glam::Vec2::new((p.x + 1) as f32, (p.y + 1) as f32) / page,
                     glam::Vec2::new(p.width as f32, p.height as f32) / page,
                     glam::Vec2::new(p.width as f32, p.height as f32),
                     p.layer,
                     0,
-                ));
+                );
             }
             let stored = StoredSet {
                 first_level,
                 levels: chains[s].len() as u32,
                 size: chains[s].first().map_or((1, 1), |(w, h, _)| (*w, *h)),
+                rectangles,
             };
             self.sets.insert(*set, stored);
         }
@@ -223,14 +237,23 @@ impl MaterialAtlas {
             let Some(set) = self.sets.get(&levels_key(key)) else {
                 continue;
             };
-            self.texture_records.push(AtlasTexture::new(
+            let record = AtlasTexture::new(
                 glam::Vec2::new(set.size.0 as f32, set.size.1 as f32),
                 set.first_level,
                 set.levels,
                 wrap_bits(key.sampler),
                 filter_bits(key.sampler),
-            ));
-            let index = self.texture_records.len() as u32 - 1;
+            );
+            let index = match self.free_textures.pop() {
+                Some(index) => {
+                    self.texture_records[index as usize] = record;
+                    index
+                }
+                None => {
+                    self.texture_records.push(record);
+                    self.texture_records.len() as u32 - 1
+                }
+            };
             self.indices.insert(*key, index);
         }
         self.textures = records_buffer(device, "material atlas textures", &self.texture_records);
@@ -350,6 +373,7 @@ fn place(
                 y: allocation.rectangle.min.y as u32,
                 width,
                 height,
+                allocation: allocation.id,
             },
         );
     }

@@ -1,0 +1,91 @@
+//! Room in a packed decal atlas, kept so that a later set of decals can add and remove
+//! materials in place: a removed material's rectangle is given back, and a new material is
+//! allocated in free room and its levels built for its rectangle alone.
+//!
+//! Allocations are aligned to, and sized in multiples of, the gutter `2^(L−1)`, so each level
+//! of a rectangle is a whole rectangle of that level and its 2×2 box filter reads only the
+//! rectangle's own texels one level up: a rectangle's levels built on their own equal the
+//! levels of the whole atlas built at once ([`super::DecalAtlas::build`]) inside it.
+
+use etagere::{AllocId, AtlasAllocator, size2};
+
+use super::atlas::{AtlasEntry, Slot, blit_with_gutter, downsample, padded_size};
+use super::image::{Channel, DecalImage, DecalMaterial};
+
+/// The free and taken room of a packed decal atlas.
+#[derive(Clone)]
+pub(crate) struct AtlasSpace {
+    pub(super) allocator: AtlasAllocator,
+    pub(super) size: u32,
+    pub(super) mip_levels: u32,
+    pub(super) gutter: u32,
+}
+
+impl std::fmt::Debug for AtlasSpace {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "AtlasSpace({0}², {1} texels free)",
+            self.size,
+            self.allocator.free_space()
+        )
+    }
+}
+
+/// A material placed in the atlas: its entry and allocation, and its rectangle's texels.
+pub(crate) struct PlacedMaterial {
+    pub(crate) entry: AtlasEntry,
+    pub(crate) allocation: AllocId,
+    /// The rectangle at level 0: corner and size (gutters and rounding included).
+    pub(crate) corner: (u32, u32),
+    pub(crate) size: (u32, u32),
+    /// `levels[channel][level]`: RGBA8 rows of the rectangle at that level
+    /// (`size >> level`).
+    pub(crate) levels: [Vec<Vec<u8>>; Channel::COUNT],
+}
+
+impl AtlasSpace {
+    /// Allocates `m` in free room and builds its rectangle's levels, or `None` when no free
+    /// room is large enough (the atlas must then be packed again).
+    pub(crate) fn place(&mut self, m: &DecalMaterial) -> Option<PlacedMaterial> {
+        let (width, height) = padded_size(m, self.gutter);
+        let allocation = self
+            .allocator
+            .allocate(size2(width as i32, height as i32))?;
+        let corner = (
+            allocation.rectangle.min.x as u32,
+            allocation.rectangle.min.y as u32,
+        );
+        let (w, h) = (m.base_color.width, m.base_color.height);
+        let levels = Channel::ALL.map(|channel| {
+            let neutral = DecalImage::solid(w, h, channel.neutral());
+            let image = m.channel(channel).unwrap_or(&neutral);
+            let mut base = vec![0u8; (width * height * 4) as usize];
+            let slot = Slot {
+                corner: (0, 0),
+                size: (width, height),
+                gutter: self.gutter,
+            };
+            blit_with_gutter(&mut base, width, image, slot);
+            let mut chain = vec![base];
+            for level in 1..self.mip_levels {
+                let above = &chain[level as usize - 1];
+                let side = (width >> (level - 1), height >> (level - 1));
+                chain.push(downsample(above, side, channel));
+            }
+            chain
+        });
+        Some(PlacedMaterial {
+            entry: AtlasEntry::at(corner, m, self.gutter, self.size),
+            allocation: allocation.id,
+            corner,
+            size: (width, height),
+            levels,
+        })
+    }
+
+    /// Gives a removed material's rectangle back.
+    pub(crate) fn give_back(&mut self, allocation: AllocId) {
+        self.allocator.deallocate(allocation);
+    }
+}
