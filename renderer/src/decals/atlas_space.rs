@@ -89,3 +89,81 @@ impl AtlasSpace {
         self.allocator.deallocate(allocation);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::{DecalAtlas, DecalAtlasConfig};
+    use super::*;
+
+    /// A material whose every channel varies texel by texel (so a wrong level or offset shows).
+    fn patterned(name: &str, w: u32, h: u32, seed: u32) -> DecalMaterial {
+        let image = |k: u32| {
+            DecalImage::from_fn(w, h, move |x, y| {
+                let v = (x * 37 + y * 101 + seed * 53 + k * 17) % 251;
+                [v as u8, (255 - v) as u8, ((v * 7) % 256) as u8, 128 + (v % 128) as u8]
+            })
+        };
+        DecalMaterial {
+            name: name.into(),
+            base_color: image(0),
+            normal: Some(image(1)),
+            orm: Some(image(2)),
+            emissive: None,
+        }
+    }
+
+    /// The `(width, height)` rectangle at `corner` of `size`-wide RGBA8 rows.
+    fn crop(texels: &[u8], size: u32, corner: (u32, u32), (w, h): (u32, u32)) -> Vec<u8> {
+        (0..h)
+            .flat_map(|y| {
+                let start = (((corner.1 + y) * size + corner.0) * 4) as usize;
+                texels[start..start + (w * 4) as usize].to_vec()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_material_placed_later_has_the_levels_a_whole_atlas_gives_it() {
+        let config = DecalAtlasConfig {
+            max_size: 256,
+            mip_levels: 4,
+        };
+        let (a, b) = (patterned("a", 70, 40, 1), patterned("b", 30, 38, 2));
+        let whole = DecalAtlas::build(&[a.clone(), b.clone()], config).expect("fits");
+        let (alone, mut space, _) = DecalAtlas::build_with_space(&[a], config).expect("fits");
+        let placed = space.place(&b).expect("room left");
+        assert_eq!(placed.size, padded_size(&b, whole.gutter));
+        let [x, y, ..] = whole.entries[1].texels;
+        let corner = (x - whole.gutter, y - whole.gutter);
+        assert_eq!(whole.size, alone.size, "the same atlas side, so the same levels");
+        for channel in Channel::ALL {
+            for level in 0..config.mip_levels {
+                let expected = crop(
+                    &whole.levels[channel as usize][level as usize],
+                    whole.size >> level,
+                    (corner.0 >> level, corner.1 >> level),
+                    (placed.size.0 >> level, placed.size.1 >> level),
+                );
+                assert!(
+                    placed.levels[channel as usize][level as usize] == expected,
+                    "{channel:?} level {level} differs from the whole atlas's"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn room_given_back_is_placed_again_and_a_full_atlas_says_so() {
+        let config = DecalAtlasConfig {
+            max_size: 64,
+            mip_levels: 3,
+        };
+        let big = patterned("big", 44, 44, 3);
+        let (_, mut space, allocations) =
+            DecalAtlas::build_with_space(&[big.clone()], config).expect("fits");
+        assert!(space.place(&big).is_none(), "a second one does not fit");
+        space.give_back(allocations[0]);
+        let again = space.place(&big).expect("the room given back");
+        assert_eq!(again.entry.texels[2..], [44, 44]);
+    }
+}
