@@ -100,7 +100,12 @@ mod tests {
         let image = |k: u32| {
             DecalImage::from_fn(w, h, move |x, y| {
                 let v = (x * 37 + y * 101 + seed * 53 + k * 17) % 251;
-                [v as u8, (255 - v) as u8, ((v * 7) % 256) as u8, 128 + (v % 128) as u8]
+                [
+                    v as u8,
+                    (255 - v) as u8,
+                    ((v * 7) % 256) as u8,
+                    128 + (v % 128) as u8,
+                ]
             })
         };
         DecalMaterial {
@@ -135,7 +140,10 @@ mod tests {
         assert_eq!(placed.size, padded_size(&b, whole.gutter));
         let [x, y, ..] = whole.entries[1].texels;
         let corner = (x - whole.gutter, y - whole.gutter);
-        assert_eq!(whole.size, alone.size, "the same atlas side, so the same levels");
+        assert_eq!(
+            whole.size, alone.size,
+            "the same atlas side, so the same levels"
+        );
         for channel in Channel::ALL {
             for level in 0..config.mip_levels {
                 let expected = crop(

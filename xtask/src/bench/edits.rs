@@ -4,7 +4,8 @@
 //! culling layout and boxes, the shadow casters).
 //!
 //! Every instance added is removed again, so the scene ends as it began (the appended draws
-//! stay, dead: they hold no batch slot and draw nothing).
+//! stay, dead: they hold no batch slot and draw nothing). Then a mesh is streamed in and out:
+//! added, instanced, drawn and removed, its addition and removal timed alone.
 
 use std::time::Instant;
 
@@ -77,5 +78,40 @@ pub fn measure(
     record.edit_move_median_us = Samples::from(moves).median();
     record.edit_remove_median_us = Samples::from(remove).median();
     record.edit_frame_cpu_median_ms = Samples::from(frames).median();
+    let (mesh_add, mesh_remove) = stream_meshes(renderer, scene, (camera, target))?;
+    record.edit_mesh_add_median_us = Samples::from(mesh_add).median();
+    record.edit_mesh_remove_median_us = Samples::from(mesh_remove).median();
     Ok(())
+}
+
+/// Rounds of streaming a mesh in and out: a copy of the first instance's mesh added (timed),
+/// an instance of it added, a frame, the instance and the mesh removed (timed), a frame. The
+/// µs each addition and removal of the mesh took.
+fn stream_meshes(
+    renderer: &mut Renderer,
+    scene: &Scene,
+    (camera, target): (&FrameCamera, &wgpu::Texture),
+) -> Result<(Vec<f64>, Vec<f64>)> {
+    const ROUNDS: usize = 20;
+    let source = &scene.instances[0];
+    let mesh = &scene.meshes[source.mesh];
+    let (mut added, mut removed) = (Vec::new(), Vec::new());
+    let frame = |renderer: &mut Renderer| -> Result<()> {
+        renderer.render(camera, target)?;
+        renderer.wait_for_frames_in_flight(0)?;
+        Ok(())
+    };
+    for _ in 0..ROUNDS {
+        let started = Instant::now();
+        let index = renderer.add_mesh(mesh)?;
+        added.push(started.elapsed().as_secs_f64() * 1e6);
+        let handle = renderer.add_instance(index, source.world_from_mesh)?;
+        frame(renderer)?;
+        renderer.remove_instance(handle)?;
+        let started = Instant::now();
+        renderer.remove_mesh(index)?;
+        removed.push(started.elapsed().as_secs_f64() * 1e6);
+        frame(renderer)?;
+    }
+    Ok((added, removed))
 }

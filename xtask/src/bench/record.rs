@@ -161,6 +161,12 @@ pub struct CellRecord {
     pub edit_remove_median_us: Option<f64>,
     #[serde(default)]
     pub edit_frame_cpu_median_ms: Option<f64>,
+    /// Streaming a mesh in and out (`bench::edits`): CPU µs to add a copy of a scene mesh
+    /// (its vertices uploaded into free room) and to remove it again (median).
+    #[serde(default)]
+    pub edit_mesh_add_median_us: Option<f64>,
+    #[serde(default)]
+    pub edit_mesh_remove_median_us: Option<f64>,
 }
 
 impl CellRecord {

@@ -83,14 +83,17 @@ fn edits_markdown(cities: &[&CellRecord]) -> String {
          appended), moved and removed, then 100 added again into the removed slots, each edit \
          timed alone on the CPU (µs; add: median and most); a frame rendered after every tenth \
          edit, and the CPU of those frames (ms, median; the passes catch up with the edits \
-         there).\n\n| path | MSAA | instances | add | add (most) | move | remove | CPU frame \
-         after edits |\n|---|---:|---:|---:|---:|---:|---:|---:|\n",
+         there). Then 20 rounds of streaming a mesh: a copy of the first instance's mesh added \
+         (its vertices uploaded into the room the previous round gave back) and removed again, \
+         each timed alone (µs, median).\n\n| path | MSAA | instances | add | add (most) | move \
+         | remove | CPU frame after edits | add mesh | remove mesh |\n\
+         |---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
     );
     let us = |v: Option<f64>| v.map_or_else(|| "–".into(), |v| format!("{v:.1}"));
     for r in edited {
         let _ = writeln!(
             out,
-            "| {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             r.label(),
             r.msaa,
             r.instances,
@@ -99,6 +102,8 @@ fn edits_markdown(cities: &[&CellRecord]) -> String {
             us(r.edit_move_median_us),
             us(r.edit_remove_median_us),
             ms(r.edit_frame_cpu_median_ms),
+            us(r.edit_mesh_add_median_us),
+            us(r.edit_mesh_remove_median_us),
         );
     }
     out
@@ -135,6 +140,7 @@ mod tests {
                 edit_move_median_us: Some(3.3),
                 edit_remove_median_us: Some(1.0),
                 edit_frame_cpu_median_ms: Some(0.9),
+                edit_mesh_add_median_us: Some(30.0),
                 ..city(10_000, "tiled", 1.0)
             },
             city(1_000, "tiled", 0.1),
@@ -165,7 +171,7 @@ mod tests {
         // Only the city whose edits were timed has an edit row.
         assert_eq!(
             rows[2],
-            "| tiled | 4 | 10000 | 12.5 | 40.0 | 3.3 | 1.0 | 0.900 |"
+            "| tiled | 4 | 10000 | 12.5 | 40.0 | 3.3 | 1.0 | 0.900 | 30.0 | – |"
         );
         assert_eq!(markdown(&records[2..]), "");
     }
