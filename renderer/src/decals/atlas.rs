@@ -13,7 +13,6 @@ use etagere::{AllocId, AllocatorOptions, AtlasAllocator, size2};
 use glam::Vec4;
 
 use super::DecalError;
-use super::atlas_space::AtlasSpace;
 use super::image::{Channel, DecalImage, DecalMaterial};
 
 /// How an atlas is built.
@@ -66,15 +65,15 @@ impl DecalAtlas {
         materials: &[DecalMaterial],
         config: DecalAtlasConfig,
     ) -> Result<Self, DecalError> {
-        Ok(Self::build_with_space(materials, config)?.0)
+        Ok(Self::build_with_allocator(materials, config)?.0)
     }
 
-    /// [`DecalAtlas::build`], with the atlas's room and each material's allocation in it, kept
-    /// to add and remove materials in place later.
-    pub(crate) fn build_with_space(
+    /// [`DecalAtlas::build`], with the allocator of its room and each material's allocation in
+    /// it (`AtlasSpace::build` keeps them to add and remove materials in place later).
+    pub(super) fn build_with_allocator(
         materials: &[DecalMaterial],
         config: DecalAtlasConfig,
-    ) -> Result<(Self, AtlasSpace, Vec<AllocId>), DecalError> {
+    ) -> Result<(Self, AtlasAllocator, Vec<AllocId>), DecalError> {
         if !(1..=8).contains(&config.mip_levels) {
             return Err(DecalError::AtlasConfig(format!(
                 "mip_levels {}: use 1 to 8",
@@ -120,12 +119,6 @@ impl DecalAtlas {
             }
             chain
         });
-        let space = AtlasSpace {
-            allocator,
-            size,
-            mip_levels: config.mip_levels,
-            gutter,
-        };
         let atlas = Self {
             size,
             mip_levels: config.mip_levels,
@@ -133,7 +126,11 @@ impl DecalAtlas {
             levels,
             entries,
         };
-        Ok((atlas, space, placed.into_iter().map(|(_, id)| id).collect()))
+        Ok((
+            atlas,
+            allocator,
+            placed.into_iter().map(|(_, id)| id).collect(),
+        ))
     }
 }
 
@@ -155,13 +152,16 @@ impl AtlasEntry {
     }
 }
 
+/// A material's allocation: its corner and its id.
+type Allocation = ((u32, u32), AllocId);
+
 /// The smallest atlas that holds every material: its side, its allocator, and each material's
-/// allocation (corner and id).
+/// allocation.
 fn pack(
     materials: &[DecalMaterial],
     gutter: u32,
     max_size: u32,
-) -> Result<(u32, AtlasAllocator, Vec<((u32, u32), AllocId)>), DecalError> {
+) -> Result<(u32, AtlasAllocator, Vec<Allocation>), DecalError> {
     let padded = |m: &DecalMaterial| padded_size(m, gutter);
     let area: u64 = materials
         .iter()
@@ -180,7 +180,7 @@ fn pack(
             ..Default::default()
         };
         let mut allocator = AtlasAllocator::with_options(size2(size as i32, size as i32), &options);
-        let placed: Option<Vec<((u32, u32), AllocId)>> = materials
+        let placed: Option<Vec<Allocation>> = materials
             .iter()
             .map(|m| {
                 let (w, h) = padded(m);

@@ -9,16 +9,19 @@
 
 use etagere::{AllocId, AtlasAllocator, size2};
 
-use super::atlas::{AtlasEntry, Slot, blit_with_gutter, downsample, padded_size};
+use super::DecalError;
+use super::atlas::{
+    AtlasEntry, DecalAtlas, DecalAtlasConfig, Slot, blit_with_gutter, downsample, padded_size,
+};
 use super::image::{Channel, DecalImage, DecalMaterial};
 
 /// The free and taken room of a packed decal atlas.
 #[derive(Clone)]
 pub(crate) struct AtlasSpace {
-    pub(super) allocator: AtlasAllocator,
-    pub(super) size: u32,
-    pub(super) mip_levels: u32,
-    pub(super) gutter: u32,
+    allocator: AtlasAllocator,
+    size: u32,
+    mip_levels: u32,
+    gutter: u32,
 }
 
 impl std::fmt::Debug for AtlasSpace {
@@ -45,6 +48,22 @@ pub(crate) struct PlacedMaterial {
 }
 
 impl AtlasSpace {
+    /// Packs `materials` ([`DecalAtlas::build`]) and keeps the atlas's room: the atlas, its
+    /// room, and each material's allocation.
+    pub(crate) fn build(
+        materials: &[DecalMaterial],
+        config: DecalAtlasConfig,
+    ) -> Result<(DecalAtlas, Self, Vec<AllocId>), DecalError> {
+        let (atlas, allocator, allocations) = DecalAtlas::build_with_allocator(materials, config)?;
+        let space = Self {
+            allocator,
+            size: atlas.size,
+            mip_levels: atlas.mip_levels,
+            gutter: atlas.gutter,
+        };
+        Ok((atlas, space, allocations))
+    }
+
     /// Allocates `m` in free room and builds its rectangle's levels, or `None` when no free
     /// room is large enough (the atlas must then be packed again).
     pub(crate) fn place(&mut self, m: &DecalMaterial) -> Option<PlacedMaterial> {
@@ -92,7 +111,6 @@ impl AtlasSpace {
 
 #[cfg(test)]
 mod tests {
-    use super::super::{DecalAtlas, DecalAtlasConfig};
     use super::*;
 
     /// A material whose every channel varies texel by texel (so a wrong level or offset shows).
@@ -135,7 +153,7 @@ mod tests {
         };
         let (a, b) = (patterned("a", 70, 40, 1), patterned("b", 30, 38, 2));
         let whole = DecalAtlas::build(&[a.clone(), b.clone()], config).expect("fits");
-        let (alone, mut space, _) = DecalAtlas::build_with_space(&[a], config).expect("fits");
+        let (alone, mut space, _) = AtlasSpace::build(&[a], config).expect("fits");
         let placed = space.place(&b).expect("room left");
         assert_eq!(placed.size, padded_size(&b, whole.gutter));
         let [x, y, ..] = whole.entries[1].texels;
@@ -168,7 +186,7 @@ mod tests {
         };
         let big = patterned("big", 44, 44, 3);
         let (_, mut space, allocations) =
-            DecalAtlas::build_with_space(&[big.clone()], config).expect("fits");
+            AtlasSpace::build(std::slice::from_ref(&big), config).expect("fits");
         assert!(space.place(&big).is_none(), "a second one does not fit");
         space.give_back(allocations[0]);
         let again = space.place(&big).expect("the room given back");

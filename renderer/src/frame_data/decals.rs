@@ -12,8 +12,8 @@ use wgpu::util::DeviceExt as _;
 
 use crate::culling::hierarchy::CullBox;
 use crate::decals::{
-    AtlasEntry, AtlasSpace, Channel, Decal, DecalAtlas, DecalAtlasConfig, DecalError,
-    DecalMaterial, DecalSet, PlacedMaterial,
+    AtlasEntry, AtlasSpace, Channel, Decal, DecalAtlasConfig, DecalError, DecalMaterial, DecalSet,
+    PlacedMaterial,
 };
 
 /// Stands for "never" in distance fades (beyond any camera distance, finite in `f32` maths).
@@ -153,7 +153,7 @@ impl GpuDecals {
         if set.decals.is_empty() {
             return Ok(Self::empty(device, queue));
         }
-        let (atlas, space, allocations) = DecalAtlas::build_with_space(&set.materials, config)?;
+        let (atlas, space, allocations) = AtlasSpace::build(&set.materials, config)?;
         let order = set.layer_order();
         let records: Vec<GpuDecal> = order
             .iter()
