@@ -118,6 +118,8 @@ pub struct InstanceTable {
     pub draws: Vec<DrawItem>,
     /// Removed instances by mesh, for reuse.
     free: Vec<Vec<u32>>,
+    /// Live instances by mesh.
+    live_by_mesh: Vec<u32>,
     /// The `view` library's `DRAWS`: one `Draw` record per draw, `capacity` records long.
     records: wgpu::Buffer,
     capacity: usize,
@@ -173,6 +175,7 @@ impl InstanceTable {
             states: Vec::new(),
             draws: Vec::new(),
             free: vec![Vec::new(); prepared.mesh_draws.len()],
+            live_by_mesh: vec![0; prepared.mesh_draws.len()],
             records,
             capacity: capacity.max(1),
             draw_group,
@@ -229,6 +232,9 @@ impl InstanceTable {
         if self.free.len() < count {
             self.free.resize(count, Vec::new());
         }
+        if self.live_by_mesh.len() < count {
+            self.live_by_mesh.resize(count, 0);
+        }
         let index = match self.free[mesh].pop() {
             Some(index) => {
                 let s = &mut self.states[index as usize];
@@ -237,6 +243,7 @@ impl InstanceTable {
                 s.live = true;
                 s.version += 1;
                 s.generation += 1;
+                self.live_by_mesh[mesh] += 1;
                 index as usize
             }
             None => {
@@ -254,9 +261,7 @@ impl InstanceTable {
 
     /// How many live instances use mesh `mesh`.
     pub fn instances_of(&self, mesh: usize) -> usize {
-        (self.states.iter())
-            .filter(|s| s.live && s.mesh == mesh)
-            .count()
+        self.live_by_mesh.get(mesh).map_or(0, |&n| n as usize)
     }
 
     /// Removes `handle`'s instance: its draws stop drawing, its slot waits for the next
@@ -268,6 +273,9 @@ impl InstanceTable {
         let mesh = state.mesh;
         if let Some(free) = self.free.get_mut(mesh) {
             free.push(handle.index);
+        }
+        if let Some(live) = self.live_by_mesh.get_mut(mesh) {
+            *live -= 1;
         }
         self.bump(handle.index());
         Ok(())
@@ -354,6 +362,9 @@ impl InstanceTable {
     ) -> usize {
         let index = self.states.len();
         let templates = prepared.mesh_draws.get(mesh).map_or(&[][..], Vec::as_slice);
+        if let Some(live) = self.live_by_mesh.get_mut(mesh) {
+            *live += 1;
+        }
         self.states.push(InstanceState {
             mesh,
             world_from_mesh,
