@@ -7,6 +7,7 @@
 //! them. Nothing here knows any particular pass.
 
 mod camera;
+mod change_log;
 mod config;
 mod decals;
 mod draw_batches;
