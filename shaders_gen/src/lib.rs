@@ -27,6 +27,7 @@ pub static MODULES: &[&codegen::rt::Module] = &[
     &culling::tile_cull::MODULE,
     &culling::cluster_cull::MODULE,
     &culling::instance_cull::MODULE,
+    &culling::draw_compact::MODULE,
     &culling::blended_order::MODULE,
     &culling::depth_pyramid_seed::MODULE,
     &culling::depth_pyramid_reduce::MODULE,

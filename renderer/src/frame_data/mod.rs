@@ -39,6 +39,6 @@ pub use material_inputs::{sampler_descriptor, uv_map};
 pub use report::{FrameReport, ParticleReport, SceneDrawReport};
 pub use resources::{
     BlendedDraws, FrameResources, GBufferHandles, LightListHandles, ListGeometry, OcclusionDraws,
-    ParticleResources, SceneDrawList, ShadowResources,
+    OcclusionPacked, ParticleResources, SceneDrawList, ShadowResources,
 };
 pub use scene::{MeshDraw, PlannedDraw, PreparedScene, draw_plan, is_mirrored};

@@ -87,6 +87,10 @@ pub struct SceneDrawList {
     /// Draw each batch with one `multi_draw_indexed_indirect`; otherwise (the device cannot
     /// draw indirectly with a first instance) every slot directly, culling nothing.
     pub indirect: bool,
+    /// Where the slots are packed (`passes::scene_cull::compact`): each batch's drawn count, a
+    /// `u32` per batch; `args_buffer` then holds each batch's drawn slots from its first slot
+    /// on, and a batch is drawn with `multi_draw_indexed_indirect_count`.
+    pub counts: Option<wgpu::Buffer>,
     /// With occlusion culling, what its second phase needs; `args` are then the first
     /// phase's until the occlusion pass replaces them with `OcclusionDraws::all`.
     pub occlusion: Option<OcclusionDraws>,
@@ -107,6 +111,7 @@ pub enum BlendedDraws {
         args: Handle<Buffer>,
         args_buffer: wgpu::Buffer,
         count: u32,
+        count_buffer: wgpu::Buffer,
     },
     /// Ordered on the CPU, on a device that cannot draw indirectly with a first instance:
     /// the draws, those in the frustum only with `cull_draws`.
@@ -133,6 +138,22 @@ pub struct OcclusionDraws {
     pub all_buffer: wgpu::Buffer,
     /// Two counters: slots drawn in the first phase, and in either (cleared by scene culling).
     pub visible: wgpu::Buffer,
+    /// The first phase's arguments, slot by slot (what it drew, whether or not the list the
+    /// pre-Z draws is packed).
+    pub first_buffer: wgpu::Buffer,
+    /// Where the slots are packed: the late and both-phases lists' packing, lists 1 and 2 of
+    /// the compaction.
+    pub packed: Option<OcclusionPacked>,
+}
+
+/// Occlusion culling's late and both-phases slot lists packed (`passes::scene_cull::compact`).
+#[derive(Debug, Clone)]
+pub struct OcclusionPacked {
+    pub kernels: std::sync::Arc<crate::passes::scene_cull::CompactKernels>,
+    pub compaction: std::sync::Arc<crate::passes::scene_cull::Compaction>,
+    /// The packed late and both-phases arguments in the graph.
+    pub late: Handle<Buffer>,
+    pub all: Handle<Buffer>,
 }
 
 impl SceneDrawList {

@@ -117,7 +117,7 @@ impl<'p, 'a> SceneDraws<'p, 'a> {
 
     /// Draws every batch of `list` with the pipeline and group 2 `state` picks for it: one
     /// multi-draw of its slots' indirect arguments (the slots culling left out draw no
-    /// instance), or, on a device that cannot draw indirectly with a first instance, each slot
+    /// instance; where they are packed, of its drawn slots only, as many as its count), or, on a device that cannot draw indirectly with a first instance, each slot
     /// directly (empty slots skipped).
     pub(crate) fn draw_batches(
         &mut self,
@@ -127,11 +127,13 @@ impl<'p, 'a> SceneDraws<'p, 'a> {
             &crate::frame_data::DrawBatch,
         ) -> (&'a wgpu::RenderPipeline, Option<&'a wgpu::BindGroup>),
     ) {
-        for batch in &list.layout.batches {
+        for (b, batch) in list.layout.batches.iter().enumerate() {
             let (pipeline, group2) = state(batch);
-            if list.indirect {
-                let slot = u64::from(batch.first_slot);
-                let buffer = &list.args_buffer;
+            let (slot, buffer) = (u64::from(batch.first_slot), &list.args_buffer);
+            if let Some(counts) = list.counts.as_ref().filter(|_| list.indirect) {
+                let count_at = (counts, 4 * b as u64);
+                self.multi_draw_count((pipeline, group2), buffer, slot, count_at, batch.slot_count);
+            } else if list.indirect {
                 self.multi_draw(pipeline, group2, buffer, slot, batch.slot_count);
             } else {
                 for slot in batch.slots() {

@@ -1,7 +1,7 @@
 //! Culling kernels: which items (lights and decals, in their own ranges of the item list) can
 //! touch each screen tile or froxel, (`instance_cull`, `occlusion_cull` with its depth
-//! pyramid) which of the scene's draws a view sees, and (`blended_order`) in which order its
-//! blended draws are drawn.
+//! pyramid) which of the scene's draws a view sees, (`draw_compact`) its drawn slots packed per
+//! batch in slot order, and (`blended_order`) in which order its blended draws are drawn.
 //!
 //! Culling is hierarchical, in three dispatches: `cull_prepare::tile_depth` (per tile: depth
 //! bounds, 2.5D mask, occupied slices), `cull_prepare::coarse_cull` (per 128×128-pixel
@@ -18,6 +18,7 @@
 
 pub mod blended;
 pub mod clustered;
+pub mod compact;
 pub mod instances;
 pub mod occlusion;
 pub mod prepare;
@@ -25,6 +26,7 @@ pub mod tiled;
 
 pub use blended::blended_order;
 pub use clustered::cluster_cull;
+pub use compact::draw_compact;
 pub use instances::instance_cull;
 pub use occlusion::{depth_pyramid_reduce, depth_pyramid_seed, occlusion_cull};
 pub use prepare::cull_prepare;

@@ -382,8 +382,26 @@ fn draw_scene<'a>(
     }
     match &list.blended {
         BlendedDraws::Sorted {
-            args_buffer, count, ..
-        } => draws.multi_draw(&pipelines.blended, materials, args_buffer, 0, *count),
+            args_buffer,
+            count,
+            count_buffer,
+            ..
+        } => {
+            // Where the opaque batches drew with counts, the blended draws do too: Mesa's
+            // lavapipe (25.0) keeps a count-draw's count buffer for the next plain indirect
+            // draw of the pass, which then draws only as many as that count says.
+            if list.counts.is_some() {
+                draws.multi_draw_count(
+                    (&pipelines.blended, materials),
+                    args_buffer,
+                    0,
+                    (count_buffer, 0),
+                    *count,
+                )
+            } else {
+                draws.multi_draw(&pipelines.blended, materials, args_buffer, 0, *count)
+            }
+        }
         BlendedDraws::Listed(blended) => {
             for &d in blended.iter() {
                 let geometry = instances.draws[d as usize].geometry;

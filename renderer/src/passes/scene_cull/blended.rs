@@ -54,6 +54,8 @@ pub struct BlendedOrder {
     sort: Arc<GpuSort>,
     /// `draws.len()` arguments of five words, back to front, hidden draws with no instance.
     pub args: wgpu::Buffer,
+    /// `count`, for drawing with a count buffer.
+    pub count_buffer: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
 }
 
@@ -94,7 +96,16 @@ impl BlendedOrder {
             mapped_at_creation: false,
         });
         let bind_group = bind_group(device, kernels, boxes, &templates, &sort.keys, &args);
+        let count_buffer = wgpu::util::DeviceExt::create_buffer_init(
+            device,
+            &wgpu::util::BufferInitDescriptor {
+                label: Some("blended draw count"),
+                contents: bytemuck::bytes_of(&count),
+                usage: wgpu::BufferUsages::INDIRECT,
+            },
+        );
         Ok(Self {
+            count_buffer,
             draws: draws.to_vec(),
             templates,
             sort: Arc::new(sort),

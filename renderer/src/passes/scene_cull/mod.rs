@@ -13,8 +13,11 @@
 //! run. A device without `INDIRECT_FIRST_INSTANCE` draws every slot directly.
 
 mod blended;
+mod compact;
 pub mod occlusion;
 mod view_draws;
+
+pub use compact::{CompactKernels, Compaction};
 
 use std::sync::Arc;
 
@@ -23,8 +26,8 @@ use shaders_gen::culling::instance_cull::{self, CullParams, Frustum};
 use super::Pass;
 use crate::GpuContext;
 use crate::frame_data::{
-    BlendedDraws, FrameInputs, FrameReport, FrameResources, OcclusionDraws, RenderError,
-    SceneDrawList, SceneDrawReport,
+    BlendedDraws, FrameInputs, FrameReport, FrameResources, OcclusionDraws, OcclusionPacked,
+    RenderError, SceneDrawList, SceneDrawReport,
 };
 use crate::graph::{BufferAccess, ImportAccess, RenderGraph};
 use crate::readback_ring::ReadbackRing;
@@ -50,6 +53,10 @@ pub struct SceneCullPass {
     last_visible: Option<(u64, u32)>,
     /// For polling the count's readback.
     device: wgpu::Device,
+    /// The compaction kernels, where the device draws with counts from a buffer, and this
+    /// frame's compaction of the culled slot lists (kept while the layout and lists hold).
+    compact: Option<Arc<CompactKernels>>,
+    compaction: Option<Arc<Compaction>>,
 }
 
 impl SceneCullPass {
@@ -72,7 +79,16 @@ impl SceneCullPass {
                 | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
+        let features = device.features();
+        let compact = features
+            .contains(
+                wgpu::Features::MULTI_DRAW_INDIRECT_COUNT | wgpu::Features::INDIRECT_FIRST_INSTANCE,
+            )
+            .then(|| CompactKernels::new(gpu).map(Arc::new))
+            .transpose()?;
         Ok(Self {
+            compact,
+            compaction: None,
             shared: CullShared {
                 program,
                 params,
@@ -121,6 +137,7 @@ impl Pass for SceneCullPass {
         } else {
             draws.draw_every_slot(&gpu.queue);
         }
+        self.compaction = self.compaction_for(gpu, &draws);
         let camera = &frame.camera;
         let [left, right, bottom, top, near, far] = camera.frustum_planes();
         let params = CullParams::new(
@@ -170,6 +187,37 @@ impl Pass for SceneCullPass {
                     pass.dispatch_workgroups(groups, 1, 1);
                 });
         }
+        let mut args_buffer = draws.args.clone();
+        let mut counts = None;
+        let mut packed_late = None;
+        if let (Some(kernels), Some(compaction)) = (&self.compact, &self.compaction) {
+            let mut import = |name, buffer| {
+                resources.import_buffer(graph, name, buffer, ImportAccess::ReadWrite)
+            };
+            let mut packed = import("scene draw args, packed", &compaction.packed[0].args);
+            if self.occlusion {
+                let late = import("scene draw args, late, packed", &compaction.packed[1].args);
+                let all = import(
+                    "scene draw args, both phases, packed",
+                    &compaction.packed[2].args,
+                );
+                packed_late = Some(OcclusionPacked {
+                    kernels: Arc::clone(kernels),
+                    compaction: Arc::clone(compaction),
+                    late,
+                    all,
+                });
+            }
+            let (kernels, compaction) = (Arc::clone(kernels), Arc::clone(compaction));
+            args_buffer = compaction.packed[0].args.clone();
+            counts = Some(compaction.packed[0].counts.clone());
+            graph
+                .add_pass("scene draw compaction")
+                .read_buffer(args, BufferAccess::StorageRead)
+                .write_buffer(&mut packed, BufferAccess::StorageWrite)
+                .execute(move |ctx| compaction.record(&kernels, ctx.encoder, 0));
+            args = packed;
+        }
         let occlusion = self.occlusion.then(|| {
             let o = &draws.occlusion;
             let mut import = |name, buffer| {
@@ -186,14 +234,17 @@ impl Pass for SceneCullPass {
                 all: import("scene draw args, both phases", &o.all),
                 all_buffer: o.all.clone(),
                 visible: self.shared.visible.clone(),
+                first_buffer: draws.args.clone(),
+                packed: packed_late,
             }
         });
         let blended = self.blended_draws(graph, frame, resources, draws);
         resources.scene_draws = Some(SceneDrawList {
             layout: Arc::clone(&draws.layout),
             args,
-            args_buffer: draws.args.clone(),
+            args_buffer,
             indirect: self.indirect,
+            counts,
             occlusion,
             blended,
         });
@@ -219,6 +270,28 @@ impl Pass for SceneCullPass {
 }
 
 impl SceneCullPass {
+    /// The compaction of this frame's culled slot lists (the frustum's; with occlusion culling
+    /// its late and both-phases lists too): the last one while it still fits, else a new one;
+    /// none without culling or where the device cannot draw with counts.
+    fn compaction_for(&self, gpu: &GpuContext, draws: &ViewDraws) -> Option<Arc<Compaction>> {
+        let kernels = self.compact.as_ref().filter(|_| self.culling)?;
+        let o = &draws.occlusion;
+        let lists: Vec<&wgpu::Buffer> = if self.occlusion {
+            vec![&draws.args, &o.late, &o.all]
+        } else {
+            vec![&draws.args]
+        };
+        match &self.compaction {
+            Some(c) if c.fits(&draws.layout, &lists) => Some(Arc::clone(c)),
+            _ => Some(Arc::new(Compaction::new(
+                gpu,
+                kernels,
+                &draws.layout,
+                &lists,
+            ))),
+        }
+    }
+
     /// The frame's blended draws back to front: ordered on the GPU by a pass of their own
     /// where the device draws indirectly, else listed on the CPU.
     fn blended_draws(
@@ -250,6 +323,7 @@ impl SceneCullPass {
             args,
             args_buffer: order.args.clone(),
             count: order.count(),
+            count_buffer: order.count_buffer.clone(),
         }
     }
 

@@ -14,9 +14,12 @@ use shaders_gen::culling::{
 
 use crate::GpuContext;
 use crate::frame_data::{
-    FrameInputs, FrameResources, OcclusionDraws, RenderError, RendererConfig, SceneDrawList,
+    FrameInputs, FrameResources, OcclusionDraws, OcclusionPacked, RenderError, RendererConfig,
+    SceneDrawList,
 };
-use crate::graph::{BufferAccess, Handle, ImportAccess, RenderGraph, Texture, TextureAccess};
+use crate::graph::{
+    Buffer, BufferAccess, Handle, ImportAccess, RenderGraph, Texture, TextureAccess,
+};
 use crate::passes::{Pass, entries};
 use crate::shader::ShaderProgram;
 
@@ -234,6 +237,14 @@ impl Pass for OcclusionCullPass {
         // From here on the passes draw every slot either phase drew.
         list.args = occlusion.all;
         list.args_buffer = occlusion.all_buffer.clone();
+        list.counts = None;
+        if let Some(packed) = occlusion.packed.as_mut() {
+            add_late_compaction(graph, &mut occlusion.late, &mut occlusion.all, packed);
+            let all = &packed.compaction.packed[2];
+            list.args = packed.all;
+            list.args_buffer = all.args.clone();
+            list.counts = Some(all.counts.clone());
+        }
         list.occlusion = Some(occlusion);
         resources.scene_draws = Some(list);
         Ok(())
@@ -327,7 +338,7 @@ impl OcclusionCullPass {
                     self.params.as_entire_binding(),
                     occlusion.boxes.as_entire_binding(),
                     occlusion.slot_draws.as_entire_binding(),
-                    list.args_buffer.as_entire_binding(),
+                    occlusion.first_buffer.as_entire_binding(),
                     occlusion.late_buffer.as_entire_binding(),
                     occlusion.all_buffer.as_entire_binding(),
                     occlusion.history.as_entire_binding(),
@@ -350,4 +361,28 @@ impl OcclusionCullPass {
                 pass.dispatch_workgroups(workgroups, 1, 1);
             });
     }
+}
+
+/// Packs the late and both-phases lists (compaction lists 1 and 2) after the late cull wrote
+/// them.
+fn add_late_compaction(
+    graph: &mut RenderGraph,
+    late: &mut Handle<Buffer>,
+    all: &mut Handle<Buffer>,
+    packed: &mut OcclusionPacked,
+) {
+    let (kernels, compaction) = (
+        std::sync::Arc::clone(&packed.kernels),
+        std::sync::Arc::clone(&packed.compaction),
+    );
+    graph
+        .add_pass("scene draw compaction (late)")
+        .read_buffer(*late, BufferAccess::StorageRead)
+        .read_buffer(*all, BufferAccess::StorageRead)
+        .write_buffer(&mut packed.late, BufferAccess::StorageWrite)
+        .write_buffer(&mut packed.all, BufferAccess::StorageWrite)
+        .execute(move |ctx| {
+            compaction.record(&kernels, ctx.encoder, 1);
+            compaction.record(&kernels, ctx.encoder, 2);
+        });
 }
