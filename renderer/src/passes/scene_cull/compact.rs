@@ -109,65 +109,10 @@ impl Compaction {
             bytemuck::cast_slice(&non_empty(ranges)),
             storage,
         );
-        let zeroed = |label: &str, words: u64, usage| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: words.max(1) * 4,
-                usage,
-                mapped_at_creation: false,
-            })
-        };
+        let sizes = (slot_count, block_count, batches.len() as u64);
+        let shared = [&params, &slot_batch, &ranges];
         let packed = (sources.iter())
-            .map(|&source| {
-                // Each list its own scratch: no list's scan waits on another's.
-                let prefix = zeroed(
-                    "draw compaction prefix",
-                    u64::from(block_count * BLOCK),
-                    storage,
-                );
-                let block_sums = zeroed(
-                    "draw compaction block sums",
-                    u64::from(block_count.next_multiple_of(BLOCK)),
-                    storage,
-                );
-                let args = zeroed(
-                    "scene draw args, packed",
-                    u64::from(slot_count) * 5,
-                    storage | wgpu::BufferUsages::INDIRECT,
-                );
-                let counts = zeroed(
-                    "scene draw counts",
-                    batches.len() as u64,
-                    storage | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
-                );
-                let buffers = [
-                    &params,
-                    source,
-                    &slot_batch,
-                    &ranges,
-                    &prefix,
-                    &block_sums,
-                    &args,
-                    &counts,
-                ];
-                let entries: Vec<wgpu::BindGroupEntry<'_>> = (buffers.iter().zip(0..))
-                    .map(|(b, binding)| wgpu::BindGroupEntry {
-                        binding,
-                        resource: b.as_entire_binding(),
-                    })
-                    .collect();
-                let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("draw compaction"),
-                    layout: &kernels.program.bind_group_layouts[0],
-                    entries: &entries,
-                });
-                PackedArgs {
-                    args,
-                    counts,
-                    source: source.clone(),
-                    group,
-                }
-            })
+            .map(|&source| pack_list(device, kernels, shared, source, sizes))
             .collect();
         Self {
             batches,
@@ -208,6 +153,86 @@ impl Compaction {
         pass.set_pipeline(&kernels.scatter);
         let groups = self.slot_count.div_ceil(draw_compact::WORKGROUP);
         pass.dispatch_workgroups(groups.max(1), 1, 1);
+    }
+}
+
+/// A zeroed buffer of `words` `u32`s (at least one).
+fn zeroed(
+    device: &wgpu::Device,
+    label: &str,
+    words: u64,
+    usage: wgpu::BufferUsages,
+) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: words.max(1) * 4,
+        usage,
+        mapped_at_creation: false,
+    })
+}
+
+/// The packing of slot list `source`: its own scratch (no list's scan waits on another's), its
+/// packed arguments and counts, and the bind group over them and the `shared` parameters, slot
+/// batches and batch ranges; `sizes` are the slots, blocks and batches.
+fn pack_list(
+    device: &wgpu::Device,
+    kernels: &CompactKernels,
+    shared: [&wgpu::Buffer; 3],
+    source: &wgpu::Buffer,
+    (slot_count, block_count, batch_count): (u32, u32, u64),
+) -> PackedArgs {
+    let storage = wgpu::BufferUsages::STORAGE;
+    let prefix = zeroed(
+        device,
+        "draw compaction prefix",
+        u64::from(block_count * BLOCK),
+        storage,
+    );
+    let block_sums = zeroed(
+        device,
+        "draw compaction block sums",
+        u64::from(block_count.next_multiple_of(BLOCK)),
+        storage,
+    );
+    let args = zeroed(
+        device,
+        "scene draw args, packed",
+        u64::from(slot_count) * 5,
+        storage | wgpu::BufferUsages::INDIRECT,
+    );
+    let counts = zeroed(
+        device,
+        "scene draw counts",
+        batch_count,
+        storage | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
+    );
+    let [params, slot_batch, ranges] = shared;
+    let buffers = [
+        params,
+        source,
+        slot_batch,
+        ranges,
+        &prefix,
+        &block_sums,
+        &args,
+        &counts,
+    ];
+    let entries: Vec<wgpu::BindGroupEntry<'_>> = (buffers.iter().zip(0..))
+        .map(|(b, binding)| wgpu::BindGroupEntry {
+            binding,
+            resource: b.as_entire_binding(),
+        })
+        .collect();
+    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("draw compaction"),
+        layout: &kernels.program.bind_group_layouts[0],
+        entries: &entries,
+    });
+    PackedArgs {
+        args,
+        counts,
+        source: source.clone(),
+        group,
     }
 }
 

@@ -29,7 +29,7 @@ use crate::frame_data::{
     BlendedDraws, FrameInputs, FrameReport, FrameResources, OcclusionDraws, OcclusionPacked,
     RenderError, SceneDrawList, SceneDrawReport,
 };
-use crate::graph::{BufferAccess, ImportAccess, RenderGraph};
+use crate::graph::{Buffer, BufferAccess, Handle, ImportAccess, RenderGraph};
 use crate::readback_ring::ReadbackRing;
 use crate::shader::ShaderProgram;
 use blended::BlendedKernels;
@@ -187,37 +187,8 @@ impl Pass for SceneCullPass {
                     pass.dispatch_workgroups(groups, 1, 1);
                 });
         }
-        let mut args_buffer = draws.args.clone();
-        let mut counts = None;
-        let mut packed_late = None;
-        if let (Some(kernels), Some(compaction)) = (&self.compact, &self.compaction) {
-            let mut import = |name, buffer| {
-                resources.import_buffer(graph, name, buffer, ImportAccess::ReadWrite)
-            };
-            let mut packed = import("scene draw args, packed", &compaction.packed[0].args);
-            if self.occlusion {
-                let late = import("scene draw args, late, packed", &compaction.packed[1].args);
-                let all = import(
-                    "scene draw args, both phases, packed",
-                    &compaction.packed[2].args,
-                );
-                packed_late = Some(OcclusionPacked {
-                    kernels: Arc::clone(kernels),
-                    compaction: Arc::clone(compaction),
-                    late,
-                    all,
-                });
-            }
-            let (kernels, compaction) = (Arc::clone(kernels), Arc::clone(compaction));
-            args_buffer = compaction.packed[0].args.clone();
-            counts = Some(compaction.packed[0].counts.clone());
-            graph
-                .add_pass("scene draw compaction")
-                .read_buffer(args, BufferAccess::StorageRead)
-                .write_buffer(&mut packed, BufferAccess::StorageWrite)
-                .execute(move |ctx| compaction.record(&kernels, ctx.encoder, 0));
-            args = packed;
-        }
+        let (args_buffer, counts, packed_late) =
+            self.add_compaction(graph, resources, draws, &mut args);
         let occlusion = self.occlusion.then(|| {
             let o = &draws.occlusion;
             let mut import = |name, buffer| {
@@ -270,6 +241,52 @@ impl Pass for SceneCullPass {
 }
 
 impl SceneCullPass {
+    /// Packs the frustum's slot list after the culling dispatch (and readies the late and
+    /// both-phases lists' packing for occlusion culling), where the device draws with counts:
+    /// the arguments the first geometry passes draw, their counts, and what occlusion culling
+    /// packs. `args` becomes the packed list's handle.
+    fn add_compaction(
+        &self,
+        graph: &mut RenderGraph,
+        resources: &mut FrameResources,
+        draws: &ViewDraws,
+        args: &mut Handle<Buffer>,
+    ) -> (wgpu::Buffer, Option<wgpu::Buffer>, Option<OcclusionPacked>) {
+        let (Some(kernels), Some(compaction)) = (&self.compact, &self.compaction) else {
+            return (draws.args.clone(), None, None);
+        };
+        let mut packed_late = None;
+        {
+            let mut import = |name, buffer| {
+                resources.import_buffer(graph, name, buffer, ImportAccess::ReadWrite)
+            };
+            let mut packed = import("scene draw args, packed", &compaction.packed[0].args);
+            if self.occlusion {
+                let late = import("scene draw args, late, packed", &compaction.packed[1].args);
+                let all = import(
+                    "scene draw args, both phases, packed",
+                    &compaction.packed[2].args,
+                );
+                packed_late = Some(OcclusionPacked {
+                    kernels: Arc::clone(kernels),
+                    compaction: Arc::clone(compaction),
+                    late,
+                    all,
+                });
+            }
+            let (kernels, compaction) = (Arc::clone(kernels), Arc::clone(compaction));
+            let args_buffer = compaction.packed[0].args.clone();
+            let counts = Some(compaction.packed[0].counts.clone());
+            graph
+                .add_pass("scene draw compaction")
+                .read_buffer(*args, BufferAccess::StorageRead)
+                .write_buffer(&mut packed, BufferAccess::StorageWrite)
+                .execute(move |ctx| compaction.record(&kernels, ctx.encoder, 0));
+            *args = packed;
+            (args_buffer, counts, packed_late)
+        }
+    }
+
     /// The compaction of this frame's culled slot lists (the frustum's; with occlusion culling
     /// its late and both-phases lists too): the last one while it still fits, else a new one;
     /// none without culling or where the device cannot draw with counts.
