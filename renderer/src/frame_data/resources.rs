@@ -146,14 +146,29 @@ pub struct OcclusionDraws {
     pub packed: Option<OcclusionPacked>,
 }
 
-/// Occlusion culling's late and both-phases slot lists packed (`passes::scene_cull::compact`).
-#[derive(Debug, Clone)]
+/// Occlusion culling's late and both-phases slot lists packed (`passes::scene_cull::compact`):
+/// where their packed arguments and per-batch counts are, and how to record their packing.
+#[derive(Clone)]
 pub struct OcclusionPacked {
-    pub kernels: std::sync::Arc<crate::passes::scene_cull::CompactKernels>,
-    pub compaction: std::sync::Arc<crate::passes::scene_cull::Compaction>,
-    /// The packed late and both-phases arguments in the graph.
+    /// Records the packing of both lists, once the late cull has written them.
+    pub record: std::sync::Arc<dyn Fn(&mut wgpu::CommandEncoder) + Send + Sync>,
+    /// The packed late list in the graph, its arguments and its counts.
     pub late: Handle<Buffer>,
+    pub late_args: wgpu::Buffer,
+    pub late_counts: wgpu::Buffer,
+    /// The packed both-phases list in the graph, its arguments and its counts.
     pub all: Handle<Buffer>,
+    pub all_args: wgpu::Buffer,
+    pub all_counts: wgpu::Buffer,
+}
+
+impl std::fmt::Debug for OcclusionPacked {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("OcclusionPacked")
+            .field("late", &self.late)
+            .field("all", &self.all)
+            .finish_non_exhaustive()
+    }
 }
 
 impl SceneDrawList {

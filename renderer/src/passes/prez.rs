@@ -143,10 +143,9 @@ impl Pass for PrezPass {
             list.args_buffer = occlusion.late_buffer;
             list.counts = None;
             if let Some(packed) = &occlusion.packed {
-                let late = &packed.compaction.packed[1];
                 list.args = packed.late;
-                list.args_buffer = late.args.clone();
-                list.counts = Some(late.counts.clone());
+                list.args_buffer = packed.late_args.clone();
+                list.counts = Some(packed.late_counts.clone());
             }
             let depth = resources.depth.ok_or(missing("the first half's depth"))?;
             (depth, wgpu::LoadOp::Load)

@@ -267,11 +267,18 @@ impl SceneCullPass {
                     "scene draw args, both phases, packed",
                     &compaction.packed[2].args,
                 );
+                let (k, c) = (Arc::clone(kernels), Arc::clone(compaction));
                 packed_late = Some(OcclusionPacked {
-                    kernels: Arc::clone(kernels),
-                    compaction: Arc::clone(compaction),
+                    record: Arc::new(move |encoder: &mut wgpu::CommandEncoder| {
+                        c.record(&k, encoder, 1);
+                        c.record(&k, encoder, 2);
+                    }),
                     late,
+                    late_args: compaction.packed[1].args.clone(),
+                    late_counts: compaction.packed[1].counts.clone(),
                     all,
+                    all_args: compaction.packed[2].args.clone(),
+                    all_counts: compaction.packed[2].counts.clone(),
                 });
             }
             let (kernels, compaction) = (Arc::clone(kernels), Arc::clone(compaction));

@@ -240,10 +240,9 @@ impl Pass for OcclusionCullPass {
         list.counts = None;
         if let Some(packed) = occlusion.packed.as_mut() {
             add_late_compaction(graph, &mut occlusion.late, &mut occlusion.all, packed);
-            let all = &packed.compaction.packed[2];
             list.args = packed.all;
-            list.args_buffer = all.args.clone();
-            list.counts = Some(all.counts.clone());
+            list.args_buffer = packed.all_args.clone();
+            list.counts = Some(packed.all_counts.clone());
         }
         list.occlusion = Some(occlusion);
         resources.scene_draws = Some(list);
@@ -371,18 +370,12 @@ fn add_late_compaction(
     all: &mut Handle<Buffer>,
     packed: &mut OcclusionPacked,
 ) {
-    let (kernels, compaction) = (
-        std::sync::Arc::clone(&packed.kernels),
-        std::sync::Arc::clone(&packed.compaction),
-    );
+    let record = std::sync::Arc::clone(&packed.record);
     graph
         .add_pass("scene draw compaction (late)")
         .read_buffer(*late, BufferAccess::StorageRead)
         .read_buffer(*all, BufferAccess::StorageRead)
         .write_buffer(&mut packed.late, BufferAccess::StorageWrite)
         .write_buffer(&mut packed.all, BufferAccess::StorageWrite)
-        .execute(move |ctx| {
-            compaction.record(&kernels, ctx.encoder, 1);
-            compaction.record(&kernels, ctx.encoder, 2);
-        });
+        .execute(move |ctx| record(ctx.encoder));
 }
