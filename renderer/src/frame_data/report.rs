@@ -55,6 +55,10 @@ pub struct SceneDrawReport {
     pub visible: Option<u32>,
     /// Whether the scene's draws are occlusion-culled too.
     pub occlusion: bool,
+    /// Whether the culled slots are packed on the GPU before they are drawn, so each batch draws
+    /// only its drawn slots, as many as a GPU-written count says (culling on, on a device with
+    /// `MULTI_DRAW_INDIRECT_COUNT`); otherwise every slot is drawn, the culled ones empty.
+    pub packed: bool,
 }
 
 /// What the particle passes counted in one frame.

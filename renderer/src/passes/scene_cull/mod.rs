@@ -364,6 +364,7 @@ impl SceneCullPass {
             batches: draws.layout.batches.len() as u32,
             blended: draws.layout.blended.len() as u32,
             occlusion: self.occlusion,
+            packed: self.culling && self.compaction.is_some(),
             visible: self
                 .last_visible
                 .filter(|_| self.culling)
