@@ -109,6 +109,9 @@ fn link_libraries(
             path: lib.path.clone(),
             names,
             exports: crate::emit::host_names(&own),
+            groups: crate::emit::bind::declared_groups(
+                own.module.globals.iter().filter(|g| !g.from_library),
+            ),
         });
     }
     Ok(out)

@@ -71,6 +71,9 @@ pub struct LinkedLibrary {
     /// The host items the library's own generated module defines, which the using module
     /// re-exports.
     pub exports: Vec<String>,
+    /// The bind groups the library declares bindings in itself: the using module's builder of
+    /// each has a field holding the library's part.
+    pub groups: Vec<u32>,
 }
 
 fn naga_layouts(m: &Module, module: &naga::Module) -> Vec<Option<NagaStructLayout>> {

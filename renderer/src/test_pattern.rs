@@ -42,6 +42,8 @@ pub enum PatternError {
     Gpu(#[from] GpuError),
     #[error(transparent)]
     Variant(#[from] VariantError),
+    #[error(transparent)]
+    Bind(#[from] shader_bind::BindError),
 }
 
 /// Renders the pattern into a new `width`×`height` texture and reads it back.
@@ -57,14 +59,10 @@ pub fn render(gpu: &GpuContext, width: u32, height: u32) -> Result<PatternFrame,
         contents: bytemuck::bytes_of(&params(width, height)),
         usage: wgpu::BufferUsages::UNIFORM,
     });
-    let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("test pattern"),
-        layout: &program.bind_group_layouts[0],
-        entries: &[wgpu::BindGroupEntry {
-            binding: 0,
-            resource: uniform.as_entire_binding(),
-        }],
-    });
+    let bind_group = test_pattern::Group0 {
+        params: uniform.as_entire_buffer_binding(),
+    }
+    .bind_group(device, program.layout(0), variant, "test pattern")?;
     let target = pattern_target(device, width, height);
     let view = target.create_view(&Default::default());
 

@@ -97,7 +97,9 @@ pub fn run_with_boxes(s: &CullScene, method: GpuMethod, boxes: &[OrientedBox]) -
                 culling.levels
             }
         };
-        levels.encode(d, &mut encoder, &view, None);
+        levels
+            .encode(d, &mut encoder, &view, None)
+            .expect("the culling buffers bind");
         gpu.queue.submit([encoder.finish()]);
         levels.lists.read_back(gpu).expect("readback")
     })

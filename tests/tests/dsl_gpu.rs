@@ -1,8 +1,11 @@
 //! DSL kernels executed on the GPU and checked against plain Rust: a workgroup prefix sum, an
 //! MSAA 4 depth min/max reduction with workgroup atomics, subgroup ballot + exclusive-add
 //! compaction against its non-subgroup variant, a vertex + fragment pair at MSAA 1 and 4, and
-//! host structs with `Vec3` fields round-tripped through uniform and storage buffers.
+//! host structs with `Vec3` fields round-tripped through uniform and storage buffers; the
+//! generated bind-group builders (`bind_groups`).
 
+#[path = "dsl_gpu/bind_groups.rs"]
+mod bind_groups;
 mod dsl_kernels;
 
 use codegen::rt::Variant;

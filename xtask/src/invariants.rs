@@ -43,6 +43,10 @@ const SHADER_SOURCE_MARKERS: &[&str] = &[
     "ShaderSource::SpirV",
     "ShaderSource::Glsl",
 ];
+/// Text that only a bind group assembled by hand contains: `renderer` builds every bind group
+/// through the DSL's generated builders (`shader_bind`), which number bindings from the
+/// reflection.
+const HAND_BOUND_MARKERS: &[&str] = &["create_bind_group(", "BindGroupEntry {"];
 /// Files that may not use anything of the frame orchestrator: passes add themselves to a graph
 /// the frame builds, they never reach back into it.
 const PASSES_DIR: &str = "renderer/src/passes/";
@@ -68,9 +72,9 @@ pub fn run() -> Result<()> {
     violations.extend(check_shader_dsl_is_thin(&read_rust_sources(
         &root.join("shader-dsl/src"),
     )?));
-    violations.extend(check_no_shader_source(&read_rust_sources(
-        &root.join("renderer/src"),
-    )?));
+    let renderer_sources = read_rust_sources(&root.join("renderer/src"))?;
+    violations.extend(check_no_shader_source(&renderer_sources));
+    violations.extend(check_no_hand_bound_groups(&renderer_sources));
     let workspace = read_workspace_sources(&root)?;
     violations.extend(check_no_import_circles(&workspace));
     violations.extend(check_passes_do_not_import_frame(&workspace));
@@ -178,6 +182,26 @@ pub fn check_no_shader_source(sources: &[(String, String)]) -> Vec<Violation> {
                     detail: format!(
                         "{path}:{}: `{marker}` looks like shader code; write it in the DSL in \
                          shaders_gen",
+                        i + 1
+                    ),
+                })
+            })
+        })
+        .collect()
+}
+
+/// "`renderer` numbers no binding by hand: every bind group comes from a generated builder."
+pub fn check_no_hand_bound_groups(sources: &[(String, String)]) -> Vec<Violation> {
+    sources
+        .iter()
+        .flat_map(|(path, text)| {
+            text.lines().enumerate().filter_map(move |(i, line)| {
+                let marker = HAND_BOUND_MARKERS.iter().find(|m| line.contains(**m))?;
+                Some(Violation {
+                    invariant: "renderer numbers no binding by hand",
+                    detail: format!(
+                        "{path}:{}: `{marker}` builds a bind group by hand; use the module's \
+                         generated `Group<N>` builder (or `shader_bind::Resources`)",
                         i + 1
                     ),
                 })
@@ -359,6 +383,26 @@ mod tests {
         assert_eq!(v.len(), 1);
         assert!(
             v[0].detail.starts_with("pass.rs:2: `@compute`"),
+            "{}",
+            v[0].detail
+        );
+    }
+
+    #[test]
+    fn a_bind_group_built_by_hand_in_renderer_is_caught() {
+        let clean = src(
+            "pass.rs",
+            "let g = forward::Group0 { camera }.bind_group(d, l, v, \"f\")?;\n",
+        );
+        assert!(check_no_hand_bound_groups(&clean).is_empty());
+        let broken = src(
+            "pass.rs",
+            "ok\nlet g = device.create_bind_group(&desc);\nwgpu::BindGroupEntry { binding: 0, resource };\n",
+        );
+        let v = check_no_hand_bound_groups(&broken);
+        assert_eq!(v.len(), 2);
+        assert!(
+            v[0].detail.starts_with("pass.rs:2: `create_bind_group(`"),
             "{}",
             v[0].detail
         );

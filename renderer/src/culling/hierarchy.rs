@@ -9,6 +9,7 @@
 use glam::{Mat4, UVec2, Vec3};
 use shaders_gen::culling::cull_prepare::{self, CullParams, Msaa, Tile};
 pub use shaders_gen::culling::cull_prepare::{CullBox, CullSphere, ITEM_TYPES};
+use shaders_gen::shared::cull_append;
 
 use super::CullError;
 use super::lists::LightLists;
@@ -307,21 +308,8 @@ impl CullHierarchy {
         encoder: &mut wgpu::CommandEncoder,
         depth: &wgpu::TextureView,
         profiler: Option<&wgpu_profiler::GpuProfiler>,
-    ) {
-        let resources = [
-            (0, self.params.as_entire_binding()),
-            (1, self.items.as_entire_binding()),
-            (2, self.lists.grid.as_entire_binding()),
-            (3, self.lists.indices.as_entire_binding()),
-            (4, self.lists.counters.as_entire_binding()),
-            (5, wgpu::BindingResource::TextureView(depth)),
-            (6, self.tile_info.as_entire_binding()),
-            (7, self.candidates.as_entire_binding()),
-            (8, self.spheres.as_entire_binding()),
-            (9, self.boxes.as_entire_binding()),
-        ];
-        let prepare = super::bind_by_number(device, &self.prepare, &resources);
-        let fine = super::bind_by_number(device, &self.fine, &resources);
+    ) -> Result<(), shader_bind::BindError> {
+        let (prepare, fine) = self.bind_groups(device, depth)?;
         encoder.clear_buffer(&self.lists.counters, 0, None);
         // Counts and depth ranges: four words per super-tile at the start of `COARSE`.
         let counts = u64::from(self.super_tiles.x * self.super_tiles.y) * 16;
@@ -359,7 +347,7 @@ impl CullHierarchy {
                 pass.set_pipeline(pipeline);
                 pass.dispatch_workgroups(groups.x, groups.y, groups.z);
             }
-            return;
+            return Ok(());
         };
         // A compute pass per dispatch, each with its own timestamps.
         for (name, bind_group, pipeline, groups) in steps {
@@ -375,6 +363,48 @@ impl CullHierarchy {
             }
             profiler.end_query(encoder, query);
         }
+        Ok(())
+    }
+
+    /// Group 0 of the preparing kernels and of the fine kernel: the `cull_append` library's
+    /// part (every culling kernel's buffers), and `depth` where the preparing kernels read it
+    /// (given for both spellings; the variant binds the one its MSAA count declares).
+    fn bind_groups(
+        &self,
+        device: &wgpu::Device,
+        depth: &wgpu::TextureView,
+    ) -> Result<(wgpu::BindGroup, wgpu::BindGroup), shader_bind::BindError> {
+        let lists = cull_append::Group0 {
+            params: self.params.as_entire_buffer_binding(),
+            items: self.items.as_entire_buffer_binding(),
+            grid: self.lists.grid.as_entire_buffer_binding(),
+            indices: self.lists.indices.as_entire_buffer_binding(),
+            counters: self.lists.counters.as_entire_buffer_binding(),
+            tile_depth: self.tile_info.as_entire_buffer_binding(),
+            coarse: self.candidates.as_entire_buffer_binding(),
+            spheres: self.spheres.as_entire_buffer_binding(),
+            boxes: self.boxes.as_entire_buffer_binding(),
+        };
+        let prepare = cull_prepare::Group0 {
+            depth: Some(depth),
+            depth_ms: Some(depth),
+            cull_append: lists.clone(),
+        }
+        .bind_group(
+            device,
+            self.prepare.layout(0),
+            self.prepare.variant,
+            "cull: prepare",
+        )?;
+        // The fine kernel (`tile_cull` or `cluster_cull`) binds the library's part alone.
+        let fine = shader_bind::Resources::of(&lists).build(
+            device,
+            self.fine.layout(0),
+            self.fine.variant,
+            0,
+            "cull: fine",
+        )?;
+        Ok((prepare, fine))
     }
 
     /// Takes a new index capacity for the next frame (at most what one storage binding holds;

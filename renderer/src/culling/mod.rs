@@ -16,7 +16,7 @@ pub mod reference;
 pub mod tiled;
 
 use crate::GpuError;
-use crate::shader::{ShaderProgram, VariantError};
+use crate::shader::VariantError;
 
 /// Why light culling cannot be set up or run.
 #[derive(Debug, thiserror::Error)]
@@ -80,30 +80,5 @@ fn uniform_buffer<T>(device: &wgpu::Device) -> wgpu::Buffer {
         size: size_of::<T>() as u64,
         usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
-    })
-}
-
-/// A bind group for group 0 of `program`: each of its bindings gets the resource numbered like
-/// it in `resources` (the culling modules share one numbering, each uses part of it).
-fn bind_by_number(
-    device: &wgpu::Device,
-    program: &ShaderProgram,
-    resources: &[(u32, wgpu::BindingResource<'_>)],
-) -> wgpu::BindGroup {
-    let entries: Vec<wgpu::BindGroupEntry<'_>> = program
-        .variant
-        .group(0)
-        .filter_map(|b| {
-            let (_, r) = resources.iter().find(|(n, _)| *n == b.binding)?;
-            Some(wgpu::BindGroupEntry {
-                binding: b.binding,
-                resource: r.clone(),
-            })
-        })
-        .collect();
-    device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some(program.variant.module),
-        layout: &program.bind_group_layouts[0],
-        entries: &entries,
     })
 }

@@ -170,7 +170,7 @@ impl Renderer {
     pub fn prepare_scene(&mut self, scene: &Scene) -> Result<(), RenderError> {
         scene.check_for_device(&self.gpu.device.limits())?;
         let prepared = PreparedScene::new(&self.gpu.device, &self.gpu.queue, scene)?;
-        let instances = InstanceTable::new(&self.gpu, &prepared, scene);
+        let instances = InstanceTable::new(&self.gpu, &prepared, scene)?;
         self.scene = Some((prepared, Arc::new(instances)));
         Ok(())
     }

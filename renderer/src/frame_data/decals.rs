@@ -8,6 +8,7 @@
 use bytemuck::Zeroable as _;
 use glam::{Mat4, Vec4};
 use shaders_gen::forward::forward::GpuDecal;
+use shaders_gen::shared::decal_apply;
 use wgpu::util::DeviceExt as _;
 
 use crate::culling::hierarchy::CullBox;
@@ -188,27 +189,18 @@ impl GpuDecals {
         self.boxes.len() as u32
     }
 
-    /// The `decal_apply` library's bindings of group 0 (9: records, 10–13: the atlas channels,
-    /// 14: the sampler), for every pass that shades with decals.
-    pub fn entries(&self) -> Vec<wgpu::BindGroupEntry<'_>> {
-        let mut entries = vec![wgpu::BindGroupEntry {
-            binding: 9,
-            resource: self.records.as_entire_binding(),
-        }];
-        entries.extend(
-            self.views
-                .iter()
-                .zip(10..)
-                .map(|(view, binding)| wgpu::BindGroupEntry {
-                    binding,
-                    resource: wgpu::BindingResource::TextureView(view),
-                }),
-        );
-        entries.push(wgpu::BindGroupEntry {
-            binding: 14,
-            resource: wgpu::BindingResource::Sampler(&self.sampler),
-        });
-        entries
+    /// The `decal_apply` library's part of every group 0 that shades with decals (its
+    /// generated builder: records, the four atlas channels, the sampler).
+    pub fn bindings(&self) -> decal_apply::Group0<'_> {
+        let [base_color, normal, orm, emissive] = &self.views;
+        decal_apply::Group0 {
+            decals: self.records.as_entire_buffer_binding(),
+            decal_base_color: base_color,
+            decal_normal_map: normal,
+            decal_orm_map: orm,
+            decal_emissive_map: emissive,
+            decal_sampler: &self.sampler,
+        }
     }
 }
 

@@ -36,6 +36,10 @@ pub enum RenderError {
     Cull(#[from] CullError),
     #[error(transparent)]
     Graph(#[from] GraphError),
+    /// A generated bind-group builder refused a resource (outside the graph's recording, where
+    /// [`GraphError::Bind`] names the pass).
+    #[error(transparent)]
+    Bind(#[from] shader_bind::BindError),
     #[error(transparent)]
     Scene(#[from] crate::scene::SceneError),
     #[error(

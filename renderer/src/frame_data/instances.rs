@@ -19,10 +19,12 @@ use std::ops::Range;
 
 use glam::Mat4;
 use shaders_gen::forward::forward;
+use shaders_gen::shared::view;
 
 use super::change_log::ChangeLog;
 use super::scene::{PreparedScene, is_mirrored};
 use crate::GpuContext;
+use crate::frame_data::RenderError;
 use crate::scene::{Aabb, GpuPrimitive, Scene};
 
 /// An instance of the renderer's scene, as [`crate::frame::Renderer::add_instance`] returned
@@ -153,26 +155,34 @@ pub enum InstanceEditError {
 impl InstanceTable {
     /// The instances of `scene` where the file placed them, static, its draws' records on the
     /// GPU with room for a quarter more.
-    pub fn new(gpu: &GpuContext, prepared: &PreparedScene, scene: &Scene) -> Self {
+    pub fn new(
+        gpu: &GpuContext,
+        prepared: &PreparedScene,
+        scene: &Scene,
+    ) -> Result<Self, RenderError> {
         let draws: usize = (scene.instances.iter())
             .map(|i| prepared.mesh_draws.get(i.mesh).map_or(0, Vec::len))
             .sum();
-        let mut table = Self::empty(gpu, prepared, draws + draws / 4 + 16);
+        let mut table = Self::empty(gpu, prepared, draws + draws / 4 + 16)?;
         for instance in &scene.instances {
             table.push(prepared, instance.mesh, instance.world_from_mesh, false);
         }
         table.scene_instances = table.states.len();
         table.write_records(gpu, 0..table.draws.len());
         table.revision = 0;
-        table
+        Ok(table)
     }
 
-    fn empty(gpu: &GpuContext, prepared: &PreparedScene, capacity: usize) -> Self {
+    fn empty(
+        gpu: &GpuContext,
+        prepared: &PreparedScene,
+        capacity: usize,
+    ) -> Result<Self, RenderError> {
         static NEXT_ID: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(1);
         let layout = prepared.draw_layout().clone();
         let records = records_buffer(&gpu.device, capacity);
-        let draw_group = draw_group(&gpu.device, &layout, &records);
-        Self {
+        let draw_group = draw_group(&gpu.device, &layout, &records)?;
+        Ok(Self {
             states: Vec::new(),
             draws: Vec::new(),
             free: vec![Vec::new(); prepared.mesh_draws.len()],
@@ -185,7 +195,7 @@ impl InstanceTable {
             log: ChangeLog::default(),
             id: NEXT_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
             scene_instances: 0,
-        }
+        })
     }
 
     /// The handle of the live instance in slot `index`.
@@ -400,6 +410,11 @@ impl InstanceTable {
     }
 
     /// A records buffer of `capacity` records, the current ones copied over on the GPU.
+    #[expect(
+        clippy::expect_used,
+        reason = "the table's first group bound a smaller buffer of the same usage on the same \
+                  layout and variant, so a larger one binds too"
+    )]
     fn grow_records(&mut self, gpu: &GpuContext, capacity: usize) {
         let records = records_buffer(&gpu.device, capacity);
         if !self.draws.is_empty() {
@@ -408,7 +423,8 @@ impl InstanceTable {
             encoder.copy_buffer_to_buffer(&self.records, 0, &records, 0, bytes);
             gpu.queue.submit([encoder.finish()]);
         }
-        self.draw_group = draw_group(&gpu.device, &self.layout, &records);
+        self.draw_group = draw_group(&gpu.device, &self.layout, &records)
+            .expect("a larger records buffer binds where the first one did");
         self.records = records;
         self.capacity = capacity.max(1);
     }
@@ -434,17 +450,21 @@ fn records_buffer(device: &wgpu::Device, capacity: usize) -> wgpu::Buffer {
     })
 }
 
+/// Group 1 of the geometry programs on `layout` (the scene's, made from the forward variant):
+/// the `view` library's `DRAWS`, numbered from that variant.
 fn draw_group(
     device: &wgpu::Device,
     layout: &wgpu::BindGroupLayout,
     records: &wgpu::Buffer,
-) -> wgpu::BindGroup {
-    device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("draw records"),
+) -> Result<wgpu::BindGroup, shader_bind::BindError> {
+    let part = view::Group1 {
+        draws: records.as_entire_buffer_binding(),
+    };
+    shader_bind::Resources::of(&part).build(
+        device,
         layout,
-        entries: &[wgpu::BindGroupEntry {
-            binding: 0,
-            resource: records.as_entire_binding(),
-        }],
-    })
+        super::material_groups::forward_variant(),
+        view::Group1::GROUP,
+        "draw records",
+    )
 }

@@ -3,8 +3,10 @@
 //! program: the forward and G-buffer programs' layout, and the masked pre-Z and shadow-caster
 //! programs' own. A draw's record names its material, so no draw has a bind group of its own.
 
+use codegen::rt::Variant;
+use shader_bind::{GroupResources as _, Resources};
 use shaders_gen::forward::forward;
-use shaders_gen::shared::material_table::{GpuMaterial, NO_TEXTURE};
+use shaders_gen::shared::material_table::{self, GpuMaterial, NO_TEXTURE};
 use wgpu::util::DeviceExt as _;
 
 use super::material_inputs::uv_map;
@@ -13,39 +15,50 @@ use crate::scene::{
 };
 use crate::shader::bind_group_layout_entries;
 
-/// The bind-group layouts of the scene's draw-record and material groups.
+/// The forward variant the scene's draw-record (group 1) and material (group 2) layouts are
+/// made from: groups 1 and 2 are the same in every forward variant.
+#[expect(
+    clippy::expect_used,
+    reason = "the naive, opaque, plain forward variant is never excluded"
+)]
+pub(super) fn forward_variant() -> &'static Variant {
+    forward::variant(forward::VariantKey {
+        list: forward::List::List0,
+        blend: false,
+        scalarize: false,
+    })
+    .expect("the naive, opaque, plain forward variant always exists")
+}
+
+/// The bind-group layouts of the scene's draw-record and material groups, with the variants
+/// they are made from (which number the groups' bindings).
 #[derive(Debug, Clone)]
 pub(super) struct SceneLayouts {
     pub(super) draw: wgpu::BindGroupLayout,
     material: wgpu::BindGroupLayout,
     mask_material: wgpu::BindGroupLayout,
+    forward: &'static Variant,
+    mask: &'static Variant,
 }
 
 impl SceneLayouts {
     pub(super) fn new(device: &wgpu::Device) -> Self {
         use shaders_gen::forward::prez;
-        let layout = |variant: &codegen::rt::Variant, group: u32| {
+        let layout = |variant: &Variant, group: u32| {
             device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some(variant.module),
                 entries: &bind_group_layout_entries(variant, group),
             })
         };
-        // Groups 1 and 2 are the same in every forward variant; group 2 of the masked pre-Z.
-        #[expect(
-            clippy::expect_used,
-            reason = "the naive, opaque, plain forward variant is never excluded"
-        )]
-        let forward_variant = forward::variant(forward::VariantKey {
-            list: forward::List::List0,
-            blend: false,
-            scalarize: false,
-        })
-        .expect("the naive, opaque, plain forward variant always exists");
+        // Group 2 of the masked pre-Z (and masked shadow casters) besides the forward one.
+        let forward = forward_variant();
         let mask = prez::variant(prez::VariantKey { alpha_mask: true });
         Self {
-            draw: layout(forward_variant, 1),
-            material: layout(forward_variant, 2),
+            draw: layout(forward, 1),
+            material: layout(forward, 2),
             mask_material: layout(mask, 2),
+            forward,
+            mask,
         }
     }
 }
@@ -87,7 +100,8 @@ impl MaterialTable {
             contents: bytemuck::cast_slice(&records),
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
         });
-        let (group, mask_group) = groups(device, layouts, &records, &atlas);
+        let (group, mask_group) = groups(device, layouts, &records, &atlas)
+            .map_err(|e| SceneError::Inconsistent(format!("material group: {e}")))?;
         Ok(Self {
             group,
             mask_group,
@@ -117,7 +131,11 @@ impl MaterialTable {
             match atlas.add(device, queue, images, &keys) {
                 Ok(AtlasGrowth::Held) => {}
                 Ok(AtlasGrowth::Grown) => {
-                    (self.group, self.mask_group) = groups(device, layouts, &self.records, &atlas);
+                    // A group that cannot be bound: the new table reports why.
+                    let Ok(built) = groups(device, layouts, &self.records, &atlas) else {
+                        return false;
+                    };
+                    (self.group, self.mask_group) = built;
                     self.atlas = std::sync::Arc::new(atlas);
                 }
                 // Packing anew reports what the device cannot hold.
@@ -145,29 +163,37 @@ impl MaterialTable {
 }
 
 /// Group 2 of the forward and G-buffer programs, and of the masked depth programs: the
-/// material records and the atlas.
+/// `material_table` library's records and the `material_atlas` library's atlas, collected by
+/// binding name and numbered from each layout's variant.
 fn groups(
     device: &wgpu::Device,
     layouts: &SceneLayouts,
     records: &wgpu::Buffer,
     atlas: &MaterialAtlas,
-) -> (wgpu::BindGroup, wgpu::BindGroup) {
-    let group = |layout: &wgpu::BindGroupLayout, label| {
-        let mut entries = vec![wgpu::BindGroupEntry {
-            binding: 0,
-            resource: records.as_entire_binding(),
-        }];
-        entries.extend(atlas.bind_group_entries());
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some(label),
-            layout,
-            entries: &entries,
-        })
+) -> Result<(wgpu::BindGroup, wgpu::BindGroup), shader_bind::BindError> {
+    let mut resources = Resources::new();
+    let table = material_table::Group2 {
+        materials: records.as_entire_buffer_binding(),
     };
-    (
-        group(&layouts.material, "materials"),
-        group(&layouts.mask_material, "materials (masked depth)"),
-    )
+    table.collect(&mut resources);
+    atlas.bindings().collect(&mut resources);
+    let group = material_table::Group2::GROUP;
+    Ok((
+        resources.build(
+            device,
+            &layouts.material,
+            layouts.forward,
+            group,
+            "materials",
+        )?,
+        resources.build(
+            device,
+            &layouts.mask_material,
+            layouts.mask,
+            group,
+            "materials (masked depth)",
+        )?,
+    ))
 }
 
 /// The five texture slots of `m` in `GpuMaterial` order (base colour, normal,

@@ -4,6 +4,7 @@
 
 use crate::culling::reference::Method;
 use crate::graph::{Buffer, CompiledGraph, Handle, ImportAccess, RenderGraph, Texture};
+use shaders_gen::shared::shadow_atlas;
 
 /// The per-cell light lists of a culled frame.
 #[derive(Debug, Clone)]
@@ -176,7 +177,8 @@ impl SceneDrawList {
     pub const ARGS_BYTES: u64 = 20;
 }
 
-/// The shadow atlas as shading passes bind it (`shadow_atlas` library, group 0 bindings 6–8).
+/// The shadow atlas as shading passes bind it (the `shadow_atlas` library's group 0 part,
+/// [`ShadowResources::bindings`]).
 #[derive(Debug, Clone)]
 pub struct ShadowResources {
     /// The atlas in the graph: read it so the shadow pass runs first.
@@ -192,19 +194,14 @@ pub struct ShadowResources {
 }
 
 impl ShadowResources {
-    /// The `shadow_atlas` library's bindings of group 0 (6: views, 7: atlas, 8: sampler), for
-    /// every pass that shades with shadows.
-    pub fn entries(&self) -> [wgpu::BindGroupEntry<'_>; 3] {
-        let resources = [
-            self.views.as_entire_binding(),
-            wgpu::BindingResource::TextureView(&self.atlas_view),
-            wgpu::BindingResource::Sampler(&self.sampler),
-        ];
-        let mut binding = 5;
-        resources.map(|resource| {
-            binding += 1;
-            wgpu::BindGroupEntry { binding, resource }
-        })
+    /// The `shadow_atlas` library's part of every group 0 that shades with shadows (its
+    /// generated builder: views, atlas, comparison sampler).
+    pub fn bindings(&self) -> shadow_atlas::Group0<'_> {
+        shadow_atlas::Group0 {
+            shadow_views: self.views.as_entire_buffer_binding(),
+            shadow_atlas: &self.atlas_view,
+            shadow_sampler: &self.sampler,
+        }
     }
 }
 

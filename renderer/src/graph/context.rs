@@ -18,6 +18,8 @@ pub struct PassContext<'a> {
     /// already timed as a whole).
     pub profiler: &'a wgpu_profiler::GpuProfiler,
     objects: &'a [Option<PoolObject>],
+    /// The first bind group this pass could not build ([`PassContext::bind`]).
+    pub(super) bind_error: Option<shader_bind::BindError>,
 }
 
 impl std::fmt::Debug for PassContext<'_> {
@@ -42,6 +44,21 @@ impl<'a> PassContext<'a> {
             device,
             profiler,
             objects,
+            bind_error: None,
+        }
+    }
+
+    /// What a generated bind-group builder built (a bind group, or a recording that binds
+    /// some), or `None` after keeping its error: the pass then records nothing more, and
+    /// executing the graph fails with [`super::GraphError::Bind`] naming the pass and the
+    /// binding.
+    pub fn bind<T>(&mut self, built: Result<T, shader_bind::BindError>) -> Option<T> {
+        match built {
+            Ok(group) => Some(group),
+            Err(e) => {
+                self.bind_error.get_or_insert(e);
+                None
+            }
         }
     }
 

@@ -39,4 +39,10 @@ pub enum GraphError {
         expected: &'static str,
         given: &'static str,
     },
+
+    #[error("pass `{pass}` could not bind its resources: {source}")]
+    Bind {
+        pass: String,
+        source: shader_bind::BindError,
+    },
 }

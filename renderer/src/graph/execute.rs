@@ -100,6 +100,12 @@ impl CompiledGraph {
             if let Some(record) = pass.execute.take() {
                 let mut ctx = PassContext::new(&mut scope, device, profiler, &objects);
                 record(&mut ctx);
+                if let Some(source) = ctx.bind_error.take() {
+                    return Err(GraphError::Bind {
+                        pass: pass.name.clone(),
+                        source,
+                    });
+                }
             }
         }
         Ok(stats)

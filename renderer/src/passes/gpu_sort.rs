@@ -152,36 +152,35 @@ impl GpuSort {
         });
         let plan = plan(count);
         let (params, stride) = params_buffer(device, &plan, count);
-        let layout = &kernels.program.bind_group_layouts[0];
+        let program = &kernels.program;
         let steps = plan
             .iter()
             .enumerate()
-            .map(|(i, &(kernel, _, _))| Step {
-                kernel,
-                groups: match kernel {
-                    Kernel::MergeGlobal => (count / 2).div_ceil(particle_sort::WORKGROUP),
-                    Kernel::SortLocal | Kernel::MergeLocal => count / particle_sort::BLOCK,
-                },
-                bind_group: device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("sort step"),
-                    layout,
-                    entries: &[
-                        wgpu::BindGroupEntry {
-                            binding: 0,
-                            resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                                buffer: &params,
-                                offset: i as u64 * stride,
-                                size: wgpu::BufferSize::new(size_of::<SortParams>() as u64),
-                            }),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 1,
-                            resource: keys.as_entire_binding(),
-                        },
-                    ],
-                }),
+            .map(|(i, &(kernel, _, _))| {
+                let bind_group = particle_sort::Group0 {
+                    params: wgpu::BufferBinding {
+                        buffer: &params,
+                        offset: i as u64 * stride,
+                        size: wgpu::BufferSize::new(size_of::<SortParams>() as u64),
+                    },
+                    keys: keys.as_entire_buffer_binding(),
+                }
+                .bind_group(
+                    device,
+                    program.layout(particle_sort::Group0::GROUP),
+                    program.variant,
+                    "sort step",
+                )?;
+                Ok(Step {
+                    kernel,
+                    groups: match kernel {
+                        Kernel::MergeGlobal => (count / 2).div_ceil(particle_sort::WORKGROUP),
+                        Kernel::SortLocal | Kernel::MergeLocal => count / particle_sort::BLOCK,
+                    },
+                    bind_group,
+                })
             })
-            .collect();
+            .collect::<Result<Vec<_>, RenderError>>()?;
         Ok(Self {
             kernels: Arc::clone(kernels),
             steps,

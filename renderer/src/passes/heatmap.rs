@@ -118,7 +118,7 @@ impl Pass for HeatmapPass {
         self.write_params(frame, lists.method);
         let target = resources.output;
         let needs_depth = self.needs_depth;
-        let layout = self.program.bind_group_layouts[0].clone();
+        let program = self.program.clone();
         let (pipeline, params) = (self.pipeline.clone(), self.params.clone());
         let mut pass = graph.add_pass(self.name());
         pass.read_buffer(lists.grid, BufferAccess::StorageRead)
@@ -131,25 +131,20 @@ impl Pass for HeatmapPass {
             let depth_view =
                 needs_depth.then(|| ctx.texture(depth).create_view(&Default::default()));
             let out_view = ctx.texture(target).create_view(&Default::default());
-            let (grid, indices) = (
-                ctx.buffer(lists.grid).clone(),
-                ctx.buffer(lists.indices).clone(),
-            );
-            let mut bound = vec![
-                params.as_entire_binding(),
-                grid.as_entire_binding(),
-                indices.as_entire_binding(),
-            ];
-            if let Some(view) = &depth_view {
-                bound.push(wgpu::BindingResource::TextureView(view));
+            let group = heatmap::Group0 {
+                params: params.as_entire_buffer_binding(),
+                grid: ctx.buffer(lists.grid).as_entire_buffer_binding(),
+                indices: ctx.buffer(lists.indices).as_entire_buffer_binding(),
+                depth: depth_view.as_ref(),
+                depth_ms: depth_view.as_ref(),
             }
-            draw_fullscreen(
-                ctx,
+            .bind_group(
+                ctx.device,
+                program.layout(0),
+                program.variant,
                 "light heatmap",
-                (&layout, &pipeline),
-                &bound,
-                &out_view,
             );
+            draw_fullscreen(ctx, "light heatmap", &pipeline, group, &out_view);
         });
         Ok(())
     }

@@ -396,35 +396,20 @@ pub(crate) fn color_pass<'e>(
 }
 
 /// Draws the full-screen triangle of `pipeline` into `target` (cleared to black, as
-/// [`color_pass`]) with group 0 of `layout` over `resources`, at bindings 0.. in order.
+/// [`color_pass`]) with group 0 as its module's generated builder built it (nothing, after
+/// keeping the error in `ctx`, where it could not).
 pub(crate) fn draw_fullscreen(
     ctx: &mut crate::graph::PassContext<'_>,
     label: &str,
-    (layout, pipeline): (&wgpu::BindGroupLayout, &wgpu::RenderPipeline),
-    resources: &[wgpu::BindingResource<'_>],
+    pipeline: &wgpu::RenderPipeline,
+    group: Result<wgpu::BindGroup, shader_bind::BindError>,
     target: &wgpu::TextureView,
 ) {
-    let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some(label),
-        layout,
-        entries: &entries(resources),
-    });
+    let Some(bind_group) = ctx.bind(group) else {
+        return;
+    };
     let mut pass = color_pass(ctx.encoder, label, target);
     pass.set_pipeline(pipeline);
     pass.set_bind_group(0, &bind_group, &[]);
     pass.draw(0..3, 0..1);
-}
-
-/// The bind-group entries of `resources`, at bindings 0.. in order.
-pub(crate) fn entries<'a>(
-    resources: &[wgpu::BindingResource<'a>],
-) -> Vec<wgpu::BindGroupEntry<'a>> {
-    resources
-        .iter()
-        .enumerate()
-        .map(|(i, r)| wgpu::BindGroupEntry {
-            binding: i as u32,
-            resource: r.clone(),
-        })
-        .collect()
 }

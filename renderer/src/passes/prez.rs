@@ -107,14 +107,15 @@ impl Pass for PrezPass {
 
     fn prepare(&mut self, frame: &FrameInputs) -> Result<(), RenderError> {
         if self.camera_group.is_none() {
-            let group = frame
-                .gpu
-                .device
-                .create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("pre-z camera"),
-                    layout: &self.program.bind_group_layouts[0],
-                    entries: &super::entries(&[frame.camera_uniform.buffer.as_entire_binding()]),
-                });
+            let group = prez::Group0 {
+                camera: frame.camera_uniform.buffer.as_entire_buffer_binding(),
+            }
+            .bind_group(
+                &frame.gpu.device,
+                self.program.layout(0),
+                self.program.variant,
+                "pre-z camera",
+            )?;
             self.camera_group = Some(group);
         }
         Ok(())

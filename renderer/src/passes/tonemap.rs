@@ -77,7 +77,7 @@ impl Pass for TonemapPass {
             .queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
         let target = resources.output;
-        let layout = self.program.bind_group_layouts[0].clone();
+        let program = self.program.clone();
         let (pipeline, params) = (self.pipeline.clone(), self.params.clone());
         graph
             .add_pass(self.name())
@@ -86,11 +86,17 @@ impl Pass for TonemapPass {
             .execute(move |ctx| {
                 let hdr_view = ctx.texture(hdr).create_view(&Default::default());
                 let out_view = ctx.texture(target).create_view(&Default::default());
-                let bound = [
-                    params.as_entire_binding(),
-                    wgpu::BindingResource::TextureView(&hdr_view),
-                ];
-                draw_fullscreen(ctx, "tonemap", (&layout, &pipeline), &bound, &out_view);
+                let group = tonemap::Group0 {
+                    params: params.as_entire_buffer_binding(),
+                    hdr: &hdr_view,
+                }
+                .bind_group(
+                    ctx.device,
+                    program.layout(0),
+                    program.variant,
+                    "tonemap",
+                );
+                draw_fullscreen(ctx, "tonemap", &pipeline, group, &out_view);
             });
         Ok(())
     }

@@ -2,15 +2,17 @@
 //!
 //! `shaders_gen` exposes each variant as plain data ([`codegen::rt::Variant`]): WGSL, entry
 //! points, bindings and required features. This module is the only place that maps that data to
-//! wgpu, so no pass writes a bind-group layout by hand. It holds no shader source of its own;
+//! wgpu (with `shader_bind`, which turns reflected bindings into layout entries and builds bind
+//! groups by binding name), so no pass writes a bind-group layout by hand. It holds no shader source of its own;
 //! `hot` holds replacements of generated WGSL installed while the program runs (hot reload).
 
 pub mod hot;
-mod layout;
+#[cfg(test)]
+mod layout_tests;
 #[cfg(test)]
 mod test_variant;
 
-pub use layout::{bind_group_layout_entries, storage_format};
+pub use shader_bind::{bind_group_layout_entries, storage_format};
 
 use codegen::rt::{Stage, Variant};
 
@@ -83,6 +85,12 @@ pub struct ShaderProgram {
 }
 
 impl ShaderProgram {
+    /// The layout of bind group `group` (below `variant.group_count()`; empty where the
+    /// variant binds nothing in it).
+    pub fn layout(&self, group: u32) -> &wgpu::BindGroupLayout {
+        &self.bind_group_layouts[group as usize]
+    }
+
     /// Compiles `variant` on `device` after checking it against `caps`.
     pub fn new(
         device: &wgpu::Device,

@@ -1,5 +1,7 @@
 //! DSL modules for the GPU execution tests, and the draw helpers that run them.
 
+pub mod bindings;
+
 use renderer::shader::ShaderProgram;
 use renderer::{GpuContext, readback};
 use wgpu::util::DeviceExt as _;

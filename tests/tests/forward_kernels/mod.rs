@@ -105,9 +105,14 @@ pub fn draw_forward(
     let no_images: &[renderer::scene::Image] = &[];
     let atlas = renderer::scene::MaterialAtlas::new(&gpu.device, &gpu.queue, no_images, &[])
         .expect("an empty atlas");
-    let mut group2 = vec![(0, material.as_entire_binding())];
-    group2.extend(atlas.bind_group_entries().map(|e| (e.binding, e.resource)));
-    let g2 = bind_group(gpu, &p, 2, group2);
+    let g2 = forward::Group2 {
+        material_table: shaders_gen::shared::material_table::Group2 {
+            materials: material.as_entire_buffer_binding(),
+        },
+        material_atlas: atlas.bindings(),
+    }
+    .bind_group(&gpu.device, p.layout(2), p.variant, "materials")
+    .expect("group 2 binds");
     // TEXCOORD_1 and a white COLOR_0, one value for the whole draw (instance step).
     let uv1_color: [f32; 6] = [0.0, 0.0, 1.0, 1.0, 1.0, 1.0];
     let constant_streams = buffer(

@@ -309,11 +309,11 @@ fn probe(gpu: &GpuContext, atlas: &MaterialAtlas, images: &[Image], keys: &[Atla
             compilation_options: Default::default(),
             cache: None,
         });
-    let atlas_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("atlas"),
-        layout: &program.bind_group_layouts[2],
-        entries: &atlas.bind_group_entries(),
-    });
+    let atlas_group = atlas_probe::Group2 {
+        material_atlas: atlas.bindings(),
+    }
+    .bind_group(&gpu.device, program.layout(2), program.variant, "atlas")
+    .expect("the atlas binds");
     let mut worst_overall = 0.0f32;
     for key in keys {
         let image = &images[key.image];

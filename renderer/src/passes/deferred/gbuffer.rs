@@ -125,7 +125,9 @@ impl Pass for GBufferPass {
         let (scene, instances) = (Arc::clone(&frame.scene), Arc::clone(&frame.instances));
         pass.execute(move |ctx| {
             let p = &programs[which];
-            let frame_group = group.bind_group(ctx, &p.program.bind_group_layouts[0], "gbuffer");
+            let Some(frame_group) = group.bind_group(ctx, &p.program, "gbuffer") else {
+                return;
+            };
             let views = targets.map(|t| ctx.texture(t).create_view(&Default::default()));
             let depth_view = ctx.texture(depth).create_view(&Default::default());
             let mut pass = begin_gbuffer_pass(ctx.encoder, &views, &depth_view);

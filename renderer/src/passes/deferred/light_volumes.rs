@@ -168,7 +168,7 @@ impl Pass for LightVolumePass {
         let mut pass = graph.add_pass(self.name());
         read_gbuffer(&mut pass, depth, gbuffer, &shadows)
             .write_texture(&mut hdr, TextureAccess::ColorAttachment);
-        let layout = self.program.bind_group_layouts[0].clone();
+        let program = self.program.clone();
         let pipeline = self.pipeline.clone();
         let (params, spheres, unused) = (
             self.params.clone(),
@@ -186,15 +186,17 @@ impl Pass for LightVolumePass {
                 edge_bits: &edges,
                 captured: &unused,
             };
-            let group = bind_group(
+            let Some(group) = bind_group(
                 ctx,
-                &layout,
+                &program,
                 &buffers,
                 depth,
                 gbuffer,
                 &unused_storage,
                 &shadows,
-            );
+            ) else {
+                return;
+            };
             let target = ctx.texture(hdr).create_view(&Default::default());
             let mut pass = ctx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("light volumes"),

@@ -8,7 +8,7 @@
 //! only), every frame's edge pixels marked in a buffer that the light volumes read
 //! ([`FrameResources::deferred_edges`]).
 
-use shaders_gen::deferred::tbdr;
+use shaders_gen::deferred::{gbuffer_read::tbdr_gbuffer, tbdr};
 
 use crate::GpuContext;
 use crate::frame_data::{
@@ -289,7 +289,7 @@ impl Pass for TbdrPass {
         let mut pass = graph.add_pass(self.name());
         read_gbuffer(&mut pass, depth, gbuffer, &shadows)
             .write_texture(&mut hdr, TextureAccess::StorageWrite);
-        let layout = self.program.bind_group_layouts[0].clone();
+        let program = self.program.clone();
         let (shade, capture) = (self.shade.clone(), self.capture.clone());
         let params = self.params.clone();
         let spheres = self.spheres.clone();
@@ -325,7 +325,10 @@ impl Pass for TbdrPass {
                 captured,
             };
             let out = ctx.texture(hdr).create_view(&Default::default());
-            let group = bind_group(ctx, &layout, &buffers, depth, gbuffer, &out, &shadows);
+            let Some(group) = bind_group(ctx, &program, &buffers, depth, gbuffer, &out, &shadows)
+            else {
+                return;
+            };
             let mut pass = ctx
                 .encoder
                 .begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -371,18 +374,19 @@ pub(super) struct KernelBuffers<'a> {
     pub captured: &'a wgpu::Buffer,
 }
 
-/// Group 0 of `tbdr`: parameters, lights, spheres, depth and albedo (0–5), the shadow atlas
-/// (6–8), normals, radiance, the HDR output `out`, the edge bits, the capture and the view
-/// depth (9–14).
+/// Group 0 of a `tbdr` variant `program`: its own buffers and HDR output `out`, the
+/// `tbdr_gbuffer` library's part (parameters and the G-buffer, single- or multisampled as the
+/// variant binds it) and the shadow atlas's, through the module's generated builder; `None`
+/// after recording the error in `ctx`.
 pub(super) fn bind_group(
-    ctx: &crate::graph::PassContext<'_>,
-    layout: &wgpu::BindGroupLayout,
+    ctx: &mut crate::graph::PassContext<'_>,
+    program: &ShaderProgram,
     buffers: &KernelBuffers<'_>,
     depth: Handle<Texture>,
     gbuffer: GBufferHandles,
     out: &wgpu::TextureView,
     shadows: &ShadowResources,
-) -> wgpu::BindGroup {
+) -> Option<wgpu::BindGroup> {
     let view = |h| ctx.texture(h).create_view(&Default::default());
     let (depth, albedo, normals, radiance, view_depth) = (
         view(depth),
@@ -391,32 +395,35 @@ pub(super) fn bind_group(
         view(gbuffer.radiance),
         view(gbuffer.view_depth),
     );
-    let tv = wgpu::BindingResource::TextureView;
-    let mut entries = crate::passes::entries(&[
-        buffers.params.as_entire_binding(),
-        buffers.lights.punctual_buffer.as_entire_binding(),
-        buffers.lights.directional_buffer.as_entire_binding(),
-        buffers.spheres.as_entire_binding(),
-        tv(&depth),
-        tv(&albedo),
-    ]);
-    entries.extend(shadows.entries());
-    let rest = [
-        tv(&normals),
-        tv(&radiance),
-        tv(out),
-        buffers.edge_bits.as_entire_binding(),
-        buffers.captured.as_entire_binding(),
-        tv(&view_depth),
-    ];
-    entries.extend(
-        rest.into_iter()
-            .zip(9..)
-            .map(|(resource, binding)| wgpu::BindGroupEntry { binding, resource }),
+    // Each G-buffer view is given for both spellings; the variant binds the one its MSAA
+    // count declares.
+    let group = tbdr::Group0 {
+        lights: buffers.lights.punctual_buffer.as_entire_buffer_binding(),
+        directional: buffers.lights.directional_buffer.as_entire_buffer_binding(),
+        spheres: buffers.spheres.as_entire_buffer_binding(),
+        hdr_out: out,
+        edge_bits: buffers.edge_bits.as_entire_buffer_binding(),
+        capture: buffers.captured.as_entire_buffer_binding(),
+        tbdr_gbuffer: tbdr_gbuffer::Group0 {
+            params: buffers.params.as_entire_buffer_binding(),
+            depth: Some(&depth),
+            depth_ms: Some(&depth),
+            albedo: Some(&albedo),
+            albedo_ms: Some(&albedo),
+            normals: Some(&normals),
+            normals_ms: Some(&normals),
+            radiance: Some(&radiance),
+            radiance_ms: Some(&radiance),
+            view_depth: Some(&view_depth),
+            view_depth_ms: Some(&view_depth),
+        },
+        shadow_atlas: shadows.bindings(),
+    }
+    .bind_group(
+        ctx.device,
+        program.layout(tbdr::Group0::GROUP),
+        program.variant,
+        "tbdr",
     );
-    ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("tbdr"),
-        layout,
-        entries: &entries,
-    })
+    ctx.bind(group)
 }

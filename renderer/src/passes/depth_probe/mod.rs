@@ -8,6 +8,8 @@ use std::sync::Arc;
 
 use capture::{PendingCapture, ProbeGpu, ProbePipeline};
 
+use shaders_gen::inspect::depth_probe;
+
 use super::Pass;
 use crate::culling::reference::CullCamera;
 use crate::frame_data::{FrameInputs, FrameResources, RenderError};
@@ -75,15 +77,22 @@ impl Pass for DepthProbePass {
             .write_buffer(&mut probes, BufferAccess::StorageWrite)
             .execute(move |ctx| {
                 let view = ctx.texture(depth).create_view(&Default::default());
-                let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("depth probe"),
-                    layout: &probe.kernel.program.bind_group_layouts[0],
-                    entries: &super::entries(&[
-                        probe.params.as_entire_binding(),
-                        probe.output.as_entire_binding(),
-                        wgpu::BindingResource::TextureView(&view),
-                    ]),
-                });
+                let program = &probe.kernel.program;
+                let built = depth_probe::Group0 {
+                    params: probe.params.as_entire_buffer_binding(),
+                    probes: probe.output.as_entire_buffer_binding(),
+                    depth: Some(&view),
+                    depth_ms: Some(&view),
+                }
+                .bind_group(
+                    ctx.device,
+                    program.layout(0),
+                    program.variant,
+                    "depth probe",
+                );
+                let Some(bind_group) = ctx.bind(built) else {
+                    return;
+                };
                 let mut pass = ctx
                     .encoder
                     .begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -92,7 +101,7 @@ impl Pass for DepthProbePass {
                     });
                 pass.set_pipeline(&probe.kernel.pipeline);
                 pass.set_bind_group(0, &bind_group, &[]);
-                let side = shaders_gen::inspect::depth_probe::WORKGROUP_SIDE;
+                let side = depth_probe::WORKGROUP_SIDE;
                 pass.dispatch_workgroups(
                     probe.grid.x.div_ceil(side),
                     probe.grid.y.div_ceil(side),

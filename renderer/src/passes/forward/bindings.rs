@@ -1,6 +1,7 @@
 //! Group 0 of the `forward` module's programs, which the forward pass and the G-buffer pass
 //! (the module's `fs_gbuffer`) both bind: camera, lighting uniform, lights, the light and decal
-//! lists when culled, the shadow atlas (6–8) and the decals (9–14).
+//! lists when culled, and the `shadow_atlas` and `decal_apply` libraries' parts, bound through
+//! the module's generated builder (`forward::Group0`).
 
 use std::sync::Arc;
 
@@ -10,6 +11,7 @@ use crate::frame_data::{
     FrameInputs, GpuDecals, LightListHandles, LightSet, ListGeometry, ShadowResources,
 };
 use crate::graph::PassContext;
+use crate::shader::ShaderProgram;
 
 /// The frame's lighting uniform: light counts and the geometry of `lists`.
 pub(crate) fn lighting_uniform(
@@ -67,31 +69,35 @@ impl FrameGroup {
         }
     }
 
-    /// The bind group, on `layout` (group 0 of a `forward` variant).
+    /// Group 0 of `program` (a `forward` variant), through the module's generated builder;
+    /// `None` after recording the error in `ctx` ([`PassContext::bind`]).
     pub(crate) fn bind_group(
         &self,
-        ctx: &PassContext<'_>,
-        layout: &wgpu::BindGroupLayout,
+        ctx: &mut PassContext<'_>,
+        program: &ShaderProgram,
         label: &str,
-    ) -> wgpu::BindGroup {
-        let mut resources = vec![
-            self.camera.as_entire_binding(),
-            self.lighting.as_entire_binding(),
-            self.lights.punctual_buffer.as_entire_binding(),
-            self.lights.directional_buffer.as_entire_binding(),
-        ];
-        if let Some(l) = &self.lists {
-            resources.push(ctx.buffer(l.grid).as_entire_binding());
-            resources.push(ctx.buffer(l.indices).as_entire_binding());
+    ) -> Option<wgpu::BindGroup> {
+        let lists = self
+            .lists
+            .as_ref()
+            .map(|l| (ctx.buffer(l.grid), ctx.buffer(l.indices)));
+        let group = forward::Group0 {
+            camera: self.camera.as_entire_buffer_binding(),
+            lighting: self.lighting.as_entire_buffer_binding(),
+            lights: self.lights.punctual_buffer.as_entire_buffer_binding(),
+            directional: self.lights.directional_buffer.as_entire_buffer_binding(),
+            grid: lists.map(|(grid, _)| grid.as_entire_buffer_binding()),
+            indices: lists.map(|(_, indices)| indices.as_entire_buffer_binding()),
+            shadow_atlas: self.shadows.bindings(),
+            decal_apply: self.decals.bindings(),
         }
-        let mut entries = super::super::entries(&resources);
-        entries.extend(self.shadows.entries());
-        entries.extend(self.decals.entries());
-        ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some(label),
-            layout,
-            entries: &entries,
-        })
+        .bind_group(
+            ctx.device,
+            program.layout(forward::Group0::GROUP),
+            program.variant,
+            label,
+        );
+        ctx.bind(group)
     }
 }
 

@@ -15,6 +15,7 @@ pub(crate) use bindings::{FrameGroup, lighting_buffer};
 
 use std::sync::Arc;
 
+use shaders_gen::deferred::hdr_expand;
 use shaders_gen::forward::forward;
 
 use super::{
@@ -139,13 +140,14 @@ impl Expand {
         &self,
         ctx: &crate::graph::PassContext<'_>,
         shaded: Handle<Texture>,
-    ) -> wgpu::BindGroup {
+    ) -> Result<wgpu::BindGroup, shader_bind::BindError> {
         let view = ctx.texture(shaded).create_view(&Default::default());
-        ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("hdr expand"),
-            layout: &self.program.bind_group_layouts[0],
-            entries: &super::entries(&[wgpu::BindingResource::TextureView(&view)]),
-        })
+        hdr_expand::Group0 { hdr: &view }.bind_group(
+            ctx.device,
+            self.program.layout(0),
+            self.program.variant,
+            "hdr expand",
+        )
     }
 }
 
@@ -298,15 +300,23 @@ impl ForwardPass {
         group: FrameGroup,
         list: SceneDrawList,
     ) -> impl FnOnce(&mut crate::graph::PassContext<'_>) + 'static {
-        let layout = self.program.bind_group_layouts[0].clone();
+        let program = self.program.clone();
         let pipelines = Arc::clone(&self.pipelines);
         let expand = self.expand.clone();
         let (scene, instances) = (Arc::clone(&frame.scene), Arc::clone(&frame.instances));
         let sky = sky_color(frame.config.sky);
         move |ctx| {
-            let frame_group = group.bind_group(ctx, &layout, "forward frame");
+            let Some(frame_group) = group.bind_group(ctx, &program, "forward frame") else {
+                return;
+            };
             let expand_group = match (&targets.over, &expand) {
-                (Some(Some(h)), Some(e)) => Some((e.bind_group(ctx, *h), &e.pipeline)),
+                (Some(Some(h)), Some(e)) => {
+                    let built = e.bind_group(ctx, *h);
+                    let Some(group) = ctx.bind(built) else {
+                        return;
+                    };
+                    Some((group, &e.pipeline))
+                }
                 _ => None,
             };
             let depth_view = ctx.texture(targets.depth).create_view(&Default::default());

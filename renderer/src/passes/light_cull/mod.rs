@@ -356,7 +356,8 @@ impl LightCullPass {
             .write_buffer(&mut indices, BufferAccess::StorageWrite)
             .execute(move |ctx| {
                 let view = ctx.texture(depth).create_view(&Default::default());
-                k.levels.encode(ctx.device, ctx.encoder, &view, None);
+                let encoded = k.levels.encode(ctx.device, ctx.encoder, &view, None);
+                ctx.bind(encoded);
             });
         LightListHandles {
             grid,
@@ -433,7 +434,8 @@ impl Pass for LightCullPass {
                 let view = ctx.texture(depth).create_view(&Default::default());
                 if let Some(levels) = culler.levels() {
                     let profiler = timed.then_some(ctx.profiler);
-                    levels.encode(ctx.device, ctx.encoder, &view, profiler);
+                    let encoded = levels.encode(ctx.device, ctx.encoder, &view, profiler);
+                    ctx.bind(encoded);
                 }
             });
         let handles = LightListHandles {

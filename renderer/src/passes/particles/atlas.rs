@@ -124,23 +124,23 @@ impl ParticleAtlas {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let buffers = [
-            &params,
-            &sim.emitters,
-            &sim.particles,
-            &sim.alive,
-            &sim.counters,
-            &sort.keys,
-            &regions,
-            &state,
-            &owners,
-        ];
-        let bind_group = super::bind::whole_buffers(
+        let bind_group = particle_atlas::Group0 {
+            params: params.as_entire_buffer_binding(),
+            emitters: sim.emitters.as_entire_buffer_binding(),
+            particles: sim.particles.as_entire_buffer_binding(),
+            alive: sim.alive.as_entire_buffer_binding(),
+            counters: sim.counters.as_entire_buffer_binding(),
+            keys: sort.keys.as_entire_buffer_binding(),
+            regions: regions.as_entire_buffer_binding(),
+            state: state.as_entire_buffer_binding(),
+            owners: owners.as_entire_buffer_binding(),
+        }
+        .bind_group(
             device,
+            program.layout(particle_atlas::Group0::GROUP),
+            program.variant,
             "particle atlas",
-            &program.bind_group_layouts[0],
-            &buffers,
-        );
+        )?;
         Ok(Self {
             side,
             size: program.compute_pipeline(device, "size_particles")?,

@@ -158,7 +158,7 @@ impl Pass for ParticleDrawPass {
             pass.read_buffer(l.grid, BufferAccess::StorageRead)
                 .read_buffer(l.indices, BufferAccess::StorageRead);
         }
-        let layouts = self.program.bind_group_layouts.clone();
+        let program = self.program.clone();
         let pipeline = self.pipeline.clone();
         let lights = std::sync::Arc::clone(&frame.lights);
         let p = particles;
@@ -170,48 +170,47 @@ impl Pass for ParticleDrawPass {
                     aspect: wgpu::TextureAspect::DepthOnly,
                     ..Default::default()
                 });
-            let mut frame_entries = vec![
-                (0, p.view.as_entire_binding()),
-                (1, lights.punctual_buffer.as_entire_binding()),
-                (2, lights.directional_buffer.as_entire_binding()),
-                (5, wgpu::BindingResource::TextureView(&fade_view)),
-            ];
-            if let Some(l) = &lists {
-                frame_entries.push((3, ctx.buffer(l.grid).as_entire_binding()));
-                frame_entries.push((4, ctx.buffer(l.indices).as_entire_binding()));
+            let lists = lists.map(|l| (ctx.buffer(l.grid), ctx.buffer(l.indices)));
+            // The fade depth is given for both spellings; the variant binds the one its MSAA
+            // axis declares.
+            let frame_group = particle_draw::Group0 {
+                view: p.view.as_entire_buffer_binding(),
+                lights: lights.punctual_buffer.as_entire_buffer_binding(),
+                directional: lights.directional_buffer.as_entire_buffer_binding(),
+                grid: lists.map(|(grid, _)| grid.as_entire_buffer_binding()),
+                indices: lists.map(|(_, indices)| indices.as_entire_buffer_binding()),
+                depth: Some(&fade_view),
+                depth_ms: Some(&fade_view),
+                shadow_atlas: shadows.bindings(),
             }
-            let mut entries: Vec<_> = frame_entries
-                .into_iter()
-                .map(|(binding, resource)| wgpu::BindGroupEntry { binding, resource })
-                .collect();
-            entries.extend(shadows.entries());
-            let frame_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("particles frame"),
-                layout: &layouts[0],
-                entries: &entries,
-            });
+            .bind_group(
+                ctx.device,
+                program.layout(particle_draw::Group0::GROUP),
+                program.variant,
+                "particles frame",
+            );
             let atlas_view = atlas.map(|a| ctx.texture(a).create_view(&Default::default()));
-            let mut particle_entries = vec![
-                (0, p.emitters.as_entire_binding()),
-                (1, p.particles.as_entire_binding()),
-                (2, p.regions.as_entire_binding()),
-                (3, p.keys.as_entire_binding()),
-                (6, wgpu::BindingResource::TextureView(&p.sprites)),
-                (7, wgpu::BindingResource::Sampler(&p.sampler)),
-            ];
-            if let Some(view) = &atlas_view {
-                particle_entries.push((4, wgpu::BindingResource::TextureView(view)));
-                particle_entries.push((5, wgpu::BindingResource::Sampler(&p.sampler)));
+            let particle_group = particle_draw::Group1 {
+                emitters: p.emitters.as_entire_buffer_binding(),
+                particles: p.particles.as_entire_buffer_binding(),
+                regions: p.regions.as_entire_buffer_binding(),
+                keys: p.keys.as_entire_buffer_binding(),
+                light_atlas: atlas_view.as_ref(),
+                atlas_sampler: atlas_view.as_ref().map(|_| &p.sampler),
+                sprites: &p.sprites,
+                sprite_sampler: &p.sampler,
             }
-            let entries: Vec<_> = particle_entries
-                .into_iter()
-                .map(|(binding, resource)| wgpu::BindGroupEntry { binding, resource })
-                .collect();
-            let particle_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("particles"),
-                layout: &layouts[1],
-                entries: &entries,
-            });
+            .bind_group(
+                ctx.device,
+                program.layout(particle_draw::Group1::GROUP),
+                program.variant,
+                "particles",
+            );
+            let (Some(frame_group), Some(particle_group)) =
+                (ctx.bind(frame_group), ctx.bind(particle_group))
+            else {
+                return;
+            };
             let resolved = ctx.texture(hdr).create_view(&Default::default());
             let msaa_view = multisampled.map(|m| ctx.texture(m).create_view(&Default::default()));
             let mut render = ctx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {

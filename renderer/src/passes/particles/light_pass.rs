@@ -81,39 +81,44 @@ impl Pass for ParticleLightPass {
             pass.read_buffer(l.grid, BufferAccess::StorageRead)
                 .read_buffer(l.indices, BufferAccess::StorageRead);
         }
-        let layouts = self.program.bind_group_layouts.clone();
+        let program = self.program.clone();
         let pipeline = self.pipeline.clone();
         let lights = std::sync::Arc::clone(&frame.lights);
         let p = particles.clone();
         pass.execute(move |ctx| {
-            let mut frame_resources = vec![
-                p.view.as_entire_binding(),
-                lights.punctual_buffer.as_entire_binding(),
-                lights.directional_buffer.as_entire_binding(),
-            ];
-            if let Some(l) = &lists {
-                frame_resources.push(ctx.buffer(l.grid).as_entire_binding());
-                frame_resources.push(ctx.buffer(l.indices).as_entire_binding());
+            let lists = lists.map(|l| (ctx.buffer(l.grid), ctx.buffer(l.indices)));
+            let frame_group = particle_light::Group0 {
+                view: p.view.as_entire_buffer_binding(),
+                lights: lights.punctual_buffer.as_entire_buffer_binding(),
+                directional: lights.directional_buffer.as_entire_buffer_binding(),
+                grid: lists.map(|(grid, _)| grid.as_entire_buffer_binding()),
+                indices: lists.map(|(_, indices)| indices.as_entire_buffer_binding()),
+                shadow_atlas: shadows.bindings(),
             }
-            let mut entries = crate::passes::entries(&frame_resources);
-            entries.extend(shadows.entries());
-            let frame_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("particle lighting frame"),
-                layout: &layouts[0],
-                entries: &entries,
-            });
-            let particle_group = super::bind::whole_buffers(
+            .bind_group(
                 ctx.device,
-                "particle lighting",
-                &layouts[1],
-                &[
-                    &p.emitters,
-                    &p.particles,
-                    &p.state,
-                    &p.owners,
-                    &p.lit_texels,
-                ],
+                program.layout(particle_light::Group0::GROUP),
+                program.variant,
+                "particle lighting frame",
             );
+            let particle_group = particle_light::Group1 {
+                emitters: p.emitters.as_entire_buffer_binding(),
+                particles: p.particles.as_entire_buffer_binding(),
+                state: p.state.as_entire_buffer_binding(),
+                owners: p.owners.as_entire_buffer_binding(),
+                lit: p.lit_texels.as_entire_buffer_binding(),
+            }
+            .bind_group(
+                ctx.device,
+                program.layout(particle_light::Group1::GROUP),
+                program.variant,
+                "particle lighting",
+            );
+            let (Some(frame_group), Some(particle_group)) =
+                (ctx.bind(frame_group), ctx.bind(particle_group))
+            else {
+                return;
+            };
             {
                 let mut compute = ctx
                     .encoder

@@ -13,7 +13,6 @@
 //! [`ParticleSystem`]: crate::particles::ParticleSystem
 
 pub mod atlas;
-mod bind;
 pub mod draw_pass;
 pub mod light_pass;
 pub mod simulate;

@@ -125,15 +125,21 @@ impl ParticleSimulation {
             bytemuck::cast_slice(&counters),
             STORAGE,
         );
-        let resources = [
-            &params, &emitters, &batches, &particles, &dead, &counters, &alive,
-        ];
-        let bind_group = super::bind::whole_buffers(
+        let bind_group = particle_sim::Group0 {
+            params: params.as_entire_buffer_binding(),
+            emitters: emitters.as_entire_buffer_binding(),
+            batches: batches.as_entire_buffer_binding(),
+            particles: particles.as_entire_buffer_binding(),
+            dead: dead.as_entire_buffer_binding(),
+            counters: counters.as_entire_buffer_binding(),
+            alive: alive.as_entire_buffer_binding(),
+        }
+        .bind_group(
             device,
+            program.layout(particle_sim::Group0::GROUP),
+            program.variant,
             "particle simulation",
-            &program.bind_group_layouts[0],
-            &resources,
-        );
+        )?;
         Ok(Self {
             update: program.compute_pipeline(device, "update")?,
             spawn: program.compute_pipeline(device, "spawn")?,

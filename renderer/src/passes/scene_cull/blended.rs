@@ -95,7 +95,7 @@ impl BlendedOrder {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
             mapped_at_creation: false,
         });
-        let bind_group = bind_group(device, kernels, boxes, &templates, &sort.keys, &args);
+        let bind_group = bind_group(device, kernels, boxes, &templates, &sort.keys, &args)?;
         let count_buffer = wgpu::util::DeviceExt::create_buffer_init(
             device,
             &wgpu::util::BufferInitDescriptor {
@@ -120,7 +120,7 @@ impl BlendedOrder {
         device: &wgpu::Device,
         kernels: &BlendedKernels,
         boxes: &wgpu::Buffer,
-    ) {
+    ) -> Result<(), shader_bind::BindError> {
         self.bind_group = bind_group(
             device,
             kernels,
@@ -128,7 +128,8 @@ impl BlendedOrder {
             &self.templates,
             &self.sort.keys,
             &self.args,
-        );
+        )?;
+        Ok(())
     }
 
     /// The blended draws, hence the arguments the forward pass draws.
@@ -178,7 +179,7 @@ impl BlendedOrder {
     }
 }
 
-/// Group 0 of `blended_order`: parameters, boxes, templates, keys, arguments.
+/// Group 0 of `blended_order`, through the module's generated builder.
 fn bind_group(
     device: &wgpu::Device,
     kernels: &BlendedKernels,
@@ -186,16 +187,18 @@ fn bind_group(
     templates: &wgpu::Buffer,
     keys: &wgpu::Buffer,
     args: &wgpu::Buffer,
-) -> wgpu::BindGroup {
-    device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("blended order"),
-        layout: &kernels.program.bind_group_layouts[0],
-        entries: &crate::passes::entries(&[
-            kernels.params.as_entire_binding(),
-            boxes.as_entire_binding(),
-            templates.as_entire_binding(),
-            keys.as_entire_binding(),
-            args.as_entire_binding(),
-        ]),
-    })
+) -> Result<wgpu::BindGroup, shader_bind::BindError> {
+    blended_order::Group0 {
+        params: kernels.params.as_entire_buffer_binding(),
+        boxes: boxes.as_entire_buffer_binding(),
+        templates: templates.as_entire_buffer_binding(),
+        keys: keys.as_entire_buffer_binding(),
+        args: args.as_entire_buffer_binding(),
+    }
+    .bind_group(
+        device,
+        kernels.program.layout(0),
+        kernels.program.variant,
+        "blended order",
+    )
 }

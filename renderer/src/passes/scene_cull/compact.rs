@@ -75,7 +75,7 @@ impl Compaction {
         kernels: &CompactKernels,
         layout: &BatchLayout,
         sources: &[&wgpu::Buffer],
-    ) -> Self {
+    ) -> Result<Self, shader_bind::BindError> {
         let device = &gpu.device;
         let batches = batch_ranges(layout);
         let slot_count = layout.slot_count();
@@ -113,13 +113,13 @@ impl Compaction {
         let shared = [&params, &slot_batch, &ranges];
         let packed = (sources.iter())
             .map(|&source| pack_list(device, kernels, shared, source, sizes))
-            .collect();
-        Self {
+            .collect::<Result<_, _>>()?;
+        Ok(Self {
             batches,
             slot_count,
             block_count,
             packed,
-        }
+        })
     }
 
     /// Whether it still packs `sources` for `layout` (the same batch ranges and lists).
@@ -180,7 +180,7 @@ fn pack_list(
     shared: [&wgpu::Buffer; 3],
     source: &wgpu::Buffer,
     (slot_count, block_count, batch_count): (u32, u32, u64),
-) -> PackedArgs {
+) -> Result<PackedArgs, shader_bind::BindError> {
     let storage = wgpu::BufferUsages::STORAGE;
     let prefix = zeroed(
         device,
@@ -207,33 +207,28 @@ fn pack_list(
         storage | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
     );
     let [params, slot_batch, ranges] = shared;
-    let buffers = [
-        params,
-        source,
-        slot_batch,
-        ranges,
-        &prefix,
-        &block_sums,
-        &args,
-        &counts,
-    ];
-    let entries: Vec<wgpu::BindGroupEntry<'_>> = (buffers.iter().zip(0..))
-        .map(|(b, binding)| wgpu::BindGroupEntry {
-            binding,
-            resource: b.as_entire_binding(),
-        })
-        .collect();
-    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("draw compaction"),
-        layout: &kernels.program.bind_group_layouts[0],
-        entries: &entries,
-    });
-    PackedArgs {
+    let group = draw_compact::Group0 {
+        params: params.as_entire_buffer_binding(),
+        args: source.as_entire_buffer_binding(),
+        slot_batch: slot_batch.as_entire_buffer_binding(),
+        batches: ranges.as_entire_buffer_binding(),
+        prefix: prefix.as_entire_buffer_binding(),
+        block_sums: block_sums.as_entire_buffer_binding(),
+        packed: args.as_entire_buffer_binding(),
+        counts: counts.as_entire_buffer_binding(),
+    }
+    .bind_group(
+        device,
+        kernels.program.layout(0),
+        kernels.program.variant,
+        "draw compaction",
+    )?;
+    Ok(PackedArgs {
         args,
         counts,
         source: source.clone(),
         group,
-    }
+    })
 }
 
 /// `v`, or one zeroed element where it is empty (a storage buffer is never empty).

@@ -137,7 +137,7 @@ impl Pass for SceneCullPass {
         } else {
             draws.draw_every_slot(&gpu.queue);
         }
-        self.compaction = self.compaction_for(gpu, &draws);
+        self.compaction = self.compaction_for(gpu, &draws)?;
         let camera = &frame.camera;
         let [left, right, bottom, top, near, far] = camera.frustum_planes();
         let params = CullParams::new(
@@ -297,23 +297,24 @@ impl SceneCullPass {
     /// The compaction of this frame's culled slot lists (the frustum's; with occlusion culling
     /// its late and both-phases lists too): the last one while it still fits, else a new one;
     /// none without culling or where the device cannot draw with counts.
-    fn compaction_for(&self, gpu: &GpuContext, draws: &ViewDraws) -> Option<Arc<Compaction>> {
-        let kernels = self.compact.as_ref().filter(|_| self.culling)?;
+    fn compaction_for(
+        &self,
+        gpu: &GpuContext,
+        draws: &ViewDraws,
+    ) -> Result<Option<Arc<Compaction>>, shader_bind::BindError> {
+        let Some(kernels) = self.compact.as_ref().filter(|_| self.culling) else {
+            return Ok(None);
+        };
         let o = &draws.occlusion;
         let lists: Vec<&wgpu::Buffer> = if self.occlusion {
             vec![&draws.args, &o.late, &o.all]
         } else {
             vec![&draws.args]
         };
-        match &self.compaction {
-            Some(c) if c.fits(&draws.layout, &lists) => Some(Arc::clone(c)),
-            _ => Some(Arc::new(Compaction::new(
-                gpu,
-                kernels,
-                &draws.layout,
-                &lists,
-            ))),
-        }
+        Ok(Some(match &self.compaction {
+            Some(c) if c.fits(&draws.layout, &lists) => Arc::clone(c),
+            _ => Arc::new(Compaction::new(gpu, kernels, &draws.layout, &lists)?),
+        }))
     }
 
     /// The frame's blended draws back to front: ordered on the GPU by a pass of their own

@@ -20,7 +20,7 @@ use crate::frame_data::{
 use crate::graph::{
     Buffer, BufferAccess, Handle, ImportAccess, RenderGraph, Texture, TextureAccess,
 };
-use crate::passes::{Pass, entries};
+use crate::passes::Pass;
 use crate::shader::ShaderProgram;
 
 /// The pyramid's format: one 32-bit float per texel, the farthest depth it covers.
@@ -53,7 +53,11 @@ struct Pyramid {
 }
 
 impl Pyramid {
-    fn new(device: &wgpu::Device, reduce: &ShaderProgram, frame: (u32, u32)) -> Self {
+    fn new(
+        device: &wgpu::Device,
+        reduce: &ShaderProgram,
+        frame: (u32, u32),
+    ) -> Result<Self, shader_bind::BindError> {
         let half = |side: u32| side.div_ceil(2).max(1).next_power_of_two();
         let size = (half(frame.0), half(frame.1));
         let levels = 32 - size.0.max(size.1).leading_zeros();
@@ -87,23 +91,25 @@ impl Pyramid {
         let reduce_groups = views
             .windows(2)
             .map(|pair| {
-                device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("depth pyramid reduce"),
-                    layout: &reduce.bind_group_layouts[0],
-                    entries: &entries(&[
-                        wgpu::BindingResource::TextureView(&pair[0]),
-                        wgpu::BindingResource::TextureView(&pair[1]),
-                    ]),
-                })
+                depth_pyramid_reduce::Group0 {
+                    below: &pair[0],
+                    level: &pair[1],
+                }
+                .bind_group(
+                    device,
+                    reduce.layout(0),
+                    reduce.variant,
+                    "depth pyramid reduce",
+                )
             })
-            .collect();
-        Self {
+            .collect::<Result<_, _>>()?;
+        Ok(Self {
             frame,
             whole: texture.create_view(&Default::default()),
             texture,
             levels: views,
             reduce_groups,
-        }
+        })
     }
 
     /// Texels of `level` on each axis.
@@ -199,7 +205,7 @@ impl Pass for OcclusionCullPass {
     fn prepare(&mut self, frame: &FrameInputs) -> Result<(), RenderError> {
         let size = (frame.config.width, frame.config.height);
         if self.pyramid.as_ref().is_none_or(|p| p.frame != size) {
-            self.pyramid = Some(Pyramid::new(&frame.gpu.device, &self.reduce.0, size));
+            self.pyramid = Some(Pyramid::new(&frame.gpu.device, &self.reduce.0, size)?);
         }
         Ok(())
     }
@@ -233,7 +239,7 @@ impl Pass for OcclusionCullPass {
             ImportAccess::ReadWrite,
         );
         self.add_pyramid(graph, pyramid, depth, &mut texture);
-        self.add_late_cull(graph, frame, pyramid, texture, &list, &mut occlusion);
+        self.add_late_cull(graph, frame, pyramid, texture, &list, &mut occlusion)?;
         // From here on the passes draw every slot either phase drew.
         list.args = occlusion.all;
         list.args_buffer = occlusion.all_buffer.clone();
@@ -281,7 +287,7 @@ impl OcclusionCullPass {
         texture: &mut Handle<Texture>,
     ) {
         let seed_pipeline = self.seed.1.clone();
-        let seed_layout = self.seed.0.bind_group_layouts[0].clone();
+        let seed = self.seed.0.clone();
         let level0 = pyramid.levels[0].clone();
         let reduce_pipeline = self.reduce.1.clone();
         let reduces: Vec<(wgpu::BindGroup, (u32, u32))> = pyramid
@@ -297,14 +303,20 @@ impl OcclusionCullPass {
             .write_texture(texture, TextureAccess::StorageWrite)
             .execute(move |ctx| {
                 let depth_view = ctx.texture(depth).create_view(&Default::default());
-                let seed_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("depth pyramid seed"),
-                    layout: &seed_layout,
-                    entries: &entries(&[
-                        wgpu::BindingResource::TextureView(&depth_view),
-                        wgpu::BindingResource::TextureView(&level0),
-                    ]),
-                });
+                let built = depth_pyramid_seed::Group0 {
+                    depth: Some(&depth_view),
+                    depth_ms: Some(&depth_view),
+                    level: &level0,
+                }
+                .bind_group(
+                    ctx.device,
+                    seed.layout(0),
+                    seed.variant,
+                    "depth pyramid seed",
+                );
+                let Some(seed_group) = ctx.bind(built) else {
+                    return;
+                };
                 let mut pass = ctx.encoder.begin_compute_pass(&Default::default());
                 pass.set_pipeline(&seed_pipeline);
                 pass.set_bind_group(0, &seed_group, &[]);
@@ -326,25 +338,25 @@ impl OcclusionCullPass {
         texture: Handle<Texture>,
         list: &SceneDrawList,
         occlusion: &mut OcclusionDraws,
-    ) {
-        let group = frame
-            .gpu
-            .device
-            .create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("occlusion cull"),
-                layout: &self.cull.0.bind_group_layouts[0],
-                entries: &entries(&[
-                    self.params.as_entire_binding(),
-                    occlusion.boxes.as_entire_binding(),
-                    occlusion.slot_draws.as_entire_binding(),
-                    occlusion.first_buffer.as_entire_binding(),
-                    occlusion.late_buffer.as_entire_binding(),
-                    occlusion.all_buffer.as_entire_binding(),
-                    occlusion.history.as_entire_binding(),
-                    occlusion.visible.as_entire_binding(),
-                    wgpu::BindingResource::TextureView(&pyramid.whole),
-                ]),
-            });
+    ) -> Result<(), RenderError> {
+        let program = &self.cull.0;
+        let group = occlusion_cull::Group0 {
+            params: self.params.as_entire_buffer_binding(),
+            boxes: occlusion.boxes.as_entire_buffer_binding(),
+            slot_draws: occlusion.slot_draws.as_entire_buffer_binding(),
+            early_args: occlusion.first_buffer.as_entire_buffer_binding(),
+            late_args: occlusion.late_buffer.as_entire_buffer_binding(),
+            final_args: occlusion.all_buffer.as_entire_buffer_binding(),
+            history: occlusion.history.as_entire_buffer_binding(),
+            visible: occlusion.visible.as_entire_buffer_binding(),
+            pyramid: &pyramid.whole,
+        }
+        .bind_group(
+            &frame.gpu.device,
+            program.layout(0),
+            program.variant,
+            "occlusion cull",
+        )?;
         let pipeline = self.cull.1.clone();
         let workgroups = occlusion.slot_count.div_ceil(occlusion_cull::WORKGROUP);
         graph
@@ -359,6 +371,7 @@ impl OcclusionCullPass {
                 pass.set_bind_group(0, &group, &[]);
                 pass.dispatch_workgroups(workgroups, 1, 1);
             });
+        Ok(())
     }
 }
 

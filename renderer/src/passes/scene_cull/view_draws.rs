@@ -4,7 +4,7 @@
 
 use std::sync::Arc;
 
-use shaders_gen::culling::instance_cull::DrawBox;
+use shaders_gen::culling::instance_cull::{self, DrawBox};
 
 use super::blended::{BlendedKernels, BlendedOrder};
 use crate::GpuContext;
@@ -177,7 +177,7 @@ impl ViewDraws {
                 &box_buffer,
                 &slots.occlusion.history,
             ],
-        );
+        )?;
         let mut draws = Self {
             scene,
             table: table.id(),
@@ -242,7 +242,12 @@ impl ViewDraws {
     }
 
     /// Builds the layout afresh and uploads its slots and arguments.
-    fn lay_out(&mut self, gpu: &GpuContext, shared: &CullShared, table: &InstanceTable) {
+    fn lay_out(
+        &mut self,
+        gpu: &GpuContext,
+        shared: &CullShared,
+        table: &InstanceTable,
+    ) -> Result<(), shader_bind::BindError> {
         let slots = LaidOut::new(gpu, &self.scene, table);
         self.layout = slots.layout;
         self.all_drawn = slots.all_drawn;
@@ -250,20 +255,25 @@ impl ViewDraws {
         self.occlusion = slots.occlusion;
         self.slot_draws = slots.slot_draws;
         self.args_all_drawn = true;
-        self.rebind(&gpu.device, shared);
+        self.rebind(&gpu.device, shared)
     }
 
-    fn rebind(&mut self, device: &wgpu::Device, shared: &CullShared) {
+    fn rebind(
+        &mut self,
+        device: &wgpu::Device,
+        shared: &CullShared,
+    ) -> Result<(), shader_bind::BindError> {
         let buffers = [
             &self.slot_draws,
             &self.args,
             &self.box_buffer,
             &self.occlusion.history,
         ];
-        self.bind_group = bind_group(device, shared, buffers);
+        self.bind_group = bind_group(device, shared, buffers)?;
         if let Some(b) = &mut self.blended {
-            b.rebind(device, &shared.blended, &self.box_buffer);
+            b.rebind(device, &shared.blended, &self.box_buffer)?;
         }
+        Ok(())
     }
 
     /// Whether these draws can follow `frame`'s scene and instances: the same instance
@@ -318,9 +328,9 @@ impl ViewDraws {
             changed_boxes.push(state.draws());
         }
         self.revision = table.revision;
-        self.write_boxes(gpu, shared, &changed_boxes);
+        self.write_boxes(gpu, shared, &changed_boxes)?;
         if relayout {
-            self.lay_out(gpu, shared, table);
+            self.lay_out(gpu, shared, table)?;
             return self.follow_blended(gpu, shared, table);
         }
         for slot in changed_slots {
@@ -375,7 +385,7 @@ impl ViewDraws {
         gpu: &GpuContext,
         shared: &CullShared,
         ranges: &[std::ops::Range<usize>],
-    ) {
+    ) -> Result<(), shader_bind::BindError> {
         let stride = size_of::<DrawBox>();
         if self.boxes.len() > self.box_capacity {
             self.box_capacity = self.boxes.len().max(2 * self.box_capacity);
@@ -384,14 +394,14 @@ impl ViewDraws {
             self.box_buffer = buffer(&gpu.device, "scene draw boxes", bytes, usage);
             gpu.queue
                 .write_buffer(&self.box_buffer, 0, bytemuck::cast_slice(&self.boxes));
-            self.rebind(&gpu.device, shared);
-            return;
+            return self.rebind(&gpu.device, shared);
         }
         for r in ranges.iter().filter(|r| !r.is_empty()) {
             let bytes = bytemuck::cast_slice(&self.boxes[r.clone()]);
             gpu.queue
                 .write_buffer(&self.box_buffer, (r.start * stride) as u64, bytes);
         }
+        Ok(())
     }
 
     /// Makes every slot draw (culling is off this frame), writing the arguments only if a
@@ -420,23 +430,24 @@ pub struct CullShared {
     pub blended: Arc<BlendedKernels>,
 }
 
-/// Group 0 of `instance_cull`: parameters, boxes, slot draws, arguments, visible counter,
-/// history.
+/// Group 0 of `instance_cull`, through the module's generated builder.
 fn bind_group(
     device: &wgpu::Device,
     shared: &CullShared,
     [slot_draws, args, boxes, history]: [&wgpu::Buffer; 4],
-) -> wgpu::BindGroup {
-    device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("scene culling"),
-        layout: &shared.program.bind_group_layouts[0],
-        entries: &crate::passes::entries(&[
-            shared.params.as_entire_binding(),
-            boxes.as_entire_binding(),
-            slot_draws.as_entire_binding(),
-            args.as_entire_binding(),
-            shared.visible.as_entire_binding(),
-            history.as_entire_binding(),
-        ]),
-    })
+) -> Result<wgpu::BindGroup, shader_bind::BindError> {
+    instance_cull::Group0 {
+        params: shared.params.as_entire_buffer_binding(),
+        boxes: boxes.as_entire_buffer_binding(),
+        slot_draws: slot_draws.as_entire_buffer_binding(),
+        args: args.as_entire_buffer_binding(),
+        visible: shared.visible.as_entire_buffer_binding(),
+        history: history.as_entire_buffer_binding(),
+    }
+    .bind_group(
+        device,
+        shared.program.layout(0),
+        shared.program.variant,
+        "scene culling",
+    )
 }

@@ -341,7 +341,7 @@ impl CasterCulling {
             let end = (first + per_chunk).min(items.len());
             let c = self.frame_chunks.len();
             if c == self.chunks.len() {
-                self.chunks.push(self.chunk(device));
+                self.chunks.push(self.chunk(device)?);
             }
             let params = ShadowCullParams::new(
                 stride as u32,
@@ -362,28 +362,30 @@ impl CasterCulling {
     }
 
     /// A chunk's parameters and bind group over the buffers as they are.
-    fn chunk(&self, device: &wgpu::Device) -> Chunk {
+    fn chunk(&self, device: &wgpu::Device) -> Result<Chunk, RenderError> {
         let params = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("shadow cull params"),
             size: size_of::<ShadowCullParams>() as u64,
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("shadow cull"),
-            layout: &self.program.bind_group_layouts[0],
-            entries: &super::super::entries(&[
-                params.as_entire_binding(),
-                self.boxes.buffer.as_entire_binding(),
-                self.slots.buffer.as_entire_binding(),
-                self.regions.buffer.as_entire_binding(),
-                self.work.buffer.as_entire_binding(),
-                self.args.buffer.as_entire_binding(),
-                self.casts.buffer.as_entire_binding(),
-                self.counts.buffer.as_entire_binding(),
-            ]),
-        });
-        Chunk { params, group }
+        let group = shadow_cull::Group0 {
+            params: params.as_entire_buffer_binding(),
+            boxes: self.boxes.buffer.as_entire_buffer_binding(),
+            slots: self.slots.buffer.as_entire_buffer_binding(),
+            regions: self.regions.buffer.as_entire_buffer_binding(),
+            work: self.work.buffer.as_entire_buffer_binding(),
+            args: self.args.buffer.as_entire_buffer_binding(),
+            casts: self.casts.buffer.as_entire_buffer_binding(),
+            counts: self.counts.buffer.as_entire_buffer_binding(),
+        }
+        .bind_group(
+            device,
+            self.program.layout(shadow_cull::Group0::GROUP),
+            self.program.variant,
+            "shadow cull",
+        )?;
+        Ok(Chunk { params, group })
     }
 
     /// Writes casts listed on the CPU into the cast buffer (growing it).

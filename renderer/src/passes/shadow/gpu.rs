@@ -180,21 +180,26 @@ impl ShadowTargets {
         size: u32,
         cached: bool,
         capacity: usize,
-    ) -> Self {
+    ) -> Result<Self, RenderError> {
         let atlas = atlas_texture(device, "shadow atlas", size);
         let static_atlas = cached.then(|| {
             atlas_texture(device, "shadow static cache", size).create_view(&Default::default())
         });
         let capacity = capacity.max(1);
         let (views, caster_views) = view_buffers(device, capacity);
-        let copy_group = static_atlas.as_ref().map(|view| {
-            device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("shadow static cache"),
-                layout: &pipelines.compose_program.bind_group_layouts[0],
-                entries: &super::super::entries(&[wgpu::BindingResource::TextureView(view)]),
+        let compose = &pipelines.compose_program;
+        let copy_group = static_atlas
+            .as_ref()
+            .map(|view| {
+                shadow_compose::Group0 { static_atlas: view }.bind_group(
+                    device,
+                    compose.layout(shadow_compose::Group0::GROUP),
+                    compose.variant,
+                    "shadow static cache",
+                )
             })
-        });
-        Self {
+            .transpose()?;
+        Ok(Self {
             atlas_view: atlas.create_view(&Default::default()),
             atlas,
             static_atlas,
@@ -209,7 +214,7 @@ impl ShadowTargets {
             caster_views,
             copy_group,
             capacity,
-        }
+        })
     }
 
     /// Replaces the view buffers with ones for `capacity` views (the atlases stay).
@@ -241,15 +246,19 @@ impl ShadowPipelines {
         device: &wgpu::Device,
         caster_views: &wgpu::Buffer,
         casts: &wgpu::Buffer,
-    ) -> wgpu::BindGroup {
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("shadow caster views and casts"),
-            layout: &self.caster_program.bind_group_layouts[0],
-            entries: &super::super::entries(&[
-                caster_views.as_entire_binding(),
-                casts.as_entire_binding(),
-            ]),
-        })
+    ) -> Result<wgpu::BindGroup, RenderError> {
+        let program = &self.caster_program;
+        let group = shadow_caster::Group0 {
+            views: caster_views.as_entire_buffer_binding(),
+            casts: casts.as_entire_buffer_binding(),
+        }
+        .bind_group(
+            device,
+            program.layout(shadow_caster::Group0::GROUP),
+            program.variant,
+            "shadow caster views and casts",
+        )?;
+        Ok(group)
     }
 }
 

@@ -89,7 +89,7 @@ impl ShadowPass {
         }
         let pipelines = ShadowPipelines::new(gpu)?;
         let size = if s.enabled { s.atlas_size } else { 1 };
-        let targets = ShadowTargets::new(&gpu.device, &pipelines, size, s.cache, 64);
+        let targets = ShadowTargets::new(&gpu.device, &pipelines, size, s.cache, 64)?;
         Ok(Self {
             pipelines,
             targets,
@@ -184,7 +184,7 @@ impl ShadowPass {
         let current =
             (self.caster_group.as_ref()).is_some_and(|(v, c, _)| v == views && c == casts);
         if !current {
-            let group = self.pipelines.caster_group(&gpu.device, views, casts);
+            let group = self.pipelines.caster_group(&gpu.device, views, casts)?;
             self.caster_group = Some((views.clone(), casts.clone(), group));
         }
         Ok(())

@@ -76,7 +76,7 @@ impl Pass for ShadowAtlasViewPass {
                     usage: wgpu::BufferUsages::STORAGE,
                 });
         let target = resources.output;
-        let layout = self.program.bind_group_layouts[0].clone();
+        let program = self.program.clone();
         let (pipeline, params) = (self.pipeline.clone(), self.params.clone());
         graph
             .add_pass(self.name())
@@ -84,13 +84,14 @@ impl Pass for ShadowAtlasViewPass {
             .write_texture(&mut resources.output, TextureAccess::ColorAttachment)
             .execute(move |ctx| {
                 let out_view = ctx.texture(target).create_view(&Default::default());
-                let bound = [
-                    params.as_entire_binding(),
-                    wgpu::BindingResource::TextureView(&shadows.atlas_view),
-                    region_buffer.as_entire_binding(),
-                ];
                 let label = "shadow atlas view";
-                draw_fullscreen(ctx, label, (&layout, &pipeline), &bound, &out_view);
+                let group = shadow_atlas_view::Group0 {
+                    params: params.as_entire_buffer_binding(),
+                    atlas: &shadows.atlas_view,
+                    regions: region_buffer.as_entire_buffer_binding(),
+                }
+                .bind_group(ctx.device, program.layout(0), program.variant, label);
+                draw_fullscreen(ctx, label, &pipeline, group, &out_view);
             });
         Ok(())
     }

@@ -20,7 +20,7 @@ mod release;
 use std::collections::HashMap;
 
 use etagere::{AtlasAllocator, size2};
-use shaders_gen::shared::material_atlas::{AtlasLevel, AtlasTexture};
+use shaders_gen::shared::material_atlas::{self, AtlasLevel, AtlasTexture};
 use wgpu::util::DeviceExt as _;
 
 pub use levels::AtlasKey;
@@ -49,7 +49,7 @@ pub enum AtlasGrowth {
     /// Every texture was held already: nothing changed.
     Held,
     /// The new textures were stored; the atlas's buffers and views are new, so bind groups
-    /// holding [`MaterialAtlas::bind_group_entries`] must be made again.
+    /// holding [`MaterialAtlas::bindings`] must be made again.
     Grown,
     /// A new image's largest level does not fit a page: nothing changed, and the atlas must be
     /// packed anew with every texture ([`MaterialAtlas::new`]).
@@ -276,30 +276,17 @@ impl MaterialAtlas {
         (self.page_size, self.texture.depth_or_array_layers())
     }
 
-    /// The atlas's bindings of the `material_atlas` library (group 2, bindings 1–5).
-    pub fn bind_group_entries(&self) -> [wgpu::BindGroupEntry<'_>; 5] {
-        [
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: self.textures.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 2,
-                resource: self.levels.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 3,
-                resource: wgpu::BindingResource::TextureView(&self.colour_view),
-            },
-            wgpu::BindGroupEntry {
-                binding: 4,
-                resource: wgpu::BindingResource::TextureView(&self.data_view),
-            },
-            wgpu::BindGroupEntry {
-                binding: 5,
-                resource: wgpu::BindingResource::Sampler(&self.sampler),
-            },
-        ]
+    /// The `material_atlas` library's part of every group 2 that samples material textures
+    /// (its generated builder: texture and level records, the colour and data views, the
+    /// sampler).
+    pub fn bindings(&self) -> material_atlas::Group2<'_> {
+        material_atlas::Group2 {
+            atlas_textures: self.textures.as_entire_buffer_binding(),
+            atlas_levels: self.levels.as_entire_buffer_binding(),
+            atlas_colour: &self.colour_view,
+            atlas_data: &self.data_view,
+            atlas_sampler: &self.sampler,
+        }
     }
 }
 

@@ -1,4 +1,5 @@
-//! Bind-group layout entries from the DSL's reflected bindings.
+//! Bind-group layout entries from the DSL's reflected bindings: what a pipeline's layouts are
+//! built from, and what [`crate::Resources::build`] checks resources against.
 
 use codegen::rt::{
     BindingKind, SampleType, StorageAccess, StorageFormat, Variant, ViewDimension, Visibility,
@@ -25,7 +26,7 @@ fn stages(v: Visibility) -> wgpu::ShaderStages {
     s
 }
 
-fn binding_type(kind: BindingKind) -> wgpu::BindingType {
+pub(crate) fn binding_type(kind: BindingKind) -> wgpu::BindingType {
     match kind {
         BindingKind::Uniform { min_size } => wgpu::BindingType::Buffer {
             ty: wgpu::BufferBindingType::Uniform,
@@ -104,48 +105,5 @@ pub fn storage_format(f: StorageFormat) -> wgpu::TextureFormat {
         StorageFormat::Rgba32Sint => T::Rgba32Sint,
         StorageFormat::Rgba32Float => T::Rgba32Float,
         StorageFormat::Bgra8Unorm => T::Bgra8Unorm,
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::super::test_variant::VARIANT;
-    use super::*;
-
-    #[test]
-    fn groups_map_to_wgpu_entries() {
-        let g0 = bind_group_layout_entries(&VARIANT, 0);
-        assert_eq!(g0.len(), 2);
-        assert_eq!(g0[0].binding, 0);
-        assert_eq!(g0[0].visibility, wgpu::ShaderStages::COMPUTE);
-        assert!(matches!(
-            g0[0].ty,
-            wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Uniform,
-                min_binding_size: Some(s),
-                ..
-            } if s.get() == 80
-        ));
-        assert_eq!(
-            g0[1].visibility,
-            wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT
-        );
-        assert!(matches!(
-            g0[1].ty,
-            wgpu::BindingType::Texture {
-                sample_type: wgpu::TextureSampleType::Depth,
-                multisampled: true,
-                ..
-            }
-        ));
-        let g1 = bind_group_layout_entries(&VARIANT, 1);
-        assert!(matches!(
-            g1[0].ty,
-            wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Storage { read_only: false },
-                ..
-            }
-        ));
-        assert_eq!(VARIANT.group_count(), 2);
     }
 }
