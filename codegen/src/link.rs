@@ -109,9 +109,16 @@ fn link_libraries(
             path: lib.path.clone(),
             names,
             exports: crate::emit::host_names(&own),
-            groups: crate::emit::bind::declared_groups(
+            groups: crate::emit::declared_groups(
                 own.module.globals.iter().filter(|g| !g.from_library),
             ),
+            bindings: own
+                .module
+                .globals
+                .iter()
+                .filter(|g| !g.from_library && g.binding.is_some())
+                .map(|g| g.name.clone())
+                .collect(),
         });
     }
     Ok(out)

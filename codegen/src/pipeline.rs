@@ -74,6 +74,8 @@ pub struct LinkedLibrary {
     /// The bind groups the library declares bindings in itself: the using module's builder of
     /// each has a field holding the library's part.
     pub groups: Vec<u32>,
+    /// The resource statics the library declares itself (its part's fields).
+    pub bindings: Vec<String>,
 }
 
 fn naga_layouts(m: &Module, module: &naga::Module) -> Vec<Option<NagaStructLayout>> {

@@ -244,7 +244,10 @@ fn bindings(page: &mut String, c: &Compiled) {
     rows.sort_by(|a, b| (a.group, a.binding, &a.name).cmp(&(b.group, b.binding, &b.name)));
     let _ = writeln!(
         page,
-        "## Bindings\n\n| group | binding | static | type | kind | stages | variants |\n|---:|---:|---|---|---|---|---|"
+        "## Bindings\n\nThe host binds each through the generated builder's field named in the \
+         second column (`module::Group<N>`; a library's bindings through its part).\n\n\
+         | group | binding | static | builder field | type | kind | stages | variants |\n\
+         |---:|---:|---|---|---|---|---|---|"
     );
     let env = first_env(c);
     for r in rows {
@@ -259,9 +262,11 @@ fn bindings(page: &mut String, c: &Compiled) {
         } else {
             r.variants.join(", ")
         };
+        let field = codegen::emit::builder_field(c, &r.name)
+            .map_or_else(|| "–".to_owned(), |f| format!("`{f}`"));
         let _ = writeln!(
             page,
-            "| {} | {} | `{}` | `{ty}` | {} | {} | {which} |",
+            "| {} | {} | `{}` | {field} | `{ty}` | {} | {} | {which} |",
             r.group, r.binding, r.name, r.kind, r.stages
         );
     }
@@ -433,8 +438,8 @@ mod tests {
             "| `tile` | `u32` | 8, 16 | `t` |",
             "`main` compute 8×1×1",
             "`main` compute 16×1×1",
-            "| 0 | 0 | `PARAMS` | `Params` | uniform buffer | compute | all |",
-            "| 0 | 1 | `OUT` | `[u32]` | storage buffer, read-write | compute | all |",
+            "| 0 | 0 | `PARAMS` | `Group0.params` | `Params` | uniform buffer | compute | all |",
+            "| 0 | 1 | `OUT` | `Group0.out` | `[u32]` | storage buffer, read-write | compute | all |",
             "### `Params`",
             "| `count` | `u32` | 0 | 4 |",
             "| `scale` | `Vec3` | 16 | 12 |",

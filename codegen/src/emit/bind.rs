@@ -62,6 +62,21 @@ fn field_type(g: &Global) -> (TokenStream, &'static str) {
     }
 }
 
+/// Where the generated builders take the resource of the static `name` in `c`, as Rust reads
+/// it: `Group0.camera` for the module's (or library's) own binding, `Group0.shadow_atlas.shadow_views`
+/// for a binding a reached library declares; `None` for a static without a binding.
+pub fn builder_field(c: &Compiled, name: &str) -> Option<String> {
+    let g = c.module.globals.iter().find(|g| g.name == name)?;
+    let group = g.binding?.0;
+    let field = field_ident(name);
+    if !g.from_library {
+        return Some(format!("Group{group}.{field}"));
+    }
+    let lib = parts(c).find(|l| l.bindings.iter().any(|b| b == name))?;
+    let part = &lib.path.segments.last()?.ident;
+    Some(format!("Group{group}.{part}.{field}"))
+}
+
 /// The `Group<N>` builders of `c` (the libraries' parts included in a module's), or a
 /// `compile_error!` where a host item or two fields would take the same name.
 pub(crate) fn builders(c: &Compiled) -> TokenStream {

@@ -5,7 +5,10 @@
 //!
 //! Must not compile or validate anything: it only renders a [`Compiled`] module.
 
-pub(crate) mod bind;
+mod bind;
+
+pub use bind::builder_field;
+pub(crate) use bind::declared_groups;
 mod host;
 mod key;
 
