@@ -2,8 +2,8 @@
 //!
 //! It provisions the system packages the GPU tests need, then runs formatting, clippy, the
 //! architecture invariants, `cargo xtask shaders --check` (every shaders_gen variant written and
-//! passed by `spirv-val`) and every workspace test (doc tests included), stopping at the first
-//! failing step. It ends with a one-line `N passed, N failed` summary.
+//! passed by `spirv-val`), every workspace test (doc tests included) and the tests of the engine
+//! example outside the workspace (`examples/engine`), stopping at the first failing step. It ends with a one-line `N passed, N failed` summary.
 
 use std::io::{BufRead as _, BufReader};
 use std::process::{Command, Stdio};
@@ -40,7 +40,13 @@ pub fn run(args: &Args) -> Result<()> {
     step("cargo xtask shaders --check", || {
         crate::shaders::run(&crate::shaders::Args::check_all())
     })?;
-    let counts = step("cargo test", || cargo_test(&args.cargo_test_args))?;
+    let mut counts = step("cargo test", || cargo_test(&args.cargo_test_args))?;
+    let example = step(
+        "engine example (crates outside the workspace)",
+        engine_example_test,
+    )?;
+    counts.passed += example.passed;
+    counts.failed += example.failed;
     println!(
         "xtask test: all steps done in {:.1} s",
         started.elapsed().as_secs_f64()
@@ -116,17 +122,37 @@ impl Counts {
 
 /// Runs the workspace tests, echoing their output while counting results. A test binary that
 /// fails to build or crashes counts as one failure even if it printed no summary.
-#[expect(clippy::print_stdout, reason = "echoes the test output")]
 fn cargo_test(extra: &[String]) -> Result<Counts> {
     let mut command = Command::new(env!("CARGO"));
     if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
         // Mesa's Vulkan drivers complain on every device creation without one (CI has none).
         command.env("XDG_RUNTIME_DIR", private_runtime_dir()?);
     }
-    let mut child = command
+    command
         .args(["test", "--workspace", "--no-fail-fast"])
         .args(extra)
-        .current_dir(crate::workspace::workspace_root())
+        .current_dir(crate::workspace::workspace_root());
+    run_counted(command)
+}
+
+/// The engine example's tests (`examples/engine`: a shader library crate and a crate using it
+/// and the renderer's libraries, outside the workspace), built in the workspace's target
+/// directory.
+fn engine_example_test() -> Result<Counts> {
+    let root = crate::workspace::workspace_root();
+    let mut command = Command::new(env!("CARGO"));
+    command
+        .args(["test", "--locked", "--manifest-path"])
+        .arg(root.join("examples/engine/Cargo.toml"))
+        .env("CARGO_TARGET_DIR", root.join("target"))
+        .current_dir(&root);
+    run_counted(command)
+}
+
+/// Runs a `cargo test` command, echoing its output while counting results.
+#[expect(clippy::print_stdout, reason = "echoes the test output")]
+fn run_counted(mut command: Command) -> Result<Counts> {
+    let mut child = command
         .stdout(Stdio::piped())
         .spawn()
         .context("running cargo test")?;

@@ -1,0 +1,54 @@
+//! The engine module's generated WGSL, snapshotted as an engine's CI would, and its generated
+//! bind-group builders, which take the library crate's part by name.
+
+use engine_shaders::engine_lit;
+use shader_bind::wgpu;
+
+#[test]
+fn every_variant_s_wgsl_is_snapshotted() {
+    assert_eq!(engine_lit::VARIANTS.len(), 2);
+    for &key in engine_lit::VariantKey::ALL {
+        let variant = engine_lit::variant(key);
+        // The renderer's PBR and octahedral code and the engine's library are merged in.
+        assert!(variant.wgsl.contains("fn shade_light("), "{key}");
+        assert!(variant.wgsl.contains("fn tinted("), "{key}");
+        assert_eq!(variant.wgsl.contains("fn octahedral_decode("), key.packed, "{key}");
+        insta::assert_snapshot!(format!("engine_lit_{key}"), variant.wgsl);
+    }
+}
+
+/// Group 0 is the module's own; group 1 is the engine library's part, named after it.
+#[test]
+fn the_builders_take_the_library_crate_s_part_by_name() {
+    fn groups<'a>(
+        buffers: [&'a wgpu::Buffer; 4],
+    ) -> (engine_lit::Group0<'a>, engine_lit::Group1<'a>) {
+        let [points, light, out, tint] = buffers;
+        (
+            engine_lit::Group0 {
+                points: points.as_entire_buffer_binding(),
+                light: light.as_entire_buffer_binding(),
+                out: out.as_entire_buffer_binding(),
+            },
+            engine_lit::Group1 {
+                surface: engine_shader_lib::surface::Group1 {
+                    tint: tint.as_entire_buffer_binding(),
+                },
+            },
+        )
+    }
+    let _ = groups;
+    let variant = engine_lit::variant(engine_lit::VariantKey::ALL[0]);
+    let names: Vec<(u32, u32, &str)> = variant
+        .bindings
+        .iter()
+        .map(|b| (b.group, b.binding, b.name))
+        .collect();
+    assert_eq!(
+        names,
+        [(0, 0, "POINTS"), (0, 1, "LIGHT"), (0, 2, "OUT"), (1, 0, "TINT")]
+    );
+    // The host type of the library's struct is the library crate's own.
+    let tint = engine_shader_lib::surface::Tint::new(glam::Vec3::ONE, 0.25);
+    assert_eq!(bytemuck::bytes_of(&tint).len(), 16);
+}
