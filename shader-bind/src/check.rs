@@ -6,23 +6,21 @@ use codegen::rt::{Binding, BindingKind, SampleType, Variant};
 use crate::error::{BindError, variant_name};
 use crate::resource::Resource;
 
-/// Where a check happens: the binding and its variant, for errors.
-pub(crate) struct Site {
-    variant: String,
+/// Where a check happens: the binding and its variant, named only when an error is made (the
+/// checks run for every binding of every bind group a frame builds).
+pub(crate) struct Site<'v> {
+    variant: &'v Variant,
     binding: &'static Binding,
 }
 
-impl Site {
-    pub(crate) fn new(variant: &Variant, binding: &'static Binding) -> Self {
-        Self {
-            variant: variant_name(variant),
-            binding,
-        }
+impl<'v> Site<'v> {
+    pub(crate) fn new(variant: &'v Variant, binding: &'static Binding) -> Self {
+        Self { variant, binding }
     }
 
     pub(crate) fn missing(&self) -> BindError {
         BindError::Missing {
-            variant: self.variant.clone(),
+            variant: variant_name(self.variant),
             group: self.binding.group,
             binding: self.binding.name,
             index: self.binding.binding,
@@ -31,7 +29,7 @@ impl Site {
 
     fn mismatch(&self, expected: impl Into<String>, given: impl Into<String>) -> BindError {
         BindError::Mismatch {
-            variant: self.variant.clone(),
+            variant: variant_name(self.variant),
             group: self.binding.group,
             binding: self.binding.name,
             index: self.binding.binding,
@@ -51,7 +49,11 @@ pub(crate) fn binding_resource<'a>(r: &Resource<'a>) -> wgpu::BindingResource<'a
 }
 
 /// `Ok` when `r` fits a binding of `kind`.
-pub(crate) fn compatible(at: &Site, kind: BindingKind, r: &Resource<'_>) -> Result<(), BindError> {
+pub(crate) fn compatible(
+    at: &Site<'_>,
+    kind: BindingKind,
+    r: &Resource<'_>,
+) -> Result<(), BindError> {
     match (kind, r) {
         (BindingKind::Uniform { min_size }, Resource::Buffer(b)) => buffer(
             at,
@@ -101,7 +103,7 @@ pub(crate) fn compatible(at: &Site, kind: BindingKind, r: &Resource<'_>) -> Resu
 }
 
 fn buffer(
-    at: &Site,
+    at: &Site<'_>,
     b: &wgpu::BufferBinding<'_>,
     usage: wgpu::BufferUsages,
     what: &str,
@@ -127,7 +129,7 @@ fn buffer(
 }
 
 fn sampled(
-    at: &Site,
+    at: &Site<'_>,
     texture: &wgpu::Texture,
     sample_type: SampleType,
     multisampled: bool,

@@ -172,38 +172,41 @@ pub fn check_shader_dsl_is_thin(sources: &[(String, String)]) -> Option<Violatio
 
 /// "`renderer` contains no hand-written shader source: its GPU code comes from `shaders_gen`."
 pub fn check_no_shader_source(sources: &[(String, String)]) -> Vec<Violation> {
-    sources
-        .iter()
-        .flat_map(|(path, text)| {
-            text.lines().enumerate().filter_map(move |(i, line)| {
-                let marker = SHADER_SOURCE_MARKERS.iter().find(|m| line.contains(**m))?;
-                Some(Violation {
-                    invariant: "renderer contains no hand-written shader source",
-                    detail: format!(
-                        "{path}:{}: `{marker}` looks like shader code; write it in the DSL in \
-                         shaders_gen",
-                        i + 1
-                    ),
-                })
-            })
-        })
-        .collect()
+    lines_with_markers(
+        sources,
+        SHADER_SOURCE_MARKERS,
+        "renderer contains no hand-written shader source",
+        "looks like shader code; write it in the DSL in shaders_gen",
+    )
 }
 
 /// "`renderer` numbers no binding by hand: every bind group comes from a generated builder."
 pub fn check_no_hand_bound_groups(sources: &[(String, String)]) -> Vec<Violation> {
+    lines_with_markers(
+        sources,
+        HAND_BOUND_MARKERS,
+        "renderer numbers no binding by hand",
+        "builds a bind group by hand; use the module's generated `Group<N>` builder (or \
+         `shader_bind::Resources`)",
+    )
+}
+
+/// One violation of `invariant` per line of `sources` that contains one of `markers`:
+/// `path:line: `marker` advice`.
+fn lines_with_markers(
+    sources: &[(String, String)],
+    markers: &'static [&'static str],
+    invariant: &'static str,
+    advice: &'static str,
+) -> Vec<Violation> {
     sources
         .iter()
         .flat_map(|(path, text)| {
             text.lines().enumerate().filter_map(move |(i, line)| {
-                let marker = HAND_BOUND_MARKERS.iter().find(|m| line.contains(**m))?;
+                let marker = markers.iter().find(|m| line.contains(**m))?;
                 Some(Violation {
-                    invariant: "renderer numbers no binding by hand",
-                    detail: format!(
-                        "{path}:{}: `{marker}` builds a bind group by hand; use the module's \
-                         generated `Group<N>` builder (or `shader_bind::Resources`)",
-                        i + 1
-                    ),
+                    invariant,
+                    detail: format!("{path}:{}: `{marker}` {advice}", i + 1),
                 })
             })
         })
