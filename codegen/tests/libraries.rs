@@ -1,10 +1,13 @@
 //! Libraries and `#[invariant]` through the source-text API (no proc-macro): merging, the
 //! library's own validation, axis checks, host re-exports, libraries that use libraries (the
 //! graph: order, diamonds, cycles, clashes), the SPIR-V `Invariant` decoration, and the
-//! bind-group builders emitted for modules and libraries (`builders`).
+//! bind-group builders emitted for modules and libraries (`builders`), and entry-point IO
+//! structs a library declares for its users (`io_structs`).
 
 #[path = "libraries/builders.rs"]
 mod builders;
+#[path = "libraries/io_structs.rs"]
+mod io_structs;
 
 const LIB: &str = r#"
 #[library(axes(wide: bool = [false, true]))]

@@ -34,6 +34,7 @@ pub static MODULES: &[&codegen::rt::Module] = &[
     &culling::occlusion_cull::MODULE,
     &deferred::hdr_expand::MODULE,
     &deferred::tbdr::MODULE,
+    &deferred::light_volume::MODULE,
     &forward::prez::MODULE,
     &forward::forward::MODULE,
     &forward::heatmap::MODULE,

@@ -21,8 +21,10 @@ use crate::frame_probe::{ShadowCopies, ShadowInputs, copy_target, read_bytes};
 
 /// Source text of the particle lighting module and the libraries it uses.
 pub const LIGHT_SOURCE: &str = include_str!("../../shaders_gen/src/particles/light.rs");
-const LIBRARY_SOURCES: [&str; 4] = [
+const LIBRARY_SOURCES: [&str; 6] = [
     include_str!("../../shaders_gen/src/particles/common.rs"),
+    include_str!("../../shaders_gen/src/particles/lighting.rs"),
+    include_str!("../../shaders_gen/src/shared/lights.rs"),
     include_str!("../../shaders_gen/src/shared/brdf.rs"),
     include_str!("../../shaders_gen/src/shared/grid.rs"),
     include_str!("../../shaders_gen/src/shared/shadow.rs"),

@@ -24,8 +24,9 @@ use crate::frame_probe::{ShadowCopies, ShadowInputs, copy_target, padded_row, re
 
 /// Source text of the TBDR module and the libraries it uses.
 pub const TBDR_SOURCE: &str = include_str!("../../shaders_gen/src/deferred/tiled_shading.rs");
-const LIBRARY_SOURCES: [&str; 5] = [
+const LIBRARY_SOURCES: [&str; 6] = [
     include_str!("../../shaders_gen/src/deferred/gbuffer_read.rs"),
+    include_str!("../../shaders_gen/src/shared/lights.rs"),
     include_str!("../../shaders_gen/src/shared/brdf.rs"),
     include_str!("../../shaders_gen/src/shared/grid.rs"),
     include_str!("../../shaders_gen/src/shared/shadow.rs"),

@@ -2,10 +2,13 @@
 //! MSAA 4 depth min/max reduction with workgroup atomics, subgroup ballot + exclusive-add
 //! compaction against its non-subgroup variant, a vertex + fragment pair at MSAA 1 and 4, and
 //! host structs with `Vec3` fields round-tripped through uniform and storage buffers; the
-//! generated bind-group builders (`bind_groups`).
+//! generated bind-group builders (`bind_groups`); the host interpreter and the GPU on a module
+//! using libraries of other crates (`cross_crate`).
 
 #[path = "dsl_gpu/bind_groups.rs"]
 mod bind_groups;
+#[path = "dsl_gpu/cross_crate.rs"]
+mod cross_crate;
 mod dsl_kernels;
 
 use codegen::rt::Variant;

@@ -252,7 +252,8 @@ pub(crate) fn dsl_libraries(dir: &Path) -> Result<Vec<(PathBuf, DslModule)>> {
 }
 
 /// Every module `shaders_gen::MODULES` exports must have been found in the sources, or the
-/// table would silently leave it out.
+/// table would silently leave it out; and every module of the sources must be in
+/// `shaders_gen::MODULES`, or the snapshots, hot reload and the tools that walk it would.
 pub(crate) fn check_all_modules_found(sources: &[(PathBuf, Vec<DslModule>)]) -> Result<()> {
     let found: Vec<String> = sources
         .iter()
@@ -266,6 +267,15 @@ pub(crate) fn check_all_modules_found(sources: &[(PathBuf, Vec<DslModule>)]) -> 
     if !missing.is_empty() {
         bail!(
             "shaders_gen exports {missing:?}, but no `#[shader] mod` of that name was found under shaders_gen/src"
+        );
+    }
+    let unlisted: Vec<&String> = found
+        .iter()
+        .filter(|f| !shaders_gen::MODULES.iter().any(|m| m.name == f.as_str()))
+        .collect();
+    if !unlisted.is_empty() {
+        bail!(
+            "shaders_gen/src defines the modules {unlisted:?}, which `shaders_gen::MODULES` does not list"
         );
     }
     Ok(())

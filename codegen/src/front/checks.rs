@@ -191,7 +191,7 @@ fn check_structs(m: &ModCtx) -> Result<()> {
                         }
                     }
                 }
-            } else if f.io.is_some() {
+            } else if f.io.is_some() && !library_io_struct(m, &s.name) {
                 return Err(Error::new(
                     f.span,
                     format!(
@@ -203,6 +203,13 @@ fn check_structs(m: &ModCtx) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// Whether IO attributes on struct `name` are for other modules' entry points: a library's own
+/// struct (a library has none), or one merged in from a library, which the modules that use it
+/// may or may not take as IO.
+fn library_io_struct(m: &ModCtx, name: &str) -> bool {
+    m.module.library || m.origins.get(name).is_some_and(Option::is_some)
 }
 
 /// The element stride of an array type that breaks the uniform 16-byte stride rule.

@@ -3,6 +3,7 @@
 
 use glam::Vec3;
 use shaders_gen::forward::forward;
+use shaders_gen::shared::light_set;
 use shaders_gen::shared::shadow_atlas::NO_SHADOW;
 use wgpu::util::DeviceExt as _;
 
@@ -62,6 +63,15 @@ pub struct LightSet {
 }
 
 impl LightSet {
+    /// The `light_set` library's part of every lit pass's group 0 (its generated builder): the
+    /// punctual and directional light records.
+    pub fn bindings(&self) -> light_set::Group0<'_> {
+        light_set::Group0 {
+            lights: self.punctual_buffer.as_entire_buffer_binding(),
+            directional: self.directional_buffer.as_entire_buffer_binding(),
+        }
+    }
+
     /// The most lights `device` can hold in one binding: the light records (the largest per-light
     /// buffer a pass binds) must fit the storage-binding and buffer size limits.
     pub fn max_lights(device: &wgpu::Device) -> usize {

@@ -3,8 +3,11 @@
 //! decal list) is a new field here, not a change to the orchestrator.
 
 use crate::culling::reference::Method;
-use crate::graph::{Buffer, CompiledGraph, Handle, ImportAccess, RenderGraph, Texture};
-use shaders_gen::shared::shadow_atlas;
+use crate::graph::{
+    Buffer, BufferAccess, CompiledGraph, Handle, ImportAccess, PassBuilder, PassContext,
+    RenderGraph, Texture,
+};
+use shaders_gen::shared::{light_lists, shadow_atlas};
 
 /// The per-cell light lists of a culled frame.
 #[derive(Debug, Clone)]
@@ -17,6 +20,27 @@ pub struct LightListHandles {
     pub method: Method,
     /// The grid's buffer itself, for copies recorded after the graph (frame capture).
     pub grid_buffer: wgpu::Buffer,
+}
+
+impl LightListHandles {
+    /// Declares that `pass` reads the lists, as a pass that binds them ([`Self::bindings`])
+    /// must; with none (a naive frame), nothing.
+    pub fn read_by(lists: Option<&Self>, pass: &mut PassBuilder<'_>) {
+        if let Some(l) = lists {
+            pass.read_buffer(l.grid, BufferAccess::StorageRead)
+                .read_buffer(l.indices, BufferAccess::StorageRead);
+        }
+    }
+
+    /// The `light_lists` library's part of a lit pass's group 0 (its generated builder), the
+    /// lists resolved in `ctx`; with no lists (a naive frame), the part a variant without lists
+    /// takes (both bindings absent).
+    pub fn bindings<'a>(lists: Option<&Self>, ctx: &'a PassContext<'_>) -> light_lists::Group0<'a> {
+        light_lists::Group0 {
+            grid: lists.map(|l| ctx.buffer(l.grid).as_entire_buffer_binding()),
+            indices: lists.map(|l| ctx.buffer(l.indices).as_entire_buffer_binding()),
+        }
+    }
 }
 
 /// How cells map to the screen, as the passes that look lists up need it.

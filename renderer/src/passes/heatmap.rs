@@ -8,9 +8,10 @@ use super::{Pass, draw_fullscreen, fullscreen_pipeline};
 use crate::GpuContext;
 use crate::culling::reference::Method;
 use crate::frame_data::{
-    FrameInputs, FrameResources, ListGeometry, RenderError, RenderPath, RendererConfig,
+    FrameInputs, FrameResources, LightListHandles, ListGeometry, RenderError, RenderPath,
+    RendererConfig,
 };
-use crate::graph::{BufferAccess, RenderGraph, TextureAccess};
+use crate::graph::{RenderGraph, TextureAccess};
 use crate::shader::ShaderProgram;
 
 /// The heatmap pass: its program, pipeline and parameters.
@@ -120,10 +121,10 @@ impl Pass for HeatmapPass {
         let needs_depth = self.needs_depth;
         let program = self.program.clone();
         let (pipeline, params) = (self.pipeline.clone(), self.params.clone());
+        let lights = std::sync::Arc::clone(&frame.lights);
         let mut pass = graph.add_pass(self.name());
-        pass.read_buffer(lists.grid, BufferAccess::StorageRead)
-            .read_buffer(lists.indices, BufferAccess::StorageRead)
-            .write_texture(&mut resources.output, TextureAccess::ColorAttachment);
+        LightListHandles::read_by(Some(&lists), &mut pass);
+        pass.write_texture(&mut resources.output, TextureAccess::ColorAttachment);
         if needs_depth {
             pass.read_texture(depth, TextureAccess::Sampled);
         }
@@ -133,8 +134,8 @@ impl Pass for HeatmapPass {
             let out_view = ctx.texture(target).create_view(&Default::default());
             let group = heatmap::Group0 {
                 params: params.as_entire_buffer_binding(),
-                grid: ctx.buffer(lists.grid).as_entire_buffer_binding(),
-                indices: ctx.buffer(lists.indices).as_entire_buffer_binding(),
+                light_set: lights.bindings(),
+                light_lists: LightListHandles::bindings(Some(&lists), ctx),
                 depth: depth_view.as_ref(),
                 depth_ms: depth_view.as_ref(),
             }

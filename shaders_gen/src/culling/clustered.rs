@@ -144,14 +144,17 @@ pub mod cluster_cull {
             }
             return;
         }
-        let size = PARAMS.screen.as_vec2();
-        let x0 = 2.0 * (wg.x * tile) as f32 / size.x - 1.0;
-        let x1 = 2.0 * ((wg.x + 1u32) * tile) as f32 / size.x - 1.0;
-        let y1 = 1.0 - 2.0 * (wg.y * tile) as f32 / size.y;
-        let y0 = 1.0 - 2.0 * ((wg.y + 1u32) * tile) as f32 / size.y;
+        let r = tile_ndc(wg.xy(), tile, PARAMS.screen);
         let column = TileColumn {
-            sides: side_planes(PARAMS.projection, x0, x1, y0, y1),
-            rays: tile_rays(PARAMS.inv_projection, PARAMS.orthographic, x0, x1, y0, y1),
+            sides: side_planes(PARAMS.projection, r.x, r.y, r.z, r.w),
+            rays: tile_rays(
+                PARAMS.inv_projection,
+                PARAMS.orthographic,
+                r.x,
+                r.y,
+                r.z,
+                r.w,
+            ),
             slices,
             depth_lo,
             depth_hi,

@@ -186,13 +186,8 @@ pub mod cull_prepare {
         if lid == 0u32 {
             // The super-tile frustum (pixel edges, not clamped to the screen, like tiles),
             // once per workgroup.
-            let size = PARAMS.screen.as_vec2();
-            let edge = SUPER_TILE_PIXELS as f32;
-            let x0 = 2.0 * wg.x as f32 * edge / size.x - 1.0;
-            let x1 = 2.0 * (wg.x + 1u32) as f32 * edge / size.x - 1.0;
-            let y1 = 1.0 - 2.0 * wg.y as f32 * edge / size.y;
-            let y0 = 1.0 - 2.0 * (wg.y + 1u32) as f32 * edge / size.y;
-            SUPER_SIDES = side_planes(PARAMS.projection, x0, x1, y0, y1);
+            let r = tile_ndc(wg.xy(), SUPER_TILE_PIXELS, PARAMS.screen);
+            SUPER_SIDES = side_planes(PARAMS.projection, r.x, r.y, r.z, r.w);
             SUPER_RANGE = super_range(st);
         }
         workgroup_barrier();

@@ -14,6 +14,7 @@
     axes(msaa: u32 = [1, 2, 4, 8]),
     uses(
         crate::shared::light_grid,
+        crate::shared::surface_light,
         crate::shared::shadow_atlas,
         crate::shared::octahedral,
     ),
@@ -61,15 +62,8 @@ pub mod tbdr_gbuffer {
     /// A G-buffer sample as the light loop takes it.
     struct Shading {
         sky: bool,
-        p: Vec3,
-        n: Vec3,
-        v: Vec3,
-        albedo: Vec3,
-        metallic: f32,
-        roughness: f32,
-        geometric_normal: Vec3,
-        view_depth: f32,
-        dither: f32,
+        /// The surface point `surface_light`'s `light_contribution` shades.
+        point: LitPoint,
         /// Ambient × albedo × occlusion + emissive.
         base: Vec3,
     }
@@ -271,15 +265,17 @@ pub mod tbdr_gbuffer {
         let pixel_centre = p.as_vec2() + Vec2::splat(0.5);
         Shading {
             sky: g.depth >= 1.0,
-            p: world,
-            n: octahedral_decode(g.normals.xy()),
-            v: toward_eye(world),
-            albedo: g.albedo_metallic.xyz(),
-            metallic: g.albedo_metallic.w,
-            roughness: g.radiance_roughness.w,
-            geometric_normal: octahedral_decode(g.normals.zw()),
-            view_depth: -view_p.z,
-            dither: dither_noise(pixel_centre),
+            point: LitPoint {
+                p: world,
+                n: octahedral_decode(g.normals.xy()),
+                v: toward_eye(world),
+                albedo: g.albedo_metallic.xyz(),
+                metallic: g.albedo_metallic.w,
+                roughness: g.radiance_roughness.w,
+                geometric_normal: octahedral_decode(g.normals.zw()),
+                view_depth: -view_p.z,
+                dither: dither_noise(pixel_centre),
+            },
             base: g.radiance_roughness.xyz(),
         }
     }

@@ -53,6 +53,7 @@
     requires(subgroup = scalarize),
     uses(
         crate::deferred::gbuffer_read::tbdr_gbuffer,
+        crate::shared::light_spheres,
         crate::shared::pbr,
         crate::shared::light_grid,
         crate::shared::shadow_atlas,
@@ -68,13 +69,6 @@ pub mod tbdr {
     pub const CAPTURE_WORDS: u32 = 14;
     const INFINITY_BITS: u32 = 0x7f80_0000;
 
-    #[storage(group = 0, binding = 1)]
-    static LIGHTS: [GpuLight];
-    #[storage(group = 0, binding = 2)]
-    static DIRECTIONAL: [GpuLight];
-    /// World-space bounding sphere of each punctual light: centre, radius.
-    #[storage(group = 0, binding = 3)]
-    static SPHERES: [Vec4];
     #[texture(group = 0, binding = 11)]
     static HDR_OUT: StorageTexture2d<Rgba16Float, Write>;
     #[storage(group = 0, binding = 12, read_write)]
@@ -99,23 +93,6 @@ pub mod tbdr {
     #[workgroup]
     static ITEM_COLOR: [Vec3; TILE_THREADS];
 
-    /// Radiance `light` reflects from `s` towards the eye, shadowed (the forward pass's).
-    fn light_contribution(light: GpuLight, s: Shading) -> Vec3 {
-        let radiance = shade_light(light, s.p, s.n, s.v, s.albedo, s.metallic, s.roughness);
-        let mut visibility = 1.0;
-        if radiance.x + radiance.y + radiance.z > 0.0 {
-            visibility = shadow_visibility(
-                light.shadow,
-                light.position,
-                s.p,
-                s.geometric_normal,
-                s.view_depth,
-                s.dither,
-            );
-        }
-        radiance * visibility
-    }
-
     /// What does not depend on the culled lights: the sky, or the base radiance and every
     /// directional light.
     fn unculled(s: Shading) -> Vec3 {
@@ -123,7 +100,7 @@ pub mod tbdr {
         if !s.sky {
             color = s.base;
             for i in 0u32..PARAMS.directional_count {
-                color += light_contribution(DIRECTIONAL[i], s);
+                color += light_contribution(DIRECTIONAL[i], s.point);
             }
         }
         color
@@ -138,7 +115,7 @@ pub mod tbdr {
                 if scalarize {
                     index = subgroup_broadcast_first(index);
                 }
-                color += light_contribution(LIGHTS[index], s);
+                color += light_contribution(LIGHTS[index], s.point);
             }
         }
         color
@@ -246,13 +223,16 @@ pub mod tbdr {
         let opaque = min_bits <= max_bits;
         let near = depth_to_view(f32::from_bits(min_bits));
         let far = depth_to_view(f32::from_bits(max_bits));
-        let size = PARAMS.screen.as_vec2();
-        let x0 = 2.0 * (wg.x * tile) as f32 / size.x - 1.0;
-        let x1 = 2.0 * ((wg.x + 1u32) * tile) as f32 / size.x - 1.0;
-        let y1 = 1.0 - 2.0 * (wg.y * tile) as f32 / size.y;
-        let y0 = 1.0 - 2.0 * ((wg.y + 1u32) * tile) as f32 / size.y;
-        let sides = side_planes(PARAMS.projection, x0, x1, y0, y1);
-        let rays = tile_rays(PARAMS.inv_projection, PARAMS.orthographic, x0, x1, y0, y1);
+        let r = tile_ndc(wg.xy(), tile, PARAMS.screen);
+        let sides = side_planes(PARAMS.projection, r.x, r.y, r.z, r.w);
+        let rays = tile_rays(
+            PARAMS.inv_projection,
+            PARAMS.orthographic,
+            r.x,
+            r.y,
+            r.z,
+            r.w,
+        );
 
         let edges = EDGE_COUNT.load();
         let items = edges * (msaa - 1u32);
@@ -352,85 +332,6 @@ pub mod tbdr {
             }
             HDR_OUT.store(pixel, resolved.extend(1.0));
         }
-    }
-
-    /// A light volume's vertex: the light's index, for its fragments.
-    pub struct VolumeOut {
-        #[builtin(position)]
-        pub clip: Vec4,
-        #[location(0)]
-        #[interpolate(flat)]
-        pub light: u32,
-    }
-
-    /// Corner `vi` (0..36) of the cube `[−1, 1]³` as twelve triangles, counter-clockwise seen
-    /// from outside: face `vi / 6` is `±` axis `vi / 12`, split into two triangles.
-    fn cube_corner(vi: u32) -> Vec3 {
-        let face = vi / 6u32;
-        let k = vi % 6u32;
-        let u = select(k == 1u32 || k == 2u32 || k == 4u32, 1.0, -1.0);
-        let v = select(k == 2u32 || k == 4u32 || k == 5u32, 1.0, -1.0);
-        let s = select(face % 2u32 == 0u32, 1.0, -1.0);
-        // Along the face's axis, then the next two axes in cyclic order (the `u` axis flipped
-        // with the face so that (u, v, outward) stays right-handed).
-        let q = Vec3::new(s, s * u, v);
-        let axis = face / 2u32;
-        select(axis == 0u32, q, select(axis == 1u32, q.zxy(), q.yzx()))
-    }
-
-    /// Traditional deferred shading's light volume: the cube around punctual light
-    /// `instance`'s bounding sphere (`SPHERES`). The pipeline draws only its back faces, with
-    /// no depth test, so every pixel the sphere may cover is shaded once whether the camera is
-    /// outside the volume or inside it; clip depth is held inside the far plane, so a volume
-    /// reaching past it still covers its pixels.
-    #[vertex]
-    pub fn vs_light_volume(
-        #[builtin(vertex_index)] vi: u32,
-        #[builtin(instance_index)] light: u32,
-    ) -> VolumeOut {
-        let sphere = SPHERES[light];
-        let world = sphere.xyz() + cube_corner(vi) * sphere.w;
-        let mut clip = PARAMS.projection * (PARAMS.view * world.extend(1.0));
-        if clip.w > 0.0 {
-            clip.z = clip.z.min(clip.w * 0.999_999);
-        }
-        VolumeOut { clip, light }
-    }
-
-    /// One light at one pixel, from the G-buffer: at the pixel centre (sample 0's view depth), or,
-    /// where the deferred base pass marked the pixel an edge (`EDGE_BITS`), the mean over its
-    /// samples at their own points; the same shading as `shade`. Blended additively into the
-    /// base pass's resolved image; a pixel the light does not reach is discarded, and so is an
-    /// edge pixel in the shading-frequency view (the base pass drew it red).
-    #[fragment]
-    pub fn fs_light_volume(input: VolumeOut) -> Vec4 {
-        let pixel = input.clip.xy().floor().as_uvec2();
-        let light = LIGHTS[input.light];
-        let bit = pixel.y * PARAMS.screen.x + pixel.x;
-        let edge = (EDGE_BITS[bit / 32u32].load() & (1u32 << (bit % 32u32))) != 0u32;
-        if edge && PARAMS.show_frequency != 0u32 {
-            discard();
-        }
-        let g0 = load_sample(pixel, 0u32);
-        let mut color = Vec3::ZERO;
-        if edge {
-            for s in 0u32..msaa {
-                let mut g = g0;
-                if s > 0u32 {
-                    g = load_sample(pixel, s);
-                }
-                if g.depth < 1.0 {
-                    color += light_contribution(light, shading_of(pixel, s, g));
-                }
-            }
-            color = color / msaa as f32;
-        } else if g0.depth < 1.0 {
-            color = light_contribution(light, centre_shading(pixel, g0));
-        }
-        if color.x + color.y + color.z <= 0.0 {
-            discard();
-        }
-        color.extend(0.0)
     }
 
     /// Copies every sample of pixel `gid.xy` to `CAPTURE`: per sample, depth then the albedo,

@@ -23,23 +23,6 @@ pub mod prez {
         pub clip: Vec4,
     }
 
-    /// What the masked fragment needs: both UV sets and the vertex colour's alpha.
-    pub struct MaskVsOut {
-        #[builtin(position)]
-        #[invariant]
-        pub clip: Vec4,
-        #[location(0)]
-        pub uv0: Vec2,
-        #[location(1)]
-        pub uv1: Vec2,
-        #[location(2)]
-        pub color_alpha: f32,
-        /// The draw's material (`MATERIALS` index).
-        #[location(3)]
-        #[interpolate(flat)]
-        pub material: u32,
-    }
-
     #[uniform(group = 0, binding = 0)]
     static CAMERA: Camera;
 
@@ -79,11 +62,8 @@ pub mod prez {
     /// Masked materials: texels below the cutoff leave no depth.
     #[fragment]
     pub fn fs_prez_mask(input: MaskVsOut) {
-        if alpha_mask {
-            let d = uv_derivatives(input.uv0, input.uv1);
-            if masked_out(input.material, d, input.color_alpha) {
-                discard();
-            }
+        if alpha_mask && mask_cuts(input) {
+            discard();
         }
     }
 }

@@ -2,7 +2,8 @@
 
 /// Full-screen debug view: each pixel is coloured by the number of lights (or, with `section`
 /// set to the grid's decal section, decals) in its tile's or froxel's list
-/// (`GRID[section + cell].y`, the lists `tile_cull`/`cluster_cull` write), on a ramp black
+/// (`GRID[section + cell].y`, the lists `tile_cull`/`cluster_cull` write, bound as the
+/// `light_lists` library declares them), on a ramp black
 /// → blue → green → yellow → red with stops at counts 0, ¼, ½, ¾ and 1 × `max_count`
 /// (saturating). The bottom 16 pixel rows are the legend: the same ramp from left (0) to right
 /// (`max_count`).
@@ -16,7 +17,7 @@
 #[shader_dsl::shader(
     axes(list: u32 = [1, 2] => "list", msaa: u32 = [1, 2, 4, 8]),
     exclude(list == 1 && msaa > 1),
-    uses(crate::shared::light_grid),
+    uses(crate::shared::light_grid, crate::shared::light_lists),
 )]
 pub mod heatmap {
     pub struct HeatmapParams {
@@ -42,14 +43,10 @@ pub mod heatmap {
 
     #[uniform(group = 0, binding = 0)]
     static PARAMS: HeatmapParams;
-    #[storage(group = 0, binding = 1)]
-    static GRID: [UVec2];
-    #[storage(group = 0, binding = 2)]
-    static INDICES: [u32];
-    #[texture(group = 0, binding = 3)]
+    #[texture(group = 0, binding = 5)]
     #[when(list == 2 && msaa == 1)]
     static DEPTH: TextureDepth2d;
-    #[texture(group = 0, binding = 3)]
+    #[texture(group = 0, binding = 5)]
     #[when(list == 2 && msaa > 1)]
     static DEPTH_MS: TextureDepthMultisampled2d;
 

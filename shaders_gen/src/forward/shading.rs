@@ -50,6 +50,8 @@
     uses(
         crate::shared::view,
         crate::shared::pbr,
+        crate::shared::light_lists,
+        crate::shared::surface_light,
         crate::shared::light_grid,
         crate::shared::shadow_atlas,
         crate::shared::decal_apply,
@@ -91,20 +93,6 @@ pub mod forward {
         pub decal_section: u32,
     }
 
-    /// What the light loop needs of the shaded point.
-    struct Surface {
-        p: Vec3,
-        n: Vec3,
-        v: Vec3,
-        albedo: Vec3,
-        metallic: f32,
-        roughness: f32,
-        /// Unit normal of the geometry (not normal-mapped): the shadow lookup's normal offset.
-        geometric_normal: Vec3,
-        view_depth: f32,
-        dither: f32,
-    }
-
     pub struct VsOut {
         #[builtin(position)]
         #[invariant]
@@ -136,18 +124,8 @@ pub mod forward {
 
     #[uniform(group = 0, binding = 0)]
     static CAMERA: Camera;
-    #[uniform(group = 0, binding = 1)]
+    #[uniform(group = 0, binding = 5)]
     static LIGHTING: Lighting;
-    #[storage(group = 0, binding = 2)]
-    static LIGHTS: [GpuLight];
-    #[storage(group = 0, binding = 3)]
-    static DIRECTIONAL: [GpuLight];
-    #[storage(group = 0, binding = 4)]
-    #[when(list > 0)]
-    static GRID: [UVec2];
-    #[storage(group = 0, binding = 5)]
-    #[when(list > 0)]
-    static INDICES: [u32];
 
     #[vertex]
     pub fn vs_forward(
@@ -174,25 +152,6 @@ pub mod forward {
             material: draw.material,
             handedness: draw.handedness,
         }
-    }
-
-    /// Radiance `light` reflects from `s` towards the eye, shadowed. The shadow lookup runs only
-    /// where the light reaches the surface at all: a listed light out of range or behind the
-    /// surface costs no atlas taps.
-    fn light_contribution(light: GpuLight, s: Surface) -> Vec3 {
-        let radiance = shade_light(light, s.p, s.n, s.v, s.albedo, s.metallic, s.roughness);
-        let mut visibility = 1.0;
-        if radiance.x + radiance.y + radiance.z > 0.0 {
-            visibility = shadow_visibility(
-                light.shadow,
-                light.position,
-                s.p,
-                s.geometric_normal,
-                s.view_depth,
-                s.dither,
-            );
-        }
-        radiance * visibility
     }
 
     /// The `GRID` cell of a fragment: its tile's list (opaque or transparent), or its froxel (by `light_grid`, like the
@@ -381,7 +340,7 @@ pub mod forward {
         let occlusion = m.occlusion;
         let eye = CAMERA.eye_homogeneous;
         let v = (eye.xyz() - p * eye.w).normalize();
-        let s = Surface {
+        let s = LitPoint {
             p,
             n: m.normal,
             v,

@@ -6,12 +6,12 @@
 /// draws slot `KEYS[i].y`; the indirect draw's instance count is the visible count), six
 /// vertices a billboard.
 ///
-/// `lit` picks the lighting:
-/// * `0` the atlas: the particle's region of `LIGHT_ATLAS`, B-spline bicubic (four bilinear
-///   taps, each clamped half a texel inside the region so no neighbour bleeds in);
-/// * `1` per pixel over every light, `2` per pixel over the clustered lists: the same
-///   half-Lambert response, shadows and ambient as `particle_light` computes per atlas texel
-///   (the reference path).
+/// `atlas` picks the lighting: the atlas, the particle's region of `LIGHT_ATLAS`, B-spline
+/// bicubic (four bilinear taps, each clamped half a texel inside the region so no neighbour
+/// bleeds in); or, without it, per pixel with `particle_lighting`, the same half-Lambert
+/// response, shadows and ambient as `particle_light` computes per atlas texel (the reference
+/// path), over every light (`list` 0) or the clustered lists (`list` 2). The atlas variants read
+/// no list (`list` 0 only).
 ///
 /// The colour is the particle's tint times its sprite (`SPRITES`, a layer per texture) times
 /// the lighting plus its emitter's `emissive`, premultiplied by alpha (blend: one, one minus
@@ -25,15 +25,12 @@
 /// Vulkan rejects).
 #[shader_dsl::shader(
     axes(
-        lit: u32 = [0, 1, 2] => "lit",
+        atlas: bool = [false, true] => "atlas",
+        list: u32 = [0, 2] => "list",
         msaa: bool = [false, true] => "ms",
     ),
-    uses(
-        crate::particles::common::particle_common,
-        crate::shared::pbr,
-        crate::shared::light_grid,
-        crate::shared::shadow_atlas,
-    ),
+    exclude(atlas && list == 2),
+    uses(crate::particles::lighting::particle_lighting),
 )]
 pub mod particle_draw {
     pub struct ParticleVarying {
@@ -72,18 +69,6 @@ pub mod particle_draw {
         pub color: Vec4,
     }
 
-    #[uniform(group = 0, binding = 0)]
-    static VIEW: ParticleView;
-    #[storage(group = 0, binding = 1)]
-    static LIGHTS: [GpuLight];
-    #[storage(group = 0, binding = 2)]
-    static DIRECTIONAL: [GpuLight];
-    #[storage(group = 0, binding = 3)]
-    #[when(lit == 2)]
-    static GRID: [UVec2];
-    #[storage(group = 0, binding = 4)]
-    #[when(lit == 2)]
-    static INDICES: [u32];
     #[texture(group = 0, binding = 5)]
     #[when(!msaa)]
     static DEPTH: TextureDepth2d;
@@ -100,10 +85,10 @@ pub mod particle_draw {
     #[storage(group = 1, binding = 3)]
     static KEYS: [UVec2];
     #[texture(group = 1, binding = 4)]
-    #[when(lit == 0)]
+    #[when(atlas)]
     static LIGHT_ATLAS: Texture2d<f32>;
     #[sampler(group = 1, binding = 5)]
-    #[when(lit == 0)]
+    #[when(atlas)]
     static ATLAS_SAMPLER: Sampler;
     #[texture(group = 1, binding = 6)]
     static SPRITES: Texture2dArray<f32>;
@@ -145,44 +130,6 @@ pub mod particle_draw {
                 .normalize(),
             emissive: emitter.emissive,
         }
-    }
-
-    /// One light's shadowed response at `p` (as `particle_light` computes it).
-    fn particle_contribution(light: GpuLight, p: Vec3, n: Vec3, depth: f32, dither: f32) -> Vec3 {
-        let radiance = particle_light(light, p, n);
-        let mut visibility = 1.0;
-        if radiance.x + radiance.y + radiance.z > 0.0 {
-            visibility =
-                shadow_visibility(light.shadow, light.position, p, Vec3::ZERO, depth, dither);
-        }
-        radiance * visibility
-    }
-
-    /// Ambient plus every light of `p`'s froxel (or every light), shadowed: the per-pixel
-    /// reference of `particle_light`'s texels.
-    fn particle_lighting(p: Vec3, n: Vec3, dither: f32) -> Vec3 {
-        let depth = -(VIEW.view * p.extend(1.0)).z;
-        let mut color = hemisphere_ambient(VIEW.ambient_sky, VIEW.ambient_ground, n);
-        for i in 0u32..VIEW.directional_count {
-            color += particle_contribution(DIRECTIONAL[i], p, n, depth, dither);
-        }
-        if lit == 1 {
-            for i in 0u32..VIEW.light_count {
-                color += particle_contribution(LIGHTS[i], p, n, depth, dither);
-            }
-        } else if lit == 2 {
-            let clip = VIEW.view_projection * p.extend(1.0);
-            let ndc = clip.xy() / clip.w.max(1.0e-6);
-            let size = VIEW.screen.as_vec2();
-            let at = Vec2::new(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5) * size;
-            let px = at.clamp(Vec2::ZERO, size - 1.0).floor().as_uvec2();
-            let slice = slice_of(depth.max(1.0e-6), VIEW.near, VIEW.far, VIEW.slices);
-            let range = GRID[froxel_cell(px, slice, VIEW.tile_size, VIEW.tiles)];
-            for j in 0u32..range.y {
-                color += particle_contribution(LIGHTS[INDICES[range.x + j]], p, n, depth, dither);
-            }
-        }
-        color
     }
 
     /// The atlas lighting at `uv` of the region `packed`: B-spline bicubic from four bilinear
@@ -256,7 +203,7 @@ pub mod particle_draw {
         }
         let sprite = SPRITES.sample(SPRITE_SAMPLER, input.uv, input.layer);
         let mut lighting = Vec3::ZERO;
-        if lit == 0 {
+        if atlas {
             lighting = atlas_bicubic(input.region, input.uv);
         } else {
             let n = billboard_normal(input.uv, VIEW.right, VIEW.up, input.toward_eye);

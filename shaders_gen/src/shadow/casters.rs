@@ -30,22 +30,6 @@ pub mod shadow_caster {
         pub view: u32,
     }
 
-    /// What the masked fragment needs: both UV sets and the vertex colour's alpha.
-    pub struct MaskVsOut {
-        #[builtin(position)]
-        pub clip: Vec4,
-        #[location(0)]
-        pub uv0: Vec2,
-        #[location(1)]
-        pub uv1: Vec2,
-        #[location(2)]
-        pub color_alpha: f32,
-        /// The draw's material (`MATERIALS` index).
-        #[location(3)]
-        #[interpolate(flat)]
-        pub material: u32,
-    }
-
     #[storage(group = 0, binding = 0)]
     static VIEWS: [CasterView];
     #[storage(group = 0, binding = 1)]
@@ -89,11 +73,8 @@ pub mod shadow_caster {
     /// Masked casters: texels below the cutoff leave no depth in the atlas.
     #[fragment]
     pub fn fs_caster_mask(input: MaskVsOut) {
-        if alpha_mask {
-            let d = uv_derivatives(input.uv0, input.uv1);
-            if masked_out(input.material, d, input.color_alpha) {
-                discard();
-            }
+        if alpha_mask && mask_cuts(input) {
+            discard();
         }
     }
 }

@@ -77,6 +77,20 @@ pub mod light_grid {
         v / v.xyz().length()
     }
 
+    /// Screen tile `tile_xy`'s rectangle in NDC, tiles of `tile` pixels over a `screen`
+    /// (pixels, `y` down): `(x0, x1, y0, y1)` with `y` up, so `y0` is the tile's bottom edge.
+    pub fn tile_ndc(tile_xy: UVec2, tile: u32, screen: UVec2) -> Vec4 {
+        let size = screen.as_vec2();
+        let lo = (tile_xy * tile).as_vec2();
+        let hi = ((tile_xy + UVec2::ONE) * tile).as_vec2();
+        Vec4::new(
+            2.0 * lo.x / size.x - 1.0,
+            2.0 * hi.x / size.x - 1.0,
+            1.0 - 2.0 * hi.y / size.y,
+            1.0 - 2.0 * lo.y / size.y,
+        )
+    }
+
     /// The side planes of the screen rectangle `[x0, x1] × [y0, y1]` in NDC, from the
     /// projection rows (Gribb/Hartmann): through the eye for a perspective projection, parallel
     /// to the view axis for an orthographic one (its last row is `(0, 0, 0, 1)`).

@@ -69,6 +69,24 @@ pub mod material_table {
         pub uv1_dy: Vec2,
     }
 
+    /// An alpha-masked depth-only fragment's inputs, the masked vertex output of pre-Z and of the
+    /// shadow casters: clip position (invariant, so pre-Z depth equals the lit pass's), both UV
+    /// sets, the vertex colour's alpha and the draw's material (`MATERIALS` index).
+    pub struct MaskVsOut {
+        #[builtin(position)]
+        #[invariant]
+        pub clip: Vec4,
+        #[location(0)]
+        pub uv0: Vec2,
+        #[location(1)]
+        pub uv1: Vec2,
+        #[location(2)]
+        pub color_alpha: f32,
+        #[location(3)]
+        #[interpolate(flat)]
+        pub material: u32,
+    }
+
     /// A material texture slot without a texture.
     pub const NO_TEXTURE: u32 = 4294967295u32;
 
@@ -107,6 +125,16 @@ pub mod material_table {
             texel = atlas_sample(texture, colour, map_uv(map, d.uv0, d.uv1), ddx, ddy);
         }
         texel
+    }
+
+    /// Whether the masked fragment `input` is cut by its material's alpha mask (fragment
+    /// shaders, uniform control flow: the UV derivatives are taken here).
+    pub fn mask_cuts(input: MaskVsOut) -> bool {
+        masked_out(
+            input.material,
+            uv_derivatives(input.uv0, input.uv1),
+            input.color_alpha,
+        )
     }
 
     /// The alpha of material `index` at `d` (base colour factor × texture × vertex alpha), and

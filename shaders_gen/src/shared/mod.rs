@@ -7,8 +7,12 @@
 //!
 //! They are also the renderer's shader library for other crates: an engine's crate that depends
 //! on `shaders_gen` (and `shader-dsl`, `codegen`) writes `uses(shaders_gen::shared::pbr)`, and
-//! likewise `view`, `light_grid`, `shadow_atlas`, `decal_apply`, `octahedral`, `material_uv`,
-//! `cull_append` and `box_frustum`; `deferred::gbuffer_read::tbdr_gbuffer` reads the deferred G-buffer.
+//! likewise `view`, `light_set`, `light_lists`, `light_spheres`, `surface_light`, `light_grid`,
+//! `shadow_atlas`, `decal_apply`, `octahedral`, `material_uv`, `cull_append` and `box_frustum`;
+//! `deferred::gbuffer_read::tbdr_gbuffer` reads the deferred G-buffer. The light libraries
+//! (`lights.rs`) are the binding contract of every lit pass's group 0: an engine's pass that
+//! uses `light_lists` binds the renderer's light buffers and lists by name through
+//! `light_set::Group0` and `light_lists::Group0`.
 //!
 //! This example is such a crate (a doc test is one): its module uses the PBR library and the
 //! G-buffer library (which uses the light-grid, shadow-atlas and octahedral libraries itself, so
@@ -40,7 +44,7 @@
 //!
 //!     #[compute(workgroup_size(8, 8, 1))]
 //!     fn main(#[builtin(global_invocation_id)] gid: UVec3) {
-//!         let s = centre_shading(gid.xy(), load_sample(gid.xy(), 0u32));
+//!         let s = centre_shading(gid.xy(), load_sample(gid.xy(), 0u32)).point;
 //!         let n = round_trip(s.n);
 //!         let c = shade_light(LIGHTS_IN[0], s.p, n, s.v, s.albedo, s.metallic, s.roughness);
 //!         OUT[gid.y * 8u32 + gid.x] = c.extend(1.0);
@@ -71,6 +75,7 @@ pub mod camera;
 pub mod decal;
 pub mod frustum;
 pub mod grid;
+pub mod lights;
 pub mod material;
 pub mod normals;
 pub mod shadow;
@@ -82,6 +87,7 @@ pub use camera::view;
 pub use decal::decal_apply;
 pub use frustum::box_frustum;
 pub use grid::light_grid;
+pub use lights::{light_lists, light_set, light_spheres, surface_light};
 pub use material::{material_table, material_uv};
 pub use normals::octahedral;
 pub use shadow::shadow_atlas;

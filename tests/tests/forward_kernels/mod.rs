@@ -56,13 +56,13 @@ pub fn draw_forward(
     let indices = storage(gpu, inputs.indices);
     let mut group0 = vec![
         (0, camera.as_entire_binding()),
-        (1, lighting.as_entire_binding()),
-        (2, lights.as_entire_binding()),
-        (3, directional.as_entire_binding()),
+        (1, lights.as_entire_binding()),
+        (2, directional.as_entire_binding()),
+        (5, lighting.as_entire_binding()),
     ];
     if key.list != forward::List::List0 {
-        group0.push((4, grid.as_entire_binding()));
-        group0.push((5, indices.as_entire_binding()));
+        group0.push((3, grid.as_entire_binding()));
+        group0.push((4, indices.as_entire_binding()));
     }
     // No light has a shadow here (`NO_SHADOW`): a placeholder atlas and view record.
     let shadow_views = storage(gpu, &[0u8; size_of::<forward::ShadowView>()]);

@@ -131,13 +131,17 @@ pub fn draw_heatmap(
         multiview_mask: None,
     });
     gpu.queue.submit([encoder.finish()]);
+    // The light records are bound (the `light_lists` contract) but not read.
+    let no_lights = storage(gpu, &[heatmap::GpuLight::default()]);
     let mut group0 = vec![
         (0, params_buffer.as_entire_binding()),
-        (1, grid.as_entire_binding()),
-        (2, indices.as_entire_binding()),
+        (1, no_lights.as_entire_binding()),
+        (2, no_lights.as_entire_binding()),
+        (3, grid.as_entire_binding()),
+        (4, indices.as_entire_binding()),
     ];
     if key.list == heatmap::List::List2 {
-        group0.push((3, wgpu::BindingResource::TextureView(&depth_view)));
+        group0.push((5, wgpu::BindingResource::TextureView(&depth_view)));
     }
     fullscreen(
         gpu,

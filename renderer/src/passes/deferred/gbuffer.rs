@@ -9,7 +9,8 @@ use shaders_gen::forward::forward;
 
 use crate::GpuContext;
 use crate::frame_data::{
-    FrameInputs, FrameResources, GBUFFER_FORMATS, GBufferHandles, RenderError, RendererConfig,
+    FrameInputs, FrameResources, GBUFFER_FORMATS, GBufferHandles, LightListHandles, RenderError,
+    RendererConfig,
 };
 use crate::graph::{BufferAccess, RenderGraph, TextureAccess, TextureDesc};
 use crate::passes::forward::{FrameGroup, lighting_buffer};
@@ -115,10 +116,7 @@ impl Pass for GBufferPass {
         for t in &mut targets {
             pass.write_texture(t, TextureAccess::ColorAttachment);
         }
-        if let Some(l) = &lists {
-            pass.read_buffer(l.grid, BufferAccess::StorageRead)
-                .read_buffer(l.indices, BufferAccess::StorageRead);
-        }
+        LightListHandles::read_by(lists.as_ref(), &mut pass);
         let programs = Arc::clone(&self.programs);
         let which = usize::from(lists.is_some());
         let group = FrameGroup::new(frame, &self.lighting, lists, shadows);

@@ -9,11 +9,10 @@
 //! attached: the fragment reads the depth from the G-buffer and discards the pixels the light
 //! does not reach. Edge pixels (the base pass's bits) are shaded per sample.
 
-use shaders_gen::deferred::tbdr;
+use shaders_gen::deferred::light_volume;
+use shaders_gen::shared::light_spheres;
 
-use super::tiled_shading::{
-    KernelBuffers, bind_group, kernel_params, read_gbuffer, upload_spheres, variant_msaa,
-};
+use super::tiled_shading::{GBufferViews, kernel_params, read_gbuffer, upload_spheres};
 use crate::GpuContext;
 use crate::frame_data::{FrameInputs, FrameResources, HDR_FORMAT, RenderError, RendererConfig};
 use crate::graph::{RenderGraph, TextureAccess};
@@ -31,23 +30,18 @@ pub struct LightVolumePass {
     pipeline: wgpu::RenderPipeline,
     params: wgpu::Buffer,
     spheres: wgpu::Buffer,
-    /// Bound where the module's layout has compute-only resources (`CAPTURE`).
-    unused: wgpu::Buffer,
-    /// Bound at `HDR_OUT`, which only the compute entry writes: the pass renders into the
-    /// image itself, which cannot be a storage binding at the same time.
-    unused_storage: wgpu::TextureView,
 }
 
 impl LightVolumePass {
     pub fn new(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
-        // The volume entry points do not depend on the tile, scalarization or deferral axes.
-        let key = tbdr::VariantKey {
-            tile: tbdr::Tile::T16,
-            msaa: variant_msaa(config.msaa)?,
-            scalarize: false,
-            defer: false,
-        };
-        let program = ShaderProgram::new(&gpu.device, gpu.capabilities(), tbdr::variant(key)?)?;
+        let msaa = light_volume::Msaa::from_value(config.msaa).ok_or_else(|| {
+            RenderError::SampleCount {
+                asked: config.msaa,
+                supported: light_volume::Msaa::ALL.iter().map(|m| m.value()).collect(),
+            }
+        })?;
+        let variant = light_volume::variant(light_volume::VariantKey { msaa });
+        let program = ShaderProgram::new(&gpu.device, gpu.capabilities(), variant)?;
         let pipeline = volume_pipeline(&gpu.device, &program);
         let buffer = |label, size, usage| {
             gpu.device.create_buffer(&wgpu::BufferDescriptor {
@@ -57,36 +51,20 @@ impl LightVolumePass {
                 mapped_at_creation: false,
             })
         };
-        let storage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
-        let unused_storage = gpu
-            .device
-            .create_texture(&wgpu::TextureDescriptor {
-                label: Some("light volumes unused storage"),
-                size: wgpu::Extent3d {
-                    width: 1,
-                    height: 1,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: HDR_FORMAT,
-                usage: wgpu::TextureUsages::STORAGE_BINDING,
-                view_formats: &[],
-            })
-            .create_view(&Default::default());
         Ok(Self {
             gpu: gpu.clone(),
             program,
             pipeline,
             params: buffer(
                 "light volume params",
-                size_of::<tbdr::TbdrParams>() as u64,
+                size_of::<light_volume::TbdrParams>() as u64,
                 wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             ),
-            spheres: buffer("light volume spheres", 16, storage),
-            unused: buffer("light volumes unused", 16, storage),
-            unused_storage,
+            spheres: buffer(
+                "light volume spheres",
+                16,
+                wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            ),
         })
     }
 }
@@ -170,31 +148,27 @@ impl Pass for LightVolumePass {
             .write_texture(&mut hdr, TextureAccess::ColorAttachment);
         let program = self.program.clone();
         let pipeline = self.pipeline.clone();
-        let (params, spheres, unused) = (
-            self.params.clone(),
-            self.spheres.clone(),
-            self.unused.clone(),
-        );
-        let unused_storage = self.unused_storage.clone();
+        let (params, spheres) = (self.params.clone(), self.spheres.clone());
         let lights = std::sync::Arc::clone(&frame.lights);
         let count = frame.lights.punctual.len() as u32;
         pass.execute(move |ctx| {
-            let buffers = KernelBuffers {
-                params: &params,
-                lights: &lights,
-                spheres: &spheres,
-                edge_bits: &edges,
-                captured: &unused,
-            };
-            let Some(group) = bind_group(
-                ctx,
-                &program,
-                &buffers,
-                depth,
-                gbuffer,
-                &unused_storage,
-                &shadows,
-            ) else {
+            let views = GBufferViews::new(ctx, depth, gbuffer);
+            let group = light_volume::Group0 {
+                edge_bits: edges.as_entire_buffer_binding(),
+                tbdr_gbuffer: views.bindings(&params),
+                light_set: lights.bindings(),
+                light_spheres: light_spheres::Group0 {
+                    spheres: spheres.as_entire_buffer_binding(),
+                },
+                shadow_atlas: shadows.bindings(),
+            }
+            .bind_group(
+                ctx.device,
+                program.layout(light_volume::Group0::GROUP),
+                program.variant,
+                "light volumes",
+            );
+            let Some(group) = ctx.bind(group) else {
                 return;
             };
             let target = ctx.texture(hdr).create_view(&Default::default());

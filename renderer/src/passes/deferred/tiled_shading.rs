@@ -9,6 +9,7 @@
 //! ([`FrameResources::deferred_edges`]).
 
 use shaders_gen::deferred::{gbuffer_read::tbdr_gbuffer, tbdr};
+use shaders_gen::shared::light_spheres;
 
 use crate::GpuContext;
 use crate::frame_data::{
@@ -325,8 +326,8 @@ impl Pass for TbdrPass {
                 captured,
             };
             let out = ctx.texture(hdr).create_view(&Default::default());
-            let Some(group) = bind_group(ctx, &program, &buffers, depth, gbuffer, &out, &shadows)
-            else {
+            let views = GBufferViews::new(ctx, depth, gbuffer);
+            let Some(group) = bind_group(ctx, &program, &buffers, &views, &out, &shadows) else {
                 return;
             };
             let mut pass = ctx
@@ -366,56 +367,78 @@ pub(super) fn read_gbuffer<'p, 'g>(
 }
 
 /// The buffers of the `tbdr` module's group 0.
-pub(super) struct KernelBuffers<'a> {
-    pub params: &'a wgpu::Buffer,
-    pub lights: &'a crate::frame_data::LightSet,
-    pub spheres: &'a wgpu::Buffer,
-    pub edge_bits: &'a wgpu::Buffer,
-    pub captured: &'a wgpu::Buffer,
+struct KernelBuffers<'a> {
+    params: &'a wgpu::Buffer,
+    lights: &'a crate::frame_data::LightSet,
+    spheres: &'a wgpu::Buffer,
+    edge_bits: &'a wgpu::Buffer,
+    captured: &'a wgpu::Buffer,
+}
+
+/// Views of the pre-Z depth and the G-buffer's targets, made in a pass's recording, from which
+/// the `tbdr_gbuffer` library's part of group 0 is built.
+pub(super) struct GBufferViews {
+    depth: wgpu::TextureView,
+    albedo: wgpu::TextureView,
+    normals: wgpu::TextureView,
+    radiance: wgpu::TextureView,
+    view_depth: wgpu::TextureView,
+}
+
+impl GBufferViews {
+    pub(super) fn new(
+        ctx: &crate::graph::PassContext<'_>,
+        depth: Handle<Texture>,
+        gbuffer: GBufferHandles,
+    ) -> Self {
+        let view = |h| ctx.texture(h).create_view(&Default::default());
+        Self {
+            depth: view(depth),
+            albedo: view(gbuffer.albedo),
+            normals: view(gbuffer.normals),
+            radiance: view(gbuffer.radiance),
+            view_depth: view(gbuffer.view_depth),
+        }
+    }
+
+    /// The `tbdr_gbuffer` library's part (its generated builder), with parameters `params`. Each
+    /// view is given for both spellings; the variant binds the one its MSAA count declares.
+    pub(super) fn bindings<'a>(&'a self, params: &'a wgpu::Buffer) -> tbdr_gbuffer::Group0<'a> {
+        tbdr_gbuffer::Group0 {
+            params: params.as_entire_buffer_binding(),
+            depth: Some(&self.depth),
+            depth_ms: Some(&self.depth),
+            albedo: Some(&self.albedo),
+            albedo_ms: Some(&self.albedo),
+            normals: Some(&self.normals),
+            normals_ms: Some(&self.normals),
+            radiance: Some(&self.radiance),
+            radiance_ms: Some(&self.radiance),
+            view_depth: Some(&self.view_depth),
+            view_depth_ms: Some(&self.view_depth),
+        }
+    }
 }
 
 /// Group 0 of a `tbdr` variant `program`: its own buffers and HDR output `out`, the
-/// `tbdr_gbuffer` library's part (parameters and the G-buffer, single- or multisampled as the
-/// variant binds it) and the shadow atlas's, through the module's generated builder; `None`
-/// after recording the error in `ctx`.
-pub(super) fn bind_group(
+/// `tbdr_gbuffer` library's part (parameters and the G-buffer), the lights' and the shadow
+/// atlas's, through the module's generated builder; `None` after recording the error in `ctx`.
+fn bind_group(
     ctx: &mut crate::graph::PassContext<'_>,
     program: &ShaderProgram,
     buffers: &KernelBuffers<'_>,
-    depth: Handle<Texture>,
-    gbuffer: GBufferHandles,
+    gbuffer: &GBufferViews,
     out: &wgpu::TextureView,
     shadows: &ShadowResources,
 ) -> Option<wgpu::BindGroup> {
-    let view = |h| ctx.texture(h).create_view(&Default::default());
-    let (depth, albedo, normals, radiance, view_depth) = (
-        view(depth),
-        view(gbuffer.albedo),
-        view(gbuffer.normals),
-        view(gbuffer.radiance),
-        view(gbuffer.view_depth),
-    );
-    // Each G-buffer view is given for both spellings; the variant binds the one its MSAA
-    // count declares.
     let group = tbdr::Group0 {
-        lights: buffers.lights.punctual_buffer.as_entire_buffer_binding(),
-        directional: buffers.lights.directional_buffer.as_entire_buffer_binding(),
-        spheres: buffers.spheres.as_entire_buffer_binding(),
         hdr_out: out,
         edge_bits: buffers.edge_bits.as_entire_buffer_binding(),
         capture: buffers.captured.as_entire_buffer_binding(),
-        tbdr_gbuffer: tbdr_gbuffer::Group0 {
-            params: buffers.params.as_entire_buffer_binding(),
-            depth: Some(&depth),
-            depth_ms: Some(&depth),
-            albedo: Some(&albedo),
-            albedo_ms: Some(&albedo),
-            normals: Some(&normals),
-            normals_ms: Some(&normals),
-            radiance: Some(&radiance),
-            radiance_ms: Some(&radiance),
-            view_depth: Some(&view_depth),
-            view_depth_ms: Some(&view_depth),
+        tbdr_gbuffer: gbuffer.bindings(buffers.params),
+        light_set: buffers.lights.bindings(),
+        light_spheres: light_spheres::Group0 {
+            spheres: buffers.spheres.as_entire_buffer_binding(),
         },
         shadow_atlas: shadows.bindings(),
     }

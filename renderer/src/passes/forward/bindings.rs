@@ -77,17 +77,11 @@ impl FrameGroup {
         program: &ShaderProgram,
         label: &str,
     ) -> Option<wgpu::BindGroup> {
-        let lists = self
-            .lists
-            .as_ref()
-            .map(|l| (ctx.buffer(l.grid), ctx.buffer(l.indices)));
         let group = forward::Group0 {
             camera: self.camera.as_entire_buffer_binding(),
             lighting: self.lighting.as_entire_buffer_binding(),
-            lights: self.lights.punctual_buffer.as_entire_buffer_binding(),
-            directional: self.lights.directional_buffer.as_entire_buffer_binding(),
-            grid: lists.map(|(grid, _)| grid.as_entire_buffer_binding()),
-            indices: lists.map(|(_, indices)| indices.as_entire_buffer_binding()),
+            light_set: self.lights.bindings(),
+            light_lists: LightListHandles::bindings(self.lists.as_ref(), ctx),
             shadow_atlas: self.shadows.bindings(),
             decal_apply: self.decals.bindings(),
         }

@@ -25,7 +25,7 @@ use super::{
 use crate::GpuContext;
 use crate::frame_data::{
     BlendedDraws, DEPTH_FORMAT, FrameInputs, FrameResources, HDR_FORMAT, InstanceTable,
-    PreparedScene, RenderError, RenderPath, RendererConfig, SceneDrawList,
+    LightListHandles, PreparedScene, RenderError, RenderPath, RendererConfig, SceneDrawList,
 };
 use crate::graph::{BufferAccess, Handle, RenderGraph, Texture, TextureAccess, TextureDesc};
 use crate::scene::VertexStreams;
@@ -265,10 +265,7 @@ impl Pass for ForwardPass {
         if let Some(h) = hdr_msaa.as_mut() {
             pass.write_texture(h, TextureAccess::ColorAttachment);
         }
-        if let Some(l) = &lists {
-            pass.read_buffer(l.grid, BufferAccess::StorageRead)
-                .read_buffer(l.indices, BufferAccess::StorageRead);
-        }
+        LightListHandles::read_by(lists.as_ref(), &mut pass);
         let shadows = resources.shadows.clone().ok_or(missing("shadow atlas"))?;
         pass.read_texture(shadows.atlas, TextureAccess::Sampled);
         let list = resources

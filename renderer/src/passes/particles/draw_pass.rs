@@ -6,11 +6,13 @@
 //! validation reports). Lit from the atlas or, on the reference path, per pixel with the same
 //! lights and shadows.
 
-use shaders_gen::particles::particle_draw::{self, Lit, VariantKey};
+use shaders_gen::particles::particle_draw::{self, List, VariantKey};
+use shaders_gen::particles::particle_lighting;
 
 use crate::GpuContext;
 use crate::frame_data::{
-    FrameInputs, FrameResources, HDR_FORMAT, ParticleLighting, RenderError, RendererConfig,
+    FrameInputs, FrameResources, HDR_FORMAT, LightListHandles, ParticleLighting, RenderError,
+    RendererConfig,
 };
 use crate::graph::{BufferAccess, RenderGraph, TextureAccess, TextureDesc};
 use crate::passes::Pass;
@@ -21,27 +23,32 @@ use crate::shader::ShaderProgram;
 pub struct ParticleDrawPass {
     program: ShaderProgram,
     pipeline: wgpu::RenderPipeline,
-    lit: Lit,
+    /// The variant's key: lit from the atlas, or per pixel over every light or the lists.
+    key: VariantKey,
 }
 
 impl ParticleDrawPass {
     pub fn new(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
-        let lit = match (config.particle_lighting, config.path.is_culled()) {
-            (ParticleLighting::Atlas, _) => Lit::Lit0,
-            (ParticleLighting::PerPixel, false) => Lit::Lit1,
-            (ParticleLighting::PerPixel, true) => Lit::Lit2,
-        };
+        let atlas = config.particle_lighting == ParticleLighting::Atlas;
         let key = VariantKey {
-            lit,
+            atlas,
+            list: if !atlas && config.path.is_culled() {
+                List::List2
+            } else {
+                List::List0
+            },
             msaa: config.msaa > 1,
         };
-        let program =
-            ShaderProgram::new(&gpu.device, gpu.capabilities(), particle_draw::variant(key))?;
+        let program = ShaderProgram::new(
+            &gpu.device,
+            gpu.capabilities(),
+            particle_draw::variant(key)?,
+        )?;
         let pipeline = pipeline(&gpu.device, &program, config.msaa);
         Ok(Self {
             program,
             pipeline,
-            lit,
+            key,
         })
     }
 }
@@ -107,13 +114,12 @@ impl Pass for ParticleDrawPass {
         let mut hdr = resources.hdr.ok_or(missing("HDR colour"))?;
         let mut multisampled = resources.hdr_multisampled;
         let shadows = resources.shadows.clone().ok_or(missing("shadow atlas"))?;
-        let lists = (self.lit == Lit::Lit2)
-            .then(|| resources.particle_lists.clone())
-            .flatten();
-        if self.lit == Lit::Lit2 && lists.is_none() {
+        let listed = self.key.list == List::List2;
+        let lists = listed.then(|| resources.particle_lists.clone()).flatten();
+        if listed && lists.is_none() {
             return Err(missing("particle light lists"));
         }
-        let atlas = if self.lit == Lit::Lit0 {
+        let atlas = if self.key.atlas {
             Some(
                 particles
                     .lit_atlas
@@ -154,10 +160,7 @@ impl Pass for ParticleDrawPass {
         if let Some(a) = atlas {
             pass.read_texture(a, TextureAccess::Sampled);
         }
-        if let Some(l) = &lists {
-            pass.read_buffer(l.grid, BufferAccess::StorageRead)
-                .read_buffer(l.indices, BufferAccess::StorageRead);
-        }
+        LightListHandles::read_by(lists.as_ref(), &mut pass);
         let program = self.program.clone();
         let pipeline = self.pipeline.clone();
         let lights = std::sync::Arc::clone(&frame.lights);
@@ -170,15 +173,14 @@ impl Pass for ParticleDrawPass {
                     aspect: wgpu::TextureAspect::DepthOnly,
                     ..Default::default()
                 });
-            let lists = lists.map(|l| (ctx.buffer(l.grid), ctx.buffer(l.indices)));
             // The fade depth is given for both spellings; the variant binds the one its MSAA
             // axis declares.
             let frame_group = particle_draw::Group0 {
-                view: p.view.as_entire_buffer_binding(),
-                lights: lights.punctual_buffer.as_entire_buffer_binding(),
-                directional: lights.directional_buffer.as_entire_buffer_binding(),
-                grid: lists.map(|(grid, _)| grid.as_entire_buffer_binding()),
-                indices: lists.map(|(_, indices)| indices.as_entire_buffer_binding()),
+                particle_lighting: particle_lighting::Group0 {
+                    view: p.view.as_entire_buffer_binding(),
+                },
+                light_set: lights.bindings(),
+                light_lists: LightListHandles::bindings(lists.as_ref(), ctx),
                 depth: Some(&fade_view),
                 depth_ms: Some(&fade_view),
                 shadow_atlas: shadows.bindings(),

@@ -3,10 +3,12 @@
 //! `Rg11b10Ufloat` atlas the draw samples. It runs after light culling and the shadow atlas,
 //! and only when particles are lit through the atlas.
 
-use shaders_gen::particles::particle_light;
+use shaders_gen::particles::{particle_light, particle_lighting};
 
 use crate::GpuContext;
-use crate::frame_data::{FrameInputs, FrameResources, RenderError, RendererConfig};
+use crate::frame_data::{
+    FrameInputs, FrameResources, LightListHandles, RenderError, RendererConfig,
+};
 use crate::graph::{BufferAccess, ImportAccess, RenderGraph, TextureAccess};
 use crate::passes::Pass;
 use crate::shader::ShaderProgram;
@@ -77,22 +79,18 @@ impl Pass for ParticleLightPass {
             .read_buffer(particles.laid_out, BufferAccess::StorageRead)
             .read_texture(shadows.atlas, TextureAccess::Sampled)
             .write_texture(&mut atlas, TextureAccess::CopyDst);
-        if let Some(l) = &lists {
-            pass.read_buffer(l.grid, BufferAccess::StorageRead)
-                .read_buffer(l.indices, BufferAccess::StorageRead);
-        }
+        LightListHandles::read_by(lists.as_ref(), &mut pass);
         let program = self.program.clone();
         let pipeline = self.pipeline.clone();
         let lights = std::sync::Arc::clone(&frame.lights);
         let p = particles.clone();
         pass.execute(move |ctx| {
-            let lists = lists.map(|l| (ctx.buffer(l.grid), ctx.buffer(l.indices)));
             let frame_group = particle_light::Group0 {
-                view: p.view.as_entire_buffer_binding(),
-                lights: lights.punctual_buffer.as_entire_buffer_binding(),
-                directional: lights.directional_buffer.as_entire_buffer_binding(),
-                grid: lists.map(|(grid, _)| grid.as_entire_buffer_binding()),
-                indices: lists.map(|(_, indices)| indices.as_entire_buffer_binding()),
+                particle_lighting: particle_lighting::Group0 {
+                    view: p.view.as_entire_buffer_binding(),
+                },
+                light_set: lights.bindings(),
+                light_lists: LightListHandles::bindings(lists.as_ref(), ctx),
                 shadow_atlas: shadows.bindings(),
             }
             .bind_group(
