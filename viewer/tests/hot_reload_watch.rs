@@ -4,7 +4,8 @@
 //! is none, a broken edit is refused with its position, and `Watch::poll` never waits, not even
 //! while a compile is under way. A second watcher (plain `notify`) sees every open of the
 //! sources: once a reload is done, the watch reads nothing until the next edit (its own reads
-//! must not wake it).
+//! must not wake it). An edit to a library reached through other libraries reloads exactly
+//! the variants that print it.
 
 use std::path::Path;
 use std::sync::mpsc::Receiver;
@@ -18,6 +19,11 @@ const TONEMAP: &str = "forward/tonemapping.rs";
 const ORIGINAL: &str = "mapped.extend(1.0)";
 const TINTED: &str = "(mapped * Vec3::new(1.0, 0.25, 0.25)).extend(1.0)";
 const BROKEN: &str = "undefined_tint(mapped).extend(1.0)";
+/// `surface_light::light_contribution`'s result, and an edit of it.
+const RESPONSE: &str = "radiance * visibility\n";
+const HALVED: &str = "radiance * visibility * 0.5\n";
+/// The hot-reload table is global: the tests that install replacements take turns.
+static SERIAL: std::sync::Mutex<()> = std::sync::Mutex::new(());
 /// The longest one `poll` may take: a channel read, far below one compile.
 const POLL_AT_MOST: Duration = Duration::from_millis(50);
 
@@ -84,6 +90,7 @@ fn save_in_pieces(file: &Path, text: &str) {
 
 #[test]
 fn each_saved_change_is_one_reload_off_the_polling_thread() {
+    let _serial = SERIAL.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
     let dir = std::env::temp_dir().join(format!("viewer-watch-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     copy_dir(
@@ -163,6 +170,44 @@ fn each_saved_change_is_one_reload_off_the_polling_thread() {
     assert!(
         t.elapsed() < Duration::from_secs(30),
         "the watch did not stop"
+    );
+    renderer::shader::hot::clear();
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// An edit to a library that modules reach through other libraries (`surface_light`: used by
+/// `forward` itself, and by `tbdr` and `light_volume` only through `tbdr_gbuffer`) reloads every
+/// variant that prints the edited function, and no other.
+#[test]
+fn an_edit_to_a_library_reloads_every_module_that_reaches_it_through_the_graph() {
+    let _serial = SERIAL.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+    let dir = std::env::temp_dir().join(format!("viewer-graph-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    copy_dir(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("../shaders_gen/src"),
+        &dir,
+    );
+    let lights = dir.join("shared/lights.rs");
+    let original = std::fs::read_to_string(&lights).expect("the light libraries' source");
+    assert_eq!(original.matches(RESPONSE).count(), 1, "the edit site moved");
+    std::fs::write(&lights, original.replacen(RESPONSE, HALVED, 1)).expect("edit");
+    let printing: Vec<(&str, &str)> = shaders_gen::MODULES
+        .iter()
+        .flat_map(|m| m.variants.iter().map(move |v| (m.name, v)))
+        .filter(|(_, v)| v.wgsl.contains("fn light_contribution("))
+        .map(|(m, v)| (m, v.name()))
+        .collect();
+    for module in ["forward", "tbdr", "light_volume"] {
+        assert!(
+            printing.iter().any(|(m, _)| *m == module),
+            "{module} prints no light_contribution: {printing:?}"
+        );
+    }
+    let replaced = viewer::hot_reload::reload(&dir).expect("the edited library compiles");
+    assert_eq!(
+        replaced,
+        printing.len(),
+        "variants replaced, against those printing the edited function"
     );
     renderer::shader::hot::clear();
     std::fs::remove_dir_all(&dir).ok();
