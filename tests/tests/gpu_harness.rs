@@ -231,18 +231,22 @@ fn a_validation_layer_warning_fails_the_test_and_other_warnings_do_not() {
 #[test]
 fn an_engines_own_device_reports_only_what_it_enabled() {
     gpu_test(|gpu| {
-        // A device opened with no optional features at all, as an engine might.
-        let (device, queue) = pollster::block_on(
-            gpu.adapter
-                .request_device(&wgpu::DeviceDescriptor::default()),
-        )
-        .expect("a default device");
+        // A device opened with the renderer's least limits and no optional feature at all, as
+        // an engine might.
+        let (device, queue) = pollster::block_on(gpu.adapter.request_device(
+            &wgpu::DeviceDescriptor {
+                required_limits: renderer::gpu::requirements::minimum_limits(),
+                ..Default::default()
+            },
+        ))
+        .expect("a device with the least limits");
         let wrapped = renderer::GpuContext::from_parts(
             gpu.instance.clone(),
             gpu.adapter.clone(),
             device,
             queue,
-        );
+        )
+        .expect("the least limits are enough");
         let caps = wrapped.capabilities();
         assert_eq!(caps.subgroup, None, "SUBGROUP was not enabled");
         assert!(!caps.timestamp_query);
@@ -256,5 +260,76 @@ fn an_engines_own_device_reports_only_what_it_enabled() {
         let variant = shaders_gen::forward::forward::variant(key).expect("a generated variant");
         let err = ShaderProgram::new(&wrapped.device, caps, variant).unwrap_err();
         assert!(err.to_string().contains("SUBGROUP"), "{err}");
+    });
+}
+
+#[test]
+fn an_engines_device_with_webgpu_default_limits_is_refused_naming_what_to_ask() {
+    gpu_test(|gpu| {
+        let (device, queue) =
+            pollster::block_on(gpu.adapter.request_device(&wgpu::DeviceDescriptor::default()))
+                .expect("a default device");
+        let err = renderer::GpuContext::from_parts(
+            gpu.instance.clone(),
+            gpu.adapter.clone(),
+            device,
+            queue,
+        )
+        .expect_err("8 storage buffers per stage are too few");
+        let renderer::gpu::GpuError::DeviceLimits {
+            missing,
+            adapter_can,
+        } = &err
+        else {
+            panic!("not a limits error: {err}");
+        };
+        assert_eq!(
+            missing,
+            &[renderer::gpu::requirements::MissingLimit {
+                limit: "max_storage_buffers_per_shader_stage",
+                needed: 10,
+                available: 8,
+            }],
+            "{err}"
+        );
+        assert!(*adapter_can, "lavapipe allows 10: {err}");
+        let text = err.to_string();
+        assert!(
+            text.contains("max_storage_buffers_per_shader_stage = 10 (the device has 8)")
+                && text.contains("minimum_limits()"),
+            "{text}"
+        );
+    });
+}
+
+#[test]
+fn an_engines_device_lost_callback_runs_after_the_renderer_records_the_loss() {
+    gpu_test(|gpu| {
+        let (device, queue) = pollster::block_on(gpu.adapter.request_device(
+            &wgpu::DeviceDescriptor {
+                required_limits: renderer::gpu::requirements::minimum_limits(),
+                ..Default::default()
+            },
+        ))
+        .expect("a device");
+        let (tx, rx) = std::sync::mpsc::channel();
+        let wrapped = renderer::GpuContext::from_parts_with_loss_callback(
+            gpu.instance.clone(),
+            gpu.adapter.clone(),
+            device,
+            queue,
+            move |reason, message| {
+                tx.send(format!("{reason:?}: {message}")).ok();
+            },
+        )
+        .expect("the device has the limits");
+        assert_eq!(wrapped.lost(), None);
+        wrapped.device.destroy();
+        let _ = wrapped.device.poll(wgpu::PollType::wait_indefinitely());
+        let engine_saw = rx
+            .recv_timeout(std::time::Duration::from_secs(10))
+            .expect("the engine's callback ran");
+        assert!(engine_saw.starts_with("Destroyed"), "{engine_saw}");
+        assert_eq!(wrapped.lost().as_deref(), Some(engine_saw.as_str()));
     });
 }

@@ -226,7 +226,8 @@ fn without_subgroups_scalarized_configurations_are_refused_with_a_typed_error() 
                 .unwrap_or_else(std::sync::PoisonError::into_inner)
                 .push(e.to_string());
         }));
-        let bare = GpuContext::from_parts(gpu.instance.clone(), gpu.adapter.clone(), device, queue);
+        let bare = GpuContext::from_parts(gpu.instance.clone(), gpu.adapter.clone(), device, queue)
+            .expect("the device has the renderer's limits");
         assert_eq!(bare.capabilities().subgroup, None);
         let counts = sweep(&bare, &stage);
         assert_counts(&bare, counts);

@@ -31,6 +31,20 @@ pub enum GpuError {
         available: u64,
     },
 
+    #[error(
+        "the device given to GpuContext::from_parts lacks limits the renderer needs: {}. \
+         Open it with at least `renderer::gpu::requirements::minimum_limits()` in \
+         `wgpu::DeviceDescriptor::required_limits` (`requirements::for_adapter(&adapter)` gives \
+         the features and limits the renderer asks of an adapter){}",
+        list(missing),
+        if *adapter_can { "; the adapter allows them" } else { "; the adapter itself does not allow them: use another adapter" }
+    )]
+    DeviceLimits {
+        missing: Vec<super::requirements::MissingLimit>,
+        /// Whether the device's adapter allows every missing limit.
+        adapter_can: bool,
+    },
+
     #[error("adapter {adapter:?} refused the device request: {source}")]
     RequestDevice {
         adapter: String,
@@ -49,4 +63,13 @@ pub enum GpuError {
 
     #[error("reading a mapped readback buffer failed: {0}")]
     MapRange(String),
+}
+
+/// `items` as a comma-separated list.
+fn list<T: std::fmt::Display>(items: &[T]) -> String {
+    items
+        .iter()
+        .map(ToString::to_string)
+        .collect::<Vec<_>>()
+        .join(", ")
 }

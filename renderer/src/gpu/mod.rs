@@ -34,15 +34,22 @@ pub struct GpuContext {
 /// Where the device-lost callback leaves its reason.
 type DeviceLoss = std::sync::Arc<std::sync::Mutex<Option<String>>>;
 
-/// Registers the callback that records `device`'s loss (it replaces any earlier callback).
-fn watch_for_loss(device: &wgpu::Device) -> DeviceLoss {
+/// An engine's device-lost callback, called after the context records the loss.
+pub type DeviceLostCallback = Box<dyn Fn(wgpu::DeviceLostReason, &str) + Send + 'static>;
+
+/// Registers the callback that records `device`'s loss and then calls `also` (the engine's;
+/// wgpu keeps one callback per device, so this replaces any set before).
+fn watch_for_loss(device: &wgpu::Device, also: Option<DeviceLostCallback>) -> DeviceLoss {
     let lost = DeviceLoss::default();
     let sink = std::sync::Arc::clone(&lost);
     device.set_device_lost_callback(move |reason, message| {
-        let mut slot = sink
+        *sink
             .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner);
-        *slot = Some(format!("{reason:?}: {message}"));
+            .unwrap_or_else(std::sync::PoisonError::into_inner) =
+            Some(format!("{reason:?}: {message}"));
+        if let Some(engine) = &also {
+            engine(reason, &message);
+        }
     });
     lost
 }
@@ -70,7 +77,7 @@ impl GpuContext {
                 source,
             })?;
         Ok(Self {
-            lost: watch_for_loss(&device),
+            lost: watch_for_loss(&device, None),
             instance,
             adapter,
             device,
@@ -79,16 +86,51 @@ impl GpuContext {
         })
     }
 
-    /// Wraps an engine's own instance, adapter, device and queue (registering the device's lost
-    /// callback, which replaces one the engine set). The capabilities are those of
-    /// the adapter that the device was actually created with (features the engine did not enable
-    /// are reported absent), so variant selection never asks for more than the device has.
+    /// Wraps an engine's own instance, adapter, device and queue, after checking that the device
+    /// has every limit the renderer needs ([`requirements::minimum_limits`]):
+    /// [`GpuError::DeviceLimits`] names each one it lacks, with what to ask. The capabilities are
+    /// those of the adapter the device was created with, less the features the engine did not
+    /// enable, so variant selection never asks for more than the device has (no feature is
+    /// required: a path that needs one reports it when configured).
+    ///
+    /// This registers the device's lost callback, which replaces one the engine set; to keep
+    /// the engine's, pass it to [`GpuContext::from_parts_with_loss_callback`].
     pub fn from_parts(
         instance: wgpu::Instance,
         adapter: wgpu::Adapter,
         device: wgpu::Device,
         queue: wgpu::Queue,
-    ) -> Self {
+    ) -> Result<Self, GpuError> {
+        Self::wrap(instance, adapter, device, queue, None)
+    }
+
+    /// [`GpuContext::from_parts`], calling `on_lost` when the device is lost, after the context
+    /// records the loss ([`GpuContext::lost`]).
+    pub fn from_parts_with_loss_callback(
+        instance: wgpu::Instance,
+        adapter: wgpu::Adapter,
+        device: wgpu::Device,
+        queue: wgpu::Queue,
+        on_lost: impl Fn(wgpu::DeviceLostReason, &str) + Send + 'static,
+    ) -> Result<Self, GpuError> {
+        Self::wrap(instance, adapter, device, queue, Some(Box::new(on_lost)))
+    }
+
+    fn wrap(
+        instance: wgpu::Instance,
+        adapter: wgpu::Adapter,
+        device: wgpu::Device,
+        queue: wgpu::Queue,
+        on_lost: Option<DeviceLostCallback>,
+    ) -> Result<Self, GpuError> {
+        let missing = requirements::missing_limits(&device.limits());
+        if !missing.is_empty() {
+            let adapter_can = requirements::missing_limits(&adapter.limits()).is_empty();
+            return Err(GpuError::DeviceLimits {
+                missing,
+                adapter_can,
+            });
+        }
         let mut report = AdapterReport::new(&adapter);
         let enabled = device.features();
         let caps = &mut report.capabilities;
@@ -107,14 +149,14 @@ impl GpuContext {
         caps.max_workgroup_invocations = caps
             .max_workgroup_invocations
             .min(device.limits().max_compute_invocations_per_workgroup);
-        Self {
-            lost: watch_for_loss(&device),
+        Ok(Self {
+            lost: watch_for_loss(&device, on_lost),
             instance,
             adapter,
             device,
             queue,
             report,
-        }
+        })
     }
 
     /// Blocking form of [`GpuContext::new`] for tools and tests.

@@ -40,6 +40,52 @@ pub fn storage_binding_records(device: &wgpu::Device, element_size: usize) -> u6
 /// WebGPU default of 8; every Vulkan, Metal and D3D12 desktop adapter has at least 16.
 pub const STORAGE_BUFFERS_PER_STAGE: u32 = 10;
 
+/// The least a device must allow for every path of the renderer: WebGPU's default limits, and
+/// [`STORAGE_BUFFERS_PER_STAGE`] storage buffers per stage above them. [`for_adapter`] asks at
+/// least this; an engine that opens its own device must too ([`super::GpuContext::from_parts`]
+/// checks it).
+pub fn minimum_limits() -> wgpu::Limits {
+    wgpu::Limits {
+        max_storage_buffers_per_shader_stage: STORAGE_BUFFERS_PER_STAGE,
+        ..wgpu::Limits::default()
+    }
+}
+
+/// A limit a device has below what the renderer needs.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct MissingLimit {
+    /// The field of `wgpu::Limits`.
+    pub limit: &'static str,
+    /// What the renderer needs (a largest alignment for the `min_*_alignment` limits).
+    pub needed: u64,
+    /// What the device has.
+    pub available: u64,
+}
+
+impl std::fmt::Display for MissingLimit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} = {} (the device has {})",
+            self.limit, self.needed, self.available
+        )
+    }
+}
+
+/// Every limit of `limits` (a device's) that is worse than [`minimum_limits`], in
+/// `wgpu::Limits` field order; empty when the renderer can run on it.
+pub fn missing_limits(limits: &wgpu::Limits) -> Vec<MissingLimit> {
+    let mut missing = vec![];
+    minimum_limits().check_limits_with_fail_fn(limits, false, |limit, needed, available| {
+        missing.push(MissingLimit {
+            limit,
+            needed,
+            available,
+        });
+    });
+    missing
+}
+
 /// The optional features this adapter has.
 pub fn optional_features(adapter: &wgpu::Adapter) -> wgpu::Features {
     adapter.features() & OPTIONAL_FEATURES

@@ -113,6 +113,7 @@ pub(super) fn without_indirect_first_instance(gpu: &GpuContext) -> GpuContext {
     }))
     .expect("a device without indirect first instance");
     GpuContext::from_parts(gpu.instance.clone(), gpu.adapter.clone(), device, queue)
+        .expect("the device has the renderer's limits")
 }
 
 #[test]

@@ -258,6 +258,7 @@ fn with_small_storage_bindings(gpu: &GpuContext, packing: bool) -> GpuContext {
     }))
     .expect("a device with small storage bindings");
     GpuContext::from_parts(gpu.instance.clone(), gpu.adapter.clone(), device, queue)
+        .expect("the device has the renderer's limits")
 }
 
 /// Texels of the atlas with depth written, after one more frame.
