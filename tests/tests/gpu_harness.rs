@@ -233,13 +233,12 @@ fn an_engines_own_device_reports_only_what_it_enabled() {
     gpu_test(|gpu| {
         // A device opened with the renderer's least limits and no optional feature at all, as
         // an engine might.
-        let (device, queue) = pollster::block_on(gpu.adapter.request_device(
-            &wgpu::DeviceDescriptor {
+        let (device, queue) =
+            pollster::block_on(gpu.adapter.request_device(&wgpu::DeviceDescriptor {
                 required_limits: renderer::gpu::requirements::minimum_limits(),
                 ..Default::default()
-            },
-        ))
-        .expect("a device with the least limits");
+            }))
+            .expect("a device with the least limits");
         let wrapped = renderer::GpuContext::from_parts(
             gpu.instance.clone(),
             gpu.adapter.clone(),
@@ -266,9 +265,11 @@ fn an_engines_own_device_reports_only_what_it_enabled() {
 #[test]
 fn an_engines_device_with_webgpu_default_limits_is_refused_naming_what_to_ask() {
     gpu_test(|gpu| {
-        let (device, queue) =
-            pollster::block_on(gpu.adapter.request_device(&wgpu::DeviceDescriptor::default()))
-                .expect("a default device");
+        let (device, queue) = pollster::block_on(
+            gpu.adapter
+                .request_device(&wgpu::DeviceDescriptor::default()),
+        )
+        .expect("a default device");
         let err = renderer::GpuContext::from_parts(
             gpu.instance.clone(),
             gpu.adapter.clone(),
@@ -305,13 +306,12 @@ fn an_engines_device_with_webgpu_default_limits_is_refused_naming_what_to_ask() 
 #[test]
 fn an_engines_device_lost_callback_runs_after_the_renderer_records_the_loss() {
     gpu_test(|gpu| {
-        let (device, queue) = pollster::block_on(gpu.adapter.request_device(
-            &wgpu::DeviceDescriptor {
+        let (device, queue) =
+            pollster::block_on(gpu.adapter.request_device(&wgpu::DeviceDescriptor {
                 required_limits: renderer::gpu::requirements::minimum_limits(),
                 ..Default::default()
-            },
-        ))
-        .expect("a device");
+            }))
+            .expect("a device");
         let (tx, rx) = std::sync::mpsc::channel();
         let wrapped = renderer::GpuContext::from_parts_with_loss_callback(
             gpu.instance.clone(),

@@ -415,3 +415,70 @@ fn coincident_surfaces_look_the_same_on_every_path() {
         }
     });
 }
+
+#[test]
+fn a_reconfigured_renderer_keeps_its_scene_and_renders_as_a_new_one() {
+    let scene = committed_scene();
+    // Rangeless lights: the cutoff and exposure give them their ranges.
+    let lights: Vec<SceneLight> = lights(&scene, 48, 7, 0.05, 0.3)
+        .into_iter()
+        .map(|l| SceneLight { range: None, ..l })
+        .collect();
+    let camera = framing_camera(scene.bounds, 96.0 / 64.0);
+    let first = RendererConfig {
+        width: 96,
+        height: 64,
+        msaa: 1,
+        path: RenderPath::Naive,
+        tile: 16,
+        ..Default::default()
+    };
+    // Another path, MSAA, tile and exposure, and a cutoff that shortens the lights' ranges
+    // visibly.
+    let second = RendererConfig {
+        msaa: 4,
+        path: RenderPath::Clustered,
+        tile: 8,
+        exposure: 1.7,
+        light_cutoff: DEFAULT_LIGHT_CUTOFF * 2000.0,
+        ..first
+    };
+    gpu_test(|gpu| {
+        let mut renderer = Renderer::new(gpu, first).expect("renderer");
+        renderer.prepare_scene(&scene).expect("the scene fits");
+        renderer.set_lights(&lights).expect("lights fit");
+        let before = render_one_frame(gpu, &mut renderer, &camera).rgba;
+        renderer
+            .reconfigure(second)
+            .expect("the device runs the second configuration");
+        // No `prepare_scene` or `set_lights` again.
+        let after = render_one_frame(gpu, &mut renderer, &camera).rgba;
+
+        let mut fresh = Renderer::new(gpu, second).expect("renderer");
+        fresh.prepare_scene(&scene).expect("the scene fits");
+        fresh.set_lights(&lights).expect("lights fit");
+        let want = render_one_frame(gpu, &mut fresh, &camera).rgba;
+        assert!(
+            largest_difference(&before, &want) > 8,
+            "the two configurations must render differently for this to show anything"
+        );
+        assert_eq!(
+            largest_difference(&after, &want),
+            0,
+            "the reconfigured renderer differs from a new renderer of the same configuration"
+        );
+
+        // A configuration the device cannot run is refused, and nothing changes.
+        let refused = renderer.reconfigure(RendererConfig { msaa: 3, ..second });
+        assert!(
+            matches!(
+                refused,
+                Err(renderer::frame::RenderError::SampleCount { asked: 3, .. })
+            ),
+            "{refused:?}"
+        );
+        assert_eq!(renderer.config().msaa, 4);
+        let again = render_one_frame(gpu, &mut renderer, &camera).rgba;
+        assert_eq!(largest_difference(&again, &want), 0);
+    });
+}

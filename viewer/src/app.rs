@@ -220,7 +220,7 @@ impl App {
         }
         r.fly.step(held, dt);
         if let Some(outcome) = self.watch.as_mut().and_then(Watch::poll) {
-            r.hot_reloaded(outcome, &self.shown);
+            r.hot_reloaded(outcome);
             self.shot_due = true;
         }
         let texture = match r.surface.get_current_texture() {

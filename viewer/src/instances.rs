@@ -1,7 +1,7 @@
 //! Editing the shown scene by handle while it runs: `I` adds a hundred instances (copies of the
 //! scene's own meshes, each scaled to about a metre) on a grid ahead of the camera, `U` removes
-//! the newest hundred. The renderer is not rebuilt; a settings key that rebuilds it adds them
-//! again ([`Added::replay`]).
+//! the newest hundred. The renderer is not rebuilt, and a settings key reconfigures it in place,
+//! so they stay.
 
 use anyhow::Result;
 use glam::{Mat4, Quat, Vec3};
@@ -24,15 +24,6 @@ impl Added {
     /// How many are in the scene.
     pub fn count(&self) -> usize {
         self.placed.len()
-    }
-
-    /// Adds them all again to a renderer just rebuilt.
-    pub fn replay(&mut self, renderer: &mut Renderer) -> Result<()> {
-        self.handles.clear();
-        for &(mesh, at) in &self.placed {
-            self.handles.push(renderer.add_instance(mesh, at)?);
-        }
-        Ok(())
     }
 
     /// A hundred instances of `shown`'s meshes on a grid ahead of `fly`, each turned by its

@@ -90,7 +90,9 @@ fn save_in_pieces(file: &Path, text: &str) {
 
 #[test]
 fn each_saved_change_is_one_reload_off_the_polling_thread() {
-    let _serial = SERIAL.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+    let _serial = SERIAL
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
     let dir = std::env::temp_dir().join(format!("viewer-watch-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     copy_dir(
@@ -180,7 +182,9 @@ fn each_saved_change_is_one_reload_off_the_polling_thread() {
 /// variant that prints the edited function, and no other.
 #[test]
 fn an_edit_to_a_library_reloads_every_module_that_reaches_it_through_the_graph() {
-    let _serial = SERIAL.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+    let _serial = SERIAL
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
     let dir = std::env::temp_dir().join(format!("viewer-graph-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     copy_dir(

@@ -47,6 +47,7 @@ mod assets;
 pub mod capture;
 mod motion;
 mod pass_list;
+mod reconfigure;
 pub mod setup;
 
 use std::collections::VecDeque;
@@ -87,6 +88,9 @@ pub struct Renderer {
     /// The scene, and its instances (edited by handle in `motion`).
     scene: Option<(Arc<PreparedScene>, Arc<InstanceTable>)>,
     lights: Arc<LightSet>,
+    /// The lights as last given to [`Renderer::set_lights`] (before effective ranges), so a
+    /// change of exposure or cutoff can range them again.
+    light_sources: Vec<SceneLight>,
     decals: Arc<GpuDecals>,
     particles: Option<ParticleInput>,
     camera_uniform: CameraUniform,
@@ -114,22 +118,12 @@ impl std::fmt::Debug for Renderer {
 }
 
 impl Renderer {
+    /// A renderer of `config` on `gpu`, with no scene, lights, decals or particles yet. The
+    /// configuration is checked against the device ([`RenderError::SampleCount`],
+    /// [`RenderError::NoSubgroup`], [`RenderError::FrameSize`], ...), and every program it
+    /// needs is built now. [`Renderer::reconfigure`] changes it later, keeping the scene.
     pub fn new(gpu: &GpuContext, config: RendererConfig) -> Result<Self, RenderError> {
-        let caps = gpu.capabilities();
-        let supported = caps.msaa_counts();
-        if !supported.contains(&config.msaa) {
-            return Err(RenderError::SampleCount {
-                asked: config.msaa,
-                supported,
-            });
-        }
-        if config.scalarize && caps.subgroup.is_none() {
-            return Err(RenderError::NoSubgroup);
-        }
-        if !(config.light_cutoff.is_finite() && config.light_cutoff >= 0.0) {
-            return Err(RenderError::LightCutoff(config.light_cutoff));
-        }
-        check_frame_size(gpu, config.width, config.height)?;
+        check_config(gpu, &config)?;
         let settings = wgpu_profiler::GpuProfilerSettings {
             enable_debug_groups: false,
             ..Default::default()
@@ -140,6 +134,7 @@ impl Renderer {
             config,
             scene: None,
             lights: Arc::new(LightSet::new(&gpu.device, &[])),
+            light_sources: vec![],
             decals: Arc::new(GpuDecals::empty(&gpu.device, &gpu.queue)),
             particles: None,
             camera_uniform: CameraUniform::new(&gpu.device),
@@ -181,12 +176,21 @@ impl Renderer {
     /// or spot light without a range gets the effective range where its illuminance falls to
     /// [`RendererConfig::light_cutoff`] (after exposure).
     pub fn set_lights(&mut self, lights: &[SceneLight]) -> Result<(), RenderError> {
-        let cutoff = self.config.light_cutoff / self.config.exposure.max(f32::MIN_POSITIVE);
+        self.lights = Arc::new(self.ranged_lights(lights, &self.config)?);
+        self.light_sources = lights.to_vec();
+        Ok(())
+    }
+
+    /// `lights` with the effective ranges of `config`'s cutoff and exposure, on the GPU.
+    fn ranged_lights(
+        &self,
+        lights: &[SceneLight],
+        config: &RendererConfig,
+    ) -> Result<LightSet, RenderError> {
+        let cutoff = config.light_cutoff / config.exposure.max(f32::MIN_POSITIVE);
         let lights = with_effective_ranges(lights, cutoff);
         let gpu = &self.gpu;
-        let set = LightSet::checked(&gpu.device, &gpu.queue, &lights, Some(&self.lights))?;
-        self.lights = Arc::new(set);
-        Ok(())
+        LightSet::checked(&gpu.device, &gpu.queue, &lights, Some(&self.lights))
     }
 
     /// Replaces the decals (validated, their atlas packed with the default
@@ -368,6 +372,25 @@ impl Renderer {
 }
 
 /// A frame of `width` × `height` fits `gpu`: 1 to the largest texture side on each axis.
+/// What a configuration asks of the device, checked before anything is built.
+fn check_config(gpu: &GpuContext, config: &RendererConfig) -> Result<(), RenderError> {
+    let caps = gpu.capabilities();
+    let supported = caps.msaa_counts();
+    if !supported.contains(&config.msaa) {
+        return Err(RenderError::SampleCount {
+            asked: config.msaa,
+            supported,
+        });
+    }
+    if config.scalarize && caps.subgroup.is_none() {
+        return Err(RenderError::NoSubgroup);
+    }
+    if !(config.light_cutoff.is_finite() && config.light_cutoff >= 0.0) {
+        return Err(RenderError::LightCutoff(config.light_cutoff));
+    }
+    check_frame_size(gpu, config.width, config.height)
+}
+
 fn check_frame_size(gpu: &GpuContext, width: u32, height: u32) -> Result<(), RenderError> {
     let max = gpu.device.limits().max_texture_dimension_2d;
     if width == 0 || height == 0 || width > max || height > max {

@@ -1,7 +1,7 @@
 //! The running window's responses that change its state: the settings keys (path, MSAA, tile,
-//! views, draw culling, light count), each rebuilding the renderer (instances added with `I`
-//! are added again); hot reload outcomes (a rebuild on the new
-//! WGSL, or the refusal shown); the overlay's status lines; and window resizes.
+//! views, draw culling, light count), each reconfiguring the renderer in place (the scene, its
+//! added instances, decals and lights stay uploaded); hot reload outcomes (the programs built
+//! again on the new WGSL, or the refusal shown); the overlay's status lines; and window resizes.
 
 use anyhow::Result;
 use renderer::frame::{FrameView, ParticleLighting, RenderPath};
@@ -10,11 +10,12 @@ use viewer::scene::{Shown, procedural};
 use winit::dpi::PhysicalSize;
 use winit::keyboard::KeyCode;
 
-use super::{Running, build};
+use super::Running;
 
 impl Running {
     /// A settings key: path, MSAA, tile, heatmap, decal heatmap, shadow atlas, draw culling or
-    /// light count; rebuilds the renderer.
+    /// light count; reconfigures the renderer ([`renderer::frame::Renderer::reconfigure`]), or
+    /// replaces its lights.
     pub(super) fn action(&mut self, key: char, shown: &Shown) -> Result<()> {
         let mut config = self.config;
         match key {
@@ -81,13 +82,17 @@ impl Running {
             '-' => self.light_count = (self.light_count / 2).max(1),
             _ => return Ok(()),
         }
-        let lights = procedural(shown, self.light_count);
-        match build(&self.gpu, config, shown, &lights) {
-            Ok(r) => {
-                self.renderer = r;
+        if matches!(key, '+' | '-') {
+            let lights = procedural(shown, self.light_count);
+            if let Err(e) = self.renderer.set_lights(&lights) {
+                self.message = Some(e.to_string());
+            }
+            return Ok(());
+        }
+        match self.renderer.reconfigure(config) {
+            Ok(()) => {
                 self.config = config;
                 self.message = None;
-                self.added.replay(&mut self.renderer)?;
             }
             // A combination the renderer refuses (a heatmap of the naive path): say so.
             Err(e) => self.message = Some(e.to_string()),
@@ -95,23 +100,14 @@ impl Running {
         Ok(())
     }
 
-    /// After a hot reload: rebuilds the renderer on the new WGSL, or keeps the running one and
-    /// says why the edit was refused.
-    pub(super) fn hot_reloaded(&mut self, outcome: Outcome, shown: &Shown) {
+    /// After a hot reload: builds the renderer's programs again on the new WGSL (the scene stays
+    /// uploaded), or keeps the running ones and says why the edit was refused.
+    pub(super) fn hot_reloaded(&mut self, outcome: Outcome) {
         let message = match outcome {
-            Outcome::Installed(n) => {
-                let lights = procedural(shown, self.light_count);
-                match build(&self.gpu, self.config, shown, &lights) {
-                    Ok(r) => {
-                        self.renderer = r;
-                        if let Err(e) = self.added.replay(&mut self.renderer) {
-                            eprintln!("the added instances were not added again: {e:#}");
-                        }
-                        format!("hot reload: {n} shader variant(s) replaced")
-                    }
-                    Err(e) => format!("hot reload: the renderer did not rebuild: {e:#}"),
-                }
-            }
+            Outcome::Installed(n) => match self.renderer.reconfigure(self.config) {
+                Ok(()) => format!("hot reload: {n} shader variant(s) replaced"),
+                Err(e) => format!("hot reload: the renderer did not rebuild: {e:#}"),
+            },
             Outcome::Refused(why) => {
                 format!("shader edit refused: {why} (the last good shaders keep running)")
             }
