@@ -146,15 +146,8 @@ pub mod cluster_cull {
         }
         let r = tile_ndc(wg.xy(), tile, PARAMS.screen);
         let column = TileColumn {
-            sides: side_planes(PARAMS.projection, r.x, r.y, r.z, r.w),
-            rays: tile_rays(
-                PARAMS.inv_projection,
-                PARAMS.orthographic,
-                r.x,
-                r.y,
-                r.z,
-                r.w,
-            ),
+            sides: side_planes(PARAMS.projection, r),
+            rays: tile_rays(PARAMS.inv_projection, PARAMS.orthographic, r),
             slices,
             depth_lo,
             depth_hi,

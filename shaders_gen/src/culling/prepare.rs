@@ -187,7 +187,7 @@ pub mod cull_prepare {
             // The super-tile frustum (pixel edges, not clamped to the screen, like tiles),
             // once per workgroup.
             let r = tile_ndc(wg.xy(), SUPER_TILE_PIXELS, PARAMS.screen);
-            SUPER_SIDES = side_planes(PARAMS.projection, r.x, r.y, r.z, r.w);
+            SUPER_SIDES = side_planes(PARAMS.projection, r);
             SUPER_RANGE = super_range(st);
         }
         workgroup_barrier();

@@ -163,15 +163,8 @@ pub mod tile_cull {
 
         // The tile frustum's sides from the projection rows (Gribb/Hartmann).
         let r = tile_ndc(wg.xy(), tile, PARAMS.screen);
-        let sides = side_planes(PARAMS.projection, r.x, r.y, r.z, r.w);
-        let rays = tile_rays(
-            PARAMS.inv_projection,
-            PARAMS.orthographic,
-            r.x,
-            r.y,
-            r.z,
-            r.w,
-        );
+        let sides = side_planes(PARAMS.projection, r);
+        let rays = tile_rays(PARAMS.inv_projection, PARAMS.orthographic, r);
 
         let st = super_tile_of(wg.xy(), tile);
         let coarse = reads_coarse(st);

@@ -224,15 +224,8 @@ pub mod tbdr {
         let near = depth_to_view(f32::from_bits(min_bits));
         let far = depth_to_view(f32::from_bits(max_bits));
         let r = tile_ndc(wg.xy(), tile, PARAMS.screen);
-        let sides = side_planes(PARAMS.projection, r.x, r.y, r.z, r.w);
-        let rays = tile_rays(
-            PARAMS.inv_projection,
-            PARAMS.orthographic,
-            r.x,
-            r.y,
-            r.z,
-            r.w,
-        );
+        let sides = side_planes(PARAMS.projection, r);
+        let rays = tile_rays(PARAMS.inv_projection, PARAMS.orthographic, r);
 
         let edges = EDGE_COUNT.load();
         let items = edges * (msaa - 1u32);

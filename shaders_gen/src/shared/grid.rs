@@ -91,19 +91,20 @@ pub mod light_grid {
         )
     }
 
-    /// The side planes of the screen rectangle `[x0, x1] × [y0, y1]` in NDC, from the
-    /// projection rows (Gribb/Hartmann): through the eye for a perspective projection, parallel
-    /// to the view axis for an orthographic one (its last row is `(0, 0, 0, 1)`).
-    pub fn side_planes(projection: Mat4, x0: f32, x1: f32, y0: f32, y1: f32) -> SidePlanes {
+    /// The side planes of the screen rectangle `rect` = `(x0, x1, y0, y1)` in NDC (as
+    /// [`tile_ndc`] gives it), from the projection rows (Gribb/Hartmann): through the eye for a
+    /// perspective projection, parallel to the view axis for an orthographic one (its last row
+    /// is `(0, 0, 0, 1)`).
+    pub fn side_planes(projection: Mat4, rect: Vec4) -> SidePlanes {
         let m = projection;
         let row0 = Vec4::new(m.x_axis.x, m.y_axis.x, m.z_axis.x, m.w_axis.x);
         let row1 = Vec4::new(m.x_axis.y, m.y_axis.y, m.z_axis.y, m.w_axis.y);
         let row3 = Vec4::new(m.x_axis.w, m.y_axis.w, m.z_axis.w, m.w_axis.w);
         SidePlanes {
-            left: normalized_plane(row0 - x0 * row3),
-            right: normalized_plane(x1 * row3 - row0),
-            bottom: normalized_plane(row1 - y0 * row3),
-            top: normalized_plane(y1 * row3 - row1),
+            left: normalized_plane(row0 - rect.x * row3),
+            right: normalized_plane(rect.y * row3 - row0),
+            bottom: normalized_plane(row1 - rect.z * row3),
+            top: normalized_plane(rect.w * row3 - row1),
         }
     }
 
@@ -189,19 +190,12 @@ pub mod light_grid {
         ray
     }
 
-    /// The corner rays of the screen rectangle `[x0, x1] × [y0, y1]` in NDC (a perspective
+    /// The corner rays of the screen rectangle `rect` = `(x0, x1, y0, y1)` in NDC (a perspective
     /// projection maps NDC `x` to view `x / −z` alone, and `y` likewise, so two corners do; an
     /// orthographic one, `orthographic` non-zero, maps NDC `x` to view `x` alone).
-    pub fn tile_rays(
-        inv_projection: Mat4,
-        orthographic: u32,
-        x0: f32,
-        x1: f32,
-        y0: f32,
-        y1: f32,
-    ) -> TileRays {
-        let a = view_ray(inv_projection, orthographic, x0, y0);
-        let b = view_ray(inv_projection, orthographic, x1, y1);
+    pub fn tile_rays(inv_projection: Mat4, orthographic: u32, rect: Vec4) -> TileRays {
+        let a = view_ray(inv_projection, orthographic, rect.x, rect.z);
+        let b = view_ray(inv_projection, orthographic, rect.y, rect.w);
         TileRays {
             min: a.min(b),
             max: a.max(b),
