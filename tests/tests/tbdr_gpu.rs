@@ -390,13 +390,21 @@ fn the_shading_frequency_view_marks_edges_red_and_bad_settings_are_errors() {
             path: RenderPath::Tiled,
             ..Default::default()
         };
-        assert!(bad(tiled).contains("use --path tbdr, tbdr-per-sample or deferred"));
+        assert!(
+            bad(tiled).contains(
+                "set RendererConfig::path to RenderPath::Tbdr, TbdrPerSample or Deferred"
+            )
+        );
         let wide = RendererConfig {
             path: RenderPath::Tbdr,
             tile: 32,
             ..Default::default()
         };
-        assert!(bad(wide).contains("use 8 or 16"));
+        let why = bad(wide);
+        assert!(
+            why.contains("RendererConfig::tile 32") && why.contains("use 8 or 16"),
+            "{why}"
+        );
     });
 }
 

@@ -59,7 +59,7 @@ fn every_option_refuses_bad_values_with_a_clear_message() {
     );
     refused(
         &["--path", "tbdr", "--tile", "32"],
-        "tile size 32 does not suit the deferred paths (tbdr, tbdr-per-sample, deferred): use 8 or 16",
+        "--tile 32: the deferred paths (--path tbdr, tbdr-per-sample, deferred) take 8 or 16",
     );
     refused(
         &["--view", "particle-atlas"],

@@ -96,13 +96,14 @@ pub enum RenderError {
     #[error(transparent)]
     Particles(#[from] crate::particles::ParticleError),
     #[error(
-        "tile size {0} does not suit the deferred paths (tbdr, tbdr-per-sample, deferred): use \
-         8 or 16 (one invocation per pixel, and a tile's per-sample colours in workgroup memory)"
+        "RendererConfig::tile {0} does not suit the deferred paths (RenderPath::Tbdr, \
+         TbdrPerSample, Deferred): use 8 or 16 (one invocation per pixel, and a tile's \
+         per-sample colours in workgroup memory)"
     )]
     TbdrTile(u32),
     #[error(
-        "the shading-frequency view shows which pixels deferred shading shades per sample; use \
-         --path tbdr, tbdr-per-sample or deferred"
+        "FrameView::ShadingFrequency shows which pixels deferred shading shades per sample; set \
+         RendererConfig::path to RenderPath::Tbdr, TbdrPerSample or Deferred"
     )]
     ShadingFrequencyNeedsTbdr,
     #[error(

@@ -12,7 +12,8 @@ pub enum GpuError {
     NoAdapter { backends: wgpu::Backends },
 
     #[error(
-        "no adapter name contains {wanted:?} (from --adapter or RENDERER_ADAPTER); adapters \
+        "no adapter name contains {wanted:?} (GpuOptions::adapter_name, from RENDERER_ADAPTER \
+         or a tool's --adapter); adapters \
          found: {available:?}"
     )]
     AdapterNotFound {
@@ -22,7 +23,8 @@ pub enum GpuError {
 
     #[error(
         "adapter {adapter:?} lacks the limit {limit} = {needed} the renderer needs (it has \
-         {available}); pick another adapter with --adapter or RENDERER_ADAPTER"
+         {available}); pick another adapter (GpuOptions::adapter_name, from RENDERER_ADAPTER or \
+         a tool's --adapter)"
     )]
     InsufficientLimit {
         adapter: String,

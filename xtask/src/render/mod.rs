@@ -195,6 +195,11 @@ pub fn setup(args: &Args) -> Result<Setup> {
             )
         }
     };
+    if path.is_deferred() && args.tile == 32 {
+        bail!(
+            "--tile 32: the deferred paths (--path tbdr, tbdr-per-sample, deferred) take 8 or 16"
+        );
+    }
     if view == FrameView::ShadingFrequency && !path.is_deferred() {
         bail!("--view shading-frequency: use --path tbdr, tbdr-per-sample or deferred");
     }
