@@ -30,7 +30,15 @@ pub mod engine_lit {
             n = stored_normal(n);
         }
         let v = Vec3::new(0.0, 0.0, 1.0);
-        let c = shade_light(LIGHT[0], p.position, n, v, Vec3::new(0.8, 0.8, 0.8), p.metallic, p.roughness);
+        let c = shade_light(
+            LIGHT[0],
+            p.position,
+            n,
+            v,
+            Vec3::new(0.8, 0.8, 0.8),
+            p.metallic,
+            p.roughness,
+        );
         OUT[gid.x] = tinted(c).extend(1.0);
     }
 }

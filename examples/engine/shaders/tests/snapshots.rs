@@ -12,7 +12,11 @@ fn every_variant_s_wgsl_is_snapshotted() {
         // The renderer's PBR and octahedral code and the engine's library are merged in.
         assert!(variant.wgsl.contains("fn shade_light("), "{key}");
         assert!(variant.wgsl.contains("fn tinted("), "{key}");
-        assert_eq!(variant.wgsl.contains("fn octahedral_decode("), key.packed, "{key}");
+        assert_eq!(
+            variant.wgsl.contains("fn octahedral_decode("),
+            key.packed,
+            "{key}"
+        );
         insta::assert_snapshot!(format!("engine_lit_{key}"), variant.wgsl);
     }
 }
@@ -46,7 +50,12 @@ fn the_builders_take_the_library_crate_s_part_by_name() {
         .collect();
     assert_eq!(
         names,
-        [(0, 0, "POINTS"), (0, 1, "LIGHT"), (0, 2, "OUT"), (1, 0, "TINT")]
+        [
+            (0, 0, "POINTS"),
+            (0, 1, "LIGHT"),
+            (0, 2, "OUT"),
+            (1, 0, "TINT")
+        ]
     );
     // The host type of the library's struct is the library crate's own.
     let tint = engine_shader_lib::surface::Tint::new(glam::Vec3::ONE, 0.25);
