@@ -135,9 +135,9 @@ fn cargo_test(extra: &[String]) -> Result<Counts> {
     run_counted(command)
 }
 
-/// The engine example's tests (`examples/engine`: a shader library crate and a crate using it
-/// and the renderer's libraries, outside the workspace), built in the workspace's target
-/// directory.
+/// The engine example's tests (`examples/engine`: a shader library crate, a crate using it and
+/// the renderer's libraries, and an app embedding the renderer with a pass of its own, outside
+/// the workspace), built in the workspace's target directory.
 fn engine_example_test() -> Result<Counts> {
     let root = crate::workspace::workspace_root();
     let mut command = Command::new(env!("CARGO"));
