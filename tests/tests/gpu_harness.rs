@@ -286,7 +286,7 @@ fn an_engines_device_with_webgpu_default_limits_is_refused_naming_what_to_ask() 
         };
         assert_eq!(
             missing,
-            &[renderer::gpu::requirements::MissingLimit {
+            &[renderer::gpu::MissingLimit {
                 limit: "max_storage_buffers_per_shader_stage",
                 needed: 10,
                 available: 8,

@@ -47,6 +47,11 @@ const SHADER_SOURCE_MARKERS: &[&str] = &[
 /// through the DSL's generated builders (`shader_bind`), which number bindings from the
 /// reflection.
 const HAND_BOUND_MARKERS: &[&str] = &["create_bind_group(", "BindGroupEntry {"];
+/// What production code of `renderer` may not name: the CPU culling reference, which must stay
+/// independent of what it checks.
+const REFERENCE_MARKERS: &[&str] = &["culling::reference", "super::reference"];
+/// Files that may: the reference itself, and the frame capture, a tool's measurement against it.
+const REFERENCE_USERS: &[&str] = &["culling/reference/", "passes/depth_probe/"];
 /// Files that may not use anything of the frame orchestrator: passes add themselves to a graph
 /// the frame builds, they never reach back into it.
 const PASSES_DIR: &str = "renderer/src/passes/";
@@ -75,6 +80,9 @@ pub fn run() -> Result<()> {
     let renderer_sources = read_rust_sources(&root.join("renderer/src"))?;
     violations.extend(check_no_shader_source(&renderer_sources));
     violations.extend(check_no_hand_bound_groups(&renderer_sources));
+    violations.extend(check_rendering_does_not_use_the_reference(
+        &renderer_sources,
+    ));
     let workspace = read_workspace_sources(&root)?;
     violations.extend(check_no_import_circles(&workspace));
     violations.extend(check_passes_do_not_import_frame(&workspace));
@@ -188,6 +196,23 @@ pub fn check_no_hand_bound_groups(sources: &[(String, String)]) -> Vec<Violation
         "renderer numbers no binding by hand",
         "builds a bind group by hand; use the module's generated `Group<N>` builder (or \
          `shader_bind::Resources`)",
+    )
+}
+
+/// "Rendering does not use the CPU culling reference": outside the reference and the frame
+/// capture, `renderer` names only `culling`'s own types (`culling::vocabulary`).
+pub fn check_rendering_does_not_use_the_reference(sources: &[(String, String)]) -> Vec<Violation> {
+    let production: Vec<(String, String)> = sources
+        .iter()
+        .filter(|(path, _)| !REFERENCE_USERS.iter().any(|r| path.contains(r)))
+        .cloned()
+        .collect();
+    lines_with_markers(
+        &production,
+        REFERENCE_MARKERS,
+        "rendering does not use the CPU culling reference",
+        "names the CPU reference from production code; use the types of `crate::culling` \
+         (`culling::vocabulary`)",
     )
 }
 
@@ -406,6 +431,35 @@ mod tests {
         assert_eq!(v.len(), 2);
         assert!(
             v[0].detail.starts_with("pass.rs:2: `create_bind_group(`"),
+            "{}",
+            v[0].detail
+        );
+    }
+
+    #[test]
+    fn production_code_naming_the_culling_reference_is_caught() {
+        let sources = [
+            src(
+                "culling/reference/methods.rs",
+                "use super::Method;\nuse crate::culling::reference::cells;\n",
+            ),
+            src(
+                "passes/depth_probe/capture.rs",
+                "use crate::culling::reference::DepthBuffer;\n",
+            ),
+            src("passes/light_cull/mod.rs", "use crate::culling::Method;\n"),
+        ]
+        .concat();
+        assert!(check_rendering_does_not_use_the_reference(&sources).is_empty());
+        let broken = src(
+            "frame_data/lights.rs",
+            "ok\nuse crate::culling::reference::LightSphere;\n",
+        );
+        let v = check_rendering_does_not_use_the_reference(&broken);
+        assert_eq!(v.len(), 1);
+        assert!(
+            v[0].detail
+                .starts_with("frame_data/lights.rs:2: `culling::reference`"),
             "{}",
             v[0].detail
         );

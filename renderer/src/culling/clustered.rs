@@ -4,9 +4,9 @@
 use glam::{Mat4, UVec2};
 use shaders_gen::culling::cluster_cull::{self, MAX_LISTS, Tile, VariantKey};
 
+use super::ClusterGrid;
 use super::CullError;
 use super::hierarchy::{CullHierarchy, CullItems, CullView, HierarchyShape, MethodParams};
-use super::reference::ClusterGrid;
 use crate::GpuContext;
 
 /// Settings of the clustered culling pass.

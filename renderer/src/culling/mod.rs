@@ -4,8 +4,8 @@
 //! The GPU kernels live in `shaders_gen::culling`; this module holds their host side: the
 //! hierarchy every method shares ([`hierarchy`]: tile depth, super-tile candidates, the fine
 //! dispatch), the methods ([`tiled`], [`clustered`]), the output they share ([`lists`]), overflow
-//! readback and index-list growth ([`overflow`]), and the independent CPU reference
-//! ([`reference`]) that the kernels are proven against.
+//! readback and index-list growth ([`overflow`]), the types both speak ([`vocabulary`]), and the
+//! independent CPU reference ([`reference`]) that the kernels are proven against.
 
 pub mod capacity;
 pub mod clustered;
@@ -14,6 +14,9 @@ pub mod lists;
 pub mod overflow;
 pub mod reference;
 pub mod tiled;
+pub mod vocabulary;
+
+pub use vocabulary::{ClusterGrid, CullCamera, LightSphere, Method, Plane, SUPER_TILE_PIXELS};
 
 use crate::GpuError;
 use crate::shader::VariantError;

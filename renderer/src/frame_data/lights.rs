@@ -7,7 +7,7 @@ use shaders_gen::shared::light_set;
 use shaders_gen::shared::shadow_atlas::NO_SHADOW;
 use wgpu::util::DeviceExt as _;
 
-use crate::culling::reference::LightSphere;
+use crate::culling::LightSphere;
 use crate::scene::{LightKind, SceneLight};
 
 /// Range standing in for "infinite" in culling spheres.

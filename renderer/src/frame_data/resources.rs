@@ -2,7 +2,7 @@
 //! earlier passes put here and adds its own. A new kind of shared result (a shadow atlas, a
 //! decal list) is a new field here, not a change to the orchestrator.
 
-use crate::culling::reference::Method;
+use crate::culling::Method;
 use crate::graph::{
     Buffer, BufferAccess, CompiledGraph, Handle, ImportAccess, PassBuilder, PassContext,
     RenderGraph, Texture,

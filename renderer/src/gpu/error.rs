@@ -42,7 +42,7 @@ pub enum GpuError {
         if *adapter_can { "; the adapter allows them" } else { "; the adapter itself does not allow them: use another adapter" }
     )]
     DeviceLimits {
-        missing: Vec<super::requirements::MissingLimit>,
+        missing: Vec<MissingLimit>,
         /// Whether the device's adapter allows every missing limit.
         adapter_can: bool,
     },
@@ -74,4 +74,25 @@ fn list<T: std::fmt::Display>(items: &[T]) -> String {
         .map(ToString::to_string)
         .collect::<Vec<_>>()
         .join(", ")
+}
+
+/// A limit a device has below what the renderer needs.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct MissingLimit {
+    /// The field of `wgpu::Limits`.
+    pub limit: &'static str,
+    /// What the renderer needs (a largest alignment for the `min_*_alignment` limits).
+    pub needed: u64,
+    /// What the device has.
+    pub available: u64,
+}
+
+impl std::fmt::Display for MissingLimit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} = {} (the device has {})",
+            self.limit, self.needed, self.available
+        )
+    }
 }

@@ -12,7 +12,7 @@ pub mod requirements;
 mod scalarize;
 
 pub use adapter::{AdapterReport, Capabilities, SubgroupSize, enumerate_adapters, rank_adapters};
-pub use error::GpuError;
+pub use error::{GpuError, MissingLimit};
 pub use options::{ADAPTER_ENV, GpuOptions};
 pub use scalarize::{
     RECORDS as SCALARIZE_RECORDS, ScalarizeRecord, ScalarizedKernel, scalarize_auto,

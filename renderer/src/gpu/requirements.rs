@@ -4,7 +4,7 @@
 //! adapter has them, and limits are raised only as far as the renderer uses them and the adapter
 //! allows. Code that needs an optional feature checks [`super::Capabilities`] first.
 
-use super::error::GpuError;
+use super::error::{GpuError, MissingLimit};
 
 /// Features the renderer uses when present.
 pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::SUBGROUP
@@ -48,27 +48,6 @@ pub fn minimum_limits() -> wgpu::Limits {
     wgpu::Limits {
         max_storage_buffers_per_shader_stage: STORAGE_BUFFERS_PER_STAGE,
         ..wgpu::Limits::default()
-    }
-}
-
-/// A limit a device has below what the renderer needs.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct MissingLimit {
-    /// The field of `wgpu::Limits`.
-    pub limit: &'static str,
-    /// What the renderer needs (a largest alignment for the `min_*_alignment` limits).
-    pub needed: u64,
-    /// What the device has.
-    pub available: u64,
-}
-
-impl std::fmt::Display for MissingLimit {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "{} = {} (the device has {})",
-            self.limit, self.needed, self.available
-        )
     }
 }
 

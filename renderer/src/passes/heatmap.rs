@@ -6,7 +6,7 @@ use shaders_gen::forward::heatmap;
 
 use super::{Pass, draw_fullscreen, fullscreen_pipeline};
 use crate::GpuContext;
-use crate::culling::reference::Method;
+use crate::culling::Method;
 use crate::frame_data::{
     FrameInputs, FrameResources, LightListHandles, ListGeometry, RenderError, RenderPath,
     RendererConfig,

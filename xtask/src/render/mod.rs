@@ -7,10 +7,7 @@ use anyhow::{Context as _, Result, bail};
 use glam::Vec3;
 use renderer::culling::lists::CullCounters;
 use renderer::decals::DecalSet;
-use renderer::frame::setup::{
-    camera_of, courtyard_look, create_target, default_camera, pick_shadowed, procedural_lights,
-    scene_camera,
-};
+use renderer::frame::setup::{courtyard_look, create_target, pick_shadowed, procedural_lights};
 use renderer::frame::{
     FrameCamera, FrameReport, FrameView, ParticleLighting, Renderer, RendererConfig,
 };
@@ -175,8 +172,13 @@ pub struct Shot {
 pub fn setup(args: &Args) -> Result<Setup> {
     let (w, h) = parse_size(&args.size)?;
     let path = PathChoice::parse(&args.path)?.0;
-    if ![8, 16, 32].contains(&args.tile) {
-        bail!("--tile {}: use 8, 16 or 32", args.tile);
+    let tiles: &[u32] = if path.is_deferred() {
+        &[8, 16]
+    } else {
+        &[8, 16, 32]
+    };
+    if !tiles.contains(&args.tile) {
+        bail!("--tile {}: --path {} takes {tiles:?}", args.tile, args.path);
     }
     if ![1, 2, 4, 8].contains(&args.msaa) {
         bail!("--msaa {}: use 1, 2, 4 or 8", args.msaa);
@@ -195,11 +197,6 @@ pub fn setup(args: &Args) -> Result<Setup> {
             )
         }
     };
-    if path.is_deferred() && args.tile == 32 {
-        bail!(
-            "--tile 32: the deferred paths (--path tbdr, tbdr-per-sample, deferred) take 8 or 16"
-        );
-    }
     if view == FrameView::ShadingFrequency && !path.is_deferred() {
         bail!("--view shading-frequency: use --path tbdr, tbdr-per-sample or deferred");
     }
@@ -284,7 +281,8 @@ pub fn setup(args: &Args) -> Result<Setup> {
         rmin,
         rmax,
     ));
-    let camera = pick_camera(args, &scene, w as f32 / h as f32)?;
+    let chosen = (args.camera, args.eye, args.target);
+    let camera = scene_arg::pick_camera(chosen, &scene, w as f32 / h as f32)?;
     let decals = decal_set(args, &scene)?;
     let particles = particle_system(args, &scene, &gpu)?;
     let shadowed_from = scene.lights.len();
@@ -477,28 +475,4 @@ pub fn run(args: &Args, default_out: &str) -> Result<()> {
         dot.display()
     );
     Ok(())
-}
-
-fn pick_camera(args: &Args, scene: &Scene, aspect: f32) -> Result<FrameCamera> {
-    if let Some(i) = args.camera {
-        return camera_of(scene, i, aspect).ok_or_else(|| {
-            anyhow::anyhow!(
-                "--camera {i}: the scene has {} camera(s)",
-                scene.cameras.len()
-            )
-        });
-    }
-    if let (Some(eye), Some(target)) = (args.eye, args.target) {
-        let size = (scene.bounds.max - scene.bounds.min).length().max(1e-3);
-        let (near, far) = (size * 0.01, size * 10.0);
-        let world_from_view = glam::camera::rh::view::look_at_mat4(eye, target, Vec3::Y).inverse();
-        return Ok(scene_camera(
-            world_from_view,
-            45f32.to_radians(),
-            aspect,
-            near,
-            far,
-        ));
-    }
-    Ok(default_camera(scene, aspect))
 }

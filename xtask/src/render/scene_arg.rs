@@ -1,10 +1,12 @@
 //! What a tool's `--scene` opens: a built-in scene by name (`courtyard`, `city:N`) or a glTF
-//! file, with where procedural lights go in it.
+//! file, with where procedural lights go in it, and the camera it is seen from.
 
 use std::path::Path;
 
 use anyhow::{Context as _, Result, bail};
-use renderer::frame::setup::light_space;
+use glam::Vec3;
+use renderer::frame::FrameCamera;
+use renderer::frame::setup::{camera_of, default_camera, light_space, scene_camera};
 use renderer::scene::procedural::{BuiltinScene, builtin};
 use renderer::scene::{Aabb, Scene};
 
@@ -66,4 +68,34 @@ pub fn open_scene(arg: Option<&Path>) -> Result<OpenedScene> {
         courtyard: false,
         generated: false,
     })
+}
+
+/// The frame's camera: the scene's camera `--camera i`, one from `--eye`/`--target`, or a
+/// framing default.
+pub(super) fn pick_camera(
+    (camera, eye, target): (Option<usize>, Option<Vec3>, Option<Vec3>),
+    scene: &Scene,
+    aspect: f32,
+) -> Result<FrameCamera> {
+    if let Some(i) = camera {
+        return camera_of(scene, i, aspect).ok_or_else(|| {
+            anyhow::anyhow!(
+                "--camera {i}: the scene has {} camera(s)",
+                scene.cameras.len()
+            )
+        });
+    }
+    if let (Some(eye), Some(target)) = (eye, target) {
+        let size = (scene.bounds.max - scene.bounds.min).length().max(1e-3);
+        let (near, far) = (size * 0.01, size * 10.0);
+        let world_from_view = glam::camera::rh::view::look_at_mat4(eye, target, Vec3::Y).inverse();
+        return Ok(scene_camera(
+            world_from_view,
+            45f32.to_radians(),
+            aspect,
+            near,
+            far,
+        ));
+    }
+    Ok(default_camera(scene, aspect))
 }

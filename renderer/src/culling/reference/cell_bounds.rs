@@ -3,8 +3,9 @@
 
 use glam::Vec3;
 
-use super::cells::{ClusterGrid, DEPTH_MASK_CELLS};
-use super::frustum::{Plane, tile_side_planes};
+use super::Plane;
+use super::frustum::tile_side_planes;
+use super::{ClusterGrid, DEPTH_MASK_CELLS};
 use super::{CullCamera, DepthBuffer};
 use crate::decals::OrientedBox;
 

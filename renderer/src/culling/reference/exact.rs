@@ -6,8 +6,9 @@
 
 use glam::{UVec3, Vec3};
 
+use super::Method;
 use super::cell_bounds::for_each_surface_sample;
-use super::cells::{CellLists, Method};
+use super::cells::CellLists;
 
 /// Calls `f(x, y, view_position)` for every sample of `depth` that holds a surface.
 pub fn for_each_surface_sample_pub(

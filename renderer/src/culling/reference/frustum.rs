@@ -1,44 +1,8 @@
 //! Tile frustum planes from the projection matrix (Gribb/Hartmann), and the sphere test.
 
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Mat4, Vec3};
 
-/// A plane `n · p + d = 0` with unit `n` pointing into the kept half-space.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Plane {
-    pub normal: Vec3,
-    pub d: f32,
-}
-
-impl Plane {
-    fn from_vec4(v: Vec4) -> Self {
-        let len = v.truncate().length();
-        Self {
-            normal: v.truncate() / len,
-            d: v.w / len,
-        }
-    }
-
-    /// Signed distance of `p` (positive inside).
-    pub fn distance(&self, p: Vec3) -> f32 {
-        self.normal.dot(p) + self.d
-    }
-
-    /// The near plane at view depth `depth` (keeps points at least that far).
-    pub fn near(depth: f32) -> Self {
-        Self {
-            normal: Vec3::NEG_Z,
-            d: -depth,
-        }
-    }
-
-    /// The far plane at view depth `depth` (keeps points at most that far).
-    pub fn far(depth: f32) -> Self {
-        Self {
-            normal: Vec3::Z,
-            d: depth,
-        }
-    }
-}
+use super::Plane;
 
 /// The four side planes of the screen rectangle `[x0, x1] × [y0, y1]` in NDC, in view space.
 ///

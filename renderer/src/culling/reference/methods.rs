@@ -6,12 +6,14 @@
 
 use glam::Vec3;
 
+use super::Plane;
 use super::cell_bounds::{
     FroxelBox, TileDepth, box_margin, camera_range, froxel_box, has_sky, side_planes, with_depth,
 };
-use super::cells::{Borderline, CellLists, Method, SUPER_TILE_PIXELS};
-use super::frustum::{Plane, sphere_margin};
+use super::cells::{Borderline, CellLists};
+use super::frustum::sphere_margin;
 use super::{CullCamera, DepthBuffer, LightSphere};
+use super::{Method, SUPER_TILE_PIXELS};
 use crate::decals::OrientedBox;
 
 /// Tolerance of a sphere test in `f32`, relative to the magnitudes involved.

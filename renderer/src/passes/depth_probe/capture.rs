@@ -11,10 +11,10 @@ use shaders_gen::inspect::depth_probe;
 use wgpu::util::DeviceExt as _;
 
 use crate::GpuContext;
+// The capture measures a frame against the CPU reference (a tool's use of it, not rendering).
 use crate::culling::reference::exact::Efficiency;
-use crate::culling::reference::{
-    CullCamera, DepthBuffer, LightSphere, Method, standard_sample_offset,
-};
+use crate::culling::reference::{DepthBuffer, standard_sample_offset};
+use crate::culling::{CullCamera, LightSphere, Method};
 use crate::readback;
 use crate::shader::ShaderProgram;
 

@@ -11,7 +11,7 @@ use capture::{PendingCapture, ProbeGpu, ProbePipeline};
 use shaders_gen::inspect::depth_probe;
 
 use super::Pass;
-use crate::culling::reference::CullCamera;
+use crate::culling::CullCamera;
 use crate::frame_data::{FrameInputs, FrameResources, RenderError};
 use crate::graph::{BufferAccess, ImportAccess, RenderGraph, TextureAccess};
 

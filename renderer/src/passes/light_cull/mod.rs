@@ -17,8 +17,8 @@ use crate::culling::hierarchy::{CullHierarchy, CullItems, CullSphere};
 use crate::culling::lists::{CullCounters, LightLists};
 use crate::culling::max_index_entries;
 use crate::culling::overflow::grow_for;
-use crate::culling::reference::{ClusterGrid, Method};
 use crate::culling::tiled::{TileCullConfig, TiledCulling};
+use crate::culling::{ClusterGrid, Method};
 use crate::frame_data::{
     FrameInputs, FrameReport, FrameResources, LightListHandles, RenderError, RenderPath,
 };

@@ -110,11 +110,7 @@ impl ParticleGpu {
 
     /// Writes the frame's `ParticleView`: the camera, the lights, and the geometry of the
     /// particle lists (`lists`; none on the naive paths).
-    pub fn write_view(
-        &self,
-        frame: &FrameInputs,
-        lists: Option<crate::culling::reference::Method>,
-    ) {
+    pub fn write_view(&self, frame: &FrameInputs, lists: Option<crate::culling::Method>) {
         let (c, camera) = (&frame.config, &frame.camera);
         let g = ListGeometry::new(lists, c, camera);
         let view = ParticleView::new(

@@ -31,7 +31,7 @@ pub use cube::{CUBE_FACE_DIRECTIONS, CUBE_FACE_UPS, cube_face, cube_tan_half_fov
 use glam::camera::rh::view::look_to_mat4;
 use glam::{Mat4, Vec3, Vec4};
 
-use crate::culling::reference::Plane;
+use crate::culling::Plane;
 use crate::scene::Aabb;
 
 /// Largest half angle a spot view covers; wider cones are clamped (a single perspective view
