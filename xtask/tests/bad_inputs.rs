@@ -43,10 +43,7 @@ fn every_option_refuses_bad_values_with_a_clear_message() {
     refused(&["--size", "9000x100"], "each side 1..=8192");
     refused(&["--size", "wide"], "use WxH");
     refused(&["--msaa", "3"], "--msaa 3: use 1, 2, 4 or 8");
-    refused(
-        &["--tile", "7"],
-        "--tile 7: --path tiled takes [8, 16, 32]",
-    );
+    refused(&["--tile", "7"], "--tile 7: --path tiled takes [8, 16, 32]");
     refused(
         &["--path", "warp"],
         "path \"warp\": use naive, naive-prez, tiled, 2.5d, clustered, tbdr, tbdr-per-sample or deferred",
