@@ -40,13 +40,21 @@ pub fn storage_binding_records(device: &wgpu::Device, element_size: usize) -> u6
 /// WebGPU default of 8; every Vulkan, Metal and D3D12 desktop adapter has at least 16.
 pub const STORAGE_BUFFERS_PER_STAGE: u32 = 10;
 
-/// The least a device must allow for every path of the renderer: WebGPU's default limits, and
-/// [`STORAGE_BUFFERS_PER_STAGE`] storage buffers per stage above them. [`for_adapter`] asks at
-/// least this; an engine that opens its own device must too ([`super::GpuContext::from_parts`]
-/// checks it).
+/// The smallest storage binding and buffer the renderer is tested with: it sizes its light
+/// lists, lights and scene buffers to the device's limits (with typed errors where something
+/// does not fit), so it runs below WebGPU's 128 MiB default.
+pub const SMALLEST_STORAGE_BINDING_BYTES: u64 = 128 << 10;
+
+/// The least a device must allow for every path of the renderer: WebGPU's default limits, with
+/// [`STORAGE_BUFFERS_PER_STAGE`] storage buffers per stage above them and storage bindings and
+/// buffers down to [`SMALLEST_STORAGE_BINDING_BYTES`] below them. [`for_adapter`] asks at least
+/// this; an engine that opens its own device must too ([`super::GpuContext::from_parts`] checks
+/// it).
 pub fn minimum_limits() -> wgpu::Limits {
     wgpu::Limits {
         max_storage_buffers_per_shader_stage: STORAGE_BUFFERS_PER_STAGE,
+        max_storage_buffer_binding_size: SMALLEST_STORAGE_BINDING_BYTES,
+        max_buffer_size: SMALLEST_STORAGE_BINDING_BYTES,
         ..wgpu::Limits::default()
     }
 }
