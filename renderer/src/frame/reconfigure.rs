@@ -19,23 +19,16 @@ impl Renderer {
     pub fn reconfigure(&mut self, config: RendererConfig) -> Result<(), RenderError> {
         check_config(&self.gpu, &config)?;
         let passes = pass_list::passes_for(&self.gpu, &config)?;
-        let ranging = (config.light_cutoff, config.exposure)
-            != (self.config.light_cutoff, self.config.exposure);
-        let lights = if ranging {
-            Some(self.ranged_lights(&self.light_sources, &config)?)
-        } else {
-            None
-        };
-        if let Some(lights) = lights {
-            self.lights = std::sync::Arc::new(lights);
+        if (config.light_cutoff, config.exposure)
+            != (self.config.light_cutoff, self.config.exposure)
+        {
+            // Before anything else changes, so an error leaves the renderer as it was.
+            self.lights = std::sync::Arc::new(self.ranged_lights(&self.light_sources, &config)?);
         }
+        // The rebuilt particle passes hold no state, so they build it from the systems.
         self.passes = passes;
         self.config = config;
         self.graph_cache = GraphCache::new();
-        if let Some(p) = &mut self.particles {
-            // A new generation: the rebuilt particle passes build their state from it.
-            p.generation += 1;
-        }
         Ok(())
     }
 }
