@@ -38,6 +38,8 @@ pub mod layout;
 #[cfg(feature = "compiler")]
 mod link;
 #[cfg(feature = "compiler")]
+mod material;
+#[cfg(feature = "compiler")]
 mod pipeline;
 #[cfg(feature = "compiler")]
 pub mod reflect;
@@ -50,6 +52,8 @@ pub mod variants;
 
 #[cfg(feature = "compiler")]
 pub use expand::{expand, expand_library, expand_with_library};
+#[cfg(feature = "compiler")]
+pub use material::expand_material;
 #[cfg(feature = "compiler")]
 pub use front::Library;
 #[cfg(feature = "compiler")]

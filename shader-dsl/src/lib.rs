@@ -31,6 +31,33 @@ pub fn shader(args: TokenStream, item: TokenStream) -> TokenStream {
     }
 }
 
+/// Compiles a material: a module whose `fn surface(point: MaterialPoint) -> Surface` (with
+/// `params = P`, `fn surface(point: MaterialPoint, params: P) -> Surface`) the renderer's
+/// material frame shades on every path (forward with the naive, tiled or clustered lists,
+/// blended, scalarized, and the deferred paths' G-buffer), with decals, shadows and MSAA.
+///
+/// It expands to a `#[shader]` module that uses the frame library (`frame = path`, by default
+/// `shaders_gen::forward::material_frame`) and the libraries of `uses(..)`, has the frame's
+/// axes, and gains the entry points `vs_forward`, `fs_forward` and `fs_gbuffer` and, with
+/// `params`, the parameter records `PARAMS` at group 3, binding 0.
+///
+/// See "Materials" in the crate documentation.
+#[proc_macro_attribute]
+pub fn material(args: TokenStream, item: TokenStream) -> TokenStream {
+    let args = proc_macro2::TokenStream::from(args);
+    let item = proc_macro2::TokenStream::from(item);
+    match codegen::expand_material(args, item.clone()) {
+        Ok(tokens) => tokens.into(),
+        Err(err) => {
+            let mut out = err.to_compile_error();
+            if let Ok(module) = syn::parse2::<syn::ItemMod>(item) {
+                out.extend(codegen::emit::stub(&module, None));
+            }
+            out.into()
+        }
+    }
+}
+
 /// Declares a library: structs, constants, helper functions and statics that `#[shader]`
 /// modules merge in with `uses(crate::path::to::library)`. The library is compiled and
 /// validated on its own over its `axes(..)`; it may have no entry points.

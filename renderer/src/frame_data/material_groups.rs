@@ -254,5 +254,6 @@ pub fn material_record(m: &Material, atlas: &MaterialAtlas) -> GpuMaterial {
         occlusion,
         emissive,
         u32::from(m.double_sided),
+        0,
     )
 }

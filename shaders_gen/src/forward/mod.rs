@@ -1,5 +1,6 @@
-//! Forward shading: the depth pre-pass, PBR metallic-roughness shading over the naive, tiled or
-//! clustered light lists, the light-count heatmap debug view, and tonemapping to sRGB.
+//! Forward shading: the depth pre-pass, the material frame and glTF's metallic-roughness
+//! material in it (forward shading over the naive, tiled or clustered light lists, and the
+//! G-buffer), the light-count heatmap debug view, and tonemapping to sRGB.
 //!
 //! Light-list conventions are those of [`crate::culling`]: `GRID` holds `(offset, count)` per
 //! tile or froxel and `INDICES` the light indices, exactly as `tile_cull` and `cluster_cull`
@@ -8,10 +9,12 @@
 
 pub mod depth_prepass;
 pub mod light_heatmap;
+pub mod frame;
 pub mod shading;
 pub mod tonemapping;
 
 pub use depth_prepass::prez;
 pub use light_heatmap::heatmap;
-pub use shading::forward;
+pub use frame::{material_frame, material_surface};
+pub use shading::{forward, gltf_material};
 pub use tonemapping::tonemap;

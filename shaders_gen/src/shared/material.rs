@@ -57,6 +57,9 @@ pub mod material_table {
         /// 1 where both faces are drawn (glTF `doubleSided`), else 0. The blended forward
         /// pipeline culls no face and reads it to drop back faces itself.
         pub double_sided: u32,
+        /// Where a material written in the DSL (`#[shader_dsl::material]` with a parameter
+        /// struct) finds its parameters: an index into its program's `PARAMS` (0 otherwise).
+        pub params: u32,
     }
 
     /// A point's two UV sets and their screen derivatives.

@@ -5,7 +5,7 @@
 
 use std::sync::Arc;
 
-use shaders_gen::forward::forward;
+use shaders_gen::forward::{forward, material_frame};
 
 use crate::frame_data::{
     FrameInputs, GpuDecals, LightListHandles, LightSet, ListGeometry, ShadowResources,
@@ -78,8 +78,10 @@ impl FrameGroup {
         label: &str,
     ) -> Option<wgpu::BindGroup> {
         let group = forward::Group0 {
-            camera: self.camera.as_entire_buffer_binding(),
-            lighting: self.lighting.as_entire_buffer_binding(),
+            material_frame: material_frame::Group0 {
+                camera: self.camera.as_entire_buffer_binding(),
+                lighting: self.lighting.as_entire_buffer_binding(),
+            },
             light_set: self.lights.bindings(),
             light_lists: LightListHandles::bindings(self.lists.as_ref(), ctx),
             shadow_atlas: self.shadows.bindings(),

@@ -1,0 +1,217 @@
+//! `#[material]`: a material written as one DSL function, expanded into a `#[shader]` module
+//! whose entry points are the renderer's material frame around it.
+//!
+//! The module declares `fn surface(point: MaterialPoint) -> Surface`, or with
+//! `params = P` (a struct of the module or of a library it uses) `fn surface(point:
+//! MaterialPoint, params: P) -> Surface`; the expansion adds
+//! * the frame library (`frame = path`, by default `shaders_gen::forward::material_frame`)
+//!   to `uses(..)`, and the frame's axes (`list`, `blend`, `scalarize`, with its exclusion and
+//!   subgroup requirement);
+//! * with `params`, the binding `PARAMS: [P]` at group 3, binding 0 (the renderer binds every
+//!   parameter record of the material's instances there, and the material record's `params`
+//!   picks one);
+//! * the entry points `vs_forward`, `fs_forward` and `fs_gbuffer`, which call the frame's
+//!   `material_vertex`, `forward_facing`, `material_point`, `material_forward` and
+//!   `material_gbuffer` around `surface`.
+//!
+//! What the frame's functions do, and the names the renderer expects, are the frame library's
+//! contract; this expansion only writes the calls.
+
+use proc_macro2::{Span, TokenStream};
+use quote::{ToTokens, quote, quote_spanned};
+use syn::parse::{Parse, ParseStream};
+use syn::spanned::Spanned;
+use syn::{Ident, Token};
+
+/// The items the expansion adds; a module may not declare them itself.
+const RESERVED: [&str; 4] = ["vs_forward", "fs_forward", "fs_gbuffer", "PARAMS"];
+
+/// The parsed arguments of `#[material(..)]`.
+struct MaterialArgs {
+    frame: syn::Path,
+    params: Option<syn::Type>,
+    uses: Vec<syn::Path>,
+}
+
+impl Parse for MaterialArgs {
+    fn parse(input: ParseStream) -> syn::Result<Self> {
+        let mut args = MaterialArgs {
+            frame: syn::parse_quote!(shaders_gen::forward::material_frame),
+            params: None,
+            uses: Vec::new(),
+        };
+        while !input.is_empty() {
+            let key: Ident = input.parse()?;
+            match key.to_string().as_str() {
+                "frame" => {
+                    input.parse::<Token![=]>()?;
+                    args.frame = input.parse()?;
+                }
+                "params" => {
+                    input.parse::<Token![=]>()?;
+                    args.params = Some(input.parse()?);
+                }
+                "uses" => {
+                    let content;
+                    syn::parenthesized!(content in input);
+                    let paths = content.parse_terminated(syn::Path::parse, Token![,])?;
+                    args.uses.extend(paths);
+                }
+                other => {
+                    return Err(syn::Error::new(
+                        key.span(),
+                        format!(
+                            "unknown `#[material]` argument `{other}`: a material takes `frame = path` (the material frame library, by default `shaders_gen::forward::material_frame`), `params = Type` (its parameter struct) and `uses(..)` (libraries); its axes are the frame's"
+                        ),
+                    ));
+                }
+            }
+            if !input.is_empty() {
+                input.parse::<Token![,]>()?;
+            }
+        }
+        Ok(args)
+    }
+}
+
+/// `#[material(..)]`: the module with the frame's entry points, compiled as `#[shader]`.
+pub fn expand_material(args: TokenStream, item: TokenStream) -> syn::Result<TokenStream> {
+    let args: MaterialArgs = syn::parse2(args)?;
+    let mut module: syn::ItemMod = syn::parse2(item)?;
+    let Some((_, content)) = module.content.as_mut() else {
+        return Err(syn::Error::new(
+            module.ident.span(),
+            "a material module must be inline: `mod name { .. }`",
+        ));
+    };
+    check_reserved(content)?;
+    let surface = surface_fn(&module.ident, content)?;
+    let wanted = if args.params.is_some() { 2 } else { 1 };
+    if surface.sig.inputs.len() != wanted {
+        let message = match &args.params {
+            Some(p) => format!(
+                "a material with `params = {}` shades with `fn surface(point: MaterialPoint, params: {}) -> Surface`",
+                p.to_token_stream(),
+                p.to_token_stream()
+            ),
+            None => "a material shades with `fn surface(point: MaterialPoint) -> Surface` (add `params = Type` to `#[material]` to give it a parameter struct)".to_string(),
+        };
+        return Err(syn::Error::new(surface.sig.inputs.span(), message));
+    }
+    let span = surface.sig.ident.span();
+    for item in entry_points(span, args.params.as_ref()) {
+        content.push(item);
+    }
+    let frame = &args.frame;
+    let uses = &args.uses;
+    let shader_args = quote! {
+        axes(
+            list: u32 = [0, 1, 2] => "list",
+            blend: bool = [false, true] => "blend",
+            scalarize: bool = [false, true] => "scalar",
+        ),
+        exclude(list == 0 && scalarize),
+        requires(subgroup = scalarize),
+        uses(#frame #(, #uses)*),
+    };
+    crate::expand(shader_args, module.into_token_stream())
+}
+
+/// A material may not declare what the expansion adds.
+fn check_reserved(content: &[syn::Item]) -> syn::Result<()> {
+    for item in content {
+        let ident = match item {
+            syn::Item::Fn(f) => Some(f.sig.ident.clone()),
+            syn::Item::Verbatim(tokens) => static_name(tokens),
+            _ => None,
+        };
+        if let Some(ident) = ident.filter(|i| RESERVED.contains(&i.to_string().as_str())) {
+            return Err(syn::Error::new(
+                ident.span(),
+                format!(
+                    "`{ident}` is written by `#[material]` (the entry points `vs_forward`, `fs_forward` and `fs_gbuffer`, and `PARAMS`, the parameter records); a material declares its `surface` function, and may call other functions of its own"
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The name of a `static` item (which syn keeps as verbatim tokens): the identifier after
+/// `static` (and `mut`).
+fn static_name(tokens: &TokenStream) -> Option<Ident> {
+    let mut after_static = false;
+    for tree in tokens.clone() {
+        if let proc_macro2::TokenTree::Ident(ident) = tree {
+            if after_static && ident != "mut" {
+                return Some(ident);
+            }
+            after_static |= ident == "static";
+        }
+    }
+    None
+}
+
+/// The module's `fn surface`.
+fn surface_fn(name: &Ident, content: &[syn::Item]) -> syn::Result<syn::ItemFn> {
+    content
+        .iter()
+        .find_map(|item| match item {
+            syn::Item::Fn(f) if f.sig.ident == "surface" => Some(f.clone()),
+            _ => None,
+        })
+        .ok_or_else(|| {
+            syn::Error::new(
+                name.span(),
+                "a material module declares `fn surface(point: MaterialPoint) -> Surface`: the material frame shades what it returns",
+            )
+        })
+}
+
+/// The entry points around `surface` (its calls spanned at `surface`'s name, so a mismatch is
+/// reported at the material's own function), and the parameter binding.
+fn entry_points(span: Span, params: Option<&syn::Type>) -> Vec<syn::Item> {
+    let call = match params {
+        Some(_) => quote_spanned!(span=> surface(point, PARAMS[point.params])),
+        None => quote_spanned!(span=> surface(point)),
+    };
+    let mut items: Vec<syn::Item> = vec![
+        syn::parse_quote! {
+            #[vertex]
+            pub fn vs_forward(
+                #[location(0)] position: Vec3,
+                #[location(1)] normal: Vec3,
+                #[location(2)] uv: Vec2,
+                #[location(3)] tangent: Vec4,
+                #[location(4)] uv1: Vec2,
+                #[location(5)] color: Vec4,
+                #[builtin(instance_index)] draw_index: u32,
+            ) -> VsOut {
+                material_vertex(position, normal, uv, tangent, uv1, color, draw_index)
+            }
+        },
+        syn::parse_quote! {
+            #[fragment]
+            pub fn fs_forward(input: VsOut, #[builtin(front_facing)] front: bool) -> Vec4 {
+                let point = material_point(input, forward_facing(input, front));
+                material_forward(input, point, #call)
+            }
+        },
+        syn::parse_quote! {
+            #[fragment]
+            pub fn fs_gbuffer(input: VsOut, #[builtin(front_facing)] front: bool) -> GBufferOut {
+                let point = material_point(input, front);
+                material_gbuffer(input, point, #call)
+            }
+        },
+    ];
+    if let Some(ty) = params {
+        items.push(syn::Item::Verbatim(quote! {
+            /// The parameter records of every material of this program (the material record's
+            /// `params` picks one).
+            #[storage(group = 3, binding = 0)]
+            static PARAMS: [#ty];
+        }));
+    }
+    items
+}
