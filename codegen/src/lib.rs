@@ -53,13 +53,13 @@ pub mod variants;
 #[cfg(feature = "compiler")]
 pub use expand::{expand, expand_library, expand_with_library};
 #[cfg(feature = "compiler")]
-pub use material::expand_material;
-#[cfg(feature = "compiler")]
 pub use front::Library;
 #[cfg(feature = "compiler")]
 pub use link::{
     compile_library_linked, compile_linked, declarations_linked, library_declarations_linked,
 };
+#[cfg(feature = "compiler")]
+pub use material::expand_material;
 #[cfg(feature = "compiler")]
 pub use pipeline::{
     Compiled, CompiledVariant, LinkedLibrary, NagaStructLayout, compile, compile_library,

@@ -18,6 +18,7 @@ pub mod frame;
 pub mod frame_data;
 pub mod gpu;
 pub mod graph;
+pub mod materials;
 pub mod particles;
 pub mod passes;
 pub mod readback;

@@ -16,6 +16,7 @@ pub mod frame_probe;
 pub mod frames;
 pub mod gpu;
 pub mod image_compare;
+pub mod materials;
 pub mod particle_atlas_probe;
 pub mod particle_light_interp;
 pub mod particle_light_reference;

@@ -36,8 +36,11 @@ impl Renderer {
 
     /// Adds `material` to the prepared scene and returns its index for an added mesh's
     /// primitives. Its textures name the scene's images, then those added with
-    /// [`Renderer::add_image`].
+    /// [`Renderer::add_image`]. A material shaded by a material program names a registered
+    /// one ([`Renderer::register_material`]) with a parameter record of its size
+    /// ([`RenderError::Material`]).
     pub fn add_material(&mut self, material: &Material) -> Result<usize, RenderError> {
+        crate::materials::check_material(material, &self.materials)?;
         let gpu = self.gpu.clone();
         Ok(self
             .prepared_mut()?
@@ -46,8 +49,10 @@ impl Renderer {
 
     /// Replaces material `index` of the prepared scene (as [`Renderer::add_mesh`] numbers
     /// materials) from the next frame: its parameters and textures, or its alpha mode and
-    /// sidedness (its draws then move to other batches). Nothing else is uploaded.
+    /// sidedness or material program (its draws then move to other batches). Nothing else is
+    /// uploaded.
     pub fn set_material(&mut self, index: usize, material: &Material) -> Result<(), RenderError> {
+        crate::materials::check_material(material, &self.materials)?;
         let gpu = self.gpu.clone();
         Ok(self
             .prepared_mut()?

@@ -69,6 +69,7 @@ use crate::frame_data::{
     with_effective_ranges,
 };
 use crate::graph::{GraphCache, ImportAccess, PassTiming, RenderGraph, TextureDesc, TransientPool};
+use crate::materials::MaterialProgram;
 use crate::particles::ParticleSystem;
 use crate::passes::Pass;
 use crate::passes::particles::ParticleSimulation;
@@ -85,6 +86,9 @@ pub struct Renderer {
     gpu: GpuContext,
     config: RendererConfig,
     passes: Vec<Box<dyn Pass>>,
+    /// The material programs registered ([`Renderer::register_material`]), which the forward
+    /// and G-buffer passes build pipelines for.
+    materials: Vec<MaterialProgram>,
     /// The scene, and its instances (edited by handle in `motion`).
     scene: Option<(Arc<PreparedScene>, Arc<InstanceTable>)>,
     lights: Arc<LightSet>,
@@ -129,7 +133,8 @@ impl Renderer {
             ..Default::default()
         };
         Ok(Self {
-            passes: pass_list::passes_for(gpu, &config)?,
+            passes: pass_list::passes_for(gpu, &config, &[])?,
+            materials: Vec::new(),
             gpu: gpu.clone(),
             config,
             scene: None,
@@ -160,10 +165,14 @@ impl Renderer {
     }
 
     /// Uploads a scene; it replaces the previous one. A scene that is inconsistent or does not
-    /// fit the device's limits ([`Scene::check_for_device`]) is an error, and the previous scene
-    /// stays.
+    /// fit the device's limits ([`Scene::check_for_device`]), or whose materials name a material
+    /// program not registered ([`Renderer::register_material`]), is an error, and the previous
+    /// scene stays.
     pub fn prepare_scene(&mut self, scene: &Scene) -> Result<(), RenderError> {
         scene.check_for_device(&self.gpu.device.limits())?;
+        for material in &scene.materials {
+            crate::materials::check_material(material, &self.materials)?;
+        }
         let prepared = PreparedScene::new(&self.gpu.device, &self.gpu.queue, scene)?;
         let instances = InstanceTable::new(&self.gpu, &prepared, scene)?;
         self.scene = Some((prepared, Arc::new(instances)));

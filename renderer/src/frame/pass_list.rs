@@ -2,6 +2,7 @@
 
 use crate::GpuContext;
 use crate::frame_data::{FrameView, ParticleLighting, RenderError, RenderPath, RendererConfig};
+use crate::materials::MaterialProgram;
 use crate::passes::Pass;
 use crate::passes::deferred::{GBufferPass, LightVolumePass, TbdrPass};
 use crate::passes::depth_probe::DepthProbePass;
@@ -15,7 +16,8 @@ use crate::passes::scene_cull::occlusion::OcclusionCullPass;
 use crate::passes::shadow::{ShadowAtlasViewPass, ShadowPass};
 use crate::passes::tonemap::TonemapPass;
 
-/// The ordered passes of `config`:
+/// The ordered passes of `config`, the forward and G-buffer passes with pipelines for every
+/// material program of `materials` besides glTF PBR's:
 ///
 /// Scene culling comes first on every path (the geometry passes draw its batches). With
 /// occlusion culling (`cull_draws` and `occlusion_cull`), pre-Z is followed by occlusion
@@ -41,6 +43,7 @@ use crate::passes::tonemap::TonemapPass;
 pub fn passes_for(
     gpu: &GpuContext,
     config: &RendererConfig,
+    materials: &[MaterialProgram],
 ) -> Result<Vec<Box<dyn Pass>>, RenderError> {
     if config.view == FrameView::ShadingFrequency && !config.path.is_deferred() {
         return Err(RenderError::ShadingFrequencyNeedsTbdr);
@@ -75,13 +78,13 @@ pub fn passes_for(
                 passes.push(Box::new(ParticleLightPass::new(gpu, config)?));
             }
             if config.path.is_deferred() {
-                passes.push(Box::new(GBufferPass::new(gpu, config)?));
+                passes.push(Box::new(GBufferPass::new(gpu, config, materials)?));
                 passes.push(Box::new(TbdrPass::new(gpu, config)?));
                 if config.path == RenderPath::Deferred {
                     passes.push(Box::new(LightVolumePass::new(gpu, config)?));
                 }
             }
-            passes.push(Box::new(ForwardPass::new(gpu, config)?));
+            passes.push(Box::new(ForwardPass::new(gpu, config, materials)?));
             passes.push(Box::new(ParticleDrawPass::new(gpu, config)?));
             passes.push(Box::new(TonemapPass::new(gpu, config)?));
         }

@@ -23,6 +23,10 @@ pub struct DrawBatch {
     pub double_sided: bool,
     /// Mirrored by its instances' transforms (the clockwise pipelines).
     pub mirrored: bool,
+    /// Its materials' program: 0 for glTF PBR, else the scene's number of a material program
+    /// (`PreparedScene::material_program`), whose pipelines the forward and G-buffer passes
+    /// draw it with.
+    pub program: u32,
     /// Its slots, spare ones included.
     pub first_slot: u32,
     pub slot_count: u32,
@@ -31,7 +35,7 @@ pub struct DrawBatch {
 impl DrawBatch {
     /// What its draws share.
     pub fn key(&self) -> BatchKey {
-        (self.masked, self.double_sided, self.mirrored)
+        (self.masked, self.double_sided, self.mirrored, self.program)
     }
 
     /// Its slots' range.
@@ -58,7 +62,7 @@ pub enum DrawPlace {
 /// ([`BatchLayout::place`]); only when its batch is full, or new, is the layout built again.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct BatchLayout {
-    /// Opaque and masked batches, ordered by (masked, double-sided, mirrored).
+    /// Opaque and masked batches, ordered by (masked, double-sided, mirrored, program).
     pub batches: Vec<DrawBatch>,
     /// The draw (index into `InstanceTable::draws`) of each slot, or [`NO_DRAW`].
     pub slot_draws: Vec<u32>,
@@ -70,15 +74,15 @@ pub struct BatchLayout {
     free_slots: Vec<Vec<u32>>,
 }
 
-/// What puts a draw in a batch: (masked, double-sided, mirrored).
-pub type BatchKey = (bool, bool, bool);
+/// What puts a draw in a batch: (masked, double-sided, mirrored, material program).
+pub type BatchKey = (bool, bool, bool, u32);
 
 /// The batch is full or missing: the layout must be built again.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct NoRoom;
 
-/// Where draw `d` of `table` goes (mirroring picks the pipeline, so a move that mirrors or
-/// unmirrors an instance moves its draws to another batch).
+/// Where draw `d` of `table` goes (mirroring and the material program pick the pipeline, so a
+/// move that mirrors or unmirrors an instance moves its draws to another batch).
 pub fn draw_place(scene: &PreparedScene, table: &InstanceTable, d: usize) -> DrawPlace {
     let draw = &table.draws[d];
     if !table.states.get(draw.instance).is_some_and(|s| s.live) {
@@ -90,7 +94,13 @@ pub fn draw_place(scene: &PreparedScene, table: &InstanceTable, d: usize) -> Dra
         AlphaMode::Mask { .. } => true,
         AlphaMode::Opaque => false,
     };
-    DrawPlace::Batch((masked, material.double_sided, draw.mirrored(&table.states)))
+    let program = scene.material_program(draw.material);
+    DrawPlace::Batch((
+        masked,
+        material.double_sided,
+        draw.mirrored(&table.states),
+        program,
+    ))
 }
 
 impl BatchLayout {
@@ -120,7 +130,7 @@ impl BatchLayout {
             ..Self::default()
         };
         for run in keyed.chunk_by(|a, b| a.0 == b.0) {
-            let (masked, double_sided, mirrored) = run[0].0;
+            let (masked, double_sided, mirrored, program) = run[0].0;
             let first_slot = layout.slot_draws.len() as u32;
             let spare = run.len() / 8 + 2;
             for &(_, d) in run {
@@ -136,6 +146,7 @@ impl BatchLayout {
                 masked,
                 double_sided,
                 mirrored,
+                program,
                 first_slot,
                 slot_count: (run.len() + spare) as u32,
             });

@@ -3,7 +3,7 @@
 use super::*;
 
 fn opaque() -> DrawPlace {
-    DrawPlace::Batch((false, false, false))
+    DrawPlace::Batch((false, false, false, 0))
 }
 
 #[test]
@@ -11,10 +11,10 @@ fn batches_group_by_pipeline_and_keep_scene_order_inside() {
     let places = [
         opaque(),
         DrawPlace::Blended,
-        DrawPlace::Batch((true, true, false)),
+        DrawPlace::Batch((true, true, false, 0)),
         opaque(),
         opaque(),
-        DrawPlace::Batch((false, false, true)),
+        DrawPlace::Batch((false, false, true, 0)),
         DrawPlace::Blended,
         opaque(),
         DrawPlace::Hidden,
@@ -29,9 +29,9 @@ fn batches_group_by_pipeline_and_keep_scene_order_inside() {
     assert_eq!(
         batches,
         [
-            ((false, false, false), 0, 6),
-            ((false, false, true), 6, 3),
-            ((true, true, false), 9, 3),
+            ((false, false, false, 0), 0, 6),
+            ((false, false, true, 0), 6, 3),
+            ((true, true, false, 0), 9, 3),
         ]
     );
     let n = NO_DRAW;
@@ -47,11 +47,32 @@ fn batches_group_by_pipeline_and_keep_scene_order_inside() {
 /// holding it, the blended list exactly the blended draws, ascending, and the slots `place`
 /// reports exactly those that changed.
 #[test]
+fn material_programs_split_batches_after_gltf_ones() {
+    let custom = DrawPlace::Batch((false, false, false, 2));
+    let places = [
+        custom,
+        opaque(),
+        DrawPlace::Batch((false, false, false, 1)),
+        custom,
+    ];
+    let layout = BatchLayout::from_places(places.into_iter());
+    let batches: Vec<(u32, Vec<u32>)> = layout
+        .batches
+        .iter()
+        .map(|b| {
+            let slots = b.slots().map(|s| layout.slot_draws[s as usize]);
+            (b.program, slots.filter(|&d| d != NO_DRAW).collect())
+        })
+        .collect();
+    assert_eq!(batches, [(0, vec![1]), (1, vec![2]), (2, vec![0, 3])]);
+}
+
+#[test]
 fn placing_keeps_every_draw_in_one_slot_of_its_batch() {
     let keys = [
         opaque(),
-        DrawPlace::Batch((false, true, false)),
-        DrawPlace::Batch((false, false, true)),
+        DrawPlace::Batch((false, true, false, 0)),
+        DrawPlace::Batch((false, false, true, 0)),
     ];
     let mut seed = 0x2545_f491_u64;
     let mut next = |n: u64| {

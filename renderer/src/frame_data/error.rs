@@ -42,6 +42,9 @@ pub enum RenderError {
     Bind(#[from] shader_bind::BindError),
     #[error(transparent)]
     Scene(#[from] crate::scene::SceneError),
+    /// A material program that cannot be registered, or a material that cannot use one.
+    #[error(transparent)]
+    Material(#[from] crate::materials::MaterialError),
     #[error(
         "a frame capture reads the pre-Z depth; the naive path has none (use naive-prez or a culled path)"
     )]

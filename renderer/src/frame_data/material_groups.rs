@@ -92,7 +92,8 @@ impl MaterialTable {
         let capacity = (materials.len() * 2).max(8);
         let mut records: Vec<GpuMaterial> = materials
             .iter()
-            .map(|m| material_record(m, &atlas))
+            .enumerate()
+            .map(|(index, m)| material_record(m, index, &atlas))
             .collect();
         records.resize(capacity, bytemuck::Zeroable::zeroed());
         let records = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -142,7 +143,7 @@ impl MaterialTable {
                 Ok(AtlasGrowth::NeedsRepack) | Err(_) => return false,
             }
         }
-        let record = material_record(material, &self.atlas);
+        let record = material_record(material, index, &self.atlas);
         let offset = (index * size_of::<GpuMaterial>()) as u64;
         queue.write_buffer(&self.records, offset, bytemuck::bytes_of(&record));
         true
@@ -223,9 +224,10 @@ fn key(t: TextureRef, colour: bool) -> AtlasKey {
     }
 }
 
-/// The `GpuMaterial` record of `m` (the alpha cutoff is 0 unless the material is masked), with
-/// each texture's UV set, transform and atlas index.
-pub fn material_record(m: &Material, atlas: &MaterialAtlas) -> GpuMaterial {
+/// The `GpuMaterial` record of `m`, material `index` (the alpha cutoff is 0 unless the material
+/// is masked), with each texture's UV set, transform and atlas index, and where its parameter
+/// record is (at its own index, `material_params`).
+pub fn material_record(m: &Material, index: usize, atlas: &MaterialAtlas) -> GpuMaterial {
     let cutoff = match m.alpha_mode {
         AlphaMode::Mask { cutoff } => cutoff,
         _ => 0.0,
@@ -254,6 +256,6 @@ pub fn material_record(m: &Material, atlas: &MaterialAtlas) -> GpuMaterial {
         occlusion,
         emissive,
         u32::from(m.double_sided),
-        0,
+        index as u32,
     )
 }

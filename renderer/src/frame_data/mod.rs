@@ -18,6 +18,7 @@ mod instances;
 mod lights;
 mod material_groups;
 mod material_inputs;
+mod material_params;
 mod report;
 mod resources;
 mod scene;

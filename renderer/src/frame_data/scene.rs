@@ -10,6 +10,7 @@ use glam::Mat4;
 use shaders_gen::forward::forward;
 
 use super::material_groups::{MaterialTable, SceneLayouts};
+use super::material_params::CustomPrograms;
 use crate::scene::limits::{check_geometry, check_image, check_material, check_mesh};
 use crate::scene::{Aabb, AlphaMode, GpuScene, Image, Material, Mesh, Scene, SceneError};
 
@@ -74,6 +75,8 @@ pub struct PreparedScene {
     /// material brings a texture it does not hold.
     images: Vec<Arc<Image>>,
     table: MaterialTable,
+    /// The material programs the materials name, and their parameter records.
+    custom: CustomPrograms,
 }
 
 impl PreparedScene {
@@ -93,6 +96,30 @@ impl PreparedScene {
     /// Group 2 of the forward and G-buffer programs: every material's record and texture.
     pub fn material_group(&self) -> &wgpu::BindGroup {
         &self.table.group
+    }
+
+    /// The material program number of material `index` (what splits the draw batches): 0 for
+    /// glTF PBR, else from 1 in the order the scene first named each program.
+    pub fn material_program(&self, index: usize) -> u32 {
+        self.materials
+            .get(index)
+            .map_or(0, |m| self.custom.program_of(m))
+    }
+
+    /// The module name of material program `program` (from 1).
+    pub fn material_program_name(&self, program: u32) -> Option<&str> {
+        self.custom.name(program)
+    }
+
+    /// The module names of the material programs the scene's materials have named.
+    pub fn material_program_names(&self) -> impl Iterator<Item = &str> {
+        self.custom.names()
+    }
+
+    /// The parameter records of material program `program` (group 3's `PARAMS`), if it takes
+    /// parameters.
+    pub fn material_params(&self, program: u32) -> Option<&wgpu::Buffer> {
+        self.custom.buffer(program)
     }
 
     /// Group 2 of the masked pre-Z and masked shadow-caster programs.
@@ -119,6 +146,7 @@ impl PreparedScene {
         materials.push(Material::gltf_default());
         let images: Vec<Arc<Image>> = scene.images.iter().cloned().map(Arc::new).collect();
         let table = MaterialTable::new(device, queue, &layouts, &images, &materials)?;
+        let custom = CustomPrograms::new(device, queue, &materials)?;
         // Primitives without a material use the glTF default material, last.
         let default_material = scene.materials.len();
         let mesh_draws = scene
@@ -150,6 +178,7 @@ impl PreparedScene {
             layouts,
             images,
             table,
+            custom,
         }))
     }
 
@@ -303,8 +332,8 @@ impl PreparedScene {
     }
 
     /// Replaces material `index` (parameters and textures) in place: its draws draw with the
-    /// new one from the next frame. A change of alpha mode or sidedness moves its draws to
-    /// other batches (every draw is placed again, once).
+    /// new one from the next frame. A change of alpha mode, sidedness or material program moves
+    /// its draws to other batches (every draw is placed again, once).
     pub fn set_material(
         &mut self,
         device: &wgpu::Device,
@@ -320,9 +349,16 @@ impl PreparedScene {
             self.materials[index] = previous;
             return Err(e);
         }
-        if (previous.alpha_mode, previous.double_sided)
-            != (material.alpha_mode, material.double_sided)
-        {
+        let program = |m: &Material| m.custom.as_ref().map(|c| c.program.clone());
+        if (
+            previous.alpha_mode,
+            previous.double_sided,
+            program(&previous),
+        ) != (
+            material.alpha_mode,
+            material.double_sided,
+            program(material),
+        ) {
             self.placement_revision += 1;
         }
         Ok(())
@@ -337,6 +373,7 @@ impl PreparedScene {
         queue: &wgpu::Queue,
         index: usize,
     ) -> Result<(), SceneError> {
+        self.custom.write(device, queue, &self.materials, index)?;
         let inputs = (&self.layouts, &self.images[..]);
         if !self
             .table

@@ -24,6 +24,7 @@ pub mod tonemap;
 
 use crate::frame_data::{FrameInputs, FrameReport, FrameResources, RenderError, SceneDrawList};
 use crate::graph::RenderGraph;
+use crate::materials::PARAMS_GROUP;
 
 /// One pass of the frame. A frame calls, for every pass in list order: [`Pass::prepare`], then
 /// [`Pass::add_to_graph`]; after the graph is recorded, [`Pass::after_execute`]; after the
@@ -73,6 +74,18 @@ pub(crate) struct SceneDraws<'p, 'a> {
     pass: &'p mut wgpu::RenderPass<'a>,
     pipeline: Option<&'a wgpu::RenderPipeline>,
     group2: Option<&'a wgpu::BindGroup>,
+    /// The material program's groups 0 and 3 last set ([`BatchState::program_groups`]).
+    group0: Option<&'a wgpu::BindGroup>,
+    group3: Option<&'a wgpu::BindGroup>,
+}
+
+/// What a batch draws with: its pipeline, the scene's group 2 (if the pipeline has one), and,
+/// for the passes that shade with material programs, the program's group 0 and its parameter
+/// records' group 3 (`passes::forward::programs`).
+pub(crate) struct BatchState<'a> {
+    pub(crate) pipeline: &'a wgpu::RenderPipeline,
+    pub(crate) group2: Option<&'a wgpu::BindGroup>,
+    pub(crate) program_groups: Option<(&'a wgpu::BindGroup, Option<&'a wgpu::BindGroup>)>,
 }
 
 impl<'p, 'a> SceneDraws<'p, 'a> {
@@ -89,6 +102,8 @@ impl<'p, 'a> SceneDraws<'p, 'a> {
             pass,
             pipeline: None,
             group2: None,
+            group0: None,
+            group3: None,
         }
     }
 
@@ -127,8 +142,32 @@ impl<'p, 'a> SceneDraws<'p, 'a> {
             &crate::frame_data::DrawBatch,
         ) -> (&'a wgpu::RenderPipeline, Option<&'a wgpu::BindGroup>),
     ) {
-        for (b, batch) in list.layout.batches.iter().enumerate() {
+        self.draw_batches_with(list, instances, |batch| {
             let (pipeline, group2) = state(batch);
+            Some(BatchState {
+                pipeline,
+                group2,
+                program_groups: None,
+            })
+        });
+    }
+
+    /// [`SceneDraws::draw_batches`] with the whole [`BatchState`] of each batch; a batch
+    /// whose state is `None` is not drawn.
+    pub(crate) fn draw_batches_with(
+        &mut self,
+        list: &'a SceneDrawList,
+        instances: &'a crate::frame_data::InstanceTable,
+        mut state: impl FnMut(&crate::frame_data::DrawBatch) -> Option<BatchState<'a>>,
+    ) {
+        for (b, batch) in list.layout.batches.iter().enumerate() {
+            let Some(state) = state(batch) else {
+                continue;
+            };
+            if let Some((group0, group3)) = state.program_groups {
+                self.set_program_groups(group0, group3);
+            }
+            let (pipeline, group2) = (state.pipeline, state.group2);
             let (slot, buffer) = (u64::from(batch.first_slot), &list.args_buffer);
             if let Some(counts) = list.counts.as_ref().filter(|_| list.indirect) {
                 let count_at = (counts, 4 * b as u64);
@@ -174,6 +213,24 @@ impl<'p, 'a> SceneDraws<'p, 'a> {
         self.set_state(pipeline, group2);
         let offset = first * SceneDrawList::ARGS_BYTES;
         (self.pass).multi_draw_indexed_indirect_count(args, offset, counts, count_at, max);
+    }
+
+    /// Sets a material program's group 0 and group 3 where they change.
+    pub(crate) fn set_program_groups(
+        &mut self,
+        group0: &'a wgpu::BindGroup,
+        group3: Option<&'a wgpu::BindGroup>,
+    ) {
+        if !self.group0.is_some_and(|g| std::ptr::eq(g, group0)) {
+            self.pass.set_bind_group(0, group0, &[]);
+            self.group0 = Some(group0);
+        }
+        if let Some(group) = group3
+            && !self.group3.is_some_and(|g| std::ptr::eq(g, group))
+        {
+            self.pass.set_bind_group(PARAMS_GROUP, group, &[]);
+            self.group3 = Some(group);
+        }
     }
 
     fn set_state(

@@ -80,6 +80,7 @@ pub(super) fn material(m: &gltf::Material<'_>, path: &Path) -> Result<Material, 
             gltf::material::AlphaMode::Blend => AlphaMode::Blend,
         },
         double_sided: m.double_sided(),
+        custom: None,
     })
 }
 

@@ -176,6 +176,40 @@ pub struct Material {
     pub emissive_texture: Option<TextureRef>,
     pub alpha_mode: AlphaMode,
     pub double_sided: bool,
+    /// A material program written in the shader DSL that shades this material instead of
+    /// glTF PBR, with this material's parameters (`None`: glTF metallic-roughness). The
+    /// factors and textures above still reach it (its `MaterialPoint::material`), and the alpha
+    /// mode and sidedness apply as for glTF.
+    pub custom: Option<CustomShading>,
+}
+
+/// The shading of a material written in the shader DSL (`#[shader_dsl::material]`), registered
+/// with the renderer as a `materials::MaterialProgram`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CustomShading {
+    /// The program's module name (`MaterialProgram::name`).
+    pub program: String,
+    /// The material's parameter record: the bytes of the program's `params` struct (its
+    /// generated host struct, `bytemuck::bytes_of`), empty for a program without one.
+    pub params: Vec<u8>,
+}
+
+impl CustomShading {
+    /// The shading of `program` (a module name) with parameters `params`.
+    pub fn new(program: impl Into<String>, params: &impl bytemuck::Pod) -> Self {
+        Self {
+            program: program.into(),
+            params: bytemuck::bytes_of(params).to_vec(),
+        }
+    }
+
+    /// The shading of `program`, which takes no parameters.
+    pub fn without_params(program: impl Into<String>) -> Self {
+        Self {
+            program: program.into(),
+            params: Vec::new(),
+        }
+    }
 }
 
 /// An image decoded to RGBA8.
@@ -257,6 +291,7 @@ impl Material {
             emissive_texture: None,
             alpha_mode: AlphaMode::Opaque,
             double_sided: false,
+            custom: None,
         }
     }
 }

@@ -8,13 +8,13 @@
 //! `forward`'s `LIGHTS`.
 
 pub mod depth_prepass;
-pub mod light_heatmap;
 pub mod frame;
+pub mod light_heatmap;
 pub mod shading;
 pub mod tonemapping;
 
 pub use depth_prepass::prez;
-pub use light_heatmap::heatmap;
 pub use frame::{material_frame, material_surface};
+pub use light_heatmap::heatmap;
 pub use shading::{forward, gltf_material};
 pub use tonemapping::tonemap;

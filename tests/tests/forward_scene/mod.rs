@@ -196,6 +196,7 @@ pub fn inputs<'a>(
             NO_TEXTURE,
             NO_TEXTURE,
             0,
+            0,
         ),
         vertices,
     }

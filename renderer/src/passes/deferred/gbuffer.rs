@@ -5,68 +5,54 @@
 
 use std::sync::Arc;
 
-use shaders_gen::forward::forward;
-
 use crate::GpuContext;
 use crate::frame_data::{
     FrameInputs, FrameResources, GBUFFER_FORMATS, GBufferHandles, LightListHandles, RenderError,
     RendererConfig,
 };
 use crate::graph::{BufferAccess, RenderGraph, TextureAccess, TextureDesc};
-use crate::passes::forward::{FrameGroup, lighting_buffer};
-use crate::passes::{
-    FacePipelines, MeshPipeline, Pass, SceneDraws, depth_state, face_pipeline, face_pipelines,
-    mesh_pipeline,
-};
+use crate::materials::MaterialProgram;
+use crate::passes::forward::{FrameGroup, MaterialPipelines, lighting_buffer};
+use crate::passes::{MeshPipeline, Pass, SceneDraws, depth_state, mesh_pipeline};
 use crate::scene::VertexStreams;
-use crate::shader::ShaderProgram;
 
-/// A `forward` variant's program and its G-buffer pipelines (`[double_sided][mirrored]`).
-#[derive(Debug)]
-struct GBufferProgram {
-    program: ShaderProgram,
-    pipelines: FacePipelines,
-}
-
-/// The G-buffer pass: programs for decals from every decal (no lists this frame) and from the
-/// tiled lists, and the lighting uniform.
+/// The G-buffer pass: programs (glTF PBR's and every registered material program's) for
+/// decals from every decal (no lists this frame) and from the tiled lists, and the lighting
+/// uniform.
 #[derive(Debug)]
 pub struct GBufferPass {
-    programs: Arc<[GBufferProgram; 2]>,
+    programs: Arc<[MaterialPipelines; 2]>,
     lighting: wgpu::Buffer,
 }
 
 impl GBufferPass {
-    pub fn new(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
-        let make = |list| -> Result<GBufferProgram, RenderError> {
-            let key = forward::VariantKey {
-                list,
-                blend: false,
-                scalarize: false,
-            };
-            let program =
-                ShaderProgram::new(&gpu.device, gpu.capabilities(), forward::variant(key)?)?;
-            let pipelines = face_pipelines(|double_sided, mirrored| {
+    /// The pass of `config`, with pipelines for glTF PBR and every program of `materials`.
+    pub fn new(
+        gpu: &GpuContext,
+        config: &RendererConfig,
+        materials: &[MaterialProgram],
+    ) -> Result<Self, RenderError> {
+        let make = |list| {
+            MaterialPipelines::new(gpu, materials, (list, false, false), |program, d, m| {
                 let targets = GBUFFER_FORMATS.map(|f| Some(f.into()));
                 mesh_pipeline(
                     &gpu.device,
-                    &program,
+                    program,
                     &MeshPipeline {
                         label: "gbuffer",
                         vertex_entry: "vs_forward",
                         streams: &crate::passes::FORWARD_STREAMS,
-                        double_sided,
-                        mirrored,
+                        double_sided: d,
+                        mirrored: m,
                         depth: depth_state(false, wgpu::CompareFunction::LessEqual),
                         msaa: config.msaa,
                         fragment: Some(("fs_gbuffer", &targets)),
                     },
                 )
-            });
-            Ok(GBufferProgram { program, pipelines })
+            })
         };
         Ok(Self {
-            programs: Arc::new([make(forward::List::List0)?, make(forward::List::List1)?]),
+            programs: Arc::new([make(0)?, make(1)?]),
             lighting: lighting_buffer(&gpu.device),
         })
     }
@@ -123,19 +109,17 @@ impl Pass for GBufferPass {
         let (scene, instances) = (Arc::clone(&frame.scene), Arc::clone(&frame.instances));
         pass.execute(move |ctx| {
             let p = &programs[which];
-            let Some(frame_group) = group.bind_group(ctx, &p.program, "gbuffer") else {
+            let Some(bound) = p.bind(ctx, &scene, &group, "gbuffer") else {
                 return;
             };
             let views = targets.map(|t| ctx.texture(t).create_view(&Default::default()));
             let depth_view = ctx.texture(depth).create_view(&Default::default());
             let mut pass = begin_gbuffer_pass(ctx.encoder, &views, &depth_view);
-            pass.set_bind_group(0, &frame_group, &[]);
-            // The opaque and masked batches, as pre-Z and the forward pass draw them.
+            // The opaque and masked batches, as pre-Z and the forward pass draw them, each
+            // with its material program.
             let mut draws = SceneDraws::new(&mut pass, &scene, &instances, VertexStreams::Forward);
-            draws.draw_batches(&list, &instances, |batch| {
-                let pipeline = face_pipeline(&p.pipelines, batch.double_sided, batch.mirrored);
-                (pipeline, Some(scene.material_group()))
-            });
+            let group2 = scene.material_group();
+            draws.draw_batches_with(&list, &instances, |batch| bound.state(p, batch, group2));
         });
         let [albedo, normals, radiance, view_depth] = targets;
         resources.gbuffer = Some(GBufferHandles {

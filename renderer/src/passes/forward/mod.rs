@@ -10,43 +10,45 @@
 //! particles.
 
 mod bindings;
+pub(crate) mod programs;
 
 pub(crate) use bindings::{FrameGroup, lighting_buffer};
+pub(crate) use programs::MaterialPipelines;
 
 use std::sync::Arc;
 
 use shaders_gen::deferred::hdr_expand;
 use shaders_gen::forward::forward;
 
-use super::{
-    FacePipelines, MeshPipeline, Pass, SceneDraws, depth_state, face_pipeline, face_pipelines,
-    mesh_pipeline,
-};
+use super::{MeshPipeline, Pass, SceneDraws, depth_state, mesh_pipeline};
 use crate::GpuContext;
 use crate::frame_data::{
     BlendedDraws, DEPTH_FORMAT, FrameInputs, FrameResources, HDR_FORMAT, InstanceTable,
     LightListHandles, PreparedScene, RenderError, RenderPath, RendererConfig, SceneDrawList,
 };
 use crate::graph::{BufferAccess, Handle, RenderGraph, Texture, TextureAccess, TextureDesc};
+use crate::materials::MaterialProgram;
 use crate::scene::VertexStreams;
 use crate::shader::ShaderProgram;
+use programs::BoundPrograms;
 
-/// The forward pass: its program and pipelines, its lighting uniform, and on the deferred
-/// paths with MSAA the pipeline that expands the deferred image into every sample.
+/// The forward pass: its programs (glTF PBR's and every registered material program's) and
+/// pipelines, its lighting uniform, and on the deferred paths with MSAA the pipeline that
+/// expands the deferred image into every sample.
 #[derive(Debug)]
 pub struct ForwardPass {
-    program: ShaderProgram,
     pipelines: Arc<ForwardPipelines>,
     lighting: wgpu::Buffer,
     expand: Option<Arc<Expand>>,
 }
 
-/// The opaque and masked draws' pipelines (`[double_sided][mirrored]`), and the one pipeline
-/// of every blended draw (no face culled: the `blend` variant drops single-sided back faces
-/// itself, so the back-to-front order never switches pipeline).
+/// The opaque and masked draws' programs and pipelines (`[double_sided][mirrored]` per
+/// material program), and the one pipeline of every blended draw (glTF PBR's, no face culled:
+/// the `blend` variant drops single-sided back faces itself, so the back-to-front order never
+/// switches pipeline).
 #[derive(Debug)]
 struct ForwardPipelines {
-    opaque: FacePipelines,
+    opaque: MaterialPipelines,
     blended: wgpu::RenderPipeline,
 }
 
@@ -58,28 +60,39 @@ struct Expand {
 }
 
 impl ForwardPass {
-    pub fn new(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
+    /// The pass of `config`, with pipelines for glTF PBR and every program of `materials`.
+    pub fn new(
+        gpu: &GpuContext,
+        config: &RendererConfig,
+        materials: &[MaterialProgram],
+    ) -> Result<Self, RenderError> {
         let list = match config.path {
-            RenderPath::Naive | RenderPath::NaivePrez => forward::List::List0,
+            RenderPath::Naive | RenderPath::NaivePrez => 0,
             RenderPath::Tiled
             | RenderPath::Depth25
             | RenderPath::Tbdr
             | RenderPath::TbdrPerSample
-            | RenderPath::Deferred => forward::List::List1,
-            RenderPath::Clustered => forward::List::List2,
+            | RenderPath::Deferred => 1,
+            RenderPath::Clustered => 2,
         };
-        let key = |blend| forward::VariantKey {
-            list,
-            blend,
-            scalarize: config.scalarize && config.path.is_culled(),
-        };
-        let caps = gpu.capabilities();
-        let opaque = ShaderProgram::new(&gpu.device, caps, forward::variant(key(false))?)?;
-        let blended = ShaderProgram::new(&gpu.device, caps, forward::variant(key(true))?)?;
+        let scalarize = config.scalarize && config.path.is_culled();
         let prepass = config.path.has_prepass();
         let make = |program: &ShaderProgram, faces| {
             pipeline(&gpu.device, program, config.msaa, prepass, faces)
         };
+        let opaque =
+            MaterialPipelines::new(gpu, materials, (list, false, scalarize), |p, d, m| {
+                make(p, (false, d, m))
+            })?;
+        let blended = ShaderProgram::new(
+            &gpu.device,
+            gpu.capabilities(),
+            forward::variant(forward::VariantKey {
+                list: forward::List::from_value(list).unwrap_or(forward::List::List0),
+                blend: true,
+                scalarize,
+            })?,
+        )?;
         let expand = if config.path.is_deferred() && config.msaa > 1 {
             Some(Arc::new(Expand::new(gpu, config.msaa)?))
         } else {
@@ -87,10 +100,9 @@ impl ForwardPass {
         };
         Ok(Self {
             pipelines: Arc::new(ForwardPipelines {
-                opaque: face_pipelines(|d, m| make(&opaque, (false, d, m))),
                 blended: make(&blended, (true, true, false)),
+                opaque,
             }),
-            program: opaque,
             lighting: lighting_buffer(&gpu.device),
             expand,
         })
@@ -297,13 +309,15 @@ impl ForwardPass {
         group: FrameGroup,
         list: SceneDrawList,
     ) -> impl FnOnce(&mut crate::graph::PassContext<'_>) + 'static {
-        let program = self.program.clone();
         let pipelines = Arc::clone(&self.pipelines);
         let expand = self.expand.clone();
         let (scene, instances) = (Arc::clone(&frame.scene), Arc::clone(&frame.instances));
         let sky = sky_color(frame.config.sky);
         move |ctx| {
-            let Some(frame_group) = group.bind_group(ctx, &program, "forward frame") else {
+            let Some(bound) = pipelines.opaque.bind(ctx, &scene, &group, "forward frame") else {
+                return;
+            };
+            let Some(frame_group) = bound.gltf_group0() else {
                 return;
             };
             let expand_group = match (&targets.over, &expand) {
@@ -360,10 +374,16 @@ impl ForwardPass {
                 pass.set_bind_group(0, group, &[]);
                 pass.draw(0..3, 0..1);
             }
-            pass.set_bind_group(0, &frame_group, &[]);
+            pass.set_bind_group(0, frame_group, &[]);
             // Over a deferred image only the blended surfaces are left to draw.
             let opaque = targets.over.is_none();
-            draw_scene(&mut pass, &scene, &instances, &list, &pipelines, opaque);
+            draw_scene(
+                &mut pass,
+                (&scene, &instances),
+                &list,
+                (&pipelines, &bound),
+                opaque,
+            );
         }
     }
 }
@@ -373,19 +393,22 @@ impl ForwardPass {
 /// the GPU).
 fn draw_scene<'a>(
     pass: &mut wgpu::RenderPass<'a>,
-    scene: &'a PreparedScene,
-    instances: &'a InstanceTable,
+    (scene, instances): (&'a PreparedScene, &'a InstanceTable),
     list: &'a SceneDrawList,
-    pipelines: &'a ForwardPipelines,
+    (pipelines, bound): (&'a ForwardPipelines, &'a BoundPrograms),
     opaque: bool,
 ) {
     let mut draws = SceneDraws::new(pass, scene, instances, VertexStreams::Forward);
     let materials = Some(scene.material_group());
     if opaque {
-        draws.draw_batches(list, instances, |batch| {
-            let (sided, mirrored) = (batch.double_sided, batch.mirrored);
-            (face_pipeline(&pipelines.opaque, sided, mirrored), materials)
+        let group2 = scene.material_group();
+        draws.draw_batches_with(list, instances, |batch| {
+            bound.state(&pipelines.opaque, batch, group2)
         });
+        // The blended draws are glTF PBR's.
+        if let Some(group0) = bound.gltf_group0() {
+            draws.set_program_groups(group0, None);
+        }
     }
     match &list.blended {
         BlendedDraws::Sorted {
