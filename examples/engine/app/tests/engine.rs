@@ -4,14 +4,17 @@
 //!
 //! Checked: the census the engine's pass took of the renderer's clustered lists equals the
 //! renderer's own culling counters (entries, longest list), every listed index names a real
-//! light, and the frame with the engine's pass is the frame without it, lit.
+//! light, and the frame with the engine's pass is the frame without it, lit. The engine's own
+//! material (`engine_shaders::bricks`, registered with the renderer) shows in the frame, and
+//! every path draws it as naive forward does.
 
 use engine_app::{Census, LightCensusPass, light_census};
 use glam::{Mat4, Vec3};
 use renderer::frame::setup::{create_target, framing_camera};
 use renderer::frame::{RenderPath, Renderer, RendererConfig};
+use renderer::materials::MaterialProgram;
 use renderer::scene::procedural::SceneBuilder;
-use renderer::scene::{LightKind, Scene, SceneLight};
+use renderer::scene::{CustomShading, LightKind, Scene, SceneLight};
 use renderer::{GpuContext, GpuOptions, readback};
 
 const WIDTH: u32 = 128;
@@ -149,4 +152,79 @@ fn an_engines_own_pass_reads_the_renderers_light_lists_through_the_generated_bui
         .filter(|p| p[0] > 24 || p[1] > 24 || p[2] > 24)
         .count();
     assert!(lit > with.len() / 4 / 10, "the yard is lit: {lit} pixels");
+}
+
+/// The yard with its brick drawn by the engine's `bricks` material.
+fn bricked_yard() -> Scene {
+    let mut scene = yard();
+    let params = engine_shaders::bricks::Bricks::new(
+        glam::Vec4::new(0.62, 0.22, 0.15, 1.0),
+        glam::Vec4::new(0.8, 0.78, 0.74, 1.0),
+        glam::Vec2::new(0.4, 0.25),
+        0.05,
+        0.0,
+    );
+    let brick = scene.materials.iter_mut().find(|m| m.name == "brick");
+    brick.expect("the yard has brick").custom = Some(CustomShading::new("bricks", &params));
+    scene
+}
+
+/// Mean and 99th percentile of the per-channel differences (RGB) of two RGBA8 frames.
+fn differences(a: &[u8], b: &[u8]) -> (f64, u8) {
+    let mut d: Vec<u8> = a
+        .chunks(4)
+        .zip(b.chunks(4))
+        .flat_map(|(p, q)| (0..3).map(move |c| p[c].abs_diff(q[c])))
+        .collect();
+    let mean = d.iter().map(|&v| f64::from(v)).sum::<f64>() / d.len() as f64;
+    d.sort_unstable();
+    (mean, d[d.len() * 99 / 100])
+}
+
+#[test]
+fn the_engines_own_material_shows_and_every_path_draws_it_as_naive_does() {
+    let gpu = engine_device();
+    let program = MaterialProgram::new(&engine_shaders::bricks::MODULE).expect("a material");
+    let render = |scene: &Scene, path| {
+        let config = RendererConfig {
+            width: WIDTH,
+            height: HEIGHT,
+            path,
+            msaa: 4,
+            ..Default::default()
+        };
+        let mut r = Renderer::new(&gpu, config).expect("the renderer");
+        r.register_material(program)
+            .expect("the engine's material registers");
+        r.prepare_scene(scene).expect("the scene fits");
+        r.set_lights(&lights()).expect("the lights fit");
+        frame(&gpu, &mut r, scene)
+    };
+    let scene = bricked_yard();
+    let naive = render(&scene, RenderPath::Naive);
+    let plain = render(&yard(), RenderPath::Naive);
+    let changed = naive
+        .chunks(4)
+        .zip(plain.chunks(4))
+        .filter(|(p, q)| (0..3).any(|c| p[c].abs_diff(q[c]) > 16))
+        .count();
+    assert!(
+        changed > 100,
+        "the bricks show where glTF's brick was: {changed} pixels changed"
+    );
+    for path in [RenderPath::Tiled, RenderPath::Clustered] {
+        let (mean, p99) = differences(&naive, &render(&scene, path));
+        assert!(
+            mean < 0.05 && p99 <= 1,
+            "{path:?}: mean {mean:.3}, p99 {p99}"
+        );
+    }
+    let prez = render(&scene, RenderPath::NaivePrez);
+    for path in [RenderPath::Tbdr, RenderPath::Deferred] {
+        let (mean, p99) = differences(&prez, &render(&scene, path));
+        assert!(
+            mean <= 0.3 && p99 <= 4,
+            "{path:?}: mean {mean:.3}, p99 {p99}"
+        );
+    }
 }

@@ -1,5 +1,7 @@
-//! An engine's shader module: it uses its own library crate's `surface` library and the
-//! renderer's PBR library, over an axis of its own.
+//! An engine's shader modules: a compute module that uses its own library crate's `surface`
+//! library and the renderer's PBR library, over an axis of its own; and a material, `bricks`,
+//! written with the renderer's material frame and its library crate's `patterns`, which the
+//! renderer draws on every path.
 
 /// Lights a list of points with one light: the renderer's `shade_light`, the engine's normal
 /// packing and tint.
@@ -40,5 +42,28 @@ pub mod engine_lit {
             p.roughness,
         );
         OUT[gid.x] = tinted(c).extend(1.0);
+    }
+}
+
+/// Running-bond brickwork in world space: bricks and mortar of the parameters' colours, the
+/// mortar rougher. The renderer's material frame around it does the rest (lights, shadows,
+/// decals, MSAA, every path).
+#[shader_dsl::material(params = Bricks, uses(engine_shader_lib::patterns))]
+pub mod bricks {
+    /// The brickwork's parameters.
+    pub struct Bricks {
+        pub brick: Vec4,
+        pub mortar: Vec4,
+        /// Brick width and height, metres.
+        pub size: Vec2,
+        /// Joint width, metres.
+        pub joint: f32,
+        pub pad: f32,
+    }
+
+    fn surface(point: MaterialPoint, params: Bricks) -> Surface {
+        let inside = brick_mask(point.world, point.normal, params.size, params.joint);
+        let colour = params.mortar.xyz() + (params.brick.xyz() - params.mortar.xyz()) * inside;
+        pattern_surface(point, colour * point.color.xyz(), 0.9 - 0.3 * inside)
     }
 }

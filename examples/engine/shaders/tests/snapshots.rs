@@ -1,7 +1,7 @@
 //! The engine module's generated WGSL, snapshotted as an engine's CI would, and its generated
 //! bind-group builders, which take the library crate's part by name.
 
-use engine_shaders::engine_lit;
+use engine_shaders::{bricks, engine_lit};
 use shader_bind::wgpu;
 
 #[test]
@@ -60,4 +60,36 @@ fn the_builders_take_the_library_crate_s_part_by_name() {
     // The host type of the library's struct is the library crate's own.
     let tint = engine_shader_lib::surface::Tint::new(glam::Vec3::ONE, 0.25);
     assert_eq!(bytemuck::bytes_of(&tint).len(), 16);
+}
+
+/// The material's variants are the renderer's material frame around the engine's surface: the
+/// frame's entry points, the renderer's light loop and the engine's pattern library merged in,
+/// and the parameter records at group 3. The single-sample list kinds are snapshotted.
+#[test]
+fn the_material_is_the_frame_around_the_engines_surface() {
+    assert_eq!(
+        bricks::VARIANTS.len(),
+        10,
+        "list × blend × scalarize, less naive scalar"
+    );
+    for &key in bricks::VariantKey::ALL {
+        let Ok(variant) = bricks::variant(key) else {
+            assert!(key.list == bricks::List::List0 && key.scalarize, "{key}");
+            continue;
+        };
+        for entry in ["vs_forward", "fs_forward", "fs_gbuffer"] {
+            assert!(variant.entry_point(entry).is_some(), "{key}: {entry}");
+        }
+        assert!(variant.wgsl.contains("fn brick_mask("), "{key}");
+        assert!(variant.wgsl.contains("fn light_contribution("), "{key}");
+        assert!(
+            variant
+                .wgsl
+                .contains("@group(3) @binding(0) var<storage, read> PARAMS: array<Bricks>;"),
+            "{key}"
+        );
+        if !key.blend && !key.scalarize {
+            insta::assert_snapshot!(format!("bricks_{key}"), variant.wgsl);
+        }
+    }
 }
