@@ -7,7 +7,7 @@
 use shader_bind::{Resource, Resources};
 use shaders_gen::forward::forward;
 
-use super::FrameGroup;
+use super::bindings::FrameGroup;
 use crate::frame_data::{DrawBatch, PreparedScene, RenderError};
 use crate::graph::PassContext;
 use crate::materials::{MaterialProgram, PARAMS_GROUP};
