@@ -49,6 +49,9 @@ mod motion;
 mod pass_list;
 mod reconfigure;
 pub mod setup;
+mod views;
+
+pub use views::{ViewId, ViewTarget};
 
 use std::collections::VecDeque;
 use std::sync::Arc;
@@ -89,6 +92,8 @@ pub struct Renderer {
     /// The material programs registered ([`Renderer::register_material`]), which the forward
     /// and G-buffer passes build pipelines for.
     materials: Vec<MaterialProgram>,
+    /// Further views, drawn with the main view by [`Renderer::render_views`].
+    views: Vec<views::ExtraView>,
     /// The scene, and its instances (edited by handle in `motion`).
     scene: Option<(Arc<PreparedScene>, Arc<InstanceTable>)>,
     lights: Arc<LightSet>,
@@ -135,6 +140,7 @@ impl Renderer {
         Ok(Self {
             passes: pass_list::passes_for(gpu, &config, &[])?,
             materials: Vec::new(),
+            views: Vec::new(),
             gpu: gpu.clone(),
             config,
             scene: None,
@@ -269,26 +275,27 @@ impl Renderer {
         camera: &FrameCamera,
         target: &wgpu::Texture,
     ) -> Result<FrameReport, RenderError> {
+        self.render_with(camera, target, &[])
+    }
+
+    /// [`Renderer::render`] with further views ([`Renderer::render_views`], which checks them).
+    fn render_with(
+        &mut self,
+        camera: &FrameCamera,
+        target: &wgpu::Texture,
+        views: &[ViewTarget<'_>],
+    ) -> Result<FrameReport, RenderError> {
         if let Some(reason) = self.gpu.lost() {
             return Err(RenderError::DeviceLost(reason));
         }
         let scene = self.scene.clone().ok_or(RenderError::NoScene)?;
-        let c = &self.config;
-        let size = target.size();
-        if (size.width, size.height) != (c.width, c.height) || target.format() != c.output_format {
-            return Err(RenderError::TargetMismatch {
-                actual: (size.width, size.height),
-                actual_format: target.format(),
-                expected: (c.width, c.height),
-                expected_format: c.output_format,
-            });
-        }
+        check_target(&self.config, target)?;
         // Allocation failures while the frame is recorded come back as an error, not a panic.
         let out_of_memory = self
             .gpu
             .device
             .push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-        let report = self.record_and_submit(camera, target, scene);
+        let report = self.record_and_submit(camera, target, scene, views);
         if let Some(error) = pollster::block_on(out_of_memory.pop()) {
             return Err(RenderError::OutOfMemory(error.to_string()));
         }
@@ -304,6 +311,7 @@ impl Renderer {
         camera: &FrameCamera,
         target: &wgpu::Texture,
         (scene, instances): (Arc<PreparedScene>, Arc<InstanceTable>),
+        views: &[ViewTarget<'_>],
     ) -> Result<FrameReport, RenderError> {
         self.frame_index += 1;
         let frame = FrameInputs {
@@ -324,6 +332,7 @@ impl Renderer {
         for pass in &mut self.passes {
             pass.prepare(&frame)?;
         }
+        let mut view_frames = self.prepare_views(&frame, views)?;
         let cpu_upload_ms = upload_started.elapsed().as_secs_f64() * 1e3;
 
         let started = Instant::now();
@@ -335,17 +344,21 @@ impl Renderer {
         for pass in &self.passes {
             pass.add_to_graph(&mut graph, &frame, &mut resources)?;
         }
+        self.add_views_to_graph(&mut graph, &resources, &mut view_frames)?;
         let compilations = self.graph_cache.counts().0;
         let mut compiled = graph.compile_cached(&mut self.graph_cache)?;
         let graph_compiled = self.graph_cache.counts().0 > compilations;
         compiled.bind_texture(output, target);
         resources.bind_imports(&mut compiled);
-        let gpu = &self.gpu;
+        Self::bind_views(&mut compiled, &view_frames);
+        let gpu = self.gpu.clone();
+        let gpu = &gpu;
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         let pool = compiled.execute(&gpu.device, &mut encoder, &mut self.pool, &self.profiler)?;
         for pass in &mut self.passes {
             pass.after_execute(&frame, &resources, &mut encoder);
         }
+        self.views_after_execute(&view_frames, &mut encoder);
         self.profiler.resolve_queries(&mut encoder);
         let cpu_graph_ms = started.elapsed().as_secs_f64() * 1e3;
 
@@ -372,12 +385,29 @@ impl Renderer {
         for pass in &mut self.passes {
             pass.after_submit(&frame, &mut report);
         }
+        report.views = self.views_after_submit(&view_frames);
         report.timings = self
             .profiler
             .process_finished_frame(gpu.queue.get_timestamp_period())
             .map(|r| PassTiming::from_profiler(&r));
         Ok(report)
     }
+}
+
+/// `target` is a texture of `config`'s size and output format.
+fn check_target(config: &RendererConfig, target: &wgpu::Texture) -> Result<(), RenderError> {
+    let size = target.size();
+    if (size.width, size.height) != (config.width, config.height)
+        || target.format() != config.output_format
+    {
+        return Err(RenderError::TargetMismatch {
+            actual: (size.width, size.height),
+            actual_format: target.format(),
+            expected: (config.width, config.height),
+            expected_format: config.output_format,
+        });
+    }
+    Ok(())
 }
 
 /// A frame of `width` × `height` fits `gpu`: 1 to the largest texture side on each axis.

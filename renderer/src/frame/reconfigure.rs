@@ -51,7 +51,19 @@ impl Renderer {
                 crate::materials::check_material(material, &materials)?;
             }
         }
-        self.passes = pass_list::passes_for(&self.gpu, &self.config, &materials)?;
+        let passes = pass_list::passes_for(&self.gpu, &self.config, &materials)?;
+        let mut views = Vec::with_capacity(self.views.len());
+        for v in &self.views {
+            views.push(super::views::view_passes(
+                &self.gpu,
+                v.config(),
+                &materials,
+            )?);
+        }
+        self.passes = passes;
+        for (v, passes) in self.views.iter_mut().zip(views) {
+            v.set_passes(passes);
+        }
         self.materials = materials;
         self.graph_cache = GraphCache::new();
         Ok(())

@@ -36,6 +36,9 @@ pub struct FrameReport {
     /// What the frame graph's transient pool reused, created and held this frame: `held` stays
     /// flat across frames of one configuration.
     pub pool: crate::graph::PoolStats,
+    /// The further views' reports (`Renderer::render_views`), in the order they were drawn;
+    /// empty for a frame of the main view alone.
+    pub views: Vec<FrameReport>,
 }
 
 /// The scene's opaque and masked draws in the main view's batches, and what culling kept.

@@ -301,6 +301,9 @@ pub struct FrameResources {
     pub particle_lists: Option<LightListHandles>,
     /// The particles of this frame (absent without particles).
     pub particles: Option<ParticleResources>,
+    /// In a further view of the frame: the particle slots the main view's simulation step
+    /// wrote this frame, which this view lays out for itself (`Renderer::add_view`).
+    pub main_particles: Option<Handle<Buffer>>,
     /// The G-buffer (deferred paths).
     pub gbuffer: Option<GBufferHandles>,
     /// Which pixels the deferred base pass shades per sample, a bit each, row-major (the
@@ -325,6 +328,7 @@ impl FrameResources {
             hdr_multisampled: None,
             particle_lists: None,
             particles: None,
+            main_particles: None,
             gbuffer: None,
             scene_draws: None,
             deferred_edges: None,

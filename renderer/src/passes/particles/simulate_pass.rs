@@ -3,6 +3,10 @@
 //! allocation, and the back-to-front sort). It builds the systems' GPU state when the renderer
 //! is given particles, reads the counters back asynchronously into the frame report, and warns
 //! when the atlas had to shrink.
+//!
+//! In a further view of the frame (`Renderer::add_view`) the pass follows the main view's:
+//! it lays out and sorts the particles the main view's step moved, for its own camera, and
+//! never steps them itself, so every view shows the same particles, simulated once.
 
 use std::sync::Arc;
 
@@ -27,6 +31,9 @@ pub struct ParticleSimPass {
     births: u32,
     readback: ReadbackRing,
     last: Option<ParticleReport>,
+    /// In a further view: the main view's systems this frame (`None`: it has none), whose
+    /// simulation this pass lays out without stepping it.
+    follows: Option<Option<Arc<ParticleGpu>>>,
 }
 
 impl ParticleSimPass {
@@ -34,6 +41,7 @@ impl ParticleSimPass {
         Self {
             gpu: gpu.clone(),
             system: None,
+            follows: None,
             births: 0,
             readback: ReadbackRing::new(&gpu.device, "particle counters readback", REPORT_WORDS),
             last: None,
@@ -65,6 +73,13 @@ impl ParticleSimPass {
         self.last
     }
 
+    /// Makes this the pass of a further view, following `main` (the main view's systems this
+    /// frame, [`ParticleSimPass::system`]): it lays out their particles for its own camera
+    /// and does not step them.
+    pub(crate) fn follow(&mut self, main: Option<Arc<ParticleGpu>>) {
+        self.follows = Some(main);
+    }
+
     /// The systems' GPU state (none before the first frame with particles).
     pub fn system(&self) -> Option<&Arc<ParticleGpu>> {
         self.system.as_ref()
@@ -82,15 +97,34 @@ impl Pass for ParticleSimPass {
             return Ok(());
         };
         let side = frame.config.particle_atlas_side;
+        let main = match &self.follows {
+            Some(None) => {
+                self.system = None;
+                return Ok(());
+            }
+            Some(Some(main)) => Some(main),
+            None => None,
+        };
         let stale = self.system.as_ref().is_none_or(|s| {
-            s.generation != input.generation || (side != 0 && s.atlas.side != side)
+            s.generation != input.generation
+                || (side != 0 && s.atlas.side != side)
+                || main.is_some_and(|m| !Arc::ptr_eq(&m.sim, &s.sim))
         });
         if stale {
-            self.system = Some(Arc::new(ParticleGpu::new(&self.gpu, input, side)?));
+            let system = match main {
+                Some(m) => {
+                    let sim = Arc::clone(&m.sim);
+                    ParticleGpu::with_simulation(&self.gpu, sim, m.generation, side)?
+                }
+                None => ParticleGpu::new(&self.gpu, input, side)?,
+            };
+            self.system = Some(Arc::new(system));
             self.last = None;
         }
         if let Some(system) = &self.system {
-            self.births = system.sim.write_step(&frame.gpu.queue);
+            if main.is_none() {
+                self.births = system.sim.write_step(&frame.gpu.queue);
+            }
             system
                 .atlas
                 .write_params(&frame.gpu.queue, &frame.camera, frame.config.height);
@@ -107,23 +141,31 @@ impl Pass for ParticleSimPass {
         let Some(system) = &self.system else {
             return Ok(());
         };
-        let mut simulated = resources.import_buffer(
-            graph,
-            "particles",
-            &system.sim.particles,
-            ImportAccess::ReadWrite,
-        );
+        let following = self.follows.is_some();
+        let simulated = match resources.main_particles {
+            Some(stepped) if following => stepped,
+            _ if following => return Ok(()),
+            _ => resources.import_buffer(
+                graph,
+                "particles",
+                &system.sim.particles,
+                ImportAccess::ReadWrite,
+            ),
+        };
         let mut laid_out = resources.import_buffer(
             graph,
             "particle keys",
             &system.sort.keys,
             ImportAccess::ReadWrite,
         );
-        let (step, births) = (Arc::clone(system), self.births);
-        graph
-            .add_pass(self.name())
-            .write_buffer(&mut simulated, BufferAccess::StorageWrite)
-            .execute(move |ctx| step.sim.encode_step(ctx.encoder, births));
+        let mut simulated = simulated;
+        if !following {
+            let (step, births) = (Arc::clone(system), self.births);
+            graph
+                .add_pass(self.name())
+                .write_buffer(&mut simulated, BufferAccess::StorageWrite)
+                .execute(move |ctx| step.sim.encode_step(ctx.encoder, births));
+        }
         let layout = Arc::clone(system);
         graph
             .add_pass("particle layout")

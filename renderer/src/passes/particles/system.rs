@@ -3,6 +3,8 @@
 //! simulation pass builds it (and rebuilds it when the systems change) and hands it on through
 //! [`crate::frame_data::ParticleResources`].
 
+use std::sync::Arc;
+
 use shaders_gen::particles::particle_draw::ParticleView;
 use wgpu::util::DeviceExt as _;
 
@@ -21,7 +23,9 @@ pub const DEFAULT_ATLAS_SIDE: u32 = 2048;
 /// One particle system's GPU state.
 #[derive(Debug)]
 pub struct ParticleGpu {
-    pub sim: ParticleSimulation,
+    /// The simulation: the main view's own; a further view's shares the main view's
+    /// ([`ParticleGpu::with_simulation`]), which only the main view steps.
+    pub sim: Arc<ParticleSimulation>,
     pub atlas: ParticleAtlas,
     pub sort: GpuSort,
     /// The `ParticleView` uniform.
@@ -42,9 +46,23 @@ impl ParticleGpu {
     /// Builds the GPU state of `input` with an atlas of `side` texels (0: the default) and runs
     /// its warm-up steps.
     pub fn new(gpu: &GpuContext, input: &ParticleInput, side: u32) -> Result<Self, RenderError> {
+        let sim = Arc::new(ParticleSimulation::new(gpu, (*input.system).clone())?);
+        let system = Self::with_simulation(gpu, sim, input.generation, side)?;
+        system.sim.advance(gpu, input.warmup_steps);
+        Ok(system)
+    }
+
+    /// The layout, sort, view and lit atlas of a view of `sim` (another view's simulation,
+    /// stepped there), built for particle input `generation`, with an atlas of `side` texels
+    /// (0: the default).
+    pub fn with_simulation(
+        gpu: &GpuContext,
+        sim: Arc<ParticleSimulation>,
+        generation: u64,
+        side: u32,
+    ) -> Result<Self, RenderError> {
         let device = &gpu.device;
-        let sim = ParticleSimulation::new(gpu, (*input.system).clone())?;
-        let capacity = input.system.capacity;
+        let capacity = sim.system().capacity;
         let max = GpuSort::max_items(device);
         if capacity > max {
             let asked = capacity;
@@ -57,7 +75,6 @@ impl ParticleGpu {
             side
         };
         let atlas = ParticleAtlas::new(gpu, &sim, &sort, side)?;
-        sim.advance(gpu, input.warmup_steps);
         let lit_atlas = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("particle lighting atlas"),
             size: wgpu::Extent3d {
@@ -104,7 +121,7 @@ impl ParticleGpu {
                 mipmap_filter: wgpu::MipmapFilterMode::Linear,
                 ..Default::default()
             }),
-            generation: input.generation,
+            generation,
         })
     }
 
