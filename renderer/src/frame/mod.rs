@@ -45,13 +45,12 @@
 mod access;
 mod assets;
 pub mod capture;
+mod extra_view;
 mod motion;
 mod pass_list;
 mod reconfigure;
 pub mod setup;
 mod views;
-
-pub use views::{ViewId, ViewTarget};
 
 use std::collections::VecDeque;
 use std::sync::Arc;
@@ -60,7 +59,7 @@ use std::time::Instant;
 pub use crate::frame_data::{
     Ambient, DecalUpload, DrawItem, FrameCamera, FrameReport, FrameView, InstanceHandle,
     InstanceState, ParticleLighting, ParticleReport, PreparedScene, RenderError, RenderPath,
-    RendererConfig,
+    RendererConfig, ViewId, ViewTarget,
 };
 pub use crate::passes::light_cull::Culler;
 pub use assets::GeometryUsage;
@@ -93,7 +92,7 @@ pub struct Renderer {
     /// and G-buffer passes build pipelines for.
     materials: Vec<MaterialProgram>,
     /// Further views, drawn with the main view by [`Renderer::render_views`].
-    views: Vec<views::ExtraView>,
+    views: Vec<extra_view::ExtraView>,
     /// The scene, and its instances (edited by handle in `motion`).
     scene: Option<(Arc<PreparedScene>, Arc<InstanceTable>)>,
     lights: Arc<LightSet>,

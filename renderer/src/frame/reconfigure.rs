@@ -54,7 +54,7 @@ impl Renderer {
         let passes = pass_list::passes_for(&self.gpu, &self.config, &materials)?;
         let mut views = Vec::with_capacity(self.views.len());
         for v in &self.views {
-            views.push(super::views::view_passes(
+            views.push(super::extra_view::view_passes(
                 &self.gpu,
                 v.config(),
                 &materials,

@@ -12,75 +12,14 @@
 
 use std::sync::Arc;
 
-use super::{Renderer, check_config, pass_list};
+use super::extra_view::{ExtraView, ViewFrame, view_passes};
+use super::{Renderer, check_config};
 use crate::frame_data::{
     CameraUniform, FrameCamera, FrameInputs, FrameReport, FrameResources, RenderError,
-    RendererConfig,
+    RendererConfig, ViewId, ViewTarget,
 };
 use crate::graph::{ImportAccess, RenderGraph, TextureDesc};
-use crate::passes::Pass;
 use crate::passes::particles::ParticleSimPass;
-
-/// A further view of a renderer ([`Renderer::add_view`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct ViewId(u32);
-
-/// A further view to draw in a frame: which, from where, into what (a texture of the view's
-/// `output_format` and size, with `RENDER_ATTACHMENT`).
-#[derive(Debug, Clone, Copy)]
-pub struct ViewTarget<'a> {
-    pub view: ViewId,
-    pub camera: &'a FrameCamera,
-    pub target: &'a wgpu::Texture,
-}
-
-/// A further view's configuration, passes and camera uniform.
-#[derive(Debug)]
-pub(super) struct ExtraView {
-    id: ViewId,
-    config: RendererConfig,
-    passes: Vec<Box<dyn Pass>>,
-    camera_uniform: CameraUniform,
-}
-
-impl ExtraView {
-    pub(super) fn config(&self) -> &RendererConfig {
-        &self.config
-    }
-
-    pub(super) fn set_passes(&mut self, passes: Vec<Box<dyn Pass>>) {
-        self.passes = passes;
-    }
-}
-
-/// A further view's part of one frame: its inputs, and once added to the graph, its output
-/// and resources.
-pub(super) struct ViewFrame {
-    index: usize,
-    inputs: FrameInputs,
-    target: wgpu::Texture,
-    resources: Option<FrameResources>,
-}
-
-/// The passes of a further view of `config`: the main view's list less the shadow atlas (the
-/// main view's is shared) and the depth probe (a tool's capture of the main view), its
-/// particle simulation following the main view's.
-pub(super) fn view_passes(
-    gpu: &crate::GpuContext,
-    config: &RendererConfig,
-    materials: &[crate::materials::MaterialProgram],
-) -> Result<Vec<Box<dyn Pass>>, RenderError> {
-    let mut passes = pass_list::passes_for(gpu, config, materials)?;
-    passes.retain(|p| !matches!(p.name(), "shadow atlas" | "depth probe"));
-    for pass in &mut passes {
-        if let Some(sim) =
-            (pass.as_mut() as &mut dyn std::any::Any).downcast_mut::<ParticleSimPass>()
-        {
-            sim.follow(None);
-        }
-    }
-    Ok(passes)
-}
 
 impl Renderer {
     /// Adds a view of the scene with its own `config` (size, path, MSAA, tile, exposure, view,

@@ -29,9 +29,9 @@ pub enum RenderError {
     #[error("no pass named `{0}` in this renderer's pass list")]
     NoSuchPass(String),
     #[error("{0:?} is not a view of this renderer (never added, or removed)")]
-    NoSuchView(crate::frame::ViewId),
+    NoSuchView(super::ViewId),
     #[error("{0:?} is listed twice in one frame; draw a view once per frame")]
-    ViewTwice(crate::frame::ViewId),
+    ViewTwice(super::ViewId),
     #[error(transparent)]
     Variant(#[from] VariantError),
     #[error(transparent)]

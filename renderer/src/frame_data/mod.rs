@@ -22,6 +22,7 @@ mod material_params;
 mod report;
 mod resources;
 mod scene;
+mod views;
 
 pub use camera::{CameraUniform, FrameCamera, box_in_frustum, farness, frustum_planes};
 pub use config::{
@@ -43,3 +44,4 @@ pub use resources::{
     OcclusionPacked, ParticleResources, SceneDrawList, ShadowResources,
 };
 pub use scene::{MeshDraw, PlannedDraw, PreparedScene, draw_plan, is_mirrored};
+pub use views::{ViewId, ViewTarget};

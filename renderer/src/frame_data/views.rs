@@ -1,0 +1,17 @@
+//! The names of a renderer's further views (`Renderer::add_view`), below the passes and the
+//! errors that name them.
+
+use super::FrameCamera;
+
+/// A further view of a renderer ([`Renderer::add_view`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct ViewId(pub(crate) u32);
+
+/// A further view to draw in a frame: which, from where, into what (a texture of the view's
+/// `output_format` and size, with `RENDER_ATTACHMENT`).
+#[derive(Debug, Clone, Copy)]
+pub struct ViewTarget<'a> {
+    pub view: ViewId,
+    pub camera: &'a FrameCamera,
+    pub target: &'a wgpu::Texture,
+}
