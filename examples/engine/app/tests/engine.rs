@@ -6,7 +6,9 @@
 //! renderer's own culling counters (entries, longest list), every listed index names a real
 //! light, and the frame with the engine's pass is the frame without it, lit. The engine's own
 //! material (`engine_shaders::bricks`, registered with the renderer) shows in the frame, and
-//! every path draws it as naive forward does.
+//! every path draws it as naive forward does. Two views in one frame (the street camera and a
+//! minimap from above, smaller, on another path) share the shadow atlas; the main view is the
+//! frame a renderer without the minimap draws.
 
 use engine_app::{Census, LightCensusPass, light_census};
 use glam::{Mat4, Vec3};
@@ -227,4 +229,73 @@ fn the_engines_own_material_shows_and_every_path_draws_it_as_naive_does() {
             "{path:?}: mean {mean:.3}, p99 {p99}"
         );
     }
+}
+
+#[test]
+fn a_minimap_view_renders_in_the_same_frame_and_leaves_the_main_view_alone() {
+    use renderer::frame::{FrameCamera, ViewTarget};
+    let gpu = engine_device();
+    let program = MaterialProgram::new(&engine_shaders::bricks::MODULE).expect("a material");
+    let scene = bricked_yard();
+    let config = RendererConfig {
+        width: WIDTH,
+        height: HEIGHT,
+        path: RenderPath::Clustered,
+        ..Default::default()
+    };
+    let new_renderer = || {
+        let mut r = Renderer::new(&gpu, config).expect("the renderer");
+        r.register_material(program)
+            .expect("the engine's material registers");
+        r.prepare_scene(&scene).expect("the scene fits");
+        r.set_lights(&lights()).expect("the lights fit");
+        r
+    };
+    let mut alone = new_renderer();
+    let single = frame(&gpu, &mut alone, &scene);
+
+    let mut renderer = new_renderer();
+    let minimap_config = RendererConfig {
+        width: 64,
+        height: 64,
+        msaa: 1,
+        path: RenderPath::Tiled,
+        ..config
+    };
+    let minimap = renderer.add_view(minimap_config).expect("the minimap view");
+    let above =
+        glam::camera::rh::view::look_at_mat4(Vec3::new(0.0, 20.0, 0.0), Vec3::ZERO, Vec3::NEG_Z);
+    let minimap_camera = FrameCamera::orthographic(above.inverse(), (7.0, 7.0), (1.0, 40.0));
+    let main_target = create_target(&gpu.device, renderer.config());
+    let minimap_target = create_target(&gpu.device, &minimap_config);
+    let camera = framing_camera(scene.bounds, WIDTH as f32 / HEIGHT as f32);
+    let views = [ViewTarget {
+        view: minimap,
+        camera: &minimap_camera,
+        target: &minimap_target,
+    }];
+    let report = renderer
+        .render_views(&camera, &main_target, &views)
+        .expect("a frame of two views");
+    renderer.finish();
+    assert_eq!(report.views.len(), 1);
+    assert!(
+        report.views[0].shadows.is_none(),
+        "one shadow atlas for both views"
+    );
+    let read = |t| readback::read_texture_rgba8(&gpu.device, &gpu.queue, t).expect("readback");
+    assert_eq!(
+        read(&main_target),
+        single,
+        "the minimap changed the main view"
+    );
+    let map = read(&minimap_target);
+    let ground = map
+        .chunks(4)
+        .filter(|p| p[0] > 24 || p[1] > 24 || p[2] > 24)
+        .count();
+    assert!(
+        ground > 64 * 64 / 2,
+        "the minimap sees the lit yard: {ground} pixels"
+    );
 }
