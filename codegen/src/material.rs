@@ -76,8 +76,18 @@ impl Parse for MaterialArgs {
 
 /// `#[material(..)]`: the module with the frame's entry points, compiled as `#[shader]`.
 pub fn expand_material(args: TokenStream, item: TokenStream) -> syn::Result<TokenStream> {
+    let (shader_args, module) = as_shader(args, syn::parse2(item)?)?;
+    crate::expand(shader_args, module.into_token_stream())
+}
+
+/// A `#[material(args)]` module as the `#[shader(..)]` module it expands to: the shader's
+/// arguments and the module with the entry points (and `PARAMS`) added. Tools that compile
+/// source text without the proc-macro (`sources::shader_modules`) take materials through it.
+pub fn as_shader(
+    args: TokenStream,
+    mut module: syn::ItemMod,
+) -> syn::Result<(TokenStream, syn::ItemMod)> {
     let args: MaterialArgs = syn::parse2(args)?;
-    let mut module: syn::ItemMod = syn::parse2(item)?;
     let Some((_, content)) = module.content.as_mut() else {
         return Err(syn::Error::new(
             module.ident.span(),
@@ -114,7 +124,7 @@ pub fn expand_material(args: TokenStream, item: TokenStream) -> syn::Result<Toke
         requires(subgroup = scalarize),
         uses(#frame #(, #uses)*),
     };
-    crate::expand(shader_args, module.into_token_stream())
+    Ok((shader_args, module))
 }
 
 /// A material may not declare what the expansion adds.

@@ -9,9 +9,15 @@ use crate::pipeline::Compiled;
 use proc_macro2::TokenStream;
 
 /// Every `#[shader(..)]` module of a Rust source file (at any nesting depth), with its
-/// attribute arguments, the attribute removed.
+/// attribute arguments, the attribute removed; and every `#[material(..)]` module as the
+/// `#[shader(..)]` module it expands to (`material::as_shader`; one that does not expand is
+/// left as written, so compiling it reports its arguments).
 pub fn shader_modules(file: &syn::File) -> Vec<(TokenStream, syn::ItemMod)> {
-    modules_with(file, "shader")
+    let mut out = modules_with(file, "shader");
+    for (args, item) in modules_with(file, "material") {
+        out.push(crate::material::as_shader(args.clone(), item.clone()).unwrap_or((args, item)));
+    }
+    out
 }
 
 /// Every `#[library(..)]` module of a Rust source file, like [`shader_modules`].

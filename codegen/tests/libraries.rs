@@ -2,12 +2,15 @@
 //! library's own validation, axis checks, host re-exports, libraries that use libraries (the
 //! graph: order, diamonds, cycles, clashes), the SPIR-V `Invariant` decoration, and the
 //! bind-group builders emitted for modules and libraries (`builders`), and entry-point IO
-//! structs a library declares for its users (`io_structs`).
+//! structs a library declares for its users (`io_structs`), and materials (`#[material]`, a
+//! `surface` function in a material frame: `materials`).
 
 #[path = "libraries/builders.rs"]
 mod builders;
 #[path = "libraries/io_structs.rs"]
 mod io_structs;
+#[path = "libraries/materials.rs"]
+mod materials;
 
 const LIB: &str = r#"
 #[library(axes(wide: bool = [false, true]))]

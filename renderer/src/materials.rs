@@ -5,7 +5,7 @@
 //! names it (`custom`, with its parameter record), and its draws are drawn with the program's
 //! pipelines. glTF metallic-roughness is the built-in one (`shaders_gen::forward::forward`).
 //!
-//! ```ignore
+//! ```text
 //! // In the engine's shader crate:
 //! #[shader_dsl::material(params = Stripes, uses(engine_lib::patterns))]
 //! pub mod striped {

@@ -193,7 +193,8 @@ pub fn run(args: &Args) -> Result<()> {
     Ok(())
 }
 
-/// Every `#[shader(..)] mod` in the `.rs` files under `dir`, with its attribute arguments.
+/// Every `#[shader(..)] mod` (and `#[material(..)] mod`, expanded) in the `.rs` files under
+/// `dir`, with its attribute arguments.
 pub(crate) type DslModule = (proc_macro2::TokenStream, syn::ItemMod);
 
 pub(crate) fn dsl_modules(dir: &Path) -> Result<Vec<(PathBuf, Vec<DslModule>)>> {
@@ -202,14 +203,8 @@ pub(crate) fn dsl_modules(dir: &Path) -> Result<Vec<(PathBuf, Vec<DslModule>)>> 
         let text = std::fs::read_to_string(&file)?;
         let parsed =
             syn::parse_file(&text).with_context(|| format!("parsing {}", file.display()))?;
-        let modules: Vec<DslModule> = parsed
-            .items
-            .into_iter()
-            .filter_map(|item| match item {
-                syn::Item::Mod(m) => shader_args(&m).map(|args| (args, strip_shader_attr(m))),
-                _ => None,
-            })
-            .collect();
+        // Materials come as the `#[shader]` modules they expand to.
+        let modules: Vec<DslModule> = codegen::shader_modules(&parsed);
         if !modules.is_empty() {
             out.push((file, modules));
         }
@@ -279,26 +274,6 @@ pub(crate) fn check_all_modules_found(sources: &[(PathBuf, Vec<DslModule>)]) -> 
         );
     }
     Ok(())
-}
-
-fn is_shader_attr(a: &syn::Attribute) -> bool {
-    a.path()
-        .segments
-        .last()
-        .is_some_and(|s| s.ident == "shader")
-}
-
-fn shader_args(m: &syn::ItemMod) -> Option<proc_macro2::TokenStream> {
-    let attr = m.attrs.iter().find(|a| is_shader_attr(a))?;
-    Some(match &attr.meta {
-        syn::Meta::List(list) => list.tokens.clone(),
-        _ => proc_macro2::TokenStream::new(),
-    })
-}
-
-fn strip_shader_attr(mut m: syn::ItemMod) -> syn::ItemMod {
-    m.attrs.retain(|a| !is_shader_attr(a));
-    m
 }
 
 fn bytemuck_words(words: &[u32]) -> Vec<u8> {

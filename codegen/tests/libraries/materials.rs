@@ -1,0 +1,135 @@
+//! `#[material]`: a module with a `surface` function expanded into a `#[shader]` module of a
+//! material frame (here a small frame of the test's own, with the frame contract's names), as
+//! tools see it through `shader_modules`, and the expansion's refusals at the author's spans.
+
+const FRAME: &str = r#"
+#[library(axes(list: u32 = [0, 1, 2], blend: bool = [false, true], scalarize: bool = [false, true]))]
+pub mod mini_frame {
+    pub struct VsOut {
+        #[builtin(position)]
+        pub clip: Vec4,
+        #[location(0)]
+        pub world: Vec3,
+    }
+    pub struct GBufferOut {
+        #[location(0)]
+        pub albedo: Vec4,
+    }
+    pub struct MaterialPoint { pub world: Vec3, pub params: u32 }
+    pub struct Surface { pub base_color: Vec4 }
+    pub fn material_vertex(position: Vec3, normal: Vec3, uv: Vec2, tangent: Vec4, uv1: Vec2, color: Vec4, draw_index: u32) -> VsOut {
+        VsOut { clip: position.extend(1.0), world: position + normal * (draw_index as f32) }
+    }
+    pub fn forward_facing(input: VsOut, front: bool) -> bool {
+        front || blend
+    }
+    pub fn material_point(input: VsOut, front: bool) -> MaterialPoint {
+        MaterialPoint { world: input.world, params: select(front, 1u32, 0u32) }
+    }
+    pub fn material_forward(input: VsOut, point: MaterialPoint, s: Surface) -> Vec4 {
+        s.base_color * ((list + 1u32) as f32)
+    }
+    pub fn material_gbuffer(input: VsOut, point: MaterialPoint, s: Surface) -> GBufferOut {
+        GBufferOut { albedo: s.base_color }
+    }
+}
+"#;
+
+fn with_frame(material: &str) -> String {
+    format!("{FRAME}{material}")
+}
+
+const TINTED: &str = r#"
+#[material(frame = crate::mini_frame, params = Tint)]
+mod tinted {
+    pub struct Tint { pub colour: Vec4 }
+    fn surface(point: MaterialPoint, params: Tint) -> Surface {
+        Surface { base_color: params.colour * point.world.x }
+    }
+}
+"#;
+
+#[test]
+fn a_material_is_the_frame_around_its_surface_for_every_frame_variant() {
+    let src = with_frame(TINTED);
+    let file = syn::parse_file(&src).expect("parses");
+    let modules = codegen::shader_modules(&file);
+    assert_eq!(
+        modules.len(),
+        1,
+        "the material comes out as one shader module"
+    );
+    let compiled = codegen::compile_source_all_with(&src, &[]).expect("parses");
+    let (name, result) = &compiled[0];
+    assert_eq!(name, "tinted");
+    let c = result.as_ref().unwrap_or_else(|e| panic!("{e}"));
+    let kept: Vec<&str> = (c.keys.iter().zip(&c.key_variant))
+        .filter(|(_, v)| v.is_some())
+        .map(|(k, _)| k.name.as_str())
+        .collect();
+    assert_eq!(
+        kept.len(),
+        10,
+        "list × blend × scalarize less naive scalar: {kept:?}"
+    );
+    assert!(!kept.contains(&"list0_scalar"), "{kept:?}");
+    for variant in &c.variants {
+        let wgsl = &variant.wgsl;
+        for entry in ["fn vs_forward(", "fn fs_forward(", "fn fs_gbuffer("] {
+            assert!(wgsl.contains(entry), "{entry} missing:\n{wgsl}");
+        }
+        assert!(
+            wgsl.contains("@group(3) @binding(0) var<storage, read> PARAMS: array<Tint>;"),
+            "{wgsl}"
+        );
+        assert!(
+            wgsl.contains("surface(point, PARAMS[point.params])"),
+            "{wgsl}"
+        );
+    }
+}
+
+fn refusal(material: &str) -> String {
+    let file = syn::parse_file(material).expect("parses");
+    let syn::Item::Mod(m) = &file.items[0] else {
+        panic!("a module")
+    };
+    let attr = &m.attrs[0];
+    let args = match &attr.meta {
+        syn::Meta::List(l) => l.tokens.clone(),
+        _ => proc_macro2::TokenStream::new(),
+    };
+    let mut item = m.clone();
+    item.attrs.clear();
+    match codegen::expand_material(args, quote::ToTokens::into_token_stream(item)) {
+        Ok(_) => panic!("expanded: {material}"),
+        Err(e) => e.to_string(),
+    }
+}
+
+#[test]
+fn materials_without_a_surface_or_with_the_frames_names_are_refused() {
+    let e = refusal("#[material] mod m { fn shade(point: MaterialPoint) -> Surface { todo() } }");
+    assert!(
+        e.contains("declares `fn surface(point: MaterialPoint) -> Surface`"),
+        "{e}"
+    );
+    let e = refusal(
+        "#[material(params = P)] mod m { fn surface(point: MaterialPoint) -> Surface { x } }",
+    );
+    assert!(
+        e.contains("`params = P` shades with `fn surface(point: MaterialPoint, params: P)"),
+        "{e}"
+    );
+    let e = refusal(
+        "#[material] mod m { fn surface(p: MaterialPoint) -> Surface { x } fn fs_forward() {} }",
+    );
+    assert!(
+        e.contains("`fs_forward` is written by `#[material]`"),
+        "{e}"
+    );
+    let e = refusal(
+        "#[material(axes(tile: u32 = [8]))] mod m { fn surface(p: MaterialPoint) -> Surface { x } }",
+    );
+    assert!(e.contains("unknown `#[material]` argument `axes`"), "{e}");
+}
