@@ -76,10 +76,28 @@ impl Renderer {
     /// Removes material `index` from the prepared scene: the next [`Renderer::add_material`]
     /// takes its index, and the material atlas releases the textures no other material
     /// samples (later textures take their room). Refused with [`RenderError::Scene`] while a
-    /// mesh of the scene draws with it (remove the mesh, or replace the material with
+    /// mesh of the scene or an instance ([`Renderer::set_instance_material`]) draws with it (remove the mesh, or replace the material with
     /// [`Renderer::set_material`]), for the default material, and for an unknown or removed
     /// index.
     pub fn remove_material(&mut self, index: usize) -> Result<(), RenderError> {
+        let (prepared, table) = self.scene.as_ref().ok_or(RenderError::NoScene)?;
+        // An instance that draws with it instead of its mesh's material (the meshes' own use
+        // is the prepared scene's check).
+        let given = table.states.iter().enumerate().find(|(_, s)| {
+            let templates = prepared
+                .mesh_draws
+                .get(s.mesh)
+                .map_or(&[][..], Vec::as_slice);
+            s.live
+                && (table.draws[s.draws()].iter().zip(templates))
+                    .any(|(d, t)| d.material == index && t.material != index)
+        });
+        if let Some((instance, _)) = given {
+            return Err(crate::scene::SceneError::Inconsistent(format!(
+                "material {index} is drawn by instance {instance} (`set_instance_material`): give it another material first"
+            ))
+            .into());
+        }
         let gpu = self.gpu.clone();
         Ok(self
             .prepared_mut()?

@@ -1,5 +1,6 @@
 //! Editing the scene's instances between frames, by handle: add an instance of a mesh, remove
-//! one, move one, mark one dynamic (its shadows drawn over the static cache each frame).
+//! one, move one, mark one dynamic (its shadows drawn over the static cache each frame), give
+//! one of its primitives another material.
 //!
 //! Each edit writes what it changes to the GPU (the instance's draw records) and nothing else;
 //! the passes follow on the next frame from the instances whose version moved
@@ -88,6 +89,27 @@ impl Renderer {
             .map_err(|e| edit_error(e, handle.index()))
     }
 
+    /// Draws primitive `primitive` of `handle`'s instance with material `material` of the
+    /// prepared scene from the next frame, instead of its mesh's: instances of one mesh can
+    /// differ in material (any material, glTF's or one of a material program). Only that
+    /// draw's record is written; a change of batch (alpha mode, sidedness, program) moves that
+    /// draw alone. A new instance of the mesh takes the mesh's materials again. An unknown or
+    /// removed material is [`RenderError::Scene`], a primitive past the mesh's
+    /// [`RenderError::NoSuchPrimitive`].
+    pub fn set_instance_material(
+        &mut self,
+        handle: InstanceHandle,
+        primitive: usize,
+        material: usize,
+    ) -> Result<(), RenderError> {
+        let gpu = self.gpu.clone();
+        let (prepared, table) = self.scene.as_mut().ok_or(RenderError::NoScene)?;
+        prepared.check_material_index(material)?;
+        Arc::make_mut(table)
+            .set_material(&gpu, handle, primitive, material)
+            .map_err(|e| edit_error(e, handle.index()))
+    }
+
     fn table(&self) -> Result<&InstanceTable, RenderError> {
         self.scene
             .as_ref()
@@ -107,5 +129,8 @@ fn edit_error(e: InstanceEditError, index: usize) -> RenderError {
         InstanceEditError::NoSuchMesh { mesh, count } => RenderError::NoSuchMesh { mesh, count },
         InstanceEditError::MeshRemoved { mesh } => RenderError::MeshRemoved { mesh },
         InstanceEditError::NotFinite => RenderError::NotFiniteTransform,
+        InstanceEditError::NoSuchPrimitive { primitive, count } => {
+            RenderError::NoSuchPrimitive { primitive, count }
+        }
     }
 }

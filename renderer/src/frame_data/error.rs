@@ -87,6 +87,8 @@ pub enum RenderError {
     StaleInstance { index: usize },
     #[error("mesh {mesh} does not exist: the prepared scene has {count} meshes")]
     NoSuchMesh { mesh: usize, count: usize },
+    #[error("primitive {primitive} is past the instance's mesh's {count} primitives")]
+    NoSuchPrimitive { primitive: usize, count: usize },
     #[error("mesh {mesh} was removed; add it again (add_mesh) for a new index")]
     MeshRemoved { mesh: usize },
     #[error("mesh {mesh} still has {instances} instances: remove them first")]

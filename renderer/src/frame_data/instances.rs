@@ -150,6 +150,8 @@ pub enum InstanceEditError {
     MeshRemoved { mesh: usize },
     /// The transform has a NaN or an infinity.
     NotFinite,
+    /// The primitive index is past the instance's mesh's primitives.
+    NoSuchPrimitive { primitive: usize, count: usize },
 }
 
 impl InstanceTable {
@@ -248,6 +250,13 @@ impl InstanceTable {
         }
         let index = match self.free[mesh].pop() {
             Some(index) => {
+                // The new instance draws with its mesh's materials, whatever the removed one
+                // drew with (`set_material`).
+                let templates = &prepared.mesh_draws[mesh];
+                let draws = self.states[index as usize].draws();
+                for (d, t) in self.draws[draws].iter_mut().zip(templates) {
+                    d.material = t.material;
+                }
                 let s = &mut self.states[index as usize];
                 s.world_from_mesh = world_from_mesh;
                 s.dynamic = dynamic;
@@ -308,6 +317,29 @@ impl InstanceTable {
         state.version += 1;
         let draws = state.draws();
         self.write_records(gpu, draws);
+        self.bump(handle.index());
+        Ok(())
+    }
+
+    /// Draws primitive `primitive` of `handle`'s instance with material `material` (an index
+    /// the caller checked against the prepared scene), rewriting that draw's record; the
+    /// passes place it again (its batch, its caster) from the change log.
+    pub fn set_material(
+        &mut self,
+        gpu: &GpuContext,
+        handle: InstanceHandle,
+        primitive: usize,
+        material: usize,
+    ) -> Result<(), InstanceEditError> {
+        let state = self.live_mut(handle)?;
+        let count = state.draw_count as usize;
+        if primitive >= count {
+            return Err(InstanceEditError::NoSuchPrimitive { primitive, count });
+        }
+        let d = state.first_draw as usize + primitive;
+        state.version += 1;
+        self.draws[d].material = material;
+        self.write_records(gpu, d..d + 1);
         self.bump(handle.index());
         Ok(())
     }

@@ -286,7 +286,7 @@ impl PreparedScene {
     }
 
     /// Refuses an index past the materials or of a removed material.
-    fn check_material_index(&self, index: usize) -> Result<(), SceneError> {
+    pub fn check_material_index(&self, index: usize) -> Result<(), SceneError> {
         let count = self.materials.len();
         if index >= count {
             return Err(SceneError::Inconsistent(format!(

@@ -294,3 +294,92 @@ fn bad_material_programs_and_bad_uses_are_typed_errors() {
             .expect("the previous scene takes a good material");
     });
 }
+
+/// A floor and three boxes of one mesh: `checkered` says which boxes draw with the checker
+/// material; `shared` builds them as instances of one mesh (the renderer then gives them
+/// their materials), else as a mesh per material.
+fn boxes(checkered: [bool; 3], shared: bool) -> Scene {
+    use renderer::scene::procedural::box_primitive;
+    let mut b = SceneBuilder::new();
+    let stone = b.material("stone", Vec3::new(0.6, 0.58, 0.55), 0.7);
+    let checker = b.add_material(Material {
+        name: "checker".into(),
+        custom: Some(CustomShading::new(
+            "checker",
+            &checker_params(
+                Vec3::new(0.9, 0.3, 0.2),
+                Vec3::new(0.2, 0.3, 0.9),
+                0.25,
+                0.0,
+            ),
+        )),
+        ..Material::gltf_default()
+    });
+    b.cuboid(Vec3::new(-4.0, -0.1, -3.0), Vec3::new(4.0, 0.0, 3.0), stone);
+    let (lo, hi) = (Vec3::new(-0.6, 0.0, -0.6), Vec3::new(0.6, 1.2, 0.6));
+    let plain = b.mesh("box", box_primitive(lo, hi, stone, false));
+    let own = b.mesh("checker box", box_primitive(lo, hi, checker, false));
+    for (i, &c) in checkered.iter().enumerate() {
+        let at = glam::Mat4::from_translation(Vec3::new(-2.5 + 2.5 * i as f32, 0.0, 0.0));
+        b.place(if c && !shared { own } else { plain }, at);
+    }
+    b.build()
+}
+
+#[test]
+fn instances_of_one_mesh_choose_their_material() {
+    let lights = |scene: &Scene| procedural_lights(scene.bounds, 16, 3, 1.5, 4.0);
+    gpu_test(|gpu| {
+        for path in [RenderPath::Naive, RenderPath::Clustered, RenderPath::Tbdr] {
+            let config = RendererConfig {
+                width: WIDTH,
+                height: HEIGHT,
+                path,
+                msaa: 4,
+                ..Default::default()
+            };
+            let shared = boxes([false; 3], true);
+            let camera = renderer::frame::setup::framing_camera(shared.bounds, 2.0);
+            let frame_of = |scene: &Scene| {
+                let mut r = renderer(gpu, config, scene);
+                r.set_lights(&lights(scene)).expect("lights");
+                render_one_frame(gpu, &mut r, &camera).rgba
+            };
+            let mut r = renderer(gpu, config, &shared);
+            r.set_lights(&lights(&shared)).expect("lights");
+            let plain = render_one_frame(gpu, &mut r, &camera).rgba;
+            // The middle box (instance 2, after the floor) draws with the checker (material 1).
+            let middle = r.scene_instance(2).expect("the middle box");
+            r.set_instance_material(middle, 0, 1)
+                .expect("a material of the scene");
+            let given = render_one_frame(gpu, &mut r, &camera).rgba;
+            let built = frame_of(&boxes([false, true, false], false));
+            let worst = largest_difference(&given, &built);
+            assert!(
+                worst <= 1,
+                "{path:?}: differs from the scene built so by {worst}"
+            );
+            assert!(
+                largest_difference(&given, &plain) > 32,
+                "{path:?}: the checker box does not show"
+            );
+            // The material cannot go while the instance draws with it; its own back, it can.
+            let err = r.remove_material(1).expect_err("instance 2 draws with it");
+            assert!(err.to_string().contains("instance 2"), "{err}");
+            assert!(matches!(
+                r.set_instance_material(middle, 1, 0),
+                Err(RenderError::NoSuchPrimitive {
+                    primitive: 1,
+                    count: 1
+                })
+            ));
+            r.set_instance_material(middle, 0, 0)
+                .expect("back to stone");
+            let back = render_one_frame(gpu, &mut r, &camera).rgba;
+            assert!(
+                largest_difference(&back, &plain) <= 1,
+                "{path:?}: not back to stone"
+            );
+        }
+    });
+}
