@@ -6,7 +6,9 @@ use crate::frame_data::{
     CameraUniform, FrameInputs, FrameResources, RenderError, RendererConfig, ViewId,
 };
 use crate::passes::Pass;
+use crate::passes::depth_probe::DepthProbePass;
 use crate::passes::particles::ParticleSimPass;
+use crate::passes::shadow::ShadowPass;
 
 /// A further view's configuration, passes and camera uniform.
 #[derive(Debug)]
@@ -45,7 +47,10 @@ pub(super) fn view_passes(
     materials: &[crate::materials::MaterialProgram],
 ) -> Result<Vec<Box<dyn Pass>>, RenderError> {
     let mut passes = pass_list::passes_for(gpu, config, materials)?;
-    passes.retain(|p| !matches!(p.name(), "shadow atlas" | "depth probe"));
+    passes.retain(|p| {
+        let p = p.as_ref() as &dyn std::any::Any;
+        !(p.is::<ShadowPass>() || p.is::<DepthProbePass>())
+    });
     for pass in &mut passes {
         if let Some(sim) =
             (pass.as_mut() as &mut dyn std::any::Any).downcast_mut::<ParticleSimPass>()
