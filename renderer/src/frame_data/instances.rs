@@ -250,8 +250,7 @@ impl InstanceTable {
         }
         let index = match self.free[mesh].pop() {
             Some(index) => {
-                // The new instance draws with its mesh's materials, whatever the removed one
-                // drew with (`set_material`).
+                // The mesh's materials, whatever the removed instance drew with.
                 let templates = &prepared.mesh_draws[mesh];
                 let draws = self.states[index as usize].draws();
                 for (d, t) in self.draws[draws].iter_mut().zip(templates) {
@@ -321,9 +320,8 @@ impl InstanceTable {
         Ok(())
     }
 
-    /// Draws primitive `primitive` of `handle`'s instance with material `material` (an index
-    /// the caller checked against the prepared scene), rewriting that draw's record; the
-    /// passes place it again (its batch, its caster) from the change log.
+    /// Draws primitive `primitive` of `handle`'s instance with material `material` (checked by
+    /// the caller), rewriting that draw's record; the passes place it again from the log.
     pub fn set_material(
         &mut self,
         gpu: &GpuContext,
