@@ -19,16 +19,6 @@ pub(crate) struct ExtraView {
     pub(super) camera_uniform: CameraUniform,
 }
 
-impl ExtraView {
-    pub(super) fn config(&self) -> &RendererConfig {
-        &self.config
-    }
-
-    pub(super) fn set_passes(&mut self, passes: Vec<Box<dyn Pass>>) {
-        self.passes = passes;
-    }
-}
-
 /// A further view's part of one frame: its inputs, and once added to the graph, its output
 /// and resources.
 pub(crate) struct ViewFrame {

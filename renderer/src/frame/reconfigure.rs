@@ -55,14 +55,12 @@ impl Renderer {
         let mut views = Vec::with_capacity(self.views.len());
         for v in &self.views {
             views.push(super::extra_view::view_passes(
-                &self.gpu,
-                v.config(),
-                &materials,
+                &self.gpu, &v.config, &materials,
             )?);
         }
         self.passes = passes;
         for (v, passes) in self.views.iter_mut().zip(views) {
-            v.set_passes(passes);
+            v.passes = passes;
         }
         self.materials = materials;
         self.graph_cache = GraphCache::new();
