@@ -35,55 +35,99 @@ pub const PARAMS_GROUP: u32 = 3;
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[non_exhaustive]
 pub enum MaterialError {
+    /// The module lacks one of the material frame's variants (list 0 to 2, blend, scalarize
+    /// for lists 1 and 2): it was not written with `#[shader_dsl::material]`.
     #[error(
         "module `{module}` has no variant `{variant}`: a material program has every variant of the material frame's axes (list × blend × scalarize); write it with `#[shader_dsl::material]`"
     )]
-    MissingVariant { module: String, variant: String },
+    MissingVariant {
+        /// The material program's module name.
+        module: String,
+        /// The missing variant: its name (like `list1_blend_scalar`) or its axis values.
+        variant: String,
+    },
+    /// A variant lacks `vs_forward`, `fs_forward` or `fs_gbuffer`.
     #[error(
         "variant `{module}::{variant}` has no entry point `{entry}`: write the module with `#[shader_dsl::material]`, which adds `vs_forward`, `fs_forward` and `fs_gbuffer`"
     )]
     MissingEntryPoint {
+        /// The material program's module name.
         module: String,
+        /// The variant's name.
         variant: String,
+        /// The missing entry point.
         entry: String,
     },
+    /// A variant binds something the renderer does not bind: in groups 0 to 2 anything
+    /// glTF PBR's program does not bind there identically, in group 3 anything but a read-only
+    /// storage buffer `PARAMS` at binding 0.
     #[error(
         "variant `{module}::{variant}` binds `{binding}` at group {group}, binding {number}, which the renderer does not provide there: groups 0 to 2 are the material frame's (the frame, the draw records, the material table), and a material's own resources are its `params` records at group 3"
     )]
     ForeignBinding {
+        /// The material program's module name.
         module: String,
+        /// The variant's name.
         variant: String,
+        /// The binding's name in the shader.
         binding: String,
+        /// Its bind group index.
         group: u32,
+        /// Its binding index within the group.
         number: u32,
     },
+    /// A variant binds fewer entries of group 1 or 2 than glTF PBR's program, so the scene's
+    /// bind group would not fit its layout.
     #[error(
         "variant `{module}::{variant}` does not bind all of group {group}, which the renderer binds with the scene's own bind group: a material must read the material frame's draw records and material table as the frame does"
     )]
     SceneGroup {
+        /// The material program's module name.
         module: String,
+        /// The variant's name.
         variant: String,
+        /// The incomplete group (1 or 2).
         group: u32,
     },
+    /// [`MaterialProgram::new`] was given the built-in glTF module (`shaders_gen::forward`).
     #[error("module `{0}` is glTF PBR's own program, which every renderer has")]
     BuiltIn(String),
+    /// A material's `custom` names a program the renderer has not registered (checked when a
+    /// scene or material is uploaded, and when programs are registered).
     #[error(
         "material `{material}` names material program `{program}`, which this renderer has not registered; call `Renderer::register_material` with it first"
     )]
-    Unregistered { material: String, program: String },
+    Unregistered {
+        /// The material's name.
+        material: String,
+        /// The program it names.
+        program: String,
+    },
+    /// A material's parameter record is not the size of its program's parameter struct.
     #[error(
         "material `{material}` gives {given} bytes of parameters to material program `{program}`, whose parameter struct has {expected} (pass its generated host struct to `CustomShading::new`)"
     )]
     ParamsSize {
+        /// The material's name.
         material: String,
+        /// The program it names.
         program: String,
+        /// Bytes of the material's record.
         given: usize,
+        /// Bytes of the program's parameter struct.
         expected: u64,
     },
+    /// A material with a program has [`AlphaMode::Blend`](crate::scene::AlphaMode::Blend);
+    /// use opaque or masked, or glTF PBR for blended surfaces.
     #[error(
         "material `{material}` is alpha-blended with material program `{program}`: blended surfaces are drawn back to front in one draw through glTF PBR's pipeline, so a material program shades opaque and masked materials only"
     )]
-    Blended { material: String, program: String },
+    Blended {
+        /// The material's name.
+        material: String,
+        /// The program it names.
+        program: String,
+    },
 }
 
 /// Checks that `material`'s program (if any) is one of `programs`, with a parameter record of

@@ -79,8 +79,8 @@ pub fn run_with_boxes(s: &CullScene, method: GpuMethod, boxes: &[OrientedBox]) -
             lights: &spheres,
             decals: &decals,
         };
-        let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        let (cam, d, screen) = (&s.camera, &gpu.device, UVec2::new(w, h));
+        let mut encoder = gpu.device().create_command_encoder(&Default::default());
+        let (cam, d, screen) = (&s.camera, gpu.device(), UVec2::new(w, h));
         let levels = match method {
             GpuMethod::Tiled(config) => {
                 let culling = TiledCulling::new(gpu, config, w, h).expect("culling setup");
@@ -100,7 +100,7 @@ pub fn run_with_boxes(s: &CullScene, method: GpuMethod, boxes: &[OrientedBox]) -
         levels
             .encode(d, &mut encoder, &view, None)
             .expect("the culling buffers bind");
-        gpu.queue.submit([encoder.finish()]);
+        gpu.queue().submit([encoder.finish()]);
         levels.lists.read_back(gpu).expect("readback")
     })
 }

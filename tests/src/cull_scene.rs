@@ -7,7 +7,7 @@ use glam::{Mat4, Quat, Vec3, camera::rh};
 use renderer::culling::reference::{CullCamera, DepthBuffer, LightSphere};
 use renderer::decals::OrientedBox;
 
-pub use renderer::frame::setup::Rng;
+pub use renderer::demo::Rng;
 
 /// Camera, depth buffer and world-space lights of one test scene.
 #[derive(Debug, Clone)]

@@ -54,9 +54,9 @@ pub fn write_msaa_depth(
     samples: u32,
     depths: &[f32],
 ) -> wgpu::Texture {
-    let device = &gpu.device;
+    let device = gpu.device();
     let p = ShaderProgram::new(
-        &gpu.device,
+        gpu.device(),
         gpu.capabilities(),
         depth_fill::variant(depth_fill::VariantKey::ALL[0]),
     )
@@ -151,6 +151,6 @@ pub fn write_msaa_depth(
         pass.set_bind_group(0, &bind_group, &[]);
         pass.draw(0..3, 0..1);
     }
-    gpu.queue.submit([encoder.finish()]);
+    gpu.queue().submit([encoder.finish()]);
     depth
 }

@@ -29,7 +29,7 @@ pub fn copy_target(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffe
 
 /// Reads `buffer` back as bytes.
 pub fn read_bytes(gpu: &GpuContext, buffer: &wgpu::Buffer) -> Result<Vec<u8>, String> {
-    read_buffer::<u8>(&gpu.device, &gpu.queue, buffer).map_err(|e| e.to_string())
+    read_buffer::<u8>(gpu.device(), gpu.queue(), buffer).map_err(|e| e.to_string())
 }
 
 /// `rows` rows of `row_bytes` bytes each from a copy whose rows are padded to the alignment.

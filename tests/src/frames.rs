@@ -3,8 +3,8 @@
 
 use renderer::culling::lists::CullCounters;
 use renderer::decals::DecalSet;
-use renderer::frame::setup::{create_target, framing_camera};
 use renderer::frame::{FrameCamera, FrameReport, Renderer, RendererConfig};
+use renderer::frame::{create_target, framing_camera};
 use renderer::scene::{Scene, SceneLight};
 
 /// The glTF scene committed with the tests (every alpha mode: opaque, masked, blended).
@@ -79,7 +79,7 @@ pub fn render_frame_with(
 /// back with its culling counters. Never renders twice, and fails the test if the frame dropped
 /// a list entry: the renderer sizes its lists before every frame, the first included.
 pub fn render_one_frame(gpu: &GpuContext, renderer: &mut Renderer, camera: &FrameCamera) -> Frame {
-    let target = create_target(&gpu.device, renderer.config());
+    let target = create_target(gpu.device(), renderer.config());
     let report = renderer.render(camera, &target).expect("frame");
     renderer.finish();
     let culling = renderer.culling_counters();
@@ -90,7 +90,7 @@ pub fn render_one_frame(gpu: &GpuContext, renderer: &mut Renderer, camera: &Fram
             c.requested_entries
         );
     }
-    let rgba = readback::read_texture_rgba8(&gpu.device, &gpu.queue, &target).expect("readback");
+    let rgba = readback::read_texture_rgba8(gpu.device(), gpu.queue(), &target).expect("readback");
     Frame {
         rgba,
         report,

@@ -84,7 +84,7 @@ pub fn try_gpu_test<R>(body: impl FnOnce(&GpuContext) -> R) -> Result<R, GpuTest
     let gpu =
         GpuContext::new_blocking(&GpuOptions::validated()).map_err(GpuTestFailure::NoDevice)?;
     let sink = Arc::clone(captured);
-    gpu.device.on_uncaptured_error(Arc::new(move |error| {
+    gpu.device().on_uncaptured_error(Arc::new(move |error| {
         sink.lock()
             .unwrap_or_else(PoisonError::into_inner)
             .push(format!("wgpu: {error}"));

@@ -9,6 +9,7 @@
 //! by those texels (slots and regions come from GPU atomics, so two frames of the same
 //! particles need not share a layout).
 
+use renderer::frame::ConfigError;
 use std::sync::{Arc, Mutex};
 
 use renderer::GpuContext;
@@ -118,7 +119,7 @@ impl AtlasProbe {
 }
 
 fn missing(pass: &'static str, input: &'static str) -> RenderError {
-    RenderError::MissingInput { pass, input }
+    RenderError::Config(ConfigError::MissingInput { pass, input })
 }
 
 impl Pass for AtlasProbe {
@@ -139,7 +140,7 @@ impl Pass for AtlasProbe {
             .ok_or(missing(name, "particles"))?;
         let lit = p.lit_atlas.ok_or(missing(name, "lit particle atlas"))?;
         let shadows = resources.shadows.clone().ok_or(missing(name, "shadows"))?;
-        let device = &frame.gpu.device;
+        let device = frame.gpu.device();
         let lights = &frame.lights;
         let sources = [
             &p.view,
@@ -240,7 +241,7 @@ impl Pass for AtlasOverride {
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
         let name = self.name();
-        let device = &frame.gpu.device;
+        let device = frame.gpu.device();
         let p = resources
             .particles
             .as_mut()

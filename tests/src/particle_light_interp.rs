@@ -7,6 +7,7 @@
 //! hands the same inputs to the kernel compiled from `shaders_gen`'s source text, dispatched
 //! with the GPU's own indirect arguments.
 
+use renderer::frame::ConfigError;
 use std::sync::{Arc, Mutex};
 
 use codegen::Compiled;
@@ -126,15 +127,17 @@ impl Pass for LightingInputsProbe {
         frame: &FrameInputs,
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
-        let missing = |input| RenderError::MissingInput {
-            pass: "particle lighting probe",
-            input,
+        let missing = |input| {
+            RenderError::Config(ConfigError::MissingInput {
+                pass: "particle lighting probe",
+                input,
+            })
         };
         let p = resources.particles.clone().ok_or(missing("particles"))?;
         let lit = p.lit_atlas.ok_or(missing("lit particle atlas"))?;
         let shadows = resources.shadows.clone().ok_or(missing("shadow atlas"))?;
         let lists = resources.particle_lists.clone();
-        let device = &frame.gpu.device;
+        let device = frame.gpu.device();
         let lights = &frame.lights;
         let fixed = [
             ("VIEW", &p.view),

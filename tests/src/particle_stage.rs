@@ -3,8 +3,8 @@
 //! directional light, seen from a fixed camera.
 
 use glam::{Vec3, Vec4};
+use renderer::demo::procedural_lights;
 use renderer::frame::FrameCamera;
-use renderer::frame::setup::procedural_lights;
 use renderer::particles::{ParticleSystem, smoke};
 use renderer::scene::procedural::SceneBuilder;
 use renderer::scene::{LightKind, Scene, SceneLight};

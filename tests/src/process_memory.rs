@@ -12,7 +12,7 @@ use renderer::GpuContext;
 /// wgpu objects the application holds: buffers, textures, texture views, bind groups, render
 /// pipelines, compute pipelines and query sets, from the instance's report.
 pub fn live_objects(gpu: &GpuContext) -> [usize; 7] {
-    let report = gpu.instance.generate_report().expect("wgpu-core report");
+    let report = gpu.instance().generate_report().expect("wgpu-core report");
     let h = report.hub_report();
     [
         &h.buffers,

@@ -1,6 +1,7 @@
 //! A probe pass that copies the shadow atlas after every frame's shadow pass, so tests can
 //! compare the depth two renderers drew, texel for texel.
 
+use renderer::frame::ConfigError;
 use std::sync::{Arc, Mutex};
 
 use renderer::GpuContext;
@@ -54,14 +55,21 @@ impl Pass for ShadowAtlasProbe {
         frame: &FrameInputs,
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
-        let shadows = resources.shadows.clone().ok_or(RenderError::MissingInput {
-            pass: "shadow atlas probe",
-            input: "the shadow atlas",
-        })?;
-        let copies =
-            ShadowCopies::new(&frame.gpu.device, &shadows, frame.config.shadows.atlas_size);
+        let shadows =
+            resources
+                .shadows
+                .clone()
+                .ok_or(RenderError::Config(ConfigError::MissingInput {
+                    pass: "shadow atlas probe",
+                    input: "the shadow atlas",
+                }))?;
+        let copies = ShadowCopies::new(
+            frame.gpu.device(),
+            &shadows,
+            frame.config.shadows.atlas_size,
+        );
         // The copy is the pass's tracked output, so the graph keeps the pass.
-        let marker = frame.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        let marker = frame.gpu.device().create_buffer(&wgpu::BufferDescriptor {
             label: Some("shadow atlas probe"),
             size: 4,
             usage: wgpu::BufferUsages::COPY_DST,

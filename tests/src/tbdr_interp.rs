@@ -7,6 +7,7 @@
 //! [`host_shade`] hands the same inputs to the kernel compiled from `shaders_gen`'s source text
 //! and returns the image and edge bits it computed, for the tests to compare with the GPU's.
 
+use renderer::frame::ConfigError;
 use std::sync::Mutex;
 
 use codegen::Compiled;
@@ -132,13 +133,15 @@ impl Pass for KernelInputsProbe {
         frame: &FrameInputs,
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
-        let missing = |input| RenderError::MissingInput {
-            pass: "tbdr inputs probe",
-            input,
+        let missing = |input| {
+            RenderError::Config(ConfigError::MissingInput {
+                pass: "tbdr inputs probe",
+                input,
+            })
         };
         let hdr = resources.hdr.ok_or(missing("HDR colour"))?;
         let shadows = resources.shadows.clone().ok_or(missing("shadow atlas"))?;
-        let device = &frame.gpu.device;
+        let device = frame.gpu.device();
         let buffer = |label, size: u64| copy_target(device, label, size);
         let (w, h) = (frame.config.width, frame.config.height);
         let lights = &frame.lights;

@@ -1,8 +1,9 @@
 //! The TBDR tests' stages (the courtyard and the committed glTF scene, with their lights and
 //! cameras) and one frame of a stage on a render path, with what the TBDR pass recorded.
 
-use renderer::frame::setup::{courtyard_look, create_target, default_camera, procedural_lights};
+use renderer::demo::{courtyard_look, procedural_lights};
 use renderer::frame::{FrameCamera, RenderPath, Renderer, RendererConfig};
+use renderer::frame::{create_target, default_camera};
 use renderer::frame_data::EdgeThresholds;
 use renderer::passes::deferred::{TbdrPass, TbdrRecord};
 use renderer::scene::{Scene, SceneLight};
@@ -43,7 +44,7 @@ pub fn gltf_stage() -> Stage {
     let lights = procedural_lights(scene.bounds, 64, 3, size * 0.05, size * 0.3);
     let (w, h) = (128, 96);
     Stage {
-        camera: renderer::frame::setup::framing_camera(scene.bounds, w as f32 / h as f32),
+        camera: renderer::frame::framing_camera(scene.bounds, w as f32 / h as f32),
         scene,
         lights,
         size: (w, h),
@@ -98,14 +99,14 @@ pub fn frame(
             .expect("a TBDR path runs the TBDR pass")
             .set_recording(true);
     }
-    let target = create_target(&gpu.device, &config);
+    let target = create_target(gpu.device(), &config);
     // One frame: lists are sized before every frame, the first included.
     renderer.render(&stage.camera, &target).expect("frame");
     renderer.finish();
     if let Some(c) = renderer.culling_counters() {
         assert_eq!(c.dropped, 0, "the frame dropped list entries");
     }
-    let rgba = readback::read_texture_rgba8(&gpu.device, &gpu.queue, &target).expect("readback");
+    let rgba = readback::read_texture_rgba8(gpu.device(), gpu.queue(), &target).expect("readback");
     let recorded = renderer
         .pass::<TbdrPass>()
         .map(|p| p.recorded().expect("record readback"))

@@ -11,7 +11,7 @@ use tests::gpu::gpu_test;
 /// `SINK` of one workgroup on the GPU.
 fn gpu_sink() -> Vec<f32> {
     gpu_test(|gpu| {
-        let device = &gpu.device;
+        let device = gpu.device();
         let variant = fma_rate::variant(fma_rate::VariantKey::ALL[0]);
         let program = ShaderProgram::new(device, gpu.capabilities(), variant).expect("variant");
         let pipeline = program
@@ -38,8 +38,8 @@ fn gpu_sink() -> Vec<f32> {
             pass.set_bind_group(0, &bind_group, &[]);
             pass.dispatch_workgroups(1, 1, 1);
         }
-        gpu.queue.submit([encoder.finish()]);
-        readback::read_buffer::<f32>(device, &gpu.queue, &sink).expect("readback")
+        gpu.queue().submit([encoder.finish()]);
+        readback::read_buffer::<f32>(device, gpu.queue(), &sink).expect("readback")
     })
 }
 

@@ -4,8 +4,10 @@
 //! conservative), so the efficiency is at least 1.
 
 use renderer::culling::reference::exact::Efficiency;
-use renderer::frame::setup::{create_target, framing_camera, procedural_lights};
+use renderer::demo::procedural_lights;
+use renderer::frame::ConfigError;
 use renderer::frame::{RenderError, RenderPath, Renderer, RendererConfig};
+use renderer::frame::{create_target, framing_camera};
 use tests::frames::committed_scene;
 use tests::gpu::gpu_test;
 
@@ -27,7 +29,7 @@ fn capture(path: RenderPath, msaa: u32, stride: u32) -> renderer::frame::capture
             .prepare_scene(&scene)
             .expect("the scene fits the device");
         renderer.set_lights(&lights).expect("lights fit");
-        let target = create_target(&gpu.device, &config);
+        let target = create_target(gpu.device(), &config);
         let camera = framing_camera(scene.bounds, 1.5);
         assert!(
             renderer.take_capture().expect("take").is_none(),
@@ -132,7 +134,10 @@ fn capture_needs_the_depth_prepass() {
         };
         let mut renderer = Renderer::new(gpu, config).expect("renderer");
         let err = renderer.capture_next_frame(4).unwrap_err();
-        assert!(matches!(err, RenderError::CaptureNeedsDepth));
+        assert!(matches!(
+            err,
+            RenderError::Config(ConfigError::CaptureNeedsDepth)
+        ));
         assert!(err.to_string().contains("naive-prez"), "{err}");
     });
 }

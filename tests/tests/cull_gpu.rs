@@ -363,7 +363,7 @@ fn overflow_reported_asynchronously_then_buffers_grow_for_the_next_frame() {
             .iter()
             .map(|l| CullSphere::new(l.center, l.radius))
             .collect();
-        let mut readback = ReadbackRing::new(&gpu.device, "counters", CullCounters::WORDS);
+        let mut readback = ReadbackRing::new(gpu.device(), "counters", CullCounters::WORDS);
         let frame = |culling: &mut TiledCulling, readback: &mut ReadbackRing, n: u64| {
             culling
                 .upload(
@@ -374,21 +374,21 @@ fn overflow_reported_asynchronously_then_buffers_grow_for_the_next_frame() {
                     CullItems::lights(&items),
                 )
                 .expect("upload");
-            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            let mut encoder = gpu.device().create_command_encoder(&Default::default());
             culling
                 .levels
-                .encode(&gpu.device, &mut encoder, &view, None)
+                .encode(gpu.device(), &mut encoder, &view, None)
                 .expect("the culling buffers bind");
             let counters = (&culling.levels.lists.counters, CullCounters::WORDS * 4);
             assert!(readback.record(&mut encoder, &[counters], n));
-            gpu.queue.submit([encoder.finish()]);
+            gpu.queue().submit([encoder.finish()]);
             readback.after_submit();
         };
         frame(&mut culling, &mut readback, 1);
         // The frame loop polls without blocking; here we give the GPU a bounded time to finish.
         let mut arrived = None;
         for _ in 0..1000 {
-            arrived = readback.poll(&gpu.device);
+            arrived = readback.poll(gpu.device());
             if arrived.is_some() {
                 break;
             }
@@ -399,7 +399,7 @@ fn overflow_reported_asynchronously_then_buffers_grow_for_the_next_frame() {
         assert_eq!(n, 1);
         let caps = grow_for(&first, culling.levels.shape.index_capacity)
             .expect("an overflowing frame must grow the index list");
-        culling.levels.grow(&gpu.device, caps);
+        culling.levels.grow(gpu.device(), caps);
         frame(&mut culling, &mut readback, 2);
         (
             first,
@@ -424,7 +424,7 @@ fn overflow_reported_asynchronously_then_buffers_grow_for_the_next_frame() {
 fn an_index_list_larger_than_a_binding_is_a_clear_error() {
     use renderer::culling::{CullError, max_index_entries};
     gpu_test(|gpu| {
-        let too_big = max_index_entries(&gpu.device) + 1;
+        let too_big = max_index_entries(gpu.device()) + 1;
         let config = TileCullConfig {
             index_capacity: too_big,
             ..config(16, 1, false)

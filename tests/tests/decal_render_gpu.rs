@@ -11,9 +11,10 @@
 //! edited over the same materials keeps the atlas and draws as a fresh one (`edits`).
 
 use glam::{Mat4, Quat, Vec3};
-use renderer::decals::placement::scatter;
 use renderer::decals::{Decal, DecalSet, OrientedBox, box_on_surface, procedural};
-use renderer::frame::setup::{default_camera, procedural_lights};
+use renderer::demo::procedural_lights;
+use renderer::demo::scatter_decals;
+use renderer::frame::default_camera;
 use renderer::frame::{FrameCamera, RenderPath, RendererConfig};
 use renderer::scene::{Scene, SceneLight};
 use tests::decal_stage::{self, HEIGHT, Reach, WIDTH, flat_box, solid};
@@ -50,7 +51,7 @@ fn anchor(decal: &Decal) -> (Vec3, Vec3) {
 /// distance fades that end inside the view.
 fn decal_set(scene: &Scene, seed: u64) -> DecalSet {
     let materials = procedural::materials();
-    let mut decals = scatter(scene, 48, materials.len(), seed);
+    let mut decals = scatter_decals(scene, 48, materials.len(), seed);
     let diagonal = (scene.bounds.max - scene.bounds.min).length();
     let ((a, a_normal), (b, b_normal)) = (anchor(&decals[0]), anchor(&decals[1]));
     decals.push(Decal::new(

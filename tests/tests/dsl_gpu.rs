@@ -19,7 +19,7 @@ use tests::gpu::gpu_test;
 use wgpu::util::DeviceExt as _;
 
 fn storage(gpu: &GpuContext, label: &str, bytes: &[u8], extra: wgpu::BufferUsages) -> wgpu::Buffer {
-    gpu.device
+    gpu.device()
         .create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some(label),
             contents: bytes,
@@ -28,7 +28,7 @@ fn storage(gpu: &GpuContext, label: &str, bytes: &[u8], extra: wgpu::BufferUsage
 }
 
 fn uniform(gpu: &GpuContext, bytes: &[u8]) -> wgpu::Buffer {
-    gpu.device
+    gpu.device()
         .create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("uniform"),
             contents: bytes,
@@ -51,7 +51,7 @@ fn bind(
             resource: r.clone(),
         })
         .collect();
-    gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+    gpu.device().create_bind_group(&wgpu::BindGroupDescriptor {
         label: None,
         layout: &program.bind_group_layouts[group],
         entries: &entries,
@@ -66,19 +66,19 @@ fn dispatch(
     groups: [u32; 3],
 ) {
     let program =
-        ShaderProgram::new(&gpu.device, gpu.capabilities(), variant).expect("supported variant");
+        ShaderProgram::new(gpu.device(), gpu.capabilities(), variant).expect("supported variant");
     let pipeline = program
-        .compute_pipeline(&gpu.device, entry)
+        .compute_pipeline(gpu.device(), entry)
         .expect("entry point");
     let bind_group = bind(gpu, &program, 0, resources);
-    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    let mut encoder = gpu.device().create_command_encoder(&Default::default());
     {
         let mut pass = encoder.begin_compute_pass(&Default::default());
         pass.set_pipeline(&pipeline);
         pass.set_bind_group(0, &bind_group, &[]);
         pass.dispatch_workgroups(groups[0], groups[1], groups[2]);
     }
-    gpu.queue.submit([encoder.finish()]);
+    gpu.queue().submit([encoder.finish()]);
 }
 
 #[test]
@@ -121,7 +121,7 @@ fn workgroup_prefix_sum_matches_cpu() {
             ],
             [5, 1, 1],
         );
-        readback::read_buffer::<u32>(&gpu.device, &gpu.queue, &output_buffer).expect("readback")
+        readback::read_buffer::<u32>(gpu.device(), gpu.queue(), &output_buffer).expect("readback")
     });
     assert_eq!(output, expected);
 }
@@ -169,7 +169,7 @@ fn msaa4_depth_bounds_with_workgroup_atomics_match_cpu() {
             ],
             [tiles.0, tiles.1, 1],
         );
-        readback::read_buffer::<[u32; 2]>(&gpu.device, &gpu.queue, &out).expect("readback")
+        readback::read_buffer::<[u32; 2]>(gpu.device(), gpu.queue(), &out).expect("readback")
     });
     let got: Vec<[f32; 2]> = bounds
         .iter()
@@ -212,9 +212,9 @@ fn run_compaction(gpu: &GpuContext, scalarize: bool, input: &[u32], threshold: u
         [(input.len() as u32).div_ceil(compaction::WORKGROUP), 1, 1],
     );
     let count =
-        readback::read_buffer::<u32>(&gpu.device, &gpu.queue, &counter).expect("readback")[0];
+        readback::read_buffer::<u32>(gpu.device(), gpu.queue(), &counter).expect("readback")[0];
     let mut out =
-        readback::read_buffer::<u32>(&gpu.device, &gpu.queue, &output_buffer).expect("readback");
+        readback::read_buffer::<u32>(gpu.device(), gpu.queue(), &output_buffer).expect("readback");
     out.truncate(count as usize);
     out.sort_unstable();
     out
@@ -393,7 +393,7 @@ fn host_structs_with_vec3_round_trip_through_uniform_and_storage() {
             ],
             [1, 1, 1],
         );
-        readback::read_buffer::<Probe>(&gpu.device, &gpu.queue, &o).expect("readback")
+        readback::read_buffer::<Probe>(gpu.device(), gpu.queue(), &o).expect("readback")
     });
     for (got, want) in out.iter().zip([a, b, a]) {
         assert_eq!(

@@ -28,7 +28,8 @@ mod shadows;
 
 use glam::{Mat4, Vec3};
 use renderer::GpuContext;
-use renderer::frame::setup::{default_camera, procedural_lights};
+use renderer::demo::procedural_lights;
+use renderer::frame::default_camera;
 use renderer::frame::{FrameCamera, RenderPath, Renderer, RendererConfig};
 use renderer::scene::procedural::{BuiltinScene, builtin};
 use renderer::scene::{Scene, SceneLight};
@@ -153,7 +154,7 @@ fn culling_on_equals_culling_off_over_a_camera_flight() {
     let lights = street_lights(&city);
     let cameras = flight(&street_camera(&city.scene));
     gpu_test(|gpu| {
-        let features = gpu.device.features();
+        let features = gpu.device().features();
         assert!(
             features.contains(wgpu::Features::MULTI_DRAW_INDIRECT_COUNT),
             "lavapipe and every Vulkan GPU draw with GPU-written counts"

@@ -4,8 +4,9 @@
 //! harness must catch (one wgpu validation error, one Vulkan validation-layer error, a
 //! validation-layer warning).
 
+use renderer::demo::test_pattern;
+use renderer::readback;
 use renderer::shader::ShaderProgram;
-use renderer::{readback, test_pattern};
 use shaders_gen::bootstrap::{square_plus_index, test_pattern::PatternParams};
 use tests::gpu::{GpuTestFailure, gpu_test, try_gpu_test};
 use wgpu::util::DeviceExt as _;
@@ -22,7 +23,7 @@ fn compute_dispatch_matches_cpu() {
         .map(|(i, &x)| x.wrapping_mul(x).wrapping_add(i as u32))
         .collect();
     let output = gpu_test(|gpu| {
-        let device = &gpu.device;
+        let device = gpu.device();
         let variant = square_plus_index::variant(square_plus_index::VariantKey::ALL[0]);
         let program = ShaderProgram::new(device, gpu.capabilities(), variant).expect("variant");
         let pipeline = program
@@ -64,8 +65,8 @@ fn compute_dispatch_matches_cpu() {
                 1,
             );
         }
-        gpu.queue.submit([encoder.finish()]);
-        readback::read_buffer::<u32>(device, &gpu.queue, &output_buffer).expect("readback")
+        gpu.queue().submit([encoder.finish()]);
+        readback::read_buffer::<u32>(device, gpu.queue(), &output_buffer).expect("readback")
     });
     assert_eq!(output, expected);
     // The same kernel on the DSL's host interpreter, at four subgroup sizes.
@@ -150,7 +151,7 @@ fn render_pass_matches_cpu_pattern() {
 fn wgpu_validation_error_fails_the_test() {
     let failure = try_gpu_test(|gpu| {
         let buffer = |label, size| {
-            gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            gpu.device().create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
                 size,
                 usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
@@ -158,10 +159,10 @@ fn wgpu_validation_error_fails_the_test() {
             })
         };
         let (small, large) = (buffer("small", 16), buffer("large", 256));
-        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        let mut encoder = gpu.device().create_command_encoder(&Default::default());
         // Deliberately out of bounds: 64 bytes from a 16-byte buffer.
         encoder.copy_buffer_to_buffer(&small, 0, &large, 0, 64);
-        gpu.queue.submit([encoder.finish()]);
+        gpu.queue().submit([encoder.finish()]);
     });
     match failure {
         Err(GpuTestFailure::Errors(errors)) => assert!(
@@ -181,7 +182,7 @@ fn vulkan_validation_layer_error_fails_the_test() {
         // destroyed before returning. Size 0 is invalid on purpose (VUID-VkBufferCreateInfo-size-00912).
         unsafe {
             let hal = gpu
-                .device
+                .device()
                 .as_hal::<wgpu::hal::api::Vulkan>()
                 .expect("GPU tests run on the Vulkan backend");
             let raw = hal.raw_device();
@@ -234,14 +235,14 @@ fn an_engines_own_device_reports_only_what_it_enabled() {
         // A device opened with the renderer's least limits and no optional feature at all, as
         // an engine might.
         let (device, queue) =
-            pollster::block_on(gpu.adapter.request_device(&wgpu::DeviceDescriptor {
+            pollster::block_on(gpu.adapter().request_device(&wgpu::DeviceDescriptor {
                 required_limits: renderer::gpu::requirements::minimum_limits(),
                 ..Default::default()
             }))
             .expect("a device with the least limits");
         let wrapped = renderer::GpuContext::from_parts(
-            gpu.instance.clone(),
-            gpu.adapter.clone(),
+            gpu.instance().clone(),
+            gpu.adapter().clone(),
             device,
             queue,
         )
@@ -257,7 +258,7 @@ fn an_engines_own_device_reports_only_what_it_enabled() {
             scalarize: true,
         };
         let variant = shaders_gen::forward::forward::variant(key).expect("a generated variant");
-        let err = ShaderProgram::new(&wrapped.device, caps, variant).unwrap_err();
+        let err = ShaderProgram::new(wrapped.device(), caps, variant).unwrap_err();
         assert!(err.to_string().contains("SUBGROUP"), "{err}");
     });
 }
@@ -266,13 +267,13 @@ fn an_engines_own_device_reports_only_what_it_enabled() {
 fn an_engines_device_with_webgpu_default_limits_is_refused_naming_what_to_ask() {
     gpu_test(|gpu| {
         let (device, queue) = pollster::block_on(
-            gpu.adapter
+            gpu.adapter()
                 .request_device(&wgpu::DeviceDescriptor::default()),
         )
         .expect("a default device");
         let err = renderer::GpuContext::from_parts(
-            gpu.instance.clone(),
-            gpu.adapter.clone(),
+            gpu.instance().clone(),
+            gpu.adapter().clone(),
             device,
             queue,
         )
@@ -307,15 +308,15 @@ fn an_engines_device_with_webgpu_default_limits_is_refused_naming_what_to_ask() 
 fn an_engines_device_lost_callback_runs_after_the_renderer_records_the_loss() {
     gpu_test(|gpu| {
         let (device, queue) =
-            pollster::block_on(gpu.adapter.request_device(&wgpu::DeviceDescriptor {
+            pollster::block_on(gpu.adapter().request_device(&wgpu::DeviceDescriptor {
                 required_limits: renderer::gpu::requirements::minimum_limits(),
                 ..Default::default()
             }))
             .expect("a device");
         let (tx, rx) = std::sync::mpsc::channel();
         let wrapped = renderer::GpuContext::from_parts_with_loss_callback(
-            gpu.instance.clone(),
-            gpu.adapter.clone(),
+            gpu.instance().clone(),
+            gpu.adapter().clone(),
             device,
             queue,
             move |reason, message| {
@@ -324,8 +325,8 @@ fn an_engines_device_lost_callback_runs_after_the_renderer_records_the_loss() {
         )
         .expect("the device has the limits");
         assert_eq!(wrapped.lost(), None);
-        wrapped.device.destroy();
-        let _ = wrapped.device.poll(wgpu::PollType::wait_indefinitely());
+        wrapped.device().destroy();
+        let _ = wrapped.device().poll(wgpu::PollType::wait_indefinitely());
         let engine_saw = rx
             .recv_timeout(std::time::Duration::from_secs(10))
             .expect("the engine's callback ran");

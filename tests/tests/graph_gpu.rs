@@ -103,7 +103,7 @@ fn graph_executes_pools_and_times_passes() {
         .map(|(i, x)| x * x + i as u32)
         .collect();
     gpu_test(|gpu| {
-        let device = &gpu.device;
+        let device = gpu.device();
         let make = |usage| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: None,
@@ -113,7 +113,7 @@ fn graph_executes_pools_and_times_passes() {
             })
         };
         let input_buffer = make(wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST);
-        gpu.queue
+        gpu.queue()
             .write_buffer(&input_buffer, 0, bytemuck::cast_slice(&input));
         let output_buffer = make(wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST);
         let variant = square_plus_index::variant(square_plus_index::VariantKey::ALL[0]);
@@ -144,17 +144,18 @@ fn graph_executes_pools_and_times_passes() {
                     .expect("execute"),
             );
             profiler.resolve_queries(&mut encoder);
-            gpu.queue.submit([encoder.finish()]);
+            gpu.queue().submit([encoder.finish()]);
             profiler.end_frame().expect("profiler frame");
             gpu.wait_idle().expect("wait");
-            if let Some(results) = profiler.process_finished_frame(gpu.queue.get_timestamp_period())
+            if let Some(results) =
+                profiler.process_finished_frame(gpu.queue().get_timestamp_period())
             {
                 timings = PassTiming::from_profiler(&results);
             }
-            let out =
-                readback::read_buffer::<u32>(device, &gpu.queue, &output_buffer).expect("readback");
+            let out = readback::read_buffer::<u32>(device, gpu.queue(), &output_buffer)
+                .expect("readback");
             assert_eq!(out, expected);
-            gpu.queue
+            gpu.queue()
                 .write_buffer(&output_buffer, 0, &vec![0u8; (N * 4) as usize]);
         }
         // Frame 1 creates the two transient buffers (their lifetimes overlap in "square"); frame
@@ -187,11 +188,11 @@ fn executing_with_an_unbound_import_is_an_error() {
             .finish();
         let compiled = g.compile().expect("valid graph");
         let profiler =
-            wgpu_profiler::GpuProfiler::new(&gpu.device, Default::default()).expect("profiler");
-        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            wgpu_profiler::GpuProfiler::new(gpu.device(), Default::default()).expect("profiler");
+        let mut encoder = gpu.device().create_command_encoder(&Default::default());
         let err = compiled
             .execute(
-                &gpu.device,
+                gpu.device(),
                 &mut encoder,
                 &mut TransientPool::new(),
                 &profiler,

@@ -6,7 +6,8 @@
 //! writes and tests its own depth) at 960×540, MSAA 1 and 4.
 
 use glam::Vec3;
-use renderer::frame::setup::{create_target, procedural_lights};
+use renderer::demo::procedural_lights;
+use renderer::frame::create_target;
 use renderer::frame::{FrameCamera, RenderPath, Renderer, RendererConfig};
 use renderer::readback;
 use renderer::scene::Scene;
@@ -80,19 +81,20 @@ fn render(scene: &Scene, path: RenderPath, msaa: u32) -> Vec<u8> {
         // Named in the output, so a run on hardware says which driver it checked.
         eprintln!(
             "{path:?} MSAA {msaa} on {} ({})",
-            gpu.report.name, gpu.report.driver_info
+            gpu.report().name,
+            gpu.report().driver_info
         );
         let mut renderer = Renderer::new(gpu, config).expect("renderer");
         renderer
             .prepare_scene(scene)
             .expect("the scene fits the device");
         renderer.set_lights(&lights).expect("lights fit");
-        let target = create_target(&gpu.device, &config);
+        let target = create_target(gpu.device(), &config);
         renderer.render(&grazing_camera(), &target).expect("frame");
         renderer.finish();
         let dropped = renderer.culling_counters().map_or(0, |c| c.dropped);
         assert_eq!(dropped, 0, "{path:?}: the comparison needs complete lists");
-        readback::read_texture_rgba8(&gpu.device, &gpu.queue, &target).expect("readback")
+        readback::read_texture_rgba8(gpu.device(), gpu.queue(), &target).expect("readback")
     })
 }
 

@@ -15,7 +15,7 @@
 
 use std::path::{Path, PathBuf};
 
-use renderer::frame::setup::procedural_lights;
+use renderer::demo::procedural_lights;
 use renderer::frame::{FrameView, RenderPath, RendererConfig};
 use renderer::scene::Scene;
 use tests::frames::render_frame;

@@ -49,12 +49,12 @@ fn pairs(items: u32, seed: u64) -> Vec<UVec2> {
 fn gpu_sort(padded: &[UVec2], items: u32) -> Vec<UVec2> {
     gpu_test(|gpu| {
         let sort = GpuSort::new(gpu, items, wgpu::BufferUsages::empty()).expect("sort");
-        gpu.queue
+        gpu.queue()
             .write_buffer(&sort.keys, 0, bytemuck::cast_slice(padded));
-        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        let mut encoder = gpu.device().create_command_encoder(&Default::default());
         sort.record_in(&mut encoder);
-        gpu.queue.submit([encoder.finish()]);
-        read_buffer::<UVec2>(&gpu.device, &gpu.queue, &sort.keys).expect("readback")
+        gpu.queue().submit([encoder.finish()]);
+        read_buffer::<UVec2>(gpu.device(), gpu.queue(), &sort.keys).expect("readback")
     })
 }
 
@@ -339,7 +339,7 @@ fn atlas_on_gpu(camera: &FrameCamera, height: u32) -> AtlasRun {
         let side = ParticleAtlas::min_side(system.capacity) * 2;
         let atlas = ParticleAtlas::new(gpu, &sim, &sort, side).expect("atlas");
         let read = |b: &wgpu::Buffer| -> Vec<u8> {
-            read_buffer::<u8>(&gpu.device, &gpu.queue, b).expect("readback")
+            read_buffer::<u8>(gpu.device(), gpu.queue(), b).expect("readback")
         };
         let (emitters, particles, alive, counters) = (
             read(&sim.emitters),
@@ -347,9 +347,9 @@ fn atlas_on_gpu(camera: &FrameCamera, height: u32) -> AtlasRun {
             read(&sim.alive),
             read(&sim.counters),
         );
-        let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        atlas.record(&gpu.queue, &mut encoder, camera, height);
-        gpu.queue.submit([encoder.finish()]);
+        let mut encoder = gpu.device().create_command_encoder(&Default::default());
+        atlas.record(gpu.queue(), &mut encoder, camera, height);
+        gpu.queue().submit([encoder.finish()]);
         AtlasRun {
             params: AtlasParams::new(
                 camera.view,

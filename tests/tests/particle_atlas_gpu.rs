@@ -72,12 +72,12 @@ fn layout(
         sim.advance(gpu, steps);
         let sort = GpuSort::new(gpu, 2000, wgpu::BufferUsages::empty()).expect("sort");
         let atlas = ParticleAtlas::new(gpu, &sim, &sort, side).expect("atlas");
-        let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        atlas.record(&gpu.queue, &mut encoder, camera, HEIGHT);
-        gpu.queue.submit([encoder.finish()]);
+        let mut encoder = gpu.device().create_command_encoder(&Default::default());
+        atlas.record(gpu.queue(), &mut encoder, camera, HEIGHT);
+        gpu.queue().submit([encoder.finish()]);
         let slots = sim.read_slots(gpu).expect("slots");
         let regions: Vec<u32> =
-            read_buffer(&gpu.device, &gpu.queue, &atlas.regions).expect("regions");
+            read_buffer(gpu.device(), gpu.queue(), &atlas.regions).expect("regions");
         (slots, regions, atlas.read_report(gpu).expect("report"))
     })
 }

@@ -7,7 +7,7 @@
 //! comparison with lavapipe's.
 
 use codegen::interp::Schedule;
-use renderer::frame::setup::create_target;
+use renderer::frame::create_target;
 use renderer::frame::{RenderPath, Renderer, RendererConfig};
 use renderer::shadow::ShadowConfig;
 use shaders_gen::forward::forward::GpuLight;
@@ -53,7 +53,7 @@ fn gpu_frame(path: RenderPath) -> ProbedLighting {
                 Box::new(LightingInputsProbe::default()),
             )
             .expect("the probe joins the frame");
-        let target = create_target(&gpu.device, &config);
+        let target = create_target(gpu.device(), &config);
         renderer.render(&camera(), &target).expect("frame");
         renderer.finish();
         renderer

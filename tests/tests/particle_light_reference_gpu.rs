@@ -11,7 +11,7 @@
 //! (`pbr::light_incidence`).
 
 use glam::Vec3;
-use renderer::frame::setup::create_target;
+use renderer::frame::create_target;
 use renderer::frame::{ParticleLighting, RenderPath, Renderer, RendererConfig};
 use renderer::passes::Pass;
 use renderer::scene::Scene;
@@ -63,10 +63,10 @@ fn frame(
             .insert_pass_after("particle lighting", pass)
             .expect("the pass joins the frame");
     }
-    let target = create_target(&gpu.device, &config);
+    let target = create_target(gpu.device(), &config);
     renderer.render(&camera(), &target).expect("frame");
     renderer.finish();
-    let rgba = readback::read_texture_rgba8(&gpu.device, &gpu.queue, &target).expect("readback");
+    let rgba = readback::read_texture_rgba8(gpu.device(), gpu.queue(), &target).expect("readback");
     (renderer, rgba)
 }
 

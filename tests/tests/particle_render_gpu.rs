@@ -5,7 +5,7 @@
 //! off the smoke the frames must be equal. `particle_light_reference_gpu.rs` checks the lighting
 //! itself against an independent CPU evaluation.
 
-use renderer::frame::setup::create_target;
+use renderer::frame::create_target;
 use renderer::frame::{
     FrameReport, ParticleLighting, RenderError, RenderPath, Renderer, RendererConfig,
 };
@@ -36,10 +36,10 @@ fn render(
     config: &RendererConfig,
     gpu: &GpuContext,
 ) -> (Vec<u8>, FrameReport) {
-    let target = create_target(&gpu.device, config);
+    let target = create_target(gpu.device(), config);
     let report = renderer.render(&camera(), &target).expect("frame");
     renderer.finish();
-    let rgba = readback::read_texture_rgba8(&gpu.device, &gpu.queue, &target).expect("readback");
+    let rgba = readback::read_texture_rgba8(gpu.device(), gpu.queue(), &target).expect("readback");
     (rgba, report)
 }
 
@@ -225,7 +225,7 @@ fn the_report_counts_particles_and_a_full_atlas_shrinks() {
         // The smallest atlas the pool allows: 64² texels, while near particles want 8–16².
         config.particle_atlas_side = 64;
         let mut renderer = renderer(gpu, &scene, config);
-        let target = create_target(&gpu.device, &config);
+        let target = create_target(gpu.device(), &config);
         let mut last = None;
         for _ in 0..6 {
             let report = renderer.render(&camera(), &target).expect("frame");
@@ -258,7 +258,7 @@ fn bad_particle_inputs_are_clear_errors() {
         let err = renderer.set_particles(&bad, 0).unwrap_err().to_string();
         assert!(err.contains("capacity is 0"), "{err}");
         renderer.set_particles(&particles(), 0).expect("particles");
-        let target = create_target(&gpu.device, &config);
+        let target = create_target(gpu.device(), &config);
         let err = renderer.render(&camera(), &target).unwrap_err().to_string();
         assert!(err.contains("power of two"), "{err}");
     });

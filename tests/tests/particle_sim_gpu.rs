@@ -5,7 +5,7 @@
 use std::collections::HashMap;
 
 use glam::{UVec2, Vec3};
-use renderer::frame::setup::Rng;
+use renderer::demo::Rng;
 use renderer::particles::reference::{CpuParticle, CpuSimulation};
 use renderer::particles::{ParticleSystem, dust, smoke, sparks};
 use renderer::passes::gpu_sort::{GpuSort, padded_count};
@@ -124,7 +124,7 @@ fn a_full_pool_refuses_the_same_number_of_births() {
 #[test]
 fn a_system_past_the_device_limits_is_a_clear_error() {
     gpu_test(|gpu| {
-        let max = ParticleSimulation::max_capacity(&gpu.device);
+        let max = ParticleSimulation::max_capacity(gpu.device());
         let err = ParticleSimulation::new(gpu, system(max.saturating_add(1)))
             .expect_err("over the limit");
         let text = err.to_string();
@@ -156,12 +156,12 @@ fn gpu_bitonic_sort_equals_the_cpu_sort() {
         let sorted = gpu_test(|gpu| {
             let sort = GpuSort::new(gpu, items, wgpu::BufferUsages::empty()).expect("sort");
             assert_eq!(sort.count, n);
-            gpu.queue
+            gpu.queue()
                 .write_buffer(&sort.keys, 0, bytemuck::cast_slice(&padded));
-            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            let mut encoder = gpu.device().create_command_encoder(&Default::default());
             sort.record_in(&mut encoder);
-            gpu.queue.submit([encoder.finish()]);
-            read_buffer::<UVec2>(&gpu.device, &gpu.queue, &sort.keys).expect("readback")
+            gpu.queue().submit([encoder.finish()]);
+            read_buffer::<UVec2>(gpu.device(), gpu.queue(), &sort.keys).expect("readback")
         });
         let mut expected = padded;
         expected.sort_by_key(|p| (p.x, p.y));

@@ -3,10 +3,12 @@
 //! schedules it, it reads what an earlier pass produced (`FrameResources::hdr`), its GPU work
 //! lands in the frame's submission, and its result is what the frame really held.
 
+use renderer::frame::ConfigError;
 use std::path::Path;
 
-use renderer::frame::setup::{create_target, framing_camera, procedural_lights};
+use renderer::demo::procedural_lights;
 use renderer::frame::{RenderError, RenderPath, Renderer, RendererConfig};
+use renderer::frame::{create_target, framing_camera};
 use renderer::frame_data::{FrameInputs, FrameResources, HDR_FORMAT};
 use renderer::graph::{BufferAccess, ImportAccess, RenderGraph, TextureAccess};
 use renderer::passes::Pass;
@@ -36,10 +38,12 @@ impl Pass for HdrSnapshot {
         _frame: &FrameInputs,
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
-        let hdr = resources.hdr.ok_or(RenderError::MissingInput {
-            pass: "hdr snapshot",
-            input: "HDR colour",
-        })?;
+        let hdr = resources
+            .hdr
+            .ok_or(RenderError::Config(ConfigError::MissingInput {
+                pass: "hdr snapshot",
+                input: "HDR colour",
+            }))?;
         let mut out =
             resources.import_buffer(graph, "hdr snapshot", &self.buffer, ImportAccess::ReadWrite);
         let target = out;
@@ -84,7 +88,7 @@ fn a_pass_from_outside_the_renderer_joins_the_frame() {
     assert_eq!(HDR_FORMAT, wgpu::TextureFormat::Rgba16Float);
     gpu_test(|gpu| {
         let mut renderer = Renderer::new(gpu, config).expect("renderer");
-        let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        let buffer = gpu.device().create_buffer(&wgpu::BufferDescriptor {
             label: Some("hdr snapshot"),
             size: u64::from(WIDTH * HEIGHT * TEXEL),
             usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
@@ -98,7 +102,10 @@ fn a_pass_from_outside_the_renderer_joins_the_frame() {
                 }),
             )
             .unwrap_err();
-        assert!(matches!(err, RenderError::NoSuchPass(_)), "{err}");
+        assert!(
+            matches!(err, RenderError::Config(ConfigError::NoSuchPass(_))),
+            "{err}"
+        );
         renderer
             .insert_pass_after(
                 "forward",
@@ -133,7 +140,7 @@ fn a_pass_from_outside_the_renderer_joins_the_frame() {
         renderer
             .set_lights(&procedural_lights(scene.bounds, 32, 3, 0.5, 2.0))
             .expect("lights fit");
-        let target = create_target(&gpu.device, &config);
+        let target = create_target(gpu.device(), &config);
         let camera = framing_camera(scene.bounds, WIDTH as f32 / HEIGHT as f32);
         let report = renderer.render(&camera, &target).expect("frame");
         renderer.finish();
@@ -146,8 +153,9 @@ fn a_pass_from_outside_the_renderer_joins_the_frame() {
         // The snapshot is the frame's HDR image: wherever the output shows light the HDR holds
         // some, and wherever the HDR holds more than a 1/20 the output shows it (tonemapping
         // maps tiny values to 0).
-        let ldr = readback::read_texture_rgba8(&gpu.device, &gpu.queue, &target).expect("ldr");
-        let hdr = readback::read_buffer::<[u16; 4]>(&gpu.device, &gpu.queue, &buffer).expect("hdr");
+        let ldr = readback::read_texture_rgba8(gpu.device(), gpu.queue(), &target).expect("ldr");
+        let hdr =
+            readback::read_buffer::<[u16; 4]>(gpu.device(), gpu.queue(), &buffer).expect("hdr");
         let mut lit = 0;
         for (i, (texel, pixel)) in hdr.iter().zip(ldr.chunks(4)).enumerate() {
             let brightest = texel[..3]
@@ -170,7 +178,7 @@ fn a_pass_from_outside_the_renderer_joins_the_frame() {
         renderer.finish();
         assert!(!again.graph_compiled, "the same graph reuses the plan");
         let ldr_again =
-            readback::read_texture_rgba8(&gpu.device, &gpu.queue, &target).expect("ldr");
+            readback::read_texture_rgba8(gpu.device(), gpu.queue(), &target).expect("ldr");
         assert_eq!(ldr_again, ldr, "a reused plan draws the same frame");
         renderer
             .resize(WIDTH / 2, HEIGHT)
@@ -179,7 +187,7 @@ fn a_pass_from_outside_the_renderer_joins_the_frame() {
             width: WIDTH / 2,
             ..config
         };
-        let smaller = create_target(&gpu.device, &half);
+        let smaller = create_target(gpu.device(), &half);
         let resized = renderer.render(&camera, &smaller).expect("frame");
         renderer.finish();
         assert!(resized.graph_compiled, "a new size compiles again");

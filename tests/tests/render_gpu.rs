@@ -8,9 +8,11 @@ mod material_programs;
 #[path = "render_gpu/views.rs"]
 mod views;
 
+use renderer::frame::ConfigError;
 use std::path::Path;
 
-use renderer::frame::setup::{framing_camera, procedural_lights};
+use renderer::demo::procedural_lights;
+use renderer::frame::framing_camera;
 use renderer::frame::{RenderPath, Renderer, RendererConfig};
 use renderer::frame_data::DEFAULT_LIGHT_CUTOFF;
 use renderer::scene::{Scene, SceneLight};
@@ -115,7 +117,7 @@ fn heatmap_view_shows_list_counts_with_a_legend_and_refuses_the_naive_path() {
         };
         assert!(matches!(
             Renderer::new(gpu, naive),
-            Err(RenderError::HeatmapNeedsLists)
+            Err(RenderError::Config(ConfigError::HeatmapNeedsLists))
         ));
         for path in [RenderPath::Tiled, RenderPath::Clustered] {
             let config = RendererConfig {
@@ -231,7 +233,8 @@ fn the_built_in_courtyard_culled_equals_naive() {
 /// them, and it checks the transparent lists on the glass.
 #[test]
 fn the_demo_frame_culled_equals_naive_without_msaa() {
-    use renderer::frame::setup::{courtyard_look, default_camera, light_space};
+    use renderer::demo::{courtyard_look, light_space};
+    use renderer::frame::default_camera;
     use renderer::scene::procedural::courtyard;
     let scene = courtyard();
     let (region, (rmin, rmax)) = light_space(&scene, true);
@@ -478,7 +481,9 @@ fn a_reconfigured_renderer_keeps_its_scene_and_renders_as_a_new_one() {
         assert!(
             matches!(
                 refused,
-                Err(renderer::frame::RenderError::SampleCount { asked: 3, .. })
+                Err(renderer::frame::RenderError::Config(
+                    ConfigError::SampleCount { asked: 3, .. }
+                ))
             ),
             "{refused:?}"
         );

@@ -243,10 +243,10 @@ fn committed_scene_uploads_with_exact_buffers() {
     use renderer::scene::GpuScene;
     let scene = Scene::load(committed_scene()).unwrap_or_else(|e| panic!("{e}"));
     tests::gpu::gpu_test(|gpu| {
-        let uploaded = GpuScene::upload(&gpu.device, &scene);
+        let uploaded = GpuScene::upload(gpu.device(), &scene);
         assert_eq!(uploaded.meshes.len(), scene.meshes.len());
         let read = |b: &wgpu::Buffer| {
-            renderer::readback::read_buffer::<u8>(&gpu.device, &gpu.queue, b).expect("readback")
+            renderer::readback::read_buffer::<u8>(gpu.device(), gpu.queue(), b).expect("readback")
         };
         let g = &uploaded.geometry;
         let streams = [

@@ -31,7 +31,8 @@
 
 use glam::{Mat4, Vec3};
 use renderer::GpuContext;
-use renderer::frame::setup::{create_target, procedural_lights};
+use renderer::demo::procedural_lights;
+use renderer::frame::create_target;
 use renderer::frame::{FrameCamera, RenderPath, Renderer, RendererConfig};
 use renderer::passes::shadow::ShadowPass;
 use renderer::scene::{Aabb, SceneLight};
@@ -253,7 +254,7 @@ impl Session {
             .expect("the scene fits the device");
         renderer.set_lights(lights).expect("lights fit");
         Self {
-            target: create_target(&gpu.device, &config),
+            target: create_target(gpu.device(), &config),
             renderer,
             gpu: gpu.clone(),
         }
@@ -266,9 +267,12 @@ impl Session {
             .render(&camera(), &self.target)
             .expect("frame");
         self.renderer.finish();
-        let rgba =
-            renderer::readback::read_texture_rgba8(&self.gpu.device, &self.gpu.queue, &self.target)
-                .expect("readback");
+        let rgba = renderer::readback::read_texture_rgba8(
+            self.gpu.device(),
+            self.gpu.queue(),
+            &self.target,
+        )
+        .expect("readback");
         (rgba, report.shadows.expect("shadow report"))
     }
 

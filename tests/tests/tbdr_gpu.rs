@@ -9,7 +9,8 @@
 //! captured G-buffer; shading sample 0 everywhere fails; light volumes shade every pixel they
 //! reach with the camera inside them and past the far plane.
 
-use renderer::frame::setup::{courtyard_look, create_target};
+use renderer::demo::courtyard_look;
+use renderer::frame::create_target;
 use renderer::frame::{FrameCamera, RenderPath, Renderer, RendererConfig};
 use renderer::frame_data::{EdgeThresholds, FrameView};
 use renderer::passes::deferred::TbdrRecord;
@@ -318,11 +319,11 @@ fn the_shading_frequency_view_marks_edges_red_and_bad_settings_are_errors() {
                 .prepare_scene(&stage.scene)
                 .expect("the scene fits the device");
             renderer.set_lights(&stage.lights).expect("lights fit");
-            let target = create_target(&gpu.device, &config);
+            let target = create_target(gpu.device(), &config);
             renderer.render(&stage.camera, &target).expect("frame");
             renderer.finish();
             let rgba =
-                readback::read_texture_rgba8(&gpu.device, &gpu.queue, &target).expect("readback");
+                readback::read_texture_rgba8(gpu.device(), gpu.queue(), &target).expect("readback");
             let red = |p: &[u8]| p[0] > 200 && p[1] < 120 && p[2] < 120;
             let (mut edges, mut red_edges, mut red_other) = (0, 0, 0);
             for (i, p) in rgba.chunks(4).enumerate() {

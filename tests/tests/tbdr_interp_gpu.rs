@@ -15,10 +15,11 @@
 
 use codegen::interp::{EvalError, Schedule};
 use glam::Vec3;
+use renderer::demo::{courtyard_look, light_space};
+use renderer::demo::{pick_shadowed, procedural_lights};
 use renderer::frame::capture::FrameCapture;
-use renderer::frame::setup::{courtyard_look, create_target, default_camera, light_space};
-use renderer::frame::setup::{pick_shadowed, procedural_lights};
 use renderer::frame::{RenderPath, Renderer, RendererConfig};
+use renderer::frame::{create_target, default_camera};
 use renderer::passes::deferred::TbdrPass;
 use renderer::scene::{LightKind, SceneLight};
 use renderer::shadow::ShadowConfig;
@@ -68,7 +69,7 @@ fn gpu_frame(path: RenderPath, msaa: u32, scalarize: bool) -> (ProbedFrame, Fram
         ..Default::default()
     });
     gpu_test(|gpu| {
-        let info = gpu.adapter.get_info();
+        let info = gpu.adapter().get_info();
         eprintln!(
             "GPU frame on {} (subgroups of {} to {})",
             info.name, info.subgroup_min_size, info.subgroup_max_size
@@ -86,7 +87,7 @@ fn gpu_frame(path: RenderPath, msaa: u32, scalarize: bool) -> (ProbedFrame, Fram
         renderer
             .capture_next_frame(PROBE_STRIDE)
             .expect("the TBDR path has depth");
-        let target = create_target(&gpu.device, &config);
+        let target = create_target(gpu.device(), &config);
         renderer.render(&camera, &target).expect("frame");
         renderer.finish();
         let capture = renderer

@@ -10,13 +10,14 @@
 //! subgroup instead of once per invocation, the same lights in the same order, so the two are
 //! equal (measured: largest channel difference 0 on lavapipe, subgroup size 8). On a device
 //! without subgroups nothing is skipped: each scalarized configuration must be refused with
-//! `RenderError::NoSubgroup`; the last test opens such a device (the same adapter without the
+//! `RenderError::Config(ConfigError::NoSubgroup)`; the last test opens such a device (the same adapter without the
 //! SUBGROUP feature) and checks exactly that, so the branch runs on every machine.
 
-use renderer::decals::{DecalSet, placement, procedural};
-use renderer::frame::setup::{
-    courtyard_look, default_camera, light_space, pick_shadowed, procedural_lights,
-};
+use renderer::decals::{DecalSet, procedural};
+use renderer::demo::scatter_decals;
+use renderer::demo::{courtyard_look, light_space, pick_shadowed, procedural_lights};
+use renderer::frame::ConfigError;
+use renderer::frame::default_camera;
 use renderer::frame::{RenderPath, RendererConfig};
 use renderer::frame_data::RenderError;
 use renderer::particles::{WARMUP_STEPS, builtin_system};
@@ -44,7 +45,7 @@ fn demo_stage() -> Stage {
     let camera = default_camera(&scene, WIDTH as f32 / HEIGHT as f32);
     pick_shadowed(&mut lights, &camera, HEIGHT as f32, 8);
     let materials = procedural::materials();
-    let decals = placement::scatter(&scene, 32, materials.len(), 1);
+    let decals = scatter_decals(&scene, 32, materials.len(), 1);
     Stage {
         name: "demo courtyard",
         lights,
@@ -71,7 +72,7 @@ fn shared_stage() -> Stage {
 }
 
 /// What a sweep did: frames rendered plain and scalarized, and scalarized configurations the
-/// device refused with `RenderError::NoSubgroup`.
+/// device refused with `RenderError::Config(ConfigError::NoSubgroup)`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 struct Counts {
     plain: usize,
@@ -109,7 +110,7 @@ fn sweep(gpu: &GpuContext, stage: &Stage) -> Counts {
                 let made = Renderer::new(gpu, config);
                 if scalarize && !subgroup {
                     match made {
-                        Err(RenderError::NoSubgroup) => counts.refused += 1,
+                        Err(RenderError::Config(ConfigError::NoSubgroup)) => counts.refused += 1,
                         Err(e) => panic!("{what}: refused with {e}, not NoSubgroup"),
                         Ok(_) => panic!("{what}: made a scalarized renderer without subgroups"),
                     }
@@ -210,9 +211,9 @@ fn without_subgroups_scalarized_configurations_are_refused_with_a_typed_error() 
     let stage = shared_stage();
     gpu_test(|gpu| {
         let (features, limits) =
-            renderer::gpu::requirements::for_adapter(&gpu.adapter).expect("requirements");
+            renderer::gpu::requirements::for_adapter(gpu.adapter()).expect("requirements");
         let (device, queue) =
-            pollster::block_on(gpu.adapter.request_device(&wgpu::DeviceDescriptor {
+            pollster::block_on(gpu.adapter().request_device(&wgpu::DeviceDescriptor {
                 label: Some("device without subgroups"),
                 required_features: features - wgpu::Features::SUBGROUP,
                 required_limits: limits,
@@ -226,8 +227,9 @@ fn without_subgroups_scalarized_configurations_are_refused_with_a_typed_error() 
                 .unwrap_or_else(std::sync::PoisonError::into_inner)
                 .push(e.to_string());
         }));
-        let bare = GpuContext::from_parts(gpu.instance.clone(), gpu.adapter.clone(), device, queue)
-            .expect("the device has the renderer's limits");
+        let bare =
+            GpuContext::from_parts(gpu.instance().clone(), gpu.adapter().clone(), device, queue)
+                .expect("the device has the renderer's limits");
         assert_eq!(bare.capabilities().subgroup, None);
         let counts = sweep(&bare, &stage);
         assert_counts(&bare, counts);

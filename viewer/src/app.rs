@@ -127,8 +127,8 @@ impl App {
             )?,
         );
         let gpu = GpuContext::new_blocking(&GpuOptions::from_env())?;
-        let surface = gpu.instance.create_surface(window.clone())?;
-        let caps = surface.get_capabilities(&gpu.adapter);
+        let surface = gpu.instance().create_surface(window.clone())?;
+        let caps = surface.get_capabilities(gpu.adapter());
         let format = caps
             .formats
             .iter()
@@ -156,7 +156,7 @@ impl App {
             view_formats: vec![],
             color_space: wgpu::SurfaceColorSpace::default(),
         };
-        surface.configure(&gpu.device, &surface_config);
+        surface.configure(gpu.device(), &surface_config);
         let msaa = if gpu.capabilities().msaa_counts().contains(&self.args.msaa) {
             self.args.msaa
         } else {
@@ -175,7 +175,7 @@ impl App {
             ..viewer::scene::look(&self.shown)
         };
         let renderer = build(&gpu, config, &self.shown, &self.shown.lights)?;
-        let overlay = Overlay::new(&window, &gpu.device, format);
+        let overlay = Overlay::new(&window, gpu.device(), format);
         Ok(Running {
             window,
             renderer,
@@ -227,7 +227,7 @@ impl App {
             wgpu::CurrentSurfaceTexture::Success(t)
             | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
             wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
-                r.surface.configure(&r.gpu.device, &r.surface_config);
+                r.surface.configure(r.gpu.device(), &r.surface_config);
                 return Ok(true);
             }
             wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => {
@@ -272,7 +272,7 @@ impl App {
         // Shot 0 is the first frame; shot k follows reload k.
         let reloads_done = self.args.exit_after_reloads.is_some_and(|n| self.shots > n);
         r.window.pre_present_notify();
-        r.gpu.queue.present(texture);
+        r.gpu.queue().present(texture);
         self.frame += 1;
         Ok(!last && !reloads_done)
     }
@@ -308,7 +308,7 @@ fn build(
 
 /// Copies the swapchain texture (BGRA or RGBA, 8 bits) to a PNG.
 fn screenshot(gpu: &GpuContext, texture: &wgpu::Texture, path: &std::path::Path) -> Result<()> {
-    let mut rgba = readback::read_texture_rgba8(&gpu.device, &gpu.queue, texture)?;
+    let mut rgba = readback::read_texture_rgba8(gpu.device(), gpu.queue(), texture)?;
     if matches!(
         texture.format(),
         wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Bgra8UnormSrgb

@@ -3,7 +3,7 @@
 
 use glam::{Mat4, Vec3};
 use renderer::frame::FrameCamera;
-use renderer::frame::setup::scene_camera;
+use renderer::frame::scene_camera;
 
 /// Metres per second.
 pub const SPEED: f32 = 4.0;

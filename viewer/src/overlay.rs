@@ -83,17 +83,17 @@ impl Overlay {
         for (id, deltas) in textures.set.drain() {
             for delta in &deltas {
                 self.painter
-                    .update_texture(&gpu.device, &gpu.queue, id, delta);
+                    .update_texture(gpu.device(), gpu.queue(), id, delta);
             }
         }
         let mut encoder = gpu
-            .device
+            .device()
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("overlay"),
             });
         let extra =
             self.painter
-                .update_buffers(&gpu.device, &gpu.queue, &mut encoder, &jobs, &screen);
+                .update_buffers(gpu.device(), gpu.queue(), &mut encoder, &jobs, &screen);
         let view = target.create_view(&wgpu::TextureViewDescriptor::default());
         {
             let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -115,7 +115,7 @@ impl Overlay {
             self.painter
                 .render(&mut pass.forget_lifetime(), &jobs, &screen);
         }
-        gpu.queue
+        gpu.queue()
             .submit(extra.into_iter().chain([encoder.finish()]));
         for id in textures.free.drain() {
             self.painter.free_texture(&id);

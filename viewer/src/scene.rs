@@ -6,12 +6,11 @@
 use std::path::Path;
 
 use anyhow::{Context as _, Result};
-use renderer::decals::{DecalSet, placement, procedural};
+use renderer::decals::{DecalSet, procedural};
+use renderer::demo::scatter_decals;
+use renderer::demo::{courtyard_look, light_space, pick_shadowed, procedural_lights};
 use renderer::frame::RendererConfig;
-use renderer::frame::setup::{
-    FRAMING_YFOV_DEGREES, courtyard_look, default_camera, light_space, pick_shadowed,
-    procedural_lights,
-};
+use renderer::frame::{FRAMING_YFOV_DEGREES, default_camera};
 use renderer::particles::{ParticleSystem, builtin_system};
 use renderer::scene::{Aabb, CameraProjection, Scene, SceneLight};
 
@@ -70,7 +69,7 @@ pub fn load(
     };
     let start = Fly::from_world_from_view(opening.view.inverse(), yfov);
     let materials = procedural::materials();
-    let placed = placement::scatter(&scene, decals, materials.len(), seed);
+    let placed = scatter_decals(&scene, decals, materials.len(), seed);
     let particles = (particles > 0).then(|| builtin_system(scene.bounds, particles, seed as u32));
     let mut shown = Shown {
         particles,

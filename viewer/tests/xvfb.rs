@@ -6,7 +6,7 @@
 
 use std::process::Command;
 
-use renderer::frame::setup::create_target;
+use renderer::frame::create_target;
 use renderer::frame::{Renderer, RendererConfig};
 use renderer::{GpuContext, GpuOptions, readback};
 use viewer::fly::Held;
@@ -47,10 +47,10 @@ fn headless(steps: u32) -> Vec<u8> {
         .expect("the scene fits the device");
     r.set_lights(&shown.lights).expect("lights fit");
     r.set_decals(&shown.decals).expect("decals fit");
-    let target = create_target(&gpu.device, &config);
+    let target = create_target(gpu.device(), &config);
     r.render(&fly.camera(SIZE.0 as f32 / SIZE.1 as f32), &target)
         .expect("frame");
-    readback::read_texture_rgba8(&gpu.device, &gpu.queue, &target).expect("readback")
+    readback::read_texture_rgba8(gpu.device(), gpu.queue(), &target).expect("readback")
 }
 
 #[test]

@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 
 use anyhow::{Context as _, Result};
 use glam::Vec3;
-use renderer::frame::setup::create_target;
+use renderer::frame::create_target;
 use renderer::frame::{FrameView, ParticleLighting, Renderer, RendererConfig};
 use renderer::passes::particles::ParticleSimPass;
 use renderer::readback;
@@ -94,7 +94,7 @@ fn run_lighting(s: &Setup, lighting: ParticleLighting, frames: u32) -> Result<(R
     renderer.set_lights(&s.lights)?;
     let system = s.particles.as_ref().context("the bench has particles")?;
     renderer.set_particles(system, WARMUP_STEPS)?;
-    let target = create_target(&s.gpu.device, &config);
+    let target = create_target(s.gpu.device(), &config);
     let mut times: BTreeMap<String, Vec<f64>> = BTreeMap::new();
     // Two frames to build everything and grow the lists, then the timed ones.
     for frame in 0..frames + 2 {
@@ -119,7 +119,7 @@ fn run_lighting(s: &Setup, lighting: ParticleLighting, frames: u32) -> Result<(R
         })
         .collect();
     let overdraw = overdraw(&renderer, s)?;
-    let rgba = readback::read_texture_rgba8(&s.gpu.device, &s.gpu.queue, &target)?;
+    let rgba = readback::read_texture_rgba8(s.gpu.device(), s.gpu.queue(), &target)?;
     Ok((Run { medians, rgba }, overdraw))
 }
 

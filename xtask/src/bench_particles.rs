@@ -8,7 +8,7 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use glam::Vec3;
-use renderer::frame::setup::framing_camera;
+use renderer::frame::framing_camera;
 use renderer::particles::{ParticleSystem, dust, smoke, sparks};
 use renderer::passes::particles::{GpuSort, ParticleAtlas, ParticleSimulation};
 use renderer::scene::Aabb;
@@ -79,7 +79,7 @@ pub fn run(args: &Args) -> Result<()> {
         gpu.capabilities().timestamp_inside_passes,
         "bench-particles needs TIMESTAMP_QUERY inside encoders; this adapter lacks it"
     );
-    println!("adapter: {}", gpu.report);
+    println!("adapter: {}", gpu.report());
     let mut table = String::from(
         "| particles | live | visible | simulate (µs) | atlas layout (µs) | sort (µs) | sort pairs | atlas side | shrink |\n|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
     );
@@ -127,28 +127,28 @@ fn measure(gpu: &GpuContext, count: u32, frames: u32) -> Result<String> {
         ..Default::default()
     };
     let mut profiler =
-        GpuProfiler::new(&gpu.device, settings).map_err(|e| anyhow::anyhow!("{e}"))?;
+        GpuProfiler::new(gpu.device(), settings).map_err(|e| anyhow::anyhow!("{e}"))?;
     let mut times: [Vec<f64>; 3] = Default::default();
     for _ in 0..frames {
-        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        let mut encoder = gpu.device().create_command_encoder(&Default::default());
         {
             let mut scope = profiler.scope(STAGES[0], &mut encoder);
-            sim.record_step(&gpu.queue, &mut scope);
+            sim.record_step(gpu.queue(), &mut scope);
         }
         {
             let mut scope = profiler.scope(STAGES[1], &mut encoder);
-            atlas.record(&gpu.queue, &mut scope, &camera, height);
+            atlas.record(gpu.queue(), &mut scope, &camera, height);
         }
         {
             let mut scope = profiler.scope(STAGES[2], &mut encoder);
             sort.record_in(&mut scope);
         }
         profiler.resolve_queries(&mut encoder);
-        gpu.queue.submit([encoder.finish()]);
+        gpu.queue().submit([encoder.finish()]);
         profiler.end_frame().map_err(|e| anyhow::anyhow!("{e}"))?;
         gpu.wait_idle()?;
         for q in profiler
-            .process_finished_frame(gpu.queue.get_timestamp_period())
+            .process_finished_frame(gpu.queue().get_timestamp_period())
             .unwrap_or_default()
         {
             let stage = STAGES.iter().position(|s| *s == q.label);

@@ -16,7 +16,8 @@
 
 use anyhow::{Context as _, Result};
 use glam::{Mat4, Vec3};
-use renderer::frame::setup::{create_target, moving_instance};
+use renderer::demo::moving_instance;
+use renderer::frame::create_target;
 use renderer::frame::{FrameView, RenderPath, Renderer, RendererConfig};
 use renderer::scene::{LightKind, SceneLight};
 use renderer::shadow::ShadowReport;
@@ -142,7 +143,7 @@ const TIMED_FRAMES: usize = 9;
 /// every light.
 fn warm_frame_ms(s: &Setup, config: RendererConfig) -> Result<Option<f64>> {
     let mut renderer = crate::render::renderer_for(s, config)?;
-    let target = create_target(&s.gpu.device, &config);
+    let target = create_target(s.gpu.device(), &config);
     for _ in 0..WARMUP_FRAMES {
         renderer.render(&s.camera, &target)?;
     }
@@ -212,7 +213,7 @@ fn moving_sphere(s: &Setup) -> Result<[ShadowReport; 3]> {
     let start = s.scene.instances[sphere].world_from_mesh;
     let sphere = renderer.scene_instance(sphere)?;
     renderer.set_instance_dynamic(sphere, true)?;
-    let target = create_target(&s.gpu.device, &s.config);
+    let target = create_target(s.gpu.device(), &s.config);
     let mut reports = Vec::new();
     for offset in [0.0, 0.0, 0.6] {
         let moved = Mat4::from_translation(Vec3::new(0.0, offset, 0.0)) * start;
@@ -265,7 +266,7 @@ fn summary(s: &Setup, shot: &Shot, files: &[std::path::PathBuf], secs: f64) {
         c.tile,
         if c.scalarize { ", scalarized" } else { "" },
     );
-    let a = &s.gpu.report;
+    let a = &s.gpu.report();
     println!(
         "adapter: {} ({:?}, {:?}), {} {}",
         a.name, a.backend, a.device_type, a.driver, a.driver_info

@@ -5,6 +5,7 @@
 //! (no circle between files, passes never import the frame orchestrator) parse the sources with
 //! syn: the submodules build that graph, `import_tests` shows those checks failing.
 
+mod api;
 mod circles;
 mod graph;
 #[cfg(test)]
@@ -50,8 +51,8 @@ const HAND_BOUND_MARKERS: &[&str] = &["create_bind_group(", "BindGroupEntry {"];
 /// What production code of `renderer` may not name: the CPU culling reference, which must stay
 /// independent of what it checks.
 const REFERENCE_MARKERS: &[&str] = &["culling::reference", "super::reference"];
-/// Files that may: the reference itself, and the frame capture, a tool's measurement against it.
-const REFERENCE_USERS: &[&str] = &["culling/reference/", "passes/depth_probe/"];
+/// Files that may: the reference itself (compiled for tests and the `internals` feature only).
+const REFERENCE_USERS: &[&str] = &["culling/reference/"];
 /// Files that may not use anything of the frame orchestrator: passes add themselves to a graph
 /// the frame builds, they never reach back into it.
 const PASSES_DIR: &str = "renderer/src/passes/";
@@ -83,6 +84,28 @@ pub fn run() -> Result<()> {
     violations.extend(check_rendering_does_not_use_the_reference(
         &renderer_sources,
     ));
+    violations.extend(
+        api::messages_naming_flags(&renderer_sources)
+            .into_iter()
+            .map(|detail| Violation {
+                invariant: "renderer messages name API items, not command-line flags",
+                detail,
+            }),
+    );
+    let mut manifests = Vec::new();
+    for path in api::EMBEDDER_MANIFESTS {
+        let text =
+            std::fs::read_to_string(root.join(path)).with_context(|| format!("reading {path}"))?;
+        manifests.push(((*path).to_owned(), text));
+    }
+    violations.extend(
+        api::embedders_using_internals(&manifests)
+            .into_iter()
+            .map(|detail| Violation {
+                invariant: "engines see the renderer's public API only",
+                detail,
+            }),
+    );
     let workspace = read_workspace_sources(&root)?;
     violations.extend(check_no_import_circles(&workspace));
     violations.extend(check_passes_do_not_import_frame(&workspace));
@@ -445,12 +468,21 @@ mod tests {
             ),
             src(
                 "passes/depth_probe/capture.rs",
-                "use crate::culling::reference::DepthBuffer;\n",
+                "use crate::culling::depth::DepthBuffer;\n",
             ),
             src("passes/light_cull/mod.rs", "use crate::culling::Method;\n"),
         ]
         .concat();
         assert!(check_rendering_does_not_use_the_reference(&sources).is_empty());
+        // The frame capture measures with `culling::depth` now, never the reference.
+        let capture = src(
+            "passes/depth_probe/capture.rs",
+            "use crate::culling::reference::DepthBuffer;\n",
+        );
+        assert_eq!(
+            check_rendering_does_not_use_the_reference(&capture).len(),
+            1
+        );
         let broken = src(
             "frame_data/lights.rs",
             "ok\nuse crate::culling::reference::LightSphere;\n",

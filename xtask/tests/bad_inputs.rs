@@ -142,7 +142,7 @@ fn a_malformed_scene_file_is_an_error_naming_it() {
 fn device_limits_are_checked_before_allocating() {
     let gpu = renderer::GpuContext::new_blocking(&renderer::GpuOptions::from_env())
         .expect("a GPU adapter (lavapipe in CI)");
-    let most = renderer::frame_data::LightSet::max_lights(&gpu.device);
+    let most = renderer::frame_data::LightSet::max_lights(gpu.device());
     let past = (most + 1).to_string();
     refused(
         &["--lights", &past],

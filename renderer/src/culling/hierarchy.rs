@@ -8,7 +8,9 @@
 
 use glam::{Mat4, UVec2, Vec3};
 use shaders_gen::culling::cull_prepare::{self, CullParams, Msaa, Tile};
-pub use shaders_gen::culling::cull_prepare::{CullBox, CullSphere, ITEM_TYPES};
+pub use shaders_gen::culling::cull_prepare::{CullBox, CullSphere};
+#[cfg(any(test, feature = "internals"))]
+pub use shaders_gen::culling::cull_prepare::ITEM_TYPES;
 use shaders_gen::shared::cull_append;
 
 use super::CullError;
@@ -176,8 +178,8 @@ impl CullHierarchy {
         width: u32,
         height: u32,
     ) -> Result<Self, CullError> {
-        super::check_index_capacity(&gpu.device, shape.index_capacity)?;
-        let device = &gpu.device;
+        super::check_index_capacity(gpu.device(), shape.index_capacity)?;
+        let device = gpu.device();
         let prepare = ShaderProgram::new(
             device,
             gpu.capabilities(),
@@ -282,16 +284,16 @@ impl CullHierarchy {
         super::check_item_count(items.len(), self.shape.item_capacity)?;
         self.item_count
             .store(params.item_count, std::sync::atomic::Ordering::Relaxed);
-        gpu.queue
+        gpu.queue()
             .write_buffer(&self.params, 0, bytemuck::bytes_of(params));
-        gpu.queue
+        gpu.queue()
             .write_buffer(&self.items, 0, bytemuck::cast_slice(items.lights));
         if !items.decals.is_empty() {
             let after_lights = size_of_val(items.lights) as u64;
             let spheres = items.box_spheres();
-            gpu.queue
+            gpu.queue()
                 .write_buffer(&self.items, after_lights, bytemuck::cast_slice(&spheres));
-            gpu.queue
+            gpu.queue()
                 .write_buffer(&self.boxes, 0, bytemuck::cast_slice(items.decals));
         }
         Ok(())

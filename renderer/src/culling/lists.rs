@@ -141,9 +141,9 @@ impl LightLists {
 
     /// Blocking readback (tests and tools).
     pub fn read_back(&self, gpu: &GpuContext) -> Result<CullReadback, GpuError> {
-        let grid = readback::read_buffer::<UVec2>(&gpu.device, &gpu.queue, &self.grid)?;
-        let indices = readback::read_buffer::<u32>(&gpu.device, &gpu.queue, &self.indices)?;
-        let counters = readback::read_buffer::<u32>(&gpu.device, &gpu.queue, &self.counters)?;
+        let grid = readback::read_buffer::<UVec2>(gpu.device(), gpu.queue(), &self.grid)?;
+        let indices = readback::read_buffer::<u32>(gpu.device(), gpu.queue(), &self.indices)?;
+        let counters = readback::read_buffer::<u32>(gpu.device(), gpu.queue(), &self.counters)?;
         Ok(CullReadback {
             grid: grid[..(self.cells * ITEM_TYPES) as usize].to_vec(),
             indices,

@@ -9,14 +9,18 @@
 
 pub mod capacity;
 pub mod clustered;
+pub mod depth;
 pub mod hierarchy;
 pub mod lists;
 pub mod overflow;
+#[cfg(any(test, feature = "internals"))]
 pub mod reference;
 pub mod tiled;
 pub mod vocabulary;
 
-pub use vocabulary::{ClusterGrid, CullCamera, LightSphere, Method, Plane, SUPER_TILE_PIXELS};
+pub use vocabulary::{ClusterGrid, CullCamera, LightSphere, Method, Plane};
+#[cfg(any(test, feature = "internals"))]
+pub use vocabulary::SUPER_TILE_PIXELS;
 
 use crate::GpuError;
 use crate::shader::VariantError;

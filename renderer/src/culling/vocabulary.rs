@@ -76,8 +76,10 @@ impl LightSphere {
 }
 
 /// Number of depth cells in a 2.5D tile mask.
+#[cfg(any(test, feature = "internals"))]
 pub const DEPTH_MASK_CELLS: u32 = 32;
 /// Edge of a super-tile in pixels.
+#[cfg(any(test, feature = "internals"))]
 pub const SUPER_TILE_PIXELS: u32 = 128;
 
 /// A froxel grid: the screen tiles of `tile`×`tile` pixels × `slices` exponential depth slices

@@ -48,7 +48,9 @@ pub struct AtlasEntry {
 /// The packed atlas: per channel, per mip level, RGBA8 texels (`size >> level` square).
 #[derive(Debug, Clone, PartialEq)]
 pub struct DecalAtlas {
+    /// Side of every channel's level 0, in texels (a power of two, 64 to `max_size`).
     pub size: u32,
+    /// Mip levels per channel, as configured.
     pub mip_levels: u32,
     /// Gutter around each material at level 0, in texels.
     pub gutter: u32,

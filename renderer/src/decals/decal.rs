@@ -11,6 +11,7 @@ use super::{DecalError, DecalMaterial, OrientedBox};
 /// top along local +Y.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Decal {
+    /// Unit cube to world: the box's position, orientation and size (metres); no shear.
     pub world_from_box: Mat4,
     /// Index into [`DecalSet::materials`].
     pub material: usize,
@@ -32,6 +33,7 @@ impl Decal {
         std::f32::consts::FRAC_PI_3,
         4.0 * std::f32::consts::PI / 9.0,
     ];
+    /// Distance fade that never fades (both distances `f32::MAX`).
     pub const NO_DISTANCE_FADE: [f32; 2] = [f32::MAX, f32::MAX];
 
     /// A decal of `material` through `world_from_box`, whole, with the default fades and key 0.
@@ -55,7 +57,9 @@ impl Decal {
 /// Decals and the materials they use.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct DecalSet {
+    /// The materials [`Decal::material`] indexes.
     pub materials: Vec<DecalMaterial>,
+    /// The decals, in the order equal sort keys keep.
     pub decals: Vec<Decal>,
 }
 

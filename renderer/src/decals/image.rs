@@ -2,6 +2,7 @@
 //! normal, occlusion-roughness-metalness, emissive), loaded from PNG files with the `image`
 //! crate or made in code ([`super::procedural`]).
 
+#[cfg(feature = "png")]
 use std::path::Path;
 
 use super::DecalError;
@@ -20,7 +21,9 @@ pub enum Channel {
 }
 
 impl Channel {
+    /// How many channels there are.
     pub const COUNT: usize = 4;
+    /// Every channel, in atlas order (bit `c` of a channel mask is `ALL[c]`).
     pub const ALL: [Self; Self::COUNT] = [Self::BaseColor, Self::Normal, Self::Orm, Self::Emissive];
 
     /// The texel an absent channel is filled with (shading skips absent channels anyway).
@@ -90,8 +93,11 @@ fn linear_to_srgb(v: f32) -> f32 {
 /// An RGBA8 image, rows top to bottom.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct DecalImage {
+    /// Width in texels.
     pub width: u32,
+    /// Height in texels.
     pub height: u32,
+    /// `width × height × 4` bytes, encoded as its [`Channel`] says.
     pub rgba: Vec<u8>,
 }
 
@@ -121,6 +127,7 @@ impl DecalImage {
     }
 
     /// Loads a PNG (any colour type; converted to RGBA8).
+    #[cfg(feature = "png")]
     pub fn load_png(path: &Path) -> Result<Self, DecalError> {
         let image = image::open(path).map_err(|e| DecalError::Image {
             path: path.to_path_buf(),
@@ -138,10 +145,15 @@ impl DecalImage {
 /// A decal material: its base colour and the optional channels, all the same size.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct DecalMaterial {
+    /// Its name in errors and sidecar files (unique in a sidecar).
     pub name: String,
+    /// [`Channel::BaseColor`]: sRGB colour, alpha the decal's coverage.
     pub base_color: DecalImage,
+    /// [`Channel::Normal`]; `None`: the surface's normal is kept.
     pub normal: Option<DecalImage>,
+    /// [`Channel::Orm`]; `None`: the surface's occlusion, roughness and metalness are kept.
     pub orm: Option<DecalImage>,
+    /// [`Channel::Emissive`]; `None`: no emission.
     pub emissive: Option<DecalImage>,
 }
 

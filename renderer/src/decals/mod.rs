@@ -16,8 +16,9 @@ mod decal;
 mod error;
 mod image;
 pub mod obb;
-pub mod placement;
+
 pub mod procedural;
+#[cfg(feature = "json")]
 pub mod sidecar;
 
 pub use atlas::{AtlasEntry, DecalAtlas, DecalAtlasConfig};

@@ -6,8 +6,11 @@ use glam::{Mat4, Vec3};
 /// A box: centre, three orthonormal axes and the half extent along each.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct OrientedBox {
+    /// The box's centre.
     pub center: Vec3,
+    /// Unit axes, mutually orthogonal (the matrix's columns normalised).
     pub axes: [Vec3; 3],
+    /// Half the box's extent along each of `axes`.
     pub half: Vec3,
 }
 

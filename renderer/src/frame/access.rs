@@ -3,6 +3,7 @@
 
 use super::{Culler, NO_CULLER, RenderError, Renderer, capture};
 use crate::culling::lists::CullCounters;
+use crate::frame_data::ConfigError;
 use crate::graph::PassTiming;
 use crate::passes::Pass;
 use crate::passes::depth_probe::DepthProbePass;
@@ -25,7 +26,7 @@ impl Renderer {
             .passes
             .iter()
             .position(|p| p.name() == after)
-            .ok_or_else(|| RenderError::NoSuchPass(after.to_owned()))?;
+            .ok_or_else(|| RenderError::Config(ConfigError::NoSuchPass(after.to_owned())))?;
         self.passes.insert(at + 1, pass);
         Ok(())
     }
@@ -48,7 +49,7 @@ impl Renderer {
     /// light grid, for [`Self::take_capture`]. Needs the depth pre-pass.
     pub fn capture_next_frame(&mut self, stride: u32) -> Result<(), RenderError> {
         if self.pass::<DepthProbePass>().is_none() {
-            return Err(RenderError::CaptureNeedsDepth);
+            return Err(RenderError::Config(ConfigError::CaptureNeedsDepth));
         }
         self.capture_request = Some(stride.max(1));
         Ok(())
@@ -72,7 +73,7 @@ impl Renderer {
         while self.in_flight.len() > max {
             if let Some(index) = self.in_flight.pop_front() {
                 self.gpu
-                    .device
+                    .device()
                     .poll(wgpu::PollType::Wait {
                         submission_index: Some(index),
                         timeout: None,
@@ -86,11 +87,11 @@ impl Renderer {
     /// Per-pass timings of every frame whose timestamps have arrived and were not yet returned
     /// (by `render`'s report or an earlier call), oldest first. Does not block.
     pub fn drain_timings(&mut self) -> Vec<Vec<PassTiming>> {
-        let _ = self.gpu.device.poll(wgpu::PollType::Poll);
+        let _ = self.gpu.device().poll(wgpu::PollType::Poll);
         let mut frames = Vec::new();
         while let Some(r) = self
             .profiler
-            .process_finished_frame(self.gpu.queue.get_timestamp_period())
+            .process_finished_frame(self.gpu.queue().get_timestamp_period())
         {
             frames.push(PassTiming::from_profiler(&r));
         }

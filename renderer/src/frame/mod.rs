@@ -8,9 +8,9 @@
 //! pass's internals. The renderer never creates a window: the caller owns the target texture.
 //!
 //! ```no_run
-//! use renderer::frame::setup::{framing_camera, procedural_lights};
-//! use renderer::frame::{RenderPath, Renderer, RendererConfig};
-//! use renderer::scene::Scene;
+//! use glam::Vec3;
+//! use renderer::frame::{RenderPath, Renderer, RendererConfig, framing_camera};
+//! use renderer::scene::{LightKind, Scene, SceneLight};
 //! use renderer::{GpuContext, GpuOptions};
 //!
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -22,12 +22,20 @@
 //! let scene = Scene::load("scene.glb")?;
 //! renderer.prepare_scene(&scene)?;
 //! let mut lights = scene.lights.clone();
-//! lights.extend(procedural_lights(scene.bounds, 4096, 1, 0.5, 3.0));
+//! lights.push(SceneLight {
+//!     kind: LightKind::Point,
+//!     position: scene.bounds.center() + Vec3::Y,
+//!     direction: Vec3::NEG_Z,
+//!     color: Vec3::ONE,
+//!     intensity: 50.0,
+//!     range: Some(10.0),
+//!     casts_shadow: true,
+//! });
 //! renderer.set_lights(&lights)?;
 //!
 //! // The engine's own target: any texture of `config.output_format` with RENDER_ATTACHMENT
 //! // (this helper makes one of the configured size).
-//! let target = renderer::frame::setup::create_target(&gpu.device, &config);
+//! let target = renderer::frame::create_target(gpu.device(), &config);
 //! let camera = framing_camera(scene.bounds, 1280.0 / 720.0);
 //! let report = renderer.render(&camera, &target)?;
 //! if let Some(timings) = report.timings {
@@ -44,12 +52,12 @@
 
 mod access;
 mod assets;
+mod cameras;
 pub mod capture;
 mod extra_view;
 mod motion;
 mod pass_list;
 mod reconfigure;
-pub mod setup;
 mod views;
 
 use std::collections::VecDeque;
@@ -57,12 +65,15 @@ use std::sync::Arc;
 use std::time::Instant;
 
 pub use crate::frame_data::{
-    Ambient, DecalUpload, DrawItem, FrameCamera, FrameReport, FrameView, InstanceHandle,
-    InstanceState, ParticleLighting, ParticleReport, PreparedScene, RenderError, RenderPath,
-    RendererConfig, ViewId, ViewTarget,
+    Ambient, ConfigError, DecalUpload, DeviceError, DrawItem, FrameCamera, FrameReport, FrameView,
+    InputError, InstanceHandle, InstanceState, ParticleLighting, ParticleReport, PreparedScene,
+    RenderError, RenderPath, RendererConfig, SceneDrawReport, ViewId, ViewTarget,
 };
 pub use crate::passes::light_cull::Culler;
 pub use assets::GeometryUsage;
+pub use cameras::{
+    FRAMING_YFOV_DEGREES, camera_of, create_target, default_camera, framing_camera, scene_camera,
+};
 
 use crate::GpuContext;
 use crate::decals::{DecalAtlasConfig, DecalSet};
@@ -127,8 +138,8 @@ impl std::fmt::Debug for Renderer {
 
 impl Renderer {
     /// A renderer of `config` on `gpu`, with no scene, lights, decals or particles yet. The
-    /// configuration is checked against the device ([`RenderError::SampleCount`],
-    /// [`RenderError::NoSubgroup`], [`RenderError::FrameSize`], ...), and every program it
+    /// configuration is checked against the device ([`ConfigError::SampleCount`](crate::frame::ConfigError::SampleCount),
+    /// [`ConfigError::NoSubgroup`](crate::frame::ConfigError::NoSubgroup), [`ConfigError::FrameSize`](crate::frame::ConfigError::FrameSize), ...), and every program it
     /// needs is built now. [`Renderer::reconfigure`] changes it later, keeping the scene.
     pub fn new(gpu: &GpuContext, config: RendererConfig) -> Result<Self, RenderError> {
         check_config(gpu, &config)?;
@@ -143,21 +154,23 @@ impl Renderer {
             gpu: gpu.clone(),
             config,
             scene: None,
-            lights: Arc::new(LightSet::new(&gpu.device, &[])),
+            lights: Arc::new(LightSet::new(gpu.device(), &[])),
             light_sources: vec![],
-            decals: Arc::new(GpuDecals::empty(&gpu.device, &gpu.queue)),
+            decals: Arc::new(GpuDecals::empty(gpu.device(), gpu.queue())),
             particles: None,
-            camera_uniform: CameraUniform::new(&gpu.device),
+            camera_uniform: CameraUniform::new(gpu.device()),
             pool: TransientPool::new(),
             graph_cache: GraphCache::new(),
-            profiler: wgpu_profiler::GpuProfiler::new(&gpu.device, settings)
-                .map_err(|e| RenderError::Profiler(e.to_string()))?,
+            profiler: wgpu_profiler::GpuProfiler::new(gpu.device(), settings)
+                .map_err(|e| RenderError::Device(DeviceError::Profiler(e.to_string())))?,
             frame_index: 0,
             in_flight: VecDeque::new(),
             capture_request: None,
         })
     }
 
+    /// The configuration in use: the one it was created with, or the last one given to
+    /// [`Renderer::reconfigure`].
     pub fn config(&self) -> &RendererConfig {
         &self.config
     }
@@ -174,11 +187,11 @@ impl Renderer {
     /// program not registered ([`Renderer::register_material`]), is an error, and the previous
     /// scene stays.
     pub fn prepare_scene(&mut self, scene: &Scene) -> Result<(), RenderError> {
-        scene.check_for_device(&self.gpu.device.limits())?;
+        scene.check_for_device(&self.gpu.device().limits())?;
         for material in &scene.materials {
             crate::materials::check_material(material, &self.materials)?;
         }
-        let prepared = PreparedScene::new(&self.gpu.device, &self.gpu.queue, scene)?;
+        let prepared = PreparedScene::new(self.gpu.device(), self.gpu.queue(), scene)?;
         let instances = InstanceTable::new(&self.gpu, &prepared, scene)?;
         self.scene = Some((prepared, Arc::new(instances)));
         Ok(())
@@ -204,7 +217,7 @@ impl Renderer {
         let cutoff = config.light_cutoff / config.exposure.max(f32::MIN_POSITIVE);
         let lights = with_effective_ranges(lights, cutoff);
         let gpu = &self.gpu;
-        LightSet::checked(&gpu.device, &gpu.queue, &lights, Some(&self.lights))
+        LightSet::checked(gpu.device(), gpu.queue(), &lights, Some(&self.lights))
     }
 
     /// Replaces the decals (validated, their atlas packed with the default
@@ -228,7 +241,7 @@ impl Renderer {
     ) -> Result<DecalUpload, RenderError> {
         let gpu = &self.gpu;
         let (set, upload) =
-            GpuDecals::updated(&gpu.device, &gpu.queue, decals, atlas, &self.decals)?;
+            GpuDecals::updated(gpu.device(), gpu.queue(), decals, atlas, &self.decals)?;
         self.decals = Arc::new(set);
         Ok(upload)
     }
@@ -243,7 +256,7 @@ impl Renderer {
         system: &ParticleSystem,
         warmup_steps: u32,
     ) -> Result<(), RenderError> {
-        system.validate(ParticleSimulation::max_capacity(&self.gpu.device))?;
+        system.validate(ParticleSimulation::max_capacity(self.gpu.device()))?;
         let generation = self.particles.as_ref().map_or(1, |p| p.generation + 1);
         self.particles = Some(ParticleInput {
             system: Arc::new(system.clone()),
@@ -259,7 +272,7 @@ impl Renderer {
     }
 
     /// Changes the frame size; passes rebuild what depends on it on the next frame. A size of 0
-    /// or past the device's largest texture side is [`RenderError::FrameSize`], and the size
+    /// or past the device's largest texture side is [`ConfigError::FrameSize`](crate::frame::ConfigError::FrameSize), and the size
     /// stays as it was.
     pub fn resize(&mut self, width: u32, height: u32) -> Result<(), RenderError> {
         check_frame_size(&self.gpu, width, height)?;
@@ -285,21 +298,26 @@ impl Renderer {
         views: &[ViewTarget<'_>],
     ) -> Result<FrameReport, RenderError> {
         if let Some(reason) = self.gpu.lost() {
-            return Err(RenderError::DeviceLost(reason));
+            return Err(RenderError::Device(DeviceError::DeviceLost(reason)));
         }
-        let scene = self.scene.clone().ok_or(RenderError::NoScene)?;
+        let scene = self
+            .scene
+            .clone()
+            .ok_or(RenderError::Input(InputError::NoScene))?;
         check_target(&self.config, target)?;
         // Allocation failures while the frame is recorded come back as an error, not a panic.
         let out_of_memory = self
             .gpu
-            .device
+            .device()
             .push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let report = self.record_and_submit(camera, target, scene, views);
         if let Some(error) = pollster::block_on(out_of_memory.pop()) {
-            return Err(RenderError::OutOfMemory(error.to_string()));
+            return Err(RenderError::Device(DeviceError::OutOfMemory(
+                error.to_string(),
+            )));
         }
         if let Some(reason) = self.gpu.lost() {
-            return Err(RenderError::DeviceLost(reason));
+            return Err(RenderError::Device(DeviceError::DeviceLost(reason)));
         }
         report
     }
@@ -327,7 +345,7 @@ impl Renderer {
             index: self.frame_index,
         };
         let upload_started = Instant::now();
-        self.camera_uniform.write(&self.gpu.queue, camera);
+        self.camera_uniform.write(self.gpu.queue(), camera);
         for pass in &mut self.passes {
             pass.prepare(&frame)?;
         }
@@ -352,8 +370,8 @@ impl Renderer {
         Self::bind_views(&mut compiled, &view_frames);
         let gpu = self.gpu.clone();
         let gpu = &gpu;
-        let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        let pool = compiled.execute(&gpu.device, &mut encoder, &mut self.pool, &self.profiler)?;
+        let mut encoder = gpu.device().create_command_encoder(&Default::default());
+        let pool = compiled.execute(gpu.device(), &mut encoder, &mut self.pool, &self.profiler)?;
         for pass in &mut self.passes {
             pass.after_execute(&frame, &resources, &mut encoder);
         }
@@ -363,7 +381,7 @@ impl Renderer {
 
         let submit_started = Instant::now();
         self.in_flight
-            .push_back(gpu.queue.submit([encoder.finish()]));
+            .push_back(gpu.queue().submit([encoder.finish()]));
         let cpu_submit_ms = submit_started.elapsed().as_secs_f64() * 1e3;
         // Only the newest frames matter to `wait_for_frames_in_flight`.
         while self.in_flight.len() > MAX_TRACKED_FRAMES {
@@ -371,8 +389,8 @@ impl Renderer {
         }
         self.profiler
             .end_frame()
-            .map_err(|e| RenderError::Profiler(e.to_string()))?;
-        let _ = gpu.device.poll(wgpu::PollType::Poll);
+            .map_err(|e| RenderError::Device(DeviceError::Profiler(e.to_string())))?;
+        let _ = gpu.device().poll(wgpu::PollType::Poll);
         let mut report = FrameReport {
             cpu_graph_ms,
             cpu_upload_ms,
@@ -387,7 +405,7 @@ impl Renderer {
         report.views = self.views_after_submit(&view_frames);
         report.timings = self
             .profiler
-            .process_finished_frame(gpu.queue.get_timestamp_period())
+            .process_finished_frame(gpu.queue().get_timestamp_period())
             .map(|r| PassTiming::from_profiler(&r));
         Ok(report)
     }
@@ -399,12 +417,12 @@ fn check_target(config: &RendererConfig, target: &wgpu::Texture) -> Result<(), R
     if (size.width, size.height) != (config.width, config.height)
         || target.format() != config.output_format
     {
-        return Err(RenderError::TargetMismatch {
+        return Err(RenderError::Input(InputError::TargetMismatch {
             actual: (size.width, size.height),
             actual_format: target.format(),
             expected: (config.width, config.height),
             expected_format: config.output_format,
-        });
+        }));
     }
     Ok(())
 }
@@ -415,24 +433,30 @@ fn check_config(gpu: &GpuContext, config: &RendererConfig) -> Result<(), RenderE
     let caps = gpu.capabilities();
     let supported = caps.msaa_counts();
     if !supported.contains(&config.msaa) {
-        return Err(RenderError::SampleCount {
+        return Err(RenderError::Config(ConfigError::SampleCount {
             asked: config.msaa,
             supported,
-        });
+        }));
     }
     if config.scalarize && caps.subgroup.is_none() {
-        return Err(RenderError::NoSubgroup);
+        return Err(RenderError::Config(ConfigError::NoSubgroup));
     }
     if !(config.light_cutoff.is_finite() && config.light_cutoff >= 0.0) {
-        return Err(RenderError::LightCutoff(config.light_cutoff));
+        return Err(RenderError::Config(ConfigError::LightCutoff(
+            config.light_cutoff,
+        )));
     }
     check_frame_size(gpu, config.width, config.height)
 }
 
 fn check_frame_size(gpu: &GpuContext, width: u32, height: u32) -> Result<(), RenderError> {
-    let max = gpu.device.limits().max_texture_dimension_2d;
+    let max = gpu.device().limits().max_texture_dimension_2d;
     if width == 0 || height == 0 || width > max || height > max {
-        return Err(RenderError::FrameSize { width, height, max });
+        return Err(RenderError::Config(ConfigError::FrameSize {
+            width,
+            height,
+            max,
+        }));
     }
     Ok(())
 }

@@ -6,6 +6,7 @@
 //! the passes follow on the next frame from the instances whose version moved
 //! ([`crate::frame_data::InstanceTable`]).
 
+use crate::frame_data::InputError;
 use std::sync::Arc;
 
 use glam::Mat4;
@@ -29,10 +30,10 @@ impl Renderer {
         let table = self.table()?;
         table
             .scene_handle(index)
-            .ok_or(RenderError::NoSuchInstance {
+            .ok_or(RenderError::Input(InputError::NoSuchInstance {
                 index,
                 count: table.states.len(),
-            })
+            }))
     }
 
     /// The instance `handle` names, if it is still in the scene.
@@ -49,7 +50,10 @@ impl Renderer {
         world_from_mesh: Mat4,
     ) -> Result<InstanceHandle, RenderError> {
         let gpu = self.gpu.clone();
-        let (prepared, table) = self.scene.as_mut().ok_or(RenderError::NoScene)?;
+        let (prepared, table) = self
+            .scene
+            .as_mut()
+            .ok_or(RenderError::Input(InputError::NoScene))?;
         let table = Arc::make_mut(table);
         table
             .add(&gpu, prepared, mesh, world_from_mesh, false)
@@ -94,8 +98,8 @@ impl Renderer {
     /// differ in material (any material, glTF's or one of a material program). Only that
     /// draw's record is written; a change of batch (alpha mode, sidedness, program) moves that
     /// draw alone. A new instance of the mesh takes the mesh's materials again. An unknown or
-    /// removed material is [`RenderError::Scene`], a primitive past the mesh's
-    /// [`RenderError::NoSuchPrimitive`].
+    /// removed material is [`InputError::Scene`](crate::frame::InputError::Scene), a primitive past the mesh's
+    /// [`InputError::NoSuchPrimitive`](crate::frame::InputError::NoSuchPrimitive).
     pub fn set_instance_material(
         &mut self,
         handle: InstanceHandle,
@@ -103,7 +107,10 @@ impl Renderer {
         material: usize,
     ) -> Result<(), RenderError> {
         let gpu = self.gpu.clone();
-        let (prepared, table) = self.scene.as_mut().ok_or(RenderError::NoScene)?;
+        let (prepared, table) = self
+            .scene
+            .as_mut()
+            .ok_or(RenderError::Input(InputError::NoScene))?;
         prepared.check_material_index(material)?;
         Arc::make_mut(table)
             .set_material(&gpu, handle, primitive, material)
@@ -114,23 +121,30 @@ impl Renderer {
         self.scene
             .as_ref()
             .map(|(_, t)| t.as_ref())
-            .ok_or(RenderError::NoScene)
+            .ok_or(RenderError::Input(InputError::NoScene))
     }
 
     fn table_mut(&mut self) -> Result<&mut InstanceTable, RenderError> {
-        let (_, table) = self.scene.as_mut().ok_or(RenderError::NoScene)?;
+        let (_, table) = self
+            .scene
+            .as_mut()
+            .ok_or(RenderError::Input(InputError::NoScene))?;
         Ok(Arc::make_mut(table))
     }
 }
 
 fn edit_error(e: InstanceEditError, index: usize) -> RenderError {
     match e {
-        InstanceEditError::Stale => RenderError::StaleInstance { index },
-        InstanceEditError::NoSuchMesh { mesh, count } => RenderError::NoSuchMesh { mesh, count },
-        InstanceEditError::MeshRemoved { mesh } => RenderError::MeshRemoved { mesh },
-        InstanceEditError::NotFinite => RenderError::NotFiniteTransform,
+        InstanceEditError::Stale => RenderError::Input(InputError::StaleInstance { index }),
+        InstanceEditError::NoSuchMesh { mesh, count } => {
+            RenderError::Input(InputError::NoSuchMesh { mesh, count })
+        }
+        InstanceEditError::MeshRemoved { mesh } => {
+            RenderError::Input(InputError::MeshRemoved { mesh })
+        }
+        InstanceEditError::NotFinite => RenderError::Input(InputError::NotFiniteTransform),
         InstanceEditError::NoSuchPrimitive { primitive, count } => {
-            RenderError::NoSuchPrimitive { primitive, count }
+            RenderError::Input(InputError::NoSuchPrimitive { primitive, count })
         }
     }
 }

@@ -1,6 +1,7 @@
 //! Which passes a configuration runs, in order. Adding a pass to a path is one entry here.
 
 use crate::GpuContext;
+use crate::frame_data::ConfigError;
 use crate::frame_data::{FrameView, ParticleLighting, RenderError, RenderPath, RendererConfig};
 use crate::materials::MaterialProgram;
 use crate::passes::Pass;
@@ -46,7 +47,7 @@ pub fn passes_for(
     materials: &[MaterialProgram],
 ) -> Result<Vec<Box<dyn Pass>>, RenderError> {
     if config.view == FrameView::ShadingFrequency && !config.path.is_deferred() {
-        return Err(RenderError::ShadingFrequencyNeedsTbdr);
+        return Err(RenderError::Config(ConfigError::ShadingFrequencyNeedsTbdr));
     }
     // Every path draws the scene through the batches scene culling publishes.
     let mut passes: Vec<Box<dyn Pass>> = vec![Box::new(SceneCullPass::new(gpu)?)];

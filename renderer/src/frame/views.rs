@@ -10,6 +10,7 @@
 //! (`ParticleSimPass::follow`). Everything else (scene culling, pre-Z, light culling, the
 //! shading passes, tonemapping) runs per view, with the view's own passes and uniforms.
 
+use crate::frame_data::InputError;
 use std::sync::Arc;
 
 use super::extra_view::{ExtraView, ViewFrame, view_passes};
@@ -33,7 +34,7 @@ impl Renderer {
             id,
             passes: view_passes(&self.gpu, &config, &self.materials)?,
             config,
-            camera_uniform: CameraUniform::new(&self.gpu.device),
+            camera_uniform: CameraUniform::new(self.gpu.device()),
         });
         self.graph_cache = crate::graph::GraphCache::new();
         Ok(id)
@@ -59,7 +60,7 @@ impl Renderer {
         let count = self.views.len();
         self.views.retain(|v| v.id != id);
         if self.views.len() == count {
-            return Err(RenderError::NoSuchView(id));
+            return Err(RenderError::Input(InputError::NoSuchView(id)));
         }
         self.graph_cache = crate::graph::GraphCache::new();
         Ok(())
@@ -74,7 +75,7 @@ impl Renderer {
         self.views
             .iter_mut()
             .find(|v| v.id == id)
-            .ok_or(RenderError::NoSuchView(id))
+            .ok_or(RenderError::Input(InputError::NoSuchView(id)))
     }
 
     /// Renders one frame of the main view into `target` (as [`Renderer::render`]) and of
@@ -91,11 +92,11 @@ impl Renderer {
     ) -> Result<FrameReport, RenderError> {
         for (i, v) in views.iter().enumerate() {
             if views[..i].iter().any(|w| w.view == v.view) {
-                return Err(RenderError::ViewTwice(v.view));
+                return Err(RenderError::Input(InputError::ViewTwice(v.view)));
             }
             let config = self
                 .view_config(v.view)
-                .ok_or(RenderError::NoSuchView(v.view))?;
+                .ok_or(RenderError::Input(InputError::NoSuchView(v.view)))?;
             super::check_target(config, v.target)?;
         }
         self.render_with(camera, target, views)
@@ -117,9 +118,9 @@ impl Renderer {
                 .views
                 .iter()
                 .position(|e| e.id == v.view)
-                .ok_or(RenderError::NoSuchView(v.view))?;
+                .ok_or(RenderError::Input(InputError::NoSuchView(v.view)))?;
             let view = &mut self.views[index];
-            view.camera_uniform.write(&main.gpu.queue, v.camera);
+            view.camera_uniform.write(main.gpu.queue(), v.camera);
             let inputs = FrameInputs {
                 config: view.config,
                 camera: *v.camera,

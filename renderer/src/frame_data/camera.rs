@@ -5,12 +5,15 @@ use shaders_gen::forward::forward;
 /// The camera of a frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FrameCamera {
+    /// View from world: right-handed, the camera looking down its −Z axis.
     pub view: glam::Mat4,
     /// A wgpu (depth 0..1) projection: perspective, or orthographic when `orthographic`.
     pub projection: glam::Mat4,
     /// The camera's position (an orthographic camera's too, though its view rays are parallel).
     pub eye: glam::Vec3,
+    /// Distance to the near plane, in world units (view depth where the projection gives 0).
     pub near: f32,
+    /// Distance to the far plane, in world units (view depth where the projection gives 1).
     pub far: f32,
     /// Whether `projection` is orthographic: view rays run parallel to the view's −Z axis, view
     /// depth no longer scales screen size, and the direction towards the eye is the view's +Z

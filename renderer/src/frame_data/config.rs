@@ -171,7 +171,9 @@ impl EdgeThresholds {
 /// and occlusion (particles: times their colour). A scene without lights of its own shows by it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Ambient {
+    /// Radiance reaching a surface that faces straight up.
     pub sky: Vec3,
+    /// Radiance reaching a surface that faces straight down.
     pub ground: Vec3,
 }
 
@@ -207,10 +209,13 @@ pub const DEFAULT_LIGHT_CUTOFF: f32 = 1.0e-3;
 /// Renderer settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RendererConfig {
+    /// Frame width in pixels: the target's, and every internal target's.
     pub width: u32,
+    /// Frame height in pixels.
     pub height: u32,
     /// 1, 2, 4 or 8, as the adapter supports for Depth32Float and Rgba16Float.
     pub msaa: u32,
+    /// How lights are culled and surfaces shaded.
     pub path: RenderPath,
     /// Tile size of the tiled and clustered paths (8, 16 or 32) and of the TBDR paths (8 or
     /// 16: one invocation per pixel, and a tile's per-sample colours in workgroup memory).

@@ -63,7 +63,12 @@ pub enum DecalUpload {
     /// Materials were added or removed: removed ones gave their room back, new ones were
     /// written into free room (their texels only), the others kept their place; then the
     /// records were written.
-    MaterialsInPlace { added: usize, removed: usize },
+    MaterialsInPlace {
+        /// Materials written into free room.
+        added: usize,
+        /// Materials whose room was given back.
+        removed: usize,
+    },
 }
 
 impl GpuDecals {

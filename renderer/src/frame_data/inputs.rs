@@ -21,14 +21,19 @@ pub struct ParticleInput {
 /// One frame's inputs.
 #[derive(Debug, Clone)]
 pub struct FrameInputs {
+    /// The renderer's device.
     pub gpu: GpuContext,
+    /// The configuration of the view being drawn.
     pub config: RendererConfig,
+    /// The camera of the view being drawn.
     pub camera: FrameCamera,
+    /// The scene as uploaded: geometry, draws and materials.
     pub scene: Arc<PreparedScene>,
     /// The scene's instances and their draws this frame. Passes keep what they derive from
     /// it by its revision, never the table itself (the renderer edits it in place between
     /// frames).
     pub instances: Arc<InstanceTable>,
+    /// The lights, uploaded, with their effective ranges.
     pub lights: Arc<LightSet>,
     /// Decals in layer order, with their atlas.
     pub decals: Arc<GpuDecals>,

@@ -19,7 +19,9 @@ use std::ops::Range;
 
 use glam::Mat4;
 use shaders_gen::forward::forward;
-use shaders_gen::shared::view;
+use records::{draw_group, records_buffer};
+
+mod records;
 
 use super::change_log::ChangeLog;
 use super::scene::{PreparedScene, is_mirrored};
@@ -51,6 +53,7 @@ impl InstanceHandle {
 pub struct InstanceState {
     /// Its mesh, an index into the scene's meshes.
     pub mesh: usize,
+    /// World from mesh space.
     pub world_from_mesh: Mat4,
     /// Dynamic instances are drawn over the static shadow cache every frame they can shadow a
     /// region; static ones are cached.
@@ -61,6 +64,7 @@ pub struct InstanceState {
     pub version: u64,
     /// Its draws: `first_draw..first_draw + draw_count` of [`InstanceTable::draws`].
     pub first_draw: u32,
+    /// How many draws: one per primitive of its mesh.
     pub draw_count: u32,
     /// Bumped each time the slot is given to a new instance (handles of older ones fail).
     generation: u32,
@@ -83,6 +87,7 @@ impl InstanceState {
 pub struct DrawItem {
     /// The instance (index into [`InstanceTable::states`]) it belongs to.
     pub instance: usize,
+    /// Its material, an index into [`super::PreparedScene::materials`].
     pub material: usize,
     /// Where its primitive lies in the scene's shared geometry buffers.
     pub geometry: GpuPrimitive,
@@ -182,8 +187,8 @@ impl InstanceTable {
     ) -> Result<Self, RenderError> {
         static NEXT_ID: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(1);
         let layout = prepared.draw_layout().clone();
-        let records = records_buffer(&gpu.device, capacity);
-        let draw_group = draw_group(&gpu.device, &layout, &records)?;
+        let records = records_buffer(gpu.device(), capacity);
+        let draw_group = draw_group(gpu.device(), &layout, &records)?;
         Ok(Self {
             states: Vec::new(),
             draws: Vec::new(),
@@ -424,40 +429,6 @@ impl InstanceTable {
         }));
         index
     }
-
-    /// Writes the records of `draws` where their instances are.
-    fn write_records(&self, gpu: &GpuContext, draws: Range<usize>) {
-        if draws.is_empty() {
-            return;
-        }
-        let records: Vec<forward::Draw> = self.draws[draws.clone()]
-            .iter()
-            .map(|d| d.uniform(self.states[d.instance].world_from_mesh))
-            .collect();
-        let at = (draws.start * size_of::<forward::Draw>()) as u64;
-        gpu.queue
-            .write_buffer(&self.records, at, bytemuck::cast_slice(&records));
-    }
-
-    /// A records buffer of `capacity` records, the current ones copied over on the GPU.
-    #[expect(
-        clippy::expect_used,
-        reason = "the table's first group bound a smaller buffer of the same usage on the same \
-                  layout and variant, so a larger one binds too"
-    )]
-    fn grow_records(&mut self, gpu: &GpuContext, capacity: usize) {
-        let records = records_buffer(&gpu.device, capacity);
-        if !self.draws.is_empty() {
-            let bytes = (self.draws.len() * size_of::<forward::Draw>()) as u64;
-            let mut encoder = gpu.device.create_command_encoder(&Default::default());
-            encoder.copy_buffer_to_buffer(&self.records, 0, &records, 0, bytes);
-            gpu.queue.submit([encoder.finish()]);
-        }
-        self.draw_group = draw_group(&gpu.device, &self.layout, &records)
-            .expect("a larger records buffer binds where the first one did");
-        self.records = records;
-        self.capacity = capacity.max(1);
-    }
 }
 
 fn check_finite(m: Mat4) -> Result<(), InstanceEditError> {
@@ -466,35 +437,4 @@ fn check_finite(m: Mat4) -> Result<(), InstanceEditError> {
     } else {
         Err(InstanceEditError::NotFinite)
     }
-}
-
-fn records_buffer(device: &wgpu::Device, capacity: usize) -> wgpu::Buffer {
-    device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("draw records"),
-        // A storage binding is never empty.
-        size: (capacity.max(1) * size_of::<forward::Draw>()) as u64,
-        usage: wgpu::BufferUsages::STORAGE
-            | wgpu::BufferUsages::COPY_DST
-            | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    })
-}
-
-/// Group 1 of the geometry programs on `layout` (the scene's, made from the forward variant):
-/// the `view` library's `DRAWS`, numbered from that variant.
-fn draw_group(
-    device: &wgpu::Device,
-    layout: &wgpu::BindGroupLayout,
-    records: &wgpu::Buffer,
-) -> Result<wgpu::BindGroup, shader_bind::BindError> {
-    let part = view::Group1 {
-        draws: records.as_entire_buffer_binding(),
-    };
-    shader_bind::Resources::of(&part).build(
-        device,
-        layout,
-        super::material_groups::forward_variant(),
-        view::Group1::GROUP,
-        "draw records",
-    )
 }

@@ -1,6 +1,7 @@
 //! The frame's lights on the GPU: punctual lights (culled into lists, in item order) and
 //! directional lights (never culled), with the bounding spheres culling tests.
 
+use crate::frame_data::InputError;
 use glam::Vec3;
 use shaders_gen::forward::forward;
 use shaders_gen::shared::light_set;
@@ -79,7 +80,7 @@ impl LightSet {
             as usize
     }
 
-    /// [`LightSet::new`], or [`super::RenderError::TooManyLights`] past [`LightSet::max_lights`];
+    /// [`LightSet::new`], or [`InputError::TooManyLights`](crate::frame::InputError::TooManyLights) past [`LightSet::max_lights`];
     /// with `previous`, the lights are written into its buffers where they fit (no new buffer:
     /// an engine that moves its lights every frame re-uploads them in place), else into new
     /// ones.
@@ -91,10 +92,10 @@ impl LightSet {
     ) -> Result<Self, super::RenderError> {
         let max = Self::max_lights(device);
         if lights.len() > max {
-            return Err(super::RenderError::TooManyLights {
+            return Err(super::RenderError::Input(InputError::TooManyLights {
                 count: lights.len(),
                 max,
-            });
+            }));
         }
         let c = Converted::new(lights);
         let store = |label: &str, records: &[forward::GpuLight], old: Option<&wgpu::Buffer>| {

@@ -4,10 +4,13 @@
 
 use shaders_gen::shared::material_uv::UvMap;
 
-use crate::scene::{Filter, TextureRef, TextureSampler, Wrap};
+use crate::scene::TextureRef;
+#[cfg(any(test, feature = "internals"))]
+use crate::scene::{Filter, TextureSampler, Wrap};
 
 /// The wgpu sampler of a glTF sampler. Without a mipmap filter only level 0 is read
 /// (`lod_max_clamp` 0), as glTF's `NEAREST` and `LINEAR` minification filters mean.
+#[cfg(any(test, feature = "internals"))]
 pub fn sampler_descriptor(s: TextureSampler) -> wgpu::SamplerDescriptor<'static> {
     let wrap = |w: Wrap| match w {
         Wrap::Repeat => wgpu::AddressMode::Repeat,

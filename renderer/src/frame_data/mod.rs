@@ -24,24 +24,35 @@ mod resources;
 mod scene;
 mod views;
 
-pub use camera::{CameraUniform, FrameCamera, box_in_frustum, farness, frustum_planes};
-pub use config::{
-    Ambient, DEFAULT_LIGHT_CUTOFF, EdgeThresholds, FrameView, ParticleLighting, RenderPath,
-    RendererConfig,
-};
-pub use decals::{DecalUpload, GpuDecals, cull_box};
-pub use draw_batches::{BatchKey, BatchLayout, DrawBatch, DrawPlace, NO_DRAW, NoRoom, draw_place};
-pub use error::RenderError;
+pub use camera::{CameraUniform, FrameCamera, box_in_frustum, farness};
+#[cfg(any(test, feature = "internals"))]
+pub use camera::frustum_planes;
+pub use config::{Ambient, FrameView, ParticleLighting, RenderPath, RendererConfig};
+#[cfg(any(test, feature = "internals"))]
+pub use config::{DEFAULT_LIGHT_CUTOFF, EdgeThresholds};
+pub use decals::{DecalUpload, GpuDecals};
+#[cfg(any(test, feature = "internals"))]
+pub use decals::cull_box;
+pub use draw_batches::{BatchLayout, DrawBatch, NO_DRAW, draw_place};
+#[cfg(any(test, feature = "internals"))]
+pub use draw_batches::{BatchKey, DrawPlace, NoRoom};
+pub use error::{ConfigError, DeviceError, InputError, RenderError};
 pub use formats::{DEPTH_FORMAT, GBUFFER_FORMATS, HDR_FORMAT};
 pub use inputs::{FrameInputs, ParticleInput};
 pub use instances::{DrawItem, InstanceEditError, InstanceHandle, InstanceState, InstanceTable};
-pub use lights::{LightSet, effective_range, with_effective_ranges};
+pub use lights::{LightSet, with_effective_ranges};
+#[cfg(any(test, feature = "internals"))]
+pub use lights::effective_range;
+#[cfg(any(test, feature = "internals"))]
 pub use material_groups::material_record;
+#[cfg(any(test, feature = "internals"))]
 pub use material_inputs::{sampler_descriptor, uv_map};
 pub use report::{FrameReport, ParticleReport, SceneDrawReport};
 pub use resources::{
     BlendedDraws, FrameResources, GBufferHandles, LightListHandles, ListGeometry, OcclusionDraws,
     OcclusionPacked, ParticleResources, SceneDrawList, ShadowResources,
 };
-pub use scene::{MeshDraw, PlannedDraw, PreparedScene, draw_plan, is_mirrored};
+pub use scene::PreparedScene;
+#[cfg(any(test, feature = "internals"))]
+pub use scene::{MeshDraw, PlannedDraw, draw_plan, is_mirrored};
 pub use views::{ViewId, ViewTarget};

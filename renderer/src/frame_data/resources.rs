@@ -57,6 +57,7 @@ pub struct ListGeometry {
     pub blend_cell_offset: u32,
     /// View depths where slice 1 and the last slice start (the camera's planes otherwise).
     pub near: f32,
+    /// See `near`.
     pub far: f32,
     /// Grid entries from a cell's light list to its decal list: the lists of one item type
     /// (tiles × lists per tile; 0 without lists).
@@ -318,6 +319,7 @@ pub struct FrameResources {
 }
 
 impl FrameResources {
+    /// A frame's resources before any pass ran: only the `output` target.
     pub fn new(output: Handle<Texture>) -> Self {
         Self {
             output,

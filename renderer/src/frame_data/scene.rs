@@ -52,6 +52,7 @@ pub struct MeshDraw {
 pub struct PreparedScene {
     /// This scene's identity: a new one per `prepare_scene`, the same after additions.
     pub id: u32,
+    /// Its geometry and material table on the GPU.
     pub gpu: GpuScene,
     /// `mesh_draws[mesh]`: what an instance of `mesh` draws (its draws in
     /// [`super::InstanceTable`] follow this order).
@@ -60,6 +61,7 @@ pub struct PreparedScene {
     /// without one, at [`PreparedScene::default_material`]), then materials added, as given
     /// (their records and textures are on the GPU in the material table).
     pub materials: Vec<Material>,
+    /// Index of glTF's default material in `materials`.
     pub default_material: usize,
     /// Bumped when a material changes how its draws are batched (its alpha mode or
     /// sidedness, [`PreparedScene::set_material`]): passes then place every draw again.
@@ -402,6 +404,7 @@ impl PreparedScene {
 /// One draw of a scene before anything is on the GPU: which primitive of which instance, with
 /// which material, and its `Draw` uniform.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg(any(test, feature = "internals"))]
 pub struct PlannedDraw {
     pub instance: usize,
     pub mesh: usize,
@@ -414,6 +417,7 @@ pub struct PlannedDraw {
 /// Every draw of `scene`, in instance then primitive order; primitives without a material use
 /// the glTF default material, which the renderer adds after the scene's own. Instances naming no mesh draw nothing ([`Scene::check_for_device`]
 /// reports them).
+#[cfg(any(test, feature = "internals"))]
 pub fn draw_plan(scene: &Scene) -> Vec<PlannedDraw> {
     let default_material = scene.materials.len();
     let mut draws = Vec::new();

@@ -11,7 +11,10 @@ pub struct ViewId(pub(crate) u32);
 /// `output_format` and size, with `RENDER_ATTACHMENT`).
 #[derive(Debug, Clone, Copy)]
 pub struct ViewTarget<'a> {
+    /// The view ([`crate::frame::Renderer::add_view`]).
     pub view: ViewId,
+    /// Its camera this frame.
     pub camera: &'a FrameCamera,
+    /// The texture it draws into.
     pub target: &'a wgpu::Texture,
 }

@@ -7,7 +7,9 @@ use super::requirements;
 /// Range of subgroup (wave) sizes the adapter may run with.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct SubgroupSize {
+    /// Smallest subgroup size, in invocations.
     pub min: u32,
+    /// Largest subgroup size, in invocations (equal to `min` on a fixed-width device).
     pub max: u32,
 }
 
@@ -42,15 +44,22 @@ impl Capabilities {
 /// What an adapter is, and what the renderer can use on it.
 #[derive(Debug, Clone)]
 pub struct AdapterReport {
+    /// The adapter's name (what [`GpuOptions::adapter_name`] matches).
     pub name: String,
+    /// The backend it runs on.
     pub backend: wgpu::Backend,
+    /// Discrete, integrated, virtual, CPU or other.
     pub device_type: wgpu::DeviceType,
+    /// Driver name, as wgpu reports it (may be empty).
     pub driver: String,
+    /// Driver version details, as wgpu reports it (may be empty).
     pub driver_info: String,
+    /// What the renderer can use on it.
     pub capabilities: Capabilities,
 }
 
 impl AdapterReport {
+    /// Queries `adapter`'s info, optional features and format support.
     pub fn new(adapter: &wgpu::Adapter) -> Self {
         let info = adapter.get_info();
         let features = requirements::optional_features(adapter);

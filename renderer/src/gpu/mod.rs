@@ -21,12 +21,12 @@ pub use scalarize::{
 /// A headless wgpu instance, the chosen adapter, and its device and queue.
 #[derive(Debug, Clone)]
 pub struct GpuContext {
-    pub instance: wgpu::Instance,
-    pub adapter: wgpu::Adapter,
-    pub device: wgpu::Device,
-    pub queue: wgpu::Queue,
+    instance: wgpu::Instance,
+    adapter: wgpu::Adapter,
+    device: wgpu::Device,
+    queue: wgpu::Queue,
     /// What the adapter is and which optional capabilities the device was created with.
-    pub report: AdapterReport,
+    report: AdapterReport,
     /// Why the device was lost, once it is ([`GpuContext::lost`]).
     lost: DeviceLoss,
 }
@@ -162,6 +162,31 @@ impl GpuContext {
     /// Blocking form of [`GpuContext::new`] for tools and tests.
     pub fn new_blocking(options: &GpuOptions) -> Result<Self, GpuError> {
         pollster::block_on(Self::new(options))
+    }
+
+    /// The wgpu instance the adapter came from.
+    pub fn instance(&self) -> &wgpu::Instance {
+        &self.instance
+    }
+
+    /// The adapter the device was opened on.
+    pub fn adapter(&self) -> &wgpu::Adapter {
+        &self.adapter
+    }
+
+    /// The device every renderer resource lives on.
+    pub fn device(&self) -> &wgpu::Device {
+        &self.device
+    }
+
+    /// The device's queue, which the renderer submits its frames to.
+    pub fn queue(&self) -> &wgpu::Queue {
+        &self.queue
+    }
+
+    /// What the adapter is and which optional capabilities the device was created with.
+    pub fn report(&self) -> &AdapterReport {
+        &self.report
     }
 
     /// The optional capabilities of the device that was created.

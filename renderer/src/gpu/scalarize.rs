@@ -23,7 +23,9 @@ pub enum ScalarizedKernel {
 pub struct ScalarizeRecord {
     /// PCI vendor id (`wgpu::AdapterInfo::vendor`).
     pub vendor: u32,
+    /// The kernel measured.
     pub kernel: ScalarizedKernel,
+    /// Whether its scalarized variant was faster than the plain one there.
     pub faster: bool,
     /// Where the figure comes from.
     pub measured: &'static str,

@@ -33,6 +33,7 @@ impl Default for RenderGraph {
 }
 
 impl RenderGraph {
+    /// An empty graph with an id of its own, so handles from other graphs are rejected.
     pub fn new() -> Self {
         static NEXT_ID: AtomicU64 = AtomicU64::new(1);
         Self {

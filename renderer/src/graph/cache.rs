@@ -26,6 +26,7 @@ pub struct GraphCache {
 }
 
 impl GraphCache {
+    /// An empty cache: the first graph compiled through it is compiled in full.
     pub fn new() -> Self {
         Self::default()
     }

@@ -12,7 +12,9 @@ pub(crate) enum PoolObject {
 
 /// What a pass's recording function gets: the encoder and its resources' GPU objects.
 pub struct PassContext<'a> {
+    /// The frame's encoder, inside this pass's profiler scope (debug group and timestamps).
     pub encoder: &'a mut wgpu::CommandEncoder,
+    /// The device, for bind groups and other per-pass objects.
     pub device: &'a wgpu::Device,
     /// The frame's profiler, for passes that time their dispatches separately (each pass is
     /// already timed as a whole).

@@ -13,7 +13,9 @@ use super::resource::{Buffer, Handle, Texture};
 /// GPU time of one pass, once the timestamps are back.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PassTiming {
+    /// The profiler scope's label: the pass name, or a nested scope's own label.
     pub pass: String,
+    /// GPU time between the scope's timestamps, in milliseconds.
     pub gpu_ms: f64,
 }
 

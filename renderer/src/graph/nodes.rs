@@ -84,7 +84,10 @@ impl std::fmt::Debug for PassNode {
 /// The first and last position (in execution order) at which a resource is used.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Lifetime {
+    /// Position of the first pass using it, as an index into
+    /// [`CompiledGraph::pass_order`](super::CompiledGraph::pass_order).
     pub first: usize,
+    /// Position of the last pass using it (inclusive).
     pub last: usize,
 }
 

@@ -96,6 +96,7 @@ impl TransientPool {
     /// Frames an unused object is kept before it is dropped.
     pub const KEEP_FRAMES: u64 = 3;
 
+    /// An empty pool; objects are created by the first executions.
     pub fn new() -> Self {
         Self::default()
     }

@@ -44,15 +44,20 @@ impl<T> Handle<T> {
 /// A 2D texture the graph creates (transient) or is given (imported).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct TextureDesc {
+    /// Width in texels.
     pub width: u32,
+    /// Height in texels.
     pub height: u32,
+    /// Texel format.
     pub format: wgpu::TextureFormat,
+    /// MSAA samples (1: not multisampled; above 1 the texture can only be an attachment).
     pub sample_count: u32,
     /// Array layers (1 for a plain 2D texture).
     pub layers: u32,
 }
 
 impl TextureDesc {
+    /// A single-sampled, single-layer 2D texture.
     pub fn new_2d(width: u32, height: u32, format: wgpu::TextureFormat) -> Self {
         Self {
             width,
@@ -63,6 +68,7 @@ impl TextureDesc {
         }
     }
 
+    /// This descriptor with `sample_count` MSAA samples.
     #[must_use]
     pub fn with_samples(mut self, sample_count: u32) -> Self {
         self.sample_count = sample_count;
@@ -73,6 +79,7 @@ impl TextureDesc {
 /// A buffer the graph creates (transient) or is given (imported).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct BufferDesc {
+    /// Size in bytes.
     pub size: u64,
 }
 
@@ -96,6 +103,8 @@ pub enum TextureAccess {
 }
 
 impl TextureAccess {
+    /// Whether this access modifies the texture (storage write, colour or depth write, copy
+    /// destination).
     pub fn is_write(self) -> bool {
         matches!(
             self,
@@ -103,6 +112,7 @@ impl TextureAccess {
         )
     }
 
+    /// The texture usage this access needs; the graph creates transients with the union.
     pub fn usage(self) -> wgpu::TextureUsages {
         use wgpu::TextureUsages as U;
         match self {
@@ -118,21 +128,31 @@ impl TextureAccess {
 /// How a pass touches a buffer.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum BufferAccess {
+    /// Bound as a uniform buffer.
     Uniform,
+    /// Bound as a read-only storage buffer.
     StorageRead,
+    /// Bound as a storage buffer and written.
     StorageWrite,
+    /// Arguments of an indirect draw or dispatch.
     Indirect,
+    /// Bound as a vertex buffer.
     Vertex,
+    /// Bound as an index buffer.
     Index,
+    /// Source of a copy.
     CopySrc,
+    /// Destination of a copy.
     CopyDst,
 }
 
 impl BufferAccess {
+    /// Whether this access modifies the buffer (storage write or copy destination).
     pub fn is_write(self) -> bool {
         matches!(self, Self::StorageWrite | Self::CopyDst)
     }
 
+    /// The buffer usage this access needs; the graph creates transients with the union.
     pub fn usage(self) -> wgpu::BufferUsages {
         use wgpu::BufferUsages as U;
         match self {

@@ -20,25 +20,32 @@ pub enum ParticleTexture {
 /// a life drawn from `lifetime`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Emitter {
+    /// Centre of the spawn sphere, world space (metres).
     pub position: Vec3,
+    /// Radius of the sphere particles are born in, uniformly through its volume (metres, ≥ 0).
     pub spawn_radius: f32,
     /// Births per second.
     pub rate: f32,
     /// Shortest and longest life, seconds.
     pub lifetime: [f32; 2],
+    /// Birth velocity, world space (m/s): its direction is the cone's axis, its length the
+    /// speed (zero: particles are born at rest).
     pub velocity: Vec3,
     /// Half angle of the velocity cone, radians (0 to π).
     pub spread: f32,
     /// Initial speed varies by ± this fraction (0 to 1).
     pub speed_jitter: f32,
+    /// Constant acceleration, world space (m/s²), e.g. `(0, -9.81, 0)`.
     pub gravity: Vec3,
     /// Fraction of velocity lost per second (0 to 60).
     pub drag: f32,
+    /// Half-width at birth and at death, metres (> 0).
     pub size: [f32; 2],
     /// Linear RGB and alpha at birth and at death.
     pub color: [Vec4; 2],
     /// Radiance given off unlit, as a multiple of the colour (0: lit only; sparks glow).
     pub emissive: f32,
+    /// Which built-in sprite it draws.
     pub texture: ParticleTexture,
 }
 
@@ -46,29 +53,52 @@ pub struct Emitter {
 /// deterministically from `seed`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ParticleSystem {
+    /// The emitters; particles record the index of theirs.
     pub emitters: Vec<Emitter>,
     /// Particle slots. Births that find no free slot are counted and reported.
     pub capacity: u32,
+    /// Seeds every birth's random draws: the same seed replays the same particles.
     pub seed: u32,
 }
 
 /// A particle system that cannot run, and why.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ParticleError {
+    /// An emitter has a value out of range or not finite ([`ParticleSystem::validate`]).
     #[error("particle emitter {index}: {reason}")]
-    Emitter { index: usize, reason: String },
+    Emitter {
+        /// The emitter's index in [`ParticleSystem::emitters`].
+        index: usize,
+        /// Which field is wrong and its allowed range.
+        reason: String,
+    },
+    /// The capacity is over what the device holds.
     #[error(
         "{asked} particles are over this device's {max} (what one storage binding holds and one \
          dispatch reaches); lower the capacity"
     )]
-    TooMany { asked: u32, max: u32 },
+    TooMany {
+        /// The capacity asked for.
+        asked: u32,
+        /// The device's most.
+        max: u32,
+    },
+    /// The capacity is 0.
     #[error("a particle system needs at least one slot (capacity is 0)")]
     NoCapacity,
+    /// The lighting atlas side asked for is not a power of two within `min..=max`.
     #[error(
         "a particle lighting atlas of {asked}² texels cannot hold every particle at its smallest \
          region: use a power of two from {min} to this device's largest texture side, {max}"
     )]
-    AtlasSize { asked: u32, min: u32, max: u32 },
+    AtlasSize {
+        /// The side asked for, texels.
+        asked: u32,
+        /// The smallest side that holds every particle at 2×2 texels.
+        min: u32,
+        /// The largest side: the device's largest texture side, at most 4096.
+        max: u32,
+    },
 }
 
 impl Emitter {

@@ -9,6 +9,8 @@
 mod builtin;
 mod emitter;
 pub mod random;
+#[cfg(any(test, feature = "internals"))]
+#[doc(hidden)]
 pub mod reference;
 pub mod schedule;
 pub mod sprites;

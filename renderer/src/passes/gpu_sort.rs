@@ -2,6 +2,7 @@
 //! power of two of pairs, at least one block, sorted ascending by key then payload. Blended
 //! particles (back to front) and the scene's blended draws (`scene_cull`) sort with it.
 
+use crate::frame_data::InputError;
 use std::sync::Arc;
 
 use shaders_gen::particles::particle_sort::{self, SortParams};
@@ -20,7 +21,7 @@ pub struct SortKernels {
 
 impl SortKernels {
     pub fn new(gpu: &GpuContext) -> Result<Arc<Self>, RenderError> {
-        let device = &gpu.device;
+        let device = gpu.device();
         let variant = particle_sort::variant(particle_sort::VariantKey::ALL[0]);
         let program = ShaderProgram::new(device, gpu.capabilities(), variant)?;
         Ok(Arc::new(Self {
@@ -135,10 +136,10 @@ impl GpuSort {
         items: u32,
         extra_usage: wgpu::BufferUsages,
     ) -> Result<Self, RenderError> {
-        let device = &gpu.device;
+        let device = gpu.device();
         let max = Self::max_items(device);
         if items > max {
-            return Err(RenderError::SortTooLarge { asked: items, max });
+            return Err(RenderError::Input(InputError::SortTooLarge { asked: items, max }));
         }
         let count = padded_count(items);
         let keys = device.create_buffer(&wgpu::BufferDescriptor {

@@ -2,6 +2,7 @@
 //! decals) its tile or froxel lists (reference 000's "Visualize Light Count"), with a legend
 //! strip along the bottom. It replaces forward shading and tonemapping in the frame's pass list.
 
+use crate::frame_data::ConfigError;
 use shaders_gen::forward::heatmap;
 
 use super::{Pass, draw_fullscreen, fullscreen_pipeline};
@@ -30,7 +31,7 @@ impl HeatmapPass {
     pub fn new(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
         let clustered = match config.path {
             RenderPath::Naive | RenderPath::NaivePrez => {
-                return Err(RenderError::HeatmapNeedsLists);
+                return Err(RenderError::Config(ConfigError::HeatmapNeedsLists));
             }
             path => path == RenderPath::Clustered,
         };
@@ -46,16 +47,16 @@ impl HeatmapPass {
             heatmap::List::List1
         };
         let variant = heatmap::variant(heatmap::VariantKey { list, msaa })?;
-        let program = ShaderProgram::new(&gpu.device, gpu.capabilities(), variant)?;
+        let program = ShaderProgram::new(gpu.device(), gpu.capabilities(), variant)?;
         Ok(Self {
             pipeline: fullscreen_pipeline(
-                &gpu.device,
+                gpu.device(),
                 &program,
                 "fs_heatmap",
                 config.output_format,
             ),
             program,
-            params: gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            params: gpu.device().create_buffer(&wgpu::BufferDescriptor {
                 label: Some("heatmap"),
                 size: size_of::<heatmap::HeatmapParams>() as u64,
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
@@ -87,7 +88,7 @@ impl HeatmapPass {
         );
         frame
             .gpu
-            .queue
+            .queue()
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
     }
 }
@@ -107,10 +108,10 @@ impl Pass for HeatmapPass {
         frame: &FrameInputs,
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
-        let missing = |input| RenderError::MissingInput {
+        let missing = |input| RenderError::Config(ConfigError::MissingInput {
             pass: "light heatmap",
             input,
-        };
+        });
         let lists = resources
             .light_lists
             .clone()

@@ -6,6 +6,7 @@
 //! depth buffer; then ([`PrezPass::late`], after `passes::scene_cull::occlusion`) the draws the
 //! occlusion test found visible that the first half left out, over that depth.
 
+use crate::frame_data::ConfigError;
 use shaders_gen::forward::prez;
 
 use super::{
@@ -35,17 +36,17 @@ impl PrezPass {
     pub fn new(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
         let caps = gpu.capabilities();
         let program = ShaderProgram::new(
-            &gpu.device,
+            gpu.device(),
             caps,
             prez::variant(prez::VariantKey { alpha_mask: false }),
         )?;
         let mask_program = ShaderProgram::new(
-            &gpu.device,
+            gpu.device(),
             caps,
             prez::variant(prez::VariantKey { alpha_mask: true }),
         )?;
         let pipelines = |program: &ShaderProgram, masked: bool| {
-            face_pipelines(|d, m| pipeline(&gpu.device, program, config.msaa, masked, d, m))
+            face_pipelines(|d, m| pipeline(gpu.device(), program, config.msaa, masked, d, m))
         };
         Ok(Self {
             plain: pipelines(&program, false),
@@ -111,7 +112,7 @@ impl Pass for PrezPass {
                 camera: frame.camera_uniform.buffer.as_entire_buffer_binding(),
             }
             .bind_group(
-                &frame.gpu.device,
+                frame.gpu.device(),
                 self.program.layout(0),
                 self.program.variant,
                 "pre-z camera",
@@ -127,10 +128,10 @@ impl Pass for PrezPass {
         frame: &FrameInputs,
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
-        let missing = |input| RenderError::MissingInput {
+        let missing = |input| RenderError::Config(ConfigError::MissingInput {
             pass: "pre-z",
             input,
-        };
+        });
         let mut list = resources
             .scene_draws
             .clone()

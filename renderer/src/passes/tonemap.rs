@@ -1,6 +1,7 @@
 //! Tonemapping: the resolved HDR colour through exposure and a filmic curve into the caller's
 //! target (an sRGB format gets sRGB output).
 
+use crate::frame_data::ConfigError;
 use shaders_gen::forward::tonemap;
 
 use super::{Pass, draw_fullscreen, fullscreen_pipeline};
@@ -22,16 +23,16 @@ impl TonemapPass {
         let key = tonemap::VariantKey {
             curve: tonemap::Curve::Curve0,
         };
-        let program = ShaderProgram::new(&gpu.device, gpu.capabilities(), tonemap::variant(key))?;
+        let program = ShaderProgram::new(gpu.device(), gpu.capabilities(), tonemap::variant(key))?;
         Ok(Self {
             pipeline: fullscreen_pipeline(
-                &gpu.device,
+                gpu.device(),
                 &program,
                 "fs_tonemap",
                 config.output_format,
             ),
             program,
-            params: gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            params: gpu.device().create_buffer(&wgpu::BufferDescriptor {
                 label: Some("tonemap"),
                 size: size_of::<tonemap::TonemapParams>() as u64,
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
@@ -63,18 +64,18 @@ impl Pass for TonemapPass {
             Some((a, side)) => (Some(a), side as f32 / c.width.min(c.height) as f32),
             None => (resources.hdr, 1.0),
         };
-        let hdr = source.ok_or(RenderError::MissingInput {
+        let hdr = source.ok_or(RenderError::Config(ConfigError::MissingInput {
             pass: "tonemap",
             input: if c.view == FrameView::ParticleAtlas {
                 "particle lighting atlas (the frame has no particles)"
             } else {
                 "HDR colour"
             },
-        })?;
+        }))?;
         let params = tonemap::TonemapParams::new(c.exposure, scale);
         frame
             .gpu
-            .queue
+            .queue()
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
         let target = resources.output;
         let program = self.program.clone();

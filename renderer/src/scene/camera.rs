@@ -5,7 +5,9 @@ use glam::Mat4;
 /// A camera from the file, placed in the world.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SceneCamera {
+    /// The camera node's world transform; the view looks down its −Z with +Y up (glTF).
     pub world_from_view: Mat4,
+    /// How view space maps to the image.
     pub projection: CameraProjection,
 }
 
@@ -15,17 +17,25 @@ pub enum CameraProjection {
     /// Vertical field of view `yfov` (radians), the file's aspect ratio if it gives one, and
     /// the near and (optional: infinite) far planes.
     Perspective {
+        /// Vertical field of view, radians.
         yfov: f32,
+        /// Width over height; the renderer draws at the viewport's aspect instead.
         aspect: Option<f32>,
+        /// Near plane distance, view units (metres).
         znear: f32,
+        /// Far plane distance; `None`: infinite.
         zfar: Option<f32>,
     },
     /// Half the view's width (`xmag`) and height (`ymag`) in view units, and the near and far
     /// planes (glTF requires both).
     Orthographic {
+        /// Half the view's width.
         xmag: f32,
+        /// Half the view's height.
         ymag: f32,
+        /// Near plane distance.
         znear: f32,
+        /// Far plane distance.
         zfar: f32,
     },
 }
@@ -48,6 +58,7 @@ impl CameraProjection {
 }
 
 /// The scene camera of `camera` placed at `world`.
+#[cfg(feature = "gltf")]
 pub(super) fn camera_of(camera: &gltf::Camera<'_>, world: Mat4) -> SceneCamera {
     let projection = match camera.projection() {
         gltf::camera::Projection::Perspective(p) => CameraProjection::Perspective {

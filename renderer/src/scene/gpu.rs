@@ -24,9 +24,12 @@ use super::{Primitive, Scene};
 pub struct GpuPrimitive {
     /// Its first index in [`GeometryBuffers::indices`].
     pub first_index: u32,
+    /// How many indices it draws (three per triangle).
     pub index_count: u32,
     /// Added to each of its indices: its first vertex in every vertex stream.
     pub base_vertex: i32,
+    /// Its [`Primitive::material`]: an index into the scene's materials, `None` for the
+    /// default material.
     pub material: Option<usize>,
 }
 
@@ -219,6 +222,7 @@ pub enum VertexStreams {
 pub struct GpuScene {
     /// `meshes[m][p]` is primitive `p` of mesh `m` (none once the mesh is removed).
     pub meshes: Vec<Vec<GpuPrimitive>>,
+    /// The shared vertex streams and index buffer every primitive draws from.
     pub geometry: GeometryBuffers,
     /// The vertex and index ranges each mesh took (empty once it is removed).
     mesh_ranges: Vec<(Range<u64>, Range<u64>)>,
@@ -304,6 +308,8 @@ impl PackedGeometry {
 }
 
 impl GpuScene {
+    /// Uploads every mesh of `scene`, in order (mesh `m` is `meshes[m]`). The scene must have
+    /// passed [`Scene::check_for_device`]; its images go to the material atlas separately.
     pub fn upload(device: &wgpu::Device, scene: &Scene) -> Self {
         let mut packed = PackedGeometry::default();
         let mut mesh_ranges = Vec::with_capacity(scene.meshes.len());

@@ -9,14 +9,18 @@ pub enum Wrap {
     /// glTF's default.
     #[default]
     Repeat,
+    /// Repeats, every other copy mirrored.
     MirroredRepeat,
+    /// Takes the nearest edge texel.
     ClampToEdge,
 }
 
 /// A texel filter (glTF `magFilter`, `minFilter` and the mipmap part of `minFilter`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum Filter {
+    /// The nearest texel (or mip level).
     Nearest,
+    /// Bilinear between texels (or linear between mip levels); the default.
     #[default]
     Linear,
 }
@@ -25,9 +29,13 @@ pub enum Filter {
 /// linear mipmaps, as glTF lets implementations choose.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct TextureSampler {
+    /// Wrap along u (glTF `wrapS`).
     pub wrap_u: Wrap,
+    /// Wrap along v (glTF `wrapT`).
     pub wrap_v: Wrap,
+    /// Filter where a texel covers more than a pixel.
     pub mag_filter: Filter,
+    /// Filter within a mip level where a texel covers less than a pixel.
     pub min_filter: Filter,
     /// How mip levels are filtered; `None`: only level 0 is sampled (glTF `NEAREST` or `LINEAR`
     /// as `minFilter`).
@@ -49,14 +57,17 @@ impl Default for TextureSampler {
 /// `KHR_texture_transform`: texture coordinates are scaled, then rotated, then offset.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct UvTransform {
+    /// Added last, in UV units.
     pub offset: Vec2,
     /// Radians, counter-clockwise in UV space as drawn with v pointing down (the image turns
     /// clockwise): `(u, v)` becomes `(u cos r + v sin r, v cos r - u sin r)`.
     pub rotation: f32,
+    /// Applied first, per axis.
     pub scale: Vec2,
 }
 
 impl UvTransform {
+    /// No transform: offset 0, rotation 0, scale 1.
     pub const IDENTITY: Self = Self {
         offset: Vec2::ZERO,
         rotation: 0.0,

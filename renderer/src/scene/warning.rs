@@ -18,7 +18,9 @@ pub enum SceneWarning {
          skipped"
     )]
     SkippedPrimitive {
+        /// The mesh's name (`#<index>` when it has none).
         mesh: String,
+        /// The primitive's index in the file's mesh.
         primitive: usize,
         /// The mode as glTF names it.
         mode: &'static str,
@@ -27,7 +29,10 @@ pub enum SceneWarning {
     /// cannot refuse the file), and stays in [`super::Scene::meshes`] with no primitives so
     /// mesh indices stay the file's.
     #[error("mesh `{mesh}` is used by no node of the scene; it is skipped")]
-    UnusedMesh { mesh: String },
+    UnusedMesh {
+        /// The mesh's name (`#<index>` when it has none).
+        mesh: String,
+    },
     /// A material samples `TEXCOORD_<set>` (set 1 and up) on a primitive that lacks it, which
     /// glTF forbids ("a mesh primitive must have the corresponding texture coordinate
     /// attributes"): drawing beats refusing, so those textures sample `TEXCOORD_0` there.
@@ -36,9 +41,13 @@ pub enum SceneWarning {
          `{material}` samples; TEXCOORD_0 is used instead"
     )]
     MissingTexCoord {
+        /// The mesh's name (`#<index>` when it has none).
         mesh: String,
+        /// The primitive's index in the file's mesh.
         primitive: usize,
+        /// The material's name (`#<index>` when it has none).
         material: String,
+        /// The missing UV set.
         set: u32,
     },
     /// A material samples `TEXCOORD_<set>` with set 2 or more, which the renderer does not
@@ -47,19 +56,30 @@ pub enum SceneWarning {
         "material `{material}` samples TEXCOORD_{set}; only TEXCOORD_0 and TEXCOORD_1 are \
          loaded, so TEXCOORD_0 is used instead"
     )]
-    UnsupportedTexCoord { material: String, set: u32 },
+    UnsupportedTexCoord {
+        /// The material's name (`#<index>` when it has none).
+        material: String,
+        /// The UV set it samples (2 or more).
+        set: u32,
+    },
     /// The file has animations, which the renderer does not play: nodes stay at their
     /// transforms in the file, morph targets at their default weights.
     #[error(
         "{count} animation(s) are not played; the scene draws at the file's node transforms and \
          default morph weights"
     )]
-    AnimationsNotPlayed { count: usize },
+    AnimationsNotPlayed {
+        /// How many animations the file has.
+        count: usize,
+    },
     /// The file has skins, which the renderer does not apply: a skinned mesh draws its vertices
     /// as stored (its bind pose) at its node's transform.
     #[error(
         "{count} skin(s) are not applied; skinned meshes draw in their bind pose at their node's \
          transform"
     )]
-    SkinsNotApplied { count: usize },
+    SkinsNotApplied {
+        /// How many skins the file has.
+        count: usize,
+    },
 }

@@ -15,26 +15,37 @@ use codegen::rt::{BindingKind, Location, Stage, Variant, Visibility};
 /// An entry point as a replacement must keep it.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct EntryInterface {
+    /// The function name in WGSL.
     pub name: String,
+    /// Its stage.
     pub stage: Stage,
+    /// The workgroup size; `[0, 0, 0]` for vertex and fragment entry points.
     pub workgroup_size: [u32; 3],
+    /// User-defined inputs by location (vertex attributes for a vertex entry point).
     pub inputs: Vec<Location>,
+    /// User-defined outputs by location (colour targets for a fragment entry point).
     pub outputs: Vec<Location>,
 }
 
 /// A binding as a replacement must keep it.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct BindingInterface {
+    /// The bind group number N of the WGSL group attribute.
     pub group: u32,
+    /// The binding number N within the group.
     pub binding: u32,
+    /// Resource type (buffer, texture, sampler) and its parameters.
     pub kind: BindingKind,
+    /// The stages that see it.
     pub visibility: Visibility,
 }
 
 /// What host code relies on in a variant.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Interface {
+    /// Entry points, in the variant's order.
     pub entry_points: Vec<EntryInterface>,
+    /// Bindings, in the variant's order.
     pub bindings: Vec<BindingInterface>,
 }
 
@@ -71,21 +82,37 @@ impl Interface {
 #[derive(Debug, thiserror::Error, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum HotReloadError {
+    /// No generated variant has this module and name; check [`Replacement::module`] and
+    /// [`Replacement::variant`] against `shaders_gen`.
     #[error("no generated shader variant `{module}::{variant}` to replace")]
-    NoSuchVariant { module: String, variant: String },
+    NoSuchVariant {
+        /// The module asked for.
+        module: String,
+        /// The variant name asked for.
+        variant: String,
+    },
+    /// The replacement's entry points or bindings differ from the generated variant's; such an
+    /// edit needs a rebuild, not a hot reload.
     #[error(
         "the edit changes the interface of `{module}::{variant}` ({what}); host code was built \
          against it, so rebuild the program for this edit"
     )]
     InterfaceChanged {
+        /// The DSL module, as the replacement gives it.
         module: String,
+        /// The variant name, as the replacement gives it.
         variant: String,
+        /// The first difference found, for the message.
         what: String,
     },
+    /// The replacement WGSL does not parse or fails naga validation.
     #[error("the replacement WGSL of `{module}::{variant}` does not validate: {message}")]
     Invalid {
+        /// The DSL module, as the replacement gives it.
         module: String,
+        /// The variant name, as the replacement gives it.
         variant: String,
+        /// naga's diagnostic, rendered against the replacement source.
         message: String,
     },
 }

@@ -22,29 +22,44 @@ use crate::gpu::Capabilities;
 #[derive(Debug, thiserror::Error, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum VariantError {
+    /// A scalarized variant (subgroup operations) on a device without subgroup support.
     #[error(
         "shader variant `{module}::{variant}` needs the SUBGROUP feature, which this device lacks; \
          use a non-scalarized variant (scalarize off) or an adapter with subgroup support"
     )]
     MissingSubgroup {
+        /// The DSL module of the variant.
         module: &'static str,
+        /// The variant's stable name.
         variant: &'static str,
     },
+    /// [`ShaderProgram::entry`] (or a pipeline builder) asked for an entry point the variant
+    /// lacks at that stage.
     #[error("shader variant `{module}::{variant}` has no {stage:?} entry point named `{entry}`")]
     NoEntryPoint {
+        /// The DSL module of the variant.
         module: &'static str,
+        /// The variant's stable name.
         variant: &'static str,
+        /// The stage asked for.
         stage: Stage,
+        /// The entry point name asked for.
         entry: String,
     },
+    /// An entry point's workgroup has more invocations than the device's
+    /// `max_workgroup_invocations`.
     #[error(
         "shader variant `{module}::{variant}` needs a {invocations}-invocation workgroup, but the \
          device allows {allowed}; choose a smaller tile size"
     )]
     WorkgroupTooLarge {
+        /// The DSL module of the variant.
         module: &'static str,
+        /// The variant's stable name.
         variant: &'static str,
+        /// The largest workgroup among its entry points (x * y * z).
         invocations: u32,
+        /// The device's limit ([`Capabilities::max_workgroup_invocations`]).
         allowed: u32,
     },
 }
@@ -77,10 +92,13 @@ pub fn check_supported(variant: &Variant, caps: &Capabilities) -> Result<(), Var
 /// A variant compiled on a device: its shader module and bind-group layouts.
 #[derive(Debug, Clone)]
 pub struct ShaderProgram {
+    /// The generated variant it was compiled from.
     pub variant: &'static Variant,
+    /// The compiled WGSL (the generated source, or its hot-reloaded replacement).
     pub module: wgpu::ShaderModule,
     /// One layout per group index `0..variant.group_count()` (empty where a group is unused).
     pub bind_group_layouts: Vec<wgpu::BindGroupLayout>,
+    /// All of `bind_group_layouts` in group order, no immediates.
     pub pipeline_layout: wgpu::PipelineLayout,
 }
 

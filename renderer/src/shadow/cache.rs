@@ -135,6 +135,7 @@ pub struct ShadowCache {
 
 impl ShadowCache {
     /// Forgets every region (the atlases were recreated).
+    #[cfg(any(test, feature = "internals"))]
     pub fn clear(&mut self) {
         self.regions.clear();
         self.casters.clear();
@@ -142,6 +143,7 @@ impl ShadowCache {
 
     /// Plans `regions` against `casters`: cached when `cached`, else every region is drawn
     /// directly. Regions absent from `regions` are forgotten.
+    #[cfg(any(test, feature = "internals"))]
     pub fn plan(
         &mut self,
         regions: &[RegionInput],

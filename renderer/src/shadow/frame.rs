@@ -65,6 +65,7 @@ pub struct FramePlan {
 
 impl FramePlan {
     /// Whether any region needs a draw or a copy.
+    #[cfg(any(test, feature = "internals"))]
     pub fn has_work(&self) -> bool {
         let c = self.report.cache;
         c.redrawn + c.copied > 0
@@ -81,6 +82,7 @@ pub struct ShadowPlanner {
 
 impl ShadowPlanner {
     /// Forgets the cache (the atlases were recreated) but keeps resolutions.
+    #[cfg(any(test, feature = "internals"))]
     pub fn invalidate(&mut self) {
         self.cache.clear();
         self.atlas = None;

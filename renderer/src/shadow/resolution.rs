@@ -138,12 +138,14 @@ pub struct Hysteresis {
 impl Hysteresis {
     /// A hysteresis that has not seen any size yet.
     #[must_use]
+    #[cfg(any(test, feature = "internals"))]
     pub const fn new() -> Self {
         Self { level: None }
     }
 
     /// Current level (log2 of the side), `None` before the first [`update`](Self::update).
     #[must_use]
+    #[cfg(any(test, feature = "internals"))]
     pub const fn level(&self) -> Option<u32> {
         self.level
     }

@@ -167,7 +167,7 @@ pub fn compile(exprs: &[&E]) -> Result<Compiled, String> {
 /// Runs a fuzz kernel's WGSL on the GPU over `inputs`, one row per invocation; the output
 /// words (`stride` per row).
 pub fn run_gpu(gpu: &GpuContext, wgsl: &str, inputs: &[u32], stride: usize) -> Vec<u32> {
-    let d = &gpu.device;
+    let d = gpu.device();
     let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("dsl fuzz"),
         source: wgpu::ShaderSource::Wgsl(wgsl.into()),
@@ -212,8 +212,8 @@ pub fn run_gpu(gpu: &GpuContext, wgsl: &str, inputs: &[u32], stride: usize) -> V
         pass.set_bind_group(0, &bind, &[]);
         pass.dispatch_workgroups(1, 1, 1);
     }
-    gpu.queue.submit([enc.finish()]);
-    readback::read_buffer::<u32>(d, &gpu.queue, &output).expect("readback")
+    gpu.queue().submit([enc.finish()]);
+    readback::read_buffer::<u32>(d, gpu.queue(), &output).expect("readback")
 }
 
 fn is_float(e: &Expr) -> bool {

@@ -5,7 +5,8 @@
 
 use glam::{Mat4, Vec3};
 use renderer::decals::{DecalAtlasConfig, DecalImage, DecalMaterial, DecalSet};
-use renderer::frame::setup::{default_camera, procedural_lights};
+use renderer::demo::procedural_lights;
+use renderer::frame::default_camera;
 use renderer::frame::{DecalUpload, RenderPath, Renderer, RendererConfig};
 use tests::frames::{committed_scene, largest_difference, render_frame_with, render_one_frame};
 use tests::gpu::gpu_test;

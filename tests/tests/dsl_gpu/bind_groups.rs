@@ -35,7 +35,7 @@ fn texel(i: usize) -> f32 {
 }
 
 fn buffer(gpu: &GpuContext, label: &str, bytes: &[u8], usage: wgpu::BufferUsages) -> wgpu::Buffer {
-    gpu.device
+    gpu.device()
         .create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some(label),
             contents: bytes,
@@ -46,8 +46,8 @@ fn buffer(gpu: &GpuContext, label: &str, bytes: &[u8], usage: wgpu::BufferUsages
 fn inputs(gpu: &GpuContext) -> Inputs {
     let storage = wgpu::BufferUsages::STORAGE;
     let floats = |f: fn(usize) -> f32| (0..N).map(f).collect::<Vec<f32>>();
-    let texture = gpu.device.create_texture_with_data(
-        &gpu.queue,
+    let texture = gpu.device().create_texture_with_data(
+        gpu.queue(),
         &wgpu::TextureDescriptor {
             label: Some("texels"),
             size: wgpu::Extent3d {
@@ -86,7 +86,7 @@ fn inputs(gpu: &GpuContext) -> Inputs {
         ),
         texels: texture.create_view(&Default::default()),
         nearest: gpu
-            .device
+            .device()
             .create_sampler(&wgpu::SamplerDescriptor::default()),
     }
 }
@@ -111,8 +111,12 @@ fn group1(r: &Inputs, offsets: bool) -> bound_by_name::Group1<'_> {
 
 fn program(gpu: &GpuContext, offset: bool) -> ShaderProgram {
     let key = bound_by_name::VariantKey { offset };
-    ShaderProgram::new(&gpu.device, gpu.capabilities(), bound_by_name::variant(key))
-        .expect("supported variant")
+    ShaderProgram::new(
+        gpu.device(),
+        gpu.capabilities(),
+        bound_by_name::variant(key),
+    )
+    .expect("supported variant")
 }
 
 /// Runs the kernel of the variant with `offset` on `r`, both groups from the builders, and
@@ -120,9 +124,9 @@ fn program(gpu: &GpuContext, offset: bool) -> ShaderProgram {
 fn run(gpu: &GpuContext, offset: bool, give_offsets: bool, r: &Inputs) -> Vec<f32> {
     let program = program(gpu, offset);
     let pipeline = program
-        .compute_pipeline(&gpu.device, "main")
+        .compute_pipeline(gpu.device(), "main")
         .expect("entry point");
-    let (device, variant) = (&gpu.device, program.variant);
+    let (device, variant) = (gpu.device(), program.variant);
     let g0 = group0(r)
         .bind_group(device, program.layout(0), variant, "group 0")
         .expect("group 0 binds");
@@ -137,8 +141,8 @@ fn run(gpu: &GpuContext, offset: bool, give_offsets: bool, r: &Inputs) -> Vec<f3
         pass.set_bind_group(1, &g1, &[]);
         pass.dispatch_workgroups(1, 1, 1);
     }
-    gpu.queue.submit([encoder.finish()]);
-    readback::read_buffer::<f32>(device, &gpu.queue, &r.output).expect("readback")
+    gpu.queue().submit([encoder.finish()]);
+    readback::read_buffer::<f32>(device, gpu.queue(), &r.output).expect("readback")
 }
 
 #[test]
@@ -165,7 +169,7 @@ fn refusal(gpu: &GpuContext, offset: bool, g: u32, resources: &Resources<'_>) ->
     let program = program(gpu, offset);
     let e = resources
         .build(
-            &gpu.device,
+            gpu.device(),
             program.layout(g),
             program.variant,
             g,
@@ -221,7 +225,7 @@ fn bind_group_builders_refuse_what_does_not_fit_naming_the_binding() {
         assert!(expected.contains("at least 8 bytes"), "{expected}");
         // Integer texels where float texels are sampled.
         let uint = gpu
-            .device
+            .device()
             .create_texture(&wgpu::TextureDescriptor {
                 label: Some("uint texels"),
                 size: wgpu::Extent3d {

@@ -55,7 +55,7 @@ fn light() -> GpuLight {
 const TINT: [f32; 4] = [0.2, 0.4, 0.9, 0.25];
 
 fn gpu_run(gpu: &GpuContext, wgsl: &str) -> Vec<[f32; 4]> {
-    let device = &gpu.device;
+    let device = gpu.device();
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("engine_lit"),
         source: wgpu::ShaderSource::Wgsl(wgsl.into()),
@@ -104,8 +104,8 @@ fn gpu_run(gpu: &GpuContext, wgsl: &str) -> Vec<[f32; 4]> {
         pass.set_bind_group(1, &g1, &[]);
         pass.dispatch_workgroups(1, 1, 1);
     }
-    gpu.queue.submit([encoder.finish()]);
-    renderer::readback::read_buffer::<[f32; 4]>(device, &gpu.queue, &out).expect("readback")
+    gpu.queue().submit([encoder.finish()]);
+    renderer::readback::read_buffer::<[f32; 4]>(device, gpu.queue(), &out).expect("readback")
 }
 
 #[test]

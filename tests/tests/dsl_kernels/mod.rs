@@ -206,7 +206,7 @@ pub mod layout_probe {
 }
 
 fn program(gpu: &GpuContext, variant: &'static codegen::rt::Variant) -> ShaderProgram {
-    ShaderProgram::new(&gpu.device, gpu.capabilities(), variant).expect("supported variant")
+    ShaderProgram::new(gpu.device(), gpu.capabilities(), variant).expect("supported variant")
 }
 
 pub use tests::depth_upload::write_msaa_depth;
@@ -214,7 +214,7 @@ pub use tests::depth_upload::write_msaa_depth;
 /// Draws the triangle with pixel-space corners `tri` into a `size`² Rgba8Unorm target with
 /// `samples`× MSAA (resolved), and reads it back.
 pub fn draw_triangle(gpu: &GpuContext, size: u32, samples: u32, tri: &[[f32; 2]; 3]) -> Vec<u8> {
-    let device = &gpu.device;
+    let device = gpu.device();
     let p = program(gpu, triangle::variant(triangle::VariantKey::ALL[0]));
     // WGSL mat3x3 columns are 16 bytes apart; the host type stores them as Vec4s.
     let ndc = |c: [f32; 2]| {
@@ -312,6 +312,6 @@ pub fn draw_triangle(gpu: &GpuContext, size: u32, samples: u32, tri: &[[f32; 2];
         pass.set_bind_group(0, &bind_group, &[]);
         pass.draw(0..3, 0..1);
     }
-    gpu.queue.submit([encoder.finish()]);
-    readback::read_texture_rgba8(device, &gpu.queue, &resolved).expect("readback")
+    gpu.queue().submit([encoder.finish()]);
+    readback::read_texture_rgba8(device, gpu.queue(), &resolved).expect("readback")
 }

@@ -66,7 +66,7 @@ pub fn draw_forward(
     }
     // No light has a shadow here (`NO_SHADOW`): a placeholder atlas and view record.
     let shadow_views = storage(gpu, &[0u8; size_of::<forward::ShadowView>()]);
-    let shadow_atlas = gpu.device.create_texture(&wgpu::TextureDescriptor {
+    let shadow_atlas = gpu.device().create_texture(&wgpu::TextureDescriptor {
         label: Some("placeholder shadow atlas"),
         size: wgpu::Extent3d {
             width: 1,
@@ -81,7 +81,7 @@ pub fn draw_forward(
         view_formats: &[],
     });
     let shadow_view = shadow_atlas.create_view(&Default::default());
-    let shadow_sampler = gpu.device.create_sampler(&wgpu::SamplerDescriptor {
+    let shadow_sampler = gpu.device().create_sampler(&wgpu::SamplerDescriptor {
         compare: Some(wgpu::CompareFunction::GreaterEqual),
         ..Default::default()
     });
@@ -90,7 +90,7 @@ pub fn draw_forward(
     group0.push((8, wgpu::BindingResource::Sampler(&shadow_sampler)));
     let decal_records = storage(gpu, &[0u8; size_of::<forward::GpuDecal>()]);
     let decal_texel = texel(gpu, [0.0; 4]).create_view(&Default::default());
-    let decal_sampler = gpu.device.create_sampler(&Default::default());
+    let decal_sampler = gpu.device().create_sampler(&Default::default());
     group0.push((9, decal_records.as_entire_binding()));
     for binding in 10..14 {
         group0.push((binding, wgpu::BindingResource::TextureView(&decal_texel)));
@@ -103,7 +103,7 @@ pub fn draw_forward(
     // The material (`MATERIALS`: one record, without textures) and an empty material atlas.
     let material = storage(gpu, std::slice::from_ref(&inputs.material));
     let no_images: &[renderer::scene::Image] = &[];
-    let atlas = renderer::scene::MaterialAtlas::new(&gpu.device, &gpu.queue, no_images, &[])
+    let atlas = renderer::scene::MaterialAtlas::new(gpu.device(), gpu.queue(), no_images, &[])
         .expect("an empty atlas");
     let g2 = forward::Group2 {
         material_table: shaders_gen::shared::material_table::Group2 {
@@ -111,7 +111,7 @@ pub fn draw_forward(
         },
         material_atlas: atlas.bindings(),
     }
-    .bind_group(&gpu.device, p.layout(2), p.variant, "materials")
+    .bind_group(gpu.device(), p.layout(2), p.variant, "materials")
     .expect("group 2 binds");
     // TEXCOORD_1 and a white COLOR_0, one value for the whole draw (instance step).
     let uv1_color: [f32; 6] = [0.0, 0.0, 1.0, 1.0, 1.0, 1.0];
@@ -127,7 +127,7 @@ pub fn draw_forward(
     );
     let format = wgpu::TextureFormat::Rgba32Float;
     let pipeline = gpu
-        .device
+        .device()
         .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("forward"),
             layout: Some(&p.pipeline_layout),
@@ -171,7 +171,7 @@ pub fn draw_forward(
     );
     let view = target.create_view(&Default::default());
     let attachments = cleared(&view);
-    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    let mut encoder = gpu.device().create_command_encoder(&Default::default());
     {
         let mut pass = encoder.begin_render_pass(&color_pass(&attachments));
         pass.set_pipeline(&pipeline);
@@ -182,6 +182,6 @@ pub fn draw_forward(
         pass.set_vertex_buffer(1, constant_streams.slice(..));
         pass.draw(0..inputs.vertices.len() as u32, 0..1);
     }
-    gpu.queue.submit([encoder.finish()]);
+    gpu.queue().submit([encoder.finish()]);
     bytemuck::pod_collect_to_vec(&read_texture(gpu, &target, 16))
 }

@@ -22,7 +22,7 @@ fn fullscreen(
 ) -> Vec<u8> {
     let g0 = bind_group(gpu, p, 0, group0);
     let pipeline = gpu
-        .device
+        .device()
         .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(fs),
             layout: Some(&p.pipeline_layout),
@@ -52,14 +52,14 @@ fn fullscreen(
     );
     let view = target.create_view(&Default::default());
     let attachments = cleared(&view);
-    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    let mut encoder = gpu.device().create_command_encoder(&Default::default());
     {
         let mut pass = encoder.begin_render_pass(&color_pass(&attachments));
         pass.set_pipeline(&pipeline);
         pass.set_bind_group(0, &g0, &[]);
         pass.draw(0..3, 0..1);
     }
-    gpu.queue.submit([encoder.finish()]);
+    gpu.queue().submit([encoder.finish()]);
     read_texture(gpu, &target, format.block_copy_size(None).expect("color"))
 }
 
@@ -114,7 +114,7 @@ pub fn draw_heatmap(
         wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
     );
     let depth_view = depth_texture.create_view(&Default::default());
-    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    let mut encoder = gpu.device().create_command_encoder(&Default::default());
     encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some("clear depth"),
         color_attachments: &[],
@@ -130,7 +130,7 @@ pub fn draw_heatmap(
         occlusion_query_set: None,
         multiview_mask: None,
     });
-    gpu.queue.submit([encoder.finish()]);
+    gpu.queue().submit([encoder.finish()]);
     // The light records are bound (the `light_lists` contract) but not read.
     let no_lights = storage(gpu, &[heatmap::GpuLight::default()]);
     let mut group0 = vec![
@@ -175,7 +175,7 @@ pub fn draw_prez(
     );
     let format = wgpu::TextureFormat::Depth32Float;
     let pipeline = gpu
-        .device
+        .device()
         .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("prez"),
             layout: Some(&p.pipeline_layout),
@@ -209,7 +209,7 @@ pub fn draw_prez(
         wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
     );
     let view = target.create_view(&Default::default());
-    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    let mut encoder = gpu.device().create_command_encoder(&Default::default());
     {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("prez"),
@@ -232,6 +232,6 @@ pub fn draw_prez(
         pass.set_vertex_buffer(0, vertex_buffer.slice(..));
         pass.draw(0..vertices.len() as u32, 0..1);
     }
-    gpu.queue.submit([encoder.finish()]);
+    gpu.queue().submit([encoder.finish()]);
     bytemuck::pod_collect_to_vec(&read_texture(gpu, &target, 4))
 }

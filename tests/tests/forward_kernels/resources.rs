@@ -20,11 +20,11 @@ pub fn f16_bits(x: f32) -> u16 {
 }
 
 pub fn program(gpu: &GpuContext, variant: &'static codegen::rt::Variant) -> ShaderProgram {
-    ShaderProgram::new(&gpu.device, gpu.capabilities(), variant).expect("supported variant")
+    ShaderProgram::new(gpu.device(), gpu.capabilities(), variant).expect("supported variant")
 }
 
 pub fn buffer(gpu: &GpuContext, bytes: &[u8], usage: wgpu::BufferUsages) -> wgpu::Buffer {
-    gpu.device
+    gpu.device()
         .create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: None,
             contents: bytes,
@@ -49,7 +49,7 @@ pub fn texture(
     format: wgpu::TextureFormat,
     usage: wgpu::TextureUsages,
 ) -> wgpu::Texture {
-    gpu.device.create_texture(&wgpu::TextureDescriptor {
+    gpu.device().create_texture(&wgpu::TextureDescriptor {
         label: None,
         size: wgpu::Extent3d {
             width,
@@ -72,8 +72,8 @@ pub fn texture_with(
     format: wgpu::TextureFormat,
     data: &[u8],
 ) -> wgpu::Texture {
-    gpu.device.create_texture_with_data(
-        &gpu.queue,
+    gpu.device().create_texture_with_data(
+        gpu.queue(),
         &wgpu::TextureDescriptor {
             label: None,
             size: wgpu::Extent3d {
@@ -109,13 +109,13 @@ pub fn read_texture(gpu: &GpuContext, texture: &wgpu::Texture, texel_bytes: u32)
     let (width, height) = (texture.width(), texture.height());
     let row = width * texel_bytes;
     let padded = row.next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
-    let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+    let staging = gpu.device().create_buffer(&wgpu::BufferDescriptor {
         label: Some("readback"),
         size: u64::from(padded * height),
         usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     });
-    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    let mut encoder = gpu.device().create_command_encoder(&Default::default());
     encoder.copy_texture_to_buffer(
         texture.as_image_copy(),
         wgpu::TexelCopyBufferInfo {
@@ -128,10 +128,10 @@ pub fn read_texture(gpu: &GpuContext, texture: &wgpu::Texture, texel_bytes: u32)
         },
         texture.size(),
     );
-    gpu.queue.submit([encoder.finish()]);
+    gpu.queue().submit([encoder.finish()]);
     let slice = staging.slice(..);
     slice.map_async(wgpu::MapMode::Read, |r| r.expect("map"));
-    gpu.device
+    gpu.device()
         .poll(wgpu::PollType::wait_indefinitely())
         .expect("poll");
     let data = slice.get_mapped_range().expect("mapped");
@@ -151,7 +151,7 @@ pub(super) fn bind_group(
         .into_iter()
         .map(|(binding, resource)| wgpu::BindGroupEntry { binding, resource })
         .collect();
-    gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+    gpu.device().create_bind_group(&wgpu::BindGroupDescriptor {
         label: None,
         layout: &program.bind_group_layouts[group],
         entries: &entries,

@@ -7,7 +7,8 @@
 //! with parallel sides.
 
 use glam::{Quat, Vec3};
-use renderer::frame::setup::{camera_of, procedural_lights};
+use renderer::demo::procedural_lights;
+use renderer::frame::camera_of;
 use renderer::frame::{FrameCamera, RenderPath, RendererConfig};
 use renderer::scene::{CameraProjection, LightKind, Scene, SceneLight};
 use tests::frames::{largest_difference, render_frame_from};

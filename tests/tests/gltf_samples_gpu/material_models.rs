@@ -3,7 +3,7 @@
 //! second UV set copied into the first), which draws without the GPU path under test.
 //! `MATERIAL_INPUTS_DUMP=<dir>` writes the frames as PNGs.
 
-use renderer::frame::setup::framing_camera;
+use renderer::frame::framing_camera;
 use renderer::frame::{FrameCamera, RenderPath, RendererConfig};
 use renderer::scene::{Scene, TextureRef, UvTransform};
 use tests::frames::{largest_difference, render_frame_from};

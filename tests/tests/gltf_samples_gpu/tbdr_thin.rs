@@ -25,8 +25,9 @@
 //!     off the triangle (its attributes extrapolated, a reflection caught or missed), TBDR each
 //!     sample at its own point.
 
+use renderer::demo::{light_space, procedural_lights};
 use renderer::frame::RenderPath;
-use renderer::frame::setup::{default_camera, light_space, procedural_lights};
+use renderer::frame::default_camera;
 use renderer::frame_data::EdgeThresholds;
 use renderer::passes::deferred::TbdrRecord;
 use tests::gpu::gpu_test;

@@ -3,6 +3,7 @@
 //! materials naming what does not exist are refused with the reason.
 
 use glam::{Mat4, Quat, Vec3, Vec4};
+use renderer::frame::InputError;
 use renderer::frame::{RenderError, RenderPath, Renderer};
 use renderer::scene::{AlphaMode, Image, Instance, TextureRef};
 use tests::frames::{largest_difference, render_frame_from, render_one_frame};
@@ -152,7 +153,10 @@ fn meshes_and_materials_that_name_nothing_are_refused() {
         let err = renderer
             .add_mesh(&scene.meshes[0])
             .expect_err("no scene yet");
-        assert!(matches!(err, RenderError::NoScene), "{err}");
+        assert!(
+            matches!(err, RenderError::Input(InputError::NoScene)),
+            "{err}"
+        );
         renderer.prepare_scene(scene).expect("the city fits");
         let materials = renderer.default_material().expect("a scene") + 1;
         let mut unknown = scene.meshes[0].clone();

@@ -7,7 +7,7 @@
 
 use glam::Vec2;
 use renderer::GpuContext;
-use renderer::frame::setup::Rng;
+use renderer::demo::Rng;
 use renderer::frame_data::sampler_descriptor;
 use renderer::readback::read_buffer;
 use renderer::scene::{AtlasGrowth, AtlasKey, Filter, Image, MaterialAtlas, TextureSampler, Wrap};
@@ -128,9 +128,9 @@ fn reference_texture(gpu: &GpuContext, image: &Image, colour: bool) -> wgpu::Tex
         chain.extend_from_slice(&level);
         levels += 1;
     }
-    gpu.device
+    gpu.device()
         .create_texture_with_data(
-            &gpu.queue,
+            gpu.queue(),
             &wgpu::TextureDescriptor {
                 label: Some("reference"),
                 size: wgpu::Extent3d {
@@ -226,7 +226,7 @@ fn keys() -> Vec<AtlasKey> {
 fn atlas_textures_sample_as_the_hardware_sampler_for_every_wrap_filter_and_level() {
     let images = vec![image(32, 16, 1), image(8, 8, 2), image(16, 32, 3)];
     gpu_test(|gpu| {
-        let atlas = MaterialAtlas::new(&gpu.device, &gpu.queue, &images, &keys()).expect("atlas");
+        let atlas = MaterialAtlas::new(gpu.device(), gpu.queue(), &images, &keys()).expect("atlas");
         assert_eq!(atlas.pages(), (256, 1));
         probe(gpu, &atlas, &images, &keys());
     });
@@ -250,7 +250,7 @@ fn several_layers() -> (Vec<Image>, Vec<AtlasKey>) {
 fn an_atlas_of_several_layers_samples_every_texture_as_the_hardware_sampler() {
     let (images, keys) = several_layers();
     gpu_test(|gpu| {
-        let atlas = MaterialAtlas::new(&gpu.device, &gpu.queue, &images, &keys).expect("atlas");
+        let atlas = MaterialAtlas::new(gpu.device(), gpu.queue(), &images, &keys).expect("atlas");
         let (side, layers) = atlas.pages();
         assert!(side == 256 && layers >= 3, "{side}² × {layers}");
         probe(gpu, &atlas, &images, &keys);
@@ -265,7 +265,7 @@ fn an_atlas_grown_in_place_samples_every_texture_as_the_hardware_sampler() {
     // The images and keys of the test above, so only the placement differs.
     let (images, keys) = several_layers();
     gpu_test(|gpu| {
-        let (device, queue) = (&gpu.device, &gpu.queue);
+        let (device, queue) = (gpu.device(), gpu.queue());
         let mut atlas = MaterialAtlas::new(device, queue, &images, &keys[..2]).expect("atlas");
         assert_eq!(atlas.pages(), (256, 1));
         for chunk in [2..3, 3..10, 10..24] {
@@ -294,13 +294,13 @@ fn an_atlas_grown_in_place_samples_every_texture_as_the_hardware_sampler() {
 /// Samples every key of `atlas` both ways and asserts they agree.
 fn probe(gpu: &GpuContext, atlas: &MaterialAtlas, images: &[Image], keys: &[AtlasKey]) {
     let program = ShaderProgram::new(
-        &gpu.device,
+        gpu.device(),
         gpu.capabilities(),
         atlas_probe::variant(atlas_probe::VariantKey::ALL[0]),
     )
     .expect("the probe runs everywhere");
     let pipeline = gpu
-        .device
+        .device()
         .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some("atlas probe"),
             layout: Some(&program.pipeline_layout),
@@ -312,7 +312,7 @@ fn probe(gpu: &GpuContext, atlas: &MaterialAtlas, images: &[Image], keys: &[Atla
     let atlas_group = atlas_probe::Group2 {
         material_atlas: atlas.bindings(),
     }
-    .bind_group(&gpu.device, program.layout(2), program.variant, "atlas")
+    .bind_group(gpu.device(), program.layout(2), program.variant, "atlas")
     .expect("the atlas binds");
     let mut worst_overall = 0.0f32;
     for key in keys {
@@ -321,7 +321,7 @@ fn probe(gpu: &GpuContext, atlas: &MaterialAtlas, images: &[Image], keys: &[Atla
         let probes = samples(size, 2048);
         let index = atlas.index(key).expect("the atlas holds every key");
         let storage = |label, contents: &[u8], usage| {
-            gpu.device
+            gpu.device()
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
                     label: Some(label),
                     contents,
@@ -347,8 +347,10 @@ fn probe(gpu: &GpuContext, atlas: &MaterialAtlas, images: &[Image], keys: &[Atla
         let from_atlas = storage("from atlas", bytemuck::cast_slice(&out), out_usage);
         let from_sampler = storage("from sampler", bytemuck::cast_slice(&out), out_usage);
         let reference = reference_texture(gpu, image, key.colour);
-        let reference_sampler = gpu.device.create_sampler(&sampler_descriptor(key.sampler));
-        let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        let reference_sampler = gpu
+            .device()
+            .create_sampler(&sampler_descriptor(key.sampler));
+        let group = gpu.device().create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("probe"),
             layout: &program.bind_group_layouts[0],
             entries: &[
@@ -378,7 +380,7 @@ fn probe(gpu: &GpuContext, atlas: &MaterialAtlas, images: &[Image], keys: &[Atla
                 },
             ],
         });
-        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        let mut encoder = gpu.device().create_command_encoder(&Default::default());
         {
             let mut pass = encoder.begin_compute_pass(&Default::default());
             pass.set_pipeline(&pipeline);
@@ -386,10 +388,11 @@ fn probe(gpu: &GpuContext, atlas: &MaterialAtlas, images: &[Image], keys: &[Atla
             pass.set_bind_group(2, &atlas_group, &[]);
             pass.dispatch_workgroups((probes.len() as u32).div_ceil(64), 1, 1);
         }
-        gpu.queue.submit([encoder.finish()]);
-        let got: Vec<glam::Vec4> = read_buffer(&gpu.device, &gpu.queue, &from_atlas).expect("read");
+        gpu.queue().submit([encoder.finish()]);
+        let got: Vec<glam::Vec4> =
+            read_buffer(gpu.device(), gpu.queue(), &from_atlas).expect("read");
         let want: Vec<glam::Vec4> =
-            read_buffer(&gpu.device, &gpu.queue, &from_sampler).expect("read");
+            read_buffer(gpu.device(), gpu.queue(), &from_sampler).expect("read");
         let mut errors: Vec<f32> = got
             .iter()
             .zip(&want)

@@ -7,7 +7,7 @@
 
 use glam::{Mat4, Quat, Vec3, Vec4};
 use renderer::GpuContext;
-use renderer::frame::setup::{Rng, procedural_lights};
+use renderer::demo::{Rng, procedural_lights};
 use renderer::frame::{FrameCamera, RenderPath};
 use renderer::scene::procedural::{SceneBuilder, box_primitive};
 use renderer::scene::{Aabb, AlphaMode, Material, Scene};
@@ -104,15 +104,16 @@ fn cameras() -> [FrameCamera; 3] {
 /// draws on the CPU there.
 pub(super) fn without_indirect_first_instance(gpu: &GpuContext) -> GpuContext {
     let (features, limits) =
-        renderer::gpu::requirements::for_adapter(&gpu.adapter).expect("requirements");
-    let (device, queue) = pollster::block_on(gpu.adapter.request_device(&wgpu::DeviceDescriptor {
-        label: Some("device without indirect first instance"),
-        required_features: features - wgpu::Features::INDIRECT_FIRST_INSTANCE,
-        required_limits: limits,
-        ..Default::default()
-    }))
-    .expect("a device without indirect first instance");
-    GpuContext::from_parts(gpu.instance.clone(), gpu.adapter.clone(), device, queue)
+        renderer::gpu::requirements::for_adapter(gpu.adapter()).expect("requirements");
+    let (device, queue) =
+        pollster::block_on(gpu.adapter().request_device(&wgpu::DeviceDescriptor {
+            label: Some("device without indirect first instance"),
+            required_features: features - wgpu::Features::INDIRECT_FIRST_INSTANCE,
+            required_limits: limits,
+            ..Default::default()
+        }))
+        .expect("a device without indirect first instance");
+    GpuContext::from_parts(gpu.instance().clone(), gpu.adapter().clone(), device, queue)
         .expect("the device has the renderer's limits")
 }
 

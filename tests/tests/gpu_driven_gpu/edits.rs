@@ -4,6 +4,7 @@
 //! of removed instances, unknown meshes and non-finite transforms are refused.
 
 use glam::{Mat4, Quat, Vec3};
+use renderer::frame::InputError;
 use renderer::frame::{RenderError, RenderPath, Renderer};
 use renderer::scene::{Instance, Scene, SceneLight};
 use tests::frames::{largest_difference, render_frame_from, render_one_frame};
@@ -199,7 +200,10 @@ fn stale_handles_unknown_meshes_and_broken_transforms_are_refused() {
         let err = renderer
             .add_instance(0, Mat4::IDENTITY)
             .expect_err("no scene yet");
-        assert!(matches!(err, RenderError::NoScene), "{err}");
+        assert!(
+            matches!(err, RenderError::Input(InputError::NoScene)),
+            "{err}"
+        );
         renderer.prepare_scene(&base.scene).expect("the city fits");
         let first = renderer.scene_instance(0).expect("instance 0");
         let mesh = renderer.instance(first).expect("live").mesh;
@@ -207,7 +211,10 @@ fn stale_handles_unknown_meshes_and_broken_transforms_are_refused() {
         assert!(renderer.instance(first).is_none());
         let err = renderer.remove_instance(first).expect_err("removed twice");
         assert!(
-            matches!(err, RenderError::StaleInstance { index: 0 }),
+            matches!(
+                err,
+                RenderError::Input(InputError::StaleInstance { index: 0 })
+            ),
             "{err}"
         );
         // The next instance of that mesh takes the slot; the old handle stays refused.
@@ -216,13 +223,19 @@ fn stale_handles_unknown_meshes_and_broken_transforms_are_refused() {
         let err = renderer
             .set_instance_transform(first, Mat4::IDENTITY)
             .expect_err("the old handle");
-        assert!(matches!(err, RenderError::StaleInstance { .. }), "{err}");
+        assert!(
+            matches!(err, RenderError::Input(InputError::StaleInstance { .. })),
+            "{err}"
+        );
         // Slot 0 now holds an added instance, not the scene's instance 0.
         let err = renderer
             .scene_instance(0)
             .expect_err("the scene's instance 0 is gone");
         assert!(
-            matches!(err, RenderError::NoSuchInstance { index: 0, .. }),
+            matches!(
+                err,
+                RenderError::Input(InputError::NoSuchInstance { index: 0, .. })
+            ),
             "{err}"
         );
         assert_eq!(renderer.instance(again).map(|s| s.mesh), Some(mesh));
@@ -231,16 +244,22 @@ fn stale_handles_unknown_meshes_and_broken_transforms_are_refused() {
             .add_instance(meshes, Mat4::IDENTITY)
             .expect_err("no such mesh");
         assert!(
-            matches!(err, RenderError::NoSuchMesh { mesh, count } if mesh == meshes && count == meshes),
+            matches!(err, RenderError::Input(InputError::NoSuchMesh { mesh, count }) if mesh == meshes && count == meshes),
             "{err}"
         );
         let nan = Mat4::from_translation(Vec3::new(f32::NAN, 0.0, 0.0));
         let err = renderer.add_instance(mesh, nan).expect_err("a NaN");
-        assert!(matches!(err, RenderError::NotFiniteTransform), "{err}");
+        assert!(
+            matches!(err, RenderError::Input(InputError::NotFiniteTransform)),
+            "{err}"
+        );
         let err = renderer
             .set_instance_transform(again, nan)
             .expect_err("a NaN");
-        assert!(matches!(err, RenderError::NotFiniteTransform), "{err}");
+        assert!(
+            matches!(err, RenderError::Input(InputError::NotFiniteTransform)),
+            "{err}"
+        );
         assert_eq!(
             renderer.instance(again).map(|s| s.world_from_mesh),
             Some(Mat4::IDENTITY)
@@ -253,7 +272,10 @@ fn stale_handles_unknown_meshes_and_broken_transforms_are_refused() {
             let err = renderer
                 .set_instance_transform(old, Mat4::IDENTITY)
                 .expect_err("a handle of the earlier scene");
-            assert!(matches!(err, RenderError::StaleInstance { .. }), "{err}");
+            assert!(
+                matches!(err, RenderError::Input(InputError::StaleInstance { .. })),
+                "{err}"
+            );
             assert!(renderer.instance(old).is_none());
         }
         let fresh = renderer

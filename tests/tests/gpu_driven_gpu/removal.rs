@@ -4,6 +4,7 @@
 //! which render as a city built with them from the start.
 
 use glam::{Mat4, Quat, Vec3};
+use renderer::frame::InputError;
 use renderer::frame::{RenderError, RenderPath, Renderer};
 use renderer::scene::{AlphaMode, Image, Instance, Material, Mesh, Scene, TextureRef};
 use tests::frames::{largest_difference, render_frame_from, render_one_frame};
@@ -125,7 +126,10 @@ fn meshes_and_materials_removed_at_run_time_give_their_room_to_the_next_ones() {
             .remove_mesh(red_tower)
             .expect_err("an instance uses it");
         assert!(
-            matches!(err, RenderError::MeshInUse { instances: 1, .. }),
+            matches!(
+                err,
+                RenderError::Input(InputError::MeshInUse { instances: 1, .. })
+            ),
             "{err}"
         );
         let err = (renderer.remove_material(red_material)).expect_err("the red tower uses it");
@@ -150,7 +154,10 @@ fn meshes_and_materials_removed_at_run_time_give_their_room_to_the_next_ones() {
         let err = renderer.remove_mesh(dome).expect_err("removed already");
         assert!(err.to_string().contains("removed already"), "{err}");
         let err = renderer.add_instance(dome, placed[1]).expect_err("removed");
-        assert!(matches!(err, RenderError::MeshRemoved { .. }), "{err}");
+        assert!(
+            matches!(err, RenderError::Input(InputError::MeshRemoved { .. })),
+            "{err}"
+        );
         let err = (renderer.set_material(red_material, &scene.materials[0])).expect_err("removed");
         assert!(err.to_string().contains("was removed"), "{err}");
         let err = renderer

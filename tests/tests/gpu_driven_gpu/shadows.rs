@@ -10,7 +10,7 @@
 
 use glam::{Mat4, Quat, Vec3};
 use renderer::GpuContext;
-use renderer::frame::setup::pick_shadowed;
+use renderer::demo::pick_shadowed;
 use renderer::frame::{FrameCamera, RenderPath, Renderer, RendererConfig};
 use renderer::scene::SceneLight;
 use renderer::shadow::ShadowReport;
@@ -109,7 +109,7 @@ fn shadow_casters_culled_per_region_on_the_gpu_draw_what_the_cpu_lists() {
     };
     gpu_test(|gpu| {
         assert!(
-            gpu.device
+            gpu.device()
                 .features()
                 .contains(wgpu::Features::MULTI_DRAW_INDIRECT_COUNT),
             "the test device packs culled casts (it draws counts written on the GPU)"
@@ -241,23 +241,24 @@ fn shadow_casters_culled_per_region_on_the_gpu_draw_what_the_cpu_lists() {
 /// instance where culled.
 fn with_small_storage_bindings(gpu: &GpuContext, packing: bool) -> GpuContext {
     let (features, limits) =
-        renderer::gpu::requirements::for_adapter(&gpu.adapter).expect("requirements");
+        renderer::gpu::requirements::for_adapter(gpu.adapter()).expect("requirements");
     let limits = wgpu::Limits {
         max_storage_buffer_binding_size: 128 << 10,
         ..limits
     };
-    let (device, queue) = pollster::block_on(gpu.adapter.request_device(&wgpu::DeviceDescriptor {
-        label: Some("device with small storage bindings"),
-        required_features: if packing {
-            features
-        } else {
-            features - wgpu::Features::MULTI_DRAW_INDIRECT_COUNT
-        },
-        required_limits: limits,
-        ..Default::default()
-    }))
-    .expect("a device with small storage bindings");
-    GpuContext::from_parts(gpu.instance.clone(), gpu.adapter.clone(), device, queue)
+    let (device, queue) =
+        pollster::block_on(gpu.adapter().request_device(&wgpu::DeviceDescriptor {
+            label: Some("device with small storage bindings"),
+            required_features: if packing {
+                features
+            } else {
+                features - wgpu::Features::MULTI_DRAW_INDIRECT_COUNT
+            },
+            required_limits: limits,
+            ..Default::default()
+        }))
+        .expect("a device with small storage bindings");
+    GpuContext::from_parts(gpu.instance().clone(), gpu.adapter().clone(), device, queue)
         .expect("the device has the renderer's limits")
 }
 

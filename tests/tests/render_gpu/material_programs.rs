@@ -4,7 +4,8 @@
 //! bad uses are typed errors.
 
 use glam::{Vec3, Vec4};
-use renderer::frame::setup::procedural_lights;
+use renderer::demo::procedural_lights;
+use renderer::frame::InputError;
 use renderer::frame::{Ambient, FrameCamera, RenderError, RenderPath, Renderer, RendererConfig};
 use renderer::materials::{MaterialError, MaterialProgram};
 use renderer::scene::procedural::{COURTYARD_LIGHT_REGION, SceneBuilder, courtyard};
@@ -180,7 +181,7 @@ fn custom_courtyard() -> Scene {
 fn every_path_equals_naive_with_material_programs_and_they_change_the_image() {
     let scene = custom_courtyard();
     let lights = procedural_lights(COURTYARD_LIGHT_REGION, 256, 7, 0.8, 2.6);
-    let camera = renderer::frame::setup::framing_camera(scene.bounds, 2.0);
+    let camera = renderer::frame::framing_camera(scene.bounds, 2.0);
     gpu_test(|gpu| {
         // MSAA 4 (single-sample frames of the programs: the test above).
         for msaa in [4] {
@@ -259,7 +260,7 @@ fn bad_material_programs_and_bad_uses_are_typed_errors() {
         // Not registered yet.
         let err = r.prepare_scene(&scene).expect_err("unregistered");
         assert!(
-            matches!(err, RenderError::Material(MaterialError::Unregistered { ref program, .. }) if program == "checker"),
+            matches!(err, RenderError::Input(InputError::Material(MaterialError::Unregistered { ref program, .. })) if program == "checker"),
             "{err}"
         );
         for p in programs() {
@@ -274,13 +275,16 @@ fn bad_material_programs_and_bad_uses_are_typed_errors() {
             .add_material(&material(Some(wrong_size), AlphaMode::Opaque))
             .expect_err("12 bytes are not a Checker");
         assert!(
-            matches!(err, RenderError::Material(MaterialError::ParamsSize { given: 12, expected, .. }) if expected == size_of::<checker::Checker>() as u64),
+            matches!(err, RenderError::Input(InputError::Material(MaterialError::ParamsSize { given: 12, expected, .. })) if expected == size_of::<checker::Checker>() as u64),
             "{err}"
         );
         let blended = material(Some(CustomShading::new("checker", &good)), AlphaMode::Blend);
         let err = r.add_material(&blended).expect_err("blended");
         assert!(
-            matches!(err, RenderError::Material(MaterialError::Blended { .. })),
+            matches!(
+                err,
+                RenderError::Input(InputError::Material(MaterialError::Blended { .. }))
+            ),
             "{err}"
         );
         // A scene naming an unknown program is refused whole, and the previous scene stays.
@@ -339,7 +343,7 @@ fn instances_of_one_mesh_choose_their_material() {
                 ..Default::default()
             };
             let shared = boxes([false; 3], true);
-            let camera = renderer::frame::setup::framing_camera(shared.bounds, 2.0);
+            let camera = renderer::frame::framing_camera(shared.bounds, 2.0);
             let frame_of = |scene: &Scene| {
                 let mut r = renderer(gpu, config, scene);
                 r.set_lights(&lights(scene)).expect("lights");
@@ -368,10 +372,10 @@ fn instances_of_one_mesh_choose_their_material() {
             assert!(err.to_string().contains("instance 2"), "{err}");
             assert!(matches!(
                 r.set_instance_material(middle, 1, 0),
-                Err(RenderError::NoSuchPrimitive {
+                Err(RenderError::Input(InputError::NoSuchPrimitive {
                     primitive: 1,
                     count: 1
-                })
+                }))
             ));
             r.set_instance_material(middle, 0, 0)
                 .expect("back to stone");

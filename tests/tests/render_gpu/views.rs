@@ -5,7 +5,8 @@
 //! renderer with views draws, frame after frame, exactly what a renderer without views draws.
 
 use glam::Vec3;
-use renderer::frame::setup::create_target;
+use renderer::frame::InputError;
+use renderer::frame::create_target;
 use renderer::frame::{FrameCamera, RenderError, RenderPath, Renderer, RendererConfig, ViewTarget};
 use renderer::readback::read_texture_rgba8;
 use tests::frames::largest_difference;
@@ -51,7 +52,7 @@ fn side_camera() -> FrameCamera {
 fn views_share_the_shadow_atlas_and_one_particle_step_per_frame() {
     gpu_test(|gpu| {
         let read =
-            |t: &wgpu::Texture| read_texture_rgba8(&gpu.device, &gpu.queue, t).expect("readback");
+            |t: &wgpu::Texture| read_texture_rgba8(gpu.device(), gpu.queue(), t).expect("readback");
         // A renderer with two further views: the main camera on the naive path, and a side
         // camera, smaller, without MSAA, on the clustered path.
         let mut with_views = renderer(gpu);
@@ -71,11 +72,11 @@ fn views_share_the_shadow_atlas_and_one_particle_step_per_frame() {
         side_alone
             .reconfigure(side_config)
             .expect("the side configuration");
-        let main_target = create_target(&gpu.device, with_views.config());
-        let same_target = create_target(&gpu.device, &config(RenderPath::Naive));
-        let side_target = create_target(&gpu.device, &side_config);
-        let alone_target = create_target(&gpu.device, alone.config());
-        let side_target_alone = create_target(&gpu.device, &side_config);
+        let main_target = create_target(gpu.device(), with_views.config());
+        let same_target = create_target(gpu.device(), &config(RenderPath::Naive));
+        let side_target = create_target(gpu.device(), &side_config);
+        let alone_target = create_target(gpu.device(), alone.config());
+        let side_target_alone = create_target(gpu.device(), &side_config);
         let cam = camera();
         let side_cam = side_camera();
         for frame in 0..FRAMES {
@@ -151,9 +152,9 @@ fn bad_views_are_typed_errors_and_draw_nothing() {
     gpu_test(|gpu| {
         let mut r = renderer(gpu);
         let view = r.add_view(config(RenderPath::Naive)).expect("a view");
-        let target = create_target(&gpu.device, r.config());
+        let target = create_target(gpu.device(), r.config());
         let small = create_target(
-            &gpu.device,
+            gpu.device(),
             &RendererConfig {
                 width: 8,
                 height: 8,
@@ -174,7 +175,7 @@ fn bad_views_are_typed_errors_and_draw_nothing() {
             },
         ];
         assert!(
-            matches!(r.render_views(&cam, &target, &twice), Err(RenderError::ViewTwice(v)) if v == view)
+            matches!(r.render_views(&cam, &target, &twice), Err(RenderError::Input(InputError::ViewTwice(v))) if v == view)
         );
         let wrong_size = [ViewTarget {
             view,
@@ -183,7 +184,7 @@ fn bad_views_are_typed_errors_and_draw_nothing() {
         }];
         assert!(matches!(
             r.render_views(&cam, &target, &wrong_size),
-            Err(RenderError::TargetMismatch { .. })
+            Err(RenderError::Input(InputError::TargetMismatch { .. }))
         ));
         r.remove_view(view).expect("removed");
         let gone = [ViewTarget {
@@ -192,11 +193,11 @@ fn bad_views_are_typed_errors_and_draw_nothing() {
             target: &target,
         }];
         assert!(
-            matches!(r.render_views(&cam, &target, &gone), Err(RenderError::NoSuchView(v)) if v == view)
+            matches!(r.render_views(&cam, &target, &gone), Err(RenderError::Input(InputError::NoSuchView(v))) if v == view)
         );
         assert!(matches!(
             r.remove_view(view),
-            Err(RenderError::NoSuchView(_))
+            Err(RenderError::Input(InputError::NoSuchView(_)))
         ));
         r.render_views(&cam, &target, &[])
             .expect("the main view alone");

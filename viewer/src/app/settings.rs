@@ -150,7 +150,7 @@ impl Running {
                     self.added.count()
                 )
             }),
-            format!("adapter: {}", self.gpu.report.name),
+            format!("adapter: {}", self.gpu.report().name),
         ]);
         lines
     }
@@ -201,7 +201,7 @@ impl Running {
         self.surface_config.width = size.width;
         self.surface_config.height = size.height;
         self.surface
-            .configure(&self.gpu.device, &self.surface_config);
+            .configure(self.gpu.device(), &self.surface_config);
         self.config.width = size.width;
         self.config.height = size.height;
         Ok(())

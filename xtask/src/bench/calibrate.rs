@@ -43,7 +43,7 @@ fn profiler(gpu: &GpuContext) -> Result<GpuProfiler> {
         enable_debug_groups: false,
         ..Default::default()
     };
-    GpuProfiler::new(&gpu.device, settings).map_err(|e| anyhow::anyhow!("{e}"))
+    GpuProfiler::new(gpu.device(), settings).map_err(|e| anyhow::anyhow!("{e}"))
 }
 
 /// Runs `record` once per frame inside a profiler scope and returns the sorted GPU times in µs.
@@ -56,16 +56,16 @@ fn timed_frames(
     let mut profiler = profiler(gpu)?;
     let mut times = Vec::new();
     for frame in 0..warmup + frames {
-        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        let mut encoder = gpu.device().create_command_encoder(&Default::default());
         {
             let mut scope = profiler.scope("timed", &mut encoder);
             record(&mut scope, frame);
         }
         profiler.resolve_queries(&mut encoder);
-        gpu.queue.submit([encoder.finish()]);
+        gpu.queue().submit([encoder.finish()]);
         profiler.end_frame().map_err(|e| anyhow::anyhow!("{e}"))?;
         gpu.wait_idle()?;
-        let results = profiler.process_finished_frame(gpu.queue.get_timestamp_period());
+        let results = profiler.process_finished_frame(gpu.queue().get_timestamp_period());
         if frame >= warmup
             && let Some(t) = results.and_then(|r| r.into_iter().find_map(|q| q.time))
         {
@@ -79,7 +79,7 @@ fn timed_frames(
 
 /// Copy bandwidth (bytes read + written per second) and FMA rate of the device.
 pub fn calibrate(gpu: &GpuContext) -> Result<Ceilings> {
-    let device = &gpu.device;
+    let device = gpu.device();
     let size = device.limits().max_buffer_size.min(1 << 30) / 2 * 2;
     let buffer = |usage| {
         device.create_buffer(&wgpu::BufferDescriptor {

@@ -5,7 +5,8 @@
 
 use std::fmt::Write as _;
 
-use renderer::decals::{DecalSet, placement, procedural};
+use renderer::decals::{DecalSet, procedural};
+use renderer::demo::scatter_decals;
 use renderer::scene::Scene;
 
 use super::record::{CellRecord, ms};
@@ -13,7 +14,7 @@ use super::record::{CellRecord, ms};
 /// `count` seeded decals on `scene` with the built-in materials.
 pub fn decal_set(scene: &Scene, count: u32, seed: u64) -> DecalSet {
     let materials = procedural::materials();
-    let decals = placement::scatter(scene, count as usize, materials.len(), seed);
+    let decals = scatter_decals(scene, count as usize, materials.len(), seed);
     DecalSet { materials, decals }
 }
 

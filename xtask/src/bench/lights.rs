@@ -8,7 +8,7 @@
 //! still loops over all of them — which is the comparison the benchmark is for.
 
 use glam::Vec3;
-use renderer::frame::setup::procedural_lights;
+use renderer::demo::procedural_lights;
 use renderer::scene::{Aabb, SceneLight};
 
 /// Spread of ranges around the mean: uniform in `[0.75, 1.25] × r0`.
@@ -90,7 +90,7 @@ mod tests {
         // Monte Carlo: lights reaching random points of the inner box, on average.
         let (count, density) = (4096, 16.0);
         let lights = MovingLights::new(cube(), count, density, 3).at(0);
-        let mut rng = renderer::frame::setup::Rng::new(9);
+        let mut rng = renderer::demo::Rng::new(9);
         let probes = 400;
         let mut reached = 0usize;
         for _ in 0..probes {

@@ -55,9 +55,9 @@ pub(super) fn meta(
          - Frames: {} warm-up, {} timed per cell (stopping early after {:.2} s, at least {}); \
          light density {} (lights reaching a point on average), seed {}\n",
         command.join(" "),
-        gpu.report.name,
-        gpu.report.driver,
-        gpu.report.driver_info,
+        gpu.report().name,
+        gpu.report().driver,
+        gpu.report().driver_info,
         plan.warmup,
         plan.frames,
         plan.budget.as_secs_f64(),

@@ -11,8 +11,9 @@ use std::fmt::Write as _;
 
 use anyhow::{Context as _, Result, bail};
 use glam::{Mat4, Vec3};
-use renderer::frame::setup::{create_target, default_camera, moving_instance, pick_shadowed};
+use renderer::demo::{moving_instance, pick_shadowed};
 use renderer::frame::{FrameCamera, Renderer};
+use renderer::frame::{create_target, default_camera};
 use renderer::scene::{LightKind, Scene, SceneLight};
 use renderer::{GpuContext, frame::RendererConfig};
 
@@ -187,7 +188,7 @@ pub fn measure_cell(
     config.shadows.cache = cell.mode != ShadowMode::Uncached;
     let mut renderer = Renderer::new(gpu, config)?;
     renderer.prepare_scene(scene)?;
-    let target = create_target(&gpu.device, &config);
+    let target = create_target(gpu.device(), &config);
     let camera = default_camera(scene, setup.width as f32 / setup.height as f32);
     let mover = moving_instance(scene).context("the scene has no instance to move")?;
     let start = scene.instances[mover].world_from_mesh;

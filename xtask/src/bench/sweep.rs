@@ -7,8 +7,8 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 
 use anyhow::{Context as _, Result};
-use renderer::frame::setup::{create_target, default_camera};
 use renderer::frame::{RenderPath, Renderer};
+use renderer::frame::{create_target, default_camera};
 use renderer::{GpuContext, GpuOptions};
 
 use super::edits;
@@ -64,7 +64,7 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
         caps.timestamp_inside_passes,
         "the benchmark needs TIMESTAMP_QUERY inside encoders; this adapter lacks it"
     );
-    println!("adapter: {}", gpu.report);
+    println!("adapter: {}", gpu.report());
     let support = Support {
         msaa: caps.msaa_counts(),
         subgroup: caps.subgroup.is_some(),
@@ -174,7 +174,7 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
         }
         let mut renderer = Renderer::new(&gpu, config)?;
         renderer.prepare_scene(&bench_scene.scene)?;
-        let target = create_target(&gpu.device, &config);
+        let target = create_target(gpu.device(), &config);
         let camera = default_camera(&bench_scene.scene, setup.width as f32 / setup.height as f32);
         let mut previous: Option<(u32, Duration)> = None;
         for &n in &axes.lights {

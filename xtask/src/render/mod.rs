@@ -7,7 +7,8 @@ use anyhow::{Context as _, Result, bail};
 use glam::Vec3;
 use renderer::culling::lists::CullCounters;
 use renderer::decals::DecalSet;
-use renderer::frame::setup::{courtyard_look, create_target, pick_shadowed, procedural_lights};
+use renderer::demo::{courtyard_look, pick_shadowed, procedural_lights};
+use renderer::frame::create_target;
 use renderer::frame::{
     FrameCamera, FrameReport, FrameView, ParticleLighting, Renderer, RendererConfig,
 };
@@ -218,11 +219,11 @@ pub fn setup(args: &Args) -> Result<Setup> {
     let (scene, scene_name, builtin) = (opened.scene, opened.name, opened.courtyard);
     let gpu =
         GpuContext::new_blocking(&GpuOptions::from_env().with_adapter_name(args.adapter.clone()))?;
-    let max = gpu.device.limits().max_texture_dimension_2d;
+    let max = gpu.device().limits().max_texture_dimension_2d;
     if w > max || h > max {
         bail!("--size {w}x{h}: this adapter's largest texture side is {max}");
     }
-    let most = LightSet::max_lights(&gpu.device);
+    let most = LightSet::max_lights(gpu.device());
     if args.lights > most {
         bail!(
             "--lights {}: this device holds at most {most} lights",
@@ -313,7 +314,7 @@ fn particle_system(args: &Args, scene: &Scene, gpu: &GpuContext) -> Result<Optio
         return Ok(None);
     }
     let system = builtin_system(scene.bounds, args.particles, args.seed as u32);
-    let max = ParticleSimulation::max_capacity(&gpu.device);
+    let max = ParticleSimulation::max_capacity(gpu.device());
     system
         .validate(max)
         .with_context(|| format!("--particles {}", args.particles))?;
@@ -332,7 +333,7 @@ fn decal_set(args: &Args, scene: &Scene) -> Result<DecalSet> {
         },
     };
     let scattered =
-        renderer::decals::placement::scatter(scene, args.decals, set.materials.len(), args.seed);
+        renderer::demo::scatter_decals(scene, args.decals, set.materials.len(), args.seed);
     if scattered.len() < args.decals {
         bail!(
             "--decals {}: the scene has no surface to place them on",
@@ -364,7 +365,7 @@ pub fn renderer_for(s: &Setup, config: RendererConfig) -> Result<Renderer> {
 /// [`shoot`] with settings of its own (another path or view of the same set-up).
 pub fn shoot_with(s: &Setup, config: RendererConfig, efficiency: bool) -> Result<Shot> {
     let mut renderer = renderer_for(s, config)?;
-    let target = create_target(&s.gpu.device, &config);
+    let target = create_target(s.gpu.device(), &config);
     if efficiency {
         renderer.capture_next_frame(4)?;
     }
@@ -397,7 +398,7 @@ pub fn shoot_with(s: &Setup, config: RendererConfig, efficiency: bool) -> Result
         }
         None => None,
     };
-    let mut rgba = readback::read_texture_rgba8(&s.gpu.device, &s.gpu.queue, &target)?;
+    let mut rgba = readback::read_texture_rgba8(s.gpu.device(), s.gpu.queue(), &target)?;
     if let (FrameView::ShadowAtlas, Some(shadows)) = (config.view, &report.shadows) {
         let size = (config.width, config.height);
         if let Err(e) =
@@ -429,7 +430,7 @@ pub fn run(args: &Args, default_out: &str) -> Result<()> {
     save_png(&out, &shot.rgba, size)?;
     let dot = out.with_extension("dot");
     save_text(&dot, &shot.graph_dot)?;
-    println!("adapter: {}", s.gpu.report);
+    println!("adapter: {}", s.gpu.report());
     println!(
         "scene {} ({} triangles), {} lights, {}x{}, MSAA {}, path {}, tile {}, scalarize {}",
         s.scene_name,

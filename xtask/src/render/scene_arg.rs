@@ -5,8 +5,9 @@ use std::path::Path;
 
 use anyhow::{Context as _, Result, bail};
 use glam::Vec3;
+use renderer::demo::light_space;
 use renderer::frame::FrameCamera;
-use renderer::frame::setup::{camera_of, default_camera, light_space, scene_camera};
+use renderer::frame::{camera_of, default_camera, scene_camera};
 use renderer::scene::procedural::{BuiltinScene, builtin};
 use renderer::scene::{Aabb, Scene};
 

@@ -4,11 +4,11 @@
 //! the pass binds the renderer's buffers by name through the generated builders
 //! (`light_set::Group0`, `light_lists::Group0`), with no binding number written here.
 
+use renderer::frame::ConfigError;
 use renderer::GpuContext;
 use renderer::frame::RenderError;
-use renderer::frame_data::{FrameInputs, FrameResources, LightListHandles, ListGeometry};
+use renderer::extend::{FrameInputs, FrameResources, LightListHandles, ListGeometry, Pass};
 use renderer::graph::{BufferAccess, ImportAccess, RenderGraph};
-use renderer::passes::Pass;
 use renderer::shader::ShaderProgram;
 
 /// Counts what the culled light lists hold, one invocation per cell.
@@ -65,10 +65,10 @@ impl LightCensusPass {
     /// The pass for a renderer whose path culls lights into `list` (1 tiled, 2 clustered).
     pub fn new(gpu: &GpuContext, list: light_census::List) -> Result<Self, RenderError> {
         let variant = light_census::variant(light_census::VariantKey { list });
-        let program = ShaderProgram::new(&gpu.device, gpu.capabilities(), variant)?;
-        let pipeline = program.compute_pipeline(&gpu.device, "count")?;
+        let program = ShaderProgram::new(gpu.device(), gpu.capabilities(), variant)?;
+        let pipeline = program.compute_pipeline(gpu.device(), "count")?;
         let buffer = |label, size, usage| {
-            gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            gpu.device().create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
                 size,
                 usage,
@@ -79,7 +79,7 @@ impl LightCensusPass {
         Ok(Self {
             program,
             pipeline,
-            queue: gpu.queue.clone(),
+            queue: gpu.queue().clone(),
             cells: buffer("census cells", 16, wgpu::BufferUsages::UNIFORM | copy),
             census: buffer("census", 16, wgpu::BufferUsages::STORAGE | copy),
         })
@@ -88,7 +88,7 @@ impl LightCensusPass {
     /// The census of the last frame rendered (blocks until the GPU is done with it).
     pub fn read(&self, gpu: &GpuContext) -> Result<Census, renderer::GpuError> {
         let words: Vec<u32> =
-            renderer::readback::read_buffer(&gpu.device, &gpu.queue, &self.census)?;
+            renderer::readback::read_buffer(gpu.device(), gpu.queue(), &self.census)?;
         Ok(Census {
             entries: words[0],
             longest: words[1],
@@ -111,10 +111,10 @@ impl Pass for LightCensusPass {
         let lists = resources
             .light_lists
             .clone()
-            .ok_or(RenderError::MissingInput {
+            .ok_or(RenderError::Config(ConfigError::MissingInput {
                 pass: "light census",
                 input: "light lists",
-            })?;
+            }))?;
         let geometry = ListGeometry::new(Some(lists.method), &frame.config, &frame.camera);
         let cells = geometry.tiles.x * geometry.tiles.y * geometry.slices;
         let mut census =

@@ -12,7 +12,7 @@
 
 use engine_app::{Census, LightCensusPass, light_census};
 use glam::{Mat4, Vec3};
-use renderer::frame::setup::{create_target, framing_camera};
+use renderer::frame::{create_target, framing_camera};
 use renderer::frame::{RenderPath, Renderer, RendererConfig};
 use renderer::materials::MaterialProgram;
 use renderer::scene::procedural::SceneBuilder;
@@ -94,10 +94,10 @@ fn lights() -> Vec<SceneLight> {
 /// One frame of `renderer`, read back as RGBA8.
 fn frame(gpu: &GpuContext, renderer: &mut Renderer, scene: &Scene) -> Vec<u8> {
     let camera = framing_camera(scene.bounds, WIDTH as f32 / HEIGHT as f32);
-    let target = create_target(&gpu.device, renderer.config());
+    let target = create_target(gpu.device(), renderer.config());
     renderer.render(&camera, &target).expect("a frame");
     renderer.finish();
-    readback::read_texture_rgba8(&gpu.device, &gpu.queue, &target).expect("readback")
+    readback::read_texture_rgba8(gpu.device(), gpu.queue(), &target).expect("readback")
 }
 
 #[test]
@@ -266,8 +266,8 @@ fn a_minimap_view_renders_in_the_same_frame_and_leaves_the_main_view_alone() {
     let above =
         glam::camera::rh::view::look_at_mat4(Vec3::new(0.0, 20.0, 0.0), Vec3::ZERO, Vec3::NEG_Z);
     let minimap_camera = FrameCamera::orthographic(above.inverse(), (7.0, 7.0), (1.0, 40.0));
-    let main_target = create_target(&gpu.device, renderer.config());
-    let minimap_target = create_target(&gpu.device, &minimap_config);
+    let main_target = create_target(gpu.device(), renderer.config());
+    let minimap_target = create_target(gpu.device(), &minimap_config);
     let camera = framing_camera(scene.bounds, WIDTH as f32 / HEIGHT as f32);
     let views = [ViewTarget {
         view: minimap,
@@ -283,7 +283,7 @@ fn a_minimap_view_renders_in_the_same_frame_and_leaves_the_main_view_alone() {
         report.views[0].shadows.is_none(),
         "one shadow atlas for both views"
     );
-    let read = |t| readback::read_texture_rgba8(&gpu.device, &gpu.queue, t).expect("readback");
+    let read = |t| readback::read_texture_rgba8(gpu.device(), gpu.queue(), t).expect("readback");
     assert_eq!(
         read(&main_target),
         single,

@@ -18,23 +18,8 @@ pub fn for_each_surface_sample_pub(
 ) {
     for_each_surface_sample(camera, depth, f);
 }
+pub use crate::culling::depth::Efficiency;
 use super::{CullCamera, DepthBuffer, LightSphere};
-
-/// Cull efficiency of a method: entries listed for the samples over lights that reach them.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Efficiency {
-    /// Σ over surface samples of the number of lights in the sample's cell list.
-    pub listed: u64,
-    /// Σ over surface samples of the number of lights whose sphere contains the sample.
-    pub reaching: u64,
-}
-
-impl Efficiency {
-    /// `listed / reaching`: 1 is perfect, larger means more wasted light evaluations.
-    pub fn ratio(&self) -> f64 {
-        self.listed as f64 / self.reaching.max(1) as f64
-    }
-}
 
 /// Lights whose sphere contains view-space point `p`, sorted.
 pub fn lights_reaching(grid: &LightGrid, lights_view: &[LightSphere], p: Vec3) -> Vec<u32> {

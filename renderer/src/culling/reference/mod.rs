@@ -21,7 +21,6 @@
 mod cell_bounds;
 mod cells;
 pub mod cone;
-mod depth;
 pub mod exact;
 mod frustum;
 mod methods;
@@ -32,6 +31,6 @@ pub use super::vocabulary::{
     ClusterGrid, CullCamera, DEPTH_MASK_CELLS, LightSphere, Method, Plane, SUPER_TILE_PIXELS,
 };
 pub use cells::{Borderline, CellLists};
-pub use depth::{DepthBuffer, standard_sample_offset};
+pub use super::depth::{DepthBuffer, standard_sample_offset};
 pub use frustum::tile_side_planes;
 pub use methods::{cull, cull_boxes, cull_brute_force};

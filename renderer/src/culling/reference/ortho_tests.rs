@@ -68,7 +68,7 @@ fn depth_buffer() -> DepthBuffer {
 
 /// Seeded lights across the view volume, radii 0.3 to 2.
 fn lights() -> Vec<LightSphere> {
-    let mut rng = crate::frame::setup::Rng::new(36);
+    let mut rng = crate::demo::Rng::new(36);
     (0..160)
         .map(|_| LightSphere {
             center: Vec3::new(

@@ -3,6 +3,7 @@
 //! shares the forward fragment's material and decal code, into the three multisampled targets
 //! of `GBUFFER_FORMATS`.
 
+use crate::frame_data::ConfigError;
 use std::sync::Arc;
 
 use crate::GpuContext;
@@ -36,7 +37,7 @@ impl GBufferPass {
             MaterialPipelines::new(gpu, materials, (list, false, false), |program, d, m| {
                 let targets = GBUFFER_FORMATS.map(|f| Some(f.into()));
                 mesh_pipeline(
-                    &gpu.device,
+                    gpu.device(),
                     program,
                     &MeshPipeline {
                         label: "gbuffer",
@@ -53,7 +54,7 @@ impl GBufferPass {
         };
         Ok(Self {
             programs: Arc::new([make(0)?, make(1)?]),
-            lighting: lighting_buffer(&gpu.device),
+            lighting: lighting_buffer(gpu.device()),
         })
     }
 }
@@ -69,10 +70,10 @@ impl Pass for GBufferPass {
         frame: &FrameInputs,
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
-        let missing = |input| RenderError::MissingInput {
+        let missing = |input| RenderError::Config(ConfigError::MissingInput {
             pass: "gbuffer",
             input,
-        };
+        });
         let c = &frame.config;
         let depth = resources.depth.ok_or(missing("pre-Z depth"))?;
         let shadows = resources.shadows.clone().ok_or(missing("shadow atlas"))?;
@@ -91,10 +92,10 @@ impl Pass for GBufferPass {
         let list = resources
             .scene_draws
             .clone()
-            .ok_or(RenderError::MissingInput {
+            .ok_or(RenderError::Config(ConfigError::MissingInput {
                 pass: "gbuffer",
                 input: "the scene's draw batches (scene culling)",
-            })?;
+            }))?;
         let mut pass = graph.add_pass(self.name());
         pass.read_texture(depth, TextureAccess::DepthRead)
             .read_texture(shadows.atlas, TextureAccess::Sampled)

@@ -9,6 +9,7 @@
 //! attached: the fragment reads the depth from the G-buffer and discards the pixels the light
 //! does not reach. Edge pixels (the base pass's bits) are shaded per sample.
 
+use crate::frame_data::ConfigError;
 use shaders_gen::deferred::light_volume;
 use shaders_gen::shared::light_spheres;
 
@@ -35,16 +36,16 @@ pub struct LightVolumePass {
 impl LightVolumePass {
     pub fn new(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
         let msaa = light_volume::Msaa::from_value(config.msaa).ok_or_else(|| {
-            RenderError::SampleCount {
+            RenderError::Config(ConfigError::SampleCount {
                 asked: config.msaa,
                 supported: light_volume::Msaa::ALL.iter().map(|m| m.value()).collect(),
-            }
+            })
         })?;
         let variant = light_volume::variant(light_volume::VariantKey { msaa });
-        let program = ShaderProgram::new(&gpu.device, gpu.capabilities(), variant)?;
-        let pipeline = volume_pipeline(&gpu.device, &program);
+        let program = ShaderProgram::new(gpu.device(), gpu.capabilities(), variant)?;
+        let pipeline = volume_pipeline(gpu.device(), &program);
         let buffer = |label, size, usage| {
-            gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            gpu.device().create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
                 size,
                 usage,
@@ -120,7 +121,7 @@ impl Pass for LightVolumePass {
         upload_spheres(&self.gpu, &mut self.spheres, frame);
         let params = kernel_params(frame, frame.lights.punctual.len() as u32, false);
         self.gpu
-            .queue
+            .queue()
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
         Ok(())
     }
@@ -131,10 +132,10 @@ impl Pass for LightVolumePass {
         frame: &FrameInputs,
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
-        let missing = |input| RenderError::MissingInput {
+        let missing = |input| RenderError::Config(ConfigError::MissingInput {
             pass: "light volumes",
             input,
-        };
+        });
         let depth = resources.depth.ok_or(missing("pre-Z depth"))?;
         let gbuffer = resources.gbuffer.ok_or(missing("G-buffer"))?;
         let shadows = resources.shadows.clone().ok_or(missing("shadow atlas"))?;

@@ -9,4 +9,6 @@ pub mod tiled_shading;
 
 pub use gbuffer::GBufferPass;
 pub use light_volumes::LightVolumePass;
-pub use tiled_shading::{TbdrPass, TbdrRecord};
+pub use tiled_shading::TbdrPass;
+#[cfg(any(test, feature = "internals"))]
+pub use tiled_shading::TbdrRecord;

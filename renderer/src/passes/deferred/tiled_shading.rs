@@ -8,6 +8,7 @@
 //! only), every frame's edge pixels marked in a buffer that the light volumes read
 //! ([`FrameResources::deferred_edges`]).
 
+use crate::frame_data::ConfigError;
 use shaders_gen::deferred::{gbuffer_read::tbdr_gbuffer, tbdr};
 use shaders_gen::shared::light_spheres;
 
@@ -22,6 +23,7 @@ use crate::shader::ShaderProgram;
 
 /// What a recording frame left: which pixels were shaded per sample, and the G-buffer.
 #[derive(Debug, Clone)]
+#[cfg(any(test, feature = "internals"))]
 pub struct TbdrRecord {
     pub width: u32,
     pub height: u32,
@@ -34,8 +36,10 @@ pub struct TbdrRecord {
     pub gbuffer: Vec<f32>,
 }
 
+#[cfg(any(test, feature = "internals"))]
 impl TbdrRecord {
     /// Whether pixel `(x, y)` was shaded per sample.
+    #[cfg(any(test, feature = "internals"))]
     pub fn is_edge(&self, x: u32, y: u32) -> bool {
         let bit = (y * self.width + x) as usize;
         self.edge_bits
@@ -44,11 +48,13 @@ impl TbdrRecord {
     }
 
     /// Pixels shaded per sample.
+    #[cfg(any(test, feature = "internals"))]
     pub fn edge_count(&self) -> u32 {
         self.edge_bits.iter().map(|w| w.count_ones()).sum()
     }
 
     /// Sample `s` of pixel `(x, y)`: `tbdr::CAPTURE_WORDS` floats.
+    #[cfg(any(test, feature = "internals"))]
     pub fn sample(&self, x: u32, y: u32, s: u32) -> &[f32] {
         let words = tbdr::CAPTURE_WORDS as usize;
         let at = (((y * self.width + x) * self.msaa + s) as usize) * words;
@@ -91,7 +97,7 @@ impl TbdrPass {
         let tile = match config.tile {
             8 => tbdr::Tile::T8,
             16 => tbdr::Tile::T16,
-            t => return Err(RenderError::TbdrTile(t)),
+            t => return Err(RenderError::Config(ConfigError::TbdrTile(t))),
         };
         let msaa = variant_msaa(config.msaa)?;
         let base_only = config.path == RenderPath::Deferred;
@@ -101,9 +107,9 @@ impl TbdrPass {
             scalarize: config.scalarize && !base_only,
             defer: config.path == RenderPath::TbdrPerSample && config.msaa > 1,
         };
-        let program = ShaderProgram::new(&gpu.device, gpu.capabilities(), tbdr::variant(key)?)?;
+        let program = ShaderProgram::new(gpu.device(), gpu.capabilities(), tbdr::variant(key)?)?;
         let storage = |label, size| {
-            gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            gpu.device().create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
                 size,
                 usage: wgpu::BufferUsages::STORAGE
@@ -114,10 +120,10 @@ impl TbdrPass {
         };
         Ok(Self {
             gpu: gpu.clone(),
-            shade: program.compute_pipeline(&gpu.device, "shade")?,
-            capture: program.compute_pipeline(&gpu.device, "capture_gbuffer")?,
+            shade: program.compute_pipeline(gpu.device(), "shade")?,
+            capture: program.compute_pipeline(gpu.device(), "capture_gbuffer")?,
             program,
-            params: gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            params: gpu.device().create_buffer(&wgpu::BufferDescriptor {
                 label: Some("tbdr params"),
                 size: size_of::<tbdr::TbdrParams>() as u64,
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
@@ -134,6 +140,7 @@ impl TbdrPass {
 
     /// Makes every following frame record which pixels it shaded per sample, and a copy of its
     /// G-buffer ([`Self::recorded`]). Costs a G-buffer copy per frame: for tools and tests.
+    #[cfg(any(test, feature = "internals"))]
     pub fn set_recording(&mut self, on: bool) {
         self.record = on;
         if !on {
@@ -142,11 +149,12 @@ impl TbdrPass {
     }
 
     /// What the last recording frame left (blocking readback); `None` before one.
+    #[cfg(any(test, feature = "internals"))]
     pub fn recorded(&self) -> Result<Option<TbdrRecord>, RenderError> {
         let Some(r) = &self.recording else {
             return Ok(None);
         };
-        let (device, queue) = (&self.gpu.device, &self.gpu.queue);
+        let (device, queue) = (self.gpu.device(), self.gpu.queue());
         Ok(Some(TbdrRecord {
             width: r.size.0,
             height: r.size.1,
@@ -159,10 +167,10 @@ impl TbdrPass {
 
 /// The `tbdr` module's MSAA axis value for `msaa` samples.
 pub(super) fn variant_msaa(msaa: u32) -> Result<tbdr::Msaa, RenderError> {
-    tbdr::Msaa::from_value(msaa).ok_or_else(|| RenderError::SampleCount {
+    tbdr::Msaa::from_value(msaa).ok_or_else(|| RenderError::Config(ConfigError::SampleCount {
         asked: msaa,
         supported: tbdr::Msaa::ALL.iter().map(|m| m.value()).collect(),
-    })
+    }))
 }
 
 /// The `tbdr` module's parameters for `frame`, with `light_count` punctual lights culled and
@@ -205,14 +213,14 @@ pub(super) fn upload_spheres(gpu: &GpuContext, buffer: &mut wgpu::Buffer, frame:
         .collect();
     let bytes: &[u8] = bytemuck::cast_slice(&spheres);
     if bytes.len() as u64 > buffer.size() {
-        *buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        *buffer = gpu.device().create_buffer(&wgpu::BufferDescriptor {
             label: Some("tbdr light spheres"),
             size: (bytes.len() as u64).next_power_of_two(),
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
     }
-    gpu.queue.write_buffer(buffer, 0, bytes);
+    gpu.queue().write_buffer(buffer, 0, bytes);
 }
 
 impl Pass for TbdrPass {
@@ -230,7 +238,7 @@ impl Pass for TbdrPass {
         let params = if self.base_only {
             let edge_bytes = pixels.div_ceil(32) * 4;
             if edge_bytes > self.edges.size() {
-                self.edges = self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                self.edges = self.gpu.device().create_buffer(&wgpu::BufferDescriptor {
                     label: Some("deferred edge bits"),
                     size: edge_bytes,
                     usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
@@ -243,13 +251,13 @@ impl Pass for TbdrPass {
             kernel_params(frame, frame.lights.punctual.len() as u32, self.record)
         };
         self.gpu
-            .queue
+            .queue()
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
         let size = (c.width, c.height);
         let stale = |r: &Recording| r.size != size || r.msaa != c.msaa;
         if self.record && self.recording.as_ref().is_none_or(stale) {
             let buffer = |label, size: u64| {
-                self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                self.gpu.device().create_buffer(&wgpu::BufferDescriptor {
                     label: Some(label),
                     size: size.max(4),
                     usage: wgpu::BufferUsages::STORAGE
@@ -277,10 +285,10 @@ impl Pass for TbdrPass {
         frame: &FrameInputs,
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
-        let missing = |input| RenderError::MissingInput {
+        let missing = |input| RenderError::Config(ConfigError::MissingInput {
             pass: self.name(),
             input,
-        };
+        });
         let c = &frame.config;
         let depth = resources.depth.ok_or(missing("pre-Z depth"))?;
         let gbuffer = resources.gbuffer.ok_or(missing("G-buffer"))?;

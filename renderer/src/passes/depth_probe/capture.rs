@@ -6,14 +6,13 @@
 //! depth and copies the light grid in the same submission; `Renderer::take_capture` reads both
 //! back (blocking).
 
+use crate::frame_data::ConfigError;
 use glam::{UVec2, Vec3};
 use shaders_gen::inspect::depth_probe;
 use wgpu::util::DeviceExt as _;
 
 use crate::GpuContext;
-// The capture measures a frame against the CPU reference (a tool's use of it, not rendering).
-use crate::culling::reference::exact::Efficiency;
-use crate::culling::reference::{DepthBuffer, standard_sample_offset};
+use crate::culling::depth::{DepthBuffer, Efficiency, standard_sample_offset};
 use crate::culling::{CullCamera, LightSphere, Method};
 use crate::readback;
 use crate::shader::ShaderProgram;
@@ -29,15 +28,15 @@ impl ProbePipeline {
     pub fn new(gpu: &GpuContext, msaa: u32) -> Result<Self, crate::frame_data::RenderError> {
         let key = depth_probe::VariantKey {
             msaa: depth_probe::Msaa::from_value(msaa).ok_or(
-                crate::frame_data::RenderError::SampleCount {
+                crate::frame_data::RenderError::Config(ConfigError::SampleCount {
                     asked: msaa,
                     supported: vec![1, 2, 4, 8],
-                },
+                }),
             )?,
         };
         let program =
-            ShaderProgram::new(&gpu.device, gpu.capabilities(), depth_probe::variant(key))?;
-        let pipeline = program.compute_pipeline(&gpu.device, "probe")?;
+            ShaderProgram::new(gpu.device(), gpu.capabilities(), depth_probe::variant(key))?;
+        let pipeline = program.compute_pipeline(gpu.device(), "probe")?;
         Ok(Self { program, pipeline })
     }
 }
@@ -94,10 +93,10 @@ pub struct PendingCapture {
 
 impl PendingCapture {
     pub fn read_back(self, gpu: &GpuContext) -> Result<FrameCapture, crate::GpuError> {
-        let probes = readback::read_buffer::<f32>(&gpu.device, &gpu.queue, &self.probe.output)?;
+        let probes = readback::read_buffer::<f32>(gpu.device(), gpu.queue(), &self.probe.output)?;
         let cell_counts = match &self.grid_copy {
             Some(b) => Some(
-                readback::read_buffer::<UVec2>(&gpu.device, &gpu.queue, b)?
+                readback::read_buffer::<UVec2>(gpu.device(), gpu.queue(), b)?
                     .iter()
                     .map(|c| c.y)
                     .collect(),
@@ -122,6 +121,7 @@ impl PendingCapture {
 pub struct FrameCapture {
     /// The frame's camera as culling saw it (size included).
     pub camera: CullCamera,
+    /// Samples per pixel of the captured depth.
     pub msaa: u32,
     /// Pixels between probes.
     pub stride: u32,
@@ -140,7 +140,9 @@ pub struct FrameCapture {
 /// One probe that hit a surface.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SurfaceProbe {
+    /// Pixel column.
     pub x: u32,
+    /// Pixel row.
     pub y: u32,
     /// View-space position of the sample.
     pub position: Vec3,

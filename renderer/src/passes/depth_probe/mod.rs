@@ -4,6 +4,7 @@
 
 pub mod capture;
 
+use crate::frame_data::ConfigError;
 use std::sync::Arc;
 
 use capture::{PendingCapture, ProbeGpu, ProbePipeline};
@@ -49,7 +50,7 @@ impl Pass for DepthProbePass {
             self.kernel = Some(Arc::new(ProbePipeline::new(&frame.gpu, frame.config.msaa)?));
         }
         if let Some(kernel) = &self.kernel {
-            let probe = ProbeGpu::new(&frame.gpu.device, kernel, frame.screen(), stride);
+            let probe = ProbeGpu::new(frame.gpu.device(), kernel, frame.screen(), stride);
             self.current = Some(Arc::new(probe));
         }
         Ok(())
@@ -64,7 +65,7 @@ impl Pass for DepthProbePass {
         let Some(probe) = self.current.clone() else {
             return Ok(());
         };
-        let depth = resources.depth.ok_or(RenderError::CaptureNeedsDepth)?;
+        let depth = resources.depth.ok_or(RenderError::Config(ConfigError::CaptureNeedsDepth))?;
         let mut probes = resources.import_buffer(
             graph,
             "depth probes",
@@ -123,7 +124,7 @@ impl Pass for DepthProbePass {
         };
         let lists = resources.light_lists.as_ref();
         let grid_copy = lists.map(|l| {
-            let copy = frame.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            let copy = frame.gpu.device().create_buffer(&wgpu::BufferDescriptor {
                 label: Some("captured light grid"),
                 size: l.grid_buffer.size(),
                 usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,

@@ -57,7 +57,7 @@ impl FrameGroup {
         let uniform = lighting_uniform(frame, lists.as_ref());
         frame
             .gpu
-            .queue
+            .queue()
             .write_buffer(lighting, 0, bytemuck::bytes_of(&uniform));
         Self {
             camera: frame.camera_uniform.buffer.clone(),

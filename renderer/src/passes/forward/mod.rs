@@ -15,6 +15,7 @@ pub(crate) mod programs;
 pub(crate) use bindings::{FrameGroup, lighting_buffer};
 pub(crate) use programs::MaterialPipelines;
 
+use crate::frame_data::ConfigError;
 use std::sync::Arc;
 
 use shaders_gen::deferred::hdr_expand;
@@ -78,14 +79,14 @@ impl ForwardPass {
         let scalarize = config.scalarize && config.path.is_culled();
         let prepass = config.path.has_prepass();
         let make = |program: &ShaderProgram, faces| {
-            pipeline(&gpu.device, program, config.msaa, prepass, faces)
+            pipeline(gpu.device(), program, config.msaa, prepass, faces)
         };
         let opaque =
             MaterialPipelines::new(gpu, materials, (list, false, scalarize), |p, d, m| {
                 make(p, (false, d, m))
             })?;
         let blended = ShaderProgram::new(
-            &gpu.device,
+            gpu.device(),
             gpu.capabilities(),
             forward::variant(forward::VariantKey {
                 list: forward::List::from_value(list).unwrap_or(forward::List::List0),
@@ -103,7 +104,7 @@ impl ForwardPass {
                 blended: make(&blended, (true, true, false)),
                 opaque,
             }),
-            lighting: lighting_buffer(&gpu.device),
+            lighting: lighting_buffer(gpu.device()),
             expand,
         })
     }
@@ -113,12 +114,12 @@ impl Expand {
     fn new(gpu: &GpuContext, msaa: u32) -> Result<Self, RenderError> {
         use shaders_gen::deferred::hdr_expand;
         let program = ShaderProgram::new(
-            &gpu.device,
+            gpu.device(),
             gpu.capabilities(),
             hdr_expand::variant(hdr_expand::VariantKey {}),
         )?;
         let pipeline = gpu
-            .device
+            .device()
             .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some("hdr expand"),
                 layout: Some(&program.pipeline_layout),
@@ -224,10 +225,10 @@ impl Pass for ForwardPass {
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
         let c = &frame.config;
-        let missing = |input| RenderError::MissingInput {
+        let missing = |input| RenderError::Config(ConfigError::MissingInput {
             pass: "forward",
             input,
-        };
+        });
         let deferred = c.path.is_deferred();
         let has_blend = frame.scene.has_blended();
         if deferred && !has_blend && frame.particles.is_none() {

@@ -8,6 +8,7 @@
 
 mod sizing;
 
+use crate::frame_data::ConfigError;
 use std::sync::Arc;
 
 use super::Pass;
@@ -35,8 +36,11 @@ pub const CLUSTER_SLICES: u32 = 32;
 /// The light culler of the configured path.
 #[derive(Debug, Clone)]
 pub enum Culler {
+    /// No culling: every light shades every pixel.
     Naive,
+    /// Screen tiles (tiled and 2.5D).
     Tiled(Arc<TiledCulling>),
+    /// View-space clusters.
     Clustered(Arc<ClusteredCulling>),
 }
 
@@ -124,11 +128,11 @@ impl LightCullPass {
             particle_culler: None,
             built_for: (0, 0),
             counters: ReadbackRing::new(
-                &gpu.device,
+                gpu.device(),
                 "cull counters readback",
                 2 * CullCounters::WORDS,
             ),
-            index_capacity: max_index_entries(&gpu.device).min(INITIAL_INDEX_ENTRIES),
+            index_capacity: max_index_entries(gpu.device()).min(INITIAL_INDEX_ENTRIES),
             last_counters: None,
         }
     }
@@ -161,7 +165,7 @@ impl LightCullPass {
         let particle_lists = particles && path.is_culled() && path != RenderPath::Clustered;
         let bound =
             sizing::frame_entry_bound(frame, path, has_blend, particle_lists, CLUSTER_SLICES);
-        let limit = max_index_entries(&self.gpu.device);
+        let limit = max_index_entries(self.gpu.device());
         self.index_capacity = sizing::grown_capacity(bound, self.index_capacity, limit);
         self.ensure_particle_culler(frame, particle_lists, items)?;
         let same_size = self.built_for == (c.width, c.height);
@@ -287,7 +291,7 @@ impl LightCullPass {
     /// Picks up culling counters that have arrived; on overflow, warns and grows the index list
     /// for the next frame (up to one storage binding; past that the overflow stays reported).
     fn poll_counters(&mut self) {
-        let Some((_, words)) = self.counters.poll(&self.gpu.device) else {
+        let Some((_, words)) = self.counters.poll(self.gpu.device()) else {
             return;
         };
         let (frame_words, particle_words) = words.split_at(CullCounters::WORDS as usize);
@@ -303,7 +307,7 @@ impl LightCullPass {
         if counters.dropped == 0 {
             return;
         }
-        let limit = max_index_entries(&self.gpu.device);
+        let limit = max_index_entries(self.gpu.device());
         let grown = grow_for(&counters, self.index_capacity)
             .map(|index| index.min(limit))
             .filter(|&index| index > self.index_capacity);
@@ -411,10 +415,10 @@ impl Pass for LightCullPass {
         let (Some(lists), Some(method)) = (self.culler.lists(), self.culler.method()) else {
             return Ok(());
         };
-        let depth = resources.depth.ok_or(RenderError::MissingInput {
+        let depth = resources.depth.ok_or(RenderError::Config(ConfigError::MissingInput {
             pass: "light culling",
             input: "depth buffer",
-        })?;
+        }))?;
         let mut grid =
             resources.import_buffer(graph, "light grid", &lists.grid, ImportAccess::ReadWrite);
         let mut indices = resources.import_buffer(

@@ -80,7 +80,7 @@ impl ParticleAtlas {
         sort: &GpuSort,
         side: u32,
     ) -> Result<Self, RenderError> {
-        let device = &gpu.device;
+        let device = gpu.device();
         let capacity = sim.system().capacity;
         let (min, max) = (
             Self::min_side(capacity),
@@ -158,6 +158,7 @@ impl ParticleAtlas {
 
     /// Records sizing, planning and allocation for `camera` on a target `height` pixels high,
     /// after the simulation's step. Keeps the count of frames that shrank; clears the rest.
+    #[cfg(any(test, feature = "internals"))]
     pub fn record(
         &self,
         queue: &wgpu::Queue,
@@ -202,8 +203,9 @@ impl ParticleAtlas {
     }
 
     /// Reads the layout's report back (blocking; for tools and tests).
+    #[cfg(any(test, feature = "internals"))]
     pub fn read_report(&self, gpu: &GpuContext) -> Result<AtlasReport, RenderError> {
-        let s: Vec<u32> = crate::readback::read_buffer(&gpu.device, &gpu.queue, &self.state)?;
+        let s: Vec<u32> = crate::readback::read_buffer(gpu.device(), gpu.queue(), &self.state)?;
         Ok(AtlasReport::from_words(&s))
     }
 }

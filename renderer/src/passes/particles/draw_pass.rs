@@ -6,6 +6,7 @@
 //! validation reports). Lit from the atlas or, on the reference path, per pixel with the same
 //! lights and shadows.
 
+use crate::frame_data::ConfigError;
 use shaders_gen::particles::particle_draw::{self, List, VariantKey};
 use shaders_gen::particles::particle_lighting;
 
@@ -40,11 +41,11 @@ impl ParticleDrawPass {
             msaa: config.msaa > 1,
         };
         let program = ShaderProgram::new(
-            &gpu.device,
+            gpu.device(),
             gpu.capabilities(),
             particle_draw::variant(key)?,
         )?;
-        let pipeline = pipeline(&gpu.device, &program, config.msaa);
+        let pipeline = pipeline(gpu.device(), &program, config.msaa);
         Ok(Self {
             program,
             pipeline,
@@ -103,10 +104,10 @@ impl Pass for ParticleDrawPass {
         frame: &FrameInputs,
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
-        let missing = |input| RenderError::MissingInput {
+        let missing = |input| RenderError::Config(ConfigError::MissingInput {
             pass: "particles",
             input,
-        };
+        });
         let Some(particles) = resources.particles.clone() else {
             return Ok(());
         };

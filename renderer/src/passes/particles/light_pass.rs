@@ -3,6 +3,7 @@
 //! `Rg11b10Ufloat` atlas the draw samples. It runs after light culling and the shadow atlas,
 //! and only when particles are lit through the atlas.
 
+use crate::frame_data::ConfigError;
 use shaders_gen::particles::{particle_light, particle_lighting};
 
 use crate::GpuContext;
@@ -30,12 +31,12 @@ impl ParticleLightPass {
             },
         };
         let program = ShaderProgram::new(
-            &gpu.device,
+            gpu.device(),
             gpu.capabilities(),
             particle_light::variant(key),
         )?;
         Ok(Self {
-            pipeline: program.compute_pipeline(&gpu.device, "light_atlas")?,
+            pipeline: program.compute_pipeline(gpu.device(), "light_atlas")?,
             program,
         })
     }
@@ -56,10 +57,10 @@ impl Pass for ParticleLightPass {
         frame: &FrameInputs,
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
-        let missing = |input| RenderError::MissingInput {
+        let missing = |input| RenderError::Config(ConfigError::MissingInput {
             pass: "particle lighting",
             input,
-        };
+        });
         let Some(particles) = resources.particles.clone() else {
             return Ok(());
         };

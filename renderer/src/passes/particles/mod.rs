@@ -23,5 +23,7 @@ pub use super::gpu_sort::GpuSort;
 pub use atlas::{AtlasReport, ParticleAtlas};
 pub use draw_pass::ParticleDrawPass;
 pub use light_pass::ParticleLightPass;
-pub use simulate::{ParticleSimulation, SimCounters};
+pub use simulate::ParticleSimulation;
+#[cfg(any(test, feature = "internals"))]
+pub use simulate::SimCounters;
 pub use simulate_pass::ParticleSimPass;

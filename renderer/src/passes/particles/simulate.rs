@@ -13,6 +13,7 @@ use crate::shader::ShaderProgram;
 
 /// What the counters say after a step.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg(any(test, feature = "internals"))]
 pub struct SimCounters {
     /// Free slots.
     pub dead: u32,
@@ -73,7 +74,7 @@ impl ParticleSimulation {
 
     /// Validates `system` and uploads an empty pool (every slot on the dead list).
     pub fn new(gpu: &GpuContext, system: ParticleSystem) -> Result<Self, RenderError> {
-        let device = &gpu.device;
+        let device = gpu.device();
         system.validate(Self::max_capacity(device))?;
         let variant = particle_sim::variant(particle_sim::VariantKey::ALL[0]);
         let program = ShaderProgram::new(device, gpu.capabilities(), variant)?;
@@ -224,18 +225,19 @@ impl ParticleSimulation {
     pub fn advance(&self, gpu: &GpuContext, steps: u32) {
         for _ in 0..steps {
             let mut encoder = gpu
-                .device
+                .device()
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                     label: Some("particle steps"),
                 });
-            self.record_step(&gpu.queue, &mut encoder);
-            gpu.queue.submit([encoder.finish()]);
+            self.record_step(gpu.queue(), &mut encoder);
+            gpu.queue().submit([encoder.finish()]);
         }
     }
 
     /// Reads the counters back (blocking; for tools and tests).
+    #[cfg(any(test, feature = "internals"))]
     pub fn read_counters(&self, gpu: &GpuContext) -> Result<SimCounters, RenderError> {
-        let c: Vec<i32> = crate::readback::read_buffer(&gpu.device, &gpu.queue, &self.counters)?;
+        let c: Vec<i32> = crate::readback::read_buffer(gpu.device(), gpu.queue(), &self.counters)?;
         Ok(SimCounters {
             dead: c[0].max(0) as u32,
             alive: c[1].max(0) as u32,
@@ -244,15 +246,17 @@ impl ParticleSimulation {
     }
 
     /// Reads every slot back (blocking; for tools and tests).
+    #[cfg(any(test, feature = "internals"))]
     pub fn read_slots(&self, gpu: &GpuContext) -> Result<Vec<GpuParticle>, RenderError> {
         Ok(crate::readback::read_buffer(
-            &gpu.device,
-            &gpu.queue,
+            gpu.device(),
+            gpu.queue(),
             &self.particles,
         )?)
     }
 
     /// Reads every live particle back (blocking; for tools and tests), in slot order.
+    #[cfg(any(test, feature = "internals"))]
     pub fn read_alive(&self, gpu: &GpuContext) -> Result<Vec<GpuParticle>, RenderError> {
         let all = self.read_slots(gpu)?;
         Ok(all.into_iter().filter(|p| p.alive != 0).collect())

@@ -43,14 +43,14 @@ impl ParticleSimPass {
             system: None,
             follows: None,
             births: 0,
-            readback: ReadbackRing::new(&gpu.device, "particle counters readback", REPORT_WORDS),
+            readback: ReadbackRing::new(gpu.device(), "particle counters readback", REPORT_WORDS),
             last: None,
         }
     }
 
     /// The newest particle counters that have arrived (polling first; none without particles).
     pub fn report(&mut self) -> Option<ParticleReport> {
-        if let Some((frame, words)) = self.readback.poll(&self.gpu.device) {
+        if let Some((frame, words)) = self.readback.poll(self.gpu.device()) {
             let layout = super::AtlasReport::from_words(&words[4..]);
             if layout.shrink > 0 {
                 log::warn!(
@@ -123,11 +123,11 @@ impl Pass for ParticleSimPass {
         }
         if let Some(system) = &self.system {
             if main.is_none() {
-                self.births = system.sim.write_step(&frame.gpu.queue);
+                self.births = system.sim.write_step(frame.gpu.queue());
             }
             system
                 .atlas
-                .write_params(&frame.gpu.queue, &frame.camera, frame.config.height);
+                .write_params(frame.gpu.queue(), &frame.camera, frame.config.height);
         }
         Ok(())
     }

@@ -61,7 +61,7 @@ impl ParticleGpu {
         generation: u64,
         side: u32,
     ) -> Result<Self, RenderError> {
-        let device = &gpu.device;
+        let device = gpu.device();
         let capacity = sim.system().capacity;
         let max = GpuSort::max_items(device);
         if capacity > max {
@@ -153,15 +153,15 @@ impl ParticleGpu {
         );
         frame
             .gpu
-            .queue
+            .queue()
             .write_buffer(&self.view, 0, bytemuck::bytes_of(&view));
     }
 }
 
 /// The built-in sprites as a texture array with its mip levels.
 fn sprite_array(gpu: &GpuContext) -> wgpu::TextureView {
-    let texture = gpu.device.create_texture_with_data(
-        &gpu.queue,
+    let texture = gpu.device().create_texture_with_data(
+        gpu.queue(),
         &wgpu::TextureDescriptor {
             label: Some("particle sprites"),
             size: wgpu::Extent3d {

@@ -4,6 +4,7 @@
 //! the draws' indirect arguments in that order. The CPU uploads the frame's frustum and eye and
 //! nothing per draw; the templates are written again only when the blended draws change.
 
+use crate::frame_data::InputError;
 use std::sync::Arc;
 
 use shaders_gen::culling::blended_order::{self, BlendedParams};
@@ -26,7 +27,7 @@ pub struct BlendedKernels {
 
 impl BlendedKernels {
     pub fn new(gpu: &GpuContext) -> Result<Self, RenderError> {
-        let device = &gpu.device;
+        let device = gpu.device();
         let variant = blended_order::variant(blended_order::VariantKey::ALL[0]);
         let program = ShaderProgram::new(device, gpu.capabilities(), variant)?;
         Ok(Self {
@@ -70,9 +71,9 @@ impl BlendedOrder {
         boxes: &wgpu::Buffer,
     ) -> Result<Self, RenderError> {
         let count = draws.len() as u32;
-        let max = GpuSort::max_items(&gpu.device);
+        let max = GpuSort::max_items(gpu.device());
         if count > max {
-            return Err(RenderError::TooManyBlendedDraws { count, max });
+            return Err(RenderError::Input(InputError::TooManyBlendedDraws { count, max }));
         }
         let usage = wgpu::BufferUsages::empty();
         let sort = GpuSort::with_kernels(gpu, &kernels.sort, count, usage)?;
@@ -80,7 +81,7 @@ impl BlendedOrder {
             .iter()
             .flat_map(|&d| table.draws[d as usize].geometry.indirect_args(d))
             .collect();
-        let device = &gpu.device;
+        let device = gpu.device();
         let templates = wgpu::util::DeviceExt::create_buffer_init(
             device,
             &wgpu::util::BufferInitDescriptor {

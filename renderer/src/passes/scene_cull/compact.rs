@@ -27,7 +27,7 @@ pub struct CompactKernels {
 
 impl CompactKernels {
     pub fn new(gpu: &GpuContext) -> Result<Self, RenderError> {
-        let device = &gpu.device;
+        let device = gpu.device();
         let variant = draw_compact::variant(draw_compact::VariantKey::ALL[0]);
         let program = ShaderProgram::new(device, gpu.capabilities(), variant)?;
         Ok(Self {
@@ -76,7 +76,7 @@ impl Compaction {
         layout: &BatchLayout,
         sources: &[&wgpu::Buffer],
     ) -> Result<Self, shader_bind::BindError> {
-        let device = &gpu.device;
+        let device = gpu.device();
         let batches = batch_ranges(layout);
         let slot_count = layout.slot_count();
         let block_count = slot_count.div_ceil(BLOCK).max(1);

@@ -17,6 +17,7 @@ mod compact;
 pub mod occlusion;
 mod view_draws;
 
+use crate::frame_data::ConfigError;
 pub use compact::{CompactKernels, Compaction};
 
 use std::sync::Arc;
@@ -61,7 +62,7 @@ pub struct SceneCullPass {
 
 impl SceneCullPass {
     pub fn new(gpu: &GpuContext) -> Result<Self, RenderError> {
-        let device = &gpu.device;
+        let device = gpu.device();
         let variant = instance_cull::variant(instance_cull::VariantKey::ALL[0]);
         let program = ShaderProgram::new(device, gpu.capabilities(), variant)?;
         let pipeline = program.compute_pipeline(device, "cull_frustum")?;
@@ -135,7 +136,7 @@ impl Pass for SceneCullPass {
         if self.culling {
             draws.culled();
         } else {
-            draws.draw_every_slot(&gpu.queue);
+            draws.draw_every_slot(gpu.queue());
         }
         self.compaction = self.compaction_for(gpu, &draws)?;
         let camera = &frame.camera;
@@ -147,10 +148,10 @@ impl Pass for SceneCullPass {
             u32::from(self.occlusion),
             0,
         );
-        gpu.queue
+        gpu.queue()
             .write_buffer(&self.shared.params, 0, bytemuck::bytes_of(&params));
         if let Some(b) = draws.blended.as_ref().filter(|_| self.indirect) {
-            b.prepare(&gpu.queue, &self.shared.blended, camera, c.cull_draws);
+            b.prepare(gpu.queue(), &self.shared.blended, camera, c.cull_draws);
         }
         self.draws = Some(draws);
         Ok(())
@@ -162,10 +163,10 @@ impl Pass for SceneCullPass {
         frame: &FrameInputs,
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
-        let draws = self.draws.as_ref().ok_or(RenderError::MissingInput {
+        let draws = self.draws.as_ref().ok_or(RenderError::Config(ConfigError::MissingInput {
             pass: "scene culling",
             input: "the scene's draws (built in prepare)",
-        })?;
+        }))?;
         let mut args = resources.import_buffer(
             graph,
             "scene draw args",

@@ -7,6 +7,7 @@
 //! The pass adds nothing when scene culling publishes no second phase (culling or occlusion
 //! culling off, a device that cannot draw indirectly).
 
+use crate::frame_data::ConfigError;
 use shaders_gen::culling::{
     depth_pyramid_reduce, depth_pyramid_seed,
     occlusion_cull::{self, Frustum, OcclusionParams},
@@ -124,7 +125,7 @@ impl Pyramid {
 
 impl OcclusionCullPass {
     pub fn new(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
-        let device = &gpu.device;
+        let device = gpu.device();
         let caps = gpu.capabilities();
         let compute = |variant, entry: &str| -> Result<_, RenderError> {
             let program = ShaderProgram::new(device, caps, variant)?;
@@ -132,10 +133,10 @@ impl OcclusionCullPass {
             Ok((program, pipeline))
         };
         let msaa =
-            depth_pyramid_seed::Msaa::from_value(config.msaa).ok_or(RenderError::SampleCount {
+            depth_pyramid_seed::Msaa::from_value(config.msaa).ok_or(RenderError::Config(ConfigError::SampleCount {
                 asked: config.msaa,
                 supported: caps.msaa_counts(),
-            })?;
+            }))?;
         let seed_key = depth_pyramid_seed::VariantKey { msaa };
         Ok(Self {
             seed: compute(depth_pyramid_seed::variant(seed_key), "seed")?,
@@ -160,6 +161,7 @@ impl OcclusionCullPass {
 
 /// One level of the depth pyramid as read back: `width` × `height` texels, row by row.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg(any(test, feature = "internals"))]
 pub struct PyramidLevel {
     pub width: u32,
     pub height: u32,
@@ -169,6 +171,7 @@ pub struct PyramidLevel {
 impl OcclusionCullPass {
     /// The depth pyramid of the newest frame, level 0 first (blocking: tools and tests); empty
     /// before the first frame.
+    #[cfg(any(test, feature = "internals"))]
     pub fn read_pyramid(&self, gpu: &GpuContext) -> Result<Vec<PyramidLevel>, RenderError> {
         let Some(pyramid) = &self.pyramid else {
             return Ok(Vec::new());
@@ -176,8 +179,8 @@ impl OcclusionCullPass {
         (0..pyramid.levels.len() as u32)
             .map(|level| {
                 let bytes = crate::readback::read_texture_level(
-                    &gpu.device,
-                    &gpu.queue,
+                    gpu.device(),
+                    gpu.queue(),
                     &pyramid.texture,
                     level,
                 )?;
@@ -205,7 +208,7 @@ impl Pass for OcclusionCullPass {
     fn prepare(&mut self, frame: &FrameInputs) -> Result<(), RenderError> {
         let size = (frame.config.width, frame.config.height);
         if self.pyramid.as_ref().is_none_or(|p| p.frame != size) {
-            self.pyramid = Some(Pyramid::new(&frame.gpu.device, &self.reduce.0, size)?);
+            self.pyramid = Some(Pyramid::new(frame.gpu.device(), &self.reduce.0, size)?);
         }
         Ok(())
     }
@@ -222,10 +225,10 @@ impl Pass for OcclusionCullPass {
         let Some(mut occlusion) = list.occlusion.clone() else {
             return Ok(());
         };
-        let missing = |input| RenderError::MissingInput {
+        let missing = |input| RenderError::Config(ConfigError::MissingInput {
             pass: "occlusion culling",
             input,
-        };
+        });
         let depth = resources.depth.ok_or(missing("the pre-Z depth"))?;
         let pyramid = self
             .pyramid
@@ -274,7 +277,7 @@ impl OcclusionCullPass {
         );
         frame
             .gpu
-            .queue
+            .queue()
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
     }
 
@@ -352,7 +355,7 @@ impl OcclusionCullPass {
             pyramid: &pyramid.whole,
         }
         .bind_group(
-            &frame.gpu.device,
+            frame.gpu.device(),
             program.layout(0),
             program.variant,
             "occlusion cull",

@@ -101,16 +101,16 @@ impl LaidOut {
         let bytes = |words: usize| (words * 4) as u64;
         let indirect = wgpu::BufferUsages::INDIRECT;
         let args = buffer(
-            &gpu.device,
+            gpu.device(),
             "scene draw args",
             bytes(all_drawn.len()),
             indirect,
         );
-        gpu.queue
+        gpu.queue()
             .write_buffer(&args, 0, bytemuck::cast_slice(&all_drawn));
         let copy = |label: &str| {
-            let b = buffer(&gpu.device, label, bytes(all_drawn.len()), indirect);
-            gpu.queue
+            let b = buffer(gpu.device(), label, bytes(all_drawn.len()), indirect);
+            gpu.queue()
                 .write_buffer(&b, 0, bytemuck::cast_slice(&all_drawn));
             b
         };
@@ -118,19 +118,19 @@ impl LaidOut {
             late: copy("scene draw args, late"),
             all: copy("scene draw args, both phases"),
             history: buffer(
-                &gpu.device,
+                gpu.device(),
                 "scene slot history",
                 bytes(layout.slot_draws.len()),
                 wgpu::BufferUsages::empty(),
             ),
         };
         let slot_draws = buffer(
-            &gpu.device,
+            gpu.device(),
             "scene slot draws",
             bytes(layout.slot_draws.len()),
             wgpu::BufferUsages::empty(),
         );
-        gpu.queue
+        gpu.queue()
             .write_buffer(&slot_draws, 0, bytemuck::cast_slice(&layout.slot_draws));
         Self {
             layout: Arc::new(layout),
@@ -153,12 +153,12 @@ impl ViewDraws {
         let boxes: Vec<DrawBox> = (0..table.draws.len()).map(|d| draw_box(table, d)).collect();
         let box_capacity = boxes.len() + boxes.len() / 4 + 16;
         let box_buffer = buffer(
-            &gpu.device,
+            gpu.device(),
             "scene draw boxes",
             (box_capacity * size_of::<DrawBox>()) as u64,
             wgpu::BufferUsages::empty(),
         );
-        gpu.queue
+        gpu.queue()
             .write_buffer(&box_buffer, 0, bytemuck::cast_slice(&boxes));
         let bounds = boxes
             .iter()
@@ -169,7 +169,7 @@ impl ViewDraws {
         let scene = Arc::clone(&frame.scene);
         let slots = LaidOut::new(gpu, &scene, table);
         let bind_group = bind_group(
-            &gpu.device,
+            gpu.device(),
             shared,
             [
                 &slots.slot_draws,
@@ -255,7 +255,7 @@ impl ViewDraws {
         self.occlusion = slots.occlusion;
         self.slot_draws = slots.slot_draws;
         self.args_all_drawn = true;
-        self.rebind(&gpu.device, shared)
+        self.rebind(gpu.device(), shared)
     }
 
     fn rebind(
@@ -338,7 +338,7 @@ impl ViewDraws {
             let at = slot as usize * 5;
             self.all_drawn[at..at + 5].copy_from_slice(&args);
             let draw = self.layout.slot_draws[slot as usize];
-            let queue = &gpu.queue;
+            let queue = gpu.queue();
             queue.write_buffer(
                 &self.slot_draws,
                 u64::from(slot) * 4,
@@ -391,14 +391,14 @@ impl ViewDraws {
             self.box_capacity = self.boxes.len().max(2 * self.box_capacity);
             let bytes = (self.box_capacity * stride) as u64;
             let usage = wgpu::BufferUsages::empty();
-            self.box_buffer = buffer(&gpu.device, "scene draw boxes", bytes, usage);
-            gpu.queue
+            self.box_buffer = buffer(gpu.device(), "scene draw boxes", bytes, usage);
+            gpu.queue()
                 .write_buffer(&self.box_buffer, 0, bytemuck::cast_slice(&self.boxes));
-            return self.rebind(&gpu.device, shared);
+            return self.rebind(gpu.device(), shared);
         }
         for r in ranges.iter().filter(|r| !r.is_empty()) {
             let bytes = bytemuck::cast_slice(&self.boxes[r.clone()]);
-            gpu.queue
+            gpu.queue()
                 .write_buffer(&self.box_buffer, (r.start * stride) as u64, bytes);
         }
         Ok(())

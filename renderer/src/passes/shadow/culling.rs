@@ -10,6 +10,7 @@
 //! and then drawn in turn. Chunks cost a compute pass and two depth passes over the atlas
 //! each (about 40 µs of GPU and 70 µs of CPU on an H100), so the budget is generous.
 
+use crate::frame_data::InputError;
 use std::ops::Range;
 
 use shaders_gen::shadow::shadow_cull::{
@@ -136,7 +137,7 @@ impl CasterCulling {
     pub const BUDGET_SLOTS: usize = 8 << 20;
 
     pub fn new(gpu: &GpuContext) -> Result<Self, RenderError> {
-        let device = &gpu.device;
+        let device = gpu.device();
         let variant = &shadow_cull::VARIANTS[0];
         let program = ShaderProgram::new(device, gpu.capabilities(), variant)?;
         let pipeline = program.compute_pipeline(device, "cull_casters")?;
@@ -214,7 +215,7 @@ impl CasterCulling {
     pub fn follow(&mut self, frame: &FrameInputs, cache: &CasterCache, changed: Option<&[u32]>) {
         let (scene, table) = (&frame.scene, &frame.instances);
         let key = (scene.id, scene.placement_revision, table.id());
-        let queue = &frame.gpu.queue;
+        let queue = frame.gpu.queue();
         let same = self.follows == Some(key) && self.placed <= table.draws.len();
         let changed = changed.filter(|_| same);
         let Some(changed) = changed.filter(|c| self.place_new(frame, c)) else {
@@ -249,7 +250,7 @@ impl CasterCulling {
             let record = slot_record(table, d);
             frame
                 .gpu
-                .queue
+                .queue()
                 .write_buffer(&self.slots.buffer, at, bytemuck::bytes_of(&record));
         }
         self.placed = count;
@@ -257,7 +258,7 @@ impl CasterCulling {
     }
 
     fn rebuild(&mut self, frame: &FrameInputs, cache: &CasterCache, key: (u32, u64, u32)) {
-        let (device, queue) = (&frame.gpu.device, &frame.gpu.queue);
+        let (device, queue) = (frame.gpu.device(), frame.gpu.queue());
         let table = &frame.instances;
         self.layout = SlotLayout::new(&frame.scene, table);
         let records: Vec<CasterSlot> = self
@@ -299,7 +300,7 @@ impl CasterCulling {
         if items.is_empty() {
             return Ok(());
         }
-        let device = &gpu.device;
+        let device = gpu.device();
         let stride = self.layout.stride().max(1) as usize;
         let max_binding = device.limits().max_storage_buffer_binding_size as usize;
         // One dispatch covers a run with at most 65,535 workgroups along x.
@@ -308,10 +309,10 @@ impl CasterCulling {
             .min(dispatchable)
             .min(Self::BUDGET_SLOTS.max(stride));
         if stride > bindable {
-            return Err(RenderError::TooManyShadowCasters {
+            return Err(RenderError::Input(InputError::TooManyShadowCasters {
                 slots: stride as u32,
                 max: bindable as u32,
-            });
+            }));
         }
         let per_chunk = (bindable / stride).clamp(1, 65_535);
         let runs = items.len().min(per_chunk);
@@ -332,9 +333,9 @@ impl CasterCulling {
             .iter()
             .map(|i| ShadowWork::new(i.view, i.casters, 0, 0))
             .collect();
-        gpu.queue
+        gpu.queue()
             .write_buffer(&self.regions.buffer, 0, bytemuck::cast_slice(&volumes));
-        gpu.queue
+        gpu.queue()
             .write_buffer(&self.work.buffer, 0, bytemuck::cast_slice(&work));
         let mut first = 0;
         while first < items.len() {
@@ -353,7 +354,7 @@ impl CasterCulling {
                 0,
                 0,
             );
-            gpu.queue
+            gpu.queue()
                 .write_buffer(&self.chunks[c].params, 0, bytemuck::bytes_of(&params));
             self.frame_chunks.push(first as u32..end as u32);
             first = end;
@@ -394,11 +395,11 @@ impl CasterCulling {
         gpu: &GpuContext,
         casts: &[shaders_gen::shadow::shadow_caster::Cast],
     ) {
-        if self.casts.reserve(&gpu.device, casts.len(), 8) {
+        if self.casts.reserve(gpu.device(), casts.len(), 8) {
             self.chunks.clear();
         }
         if !casts.is_empty() {
-            gpu.queue
+            gpu.queue()
                 .write_buffer(&self.casts.buffer, 0, bytemuck::cast_slice(casts));
         }
     }

@@ -38,7 +38,7 @@ pub struct ShadowPipelines {
 
 impl ShadowPipelines {
     pub fn new(gpu: &crate::GpuContext) -> Result<Self, RenderError> {
-        let device = &gpu.device;
+        let device = gpu.device();
         let caps = gpu.capabilities();
         let caster_variant =
             |alpha_mask| shadow_caster::variant(shadow_caster::VariantKey { alpha_mask });

@@ -16,10 +16,13 @@ mod slots;
 mod view;
 mod work;
 
+#[cfg(any(test, feature = "internals"))]
 pub use gpu::SHADOW_FORMAT;
 pub use view::ShadowAtlasViewPass;
 
 use std::sync::Arc;
+
+use crate::frame_data::ConfigError;
 
 use shaders_gen::forward::forward;
 use shaders_gen::shadow::shadow_caster;
@@ -76,20 +79,20 @@ impl ShadowPass {
     /// The pass for `config.shadows`; its atlas size must fit the device.
     pub fn new(gpu: &crate::GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
         let s = &config.shadows;
-        let max = gpu.device.limits().max_texture_dimension_2d;
+        let max = gpu.device().limits().max_texture_dimension_2d;
         let min = s
             .min_resolution
             .max(s.cascade_resolution.min(s.max_resolution));
         if s.enabled && !(min..=max).contains(&s.atlas_size) {
-            return Err(RenderError::ShadowAtlasSize {
+            return Err(RenderError::Config(ConfigError::ShadowAtlasSize {
                 asked: s.atlas_size,
                 min,
                 max,
-            });
+            }));
         }
         let pipelines = ShadowPipelines::new(gpu)?;
         let size = if s.enabled { s.atlas_size } else { 1 };
-        let targets = ShadowTargets::new(&gpu.device, &pipelines, size, s.cache, 64)?;
+        let targets = ShadowTargets::new(gpu.device(), &pipelines, size, s.cache, 64)?;
         Ok(Self {
             pipelines,
             targets,
@@ -100,7 +103,7 @@ impl ShadowPass {
             items: Vec::new(),
             listed: None,
             culling: CasterCulling::new(gpu)?,
-            indirect: (gpu.device.features()).contains(wgpu::Features::INDIRECT_FIRST_INSTANCE),
+            indirect: (gpu.device().features()).contains(wgpu::Features::INDIRECT_FIRST_INSTANCE),
             caster_group: None,
             last_report: None,
             casters: None,
@@ -120,6 +123,7 @@ impl ShadowPass {
     }
 
     /// This frame's plan (after `prepare`).
+    #[cfg(any(test, feature = "internals"))]
     pub fn plan(&self) -> &FramePlan {
         &self.plan
     }
@@ -129,7 +133,7 @@ impl ShadowPass {
         let views = &self.plan.views;
         if views.len() > self.targets.capacity {
             let capacity = views.len().next_power_of_two();
-            self.targets.grow(&frame.gpu.device, capacity);
+            self.targets.grow(frame.gpu.device(), capacity);
             // New buffers hold nothing yet.
             self.uploaded.clear();
         }
@@ -146,7 +150,7 @@ impl ShadowPass {
             .iter()
             .map(|v| shadow_caster::CasterView::new(v.view.clip_from_world))
             .collect();
-        let queue = &frame.gpu.queue;
+        let queue = frame.gpu.queue();
         queue.write_buffer(&self.targets.views, 0, bytemuck::cast_slice(&records));
         queue.write_buffer(
             &self.targets.caster_views,
@@ -184,7 +188,7 @@ impl ShadowPass {
         let current =
             (self.caster_group.as_ref()).is_some_and(|(v, c, _)| v == views && c == casts);
         if !current {
-            let group = self.pipelines.caster_group(&gpu.device, views, casts)?;
+            let group = self.pipelines.caster_group(gpu.device(), views, casts)?;
             self.caster_group = Some((views.clone(), casts.clone(), group));
         }
         Ok(())
@@ -203,7 +207,7 @@ impl ShadowPass {
                 vec![NO_SHADOW; directional.len()],
             ),
         };
-        let queue = &frame.gpu.queue;
+        let queue = frame.gpu.queue();
         let field = std::mem::offset_of!(forward::GpuLight, shadow) as u64;
         let stride = size_of::<forward::GpuLight>() as u64;
         let buffers = [

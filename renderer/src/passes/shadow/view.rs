@@ -2,6 +2,7 @@
 //! drawn into the output, letterboxed, depth as grey, each region outlined in its light's
 //! colour. Tools label the regions from [`crate::shadow::ShadowReport::regions`].
 
+use crate::frame_data::ConfigError;
 use shaders_gen::shadow::shadow_atlas_view;
 use wgpu::util::DeviceExt as _;
 
@@ -22,14 +23,14 @@ pub struct ShadowAtlasViewPass {
 impl ShadowAtlasViewPass {
     pub fn new(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
         let program = ShaderProgram::new(
-            &gpu.device,
+            gpu.device(),
             gpu.capabilities(),
             &shadow_atlas_view::VARIANTS[0],
         )?;
         Ok(Self {
-            pipeline: fullscreen_pipeline(&gpu.device, &program, "fs_atlas", config.output_format),
+            pipeline: fullscreen_pipeline(gpu.device(), &program, "fs_atlas", config.output_format),
             program,
-            params: gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            params: gpu.device().create_buffer(&wgpu::BufferDescriptor {
                 label: Some("shadow atlas view"),
                 size: size_of::<shadow_atlas_view::AtlasViewParams>() as u64,
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
@@ -50,10 +51,10 @@ impl Pass for ShadowAtlasViewPass {
         frame: &FrameInputs,
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
-        let shadows = resources.shadows.clone().ok_or(RenderError::MissingInput {
+        let shadows = resources.shadows.clone().ok_or(RenderError::Config(ConfigError::MissingInput {
             pass: "shadow atlas view",
             input: "shadow atlas",
-        })?;
+        }))?;
         let mut regions: Vec<[u32; 4]> = shadows.regions.to_vec();
         let count = regions.len() as u32;
         if regions.is_empty() {
@@ -64,12 +65,12 @@ impl Pass for ShadowAtlasViewPass {
             shadows.atlas_view.texture().width(),
             count,
         );
-        let queue = &frame.gpu.queue;
+        let queue = frame.gpu.queue();
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
         let region_buffer =
             frame
                 .gpu
-                .device
+                .device()
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
                     label: Some("shadow atlas view regions"),
                     contents: bytemuck::cast_slice(&regions),

@@ -15,8 +15,11 @@ use crate::scene::{Filter, Image, TextureSampler, Wrap};
 /// colour (base colour, emissive) or data (normals, metallic-roughness, occlusion).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct AtlasKey {
+    /// Index into the images the atlas is given (the scene's [`crate::scene::Scene::images`]).
     pub image: usize,
+    /// Its wrap modes decide the stored border; its filters go to the shader's record.
     pub sampler: TextureSampler,
+    /// `true`: sRGB colour, mipmapped in linear light; `false`: linear data.
     pub colour: bool,
 }
 

@@ -34,13 +34,28 @@ use levels::{
 /// What the atlas cannot hold.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum AtlasError {
+    /// An [`AtlasKey::image`] is past the images given.
     #[error("material texture names image {image}, but the scene has {images} images")]
-    UnknownImage { image: usize, images: usize },
+    UnknownImage {
+        /// The image index asked for.
+        image: usize,
+        /// How many images were given.
+        images: usize,
+    },
+    /// The packed textures need more array layers than the device's
+    /// `max_texture_array_layers`.
     #[error(
         "the material textures need {layers} atlas layers of {size}×{size} texels; the device \
          allows {limit} (fewer or smaller images are needed)"
     )]
-    TooManyLayers { layers: u32, size: u32, limit: u32 },
+    TooManyLayers {
+        /// Layers needed.
+        layers: u32,
+        /// The side of one layer (page), in texels.
+        size: u32,
+        /// The device's `max_texture_array_layers`.
+        limit: u32,
+    },
 }
 
 /// What [`MaterialAtlas::add`] did.

@@ -8,9 +8,11 @@ use crate::scene::{Aabb, Scene};
 /// A scene built into the tools, with where they put procedural lights in it.
 #[derive(Debug, Clone)]
 pub struct BuiltinScene {
+    /// The scene itself.
     pub scene: Scene,
     /// Where procedural lights go, and their radii.
     pub light_region: Aabb,
+    /// `(min, max)` range in metres that procedural lights draw theirs from.
     pub light_radii: (f32, f32),
     /// Whether it is the courtyard, which has its own calibrated look
     /// (`renderer::frame::courtyard_look`).

@@ -31,6 +31,7 @@ pub struct SceneBuilder {
 }
 
 impl SceneBuilder {
+    /// An empty builder (no meshes, materials, lights or camera).
     pub fn new() -> Self {
         Self::default()
     }

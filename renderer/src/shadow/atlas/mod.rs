@@ -92,12 +92,14 @@ impl ShadowAtlas {
 
     /// Side of the atlas in texels.
     #[must_use]
+    #[cfg(any(test, feature = "internals"))]
     pub const fn size(&self) -> u32 {
         self.size
     }
 
     /// Smallest region side a light gets before it is evicted.
     #[must_use]
+    #[cfg(any(test, feature = "internals"))]
     pub const fn min_side(&self) -> u32 {
         self.min_side
     }

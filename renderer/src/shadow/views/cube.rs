@@ -31,6 +31,7 @@ pub const CUBE_FACE_UPS: [Vec3; 6] = [Vec3::Y, Vec3::Y, Vec3::Z, Vec3::NEG_Z, Ve
 /// ```
 ///
 /// Ties go to x, then y; a zero component counts as positive (so the zero vector is face 0).
+#[cfg(any(test, feature = "internals"))]
 pub fn cube_face(dir: Vec3) -> usize {
     let a = dir.abs();
     if a.x >= a.y && a.x >= a.z {

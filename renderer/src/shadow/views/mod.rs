@@ -22,11 +22,12 @@ mod cascade_tests;
 #[cfg(test)]
 mod tests;
 
-pub use cascade::{
-    CASCADE_COUNT, CASCADE_SPLIT_LAMBDA, CameraLens, cascade_splits, cascade_views,
-    slice_bounding_sphere,
-};
-pub use cube::{CUBE_FACE_DIRECTIONS, CUBE_FACE_UPS, cube_face, cube_tan_half_fov, cube_views};
+pub use cascade::{CameraLens, cascade_views};
+#[cfg(any(test, feature = "internals"))]
+pub use cascade::{CASCADE_COUNT, CASCADE_SPLIT_LAMBDA, cascade_splits, slice_bounding_sphere};
+pub use cube::cube_views;
+#[cfg(any(test, feature = "internals"))]
+pub use cube::{CUBE_FACE_DIRECTIONS, CUBE_FACE_UPS, cube_face, cube_tan_half_fov};
 
 use glam::camera::rh::view::look_to_mat4;
 use glam::{Mat4, Vec3, Vec4};

@@ -15,7 +15,9 @@ pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 /// A rendered pattern frame.
 #[derive(Debug, Clone)]
 pub struct PatternFrame {
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
     /// Tightly packed RGBA8 rows, top row first.
     pub rgba: Vec<u8>,
@@ -38,17 +40,20 @@ pub fn params(width: u32, height: u32) -> PatternParams {
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum PatternError {
+    /// Timing, readback or waiting for the GPU failed.
     #[error(transparent)]
     Gpu(#[from] GpuError),
+    /// The pattern's shader variant cannot run on this device.
     #[error(transparent)]
     Variant(#[from] VariantError),
+    /// The pattern's bind group could not be built.
     #[error(transparent)]
     Bind(#[from] shader_bind::BindError),
 }
 
 /// Renders the pattern into a new `width`×`height` texture and reads it back.
 pub fn render(gpu: &GpuContext, width: u32, height: u32) -> Result<PatternFrame, PatternError> {
-    let device = &gpu.device;
+    let device = gpu.device();
     let variant = test_pattern::variant(test_pattern::VariantKey::ALL[0]);
     let program = ShaderProgram::new(device, gpu.capabilities(), variant)?;
     let vs = program.entry(codegen::rt::Stage::Vertex, "vs_fullscreen")?;
@@ -93,14 +98,14 @@ pub fn render(gpu: &GpuContext, width: u32, height: u32) -> Result<PatternFrame,
     }
     profiler.end_query(&mut encoder, query);
     profiler.resolve_queries(&mut encoder);
-    gpu.queue.submit([encoder.finish()]);
+    gpu.queue().submit([encoder.finish()]);
     profiler
         .end_frame()
         .map_err(|e| GpuError::Profiler(e.to_string()))?;
-    let rgba = readback::read_texture_rgba8(device, &gpu.queue, &target)?;
+    let rgba = readback::read_texture_rgba8(device, gpu.queue(), &target)?;
     gpu.wait_idle()?;
     let gpu_time = profiler
-        .process_finished_frame(gpu.queue.get_timestamp_period())
+        .process_finished_frame(gpu.queue().get_timestamp_period())
         .and_then(|scopes| scopes.into_iter().find_map(|s| s.time))
         .map(|t| std::time::Duration::from_secs_f64(t.end - t.start));
     Ok(PatternFrame {

@@ -1,4 +1,6 @@
-//! A CPU copy of a (possibly multisampled) depth buffer and the sample positions of each count.
+//! A CPU copy of a (possibly multisampled) depth buffer, the standard sample positions of each
+//! count, and the cull efficiency measured over such a buffer: what a frame capture reads back
+//! and what the CPU reference (`reference`, tests and tools only) checks against.
 
 /// Depth samples, row by row, `samples` per pixel.
 #[derive(Debug, Clone, PartialEq)]
@@ -11,6 +13,7 @@ pub struct DepthBuffer {
 }
 
 impl DepthBuffer {
+    #[cfg(any(test, feature = "internals"))]
     pub fn get(&self, x: u32, y: u32, s: u32) -> f32 {
         self.depth[((y * self.width + x) * self.samples + s) as usize]
     }
@@ -21,6 +24,7 @@ impl DepthBuffer {
     }
 
     /// Sub-pixel position of sample `s` (Vulkan/D3D standard sample locations).
+    #[cfg(any(test, feature = "internals"))]
     pub fn sample_offset(&self, s: u32) -> (f32, f32) {
         standard_sample_offset(self.samples, s)
     }
@@ -51,5 +55,21 @@ pub fn standard_sample_offset(samples: u32, s: u32) -> (f32, f32) {
         4 => X4[s as usize],
         8 => X8[s as usize],
         _ => (0.5, 0.5),
+    }
+}
+
+/// Cull efficiency of a method: entries listed for the samples over lights that reach them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Efficiency {
+    /// Σ over surface samples of the number of lights in the sample's cell list.
+    pub listed: u64,
+    /// Σ over surface samples of the number of lights whose sphere contains the sample.
+    pub reaching: u64,
+}
+
+impl Efficiency {
+    /// `listed / reaching`: 1 is perfect, larger means more wasted light evaluations.
+    pub fn ratio(&self) -> f64 {
+        self.listed as f64 / self.reaching.max(1) as f64
     }
 }

@@ -3,9 +3,8 @@
 
 use glam::{Vec3, Vec4Swizzles as _};
 
-use super::Decal;
-use super::decal::box_on_surface;
-use crate::frame::setup::Rng;
+use super::setup::Rng;
+use crate::decals::{Decal, box_on_surface};
 use crate::scene::Scene;
 
 /// A world-space triangle of the scene.

@@ -1,0 +1,16 @@
+//! What a pass an engine inserts into the frame sees
+//! ([`Renderer::insert_pass_after`](crate::frame::Renderer::insert_pass_after)).
+//!
+//! A pass implements [`Pass`]: each frame it reads the frame's inputs ([`FrameInputs`]: camera,
+//! scene, lights, configuration) and declares its work on the frame graph
+//! ([`crate::graph::RenderGraph`]), reading what earlier passes left in [`FrameResources`]
+//! (the depth and HDR targets, the light lists, the shadow atlas, the G-buffer, particles) and
+//! adding what it produces. Bind the renderer's resources through the generated bind-group
+//! builders of `shaders_gen`, as [`LightListHandles::bindings`] and
+//! [`ShadowResources::bindings`] do.
+
+pub use crate::frame_data::{
+    DEPTH_FORMAT, FrameInputs, FrameResources, GBUFFER_FORMATS, GBufferHandles, HDR_FORMAT,
+    LightListHandles, ListGeometry, ParticleResources, ShadowResources,
+};
+pub use crate::passes::Pass;
