@@ -17,6 +17,7 @@ pub mod inspect;
 pub mod particles;
 pub mod shadow;
 pub mod shared;
+pub mod visibility;
 
 /// Every generated module, for tools that walk them all.
 pub static MODULES: &[&codegen::rt::Module] = &[
@@ -49,4 +50,6 @@ pub static MODULES: &[&codegen::rt::Module] = &[
     &shadow::shadow_caster::MODULE,
     &shadow::shadow_compose::MODULE,
     &shadow::shadow_cull::MODULE,
+    &visibility::vis_raster::MODULE,
+    &visibility::vis_shade::MODULE,
 ];

@@ -472,3 +472,6 @@ fn light_volumes_cover_pixels_from_inside_a_volume_and_past_the_far_plane() {
         }
     });
 }
+
+#[path = "tbdr_gpu/visibility.rs"]
+mod visibility;

@@ -63,6 +63,7 @@ pub struct DecalAtlas {
 impl DecalAtlas {
     /// Packs `materials` into the smallest square power-of-two atlas (at least 64, at most
     /// `config.max_size`) that holds them all with their gutters.
+    #[cfg(any(test, feature = "internals"))]
     pub fn build(
         materials: &[DecalMaterial],
         config: DecalAtlasConfig,

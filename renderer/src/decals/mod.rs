@@ -21,7 +21,11 @@ pub mod procedural;
 #[cfg(feature = "json")]
 pub mod sidecar;
 
-pub use atlas::{AtlasEntry, DecalAtlas, DecalAtlasConfig};
+pub use atlas::DecalAtlasConfig;
+internal_use!(atlas::AtlasEntry);
+#[cfg(feature = "internals")]
+#[doc(hidden)]
+pub use atlas::DecalAtlas;
 pub(crate) use atlas_space::{AtlasSpace, PlacedMaterial};
 pub use decal::{Decal, DecalSet, box_on_surface};
 pub use error::DecalError;

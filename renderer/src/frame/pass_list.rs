@@ -16,6 +16,7 @@ use crate::passes::scene_cull::SceneCullPass;
 use crate::passes::scene_cull::occlusion::OcclusionCullPass;
 use crate::passes::shadow::{ShadowAtlasViewPass, ShadowPass};
 use crate::passes::tonemap::TonemapPass;
+use crate::passes::visibility::{VisRasterPass, VisShadePass};
 
 /// The ordered passes of `config`, the forward and G-buffer passes with pipelines for every
 /// material program of `materials` besides glTF PBR's:
@@ -31,6 +32,7 @@ use crate::passes::tonemap::TonemapPass;
 /// | tiled, 2.5D, clustered | pre-Z → light culling → shadow atlas → particles* → forward → particle draw → tonemap → depth probe |
 /// | tbdr, tbdr-per-sample | pre-Z → light culling† → shadow atlas → particles* → G-buffer → TBDR shading → forward‡ → particle draw → tonemap → depth probe |
 /// | deferred | pre-Z → light culling† → shadow atlas → particles* → G-buffer → deferred base → light volumes → forward‡ → particle draw → tonemap → depth probe |
+/// | visibility | visibility raster → light culling (clustered) → shadow atlas → particles* → visibility shading → forward‡ → particle draw → tonemap → depth probe |
 /// | shading-frequency view | as the deferred path, edge pixels red |
 /// | particle-atlas view | as the path, the tonemap showing the lit atlas |
 /// | heatmap view (culled paths) | pre-Z → light culling → light heatmap → depth probe |
@@ -51,7 +53,10 @@ pub fn passes_for(
     }
     // Every path draws the scene through the batches scene culling publishes.
     let mut passes: Vec<Box<dyn Pass>> = vec![Box::new(SceneCullPass::new(gpu)?)];
-    if config.path.has_prepass() {
+    if config.path == RenderPath::Visibility {
+        passes.push(Box::new(VisRasterPass::new(gpu, config)?));
+    }
+    if config.path.has_prez() {
         let prez = PrezPass::new(gpu, config)?;
         let late = (config.cull_draws && config.occlusion_cull).then(|| prez.late());
         passes.push(Box::new(prez));
@@ -78,7 +83,9 @@ pub fn passes_for(
             if atlas_lit || config.view == FrameView::ParticleAtlas {
                 passes.push(Box::new(ParticleLightPass::new(gpu, config)?));
             }
-            if config.path.is_deferred() {
+            if config.path == RenderPath::Visibility {
+                passes.push(Box::new(VisShadePass::new(gpu, config)?));
+            } else if config.path.is_deferred() {
                 passes.push(Box::new(GBufferPass::new(gpu, config, materials)?));
                 passes.push(Box::new(TbdrPass::new(gpu, config)?));
                 if config.path == RenderPath::Deferred {

@@ -29,11 +29,16 @@ pub enum RenderPath {
     /// additively into the resolved image, per sample at edge pixels. No light culling: each
     /// light costs the pixels its volume covers.
     Deferred,
+    /// The visibility buffer: one raster pass writes depth and, per sample, the ID of the
+    /// triangle it sees (4 bytes); a compute pass finds each pixel's triangles again,
+    /// evaluates their materials and lights them through clustered lists, each distinct
+    /// triangle of a pixel once. It replaces pre-Z and the G-buffer.
+    Visibility,
 }
 
 impl RenderPath {
     /// Every path, in the order tools list them.
-    pub const ALL: [RenderPath; 8] = [
+    pub const ALL: [RenderPath; 9] = [
         Self::Naive,
         Self::NaivePrez,
         Self::Tiled,
@@ -42,10 +47,11 @@ impl RenderPath {
         Self::Tbdr,
         Self::TbdrPerSample,
         Self::Deferred,
+        Self::Visibility,
     ];
 
     /// The command-line name: `naive`, `naive-prez`, `tiled`, `2.5d`, `clustered`, `tbdr`,
-    /// `tbdr-per-sample`, `deferred`.
+    /// `tbdr-per-sample`, `deferred`, `visibility`.
     pub fn name(self) -> &'static str {
         match self {
             Self::Naive => "naive",
@@ -56,6 +62,7 @@ impl RenderPath {
             Self::Tbdr => "tbdr",
             Self::TbdrPerSample => "tbdr-per-sample",
             Self::Deferred => "deferred",
+            Self::Visibility => "visibility",
         }
     }
 
@@ -66,14 +73,25 @@ impl RenderPath {
         !matches!(self, Self::Naive | Self::NaivePrez)
     }
 
-    /// Whether opaque surfaces are shaded from a G-buffer (the deferred paths).
+    /// Whether opaque surfaces are shaded after the geometry is drawn, from a G-buffer (the
+    /// deferred paths) or a visibility buffer, and blended surfaces drawn over the result.
     pub fn is_deferred(self) -> bool {
-        matches!(self, Self::Tbdr | Self::TbdrPerSample | Self::Deferred)
+        matches!(
+            self,
+            Self::Tbdr | Self::TbdrPerSample | Self::Deferred | Self::Visibility
+        )
     }
 
-    /// Whether the frame runs the depth pre-pass.
+    /// Whether a pass before shading writes the scene's depth: pre-Z, or the visibility
+    /// path's raster pass.
     pub fn has_prepass(self) -> bool {
         self != Self::Naive
+    }
+
+    /// Whether the frame runs the depth pre-pass proper (and, with occlusion culling, its
+    /// late half).
+    pub fn has_prez(self) -> bool {
+        !matches!(self, Self::Naive | Self::Visibility)
     }
 }
 

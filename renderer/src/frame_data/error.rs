@@ -179,6 +179,21 @@ pub enum ConfigError {
         f32,
     ),
     /// A frame size (configuration or `resize`) of 0 or past the device's largest texture side.
+    /// A path needs more of a device limit than the device has.
+    #[error(
+        "RenderPath::{path:?} needs {limit} of {needs} or more; this device has {device} (use \
+         another path, or a device that allows more)"
+    )]
+    PathNeedsLimit {
+        /// The path.
+        path: super::RenderPath,
+        /// The `wgpu::Limits` field.
+        limit: &'static str,
+        /// What the path needs.
+        needs: u64,
+        /// What the device allows.
+        device: u64,
+    },
     #[error(
         "frame size {width}x{height}: use 1 to {max} pixels a side (this device's largest \
          texture side)"

@@ -16,3 +16,7 @@ pub const GBUFFER_FORMATS: [wgpu::TextureFormat; 4] = [
     wgpu::TextureFormat::Rgba16Float,
     wgpu::TextureFormat::R32Float,
 ];
+
+/// The visibility buffer of the visibility path: a triangle ID per sample, 4 bytes, besides
+/// the depth.
+pub const VISIBILITY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;

@@ -163,6 +163,25 @@ impl MaterialTable {
     }
 }
 
+impl MaterialTable {
+    /// Group 2 (records and atlas) of `program`, whose layout differs from the geometry
+    /// passes' (a compute program's).
+    pub(super) fn group_for(
+        &self,
+        device: &wgpu::Device,
+        program: &crate::shader::ShaderProgram,
+    ) -> Result<wgpu::BindGroup, shader_bind::BindError> {
+        let mut resources = Resources::new();
+        let table = material_table::Group2 {
+            materials: self.records.as_entire_buffer_binding(),
+        };
+        table.collect(&mut resources);
+        self.atlas.bindings().collect(&mut resources);
+        let group = material_table::Group2::GROUP;
+        resources.build(device, program.layout(group), program.variant, group, "materials")
+    }
+}
+
 /// Group 2 of the forward and G-buffer programs, and of the masked depth programs: the
 /// `material_table` library's records and the `material_atlas` library's atlas, collected by
 /// binding name and numbered from each layout's variant.

@@ -37,7 +37,7 @@ pub use draw_batches::{BatchLayout, DrawBatch, NO_DRAW, draw_place};
 #[cfg(any(test, feature = "internals"))]
 pub use draw_batches::{BatchKey, DrawPlace, NoRoom};
 pub use error::{ConfigError, DeviceError, InputError, RenderError};
-pub use formats::{DEPTH_FORMAT, GBUFFER_FORMATS, HDR_FORMAT};
+pub use formats::{DEPTH_FORMAT, GBUFFER_FORMATS, HDR_FORMAT, VISIBILITY_FORMAT};
 pub use inputs::{FrameInputs, ParticleInput};
 pub use instances::{DrawItem, InstanceEditError, InstanceHandle, InstanceState, InstanceTable};
 pub use lights::{LightSet, with_effective_ranges};
@@ -50,7 +50,7 @@ pub use material_inputs::{sampler_descriptor, uv_map};
 pub use report::{FrameReport, ParticleReport, SceneDrawReport};
 pub use resources::{
     BlendedDraws, FrameResources, GBufferHandles, LightListHandles, ListGeometry, OcclusionDraws,
-    OcclusionPacked, ParticleResources, SceneDrawList, ShadowResources,
+    OcclusionPacked, ParticleResources, SceneDrawList, ShadowResources, VisibilityHandles,
 };
 pub use scene::PreparedScene;
 #[cfg(any(test, feature = "internals"))]

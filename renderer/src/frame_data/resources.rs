@@ -281,6 +281,18 @@ pub struct GBufferHandles {
     pub view_depth: Handle<Texture>,
 }
 
+/// The visibility buffer of a frame (`passes::visibility`).
+#[derive(Debug, Clone)]
+pub struct VisibilityHandles {
+    /// `R32Uint`, multisampled with the frame: per sample the ID of the scene triangle it
+    /// sees (the `vis_geometry` library's numbering), 0 where it sees none.
+    pub ids: Handle<Texture>,
+    /// Where each draw's triangles are (`vis_geometry`'s `DRAW_GEOMETRY`), in draw order.
+    pub draw_geometry: wgpu::Buffer,
+    /// Draws in `draw_geometry`.
+    pub draws: u32,
+}
+
 /// What the passes of one frame have produced so far.
 #[derive(Debug)]
 pub struct FrameResources {
@@ -314,6 +326,8 @@ pub struct FrameResources {
     /// How the geometry passes draw the scene this frame: its batches and their indirect
     /// arguments, culled for the view (`passes::scene_cull`).
     pub scene_draws: Option<SceneDrawList>,
+    /// The visibility buffer (the visibility path): the triangle each sample sees.
+    pub visibility: Option<VisibilityHandles>,
     imports: Vec<(Handle<Buffer>, wgpu::Buffer)>,
     texture_imports: Vec<(Handle<Texture>, wgpu::Texture)>,
 }
@@ -334,6 +348,7 @@ impl FrameResources {
             gbuffer: None,
             scene_draws: None,
             deferred_edges: None,
+            visibility: None,
             imports: Vec::new(),
             texture_imports: Vec::new(),
         }

@@ -124,6 +124,16 @@ impl PreparedScene {
         self.custom.buffer(program)
     }
 
+    /// Group 2 (every material's record and texture) of `program`, a program whose layout
+    /// differs from the geometry passes' (a compute program's).
+    pub fn material_group_for(
+        &self,
+        device: &wgpu::Device,
+        program: &crate::shader::ShaderProgram,
+    ) -> Result<wgpu::BindGroup, shader_bind::BindError> {
+        self.table.group_for(device, program)
+    }
+
     /// Group 2 of the masked pre-Z and masked shadow-caster programs.
     pub fn mask_group(&self) -> &wgpu::BindGroup {
         &self.table.mask_group

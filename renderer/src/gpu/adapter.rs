@@ -26,6 +26,8 @@ pub struct Capabilities {
     pub msaa_depth32float: Vec<u32>,
     /// MSAA sample counts usable for `Rgba16Float` attachments.
     pub msaa_rgba16float: Vec<u32>,
+    /// MSAA sample counts usable for `R32Uint` attachments (the visibility buffer).
+    pub msaa_r32uint: Vec<u32>,
     /// Largest compute workgroup (invocations) the device allows.
     pub max_workgroup_invocations: u32,
 }
@@ -69,14 +71,16 @@ impl AdapterReport {
                 min: info.subgroup_min_size,
                 max: info.subgroup_max_size,
             });
-        let sample_counts = |format| {
+        let sample_counts = |format: wgpu::TextureFormat| {
             let mut counts = adapter
                 .get_texture_format_features(format)
                 .flags
                 .supported_sample_counts();
             if !features.contains(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES) {
-                // Without adapter-specific format features WebGPU guarantees only 1 and 4.
-                counts.retain(|c| matches!(c, 1 | 4));
+                // Without adapter-specific format features WebGPU guarantees only 1 and 4, and
+                // only 1 for integer formats.
+                let integer = format.sample_type(None, None) == Some(wgpu::TextureSampleType::Uint);
+                counts.retain(|&c| c == 1 || (c == 4 && !integer));
             }
             counts
         };
@@ -95,6 +99,7 @@ impl AdapterReport {
                 ),
                 msaa_depth32float: sample_counts(wgpu::TextureFormat::Depth32Float),
                 msaa_rgba16float: sample_counts(wgpu::TextureFormat::Rgba16Float),
+                msaa_r32uint: sample_counts(wgpu::TextureFormat::R32Uint),
                 max_workgroup_invocations: requirements::workgroup_invocations(adapter),
             },
         }

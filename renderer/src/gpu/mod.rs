@@ -145,6 +145,7 @@ impl GpuContext {
         if !enabled.contains(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES) {
             caps.msaa_depth32float.retain(|c| matches!(c, 1 | 4));
             caps.msaa_rgba16float.retain(|c| matches!(c, 1 | 4));
+            caps.msaa_r32uint.retain(|&c| c == 1);
         }
         caps.max_workgroup_invocations = caps
             .max_workgroup_invocations

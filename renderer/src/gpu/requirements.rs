@@ -40,6 +40,12 @@ pub fn storage_binding_records(device: &wgpu::Device, element_size: usize) -> u6
 /// WebGPU default of 8; every Vulkan, Metal and D3D12 desktop adapter has at least 16.
 pub const STORAGE_BUFFERS_PER_STAGE: u32 = 10;
 
+/// Storage buffers per stage the renderer asks for where the adapter has them: the visibility
+/// path's shading kernel binds 18 (the light lists, shadow views and decals, the draw records,
+/// the material table and atlas, and the scene's index and vertex streams). A device with
+/// fewer runs every other path; the visibility path is then refused by name.
+pub const WANTED_STORAGE_BUFFERS_PER_STAGE: u32 = 18;
+
 /// The smallest storage binding and buffer the renderer is tested with: it sizes its light
 /// lists, lights and scene buffers to the device's limits (with typed errors where something
 /// does not fit), so it runs below WebGPU's 128 MiB default.
@@ -125,7 +131,9 @@ pub fn for_adapter(adapter: &wgpu::Adapter) -> Result<(wgpu::Features, wgpu::Lim
             .max_storage_buffer_binding_size
             .min(WANTED_STORAGE_BINDING_BYTES),
         max_buffer_size: have.max_buffer_size.min(WANTED_STORAGE_BINDING_BYTES),
-        max_storage_buffers_per_shader_stage: STORAGE_BUFFERS_PER_STAGE,
+        max_storage_buffers_per_shader_stage: have
+            .max_storage_buffers_per_shader_stage
+            .min(WANTED_STORAGE_BUFFERS_PER_STAGE),
         ..base
     }
     .using_resolution(have.clone())

@@ -28,13 +28,13 @@ mod pool;
 mod resource;
 
 pub use builder::{PassBuilder, PassId, RenderGraph};
-pub use cache::GraphCache;
-pub use compile::CompiledGraph;
+internal_use!(cache::GraphCache);
+internal_use!(compile::CompiledGraph);
 pub use context::PassContext;
 pub use error::GraphError;
 pub use execute::PassTiming;
 pub use nodes::Lifetime;
-pub use pool::{PoolStats, TransientPool};
+internal_use!(pool::{PoolStats, TransientPool});
 pub use resource::{
     Buffer, BufferAccess, BufferDesc, Handle, ImportAccess, Texture, TextureAccess, TextureDesc,
 };

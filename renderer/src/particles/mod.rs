@@ -8,12 +8,11 @@
 
 mod builtin;
 mod emitter;
-pub mod random;
 #[cfg(any(test, feature = "internals"))]
 #[doc(hidden)]
 pub mod reference;
-pub mod schedule;
-pub mod sprites;
+
+internal_modules!(random, schedule, sprites);
 
 pub use builtin::{WARMUP_STEPS, builtin_emitters, builtin_system, dust, smoke, sparks};
 pub use emitter::{Emitter, ParticleError, ParticleSystem, ParticleTexture};

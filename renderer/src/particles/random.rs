@@ -10,6 +10,7 @@ pub fn pcg(v: u32) -> u32 {
 }
 
 /// A number in `[0, 1)` for random `channel` of the birth of particle `index` of `emitter`.
+#[cfg(any(test, feature = "internals"))]
 pub fn random(seed: u32, emitter: u32, index: u32, channel: u32) -> f32 {
     let h = pcg(seed ^ pcg(emitter ^ pcg(index ^ pcg(channel))));
     (h >> 8) as f32 * (1.0 / 16_777_216.0)

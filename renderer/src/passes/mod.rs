@@ -21,6 +21,7 @@ pub mod prez;
 pub mod scene_cull;
 pub mod shadow;
 pub mod tonemap;
+pub mod visibility;
 
 use crate::frame_data::{FrameInputs, FrameReport, FrameResources, RenderError, SceneDrawList};
 use crate::graph::RenderGraph;

@@ -175,7 +175,11 @@ impl GeometryBuffers {
             let grown = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
                 size,
-                usage: usage | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+                // Storage too: the visibility path reads the streams by index.
+                usage: usage
+                    | wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_SRC
+                    | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             });
             encoder.copy_buffer_to_buffer(buffer, 0, &grown, 0, used);
@@ -284,7 +288,11 @@ impl PackedGeometry {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some(label),
                 contents: bytes,
-                usage: usage | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+                // Storage too: the visibility path reads the streams by index.
+                usage: usage
+                    | wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_SRC
+                    | wgpu::BufferUsages::COPY_DST,
             })
         };
         let (vertices, indices) = (self.positions.len() as u64, self.indices.len() as u64);

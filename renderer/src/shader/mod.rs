@@ -193,6 +193,7 @@ mod tests {
             timestamp_inside_passes: false,
             msaa_depth32float: vec![1, 4],
             msaa_rgba16float: vec![1, 4],
+            msaa_r32uint: vec![1],
             max_workgroup_invocations: 1024,
         };
         let err = check_supported(&VARIANT, &caps).unwrap_err();

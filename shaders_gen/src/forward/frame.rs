@@ -268,10 +268,11 @@ pub mod material_frame {
         }
     }
 
-    /// The `GRID` cell of a fragment: its tile's list (opaque or transparent), or its froxel
-    /// (by `light_grid`, like the culling kernels).
-    fn cell_of(frag: Vec4, view_depth: f32) -> u32 {
-        let px = frag.xy().floor().as_uvec2();
+    /// The `GRID` cell of the point at window position `frag` (pixels) and `view_depth`: its
+    /// tile's list (opaque or transparent), or its froxel (by `light_grid`, like the culling
+    /// kernels).
+    fn cell_of(frag: Vec2, view_depth: f32) -> u32 {
+        let px = frag.floor().as_uvec2();
         let mut cell = 0u32;
         if list == 1 {
             cell = tile_cell(px, LIGHTING.tile_size, LIGHTING.tiles.x);
@@ -304,7 +305,7 @@ pub mod material_frame {
 
     /// A surface with its decals applied, where it is: what both the lit output and the
     /// G-buffer take.
-    struct ShadingPoint {
+    pub struct ShadingPoint {
         p: Vec3,
         view_depth: f32,
         /// Unit normal of the geometry, flipped for back faces.
@@ -318,11 +319,25 @@ pub mod material_frame {
 
     fn shading_point(input: VsOut, point: MaterialPoint, s: Surface) -> ShadingPoint {
         let p = point.world;
+        shading_point_at(input.clip.xy(), point, s, dpdx(p), dpdy(p))
+    }
+
+    /// [`shading_point`] of a point at window position `frag` (pixels) whose world position
+    /// changes by `p_dx` and `p_dy` a pixel right and down: for compute shaders, which find
+    /// those derivatives themselves.
+    pub fn shading_point_at(
+        frag: Vec2,
+        point: MaterialPoint,
+        s: Surface,
+        p_dx: Vec3,
+        p_dy: Vec3,
+    ) -> ShadingPoint {
+        let p = point.world;
         let view_depth = -(CAMERA.view * p.extend(1.0)).z;
         let frame = DecalFrame {
             position: p,
-            dpdx: dpdx(p),
-            dpdy: dpdy(p),
+            dpdx: p_dx,
+            dpdy: p_dy,
             geometric_normal: point.normal,
             distance: (CAMERA.eye - p).length(),
         };
@@ -336,7 +351,7 @@ pub mod material_frame {
         };
         let mut cell = 0u32;
         if list > 0 {
-            cell = cell_of(input.clip, view_depth);
+            cell = cell_of(frag, view_depth);
         }
         ShadingPoint {
             p,
@@ -372,6 +387,16 @@ pub mod material_frame {
     /// coverage on the blended variants), decals applied.
     pub fn material_forward(input: VsOut, point: MaterialPoint, s: Surface) -> Vec4 {
         let sp = shading_point(input, point, s);
+        let mut alpha = 1.0;
+        if blend {
+            alpha = sp.alpha;
+        }
+        lit_radiance(sp, input.clip.xy()).extend(alpha)
+    }
+
+    /// The linear HDR radiance of `sp` seen at window position `frag` (pixels): ambient,
+    /// emission and every light of the point's list, shadowed.
+    pub fn lit_radiance(sp: ShadingPoint, frag: Vec2) -> Vec3 {
         let m = sp.m;
         let p = sp.p;
         let cell = sp.cell;
@@ -386,7 +411,7 @@ pub mod material_frame {
             roughness: m.roughness.clamp(MIN_ROUGHNESS, 1.0),
             geometric_normal: sp.geometric_normal,
             view_depth: sp.view_depth,
-            dither: dither_noise(input.clip.xy()),
+            dither: dither_noise(frag),
         };
 
         let mut color = ambient(m.normal) * m.albedo * m.occlusion + m.emissive;
@@ -419,10 +444,6 @@ pub mod material_frame {
                 }
             }
         }
-        let mut alpha = 1.0;
-        if blend {
-            alpha = sp.alpha;
-        }
-        color.extend(alpha)
+        color
     }
 }

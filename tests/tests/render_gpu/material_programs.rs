@@ -183,55 +183,60 @@ fn every_path_equals_naive_with_material_programs_and_they_change_the_image() {
     let lights = procedural_lights(COURTYARD_LIGHT_REGION, 256, 7, 0.8, 2.6);
     let camera = renderer::frame::framing_camera(scene.bounds, 2.0);
     gpu_test(|gpu| {
-        // MSAA 4 (single-sample frames of the programs: the test above).
-        for msaa in [4] {
-            let frame = |scene: &Scene, path| {
-                let config = RendererConfig {
-                    width: WIDTH,
-                    height: HEIGHT,
-                    msaa,
-                    path,
-                    tile: 16,
-                    ..Default::default()
-                };
-                let mut r = renderer(gpu, config, scene);
-                r.set_lights(&lights).expect("lights fit");
-                render_one_frame(gpu, &mut r, &camera).rgba
-            };
-            let naive = frame(&scene, RenderPath::Naive);
-            // The programs change the image: glTF's materials in their place differ a lot.
-            let gltf = frame(&courtyard(), RenderPath::Naive);
-            let (mean, _, _) = stats(&pixel_differences(&naive, &gltf, 3));
+        // MSAA 4 (single-sample frames of the programs: the test above). One renderer per scene,
+        // switched from path to path in place (`reconfigure`: the scene stays uploaded).
+        let msaa = 4;
+        let config = |path| RendererConfig {
+            width: WIDTH,
+            height: HEIGHT,
+            msaa,
+            path,
+            tile: 16,
+            ..Default::default()
+        };
+        let mut custom = renderer(gpu, config(RenderPath::Naive), &scene);
+        custom.set_lights(&lights).expect("lights fit");
+        let mut frame = |path| {
+            custom
+                .reconfigure(config(path))
+                .expect("the path suits the device");
+            render_one_frame(gpu, &mut custom, &camera).rgba
+        };
+        let naive = frame(RenderPath::Naive);
+        // The programs change the image: glTF's materials in their place differ a lot.
+        let mut gltf = renderer(gpu, config(RenderPath::Naive), &courtyard());
+        gltf.set_lights(&lights).expect("lights fit");
+        let gltf = render_one_frame(gpu, &mut gltf, &camera).rgba;
+        let (mean, _, _) = stats(&pixel_differences(&naive, &gltf, 3));
+        assert!(
+            mean > 5.0,
+            "MSAA {msaa}: the material programs barely change the frame (mean {mean:.2})"
+        );
+        let prez = frame(RenderPath::NaivePrez);
+        for (path, image) in [
+            (RenderPath::NaivePrez, prez.clone()),
+            (RenderPath::Tiled, frame(RenderPath::Tiled)),
+            (RenderPath::Depth25, frame(RenderPath::Depth25)),
+            (RenderPath::Clustered, frame(RenderPath::Clustered)),
+        ] {
+            let worst = largest_difference(&naive, &image);
             assert!(
-                mean > 5.0,
-                "MSAA {msaa}: the material programs barely change the frame (mean {mean:.2})"
+                worst <= 1,
+                "{path:?}, MSAA {msaa}: differs from naive by {worst}"
             );
-            for path in [
-                RenderPath::NaivePrez,
-                RenderPath::Tiled,
-                RenderPath::Depth25,
-                RenderPath::Clustered,
-            ] {
-                let worst = largest_difference(&naive, &frame(&scene, path));
-                assert!(
-                    worst <= 1,
-                    "{path:?}, MSAA {msaa}: differs from naive by {worst}"
-                );
-            }
-            // The deferred paths, within the TBDR tests' whole-image tolerances (`tbdr_gpu`).
-            let prez = frame(&scene, RenderPath::NaivePrez);
-            for path in [
-                RenderPath::Tbdr,
-                RenderPath::TbdrPerSample,
-                RenderPath::Deferred,
-            ] {
-                let (mean, p99, _) = stats(&pixel_differences(&prez, &frame(&scene, path), 3));
-                assert!(
-                    mean <= 0.3 && p99 <= 4,
-                    "{path:?}, MSAA {msaa}: differs from naive by mean {mean:.3}, 99th \
-                     percentile {p99}"
-                );
-            }
+        }
+        // The deferred paths, within the TBDR tests' whole-image tolerances (`tbdr_gpu`).
+        for path in [
+            RenderPath::Tbdr,
+            RenderPath::TbdrPerSample,
+            RenderPath::Deferred,
+        ] {
+            let (mean, p99, _) = stats(&pixel_differences(&prez, &frame(path), 3));
+            assert!(
+                mean <= 0.3 && p99 <= 4,
+                "{path:?}, MSAA {msaa}: differs from naive by mean {mean:.3}, 99th \
+                 percentile {p99}"
+            );
         }
     });
 }

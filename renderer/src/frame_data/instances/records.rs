@@ -10,6 +10,25 @@ use super::InstanceTable;
 use crate::GpuContext;
 
 impl InstanceTable {
+    /// Group 1 (the draw records) of `program`, whose layout differs from the geometry passes'
+    /// (a compute program's, visible to its compute stage).
+    pub fn draw_group_for(
+        &self,
+        device: &wgpu::Device,
+        program: &crate::shader::ShaderProgram,
+    ) -> Result<wgpu::BindGroup, shader_bind::BindError> {
+        let part = view::Group1 {
+            draws: self.records.as_entire_buffer_binding(),
+        };
+        shader_bind::Resources::of(&part).build(
+            device,
+            program.layout(view::Group1::GROUP),
+            program.variant,
+            view::Group1::GROUP,
+            "draw records",
+        )
+    }
+
     /// Writes the records of `draws` where their instances are.
     pub(super) fn write_records(&self, gpu: &GpuContext, draws: Range<usize>) {
         if draws.is_empty() {

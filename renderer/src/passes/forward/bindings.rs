@@ -6,6 +6,7 @@
 use std::sync::Arc;
 
 use shaders_gen::forward::{forward, material_frame};
+use shaders_gen::visibility::vis_shade;
 
 use crate::frame_data::{
     FrameInputs, GpuDecals, LightListHandles, LightSet, ListGeometry, ShadowResources,
@@ -92,6 +93,42 @@ impl FrameGroup {
             program.layout(forward::Group0::GROUP),
             program.variant,
             label,
+        );
+        ctx.bind(group)
+    }
+}
+
+impl FrameGroup {
+    /// Group 0 of `program`, a `vis_shade` variant: this frame group's parts, the kernel's
+    /// parameters `vis`, the visibility buffer `ids` and the HDR output `out`; `None` after
+    /// recording the error in `ctx`.
+    pub(crate) fn vis_bind_group(
+        &self,
+        ctx: &mut PassContext<'_>,
+        program: &ShaderProgram,
+        vis: &wgpu::Buffer,
+        ids: &wgpu::TextureView,
+        out: &wgpu::TextureView,
+    ) -> Option<wgpu::BindGroup> {
+        let group = vis_shade::Group0 {
+            vis: vis.as_entire_buffer_binding(),
+            ids: Some(ids),
+            ids_ms: Some(ids),
+            hdr_out: out,
+            material_frame: material_frame::Group0 {
+                camera: self.camera.as_entire_buffer_binding(),
+                lighting: self.lighting.as_entire_buffer_binding(),
+            },
+            light_set: self.lights.bindings(),
+            light_lists: LightListHandles::bindings(self.lists.as_ref(), ctx),
+            shadow_atlas: self.shadows.bindings(),
+            decal_apply: self.decals.bindings(),
+        }
+        .bind_group(
+            ctx.device,
+            program.layout(vis_shade::Group0::GROUP),
+            program.variant,
+            "visibility shading",
         );
         ctx.bind(group)
     }

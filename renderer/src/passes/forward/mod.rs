@@ -9,7 +9,7 @@
 //! can be drawn over it too), and adds nothing when there are neither blended surfaces nor
 //! particles.
 
-mod bindings;
+pub(crate) mod bindings;
 pub(crate) mod programs;
 
 pub(crate) use bindings::{FrameGroup, lighting_buffer};
@@ -74,7 +74,7 @@ impl ForwardPass {
             | RenderPath::Tbdr
             | RenderPath::TbdrPerSample
             | RenderPath::Deferred => 1,
-            RenderPath::Clustered => 2,
+            RenderPath::Clustered | RenderPath::Visibility => 2,
         };
         let scalarize = config.scalarize && config.path.is_culled();
         let prepass = config.path.has_prepass();

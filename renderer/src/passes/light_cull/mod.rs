@@ -91,6 +91,10 @@ impl Culler {
 /// culling without them.
 fn culling_path(frame: &FrameInputs, has_blend: bool) -> RenderPath {
     let c = &frame.config;
+    if c.path == RenderPath::Visibility {
+        // Its opaque shading reads the clustered lists.
+        return RenderPath::Clustered;
+    }
     if !c.path.is_deferred() {
         return c.path;
     }
@@ -210,7 +214,7 @@ impl LightCullPass {
                     &self.gpu, config, c.width, c.height,
                 )?))
             }
-            RenderPath::Clustered => {
+            RenderPath::Clustered | RenderPath::Visibility => {
                 Culler::Clustered(Arc::new(self.clustered(frame, skip_empty, items)?))
             }
         };

@@ -1,0 +1,84 @@
+//! The `vis_geometry` library's group 3: where each draw's triangles are (`DRAW_GEOMETRY`,
+//! kept by the raster pass from the instance table) and the scene's index and vertex streams,
+//! and the sequence index buffer the raster pass draws through.
+
+use shaders_gen::visibility::geometry::vis_geometry;
+use wgpu::util::DeviceExt as _;
+
+use crate::frame_data::{InstanceTable, PreparedScene};
+use crate::shader::ShaderProgram;
+
+/// The per-draw records of `instances`, in draw order: first index, base vertex, first
+/// triangle (the triangles of the draws before it) and triangle count.
+pub(super) fn draw_geometry(instances: &InstanceTable) -> Vec<vis_geometry::DrawGeometry> {
+    let mut first_triangle = 0u32;
+    instances
+        .draws
+        .iter()
+        .map(|d| {
+            let g = d.geometry;
+            let triangles = g.index_count / 3;
+            let record = vis_geometry::DrawGeometry::new(
+                g.first_index,
+                g.base_vertex as u32,
+                first_triangle,
+                triangles,
+            );
+            first_triangle = first_triangle.saturating_add(triangles);
+            record
+        })
+        .collect()
+}
+
+/// A storage buffer holding `records` (one record at least: a binding is never empty).
+pub(super) fn draw_geometry_buffer(
+    device: &wgpu::Device,
+    records: &[vis_geometry::DrawGeometry],
+) -> wgpu::Buffer {
+    let empty = [vis_geometry::DrawGeometry::new(0, 0, 0, 0)];
+    let records = if records.is_empty() { &empty[..] } else { records };
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("visibility draw geometry"),
+        contents: bytemuck::cast_slice(records),
+        usage: wgpu::BufferUsages::STORAGE,
+    })
+}
+
+/// An index buffer of `0..count`: drawn through it, an indexed draw's `vertex_index` is its
+/// position in the scene's index buffer plus its base vertex.
+pub(super) fn sequence_buffer(device: &wgpu::Device, count: u32) -> wgpu::Buffer {
+    let indices: Vec<u32> = (0..count.max(1)).collect();
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("visibility sequence indices"),
+        contents: bytemuck::cast_slice(&indices),
+        usage: wgpu::BufferUsages::INDEX,
+    })
+}
+
+/// Group 3 of `program` (a `vis_raster` or `vis_shade` variant): `draw_geometry` and the
+/// scene's streams, through the library's generated builder.
+pub(super) fn geometry_group(
+    device: &wgpu::Device,
+    program: &ShaderProgram,
+    scene: &PreparedScene,
+    draw_geometry: &wgpu::Buffer,
+) -> Result<wgpu::BindGroup, shader_bind::BindError> {
+    let g = &scene.gpu.geometry;
+    let part = vis_geometry::Group3 {
+        draw_geometry: draw_geometry.as_entire_buffer_binding(),
+        scene_indices: g.indices.as_entire_buffer_binding(),
+        positions: g.positions.as_entire_buffer_binding(),
+        normals: g.normals.as_entire_buffer_binding(),
+        tangents: g.tangents.as_entire_buffer_binding(),
+        uv0: g.uvs.as_entire_buffer_binding(),
+        uv1: g.uvs1.as_entire_buffer_binding(),
+        colors: g.colors.as_entire_buffer_binding(),
+    };
+    shader_bind::Resources::of(&part).build(
+        device,
+        program.layout(vis_geometry::Group3::GROUP),
+        program.variant,
+        vis_geometry::Group3::GROUP,
+        "visibility geometry",
+    )
+}

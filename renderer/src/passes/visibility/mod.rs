@@ -1,0 +1,11 @@
+//! The visibility-buffer path ([`crate::frame::RenderPath::Visibility`]): a raster pass writes
+//! depth and, per sample, the ID of the scene triangle it sees (`raster`); a compute pass finds
+//! each pixel's triangles again, evaluates their materials and lights them through the frame's
+//! light lists (`shade`). It replaces pre-Z and the G-buffer: 4 bytes a sample besides depth.
+
+mod geometry;
+mod raster;
+mod shade;
+
+pub use raster::VisRasterPass;
+pub use shade::VisShadePass;

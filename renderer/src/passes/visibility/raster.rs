@@ -1,0 +1,233 @@
+//! The visibility raster pass: every opaque and alpha-masked draw of the scene's batches into
+//! the multisampled depth buffer and the visibility buffer (`shaders_gen`'s `vis_raster`).
+
+use std::sync::{Arc, Mutex, PoisonError};
+
+use shaders_gen::visibility::vis_raster;
+
+use super::geometry::{draw_geometry, draw_geometry_buffer, geometry_group, sequence_buffer};
+use crate::GpuContext;
+use crate::frame_data::{
+    ConfigError, DEPTH_FORMAT, FrameInputs, FrameResources, RenderError, RendererConfig,
+    VISIBILITY_FORMAT, VisibilityHandles,
+};
+use crate::graph::{BufferAccess, RenderGraph, TextureAccess, TextureDesc};
+use crate::passes::{
+    BatchState, FacePipelines, MeshPipeline, Pass, SceneDraws, depth_state, face_pipeline,
+    face_pipelines, mesh_pipeline,
+};
+use crate::scene::VertexStreams;
+use crate::shader::ShaderProgram;
+
+/// What the pass keeps between frames for the scene it last drew: the draws' geometry records
+/// (rebuilt when the instance table changes) and the sequence index buffer (grown with the
+/// scene's index buffer).
+#[derive(Debug, Default)]
+struct SceneState {
+    /// Scene id, instance table id and revision the records were built for.
+    key: Option<(u32, u32, u64)>,
+    draw_geometry: Option<(wgpu::Buffer, u32)>,
+    sequence: Option<(wgpu::Buffer, u64)>,
+}
+
+/// The visibility raster pass: its programs and pipelines (`[double_sided][mirrored]`, plain
+/// and alpha-masked).
+#[derive(Debug)]
+pub struct VisRasterPass {
+    program: ShaderProgram,
+    mask_program: ShaderProgram,
+    plain: FacePipelines,
+    masked: FacePipelines,
+    state: Arc<Mutex<SceneState>>,
+}
+
+impl VisRasterPass {
+    /// The pass for `config`, refused when the device cannot multisample the visibility
+    /// buffer at `config.msaa`.
+    pub fn new(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
+        let supported = gpu.capabilities().msaa_r32uint.clone();
+        if !supported.contains(&config.msaa) {
+            return Err(RenderError::Config(ConfigError::SampleCount {
+                asked: config.msaa,
+                supported,
+            }));
+        }
+        let program = |alpha_mask| {
+            let variant = vis_raster::variant(vis_raster::VariantKey { alpha_mask });
+            ShaderProgram::new(gpu.device(), gpu.capabilities(), variant)
+        };
+        let (program, mask_program) = (program(false)?, program(true)?);
+        let pipelines = |program: &ShaderProgram, masked: bool| {
+            face_pipelines(|double_sided, mirrored| {
+                mesh_pipeline(
+                    gpu.device(),
+                    program,
+                    &MeshPipeline {
+                        label: if masked {
+                            "visibility masked"
+                        } else {
+                            "visibility"
+                        },
+                        vertex_entry: "vs_vis",
+                        // Vertices are pulled from storage.
+                        streams: &[],
+                        double_sided,
+                        mirrored,
+                        depth: depth_state(true, wgpu::CompareFunction::Less),
+                        msaa: config.msaa,
+                        fragment: Some((
+                            "fs_vis",
+                            &[Some(wgpu::ColorTargetState {
+                                format: VISIBILITY_FORMAT,
+                                blend: None,
+                                write_mask: wgpu::ColorWrites::ALL,
+                            })],
+                        )),
+                    },
+                )
+            })
+        };
+        Ok(Self {
+            plain: pipelines(&program, false),
+            masked: pipelines(&mask_program, true),
+            program,
+            mask_program,
+            state: Arc::default(),
+        })
+    }
+}
+
+impl Pass for VisRasterPass {
+    fn name(&self) -> &'static str {
+        "visibility"
+    }
+
+    fn prepare(&mut self, frame: &FrameInputs) -> Result<(), RenderError> {
+        let device = frame.gpu.device();
+        let mut state = self.state.lock().unwrap_or_else(PoisonError::into_inner);
+        let key = (frame.scene.id, frame.instances.id(), frame.instances.revision);
+        if state.key != Some(key) {
+            let records = draw_geometry(&frame.instances);
+            let count = records.len() as u32;
+            state.draw_geometry = Some((draw_geometry_buffer(device, &records), count));
+            state.key = Some(key);
+        }
+        let indices = frame.scene.gpu.geometry.indices.size() / 4;
+        if state.sequence.as_ref().is_none_or(|(_, n)| *n < indices) {
+            let count = u32::try_from(indices).unwrap_or(u32::MAX);
+            state.sequence = Some((sequence_buffer(device, count), indices));
+        }
+        Ok(())
+    }
+
+    fn add_to_graph(
+        &self,
+        graph: &mut RenderGraph,
+        frame: &FrameInputs,
+        resources: &mut FrameResources,
+    ) -> Result<(), RenderError> {
+        let missing = |input| {
+            RenderError::Config(ConfigError::MissingInput {
+                pass: "visibility",
+                input,
+            })
+        };
+        let list = resources
+            .scene_draws
+            .clone()
+            .ok_or(missing("the scene's draw batches (scene culling)"))?;
+        let (draw_geometry, draws, sequence) = {
+            let state = self.state.lock().unwrap_or_else(PoisonError::into_inner);
+            let (records, draws) = state
+                .draw_geometry
+                .clone()
+                .ok_or(missing("draw geometry (built in prepare)"))?;
+            let (sequence, _) = state
+                .sequence
+                .clone()
+                .ok_or(missing("sequence indices (built in prepare)"))?;
+            (records, draws, sequence)
+        };
+        let device = frame.gpu.device();
+        let geometry = geometry_group(device, &self.program, &frame.scene, &draw_geometry)?;
+        let mask_geometry =
+            geometry_group(device, &self.mask_program, &frame.scene, &draw_geometry)?;
+        let camera = vis_raster::Group0 {
+            camera: frame.camera_uniform.buffer.as_entire_buffer_binding(),
+        }
+        .bind_group(
+            device,
+            self.program.layout(0),
+            self.program.variant,
+            "visibility camera",
+        )?;
+        let c = &frame.config;
+        let size = TextureDesc::new_2d(c.width, c.height, DEPTH_FORMAT).with_samples(c.msaa);
+        let mut depth = graph.create_texture("depth", size);
+        let ids_desc =
+            TextureDesc::new_2d(c.width, c.height, VISIBILITY_FORMAT).with_samples(c.msaa);
+        let mut ids = graph.create_texture("visibility", ids_desc);
+        let (plain, masked) = (self.plain.clone(), self.masked.clone());
+        let scene = Arc::clone(&frame.scene);
+        let instances = Arc::clone(&frame.instances);
+        let (depth_target, ids_target) = (depth, ids);
+        graph
+            .add_pass(self.name())
+            .read_buffer(list.args, BufferAccess::Indirect)
+            .write_texture(&mut depth, TextureAccess::DepthWrite)
+            .write_texture(&mut ids, TextureAccess::ColorAttachment)
+            .execute(move |ctx| {
+                let depth_view = ctx.texture(depth_target).create_view(&Default::default());
+                let ids_view = ctx.texture(ids_target).create_view(&Default::default());
+                let mut pass = ctx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("visibility"),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view: &ids_view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                            store: wgpu::StoreOp::Store,
+                        },
+                    })],
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: &depth_view,
+                        depth_ops: Some(wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(1.0),
+                            store: wgpu::StoreOp::Store,
+                        }),
+                        stencil_ops: None,
+                    }),
+                    timestamp_writes: None,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                let mut draws =
+                    SceneDraws::new(&mut pass, &scene, &instances, VertexStreams::Position);
+                // Drawn through the sequence: `vertex_index` is the position in the index
+                // buffer (plus the base vertex), from which the shader pulls the vertex.
+                draws
+                    .pass()
+                    .set_index_buffer(sequence.slice(..), wgpu::IndexFormat::Uint32);
+                draws.draw_batches_with(&list, &instances, |batch| {
+                    let (pipelines, group3) = if batch.masked {
+                        (&masked, &mask_geometry)
+                    } else {
+                        (&plain, &geometry)
+                    };
+                    Some(BatchState {
+                        pipeline: face_pipeline(pipelines, batch.double_sided, batch.mirrored),
+                        group2: batch.masked.then(|| scene.mask_group()),
+                        program_groups: Some((&camera, Some(group3))),
+                    })
+                });
+            });
+        resources.depth = Some(depth);
+        resources.visibility = Some(VisibilityHandles {
+            ids,
+            draw_geometry,
+            draws,
+        });
+        Ok(())
+    }
+}

@@ -1,0 +1,96 @@
+//! The visibility raster pass.
+
+/// Visibility raster: every opaque and alpha-masked draw of the scene writes depth and, per
+/// sample, the ID of its triangle (`vis_geometry`'s numbering) to an `R32Uint` target. It
+/// replaces pre-Z and the G-buffer of the deferred paths: what a sample sees is found again in
+/// compute from the ID.
+///
+/// The vertices are pulled from storage rather than vertex buffers, so a triangle knows its
+/// number without `primitive_index` (which WebGPU lacks): the pass draws the scene's indexed
+/// draws, with their indirect arguments unchanged, over a *sequence* index buffer whose index
+/// `i` is `i`, so `vertex_index − base_vertex` is the position in the scene's index buffer. The
+/// ID leaves the provoking (first) vertex flat.
+///
+/// The clip position is `view`'s `clip_position`, `#[invariant]`, as every geometry pass's.
+/// Alpha-masked materials (`alpha_mask`) discard what the masked pre-Z discards
+/// (`material_table`'s `masked_out`), so the IDs and the depth agree with the other paths.
+#[shader_dsl::shader(
+    axes(alpha_mask: bool = [false, true] => "mask"),
+    uses(
+        crate::shared::view,
+        crate::shared::material_uv,
+        crate::shared::material_table,
+        crate::visibility::geometry::vis_geometry,
+    ),
+)]
+pub mod vis_raster {
+    pub struct VisVsOut {
+        #[builtin(position)]
+        #[invariant]
+        pub clip: Vec4,
+        /// The triangle's ID.
+        #[location(0)]
+        #[interpolate(flat)]
+        pub id: u32,
+        #[location(1)]
+        pub uv0: Vec2,
+        #[location(2)]
+        pub uv1: Vec2,
+        #[location(3)]
+        pub color_alpha: f32,
+        #[location(4)]
+        #[interpolate(flat)]
+        pub material: u32,
+    }
+
+    #[uniform(group = 0, binding = 0)]
+    static CAMERA: Camera;
+
+    #[vertex]
+    pub fn vs_vis(
+        #[builtin(vertex_index)] index: u32,
+        #[builtin(instance_index)] draw: u32,
+    ) -> VisVsOut {
+        let g = DRAW_GEOMETRY[draw];
+        let at = index - g.base_vertex;
+        let v = SCENE_INDICES[at] + g.base_vertex;
+        let mut out = VisVsOut {
+            clip: clip_position(
+                CAMERA.view_projection,
+                DRAWS[draw].world_from_mesh,
+                vertex_position(v),
+            ),
+            id: g.first_triangle + (at - g.first_index) / 3u32 + 1u32,
+            uv0: Vec2::ZERO,
+            uv1: Vec2::ZERO,
+            color_alpha: 1.0,
+            material: DRAWS[draw].material,
+        };
+        if alpha_mask {
+            out.uv0 = UV0[v];
+            out.uv1 = UV1[v];
+            out.color_alpha = COLORS[v].w;
+        }
+        out
+    }
+
+    /// The sample's triangle; masked materials' texels below the cutoff leave nothing.
+    #[fragment]
+    pub fn fs_vis(input: VisVsOut) -> VisOut {
+        if alpha_mask
+            && masked_out(
+                input.material,
+                uv_derivatives(input.uv0, input.uv1),
+                input.color_alpha,
+            )
+        {
+            discard();
+        }
+        VisOut { id: input.id }
+    }
+
+    pub struct VisOut {
+        #[location(0)]
+        pub id: u32,
+    }
+}
