@@ -117,6 +117,18 @@ pub enum MaterialError {
         /// Bytes of the program's parameter struct.
         expected: u64,
     },
+    /// The scene names material program `program`, and the configured path cannot shade it
+    /// yet: the visibility path evaluates glTF PBR only. Use another path, or glTF materials.
+    #[error(
+        "the scene's materials use material program `{program}`; RenderPath::{path:?} shades \
+         glTF PBR materials only so far: use another RendererConfig::path"
+    )]
+    NotOnPath {
+        /// The program's module name.
+        program: String,
+        /// The configured path.
+        path: crate::frame::RenderPath,
+    },
     /// A material with a program has [`AlphaMode::Blend`](crate::scene::AlphaMode::Blend);
     /// use opaque or masked, or glTF PBR for blended surfaces.
     #[error(

@@ -69,7 +69,7 @@ impl Overlay {
                         ui.end_row();
                     });
                     ui.separator();
-                    ui.small("WASD/QE fly, drag to look, 1-8 path (6, 7: TBDR; 8: light volumes), M MSAA, T tile, H heatmap, C decal heatmap, V shadow atlas, P particle lighting (atlas / per pixel), O particle atlas, F shading frequency (deferred paths), +/- lights");
+                    ui.small("WASD/QE fly, drag to look, 1-9 path (6, 7: TBDR; 8: light volumes; 9: visibility buffer), M MSAA, T tile, H heatmap, C decal heatmap, V shadow atlas, P particle lighting (atlas / per pixel), O particle atlas, F shading frequency (deferred paths), +/- lights");
                 });
         });
         self.state

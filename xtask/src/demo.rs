@@ -90,14 +90,16 @@ pub fn run(args: &Args) -> Result<()> {
     let lit_by = |path| shoot_with(&s, RendererConfig { path, ..s.config }, false);
     let tbdr = lit_by(RenderPath::TbdrPerSample)?;
     let volumes = lit_by(RenderPath::Deferred)?;
+    let visibility = lit_by(RenderPath::Visibility)?;
     let warm = [
         s.config.path,
         RenderPath::TbdrPerSample,
         RenderPath::Deferred,
+        RenderPath::Visibility,
     ]
     .map(|path| warm_frame_ms(&s, RendererConfig { path, ..s.config }));
-    let [forward_ms, tbdr_ms, deferred_ms] = warm;
-    let warm_ms = [forward_ms?, tbdr_ms?, deferred_ms?];
+    let [forward_ms, tbdr_ms, deferred_ms, visibility_ms] = warm;
+    let warm_ms = [forward_ms?, tbdr_ms?, deferred_ms?, visibility_ms?];
     let moving = moving_sphere(&s)?;
     let dir = args
         .out_dir
@@ -112,6 +114,7 @@ pub fn run(args: &Args) -> Result<()> {
         dir.join("particle_atlas.png"),
         dir.join("shading_frequency.png"),
         dir.join("deferred.png"),
+        dir.join("visibility.png"),
         dir.join("graph.dot"),
     ];
     save_png(&files[0], &lit.rgba, size)?;
@@ -121,11 +124,16 @@ pub fn run(args: &Args) -> Result<()> {
     save_png(&files[4], &particle_atlas.rgba, size)?;
     save_png(&files[5], &frequency.rgba, size)?;
     save_png(&files[6], &volumes.rgba, size)?;
-    save_text(&files[7], &lit.graph_dot)?;
+    save_png(&files[7], &visibility.rgba, size)?;
+    save_text(&files[8], &lit.graph_dot)?;
     summary(&s, &lit, &files, started.elapsed().as_secs_f64());
     print_deferred(
         &lit,
-        &[("tbdr-per-sample", &tbdr), ("deferred", &volumes)],
+        &[
+            ("tbdr-per-sample", &tbdr),
+            ("deferred", &volumes),
+            ("visibility", &visibility),
+        ],
         warm_ms,
     );
     print_moving(&moving);
@@ -173,7 +181,7 @@ fn warm_frame_ms(s: &Setup, config: RendererConfig) -> Result<Option<f64>> {
 /// The deferred paths' frames against Forward+'s `lit`: image difference, and the warm GPU
 /// time of each path (`warm_ms`: Forward+, then `paths` in order).
 #[expect(clippy::print_stdout, reason = "the demo's report")]
-fn print_deferred(lit: &Shot, paths: &[(&str, &Shot)], warm_ms: [Option<f64>; 3]) {
+fn print_deferred(lit: &Shot, paths: &[(&str, &Shot)], warm_ms: [Option<f64>; 4]) {
     let time = |ms: Option<f64>| ms.map_or("no timestamps".into(), |ms| format!("{ms:.2} ms"));
     let cells: Vec<String> = paths
         .iter()

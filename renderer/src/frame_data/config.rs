@@ -305,10 +305,8 @@ impl std::str::FromStr for RenderPath {
             .into_iter()
             .find(|p| p.name() == s)
             .ok_or_else(|| {
-                format!(
-                    "path {s:?}: use naive, naive-prez, tiled, 2.5d, clustered, tbdr, \
-                     tbdr-per-sample or deferred"
-                )
+                let names: Vec<&str> = Self::ALL.iter().map(|p| p.name()).collect();
+                format!("path {s:?}: use one of {}", names.join(", "))
             })
     }
 }

@@ -19,7 +19,7 @@ impl Running {
     pub(super) fn action(&mut self, key: char, shown: &Shown) -> Result<()> {
         let mut config = self.config;
         match key {
-            '1'..='8' => config.path = RenderPath::ALL[key as usize - '1' as usize],
+            '1'..='9' => config.path = RenderPath::ALL[key as usize - '1' as usize],
             'm' => {
                 let counts = self.gpu.capabilities().msaa_counts();
                 let i = counts.iter().position(|&c| c == config.msaa).unwrap_or(0);
@@ -173,6 +173,7 @@ impl Running {
             KeyCode::Digit6 => self.action('6', shown)?,
             KeyCode::Digit7 => self.action('7', shown)?,
             KeyCode::Digit8 => self.action('8', shown)?,
+            KeyCode::Digit9 => self.action('9', shown)?,
             KeyCode::KeyF => self.action('f', shown)?,
             KeyCode::KeyM => self.action('m', shown)?,
             KeyCode::KeyT => self.action('t', shown)?,

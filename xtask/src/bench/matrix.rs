@@ -97,7 +97,7 @@ pub fn expand(axes: &Axes, support: &Support) -> (Vec<Setup>, Vec<String>) {
                         axes.tiles.iter().copied().filter(|t| *t <= 16).collect();
                     let tiles: &[u32] = if path.0 == RenderPath::Deferred {
                         &[16]
-                    } else if path.0.is_deferred() {
+                    } else if path.0.is_deferred() && path.0 != RenderPath::Visibility {
                         &tbdr_tiles
                     } else if path.has_tiles() {
                         &axes.tiles

@@ -10,7 +10,7 @@ use renderer::decals::DecalSet;
 use renderer::demo::{courtyard_look, pick_shadowed, procedural_lights};
 use renderer::frame::create_target;
 use renderer::frame::{
-    FrameCamera, FrameReport, FrameView, ParticleLighting, Renderer, RendererConfig,
+    FrameCamera, FrameReport, FrameView, ParticleLighting, RenderPath, Renderer, RendererConfig,
 };
 use renderer::frame_data::LightSet;
 use renderer::graph::PassTiming;
@@ -173,7 +173,8 @@ pub struct Shot {
 pub fn setup(args: &Args) -> Result<Setup> {
     let (w, h) = parse_size(&args.size)?;
     let path = PathChoice::parse(&args.path)?.0;
-    let tiles: &[u32] = if path.is_deferred() {
+    // The TBDR kernels' tiles are 8 or 16 (one invocation per pixel).
+    let tiles: &[u32] = if path.is_deferred() && path != RenderPath::Visibility {
         &[8, 16]
     } else {
         &[8, 16, 32]

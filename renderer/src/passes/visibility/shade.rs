@@ -73,6 +73,19 @@ impl Pass for VisShadePass {
         "visibility shading"
     }
 
+    /// Refuses a scene whose materials name a material program: the kernel evaluates glTF
+    /// PBR's surface for every triangle.
+    fn prepare(&mut self, frame: &FrameInputs) -> Result<(), RenderError> {
+        match frame.scene.material_program_names().next() {
+            Some(program) => Err(crate::materials::MaterialError::NotOnPath {
+                program: program.to_string(),
+                path: RenderPath::Visibility,
+            }
+            .into()),
+            None => Ok(()),
+        }
+    }
+
     fn add_to_graph(
         &self,
         graph: &mut RenderGraph,
