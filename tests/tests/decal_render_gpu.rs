@@ -24,12 +24,19 @@ use tests::gpu::gpu_test;
 #[path = "decal_render_gpu/edits.rs"]
 mod edits;
 
-const CULLED: [RenderPath; 4] = [
+const CULLED: [RenderPath; 5] = [
     RenderPath::NaivePrez,
     RenderPath::Tiled,
     RenderPath::Depth25,
     RenderPath::Clustered,
+    RenderPath::Visibility,
 ];
+
+/// The visibility path may differ from naive by more than one step at one pixel in this many
+/// (its points rebuilt from the triangle's plane, not interpolated)...
+const VISIBILITY_EXCEPTIONS: usize = 500;
+/// ...and there by at most this much.
+const VISIBILITY_WORST: u8 = 24;
 
 /// Pixels whose colour differs between two RGBA8 images by more than `by` in some channel.
 fn changed_pixels(a: &[u8], b: &[u8], by: u8) -> usize {
@@ -138,6 +145,21 @@ fn assert_culled_equals_naive(
             // One 8-bit step: culled paths sum the same lights in another order (f32 addition is
             // not associative); decals are applied in the same layer order on every path.
             let worst = largest_difference(&naive, &culled);
+            if path == RenderPath::Visibility {
+                // It rebuilds each point from its triangle's plane rather than interpolating it:
+                // measured, 0 to 12 pixels per frame differ by more than a step (at most 10).
+                let off = changed_pixels(&naive, &culled, 1);
+                eprintln!(
+                    "{what} {path:?} at MSAA {msaa}: {off} pixels off by more than 1, worst {worst}"
+                );
+                assert!(
+                    off <= pixels / VISIBILITY_EXCEPTIONS && worst <= VISIBILITY_WORST,
+                    "{what} {path:?} at MSAA {msaa}: {off} pixels differ from naive by more \
+                     than 1 (at most {}), the worst by {worst} (at most {VISIBILITY_WORST})",
+                    pixels / VISIBILITY_EXCEPTIONS
+                );
+                continue;
+            }
             assert!(
                 worst <= 1,
                 "{what} {path:?} at MSAA {msaa}: differs from naive by {worst}"

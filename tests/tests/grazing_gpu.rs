@@ -116,6 +116,7 @@ fn every_path_equals_naive_at_a_grazing_camera() {
             RenderPath::Tiled,
             RenderPath::Depth25,
             RenderPath::Clustered,
+            RenderPath::Visibility,
         ] {
             let image = render(&scene, path, msaa);
             // Tolerance: one 8-bit step per channel, as in `render_gpu` (the culled paths sum the

@@ -7,11 +7,11 @@
 /// For a triangle of the pixel:
 /// 1. **Reconstruction.** Its three vertices (`vis_geometry`) in world space; the point where
 ///    the view ray through the pixel centre meets the triangle's plane (outside the triangle
-///    too, as the forward pass extrapolates its attributes there), and the points of the rays
-///    one pixel right and one down: their barycentric weights (in world space, so they are the
-///    perspective-correct ones) interpolate the normal, tangent, both UV sets and the vertex
-///    colour, and their differences are the screen derivatives the forward pass's `dpdx` and
-///    `dpdy` give (the material's mip choice, the decals' footprint).
+///    too, as the forward pass extrapolates its attributes there); its barycentric weights (in
+///    world space, so they are the perspective-correct ones) interpolate the normal, tangent,
+///    both UV sets and the vertex colour. The screen derivatives (the material's mip choice,
+///    the decals' footprint) are differences between the points of the pixel's 2 × 2 quad, in
+///    its row and its column, as a fragment shader's fine `dpdx` and `dpdy` take them.
 /// 2. **Facing.** A front face is one whose vertices wind counter-clockwise on screen, clockwise
 ///    for a mirrored draw (`handedness`), as the raster pipelines' `front_face`; a back face of
 ///    a double-sided material gets the flipped normal.
@@ -145,21 +145,31 @@ pub mod vis_shade {
         let plane = (w1 - w0).cross(w2 - w0);
         let frag = p.as_vec2() + Vec2::splat(0.5);
         let world = on_plane(frag, w0, plane);
-        let world_dx = on_plane(frag + Vec2::new(1.0, 0.0), w0, plane);
-        let world_dy = on_plane(frag + Vec2::new(0.0, 1.0), w0, plane);
+        // The derivatives a fragment shader's `dpdx` and `dpdy` give (fine: the pixel's row and
+        // column of its 2 × 2 quad): differences between the quad's pixels, not this pixel's
+        // own neighbours, which a perspective plane makes differ.
+        let quad = (p - p % UVec2::splat(2u32)).as_vec2() + Vec2::splat(0.5);
+        let left = on_plane(Vec2::new(quad.x, frag.y), w0, plane);
+        let right = on_plane(Vec2::new(quad.x + 1.0, frag.y), w0, plane);
+        let top = on_plane(Vec2::new(frag.x, quad.y), w0, plane);
+        let bottom = on_plane(Vec2::new(frag.x, quad.y + 1.0), w0, plane);
         let bc = weights(world, w0, w1, w2);
-        let bx = weights(world_dx, w0, w1, w2);
-        let by = weights(world_dy, w0, w1, w2);
+        let bl = weights(left, w0, w1, w2);
+        let br = weights(right, w0, w1, w2);
+        let bt = weights(top, w0, w1, w2);
+        let bb = weights(bottom, w0, w1, w2);
+        let world_dx = right - left;
+        let world_dy = bottom - top;
 
         let uv0 = mix2(bc, UV0[v.x], UV0[v.y], UV0[v.z]);
         let uv1 = mix2(bc, UV1[v.x], UV1[v.y], UV1[v.z]);
         let d = UvDerivatives {
             uv0,
             uv1,
-            uv0_dx: mix2(bx, UV0[v.x], UV0[v.y], UV0[v.z]) - uv0,
-            uv0_dy: mix2(by, UV0[v.x], UV0[v.y], UV0[v.z]) - uv0,
-            uv1_dx: mix2(bx, UV1[v.x], UV1[v.y], UV1[v.z]) - uv1,
-            uv1_dy: mix2(by, UV1[v.x], UV1[v.y], UV1[v.z]) - uv1,
+            uv0_dx: mix2(br - bl, UV0[v.x], UV0[v.y], UV0[v.z]),
+            uv0_dy: mix2(bb - bt, UV0[v.x], UV0[v.y], UV0[v.z]),
+            uv1_dx: mix2(br - bl, UV1[v.x], UV1[v.y], UV1[v.z]),
+            uv1_dy: mix2(bb - bt, UV1[v.x], UV1[v.y], UV1[v.z]),
         };
         let n = mix3(
             bc,
@@ -190,7 +200,7 @@ pub mod vis_shade {
             params: MATERIALS[draw.material].params,
         };
         let s = gltf_surface(point);
-        let sp = shading_point_at(frag, point, s, world_dx - world, world_dy - world);
+        let sp = shading_point_at(frag, point, s, world_dx, world_dy);
         lit_radiance(sp, frag)
     }
 
