@@ -127,7 +127,7 @@ pub enum MaterialError {
         /// The program's module name.
         program: String,
         /// The configured path.
-        path: crate::frame::RenderPath,
+        path: crate::frame_data::RenderPath,
     },
     /// A material with a program has [`AlphaMode::Blend`](crate::scene::AlphaMode::Blend);
     /// use opaque or masked, or glTF PBR for blended surfaces.

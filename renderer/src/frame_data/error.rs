@@ -178,7 +178,6 @@ pub enum ConfigError {
         /// The cutoff given.
         f32,
     ),
-    /// A frame size (configuration or `resize`) of 0 or past the device's largest texture side.
     /// A path needs more of a device limit than the device has.
     #[error(
         "RenderPath::{path:?} needs {limit} of {needs} or more; this device has {device} (use \
@@ -194,6 +193,7 @@ pub enum ConfigError {
         /// What the device allows.
         device: u64,
     },
+    /// A frame size (configuration or `resize`) of 0 or past the device's largest texture side.
     #[error(
         "frame size {width}x{height}: use 1 to {max} pixels a side (this device's largest \
          texture side)"

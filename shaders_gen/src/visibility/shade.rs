@@ -16,9 +16,9 @@
 ///    for a mirrored draw (`handedness`), as the raster pipelines' `front_face`; a back face of
 ///    a double-sided material gets the flipped normal.
 /// 3. **Material**: glTF metallic-roughness (`gltf_material`'s `gltf_surface`).
-/// 4. **Decals and lights** through the frame's light lists (`material_frame`'s
-///    `shading_point_at` and `lit_radiance`: the tiled (`list` 1) or clustered (`list` 2) cell
-///    of the point, shadowed), the very code of the forward pass.
+/// 4. **Decals and lights** through the frame's clustered light lists (`material_frame`'s
+///    `shading_point_at` and `lit_radiance` with `list` 2: the point's froxel, shadowed), the
+///    very code of the forward pass.
 ///
 /// A pixel whose samples all see one triangle (or the sky) is shaded once; otherwise each
 /// distinct triangle once, weighted by the samples it covers, the sky by the sky's. The
@@ -26,7 +26,7 @@
 /// the same sum. With `show_frequency`, pixels of more than one triangle are drawn red.
 #[shader_dsl::shader(
     axes(
-        list: u32 = [1, 2],
+        list: u32 = [2],
         blend: bool = [false],
         scalarize: bool = [false, true] => "scalar",
         msaa: u32 = [1, 2, 4, 8],

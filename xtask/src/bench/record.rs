@@ -130,8 +130,8 @@ pub struct CellRecord {
     /// Decal axis (`--decals`): procedural decals on the scene's surfaces (0: none).
     #[serde(default)]
     pub decals: u32,
-    /// The deferred paths: the G-buffer pass, and the TBDR shading pass (or traditional
-    /// deferred's base pass).
+    /// The deferred paths: the G-buffer pass (the visibility path: its raster pass), and the
+    /// TBDR shading pass (traditional deferred's base pass; the visibility path's shading).
     #[serde(default)]
     pub gbuffer_median_ms: Option<f64>,
     #[serde(default)]
@@ -240,7 +240,9 @@ impl CellRecord {
         record.forward_p90_ms = pass("forward").and_then(|s| s.p90());
         record.tonemap_median_ms = pass("tonemap").and_then(|s| s.median());
         record.tonemap_p90_ms = pass("tonemap").and_then(|s| s.p90());
-        record.gbuffer_median_ms = pass("gbuffer").and_then(|s| s.median());
+        record.gbuffer_median_ms = pass("gbuffer")
+            .or(pass("visibility"))
+            .and_then(|s| s.median());
         record.prez_late_median_ms = pass("pre-z (late)").and_then(|s| s.median());
         record.occlusion_median_ms = match (
             pass("depth pyramid").and_then(|s| s.median()),
@@ -251,6 +253,7 @@ impl CellRecord {
         };
         record.deferred_median_ms = pass("tbdr shading")
             .or(pass("deferred base"))
+            .or(pass("visibility shading"))
             .and_then(|s| s.median());
         record.volumes_median_ms = pass("light volumes").and_then(|s| s.median());
         record.blended_order_median_ms = pass("blended order").and_then(|s| s.median());

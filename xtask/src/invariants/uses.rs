@@ -25,6 +25,10 @@ impl PathUse {
     }
 }
 
+/// The item macro that re-exports like `pub use` (the renderer's internal items: `pub` with its
+/// `internals` feature, `pub(crate)` without).
+const REEXPORT_MACRO: &str = "internal_use";
+
 /// One leaf of a `use` tree: the path it imports and the name it binds in the module.
 #[derive(Debug, Clone)]
 pub struct UseLeaf {
@@ -154,6 +158,21 @@ impl<'ast> Visit<'ast> for Collected {
     fn visit_item_macro(&mut self, m: &'ast syn::ItemMacro) {
         // `macro_rules!` bodies are token patterns, not paths; other item macros are opaque.
         if m.ident.is_none() {
+            // The renderer's `internal_use!(tree)`: a re-export, `pub` or `pub(crate)`.
+            if m.mac.path.is_ident(REEXPORT_MACRO)
+                && let Ok(tree) = m.mac.parse_body::<syn::UseTree>()
+            {
+                let mut leaves = Vec::new();
+                let line = m.mac.bang_token.span.start().line;
+                flatten(&tree, &[], line, &mut leaves);
+                self.uses
+                    .extend(leaves.into_iter().map(|(path, binding)| UseLeaf {
+                        path,
+                        binding,
+                        reexport: true,
+                    }));
+                return;
+            }
             self.visit_macro(&m.mac);
         }
     }

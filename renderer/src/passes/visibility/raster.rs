@@ -11,7 +11,9 @@ use crate::frame_data::{
     ConfigError, DEPTH_FORMAT, FrameInputs, FrameResources, RenderError, RendererConfig,
     VISIBILITY_FORMAT, VisibilityHandles,
 };
-use crate::graph::{BufferAccess, RenderGraph, TextureAccess, TextureDesc};
+use crate::graph::{
+    BufferAccess, Handle, PassContext, RenderGraph, Texture, TextureAccess, TextureDesc,
+};
 use crate::passes::{
     BatchState, FacePipelines, MeshPipeline, Pass, SceneDraws, depth_state, face_pipeline,
     face_pipelines, mesh_pipeline,
@@ -167,61 +169,25 @@ impl Pass for VisRasterPass {
         let ids_desc =
             TextureDesc::new_2d(c.width, c.height, VISIBILITY_FORMAT).with_samples(c.msaa);
         let mut ids = graph.create_texture("visibility", ids_desc);
-        let (plain, masked) = (self.plain.clone(), self.masked.clone());
-        let scene = Arc::clone(&frame.scene);
-        let instances = Arc::clone(&frame.instances);
-        let (depth_target, ids_target) = (depth, ids);
+        let recording = Recording {
+            plain: self.plain.clone(),
+            masked: self.masked.clone(),
+            scene: Arc::clone(&frame.scene),
+            instances: Arc::clone(&frame.instances),
+            camera,
+            geometry,
+            mask_geometry,
+            sequence,
+            list: list.clone(),
+            depth,
+            ids,
+        };
         graph
             .add_pass(self.name())
             .read_buffer(list.args, BufferAccess::Indirect)
             .write_texture(&mut depth, TextureAccess::DepthWrite)
             .write_texture(&mut ids, TextureAccess::ColorAttachment)
-            .execute(move |ctx| {
-                let depth_view = ctx.texture(depth_target).create_view(&Default::default());
-                let ids_view = ctx.texture(ids_target).create_view(&Default::default());
-                let mut pass = ctx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("visibility"),
-                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                        view: &ids_view,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                            store: wgpu::StoreOp::Store,
-                        },
-                    })],
-                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                        view: &depth_view,
-                        depth_ops: Some(wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(1.0),
-                            store: wgpu::StoreOp::Store,
-                        }),
-                        stencil_ops: None,
-                    }),
-                    timestamp_writes: None,
-                    occlusion_query_set: None,
-                    multiview_mask: None,
-                });
-                let mut draws =
-                    SceneDraws::new(&mut pass, &scene, &instances, VertexStreams::Position);
-                // Drawn through the sequence: `vertex_index` is the position in the index
-                // buffer (plus the base vertex), from which the shader pulls the vertex.
-                draws
-                    .pass()
-                    .set_index_buffer(sequence.slice(..), wgpu::IndexFormat::Uint32);
-                draws.draw_batches_with(&list, &instances, |batch| {
-                    let (pipelines, group3) = if batch.masked {
-                        (&masked, &mask_geometry)
-                    } else {
-                        (&plain, &geometry)
-                    };
-                    Some(BatchState {
-                        pipeline: face_pipeline(pipelines, batch.double_sided, batch.mirrored),
-                        group2: batch.masked.then(|| scene.mask_group()),
-                        program_groups: Some((&camera, Some(group3))),
-                    })
-                });
-            });
+            .execute(move |ctx| recording.record(ctx));
         resources.depth = Some(depth);
         resources.visibility = Some(VisibilityHandles {
             ids,
@@ -229,5 +195,71 @@ impl Pass for VisRasterPass {
             draws,
         });
         Ok(())
+    }
+}
+
+/// What one frame's visibility pass records with.
+struct Recording {
+    plain: FacePipelines,
+    masked: FacePipelines,
+    scene: Arc<crate::frame_data::PreparedScene>,
+    instances: Arc<crate::frame_data::InstanceTable>,
+    camera: wgpu::BindGroup,
+    /// Group 3 of the plain and the masked programs.
+    geometry: wgpu::BindGroup,
+    mask_geometry: wgpu::BindGroup,
+    sequence: wgpu::Buffer,
+    list: crate::frame_data::SceneDrawList,
+    depth: Handle<Texture>,
+    ids: Handle<Texture>,
+}
+
+impl Recording {
+    /// Clears depth and IDs and draws every batch, through the sequence index buffer.
+    fn record(&self, ctx: &mut PassContext<'_>) {
+        let depth_view = ctx.texture(self.depth).create_view(&Default::default());
+        let ids_view = ctx.texture(self.ids).create_view(&Default::default());
+        let mut pass = ctx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("visibility"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &ids_view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &depth_view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        let mut draws =
+            SceneDraws::new(&mut pass, &self.scene, &self.instances, VertexStreams::Position);
+        // Drawn through the sequence: `vertex_index` is the position in the index buffer (plus
+        // the base vertex), from which the shader pulls the vertex.
+        draws
+            .pass()
+            .set_index_buffer(self.sequence.slice(..), wgpu::IndexFormat::Uint32);
+        draws.draw_batches_with(&self.list, &self.instances, |batch| {
+            let (pipelines, group3) = if batch.masked {
+                (&self.masked, &self.mask_geometry)
+            } else {
+                (&self.plain, &self.geometry)
+            };
+            Some(BatchState {
+                pipeline: face_pipeline(pipelines, batch.double_sided, batch.mirrored),
+                group2: batch.masked.then(|| self.scene.mask_group()),
+                program_groups: Some((&self.camera, Some(group3))),
+            })
+        });
     }
 }
