@@ -133,6 +133,7 @@ impl std::fmt::Display for AdapterReport {
         )?;
         writeln!(f, "  MSAA Depth32Float: {:?}", caps.msaa_depth32float)?;
         writeln!(f, "  MSAA Rgba16Float:  {:?}", caps.msaa_rgba16float)?;
+        writeln!(f, "  MSAA R32Uint:      {:?}", caps.msaa_r32uint)?;
         write!(
             f,
             "  workgroup max:     {} invocations",
