@@ -21,7 +21,7 @@
 //!
 //! # Features
 //! - `gltf`, `png`, `json` (default): glTF scenes, PNG decal images, JSON decal sidecars.
-//! - `demo`: [`demo`], helpers for demos, tools and tests.
+//! - `demo`: the `demo` module, helpers for demos, tools and tests.
 //! - `internals`: the internal modules, public and hidden from the docs, for this workspace's
 //!   own tests, benchmarks and fuzzers; without it they are `pub(crate)`. Not part of the API.
 

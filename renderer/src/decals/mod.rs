@@ -1,7 +1,7 @@
 //! Decals: textures projected through oriented boxes onto whatever surfaces lie inside them
 //! (DOOM 2016's clustered decals, reference 004). GPU-free: the decal items ([`Decal`], their
 //! boxes and the separating-axis tests the culling reference needs), the decal atlas
-//! ([`DecalAtlas`]: every material's channels packed with `etagere`, mip levels and gutters, and
+//! (`DecalAtlas`: every material's channels packed with `etagere`, mip levels and gutters, and
 //! materials added and removed in place), the
 //! built-in procedural materials, PNG loading, the JSON sidecar and seeded placement on a
 //! scene's surfaces.

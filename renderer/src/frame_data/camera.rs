@@ -82,7 +82,7 @@ impl FrameCamera {
         }
     }
 
-    /// The six planes of the view frustum ([`frustum_planes`] of view-projection).
+    /// The six planes of the view frustum (`frustum_planes` of view-projection).
     pub fn frustum_planes(&self) -> [glam::Vec4; 6] {
         frustum_planes(self.projection * self.view)
     }

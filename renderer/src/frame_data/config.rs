@@ -273,7 +273,7 @@ pub struct RendererConfig {
     pub edges: EdgeThresholds,
     /// Illuminance, after exposure, below which a point or spot light without a range (glTF
     /// allows none: infinite) is cut off. Such a light gets the effective range
-    /// [`crate::frame_data::effective_range`], where its illuminance falls to this; the range
+    /// `crate::frame_data::effective_range`, where its illuminance falls to this; the range
     /// window then changes no surface's illuminance by more than this anywhere. The default,
     /// 0.001, is under half an 8-bit step on a white surface through the ACES tonemap. 0 keeps
     /// such lights infinite (every tile and froxel lists them; a light volume covers the

@@ -52,7 +52,7 @@ struct Packed {
     allocations: Vec<etagere::AllocId>,
 }
 
-/// What [`GpuDecals::updated`] had to do.
+/// What `GpuDecals::updated` had to do.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum DecalUpload {
     /// The atlas configuration changed, there were no decals, or a new material found no

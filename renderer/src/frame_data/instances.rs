@@ -62,7 +62,7 @@ pub struct InstanceState {
     pub live: bool,
     /// Bumped whenever anything above changes.
     pub version: u64,
-    /// Its draws: `first_draw..first_draw + draw_count` of [`InstanceTable::draws`].
+    /// Its draws: `first_draw..first_draw + draw_count` of `InstanceTable::draws`.
     pub first_draw: u32,
     /// How many draws: one per primitive of its mesh.
     pub draw_count: u32,
@@ -71,7 +71,7 @@ pub struct InstanceState {
 }
 
 impl InstanceState {
-    /// Whether the instance is mirrored where it is now ([`is_mirrored`]).
+    /// Whether the instance is mirrored where it is now (`is_mirrored`).
     pub fn mirrored(&self) -> bool {
         is_mirrored(self.world_from_mesh)
     }
@@ -85,7 +85,7 @@ impl InstanceState {
 /// One primitive of one instance.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DrawItem {
-    /// The instance (index into [`InstanceTable::states`]) it belongs to.
+    /// The instance (index into `InstanceTable::states`) it belongs to.
     pub instance: usize,
     /// Its material, an index into [`super::PreparedScene::materials`].
     pub material: usize,

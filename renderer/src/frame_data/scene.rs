@@ -55,7 +55,7 @@ pub struct PreparedScene {
     /// Its geometry and material table on the GPU.
     pub gpu: GpuScene,
     /// `mesh_draws[mesh]`: what an instance of `mesh` draws (its draws in
-    /// [`super::InstanceTable`] follow this order).
+    /// `super::InstanceTable` follow this order).
     pub mesh_draws: Vec<Vec<MeshDraw>>,
     /// The scene's materials, then the glTF default material (the material of primitives
     /// without one, at [`PreparedScene::default_material`]), then materials added, as given
@@ -195,7 +195,7 @@ impl PreparedScene {
     }
 
     /// Uploads `mesh` after the scene's meshes and returns its index (what
-    /// [`super::InstanceTable::add`] takes). Its primitives name materials by index into
+    /// `super::InstanceTable::add` takes). Its primitives name materials by index into
     /// [`PreparedScene::materials`]; one without a material draws with the default material.
     pub fn add_mesh(
         &mut self,

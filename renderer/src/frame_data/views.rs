@@ -3,7 +3,7 @@
 
 use super::FrameCamera;
 
-/// A further view of a renderer ([`Renderer::add_view`]).
+/// A further view of a renderer ([`Renderer::add_view`](crate::frame::Renderer::add_view)).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct ViewId(pub(crate) u32);
 

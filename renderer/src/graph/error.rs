@@ -59,7 +59,7 @@ pub enum GraphError {
     },
 
     /// From `execute`: an import used by a kept pass got no `bind_texture`/`bind_buffer`
-    /// call on the [`CompiledGraph`](super::CompiledGraph).
+    /// call on the `CompiledGraph`.
     #[error("imported resource `{resource}` was given no GPU object before execution")]
     ImportNotBound {
         /// The unbound import.

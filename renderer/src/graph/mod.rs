@@ -3,9 +3,9 @@
 //! debug labels and per-pass GPU timestamps.
 //!
 //! Lifecycle: [`RenderGraph`] (passes are added) → [`RenderGraph::compile`] →
-//! [`CompiledGraph`] (order, lifetimes, pool plan; no GPU needed) →
-//! [`CompiledGraph::execute`] (records the passes on a device). A renderer compiles through a
-//! [`GraphCache`] ([`RenderGraph::compile_cached`]): a frame whose graph has the last one's
+//! `CompiledGraph` (order, lifetimes, pool plan; no GPU needed) →
+//! `CompiledGraph::execute` (records the passes on a device). A renderer compiles through a
+//! `GraphCache` (`RenderGraph::compile_cached`): a frame whose graph has the last one's
 //! shape reuses its plan, and DOT is drawn from the cache on request.
 //!
 //! Handles are versioned: writing a resource takes `&mut Handle` and advances it, so a read

@@ -85,7 +85,7 @@ impl std::fmt::Debug for PassNode {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Lifetime {
     /// Position of the first pass using it, as an index into
-    /// [`CompiledGraph::pass_order`](super::CompiledGraph::pass_order).
+    /// `CompiledGraph::pass_order`.
     pub first: usize,
     /// Position of the last pass using it (inclusive).
     pub last: usize,

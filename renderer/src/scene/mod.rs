@@ -2,7 +2,7 @@
 //! `KHR_lights_punctual` lights, as plain CPU data ready to upload.
 //!
 //! [`Scene::load`] reads a `.gltf` or `.glb` file; anything malformed is a [`SceneError`] naming
-//! the file and the problem, never a panic. [`GpuScene::upload`] puts it on the GPU.
+//! the file and the problem, never a panic. `GpuScene::upload` puts it on the GPU.
 
 mod camera;
 mod error;
