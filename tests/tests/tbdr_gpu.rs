@@ -391,11 +391,9 @@ fn the_shading_frequency_view_marks_edges_red_and_bad_settings_are_errors() {
             path: RenderPath::Tiled,
             ..Default::default()
         };
-        assert!(
-            bad(tiled).contains(
-                "set RendererConfig::path to RenderPath::Tbdr, TbdrPerSample or Deferred"
-            )
-        );
+        assert!(bad(tiled).contains(
+            "set RendererConfig::path to RenderPath::Tbdr, TbdrPerSample, Deferred or Visibility"
+        ));
         let wide = RendererConfig {
             path: RenderPath::Tbdr,
             tile: 32,

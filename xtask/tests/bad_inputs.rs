@@ -46,7 +46,8 @@ fn every_option_refuses_bad_values_with_a_clear_message() {
     refused(&["--tile", "7"], "--tile 7: --path tiled takes [8, 16, 32]");
     refused(
         &["--path", "warp"],
-        "path \"warp\": use naive, naive-prez, tiled, 2.5d, clustered, tbdr, tbdr-per-sample or deferred",
+        "path \"warp\": use one of naive, naive-prez, tiled, 2.5d, clustered, tbdr, tbdr-per-sample, \
+         deferred, visibility",
     );
     refused(
         &["--view", "x"],
@@ -55,7 +56,7 @@ fn every_option_refuses_bad_values_with_a_clear_message() {
     );
     refused(
         &["--view", "shading-frequency"],
-        "--view shading-frequency: use --path tbdr, tbdr-per-sample or deferred",
+        "--view shading-frequency: use --path tbdr, tbdr-per-sample, deferred or visibility",
     );
     refused(
         &["--path", "tbdr", "--tile", "32"],

@@ -166,7 +166,7 @@ pub enum ConfigError {
     /// `FrameView::ShadingFrequency` on a path that is not deferred.
     #[error(
         "FrameView::ShadingFrequency shows which pixels deferred shading shades per sample; set \
-         RendererConfig::path to RenderPath::Tbdr, TbdrPerSample or Deferred"
+         RendererConfig::path to RenderPath::Tbdr, TbdrPerSample, Deferred or Visibility"
     )]
     ShadingFrequencyNeedsTbdr,
     /// `RendererConfig::light_cutoff` is negative, NaN or infinite.

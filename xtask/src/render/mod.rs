@@ -200,7 +200,7 @@ pub fn setup(args: &Args) -> Result<Setup> {
         }
     };
     if view == FrameView::ShadingFrequency && !path.is_deferred() {
-        bail!("--view shading-frequency: use --path tbdr, tbdr-per-sample or deferred");
+        bail!("--view shading-frequency: use --path tbdr, tbdr-per-sample, deferred or visibility");
     }
     if view == FrameView::ParticleAtlas && args.particles == 0 {
         bail!("--view particle-atlas: the frame has no particles; add --particles N");
