@@ -34,7 +34,7 @@ mod resource;
 
 pub use error::BindError;
 pub use layout::{bind_group_layout_entries, storage_format};
-pub use resource::Resource;
+pub use resource::{BoundResource, Resource};
 pub use wgpu;
 
 use codegen::rt::Variant;
@@ -76,6 +76,16 @@ impl<'a> Resources<'a> {
             .iter()
             .find(|(n, _)| *n == name)
             .and_then(|(_, r)| r.as_ref())
+    }
+
+    /// Every resource given, owned, by binding name: what a bind group built from these
+    /// resources holds, for a tool that reads it back after the GPU ran (a host replay of a
+    /// kernel).
+    pub fn snapshot(&self) -> Vec<(&'static str, BoundResource)> {
+        self.named
+            .iter()
+            .filter_map(|(name, r)| r.as_ref().map(|r| (*name, BoundResource::from(r))))
+            .collect()
     }
 
     /// The bind-group entries of group `group` of `variant`: every binding the variant has

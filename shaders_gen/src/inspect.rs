@@ -1,5 +1,6 @@
 //! Kernels that copy frame data out for tools: the benchmark measures cull efficiency on depth
-//! read back through [`depth_probe`].
+//! read back through [`depth_probe`]; the tests read a multisampled visibility buffer back
+//! through [`sample_copy`].
 
 /// Copies one depth sample from each point of a regular probe grid over the frame.
 ///
@@ -49,5 +50,29 @@ pub mod depth_probe {
             d = DEPTH_MS.load(p, (gid.x + gid.y) % msaa);
         }
         PROBES[gid.y * PARAMS.grid.x + gid.x] = d;
+    }
+}
+
+/// Copies every sample of a multisampled `u32` texture (the visibility buffer's triangle IDs)
+/// into a buffer, texel by texel, sample after sample: `SAMPLES[(y · width + x) · msaa + s]`.
+/// A multisampled texture cannot be copied to a buffer directly; a tool that reads one back (the
+/// tests' host replay of the visibility shading kernel) dispatches this over it.
+#[shader_dsl::shader(axes(msaa: u32 = [2, 4, 8]))]
+pub mod sample_copy {
+    #[storage(group = 0, binding = 0, read_write)]
+    static SAMPLES: [u32];
+    #[texture(group = 0, binding = 1)]
+    static SOURCE: TextureMultisampled2d<u32>;
+
+    /// Copies the samples of texel `gid.xy` (8 × 8 texels a workgroup).
+    #[compute(workgroup_size(8, 8, 1))]
+    pub fn copy(#[builtin(global_invocation_id)] gid: UVec3) {
+        let size = SOURCE.dimensions();
+        if gid.x < size.x && gid.y < size.y {
+            let first = (gid.y * size.x + gid.x) * msaa;
+            for s in 0u32..msaa {
+                SAMPLES[first + s] = SOURCE.load(gid.xy(), s).x;
+            }
+        }
     }
 }

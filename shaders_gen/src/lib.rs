@@ -41,6 +41,7 @@ pub static MODULES: &[&codegen::rt::Module] = &[
     &forward::heatmap::MODULE,
     &forward::tonemap::MODULE,
     &inspect::depth_probe::MODULE,
+    &inspect::sample_copy::MODULE,
     &particles::particle_atlas::MODULE,
     &particles::particle_draw::MODULE,
     &particles::particle_light::MODULE,

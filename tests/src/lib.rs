@@ -15,6 +15,7 @@ pub mod dsl_fuzz;
 pub mod frame_probe;
 pub mod frames;
 pub mod gpu;
+pub mod host_replay;
 pub mod image_compare;
 pub mod materials;
 pub mod particle_atlas_probe;

@@ -17,11 +17,12 @@ use codegen::interp::{EvalError, Schedule};
 use glam::Vec3;
 use renderer::demo::{courtyard_look, light_space};
 use renderer::demo::{pick_shadowed, procedural_lights};
+use renderer::frame::FrameCamera;
 use renderer::frame::capture::FrameCapture;
 use renderer::frame::{RenderPath, Renderer, RendererConfig};
 use renderer::frame::{create_target, default_camera};
 use renderer::passes::deferred::TbdrPass;
-use renderer::scene::{LightKind, SceneLight};
+use renderer::scene::{LightKind, Scene, SceneLight};
 use renderer::shadow::ShadowConfig;
 use shaders_gen::forward::forward::GpuLight;
 use shaders_gen::inspect::depth_probe::ProbeParams;
@@ -31,14 +32,20 @@ use tests::tbdr_interp::{
     HostRun, KernelInputsProbe, ProbedFrame, TBDR_SOURCE, compile, host_capture, host_shade,
 };
 
+#[path = "tbdr_interp_gpu/visibility.rs"]
+mod visibility;
+
 const WIDTH: u32 = 64;
 const HEIGHT: u32 = 48;
 const TILE: u32 = 8;
 
-/// One lavapipe frame of the courtyard on a TBDR path, probed: 40 point lights (4 of them
-/// shadowed) and a shadowed sun, a small shadow atlas; and its depth probes every
-/// [`PROBE_STRIDE`] pixels.
-fn gpu_frame(path: RenderPath, msaa: u32, scalarize: bool) -> (ProbedFrame, FrameCapture) {
+/// The courtyard as the host-replay tests render it on `path`: 40 point lights (4 of them
+/// shadowed) and a shadowed sun, a small shadow atlas, at [`WIDTH`]×[`HEIGHT`].
+fn courtyard_frame(
+    path: RenderPath,
+    msaa: u32,
+    scalarize: bool,
+) -> (Scene, Vec<SceneLight>, FrameCamera, RendererConfig) {
     let scene = renderer::scene::procedural::courtyard();
     let (region, (rmin, rmax)) = light_space(&scene, true);
     let mut lights = procedural_lights(region, 40, 5, rmin, rmax);
@@ -68,6 +75,13 @@ fn gpu_frame(path: RenderPath, msaa: u32, scalarize: bool) -> (ProbedFrame, Fram
         },
         ..Default::default()
     });
+    (scene, lights, camera, config)
+}
+
+/// One lavapipe frame of the courtyard on a TBDR path ([`courtyard_frame`]), probed, and its
+/// depth probes every [`PROBE_STRIDE`] pixels.
+fn gpu_frame(path: RenderPath, msaa: u32, scalarize: bool) -> (ProbedFrame, FrameCapture) {
+    let (scene, lights, camera, config) = courtyard_frame(path, msaa, scalarize);
     gpu_test(|gpu| {
         let info = gpu.adapter().get_info();
         eprintln!(

@@ -139,7 +139,10 @@ impl CameraUniform {
             buffer: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("camera"),
                 size: size_of::<forward::Camera>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                // COPY_SRC: tools read back what a kernel bound (the tests' host replay).
+                usage: wgpu::BufferUsages::UNIFORM
+                    | wgpu::BufferUsages::COPY_DST
+                    | wgpu::BufferUsages::COPY_SRC,
                 mapped_at_creation: false,
             }),
         }

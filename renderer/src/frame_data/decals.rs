@@ -353,8 +353,11 @@ fn records_buffer(device: &wgpu::Device, records: &[GpuDecal]) -> wgpu::Buffer {
     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("decals"),
         contents: bytemuck::cast_slice(records),
-        // COPY_DST: a later set over the same materials is written in place.
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        // COPY_DST: a later set over the same materials is written in place. COPY_SRC: tools
+        // read back what a kernel bound (the tests' host replay).
+        usage: wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_DST
+            | wgpu::BufferUsages::COPY_SRC,
     })
 }
 
@@ -382,7 +385,10 @@ fn upload_channel(
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
         format,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        // COPY_SRC: tools read back what a kernel bound (the tests' host replay).
+        usage: wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_DST
+            | wgpu::TextureUsages::COPY_SRC,
         view_formats: &[],
     });
     for (level, texels) in levels.iter().enumerate() {

@@ -99,7 +99,10 @@ impl MaterialTable {
         let records = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("materials"),
             contents: bytemuck::cast_slice(&records),
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            // COPY_SRC: tools read back what a kernel bound (the tests' host replay).
+            usage: wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::COPY_DST
+                | wgpu::BufferUsages::COPY_SRC,
         });
         let (group, mask_group) = groups(device, layouts, &records, &atlas)
             .map_err(|e| SceneError::Inconsistent(format!("material group: {e}")))?;
@@ -177,8 +180,12 @@ impl MaterialTable {
         };
         table.collect(&mut resources);
         self.atlas.bindings().collect(&mut resources);
-        let group = material_table::Group2::GROUP;
-        resources.build(device, program.layout(group), program.variant, group, "materials")
+        program.bind_group(
+            device,
+            material_table::Group2::GROUP,
+            &resources,
+            "materials",
+        )
     }
 }
 

@@ -6,6 +6,7 @@
 //! groups by binding name), so no pass writes a bind-group layout by hand. It holds no shader source of its own;
 //! `hot` holds replacements of generated WGSL installed while the program runs (hot reload).
 
+mod binding_log;
 pub mod hot;
 #[cfg(test)]
 mod layout_tests;
@@ -17,6 +18,7 @@ pub use shader_bind::{bind_group_layout_entries, storage_format};
 use codegen::rt::{Stage, Variant};
 
 use crate::gpu::Capabilities;
+use binding_log::BindingLog;
 
 /// Why a generated variant cannot be used on this device.
 #[derive(Debug, thiserror::Error, PartialEq, Eq)]
@@ -100,6 +102,8 @@ pub struct ShaderProgram {
     pub bind_group_layouts: Vec<wgpu::BindGroupLayout>,
     /// All of `bind_group_layouts` in group order, no immediates.
     pub pipeline_layout: wgpu::PipelineLayout,
+    /// What its bind groups held, where asked (`record_bindings`).
+    binding_log: BindingLog,
 }
 
 impl ShaderProgram {
@@ -142,7 +146,38 @@ impl ShaderProgram {
             module,
             bind_group_layouts,
             pipeline_layout,
+            binding_log: BindingLog::default(),
         })
+    }
+
+    /// Bind group `group` of this program from `resources` (numbered from the variant's
+    /// reflection and checked against it, as [`shader_bind::Resources::build`] does).
+    pub fn bind_group(
+        &self,
+        device: &wgpu::Device,
+        group: u32,
+        resources: &shader_bind::Resources<'_>,
+        label: &str,
+    ) -> Result<wgpu::BindGroup, shader_bind::BindError> {
+        let built = resources.build(device, self.layout(group), self.variant, group, label)?;
+        self.binding_log.note(self.variant, group, resources);
+        Ok(built)
+    }
+
+    /// From now on, keeps what each bind group built through [`ShaderProgram::bind_group`]
+    /// held (its last build), for [`ShaderProgram::bound`]. Clones of the program share it.
+    #[cfg(any(test, feature = "internals"))]
+    #[doc(hidden)]
+    pub fn record_bindings(&self) {
+        self.binding_log.start();
+    }
+
+    /// The resources kept since [`ShaderProgram::record_bindings`]: group, binding name and
+    /// resource, in group order.
+    #[cfg(any(test, feature = "internals"))]
+    #[doc(hidden)]
+    pub fn bound(&self) -> Vec<(u32, &'static str, shader_bind::BoundResource)> {
+        self.binding_log.bound()
     }
 
     /// The name of the entry point of `stage` called `name`, checked to exist.

@@ -20,11 +20,10 @@ impl InstanceTable {
         let part = view::Group1 {
             draws: self.records.as_entire_buffer_binding(),
         };
-        shader_bind::Resources::of(&part).build(
+        program.bind_group(
             device,
-            program.layout(view::Group1::GROUP),
-            program.variant,
             view::Group1::GROUP,
+            &shader_bind::Resources::of(&part),
             "draw records",
         )
     }

@@ -110,7 +110,7 @@ impl FrameGroup {
         ids: &wgpu::TextureView,
         out: &wgpu::TextureView,
     ) -> Option<wgpu::BindGroup> {
-        let group = vis_shade::Group0 {
+        let builder = vis_shade::Group0 {
             vis: vis.as_entire_buffer_binding(),
             ids: Some(ids),
             ids_ms: Some(ids),
@@ -123,11 +123,11 @@ impl FrameGroup {
             light_lists: LightListHandles::bindings(self.lists.as_ref(), ctx),
             shadow_atlas: self.shadows.bindings(),
             decal_apply: self.decals.bindings(),
-        }
-        .bind_group(
+        };
+        let group = program.bind_group(
             ctx.device,
-            program.layout(vis_shade::Group0::GROUP),
-            program.variant,
+            vis_shade::Group0::GROUP,
+            &shader_bind::Resources::of(&builder),
             "visibility shading",
         );
         ctx.bind(group)
@@ -139,7 +139,10 @@ pub(crate) fn lighting_buffer(device: &wgpu::Device) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("lighting"),
         size: size_of::<forward::Lighting>() as u64,
-        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        // COPY_SRC: tools read back what a kernel bound (the tests' host replay).
+        usage: wgpu::BufferUsages::UNIFORM
+            | wgpu::BufferUsages::COPY_DST
+            | wgpu::BufferUsages::COPY_SRC,
         mapped_at_creation: false,
     })
 }

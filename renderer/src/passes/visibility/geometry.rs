@@ -40,7 +40,8 @@ pub(super) fn draw_geometry_buffer(
     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("visibility draw geometry"),
         contents: bytemuck::cast_slice(records),
-        usage: wgpu::BufferUsages::STORAGE,
+        // COPY_SRC: tools read back what a kernel bound (the tests' host replay).
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
     })
 }
 
@@ -74,11 +75,10 @@ pub(super) fn geometry_group(
         uv1: g.uvs1.as_entire_buffer_binding(),
         colors: g.colors.as_entire_buffer_binding(),
     };
-    shader_bind::Resources::of(&part).build(
+    program.bind_group(
         device,
-        program.layout(vis_geometry::Group3::GROUP),
-        program.variant,
         vis_geometry::Group3::GROUP,
+        &shader_bind::Resources::of(&part),
         "visibility geometry",
     )
 }

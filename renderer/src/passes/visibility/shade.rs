@@ -60,11 +60,22 @@ impl VisShadePass {
             params: gpu.device().create_buffer(&wgpu::BufferDescriptor {
                 label: Some("visibility params"),
                 size: size_of::<vis_shade::VisParams>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                // COPY_SRC: tools read back what a kernel bound (the tests' host replay).
+                usage: wgpu::BufferUsages::UNIFORM
+                    | wgpu::BufferUsages::COPY_DST
+                    | wgpu::BufferUsages::COPY_SRC,
                 mapped_at_creation: false,
             }),
             lighting: lighting_buffer(gpu.device()),
         })
+    }
+}
+
+impl VisShadePass {
+    /// The kernel's program (a tool records its bindings: `ShaderProgram::record_bindings`).
+    #[cfg(any(test, feature = "internals"))]
+    pub fn program(&self) -> &ShaderProgram {
+        &self.program
     }
 }
 

@@ -452,7 +452,8 @@ fn records_buffer<T: bytemuck::Pod + bytemuck::Zeroable>(
     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some(label),
         contents: bytemuck::cast_slice(contents),
-        usage: wgpu::BufferUsages::STORAGE,
+        // COPY_SRC: tools read back what a kernel bound (the tests' host replay).
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
     })
 }
 
