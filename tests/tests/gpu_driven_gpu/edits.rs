@@ -1,7 +1,8 @@
 //! Instances added, removed and moved by handle, frame after frame, render the same as a city
-//! built with the final instances from the start, on the forward and deferred paths, culled
-//! and not, with shadow-casting lights whose static cache must follow every edit; and handles
-//! of removed instances, unknown meshes and non-finite transforms are refused.
+//! built with the final instances from the start, on the forward, deferred and visibility
+//! paths, culled and not, with shadow-casting lights whose static cache must follow every
+//! edit; and handles of removed instances, unknown meshes and non-finite transforms are
+//! refused.
 
 use glam::{Mat4, Quat, Vec3};
 use renderer::frame::InputError;
@@ -133,6 +134,7 @@ fn instances_added_and_removed_by_handle_render_as_a_city_built_with_them() {
             (RenderPath::Tiled, true),
             (RenderPath::Tiled, false),
             (RenderPath::Tbdr, true),
+            (RenderPath::Visibility, true),
         ];
         for (path, cull) in paths {
             let config = config(path, 4, cull);

@@ -3,13 +3,14 @@
 
 use std::sync::{Arc, Mutex, PoisonError};
 
+use shaders_gen::visibility::geometry::vis_geometry;
 use shaders_gen::visibility::vis_raster;
 
 use super::geometry::{draw_geometry, draw_geometry_buffer, geometry_group, sequence_buffer};
 use crate::GpuContext;
 use crate::frame_data::{
-    ConfigError, DEPTH_FORMAT, FrameInputs, FrameResources, RenderError, RendererConfig,
-    VISIBILITY_FORMAT, VisibilityHandles,
+    ConfigError, DEPTH_FORMAT, FrameInputs, FrameResources, InstanceTable, RenderError,
+    RendererConfig, VISIBILITY_FORMAT, VisibilityHandles,
 };
 use crate::graph::{
     BufferAccess, Handle, PassContext, RenderGraph, Texture, TextureAccess, TextureDesc,
@@ -22,14 +23,44 @@ use crate::scene::VertexStreams;
 use crate::shader::ShaderProgram;
 
 /// What the pass keeps between frames for the scene it last drew: the draws' geometry records
-/// (rebuilt when the instance table changes) and the sequence index buffer (grown with the
-/// scene's index buffer).
+/// (rebuilt when a draw's triangles change, not when an instance only moves) and the sequence
+/// index buffer (grown with the scene's index buffer).
 #[derive(Debug, Default)]
 struct SceneState {
-    /// Scene id, instance table id and revision the records were built for.
+    /// Scene id, instance table id and revision the records were checked at.
     key: Option<(u32, u32, u64)>,
+    records: Vec<vis_geometry::DrawGeometry>,
     draw_geometry: Option<(wgpu::Buffer, u32)>,
     sequence: Option<(wgpu::Buffer, u64)>,
+}
+
+impl SceneState {
+    /// Whether the kept records still describe `table` of scene `scene`: the same scene and
+    /// table, as many draws, and every draw of an instance changed since the kept revision
+    /// still where it was (moving, restyling or removing an instance keeps its triangles; a
+    /// reused slot takes a mesh of the same geometry only if the records say so).
+    fn still_valid(&self, scene: u32, table: &InstanceTable) -> bool {
+        let Some((kept_scene, kept_table, revision)) = self.key else {
+            return false;
+        };
+        if kept_scene != scene
+            || kept_table != table.id()
+            || self.records.len() != table.draws.len()
+        {
+            return false;
+        }
+        let Some(changed) = table.changed_since(revision) else {
+            return false;
+        };
+        changed.iter().all(|&i| {
+            table.states[i].draws().all(|d| {
+                let (kept, g) = (&self.records[d], table.draws[d].geometry);
+                kept.first_index == g.first_index
+                    && kept.base_vertex == g.base_vertex as u32
+                    && kept.triangle_count == g.index_count / 3
+            })
+        })
+    }
 }
 
 /// The visibility raster pass: its programs and pipelines (`[double_sided][mirrored]`, plain
@@ -109,9 +140,12 @@ impl Pass for VisRasterPass {
         let mut state = self.state.lock().unwrap_or_else(PoisonError::into_inner);
         let key = (frame.scene.id, frame.instances.id(), frame.instances.revision);
         if state.key != Some(key) {
-            let records = draw_geometry(&frame.instances);
-            let count = records.len() as u32;
-            state.draw_geometry = Some((draw_geometry_buffer(device, &records), count));
+            if !state.still_valid(frame.scene.id, &frame.instances) {
+                let records = draw_geometry(&frame.instances);
+                let count = records.len() as u32;
+                state.draw_geometry = Some((draw_geometry_buffer(device, &records), count));
+                state.records = records;
+            }
             state.key = Some(key);
         }
         let indices = frame.scene.gpu.geometry.indices.size() / 4;
@@ -203,7 +237,7 @@ struct Recording {
     plain: FacePipelines,
     masked: FacePipelines,
     scene: Arc<crate::frame_data::PreparedScene>,
-    instances: Arc<crate::frame_data::InstanceTable>,
+    instances: Arc<InstanceTable>,
     camera: wgpu::BindGroup,
     /// Group 3 of the plain and the masked programs.
     geometry: wgpu::BindGroup,
