@@ -54,10 +54,12 @@ impl SceneState {
         };
         changed.iter().all(|&i| {
             table.states[i].draws().all(|d| {
-                let (kept, g) = (&self.records[d], table.draws[d].geometry);
-                kept.first_index == g.first_index
-                    && kept.base_vertex == g.base_vertex as u32
-                    && kept.triangle_count == g.index_count / 3
+                let g = table.draws[d].geometry;
+                self.records.get(d).is_some_and(|kept| {
+                    kept.first_index == g.first_index
+                        && kept.base_vertex == g.base_vertex as u32
+                        && kept.triangle_count == g.index_count / 3
+                })
             })
         })
     }
