@@ -18,7 +18,7 @@ use renderer::readback;
 use renderer::scene::SceneLight;
 use tests::gpu::gpu_test;
 use tests::image_compare::{largest_where, pixel_differences, stats};
-use tests::tbdr_stage::{city_stage, courtyard_stage, frame, gltf_stage};
+use tests::tbdr_stage::{Stage, city_stage, courtyard_stage, frame, gltf_stage};
 
 /// Whole-image tolerance against naive forward, in 8-bit steps after tonemapping: mean and 99th
 /// percentile of each pixel's largest channel difference (RGB). The G-buffer quantises albedo to
@@ -297,6 +297,27 @@ fn the_edge_detector_equals_a_cpu_reference_on_the_captured_gbuffer() {
     });
 }
 
+/// The courtyard stage's frame on `path` at MSAA 4 in the shading-frequency view, as RGBA8.
+fn shading_frequency_frame(gpu: &renderer::GpuContext, stage: &Stage, path: RenderPath) -> Vec<u8> {
+    let config = courtyard_look(RendererConfig {
+        width: stage.size.0,
+        height: stage.size.1,
+        msaa: 4,
+        path,
+        view: FrameView::ShadingFrequency,
+        ..Default::default()
+    });
+    let mut renderer = Renderer::new(gpu, config).expect("renderer");
+    renderer
+        .prepare_scene(&stage.scene)
+        .expect("the scene fits the device");
+    renderer.set_lights(&stage.lights).expect("lights fit");
+    let target = create_target(gpu.device(), &config);
+    renderer.render(&stage.camera, &target).expect("frame");
+    renderer.finish();
+    readback::read_texture_rgba8(gpu.device(), gpu.queue(), &target).expect("readback")
+}
+
 #[test]
 fn the_shading_frequency_view_marks_edges_red_and_bad_settings_are_errors() {
     gpu_test(|gpu| {
@@ -306,24 +327,7 @@ fn the_shading_frequency_view_marks_edges_red_and_bad_settings_are_errors() {
         let record = record.expect("recorded");
         // Traditional deferred marks edges in its base pass; its light volumes leave them red.
         for path in [RenderPath::Tbdr, RenderPath::Deferred] {
-            let config = courtyard_look(RendererConfig {
-                width: stage.size.0,
-                height: stage.size.1,
-                msaa: 4,
-                path,
-                view: FrameView::ShadingFrequency,
-                ..Default::default()
-            });
-            let mut renderer = Renderer::new(gpu, config).expect("renderer");
-            renderer
-                .prepare_scene(&stage.scene)
-                .expect("the scene fits the device");
-            renderer.set_lights(&stage.lights).expect("lights fit");
-            let target = create_target(gpu.device(), &config);
-            renderer.render(&stage.camera, &target).expect("frame");
-            renderer.finish();
-            let rgba =
-                readback::read_texture_rgba8(gpu.device(), gpu.queue(), &target).expect("readback");
+            let rgba = shading_frequency_frame(gpu, &stage, path);
             let red = |p: &[u8]| p[0] > 200 && p[1] < 120 && p[2] < 120;
             let (mut edges, mut red_edges, mut red_other) = (0, 0, 0);
             for (i, p) in rgba.chunks(4).enumerate() {

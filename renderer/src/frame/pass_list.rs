@@ -22,8 +22,8 @@ use crate::passes::visibility::{VisRasterPass, VisShadePass};
 /// material program of `materials` besides glTF PBR's:
 ///
 /// Scene culling comes first on every path (the geometry passes draw its batches). With
-/// occlusion culling (`cull_draws` and `occlusion_cull`), pre-Z is followed by occlusion
-/// culling and the late pre-Z.
+/// occlusion culling (`cull_draws` and `occlusion_cull`), pre-Z (the visibility raster on the
+/// visibility path) is followed by occlusion culling and its late half.
 ///
 /// | path | passes |
 /// |---|---|
@@ -53,12 +53,19 @@ pub fn passes_for(
     }
     // Every path draws the scene through the batches scene culling publishes.
     let mut passes: Vec<Box<dyn Pass>> = vec![Box::new(SceneCullPass::new(gpu)?)];
+    let occlusion = config.cull_draws && config.occlusion_cull;
     if config.path == RenderPath::Visibility {
-        passes.push(Box::new(VisRasterPass::new(gpu, config)?));
+        let raster = VisRasterPass::new(gpu, config)?;
+        let late = occlusion.then(|| raster.late());
+        passes.push(Box::new(raster));
+        if let Some(late) = late {
+            passes.push(Box::new(OcclusionCullPass::new(gpu, config)?));
+            passes.push(Box::new(late));
+        }
     }
     if config.path.has_prez() {
         let prez = PrezPass::new(gpu, config)?;
-        let late = (config.cull_draws && config.occlusion_cull).then(|| prez.late());
+        let late = occlusion.then(|| prez.late());
         passes.push(Box::new(prez));
         if let Some(late) = late {
             passes.push(Box::new(OcclusionCullPass::new(gpu, config)?));

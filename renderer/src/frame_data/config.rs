@@ -89,7 +89,7 @@ impl RenderPath {
     }
 
     /// Whether the frame runs the depth pre-pass proper (and, with occlusion culling, its
-    /// late half).
+    /// late half; the visibility path splits its raster pass instead).
     pub fn has_prez(self) -> bool {
         !matches!(self, Self::Naive | Self::Visibility)
     }
@@ -284,11 +284,12 @@ pub struct RendererConfig {
     /// drawn (`shadow_cull`). Off, every draw is drawn, in the same batches and order, and
     /// every caster into every region drawn: the frame is the same either way.
     pub cull_draws: bool,
-    /// With `cull_draws`, on the paths with a depth pre-pass: two-phase occlusion culling
-    /// (`passes::scene_cull::occlusion`). Pre-Z draws what was visible last frame, a depth
-    /// pyramid is built from it, every draw in the frustum is tested against the pyramid, and
-    /// the newly visible ones are drawn into the depth too; the passes after pre-Z draw both.
-    /// The frame is the same either way.
+    /// With `cull_draws`, on the paths with a depth pre-pass or the visibility raster:
+    /// two-phase occlusion culling (`passes::scene_cull::occlusion`). Pre-Z (or the visibility
+    /// raster) draws what was visible last frame, a depth pyramid is built from it, every draw
+    /// in the frustum is tested against the pyramid, and the newly visible ones are drawn into
+    /// the depth (and the IDs) too; the passes after it draw both. The frame is the same
+    /// either way.
     pub occlusion_cull: bool,
     /// Occlusion culling runs on scenes of at least this many opaque and masked draws: its
     /// fixed cost (a depth pyramid of the frame, about 0.1 ms at 1080p on an H200) outweighs

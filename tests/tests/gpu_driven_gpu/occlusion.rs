@@ -87,7 +87,11 @@ fn occlusion_culling_hides_what_a_wall_hides_and_never_a_visible_draw() {
         Step::Hold,
     ];
     gpu_test(|gpu| {
-        for (path, msaa) in [(RenderPath::Tiled, 4), (RenderPath::Tbdr, 1)] {
+        for (path, msaa) in [
+            (RenderPath::Tiled, 4),
+            (RenderPath::Tbdr, 1),
+            (RenderPath::Visibility, 4),
+        ] {
             let run = |cull: bool, occlusion: bool| {
                 let c = RendererConfig {
                     occlusion_cull: occlusion,

@@ -49,24 +49,7 @@ fn the_visibility_shading_frequency_view_marks_every_pixel_of_several_triangles(
         let t = EdgeThresholds::default();
         let (_, record) = frame(gpu, &stage, RenderPath::Tbdr, 4, t, true);
         let record = record.expect("recorded");
-        let config = courtyard_look(RendererConfig {
-            width: stage.size.0,
-            height: stage.size.1,
-            msaa: 4,
-            path: RenderPath::Visibility,
-            view: FrameView::ShadingFrequency,
-            ..Default::default()
-        });
-        let mut renderer = Renderer::new(gpu, config).expect("renderer");
-        renderer
-            .prepare_scene(&stage.scene)
-            .expect("the scene fits");
-        renderer.set_lights(&stage.lights).expect("lights fit");
-        let target = create_target(gpu.device(), &config);
-        renderer.render(&stage.camera, &target).expect("frame");
-        renderer.finish();
-        let rgba =
-            readback::read_texture_rgba8(gpu.device(), gpu.queue(), &target).expect("readback");
+        let rgba = shading_frequency_frame(gpu, &stage, RenderPath::Visibility);
         let red = |p: &[u8]| p[0] > 200 && p[1] < 120 && p[2] < 120;
         let (mut edges, mut red_edges, mut red_all) = (0, 0, 0);
         for (i, p) in rgba.chunks(4).enumerate() {

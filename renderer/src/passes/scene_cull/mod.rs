@@ -131,7 +131,7 @@ impl Pass for SceneCullPass {
         self.culling = c.cull_draws && self.indirect && draws.layout.slot_count() > 0;
         self.occlusion = self.culling
             && c.occlusion_cull
-            && c.path.has_prez()
+            && c.path.has_prepass()
             && draws.layout.draw_count() >= c.occlusion_min_draws;
         if self.culling {
             draws.culled();

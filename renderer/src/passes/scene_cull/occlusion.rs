@@ -1,8 +1,10 @@
-//! Occlusion culling's second phase, between the two halves of pre-Z: a depth pyramid of what
-//! the first phase drew (`shaders_gen::culling::occlusion`), then every slot in the frustum
-//! tested against it. The slots found visible that the first phase left out are drawn by the
-//! late pre-Z ([`crate::passes::prez::PrezPass::late`]); every pass after pre-Z draws the slots
-//! of either phase; and the verdicts are the first phase's history next frame.
+//! Occlusion culling's second phase, between the two halves of pre-Z (of the visibility raster
+//! on the visibility path): a depth pyramid of what the first phase drew
+//! (`shaders_gen::culling::occlusion`), then every slot in the frustum tested against it. The
+//! slots found visible that the first phase left out are drawn by the late half
+//! ([`crate::passes::prez::PrezPass::late`], [`crate::passes::visibility::VisRasterPass::late`]);
+//! every pass after it draws the slots of either phase; and the verdicts are the first phase's
+//! history next frame.
 //!
 //! The pass adds nothing when scene culling publishes no second phase (culling or occlusion
 //! culling off, a device that cannot draw indirectly).

@@ -66,14 +66,20 @@ impl SceneState {
 }
 
 /// The visibility raster pass: its programs and pipelines (`[double_sided][mirrored]`, plain
-/// and alpha-masked).
+/// and alpha-masked). With occlusion culling it runs twice, as pre-Z does: first the draws
+/// visible last frame into cleared depth and IDs; then ([`VisRasterPass::late`], after
+/// `passes::scene_cull::occlusion`) the draws the occlusion test found visible that the first
+/// half left out, over them.
 #[derive(Debug)]
 pub struct VisRasterPass {
     program: ShaderProgram,
     mask_program: ShaderProgram,
     plain: FacePipelines,
     masked: FacePipelines,
+    /// Shared by both halves.
     state: Arc<Mutex<SceneState>>,
+    /// The second half (occlusion culling's late draws).
+    late: bool,
 }
 
 impl VisRasterPass {
@@ -128,13 +134,32 @@ impl VisRasterPass {
             program,
             mask_program,
             state: Arc::default(),
+            late: false,
         })
+    }
+
+    /// The second half under occlusion culling: the draws its test found visible that the
+    /// first half left out, over the first half's depth and IDs, with the same programs,
+    /// pipelines and geometry records. It adds nothing to a frame without occlusion culling.
+    pub fn late(&self) -> Self {
+        Self {
+            program: self.program.clone(),
+            mask_program: self.mask_program.clone(),
+            plain: self.plain.clone(),
+            masked: self.masked.clone(),
+            state: Arc::clone(&self.state),
+            late: true,
+        }
     }
 }
 
 impl Pass for VisRasterPass {
     fn name(&self) -> &'static str {
-        "visibility"
+        if self.late {
+            "visibility late"
+        } else {
+            "visibility"
+        }
     }
 
     fn prepare(&mut self, frame: &FrameInputs) -> Result<(), RenderError> {
@@ -170,10 +195,32 @@ impl Pass for VisRasterPass {
                 input,
             })
         };
-        let list = resources
+        let mut list = resources
             .scene_draws
             .clone()
             .ok_or(missing("the scene's draw batches (scene culling)"))?;
+        let first = if self.late {
+            // The second half draws occlusion culling's late slots over the first's output.
+            let Some(occlusion) = list.occlusion.clone() else {
+                return Ok(());
+            };
+            list.args = occlusion.late;
+            list.args_buffer = occlusion.late_buffer;
+            list.counts = None;
+            if let Some(packed) = &occlusion.packed {
+                list.args = packed.late;
+                list.args_buffer = packed.late_args.clone();
+                list.counts = Some(packed.late_counts.clone());
+            }
+            let depth = resources.depth.ok_or(missing("the first half's depth"))?;
+            let vis = resources
+                .visibility
+                .clone()
+                .ok_or(missing("the first half's visibility buffer"))?;
+            Some((depth, vis.ids))
+        } else {
+            None
+        };
         let (draw_geometry, draws, sequence) = {
             let state = self.state.lock().unwrap_or_else(PoisonError::into_inner);
             let (records, draws) = state
@@ -200,11 +247,14 @@ impl Pass for VisRasterPass {
             "visibility camera",
         )?;
         let c = &frame.config;
-        let size = TextureDesc::new_2d(c.width, c.height, DEPTH_FORMAT).with_samples(c.msaa);
-        let mut depth = graph.create_texture("depth", size);
-        let ids_desc =
-            TextureDesc::new_2d(c.width, c.height, VISIBILITY_FORMAT).with_samples(c.msaa);
-        let mut ids = graph.create_texture("visibility", ids_desc);
+        let (mut depth, mut ids) = first.unwrap_or_else(|| {
+            let size = TextureDesc::new_2d(c.width, c.height, DEPTH_FORMAT).with_samples(c.msaa);
+            let ids = TextureDesc::new_2d(c.width, c.height, VISIBILITY_FORMAT).with_samples(c.msaa);
+            (
+                graph.create_texture("depth", size),
+                graph.create_texture("visibility", ids),
+            )
+        });
         let recording = Recording {
             plain: self.plain.clone(),
             masked: self.masked.clone(),
@@ -217,6 +267,7 @@ impl Pass for VisRasterPass {
             list: list.clone(),
             depth,
             ids,
+            load: first.is_some(),
         };
         graph
             .add_pass(self.name())
@@ -248,10 +299,13 @@ struct Recording {
     list: crate::frame_data::SceneDrawList,
     depth: Handle<Texture>,
     ids: Handle<Texture>,
+    /// The second half: keep what the first drew.
+    load: bool,
 }
 
 impl Recording {
-    /// Clears depth and IDs and draws every batch, through the sequence index buffer.
+    /// Clears depth and IDs (the first half) and draws every batch of its list, through the
+    /// sequence index buffer.
     fn record(&self, ctx: &mut PassContext<'_>) {
         let depth_view = ctx.texture(self.depth).create_view(&Default::default());
         let ids_view = ctx.texture(self.ids).create_view(&Default::default());
@@ -262,14 +316,22 @@ impl Recording {
                 depth_slice: None,
                 resolve_target: None,
                 ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    load: if self.load {
+                        wgpu::LoadOp::Load
+                    } else {
+                        wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT)
+                    },
                     store: wgpu::StoreOp::Store,
                 },
             })],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &depth_view,
                 depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
+                    load: if self.load {
+                        wgpu::LoadOp::Load
+                    } else {
+                        wgpu::LoadOp::Clear(1.0)
+                    },
                     store: wgpu::StoreOp::Store,
                 }),
                 stencil_ops: None,
