@@ -139,8 +139,9 @@ pub struct CellRecord {
     /// Traditional deferred: the light volumes.
     #[serde(default)]
     pub volumes_median_ms: Option<f64>,
-    /// Occlusion culling's second phase (`--no-occlusion` leaves it out): the late pre-Z, and
-    /// the depth pyramid plus the late culling dispatch (the sum of their medians).
+    /// Occlusion culling's second phase (`--no-occlusion` leaves it out): the late pre-Z (the
+    /// late visibility raster on the visibility path), and the depth pyramid plus the late
+    /// culling dispatch (the sum of their medians).
     #[serde(default)]
     pub prez_late_median_ms: Option<f64>,
     #[serde(default)]
@@ -243,7 +244,9 @@ impl CellRecord {
         record.gbuffer_median_ms = pass("gbuffer")
             .or(pass("visibility"))
             .and_then(|s| s.median());
-        record.prez_late_median_ms = pass("pre-z (late)").and_then(|s| s.median());
+        record.prez_late_median_ms = pass("pre-z (late)")
+            .or(pass("visibility (late)"))
+            .and_then(|s| s.median());
         record.occlusion_median_ms = match (
             pass("depth pyramid").and_then(|s| s.median()),
             pass("scene culling (late)").and_then(|s| s.median()),

@@ -156,7 +156,7 @@ impl VisRasterPass {
 impl Pass for VisRasterPass {
     fn name(&self) -> &'static str {
         if self.late {
-            "visibility late"
+            "visibility (late)"
         } else {
             "visibility"
         }
