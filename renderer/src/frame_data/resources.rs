@@ -125,6 +125,29 @@ pub struct SceneDrawList {
     pub blended: BlendedDraws,
 }
 
+impl SceneDrawList {
+    /// What occlusion culling's second half draws (the late pre-Z, the late visibility
+    /// raster): this list with the late slots' arguments (packed, with their counts, where
+    /// the slots are packed); `None` without occlusion culling.
+    pub fn late_half(&self) -> Option<SceneDrawList> {
+        let occlusion = self.occlusion.as_ref()?;
+        let mut list = self.clone();
+        match &occlusion.packed {
+            Some(packed) => {
+                list.args = packed.late;
+                list.args_buffer = packed.late_args.clone();
+                list.counts = Some(packed.late_counts.clone());
+            }
+            None => {
+                list.args = occlusion.late;
+                list.args_buffer = occlusion.late_buffer.clone();
+                list.counts = None;
+            }
+        }
+        Some(list)
+    }
+}
+
 /// A frame's blended draws, back to front from the main camera.
 #[derive(Debug, Clone)]
 pub enum BlendedDraws {

@@ -138,17 +138,10 @@ impl Pass for PrezPass {
             .ok_or(missing("the scene's draw batches (scene culling)"))?;
         let (mut depth, load) = if self.late {
             // The second half draws occlusion culling's late slots over the first's depth.
-            let Some(occlusion) = list.occlusion.clone() else {
+            let Some(late) = list.late_half() else {
                 return Ok(());
             };
-            list.args = occlusion.late;
-            list.args_buffer = occlusion.late_buffer;
-            list.counts = None;
-            if let Some(packed) = &occlusion.packed {
-                list.args = packed.late;
-                list.args_buffer = packed.late_args.clone();
-                list.counts = Some(packed.late_counts.clone());
-            }
+            list = late;
             let depth = resources.depth.ok_or(missing("the first half's depth"))?;
             (depth, wgpu::LoadOp::Load)
         } else {

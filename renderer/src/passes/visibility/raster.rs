@@ -153,6 +153,30 @@ impl VisRasterPass {
     }
 }
 
+impl VisRasterPass {
+    /// Group 0 (the camera) and group 3 of the plain and the masked programs.
+    fn groups(
+        &self,
+        frame: &FrameInputs,
+        draw_geometry: &wgpu::Buffer,
+    ) -> Result<(wgpu::BindGroup, wgpu::BindGroup, wgpu::BindGroup), RenderError> {
+        let device = frame.gpu.device();
+        let geometry = geometry_group(device, &self.program, &frame.scene, draw_geometry)?;
+        let mask_geometry =
+            geometry_group(device, &self.mask_program, &frame.scene, draw_geometry)?;
+        let camera = vis_raster::Group0 {
+            camera: frame.camera_uniform.buffer.as_entire_buffer_binding(),
+        };
+        let camera = self.program.bind_group(
+            device,
+            vis_raster::Group0::GROUP,
+            &shader_bind::Resources::of(&camera),
+            "visibility camera",
+        )?;
+        Ok((camera, geometry, mask_geometry))
+    }
+}
+
 impl Pass for VisRasterPass {
     fn name(&self) -> &'static str {
         if self.late {
@@ -201,17 +225,10 @@ impl Pass for VisRasterPass {
             .ok_or(missing("the scene's draw batches (scene culling)"))?;
         let first = if self.late {
             // The second half draws occlusion culling's late slots over the first's output.
-            let Some(occlusion) = list.occlusion.clone() else {
+            let Some(late) = list.late_half() else {
                 return Ok(());
             };
-            list.args = occlusion.late;
-            list.args_buffer = occlusion.late_buffer;
-            list.counts = None;
-            if let Some(packed) = &occlusion.packed {
-                list.args = packed.late;
-                list.args_buffer = packed.late_args.clone();
-                list.counts = Some(packed.late_counts.clone());
-            }
+            list = late;
             let depth = resources.depth.ok_or(missing("the first half's depth"))?;
             let vis = resources
                 .visibility
@@ -233,19 +250,7 @@ impl Pass for VisRasterPass {
                 .ok_or(missing("sequence indices (built in prepare)"))?;
             (records, draws, sequence)
         };
-        let device = frame.gpu.device();
-        let geometry = geometry_group(device, &self.program, &frame.scene, &draw_geometry)?;
-        let mask_geometry =
-            geometry_group(device, &self.mask_program, &frame.scene, &draw_geometry)?;
-        let camera = vis_raster::Group0 {
-            camera: frame.camera_uniform.buffer.as_entire_buffer_binding(),
-        }
-        .bind_group(
-            device,
-            self.program.layout(0),
-            self.program.variant,
-            "visibility camera",
-        )?;
+        let (camera, geometry, mask_geometry) = self.groups(frame, &draw_geometry)?;
         let c = &frame.config;
         let (mut depth, mut ids) = first.unwrap_or_else(|| {
             let size = TextureDesc::new_2d(c.width, c.height, DEPTH_FORMAT).with_samples(c.msaa);
