@@ -59,8 +59,6 @@ struct TextureShape {
 pub struct BindingsProbe {
     program: ShaderProgram,
     copies: std::sync::Arc<Mutex<Result<Vec<Copy>, String>>>,
-    /// The readback that keeps the probe in the graph.
-    anchor: Mutex<Option<wgpu::Buffer>>,
 }
 
 impl BindingsProbe {
@@ -70,7 +68,6 @@ impl BindingsProbe {
         Self {
             program: program.clone(),
             copies: std::sync::Arc::new(Mutex::new(Err("no frame was probed".into()))),
-            anchor: Mutex::new(None),
         }
     }
 
@@ -110,12 +107,10 @@ impl Pass for BindingsProbe {
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
         let device = frame.gpu.device();
+        // A buffer the probe writes, so the graph keeps the pass (the graph holds it).
         let anchor = copy_target(device, "bindings probe anchor", 4);
         let mut out =
             resources.import_buffer(graph, "bindings probe", &anchor, ImportAccess::ReadWrite);
-        if let Ok(mut slot) = self.anchor.lock() {
-            *slot = Some(anchor);
-        }
         let msaa = frame.config.msaa;
         let copier = (msaa > 1)
             .then(|| SampleCopier::new(&frame.gpu, msaa))
@@ -415,6 +410,24 @@ impl TexelData {
             texels,
         })
     }
+}
+
+/// A host colour texture's texels as RGBA `f32` (NaN where a texel is not a vector of `f32`):
+/// what a kernel stored in a storage texture, to compare with the GPU's image.
+pub fn rgba_texels(t: &HostTexture) -> Vec<[f32; 4]> {
+    t.texels
+        .iter()
+        .map(|t| match t {
+            Value::Vector(c) => {
+                let f = |i: usize| match c.get(i) {
+                    Some(Value::F32(x)) => *x,
+                    _ => f32::NAN,
+                };
+                [f(0), f(1), f(2), f(3)]
+            }
+            _ => [f32::NAN; 4],
+        })
+        .collect()
 }
 
 /// What a kernel's bind groups held in one frame, read back.

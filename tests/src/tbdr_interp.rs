@@ -322,21 +322,7 @@ pub fn host_shade(
     let mut d = bound(c, axes, frame, run, "shade")?;
     let r = &frame.record;
     d.run([r.width.div_ceil(tile), r.height.div_ceil(tile), 1])?;
-    let hdr = d
-        .texture("HDR_OUT")?
-        .texels
-        .iter()
-        .map(|t| match t {
-            Value::Vector(c) => {
-                let f = |i: usize| match c.get(i) {
-                    Some(Value::F32(x)) => *x,
-                    _ => f32::NAN,
-                };
-                [f(0), f(1), f(2), f(3)]
-            }
-            _ => [f32::NAN; 4],
-        })
-        .collect();
+    let hdr = crate::host_replay::rgba_texels(&d.texture("HDR_OUT")?);
     let edge_bits = bytemuck::pod_collect_to_vec(&d.buffer("EDGE_BITS")?);
     Ok(HostShade { hdr, edge_bits })
 }

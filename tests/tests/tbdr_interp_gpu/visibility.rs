@@ -10,13 +10,13 @@
 //! other pixel changes.
 
 use codegen::Compiled;
-use codegen::interp::{Address, Compare, Dispatch, HostSampler, HostTexture, Schedule, Value};
+use codegen::interp::{Address, Compare, Dispatch, HostSampler, Schedule};
 use renderer::frame::{RenderPath, Renderer, create_target};
 use renderer::passes::visibility::VisShadePass;
 use tests::gpu::gpu_test;
-use tests::host_replay::{BindingsProbe, BoundInputs};
+use tests::host_replay::{BindingsProbe, BoundInputs, rgba_texels};
 
-use super::{HEIGHT, WIDTH, courtyard_frame};
+use super::{HEIGHT, TOLERANCE, WIDTH, courtyard_frame, pixel_difference};
 
 /// The kernel's module and every library it uses, as source text.
 const VIS_SOURCE: &str = include_str!("../../../shaders_gen/src/visibility/shade.rs");
@@ -99,23 +99,6 @@ const SAMPLERS: [(&str, HostSampler); 3] = [
     ),
 ];
 
-/// `HDR_OUT` as 4-vectors of `f32`.
-fn rgba(t: &HostTexture) -> Vec<[f32; 4]> {
-    t.texels
-        .iter()
-        .map(|t| match t {
-            Value::Vector(c) => {
-                let f = |i: usize| match c.get(i) {
-                    Some(Value::F32(x)) => *x,
-                    _ => f32::NAN,
-                };
-                [f(0), f(1), f(2), f(3)]
-            }
-            _ => [f32::NAN; 4],
-        })
-        .collect()
-}
-
 /// The host's image of `c`'s variant `axes` over `frame`'s bindings.
 fn host_image(
     c: &Compiled,
@@ -136,14 +119,14 @@ fn host_image(
         .expect("the frame's bindings");
     d.run([WIDTH.div_ceil(8), HEIGHT.div_ceil(8), 1])
         .unwrap_or_else(|e| panic!("{axes:?}, subgroup {subgroup_size}, {schedule:?}: {e}"));
-    rgba(&d.texture("HDR_OUT").expect("the host's image"))
+    rgba_texels(&d.texture("HDR_OUT").expect("the host's image"))
 }
 
 /// The GPU's image, the pixels whose samples see more than one triangle, and the triangles
 /// the frame's pixels see.
 fn gpu_image(frame: &BoundInputs) -> (Vec<[f32; 4]>, usize, usize) {
     let hdr = frame.texture("HDR_OUT").expect("HDR_OUT was bound");
-    let gpu = rgba(&hdr.host(false).expect("HDR_OUT decodes"));
+    let gpu = rgba_texels(&hdr.host(false).expect("HDR_OUT decodes"));
     let ids = frame
         .texture("IDS")
         .or(frame.texture("IDS_MS"))
@@ -158,24 +141,6 @@ fn gpu_image(frame: &BoundInputs) -> (Vec<[f32; 4]>, usize, usize) {
     triangles.sort_unstable();
     triangles.dedup();
     (gpu, edges, triangles.len())
-}
-
-/// Relative to `1 +` the value, as the TBDR replay: the GPU stores half floats (2⁻¹¹
-/// relative), and lavapipe's `exp2`, `pow` and filtering weights are not the host's.
-const TOLERANCE: f32 = 0.002;
-
-/// The largest relative difference of a channel, and the pixels off by more than `TOLERANCE`.
-fn difference(gpu: &[[f32; 4]], host: &[[f32; 4]]) -> (f32, usize) {
-    let mut largest = 0.0f32;
-    let mut off = 0;
-    for (g, h) in gpu.iter().zip(host) {
-        let d = (0..3)
-            .map(|c| (g[c] - h[c]).abs() / (1.0 + g[c].abs()))
-            .fold(0.0, f32::max);
-        largest = largest.max(if d.is_nan() { f32::INFINITY } else { d });
-        off += usize::from(d.is_nan() || d > TOLERANCE);
-    }
-    (largest, off)
 }
 
 /// The host against the GPU on a frame of `msaa` samples, for each of `runs`; the frame.
@@ -197,7 +162,7 @@ fn check(msaa: u32, scalarize: bool, runs: &[(u32, Schedule)]) -> BoundInputs {
     for &(subgroup_size, schedule) in runs {
         let started = std::time::Instant::now();
         let host = host_image(&c, &axes, &frame, subgroup_size, schedule);
-        let (largest, off) = difference(&gpu, &host);
+        let (largest, off) = pixel_difference(&gpu, &host, TOLERANCE);
         eprintln!(
             "host vis_shade MSAA {msaa}, scalarize {scalarize}, subgroup {subgroup_size}, \
              {schedule:?}: {:.0} ms, {triangles} triangles, {edges} edge pixels, largest \
@@ -237,7 +202,7 @@ fn host_vis_shade_plain_equals_the_gpu_frames_and_a_kernel_that_drops_edge_cover
     let (gpu, edges, _) = gpu_image(&frame);
     let axes = [("list", 2), ("msaa", 4), ("scalarize", 0)];
     let host = host_image(&mutated, &axes, &frame, 8, Schedule::InOrder);
-    let (largest, off) = difference(&gpu, &host);
+    let (largest, off) = pixel_difference(&gpu, &host, TOLERANCE);
     eprintln!(
         "coverage dropped: largest relative difference {largest:.3}, {off} of {edges} edge \
          pixels off"

@@ -30,7 +30,8 @@ struct SceneState {
     /// Scene id, instance table id and revision the records were checked at.
     key: Option<(u32, u32, u64)>,
     records: Vec<vis_geometry::DrawGeometry>,
-    draw_geometry: Option<(wgpu::Buffer, u32)>,
+    /// `records` on the GPU.
+    draw_geometry: Option<wgpu::Buffer>,
     sequence: Option<(wgpu::Buffer, u64)>,
 }
 
@@ -193,8 +194,7 @@ impl Pass for VisRasterPass {
         if state.key != Some(key) {
             if !state.still_valid(frame.scene.id, &frame.instances) {
                 let records = draw_geometry(&frame.instances);
-                let count = records.len() as u32;
-                state.draw_geometry = Some((draw_geometry_buffer(device, &records), count));
+                state.draw_geometry = Some(draw_geometry_buffer(device, &records));
                 state.records = records;
             }
             state.key = Some(key);
@@ -240,7 +240,7 @@ impl Pass for VisRasterPass {
         };
         let (draw_geometry, draws, sequence) = {
             let state = self.state.lock().unwrap_or_else(PoisonError::into_inner);
-            let (records, draws) = state
+            let records = state
                 .draw_geometry
                 .clone()
                 .ok_or(missing("draw geometry (built in prepare)"))?;
@@ -248,7 +248,7 @@ impl Pass for VisRasterPass {
                 .sequence
                 .clone()
                 .ok_or(missing("sequence indices (built in prepare)"))?;
-            (records, draws, sequence)
+            (records, state.records.len() as u32, sequence)
         };
         let (camera, geometry, mask_geometry) = self.groups(frame, &draw_geometry)?;
         let c = &frame.config;
