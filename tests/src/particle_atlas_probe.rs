@@ -167,7 +167,8 @@ impl Pass for AtlasProbe {
         // The atlas copy is the pass's tracked output, so the graph keeps the pass.
         let mut out =
             resources.import_buffer(graph, "probe atlas", &atlas, ImportAccess::ReadWrite);
-        let shadow_copies = ShadowCopies::new(device, &shadows, frame.config.shadows.atlas_size);
+        let shadow_copies =
+            ShadowCopies::new(device, &shadows, frame.config.fitted_shadows().atlas_size);
         graph
             .add_pass(name)
             .read_texture(lit, TextureAccess::CopySrc)

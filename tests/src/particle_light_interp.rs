@@ -165,7 +165,8 @@ impl Pass for LightingInputsProbe {
         // The LIT copy is the pass's tracked output, so the graph keeps the pass.
         let mut out =
             resources.import_buffer(graph, "probe lit", &lit_copy, ImportAccess::ReadWrite);
-        let shadow_copies = ShadowCopies::new(device, &shadows, frame.config.shadows.atlas_size);
+        let shadow_copies =
+            ShadowCopies::new(device, &shadows, frame.config.fitted_shadows().atlas_size);
         let mut pass = graph.add_pass(self.name());
         pass.read_texture(lit, TextureAccess::CopySrc)
             .read_texture(shadows.atlas, TextureAccess::CopySrc)

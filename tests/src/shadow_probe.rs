@@ -66,7 +66,7 @@ impl Pass for ShadowAtlasProbe {
         let copies = ShadowCopies::new(
             frame.gpu.device(),
             &shadows,
-            frame.config.shadows.atlas_size,
+            frame.config.fitted_shadows().atlas_size,
         );
         // The copy is the pass's tracked output, so the graph keeps the pass.
         let marker = frame.gpu.device().create_buffer(&wgpu::BufferDescriptor {

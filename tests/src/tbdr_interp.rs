@@ -155,7 +155,7 @@ impl Pass for KernelInputsProbe {
             size: (w, h),
             lights: buffer("probe lights", lights.punctual_buffer.size()),
             directional: buffer("probe directional", lights.directional_buffer.size()),
-            shadows: ShadowCopies::new(device, &shadows, frame.config.shadows.atlas_size),
+            shadows: ShadowCopies::new(device, &shadows, frame.config.fitted_shadows().atlas_size),
             hdr: buffer(
                 "probe hdr",
                 u64::from(padded_row(w * HDR_TEXEL)) * u64::from(h),

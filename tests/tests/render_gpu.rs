@@ -5,6 +5,8 @@
 
 #[path = "render_gpu/material_programs.rs"]
 mod material_programs;
+#[path = "render_gpu/sharing.rs"]
+mod sharing;
 #[path = "render_gpu/views.rs"]
 mod views;
 

@@ -180,12 +180,9 @@ impl CullHierarchy {
     ) -> Result<Self, CullError> {
         super::check_index_capacity(gpu.device(), shape.index_capacity)?;
         let device = gpu.device();
-        let prepare = ShaderProgram::new(
-            device,
-            gpu.capabilities(),
-            cull_prepare::variant(prepare_key(shape.tile, shape.msaa)?),
+        let prepare = gpu.program(cull_prepare::variant(prepare_key(shape.tile, shape.msaa)?),
         )?;
-        let fine = ShaderProgram::new(device, gpu.capabilities(), fine)?;
+        let fine = gpu.program(fine)?;
         let tiles = UVec2::new(width.div_ceil(shape.tile), height.div_ceil(shape.tile));
         let super_tiles = UVec2::new(
             width.div_ceil(SUPER_TILE_PIXELS),

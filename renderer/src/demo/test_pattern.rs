@@ -55,7 +55,7 @@ pub enum PatternError {
 pub fn render(gpu: &GpuContext, width: u32, height: u32) -> Result<PatternFrame, PatternError> {
     let device = gpu.device();
     let variant = test_pattern::variant(test_pattern::VariantKey::ALL[0]);
-    let program = ShaderProgram::new(device, gpu.capabilities(), variant)?;
+    let program = gpu.program(variant)?;
     let vs = program.entry(codegen::rt::Stage::Vertex, "vs_fullscreen")?;
     let fs = program.entry(codegen::rt::Stage::Fragment, "fs_pattern")?;
     let pipeline = pattern_pipeline(device, &program, vs, fs);
@@ -124,27 +124,30 @@ fn pattern_pipeline(
     fs: &str,
 ) -> wgpu::RenderPipeline {
     let module = &program.module;
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some("test pattern"),
-        layout: Some(&program.pipeline_layout),
-        vertex: wgpu::VertexState {
-            module,
-            entry_point: Some(vs),
-            compilation_options: Default::default(),
-            buffers: &[],
+    program.render_pipeline(
+        device,
+        &wgpu::RenderPipelineDescriptor {
+            label: Some("test pattern"),
+            layout: Some(&program.pipeline_layout),
+            vertex: wgpu::VertexState {
+                module,
+                entry_point: Some(vs),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: None,
+            multisample: wgpu::MultisampleState::default(),
+            fragment: Some(wgpu::FragmentState {
+                module,
+                entry_point: Some(fs),
+                compilation_options: Default::default(),
+                targets: &[Some(FORMAT.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
         },
-        primitive: wgpu::PrimitiveState::default(),
-        depth_stencil: None,
-        multisample: wgpu::MultisampleState::default(),
-        fragment: Some(wgpu::FragmentState {
-            module,
-            entry_point: Some(fs),
-            compilation_options: Default::default(),
-            targets: &[Some(FORMAT.into())],
-        }),
-        multiview_mask: None,
-        cache: None,
-    })
+    )
 }
 
 /// A `width`×`height` [`FORMAT`] texture to render into and read back.

@@ -86,6 +86,7 @@ use crate::materials::MaterialProgram;
 use crate::particles::ParticleSystem;
 use crate::passes::Pass;
 use crate::passes::particles::ParticleSimulation;
+use crate::passes::shadow::ShadowPass;
 use crate::scene::{Scene, SceneLight};
 
 /// Submissions the renderer remembers for `wait_for_frames_in_flight`.
@@ -273,11 +274,25 @@ impl Renderer {
 
     /// Changes the frame size; passes rebuild what depends on it on the next frame. A size of 0
     /// or past the device's largest texture side is [`ConfigError::FrameSize`](crate::frame::ConfigError::FrameSize), and the size
-    /// stays as it was.
+    /// stays as it was. Where the shadow settings fitted to the output change
+    /// ([`RendererConfig::fitted_shadows`]), the shadow pass is built again (its atlas and
+    /// static cache redrawn on the next frame); nothing else is.
     pub fn resize(&mut self, width: u32, height: u32) -> Result<(), RenderError> {
         check_frame_size(&self.gpu, width, height)?;
-        self.config.width = width;
-        self.config.height = height;
+        let resized = RendererConfig {
+            width,
+            height,
+            ..self.config
+        };
+        if resized.fitted_shadows() != self.config.fitted_shadows()
+            && self.pass::<ShadowPass>().is_some()
+        {
+            let rebuilt = ShadowPass::new(&self.gpu, &resized)?;
+            if let Some(shadows) = self.pass_mut::<ShadowPass>() {
+                *shadows = rebuilt;
+            }
+        }
+        self.config = resized;
         Ok(())
     }
 

@@ -312,6 +312,14 @@ impl std::str::FromStr for RenderPath {
     }
 }
 
+impl RendererConfig {
+    /// The shadow settings this configuration draws with: `shadows` fitted to the output
+    /// ([`crate::shadow::ShadowConfig::fitted`]).
+    pub fn fitted_shadows(&self) -> crate::shadow::ShadowConfig {
+        self.shadows.fitted(self.width, self.height)
+    }
+}
+
 impl Default for RendererConfig {
     fn default() -> Self {
         Self {

@@ -5,7 +5,7 @@
 //! renderer uses and the adapter has ([`requirements`]), and reports what it found
 //! ([`AdapterReport`]). It must not own any rendering state: passes and scenes live elsewhere.
 
-mod adapter;
+pub(crate) mod adapter;
 mod error;
 mod options;
 pub mod requirements;
@@ -29,6 +29,17 @@ pub struct GpuContext {
     report: AdapterReport,
     /// Why the device was lost, once it is ([`GpuContext::lost`]).
     lost: DeviceLoss,
+    /// The programs and pipelines compiled on the device ([`GpuContext::program`]).
+    programs: crate::shader::store::SharedProgramStore,
+}
+
+/// What a context keeps compiled ([`GpuContext::compiled`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CompiledCounts {
+    /// Shader programs (a variant's module and layouts), one per variant and source.
+    pub programs: usize,
+    /// Compute and render pipelines built from them.
+    pub pipelines: usize,
 }
 
 /// Where the device-lost callback leaves its reason.
@@ -83,6 +94,7 @@ impl GpuContext {
             device,
             queue,
             report,
+            programs: Default::default(),
         })
     }
 
@@ -157,6 +169,7 @@ impl GpuContext {
             device,
             queue,
             report,
+            programs: Default::default(),
         })
     }
 
@@ -202,6 +215,27 @@ impl GpuContext {
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner)
             .clone()
+    }
+
+    /// `variant` compiled on this device, checked against its capabilities. Each variant (and
+    /// each hot-reloaded source of it) is compiled once per context; later calls, from any
+    /// renderer on the context, return a copy sharing the module, the layouts and the
+    /// pipelines built from them. A copy has its own binding log.
+    pub fn program(
+        &self,
+        variant: &'static codegen::rt::Variant,
+    ) -> Result<crate::shader::ShaderProgram, crate::shader::VariantError> {
+        self.programs
+            .program(&self.device, self.capabilities(), variant)
+    }
+
+    /// How many programs and pipelines the context keeps compiled.
+    pub fn compiled(&self) -> CompiledCounts {
+        let (programs, pipelines) = self.programs.counts();
+        CompiledCounts {
+            programs,
+            pipelines,
+        }
     }
 
     /// Waits until all submitted GPU work is done.

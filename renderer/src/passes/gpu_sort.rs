@@ -23,7 +23,7 @@ impl SortKernels {
     pub fn new(gpu: &GpuContext) -> Result<Arc<Self>, RenderError> {
         let device = gpu.device();
         let variant = particle_sort::variant(particle_sort::VariantKey::ALL[0]);
-        let program = ShaderProgram::new(device, gpu.capabilities(), variant)?;
+        let program = gpu.program(variant)?;
         Ok(Arc::new(Self {
             pipelines: [
                 program.compute_pipeline(device, "sort_local")?,

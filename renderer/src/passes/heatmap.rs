@@ -47,7 +47,7 @@ impl HeatmapPass {
             heatmap::List::List1
         };
         let variant = heatmap::variant(heatmap::VariantKey { list, msaa })?;
-        let program = ShaderProgram::new(gpu.device(), gpu.capabilities(), variant)?;
+        let program = gpu.program(variant)?;
         Ok(Self {
             pipeline: fullscreen_pipeline(
                 gpu.device(),

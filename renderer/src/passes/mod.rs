@@ -327,7 +327,7 @@ pub(crate) fn mesh_pipeline(
     p: &MeshPipeline<'_>,
 ) -> wgpu::RenderPipeline {
     let streams = vertex_streams(p.streams);
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+    program.render_pipeline(device, &wgpu::RenderPipelineDescriptor {
         label: Some(p.label),
         layout: Some(&program.pipeline_layout),
         vertex: wgpu::VertexState {
@@ -406,7 +406,7 @@ pub(crate) fn fullscreen_pipeline(
     fragment: &str,
     format: wgpu::TextureFormat,
 ) -> wgpu::RenderPipeline {
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+    program.render_pipeline(device, &wgpu::RenderPipelineDescriptor {
         label: Some(fragment),
         layout: Some(&program.pipeline_layout),
         vertex: wgpu::VertexState {

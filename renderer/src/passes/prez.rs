@@ -34,16 +34,9 @@ pub struct PrezPass {
 
 impl PrezPass {
     pub fn new(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
-        let caps = gpu.capabilities();
-        let program = ShaderProgram::new(
-            gpu.device(),
-            caps,
-            prez::variant(prez::VariantKey { alpha_mask: false }),
+        let program = gpu.program(prez::variant(prez::VariantKey { alpha_mask: false }),
         )?;
-        let mask_program = ShaderProgram::new(
-            gpu.device(),
-            caps,
-            prez::variant(prez::VariantKey { alpha_mask: true }),
+        let mask_program = gpu.program(prez::variant(prez::VariantKey { alpha_mask: true }),
         )?;
         let pipelines = |program: &ShaderProgram, masked: bool| {
             face_pipelines(|d, m| pipeline(gpu.device(), program, config.msaa, masked, d, m))

@@ -23,7 +23,7 @@ impl TonemapPass {
         let key = tonemap::VariantKey {
             curve: tonemap::Curve::Curve0,
         };
-        let program = ShaderProgram::new(gpu.device(), gpu.capabilities(), tonemap::variant(key))?;
+        let program = gpu.program(tonemap::variant(key))?;
         Ok(Self {
             pipeline: fullscreen_pipeline(
                 gpu.device(),

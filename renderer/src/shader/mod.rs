@@ -10,6 +10,8 @@ mod binding_log;
 pub mod hot;
 #[cfg(test)]
 mod layout_tests;
+mod pipeline_memo;
+pub(crate) mod store;
 #[cfg(test)]
 mod test_variant;
 
@@ -17,8 +19,9 @@ pub use shader_bind::{bind_group_layout_entries, storage_format};
 
 use codegen::rt::{Stage, Variant};
 
-use crate::gpu::Capabilities;
+use crate::gpu::adapter::Capabilities;
 use binding_log::BindingLog;
+use pipeline_memo::PipelineMemo;
 
 /// Why a generated variant cannot be used on this device.
 #[derive(Debug, thiserror::Error, PartialEq, Eq)]
@@ -104,6 +107,8 @@ pub struct ShaderProgram {
     pub pipeline_layout: wgpu::PipelineLayout,
     /// What its bind groups held, where asked (`record_bindings`).
     binding_log: BindingLog,
+    /// The pipelines built from it, shared by every copy of this compilation.
+    pipelines: std::sync::Arc<PipelineMemo>,
 }
 
 impl ShaderProgram {
@@ -113,18 +118,28 @@ impl ShaderProgram {
         &self.bind_group_layouts[group as usize]
     }
 
-    /// Compiles `variant` on `device` after checking it against `caps`.
+    /// Compiles `variant` on `device` after checking it against `caps`: a program of its own.
+    /// Renderers take theirs from [`crate::GpuContext::program`], which compiles each variant
+    /// once per device.
     pub fn new(
         device: &wgpu::Device,
         caps: &Capabilities,
         variant: &'static Variant,
     ) -> Result<Self, VariantError> {
         check_supported(variant, caps)?;
+        Ok(Self::compile(device, variant, hot::wgsl_of(variant)))
+    }
+
+    /// Compiles `source` (the WGSL of `variant`, or its hot-reloaded replacement).
+    fn compile(
+        device: &wgpu::Device,
+        variant: &'static Variant,
+        source: std::borrow::Cow<'static, str>,
+    ) -> Self {
         let label = format!("{}::{}", variant.module, variant.name());
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(&label),
-            // The generated WGSL, or its hot-reloaded replacement.
-            source: wgpu::ShaderSource::Wgsl(hot::wgsl_of(variant)),
+            source: wgpu::ShaderSource::Wgsl(source),
         });
         let bind_group_layouts: Vec<_> = (0..variant.group_count())
             .map(|group| {
@@ -141,13 +156,22 @@ impl ShaderProgram {
             bind_group_layouts: &layout_refs,
             immediate_size: 0,
         });
-        Ok(Self {
+        Self {
             variant,
             module,
             bind_group_layouts,
             pipeline_layout,
             binding_log: BindingLog::default(),
-        })
+            pipelines: std::sync::Arc::default(),
+        }
+    }
+
+    /// The same compilation and pipeline memo with a binding log of its own.
+    fn fresh_copy(&self) -> Self {
+        Self {
+            binding_log: BindingLog::default(),
+            ..self.clone()
+        }
     }
 
     /// Bind group `group` of this program from `resources` (numbered from the variant's
@@ -202,7 +226,7 @@ impl ShaderProgram {
         name: &str,
     ) -> Result<wgpu::ComputePipeline, VariantError> {
         let entry = self.entry(Stage::Compute, name)?;
-        Ok(
+        Ok(self.pipelines.compute(entry, || {
             device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some(entry),
                 layout: Some(&self.pipeline_layout),
@@ -210,8 +234,31 @@ impl ShaderProgram {
                 entry_point: Some(entry),
                 compilation_options: Default::default(),
                 cache: None,
-            }),
-        )
+            })
+        }))
+    }
+
+    /// The render pipeline `desc` describes, built once per compilation of this program when
+    /// `desc` uses its module and layout (the key is the rest of the descriptor); built anew
+    /// otherwise.
+    pub fn render_pipeline(
+        &self,
+        device: &wgpu::Device,
+        desc: &wgpu::RenderPipelineDescriptor<'_>,
+    ) -> wgpu::RenderPipeline {
+        let own = desc.layout == Some(&self.pipeline_layout)
+            && desc.vertex.module == &self.module
+            && desc
+                .fragment
+                .as_ref()
+                .is_none_or(|f| f.module == &self.module)
+            && desc.cache.is_none();
+        if !own {
+            return device.create_render_pipeline(desc);
+        }
+        self.pipelines.render(pipeline_memo::render_key(desc), || {
+            device.create_render_pipeline(desc)
+        })
     }
 }
 
@@ -236,7 +283,7 @@ mod tests {
             err.to_string().contains("needs the SUBGROUP feature"),
             "{err}"
         );
-        caps.subgroup = Some(crate::gpu::SubgroupSize { min: 8, max: 8 });
+        caps.subgroup = Some(crate::gpu::adapter::SubgroupSize { min: 8, max: 8 });
         assert_eq!(check_supported(&VARIANT, &caps), Ok(()));
         caps.max_workgroup_invocations = 128;
         assert!(matches!(

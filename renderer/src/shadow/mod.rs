@@ -32,7 +32,15 @@ pub struct ShadowConfig {
     pub cache: bool,
     /// View depth the directional cascades cover (world units).
     pub directional_distance: f32,
+    /// Trim the sizes above to the output ([`ShadowConfig::fitted`]): on, a small output does
+    /// not pay for an atlas sized for 1080p (the default 8192² atlas and its static cache are
+    /// 512 MiB). Sizes are only ever lowered, never raised.
+    pub fit_to_output: bool,
 }
+
+/// The smallest atlas side [`ShadowConfig::fitted`] trims to: room for 1,024 regions of the
+/// default smallest side.
+pub const FITTED_ATLAS_FLOOR: u32 = 2048;
 
 impl Default for ShadowConfig {
     fn default() -> Self {
@@ -44,6 +52,34 @@ impl Default for ShadowConfig {
             cascade_resolution: 2048,
             cache: true,
             directional_distance: 60.0,
+            fit_to_output: true,
+        }
+    }
+}
+
+impl ShadowConfig {
+    /// The settings a `width`×`height` output uses. With `fit_to_output` on, a region needs no
+    /// more texels across than the output has pixels, so the largest region side and the
+    /// cascade side are capped at the smallest power of two at least the output's larger side,
+    /// and the atlas at four times that (four cascades of it) but not below
+    /// [`FITTED_ATLAS_FLOOR`]. At 1920×1080 that is 2048 and 8192, the defaults themselves;
+    /// at 256×256, 256 and 2048. Off, the settings are returned unchanged.
+    pub fn fitted(self, width: u32, height: u32) -> Self {
+        if !self.fit_to_output {
+            return self;
+        }
+        let side = width
+            .max(height)
+            .max(self.min_resolution)
+            .checked_next_power_of_two()
+            .unwrap_or(u32::MAX);
+        Self {
+            atlas_size: self
+                .atlas_size
+                .min(side.saturating_mul(4).max(FITTED_ATLAS_FLOOR)),
+            max_resolution: self.max_resolution.min(side),
+            cascade_resolution: self.cascade_resolution.min(side),
+            ..self
         }
     }
 }
@@ -72,4 +108,39 @@ pub struct ShadowReport {
     /// CPU time of the frame's shadow planning and uploads (requests, allocation, views,
     /// caster culling, cache decisions, view records), in milliseconds.
     pub cpu_plan_ms: f64,
+}
+
+#[cfg(test)]
+mod fitted_tests {
+    use super::{FITTED_ATLAS_FLOOR, ShadowConfig};
+
+    #[test]
+    fn fitting_keeps_the_defaults_at_1080p_and_trims_small_outputs() {
+        let defaults = ShadowConfig::default();
+        assert_eq!(defaults.fitted(1920, 1080), defaults);
+        assert_eq!(defaults.fitted(2048, 2048), defaults);
+        let small = defaults.fitted(96, 64);
+        assert_eq!(
+            (small.atlas_size, small.max_resolution, small.cascade_resolution),
+            (FITTED_ATLAS_FLOOR, 128, 128)
+        );
+        let mid = defaults.fitted(640, 480);
+        assert_eq!(
+            (mid.atlas_size, mid.max_resolution, mid.cascade_resolution),
+            (4096, 1024, 1024)
+        );
+        // Never raised, and off means unchanged.
+        let chosen = ShadowConfig {
+            atlas_size: 1024,
+            max_resolution: 256,
+            cascade_resolution: 64,
+            ..defaults
+        };
+        assert_eq!(chosen.fitted(4096, 4096), chosen);
+        let off = ShadowConfig {
+            fit_to_output: false,
+            ..defaults
+        };
+        assert_eq!(off.fitted(96, 64), off);
+    }
 }

@@ -403,7 +403,7 @@ pub fn shoot_with(s: &Setup, config: RendererConfig, efficiency: bool) -> Result
     if let (FrameView::ShadowAtlas, Some(shadows)) = (config.view, &report.shadows) {
         let size = (config.width, config.height);
         if let Err(e) =
-            crate::atlas_labels::label(&mut rgba, size, config.shadows.atlas_size, shadows)
+            crate::atlas_labels::label(&mut rgba, size, config.fitted_shadows().atlas_size, shadows)
         {
             eprintln!("note: shadow atlas labels left out: {e:#}");
         }

@@ -42,7 +42,7 @@ impl LightVolumePass {
             })
         })?;
         let variant = light_volume::variant(light_volume::VariantKey { msaa });
-        let program = ShaderProgram::new(gpu.device(), gpu.capabilities(), variant)?;
+        let program = gpu.program(variant)?;
         let pipeline = volume_pipeline(gpu.device(), &program);
         let buffer = |label, size, usage| {
             gpu.device().create_buffer(&wgpu::BufferDescriptor {
@@ -78,7 +78,7 @@ fn volume_pipeline(device: &wgpu::Device, program: &ShaderProgram) -> wgpu::Rend
         dst_factor: wgpu::BlendFactor::One,
         operation: wgpu::BlendOperation::Add,
     };
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+    program.render_pipeline(device, &wgpu::RenderPipelineDescriptor {
         label: Some("light volumes"),
         layout: Some(&program.pipeline_layout),
         vertex: wgpu::VertexState {

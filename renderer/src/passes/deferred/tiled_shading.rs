@@ -107,7 +107,7 @@ impl TbdrPass {
             scalarize: config.scalarize && !base_only,
             defer: config.path == RenderPath::TbdrPerSample && config.msaa > 1,
         };
-        let program = ShaderProgram::new(gpu.device(), gpu.capabilities(), tbdr::variant(key)?)?;
+        let program = gpu.program(tbdr::variant(key)?)?;
         let storage = |label, size| {
             gpu.device().create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),

@@ -35,7 +35,7 @@ impl ProbePipeline {
             )?,
         };
         let program =
-            ShaderProgram::new(gpu.device(), gpu.capabilities(), depth_probe::variant(key))?;
+            gpu.program(depth_probe::variant(key))?;
         let pipeline = program.compute_pipeline(gpu.device(), "probe")?;
         Ok(Self { program, pipeline })
     }

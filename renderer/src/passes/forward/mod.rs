@@ -85,10 +85,7 @@ impl ForwardPass {
             MaterialPipelines::new(gpu, materials, (list, false, scalarize), |p, d, m| {
                 make(p, (false, d, m))
             })?;
-        let blended = ShaderProgram::new(
-            gpu.device(),
-            gpu.capabilities(),
-            forward::variant(forward::VariantKey {
+        let blended = gpu.program(forward::variant(forward::VariantKey {
                 list: forward::List::from_value(list).unwrap_or(forward::List::List0),
                 blend: true,
                 scalarize,
@@ -113,14 +110,9 @@ impl ForwardPass {
 impl Expand {
     fn new(gpu: &GpuContext, msaa: u32) -> Result<Self, RenderError> {
         use shaders_gen::deferred::hdr_expand;
-        let program = ShaderProgram::new(
-            gpu.device(),
-            gpu.capabilities(),
-            hdr_expand::variant(hdr_expand::VariantKey {}),
+        let program = gpu.program(hdr_expand::variant(hdr_expand::VariantKey {}),
         )?;
-        let pipeline = gpu
-            .device()
-            .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        let pipeline = program.render_pipeline(gpu.device(), &wgpu::RenderPipelineDescriptor {
                 label: Some("hdr expand"),
                 layout: Some(&program.pipeline_layout),
                 vertex: wgpu::VertexState {

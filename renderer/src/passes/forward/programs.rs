@@ -61,7 +61,7 @@ impl MaterialPipelines {
         let mut out = Vec::new();
         for named in variants {
             let (name, variant) = named?;
-            let program = ShaderProgram::new(gpu.device(), gpu.capabilities(), variant)?;
+            let program = gpu.program(variant)?;
             let faces =
                 face_pipelines(|double_sided, mirrored| make(&program, double_sided, mirrored));
             out.push(ProgramPipelines {

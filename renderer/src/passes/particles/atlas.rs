@@ -9,7 +9,6 @@ use crate::GpuContext;
 use crate::frame_data::FrameCamera;
 use crate::frame_data::RenderError;
 use crate::particles::ParticleError;
-use crate::shader::ShaderProgram;
 
 /// Words of the `STATE` buffer (see `particle_atlas`).
 pub const STATE_WORDS: usize = 32;
@@ -97,7 +96,7 @@ impl ParticleAtlas {
             .into());
         }
         let variant = particle_atlas::variant(particle_atlas::VariantKey::ALL[0]);
-        let program = ShaderProgram::new(device, gpu.capabilities(), variant)?;
+        let program = gpu.program(variant)?;
         let storage = wgpu::BufferUsages::STORAGE
             | wgpu::BufferUsages::COPY_DST
             | wgpu::BufferUsages::COPY_SRC;

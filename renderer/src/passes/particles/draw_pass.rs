@@ -40,10 +40,7 @@ impl ParticleDrawPass {
             },
             msaa: config.msaa > 1,
         };
-        let program = ShaderProgram::new(
-            gpu.device(),
-            gpu.capabilities(),
-            particle_draw::variant(key)?,
+        let program = gpu.program(particle_draw::variant(key)?,
         )?;
         let pipeline = pipeline(gpu.device(), &program, config.msaa);
         Ok(Self {
@@ -55,7 +52,7 @@ impl ParticleDrawPass {
 }
 
 fn pipeline(device: &wgpu::Device, program: &ShaderProgram, msaa: u32) -> wgpu::RenderPipeline {
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+    program.render_pipeline(device, &wgpu::RenderPipelineDescriptor {
         label: Some("particles"),
         layout: Some(&program.pipeline_layout),
         vertex: wgpu::VertexState {

@@ -30,10 +30,7 @@ impl ParticleLightPass {
                 particle_light::List::List0
             },
         };
-        let program = ShaderProgram::new(
-            gpu.device(),
-            gpu.capabilities(),
-            particle_light::variant(key),
+        let program = gpu.program(particle_light::variant(key),
         )?;
         Ok(Self {
             pipeline: program.compute_pipeline(gpu.device(), "light_atlas")?,

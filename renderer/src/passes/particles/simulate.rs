@@ -9,7 +9,6 @@ use crate::frame_data::RenderError;
 use crate::gpu::requirements::storage_binding_records;
 use crate::particles::ParticleSystem;
 use crate::particles::schedule::{FIXED_STEP, spawn_batches};
-use crate::shader::ShaderProgram;
 
 /// What the counters say after a step.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -77,7 +76,7 @@ impl ParticleSimulation {
         let device = gpu.device();
         system.validate(Self::max_capacity(device))?;
         let variant = particle_sim::variant(particle_sim::VariantKey::ALL[0]);
-        let program = ShaderProgram::new(device, gpu.capabilities(), variant)?;
+        let program = gpu.program(variant)?;
         let capacity = system.capacity;
         let emitters: Vec<_> = system.emitters.iter().map(|e| e.gpu()).collect();
         let emitters = if emitters.is_empty() {

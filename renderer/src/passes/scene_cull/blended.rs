@@ -29,7 +29,7 @@ impl BlendedKernels {
     pub fn new(gpu: &GpuContext) -> Result<Self, RenderError> {
         let device = gpu.device();
         let variant = blended_order::variant(blended_order::VariantKey::ALL[0]);
-        let program = ShaderProgram::new(device, gpu.capabilities(), variant)?;
+        let program = gpu.program(variant)?;
         Ok(Self {
             keys: program.compute_pipeline(device, "blended_keys")?,
             args: program.compute_pipeline(device, "blended_args")?,

@@ -29,7 +29,7 @@ impl CompactKernels {
     pub fn new(gpu: &GpuContext) -> Result<Self, RenderError> {
         let device = gpu.device();
         let variant = draw_compact::variant(draw_compact::VariantKey::ALL[0]);
-        let program = ShaderProgram::new(device, gpu.capabilities(), variant)?;
+        let program = gpu.program(variant)?;
         Ok(Self {
             scan_blocks: program.compute_pipeline(device, "scan_blocks")?,
             scan_sums: program.compute_pipeline(device, "scan_sums")?,

@@ -32,7 +32,6 @@ use crate::frame_data::{
 };
 use crate::graph::{Buffer, BufferAccess, Handle, ImportAccess, RenderGraph};
 use crate::readback_ring::ReadbackRing;
-use crate::shader::ShaderProgram;
 use blended::BlendedKernels;
 use view_draws::{CullShared, ViewDraws};
 
@@ -64,7 +63,7 @@ impl SceneCullPass {
     pub fn new(gpu: &GpuContext) -> Result<Self, RenderError> {
         let device = gpu.device();
         let variant = instance_cull::variant(instance_cull::VariantKey::ALL[0]);
-        let program = ShaderProgram::new(device, gpu.capabilities(), variant)?;
+        let program = gpu.program(variant)?;
         let pipeline = program.compute_pipeline(device, "cull_frustum")?;
         let params = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("scene cull params"),

@@ -130,7 +130,7 @@ impl OcclusionCullPass {
         let device = gpu.device();
         let caps = gpu.capabilities();
         let compute = |variant, entry: &str| -> Result<_, RenderError> {
-            let program = ShaderProgram::new(device, caps, variant)?;
+            let program = gpu.program(variant)?;
             let pipeline = program.compute_pipeline(device, entry)?;
             Ok((program, pipeline))
         };

@@ -139,7 +139,7 @@ impl CasterCulling {
     pub fn new(gpu: &GpuContext) -> Result<Self, RenderError> {
         let device = gpu.device();
         let variant = &shadow_cull::VARIANTS[0];
-        let program = ShaderProgram::new(device, gpu.capabilities(), variant)?;
+        let program = gpu.program(variant)?;
         let pipeline = program.compute_pipeline(device, "cull_casters")?;
         let none = wgpu::BufferUsages::empty();
         let read_back = wgpu::BufferUsages::COPY_SRC;

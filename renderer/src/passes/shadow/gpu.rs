@@ -39,12 +39,11 @@ pub struct ShadowPipelines {
 impl ShadowPipelines {
     pub fn new(gpu: &crate::GpuContext) -> Result<Self, RenderError> {
         let device = gpu.device();
-        let caps = gpu.capabilities();
         let caster_variant =
             |alpha_mask| shadow_caster::variant(shadow_caster::VariantKey { alpha_mask });
-        let caster_program = ShaderProgram::new(device, caps, caster_variant(false))?;
-        let masked_program = ShaderProgram::new(device, caps, caster_variant(true))?;
-        let compose_program = ShaderProgram::new(device, caps, &shadow_compose::VARIANTS[0])?;
+        let caster_program = gpu.program(caster_variant(false))?;
+        let masked_program = gpu.program(caster_variant(true))?;
+        let compose_program = gpu.program(&shadow_compose::VARIANTS[0])?;
         let mut depth = region_depth(wgpu::CompareFunction::Greater);
         depth.bias = wgpu::DepthBiasState {
             constant: CONSTANT_BIAS,
@@ -92,10 +91,10 @@ impl ShadowPipelines {
             bind_group_layouts: &[],
             immediate_size: 0,
         });
-        let clear = region_pipeline(device, &compose_program.module, &empty, None);
+        let clear = region_pipeline(device, &compose_program, &empty, None);
         let copy = region_pipeline(
             device,
-            &compose_program.module,
+            &compose_program,
             &compose_program.pipeline_layout,
             Some("fs_copy_static"),
         );
@@ -121,15 +120,16 @@ fn region_depth(compare: wgpu::CompareFunction) -> wgpu::DepthStencilState {
     }
 }
 
-/// A pipeline covering the viewport with `vs_region` at depth 0, writing depth always: a
+/// A pipeline of `program` under `layout` covering the viewport with `vs_region` at depth 0, writing depth always: a
 /// clear without a fragment stage, a copy with `fs_copy_static`.
 fn region_pipeline(
     device: &wgpu::Device,
-    module: &wgpu::ShaderModule,
+    program: &ShaderProgram,
     layout: &wgpu::PipelineLayout,
     fragment: Option<&str>,
 ) -> wgpu::RenderPipeline {
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+    let module = &program.module;
+    program.render_pipeline(device, &wgpu::RenderPipelineDescriptor {
         label: Some(fragment.unwrap_or("shadow clear")),
         layout: Some(layout),
         vertex: wgpu::VertexState {

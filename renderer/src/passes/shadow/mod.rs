@@ -47,6 +47,9 @@ use work::{CastList, WorkItem, work_items};
 /// The shadow pass.
 #[derive(Debug)]
 pub struct ShadowPass {
+    /// The configuration's shadow settings fitted to its output when the pass was made
+    /// ([`RendererConfig::fitted_shadows`]); a resize that changes them rebuilds the pass.
+    settings: crate::shadow::ShadowConfig,
     pipelines: ShadowPipelines,
     targets: ShadowTargets,
     planner: ShadowPlanner,
@@ -76,9 +79,10 @@ pub struct ShadowPass {
 }
 
 impl ShadowPass {
-    /// The pass for `config.shadows`; its atlas size must fit the device.
+    /// The pass for `config.shadows` fitted to the output; its atlas size must fit the device.
     pub fn new(gpu: &crate::GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
-        let s = &config.shadows;
+        let settings = config.fitted_shadows();
+        let s = &settings;
         let max = gpu.device().limits().max_texture_dimension_2d;
         let min = s
             .min_resolution
@@ -94,6 +98,7 @@ impl ShadowPass {
         let size = if s.enabled { s.atlas_size } else { 1 };
         let targets = ShadowTargets::new(gpu.device(), &pipelines, size, s.cache, 64)?;
         Ok(Self {
+            settings,
             pipelines,
             targets,
             planner: ShadowPlanner::default(),
@@ -244,7 +249,7 @@ impl Pass for ShadowPass {
     }
 
     fn prepare(&mut self, frame: &FrameInputs) -> Result<(), RenderError> {
-        let config = &frame.config.shadows;
+        let config = &self.settings;
         if !config.enabled {
             self.plan = FramePlan::default();
             return Ok(());
@@ -361,8 +366,8 @@ impl Pass for ShadowPass {
         }
     }
 
-    fn after_submit(&mut self, frame: &FrameInputs, report: &mut FrameReport) {
-        if !frame.config.shadows.enabled {
+    fn after_submit(&mut self, _frame: &FrameInputs, report: &mut FrameReport) {
+        if !self.settings.enabled {
             return;
         }
         self.culling.after_submit();

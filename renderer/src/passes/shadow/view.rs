@@ -22,10 +22,7 @@ pub struct ShadowAtlasViewPass {
 
 impl ShadowAtlasViewPass {
     pub fn new(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
-        let program = ShaderProgram::new(
-            gpu.device(),
-            gpu.capabilities(),
-            &shadow_atlas_view::VARIANTS[0],
+        let program = gpu.program(&shadow_atlas_view::VARIANTS[0],
         )?;
         Ok(Self {
             pipeline: fullscreen_pipeline(gpu.device(), &program, "fs_atlas", config.output_format),

@@ -96,7 +96,7 @@ impl VisRasterPass {
         }
         let program = |alpha_mask| {
             let variant = vis_raster::variant(vis_raster::VariantKey { alpha_mask });
-            ShaderProgram::new(gpu.device(), gpu.capabilities(), variant)
+            gpu.program(variant)
         };
         let (program, mask_program) = (program(false)?, program(true)?);
         let pipelines = |program: &ShaderProgram, masked: bool| {

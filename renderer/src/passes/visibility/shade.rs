@@ -53,7 +53,7 @@ impl VisShadePass {
                 device: max.into(),
             }));
         }
-        let program = ShaderProgram::new(gpu.device(), gpu.capabilities(), variant)?;
+        let program = gpu.program(variant)?;
         Ok(Self {
             pipeline: program.compute_pipeline(gpu.device(), "shade")?,
             program,
