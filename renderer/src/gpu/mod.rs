@@ -33,12 +33,13 @@ pub struct GpuContext {
     programs: crate::shader::store::SharedProgramStore,
 }
 
-/// What a context keeps compiled ([`GpuContext::compiled`]).
+/// What a context has compiled ([`GpuContext::compiled`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct CompiledCounts {
-    /// Shader programs (a variant's module and layouts), one per variant and source.
+    /// Shader programs (a variant's module and layouts) compiled so far: one per variant and
+    /// source, however many renderers use it.
     pub programs: usize,
-    /// Compute and render pipelines built from them.
+    /// Compute and render pipelines built from them so far.
     pub pipelines: usize,
 }
 
@@ -229,7 +230,7 @@ impl GpuContext {
             .program(&self.device, self.capabilities(), variant)
     }
 
-    /// How many programs and pipelines the context keeps compiled.
+    /// How many programs and pipelines the context has compiled (all of them kept).
     pub fn compiled(&self) -> CompiledCounts {
         let (programs, pipelines) = self.programs.counts();
         CompiledCounts {

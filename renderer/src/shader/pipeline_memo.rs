@@ -11,6 +11,8 @@ use std::sync::{Mutex, PoisonError};
 pub(crate) struct PipelineMemo {
     compute: Mutex<HashMap<&'static str, wgpu::ComputePipeline>>,
     render: Mutex<HashMap<String, wgpu::RenderPipeline>>,
+    /// Pipelines built so far (each kept, so also how many are kept).
+    built: std::sync::atomic::AtomicUsize,
 }
 
 impl PipelineMemo {
@@ -21,7 +23,10 @@ impl PipelineMemo {
         build: impl FnOnce() -> wgpu::ComputePipeline,
     ) -> wgpu::ComputePipeline {
         let mut compute = self.compute.lock().unwrap_or_else(PoisonError::into_inner);
-        compute.entry(entry).or_insert_with(build).clone()
+        compute
+            .entry(entry)
+            .or_insert_with(|| self.counted(build))
+            .clone()
     }
 
     /// The render pipeline described by `key`, built by `build` the first time.
@@ -31,14 +36,21 @@ impl PipelineMemo {
         build: impl FnOnce() -> wgpu::RenderPipeline,
     ) -> wgpu::RenderPipeline {
         let mut render = self.render.lock().unwrap_or_else(PoisonError::into_inner);
-        render.entry(key).or_insert_with(build).clone()
+        render
+            .entry(key)
+            .or_insert_with(|| self.counted(build))
+            .clone()
     }
 
-    /// How many pipelines are kept.
-    pub(crate) fn len(&self) -> usize {
-        let compute = self.compute.lock().unwrap_or_else(PoisonError::into_inner);
-        let render = self.render.lock().unwrap_or_else(PoisonError::into_inner);
-        compute.len() + render.len()
+    /// Pipelines built so far.
+    pub(crate) fn built(&self) -> usize {
+        self.built.load(std::sync::atomic::Ordering::Relaxed)
+    }
+
+    fn counted<P>(&self, build: impl FnOnce() -> P) -> P {
+        self.built
+            .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        build()
     }
 }
 

@@ -28,6 +28,8 @@ type ProgramKey = (usize, Cow<'static, str>);
 #[derive(Default)]
 pub(crate) struct ProgramStore {
     programs: Mutex<HashMap<ProgramKey, ShaderProgram>>,
+    /// Compilations so far.
+    compiled: std::sync::atomic::AtomicUsize,
 }
 
 impl std::fmt::Debug for ProgramStore {
@@ -58,15 +60,18 @@ impl ProgramStore {
             return Ok(kept.fresh_copy());
         }
         let program = ShaderProgram::compile(device, variant, key.1.clone());
+        self.compiled
+            .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         programs.insert(key, program.fresh_copy());
         Ok(program)
     }
 
-    /// Programs kept and pipelines kept across them.
+    /// Programs compiled so far, and pipelines built from the kept ones.
     pub(crate) fn counts(&self) -> (usize, usize) {
         let programs = self.programs.lock().unwrap_or_else(PoisonError::into_inner);
-        let pipelines = programs.values().map(|p| p.pipelines.len()).sum();
-        (programs.len(), pipelines)
+        let pipelines = programs.values().map(|p| p.pipelines.built()).sum();
+        let compiled = self.compiled.load(std::sync::atomic::Ordering::Relaxed);
+        (compiled, pipelines)
     }
 }
 

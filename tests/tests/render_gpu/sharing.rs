@@ -8,17 +8,27 @@
 //!   changes them rebuilds the shadow pass, so the resized renderer draws what a renderer made
 //!   at the new size draws.
 
+use glam::Vec3;
 use renderer::demo::{courtyard_look, light_space, pick_shadowed, procedural_lights};
 use renderer::frame::{FrameCamera, RenderPath, Renderer, RendererConfig, default_camera};
-use renderer::scene::{Scene, SceneLight};
+use renderer::scene::{LightKind, Scene, SceneLight};
 use tests::frames::{largest_difference, render_one_frame};
 use tests::gpu::gpu_test;
 
-/// The courtyard with 64 lights, 6 of them shadowed as seen from `camera`.
+/// The courtyard with 64 lights, 6 of them shadowed as seen from `camera`, and a shadowed sun.
 fn courtyard_lights(scene: &Scene, camera: &FrameCamera, height: u32) -> Vec<SceneLight> {
     let (region, (rmin, rmax)) = light_space(scene, true);
     let mut lights = procedural_lights(region, 64, 3, rmin, rmax);
     pick_shadowed(&mut lights, camera, height as f32, 6);
+    lights.push(SceneLight {
+        kind: LightKind::Directional,
+        position: Vec3::ZERO,
+        direction: Vec3::new(-0.4, -1.0, -0.3).normalize(),
+        color: Vec3::new(1.0, 0.9, 0.8),
+        intensity: 0.6,
+        range: None,
+        casts_shadow: true,
+    });
     lights
 }
 
@@ -105,7 +115,7 @@ fn a_resize_that_changes_the_fitted_shadows_draws_as_a_renderer_made_at_the_new_
             .expect("the device takes 480 x 320");
         let got = render_one_frame(gpu, &mut resized, &camera);
         let shadows = got.report.shadows.as_ref().expect("a shadow report");
-        assert!(shadows.shadowed >= 6, "shadowed lights: {shadows:?}");
+        assert!(shadows.shadowed >= 7, "shadowed lights: {shadows:?}");
 
         let mut fresh = renderer(gpu, large, &scene, &lights);
         let want = render_one_frame(gpu, &mut fresh, &camera).rgba;
