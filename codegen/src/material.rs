@@ -7,12 +7,17 @@
 //! * the frame library (`frame = path`, by default `shaders_gen::forward::material_frame`)
 //!   to `uses(..)`, and the frame's axes (`list`, `blend`, `scalarize`, with its exclusion and
 //!   subgroup requirement);
-//! * with `params`, the binding `PARAMS: [P]` at group 3, binding 0 (the renderer binds every
+//! * with `params`, the binding `PARAMS: [P]` at group 0, binding 19 (the renderer binds every
 //!   parameter record of the material's instances there, and the material record's `params`
 //!   picks one);
 //! * the entry points `vs_forward`, `fs_forward` and `fs_gbuffer`, which call the frame's
 //!   `material_vertex`, `forward_facing`, `material_point`, `material_forward` and
-//!   `material_gbuffer` around `surface`.
+//!   `material_gbuffer` around `surface`;
+//! * the visibility path's kernel `vis_shade`, which calls the visibility frame's
+//!   (`visibility = path`, by default `shaders_gen::visibility::vis_frame`) `vis_point`,
+//!   `vis_radiance` and the pixel's sample loop around `surface`. It exists in the variants of
+//!   the axis `msaa` above 0 (the raster pass's sample count; clustered lists, opaque), and the
+//!   forward entry points in those at 0, whose names the axis leaves as they were (`unless 0`).
 //!
 //! What the frame's functions do, and the names the renderer expects, are the frame library's
 //! contract; this expansion only writes the calls.
@@ -24,11 +29,18 @@ use syn::spanned::Spanned;
 use syn::{Ident, Token};
 
 /// The items the expansion adds; a module may not declare them itself.
-const RESERVED: [&str; 4] = ["vs_forward", "fs_forward", "fs_gbuffer", "PARAMS"];
+const RESERVED: [&str; 5] = [
+    "vs_forward",
+    "fs_forward",
+    "fs_gbuffer",
+    "vis_shade",
+    "PARAMS",
+];
 
 /// The parsed arguments of `#[material(..)]`.
 struct MaterialArgs {
     frame: syn::Path,
+    visibility: syn::Path,
     params: Option<syn::Type>,
     uses: Vec<syn::Path>,
 }
@@ -37,6 +49,7 @@ impl Parse for MaterialArgs {
     fn parse(input: ParseStream) -> syn::Result<Self> {
         let mut args = MaterialArgs {
             frame: syn::parse_quote!(shaders_gen::forward::material_frame),
+            visibility: syn::parse_quote!(shaders_gen::visibility::vis_frame),
             params: None,
             uses: Vec::new(),
         };
@@ -46,6 +59,10 @@ impl Parse for MaterialArgs {
                 "frame" => {
                     input.parse::<Token![=]>()?;
                     args.frame = input.parse()?;
+                }
+                "visibility" => {
+                    input.parse::<Token![=]>()?;
+                    args.visibility = input.parse()?;
                 }
                 "params" => {
                     input.parse::<Token![=]>()?;
@@ -61,7 +78,7 @@ impl Parse for MaterialArgs {
                     return Err(syn::Error::new(
                         key.span(),
                         format!(
-                            "unknown `#[material]` argument `{other}`: a material takes `frame = path` (the material frame library, by default `shaders_gen::forward::material_frame`), `params = Type` (its parameter struct) and `uses(..)` (libraries); its axes are the frame's"
+                            "unknown `#[material]` argument `{other}`: a material takes `frame = path` (the material frame library, by default `shaders_gen::forward::material_frame`), `visibility = path` (the visibility path's frame, by default `shaders_gen::visibility::vis_frame`), `params = Type` (its parameter struct) and `uses(..)` (libraries); its axes are the frame's"
                         ),
                     ));
                 }
@@ -113,16 +130,19 @@ pub fn as_shader(
         content.push(item);
     }
     let frame = &args.frame;
+    let visibility = &args.visibility;
     let uses = &args.uses;
     let shader_args = quote! {
         axes(
             list: u32 = [0, 1, 2] => "list",
             blend: bool = [false, true] => "blend",
             scalarize: bool = [false, true] => "scalar",
+            msaa: u32 = [0, 1, 2, 4, 8] => "msaa" unless 0,
         ),
         exclude(list == 0 && scalarize),
+        exclude(msaa > 0 && (list != 2 || blend)),
         requires(subgroup = scalarize),
-        uses(#frame #(, #uses)*),
+        uses(#frame, #visibility #(, #uses)*),
     };
     Ok((shader_args, module))
 }
@@ -188,6 +208,7 @@ fn entry_points(span: Span, params: Option<&syn::Type>) -> Vec<syn::Item> {
     let mut items: Vec<syn::Item> = vec![
         syn::parse_quote! {
             #[vertex]
+            #[when(msaa == 0)]
             pub fn vs_forward(
                 #[location(0)] position: Vec3,
                 #[location(1)] normal: Vec3,
@@ -202,6 +223,7 @@ fn entry_points(span: Span, params: Option<&syn::Type>) -> Vec<syn::Item> {
         },
         syn::parse_quote! {
             #[fragment]
+            #[when(msaa == 0)]
             pub fn fs_forward(input: VsOut, #[builtin(front_facing)] front: bool) -> Vec4 {
                 let point = material_point(input, forward_facing(input, front));
                 material_forward(input, point, #call)
@@ -209,9 +231,35 @@ fn entry_points(span: Span, params: Option<&syn::Type>) -> Vec<syn::Item> {
         },
         syn::parse_quote! {
             #[fragment]
+            #[when(msaa == 0)]
             pub fn fs_gbuffer(input: VsOut, #[builtin(front_facing)] front: bool) -> GBufferOut {
                 let point = material_point(input, front);
                 material_gbuffer(input, point, #call)
+            }
+        },
+        syn::parse_quote! {
+            /// One pixel (8 × 8 a workgroup): each distinct triangle of its samples whose
+            /// material is this program's, shaded once and weighted by its samples.
+            #[compute(workgroup_size(8, 8, 1))]
+            #[when(msaa > 0)]
+            pub fn vis_shade(#[builtin(global_invocation_id)] gid: UVec3) {
+                let p = gid.xy();
+                if vis_on_screen(p) {
+                    let mut total = vis_begin(p);
+                    let mut kinds = 0u32;
+                    for s in 0u32..msaa {
+                        let id = vis_id_at(p, s);
+                        if vis_first(p, s, id) {
+                            kinds += 1u32;
+                            if vis_shades(id) {
+                                let v = vis_point(id, p);
+                                let point = v.point;
+                                total += vis_radiance(v, #call) * vis_coverage(p, s, id);
+                            }
+                        }
+                    }
+                    vis_finish(p, total, kinds);
+                }
             }
         },
     ];
@@ -219,7 +267,7 @@ fn entry_points(span: Span, params: Option<&syn::Type>) -> Vec<syn::Item> {
         items.push(syn::Item::Verbatim(quote! {
             /// The parameter records of every material of this program (the material record's
             /// `params` picks one).
-            #[storage(group = 3, binding = 0)]
+            #[storage(group = 0, binding = 19)]
             static PARAMS: [#ty];
         }));
     }

@@ -398,3 +398,73 @@ fn sample_grad_needs_no_fragment_stage_but_sample_does() {
     let e = codegen::compile_source(&src("T.sample(S, Vec2::ZERO)")).expect_err("compute stage");
     assert!(e.to_string().contains("forbidden at this stage"), "{e}");
 }
+
+/// `unless`: an axis value that adds nothing to variant names, so an axis added to a module
+/// keeps its variants' names (and snapshots) at that value; and `#[when(..)]` on entry points:
+/// an entry point, with what only it uses, exists only where its predicate holds.
+#[test]
+fn unnamed_axis_values_and_entry_points_under_when() {
+    let c = compile(
+        r#"#[shader(axes(fast: bool = [false, true], msaa: u32 = [0, 4] => "msaa" unless 0))]
+mod m {
+    #[storage(group = 0, binding = 0, read_write)]
+    static OUT: [u32];
+    #[storage(group = 0, binding = 1, read_write)]
+    #[when(msaa > 0)]
+    static SAMPLES: [u32];
+    fn doubled(x: u32) -> u32 {
+        x * 2u32
+    }
+    #[compute(workgroup_size(1))]
+    #[when(msaa == 0)]
+    fn plain(#[builtin(global_invocation_id)] gid: UVec3) {
+        OUT[gid.x] = gid.x;
+    }
+    #[compute(workgroup_size(1))]
+    #[when(msaa > 0)]
+    fn resolve(#[builtin(global_invocation_id)] gid: UVec3) {
+        OUT[gid.x] = doubled(SAMPLES[gid.x] + msaa);
+    }
+}"#,
+    );
+    let names: Vec<&str> = c.keys.iter().map(|k| k.name.as_str()).collect();
+    assert_eq!(names, ["default", "msaa4", "fast", "fast_msaa4"]);
+    fn entries(v: &codegen::CompiledVariant) -> Vec<&str> {
+        v.reflection
+            .entry_points
+            .iter()
+            .map(|e| e.name.as_str())
+            .collect()
+    }
+    let plain = &c.variants[0];
+    assert_eq!(entries(plain), ["plain"]);
+    assert!(!plain.wgsl.contains("fn resolve"), "{}", plain.wgsl);
+    assert!(!plain.wgsl.contains("fn doubled"), "{}", plain.wgsl);
+    assert_eq!(plain.reflection.bindings.len(), 1);
+    let resolve = &c.variants[1];
+    assert_eq!(entries(resolve), ["resolve"]);
+    assert!(!resolve.wgsl.contains("fn plain"), "{}", resolve.wgsl);
+    assert_eq!(resolve.reflection.bindings.len(), 2);
+}
+
+#[test]
+fn when_on_a_helper_and_bad_unless_values_are_errors() {
+    check_err(
+        "#[shader]\nmod m {\n    #[when(true)]\n    fn helper() -> u32 {\n        1u32\n    }\n}\n",
+        "belongs on an entry point",
+        3,
+        6,
+    );
+    check_err(
+        "#[shader(axes(fast: bool = [false, true] => \"fast\" unless false))]\nmod m {}\n",
+        "a `bool` axis adds its label only when `true`",
+        1,
+        58,
+    );
+    check_err(
+        "#[shader(axes(msaa: u32 = [1, 4] => \"msaa\" unless 2))]\nmod m {}\n",
+        "`unless` takes one of the axis' own values",
+        1,
+        50,
+    );
+}

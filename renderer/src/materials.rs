@@ -17,6 +17,10 @@
 //! material.custom = Some(CustomShading::new("striped", &striped::Stripes::new(..)));
 //! ```
 //!
+//! On the visibility path each program's kernel (`vis_shade`, the variants of the frame's
+//! `msaa` axis above 0) shades the triangles of its own materials over the whole screen; glTF
+//! PBR's runs last and writes the image.
+//!
 //! The depth passes (pre-Z, the shadow casters) draw a custom material's surfaces as glTF's:
 //! position, and the alpha mask of the material record (base colour factor × texture × vertex
 //! alpha against the cutoff), which the material frame applies to the colour passes too, so
@@ -25,11 +29,25 @@
 use codegen::rt::{Binding, BindingKind, Module, Variant};
 use shaders_gen::forward::forward;
 
-/// The entry points every variant of a material program has.
+/// The entry points every forward variant (`msaa` 0) of a material program has.
 const ENTRY_POINTS: [&str; 3] = ["vs_forward", "fs_forward", "fs_gbuffer"];
 
-/// The bind group that holds a program's parameter records (`PARAMS`, binding 0).
-pub const PARAMS_GROUP: u32 = 3;
+/// The entry point of every visibility variant (`msaa` above 0) of a material program.
+const VIS_ENTRY_POINT: &str = "vis_shade";
+
+/// The sample counts of the visibility path's kernels (the material frame's `msaa` axis above
+/// 0).
+pub const VIS_SAMPLE_COUNTS: [u32; 4] = [1, 2, 4, 8];
+
+/// The bind group that holds a program's parameter records (`PARAMS`, at [`PARAMS_BINDING`]):
+/// the frame's group, which the renderer builds for each program with its own layout.
+pub const PARAMS_GROUP: u32 = 0;
+
+/// The binding of a program's parameter records in [`PARAMS_GROUP`].
+pub const PARAMS_BINDING: u32 = 19;
+
+/// The name of a program's parameter records in its shaders.
+pub const PARAMS_NAME: &str = "PARAMS";
 
 /// Why a module cannot be registered as a material program, or a material cannot use one.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -46,9 +64,10 @@ pub enum MaterialError {
         /// The missing variant: its name (like `list1_blend_scalar`) or its axis values.
         variant: String,
     },
-    /// A variant lacks `vs_forward`, `fs_forward` or `fs_gbuffer`.
+    /// A forward variant lacks `vs_forward`, `fs_forward` or `fs_gbuffer`, or a visibility
+    /// variant (`msaa` above 0) `vis_shade`.
     #[error(
-        "variant `{module}::{variant}` has no entry point `{entry}`: write the module with `#[shader_dsl::material]`, which adds `vs_forward`, `fs_forward` and `fs_gbuffer`"
+        "variant `{module}::{variant}` has no entry point `{entry}`: write the module with `#[shader_dsl::material]`, which adds `vs_forward`, `fs_forward` and `fs_gbuffer`, and `vis_shade` to the visibility kernels"
     )]
     MissingEntryPoint {
         /// The material program's module name.
@@ -58,11 +77,12 @@ pub enum MaterialError {
         /// The missing entry point.
         entry: String,
     },
-    /// A variant binds something the renderer does not bind: in groups 0 to 2 anything
-    /// glTF PBR's program does not bind there identically, in group 3 anything but a read-only
-    /// storage buffer `PARAMS` at binding 0.
+    /// A variant binds something the renderer does not bind: anything glTF PBR's variant of
+    /// the same name does not bind identically (the visibility kernels' scene geometry in group
+    /// 3 included), except its parameter records, a read-only storage buffer `PARAMS` at group
+    /// 0, binding 19.
     #[error(
-        "variant `{module}::{variant}` binds `{binding}` at group {group}, binding {number}, which the renderer does not provide there: groups 0 to 2 are the material frame's (the frame, the draw records, the material table), and a material's own resources are its `params` records at group 3"
+        "variant `{module}::{variant}` binds `{binding}` at group {group}, binding {number}, which the renderer does not provide there: groups 0 to 2 are the material frame's (the frame, the draw records, the material table), and a material's own resources are its `params` records at group 0, binding 19"
     )]
     ForeignBinding {
         /// The material program's module name.
@@ -116,18 +136,6 @@ pub enum MaterialError {
         given: usize,
         /// Bytes of the program's parameter struct.
         expected: u64,
-    },
-    /// The scene names material program `program`, and the configured path cannot shade it
-    /// yet: the visibility path evaluates glTF PBR only. Use another path, or glTF materials.
-    #[error(
-        "the scene's materials use material program `{program}`; RenderPath::{path:?} shades \
-         glTF PBR materials only so far: use another RendererConfig::path"
-    )]
-    NotOnPath {
-        /// The program's module name.
-        program: String,
-        /// The configured path.
-        path: crate::frame_data::RenderPath,
     },
     /// A material with a program has [`AlphaMode::Blend`](crate::scene::AlphaMode::Blend);
     /// use opaque or masked, or glTF PBR for blended surfaces.
@@ -187,8 +195,8 @@ pub struct MaterialProgram {
 impl MaterialProgram {
     /// The program of a module written with `#[shader_dsl::material]` (its generated
     /// `MODULE`), checked: every variant of the frame's axes, each with the frame's entry
-    /// points, binding in groups 0 to 2 only what the glTF program binds there, and in group 3
-    /// at most its parameter records.
+    /// points, binding only what the glTF program's variant of the same name binds, and its
+    /// parameter records.
     pub fn new(module: &'static Module) -> Result<Self, MaterialError> {
         if module.name == forward::MODULE.name {
             return Err(MaterialError::BuiltIn(module.name.to_string()));
@@ -201,7 +209,7 @@ impl MaterialProgram {
             };
             let variant = module.variant_named(&name).ok_or_else(missing)?;
             let reference = forward::MODULE.variant_named(&name).ok_or_else(missing)?;
-            check_entry_points(variant)?;
+            check_entry_points(variant, &name)?;
             check_scene_groups(variant, reference)?;
             for binding in variant.bindings {
                 params_size = params_size.max(check_binding(variant, reference, binding)?);
@@ -234,6 +242,18 @@ impl MaterialProgram {
         self.module
             .variant_named(&variant_name(list, blend, scalarize && list > 0))
     }
+
+    /// The visibility kernel of `msaa` samples ([`VIS_SAMPLE_COUNTS`]), plain or scalarized.
+    pub(crate) fn vis_variant(&self, msaa: u32, scalarize: bool) -> Option<&'static Variant> {
+        self.module
+            .variant_named(&vis_variant_name(msaa, scalarize))
+    }
+}
+
+/// The name of the visibility kernel's variant of `msaa` samples: clustered lists, opaque
+/// (`list2`, `scalar`, then `msaa`).
+pub(crate) fn vis_variant_name(msaa: u32, scalarize: bool) -> String {
+    format!("{}_msaa{msaa}", variant_name(2, false, scalarize))
 }
 
 /// The name of the frame's variant of `list`, `blend` and `scalarize`, as the DSL names keys
@@ -251,12 +271,18 @@ fn variant_name(list: u32, blend: bool, scalarize: bool) -> String {
 
 /// Every variant name of the frame's axes.
 fn variant_names() -> impl Iterator<Item = String> {
-    (0..3u32).flat_map(|list| {
-        [(false, false), (true, false), (false, true), (true, true)]
-            .into_iter()
-            .filter(move |&(_, scalarize)| list > 0 || !scalarize)
-            .map(move |(blend, scalarize)| variant_name(list, blend, scalarize))
-    })
+    (0..3u32)
+        .flat_map(|list| {
+            [(false, false), (true, false), (false, true), (true, true)]
+                .into_iter()
+                .filter(move |&(_, scalarize)| list > 0 || !scalarize)
+                .map(move |(blend, scalarize)| variant_name(list, blend, scalarize))
+        })
+        .chain(VIS_SAMPLE_COUNTS.into_iter().flat_map(|msaa| {
+            [false, true]
+                .into_iter()
+                .map(move |scalarize| vis_variant_name(msaa, scalarize))
+        }))
 }
 
 /// Groups 1 (draw records) and 2 (material table) are bound with the scene's bind groups,
@@ -286,8 +312,13 @@ fn check_scene_groups(variant: &Variant, reference: &Variant) -> Result<(), Mate
     Ok(())
 }
 
-fn check_entry_points(variant: &Variant) -> Result<(), MaterialError> {
-    for entry in ENTRY_POINTS {
+fn check_entry_points(variant: &Variant, name: &str) -> Result<(), MaterialError> {
+    let entries: &[&str] = if name.contains("_msaa") {
+        &[VIS_ENTRY_POINT]
+    } else {
+        &ENTRY_POINTS
+    };
+    for &entry in entries {
         if variant.entry_point(entry).is_none() {
             return Err(MaterialError::MissingEntryPoint {
                 module: variant.module.to_string(),
@@ -299,8 +330,8 @@ fn check_entry_points(variant: &Variant) -> Result<(), MaterialError> {
     Ok(())
 }
 
-/// Checks one binding of a material variant: in groups 0 to 2 one the glTF variant `reference`
-/// has, the same; in group 3 the parameter records, whose record size it returns.
+/// Checks one binding of a material variant: its parameter records (whose record size it
+/// returns), or one the glTF variant `reference` has, the same.
 fn check_binding(
     variant: &Variant,
     reference: &Variant,
@@ -313,15 +344,16 @@ fn check_binding(
         group: binding.group,
         number: binding.binding,
     };
-    if binding.group == PARAMS_GROUP {
+    if binding.group == PARAMS_GROUP && binding.name == PARAMS_NAME {
         return match binding.kind {
             BindingKind::Storage {
                 read_only: true,
                 min_size,
-            } if binding.binding == 0 && binding.name == "PARAMS" => Ok(min_size),
+            } if binding.binding == PARAMS_BINDING => Ok(min_size),
             _ => Err(foreign()),
         };
     }
+    // Anything else (the visibility kernels' scene geometry in group 3 too) as glTF's has it.
     let same = reference.bindings.iter().any(|r| {
         (r.name, r.group, r.binding, r.kind)
             == (binding.name, binding.group, binding.binding, binding.kind)

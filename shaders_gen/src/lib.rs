@@ -52,5 +52,4 @@ pub static MODULES: &[&codegen::rt::Module] = &[
     &shadow::shadow_compose::MODULE,
     &shadow::shadow_cull::MODULE,
     &visibility::vis_raster::MODULE,
-    &visibility::vis_shade::MODULE,
 ];

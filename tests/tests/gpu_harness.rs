@@ -256,6 +256,7 @@ fn an_engines_own_device_reports_only_what_it_enabled() {
             list: shaders_gen::forward::forward::List::List1,
             blend: false,
             scalarize: true,
+            msaa: shaders_gen::forward::forward::Msaa::Msaa0,
         };
         let variant = shaders_gen::forward::forward::variant(key).expect("a generated variant");
         let err = ShaderProgram::new(wrapped.device(), caps, variant).unwrap_err();

@@ -9,12 +9,14 @@ use syn::parse::{Parse, ParseStream};
 use syn::punctuated::Punctuated;
 use syn::{Ident, LitStr, Token};
 
-/// One axis declaration: `name: ty = [values] (=> "label")?`.
+/// One axis declaration: `name: ty = [values] (=> "label" (unless value)?)?`.
 pub(crate) struct AxisDecl {
     pub name: Ident,
     pub ty: Ident,
     pub values: Vec<syn::Expr>,
     pub label: Option<LitStr>,
+    /// `unless value`: the value that adds nothing to variant names.
+    pub unless: Option<syn::Expr>,
 }
 
 /// The parsed macro arguments.
@@ -37,9 +39,21 @@ impl Parse for AxisDecl {
         let content;
         syn::bracketed!(content in input);
         let values = Punctuated::<syn::Expr, Token![,]>::parse_terminated(&content)?;
+        let mut unless = None;
         let label = if input.peek(Token![=>]) {
             input.parse::<Token![=>]>()?;
-            Some(input.parse()?)
+            let label = input.parse()?;
+            if input.peek(Ident) {
+                let word: Ident = input.parse()?;
+                if word != "unless" {
+                    return Err(syn::Error::new(
+                        word.span(),
+                        "expected `unless value` (the axis value that adds nothing to variant names) or `,`",
+                    ));
+                }
+                unless = Some(input.parse()?);
+            }
+            Some(label)
         } else {
             None
         };
@@ -48,6 +62,7 @@ impl Parse for AxisDecl {
             ty,
             values: values.into_iter().collect(),
             label,
+            unless,
         })
     }
 }

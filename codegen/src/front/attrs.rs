@@ -171,6 +171,25 @@ pub(crate) fn fn_invariant(attrs: &[Attribute]) -> Option<Span> {
         .map(|a| a.meta.span())
 }
 
+/// `#[when(predicate)]` on a `fn`, with its span: the entry point exists only in variants
+/// where the predicate holds.
+pub(crate) fn fn_when(attrs: &[Attribute]) -> Result<Option<(syn::Expr, Span)>> {
+    let mut found = None;
+    for attr in attrs.iter().filter(|a| a.path().is_ident("when")) {
+        if found.is_some() {
+            return Err(Error::new(
+                attr.meta.span(),
+                "a function takes one `#[when(..)]`; join the predicates with `&&`",
+            ));
+        }
+        let e = attr
+            .parse_args::<syn::Expr>()
+            .map_err(|_| Error::new(attr.meta.span(), "expected `#[when(axis predicate)]`"))?;
+        found = Some((e, attr.meta.span()));
+    }
+    Ok(found)
+}
+
 /// Stage attribute on a `fn`.
 pub(crate) enum StageAttr {
     Compute(Vec<syn::Expr>, Span),
@@ -182,7 +201,7 @@ pub(crate) fn fn_stage(attrs: &[Attribute]) -> Result<Option<StageAttr>> {
     const ALLOWED: &str = "`#[compute(workgroup_size(x, y, z))]`, `#[vertex]` or `#[fragment]`";
     let mut stage = None;
     for attr in attrs {
-        if is_ignored(attr) || attr.path().is_ident("invariant") {
+        if is_ignored(attr) || attr.path().is_ident("invariant") || attr.path().is_ident("when") {
             continue;
         }
         let s = if attr.path().is_ident("compute") {

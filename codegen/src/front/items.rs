@@ -73,11 +73,31 @@ pub(crate) fn lower_axes(m: &mut ModCtx, args: &ShaderArgs) -> Result<()> {
                 "axis labels are non-empty and alphanumeric",
             ));
         }
+        let unnamed = match &a.unless {
+            None => None,
+            Some(_) if ty == Scalar::Bool => {
+                return Err(Error::new(
+                    a.unless.span(),
+                    "`unless` names the value of a numeric axis that adds nothing to variant names; a `bool` axis adds its label only when `true` already",
+                ));
+            }
+            Some(v) => {
+                let lit = axis_value(v, ty)?;
+                if !values.contains(&lit) {
+                    return Err(Error::new(
+                        v.span(),
+                        "`unless` takes one of the axis' own values",
+                    ));
+                }
+                Some(lit)
+            }
+        };
         m.module.axes.push(ir::Axis {
             name: a.name.to_string(),
             label,
             ty,
             values,
+            unnamed,
             span: a.name.span(),
         });
     }

@@ -56,6 +56,25 @@ pub(crate) fn lower_signature(m: &ModCtx, f: &syn::ItemFn) -> Result<(ir::Functi
             Some(Stage::Compute(Box::new([x, y, z])))
         }
     };
+    let when = match attrs::fn_when(&f.attrs)? {
+        None => None,
+        Some((_, span)) if stage.is_none() => {
+            return Err(Error::new(
+                span,
+                "`#[when(..)]` on a function belongs on an entry point (`#[compute]`, `#[vertex]`, `#[fragment]`), which then exists only where it holds; a helper function is kept in every variant whose code calls it",
+            ));
+        }
+        Some((e, _)) => {
+            let p = cx.const_expr(&e)?;
+            if p.ty != Ty::BOOL {
+                return Err(Error::new(
+                    e.span(),
+                    "`#[when(..)]` takes a `bool` predicate over axes",
+                ));
+            }
+            Some(p)
+        }
+    };
     let entry = stage.is_some();
     let mut params = vec![];
     let mut rust_names = vec![];
@@ -164,6 +183,7 @@ pub(crate) fn lower_signature(m: &ModCtx, f: &syn::ItemFn) -> Result<(ir::Functi
     let func = ir::Function {
         name: sig.ident.to_string(),
         stage,
+        when,
         params,
         ret,
         ret_io,

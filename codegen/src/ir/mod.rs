@@ -50,6 +50,9 @@ pub struct Axis {
     pub ty: Scalar,
     /// The values, in declaration order.
     pub values: Vec<Lit>,
+    /// `unless value`: the value that adds nothing to variant names, so an axis added to a
+    /// module keeps the names (and snapshots) of its variants at that value.
+    pub unnamed: Option<Lit>,
     /// Span of the axis name.
     pub span: Span,
 }
@@ -200,6 +203,9 @@ pub struct Function {
     pub name: String,
     /// `Some` for entry points.
     pub stage: Option<Stage>,
+    /// `#[when(predicate)]` of an entry point: it exists only in variants where the predicate
+    /// holds ([`crate::variants::entry_present`]).
+    pub when: Option<Expr>,
     /// Parameters.
     pub params: Vec<Param>,
     /// Return type (`Ty::Unit` for none).

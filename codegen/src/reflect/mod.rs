@@ -6,7 +6,7 @@
 use crate::ir::{Access, Io, Module, Scalar, Space, Stage, TexKind, Ty};
 use crate::layout::layout_of;
 use crate::rt::{self, BindingKind, SampleType, StorageAccess, ViewDimension, Visibility};
-use crate::variants::{Env, Value, eval, used_globals};
+use crate::variants::{Env, Value, entry_present, eval, used_globals};
 
 /// An entry point.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -158,7 +158,9 @@ pub fn reflect(m: &Module, env: &Env, subgroup: bool) -> Reflection {
     let mut visibility = vec![Visibility::default(); m.globals.len()];
     let mut all_stages = Visibility::default();
     for (i, f) in m.functions.iter().enumerate() {
-        let Some(stage) = &f.stage else { continue };
+        let Some(stage) = f.stage.as_ref().filter(|_| entry_present(f, m, env)) else {
+            continue;
+        };
         let (stage, workgroup_size) = match stage {
             Stage::Compute(size) => {
                 let mut ws = [1; 3];

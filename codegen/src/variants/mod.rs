@@ -12,7 +12,7 @@ mod prune;
 pub use env::Env;
 pub use eval::{Value, eval};
 pub use prune::{
-    Branch, branch, check_capabilities, check_globals, global_present, kept_globals,
+    Branch, branch, check_capabilities, check_globals, entry_present, global_present, kept_globals,
     reachable_functions, used_globals,
 };
 
@@ -36,12 +36,15 @@ pub struct Key {
 
 /// The stable name of a variant: axis labels and values joined by `_`.
 ///
-/// Numeric axes give `label` + value (`t16`, `msaa4`, negative values as `m1`); boolean axes
-/// give their label when `true` and nothing when `false`. With no fragments the name is
-/// `default`.
+/// Numeric axes give `label` + value (`t16`, `msaa4`, negative values as `m1`), except at the
+/// axis' `unless` value, which gives nothing; boolean axes give their label when `true` and
+/// nothing when `false`. With no fragments the name is `default`.
 pub fn variant_name(m: &Module, env: &Env) -> String {
     let mut parts = vec![];
     for (axis, v) in m.axes.iter().zip(&env.values) {
+        if axis.unnamed.as_ref() == Some(v) {
+            continue;
+        }
         match v {
             Lit::Bool(true) => parts.push(axis.label.clone()),
             Lit::Bool(false) => {}

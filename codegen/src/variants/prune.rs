@@ -98,13 +98,23 @@ pub(crate) fn walk_block(b: &Block, m: &Module, env: &Env, f: &mut dyn FnMut(&Ex
     }
 }
 
-/// Functions reachable from the given roots (default: all entry points) in this variant.
+/// Whether function `f` is an entry point of this variant: it has a stage and its
+/// `#[when(..)]` holds (or it has none).
+pub fn entry_present(f: &crate::ir::Function, m: &Module, env: &Env) -> bool {
+    f.stage.is_some()
+        && f.when
+            .as_ref()
+            .is_none_or(|w| eval(w, m, env) == Some(Value::Bool(true)))
+}
+
+/// Functions reachable from the given roots (default: the variant's entry points) in this
+/// variant.
 pub fn reachable_functions(m: &Module, env: &Env, roots: Option<&[usize]>) -> Vec<bool> {
     let mut seen = vec![false; m.functions.len()];
     let mut stack: Vec<usize> = match roots {
         Some(r) => r.to_vec(),
         None => (0..m.functions.len())
-            .filter(|&i| m.library || m.functions[i].stage.is_some())
+            .filter(|&i| m.library || entry_present(&m.functions[i], m, env))
             .collect(),
     };
     while let Some(fi) = stack.pop() {
@@ -148,13 +158,13 @@ pub fn kept_globals(m: &Module, env: &Env) -> Vec<bool> {
         .iter()
         .map(|g| global_present(g, m, env))
         .collect();
-    let has_entries = m.functions.iter().any(|f| f.stage.is_some());
+    let has_entries = m.functions.iter().any(|f| entry_present(f, m, env));
     if m.library || !has_entries || !m.globals.iter().any(|g| g.from_library) {
         return present;
     }
     let mut used_groups = std::collections::BTreeSet::new();
     for (i, f) in m.functions.iter().enumerate() {
-        if f.stage.is_some() {
+        if entry_present(f, m, env) {
             for (g, used) in used_globals(m, env, i).into_iter().enumerate() {
                 if let (true, Some((group, _))) = (used, m.globals[g].binding) {
                     used_groups.insert(group);

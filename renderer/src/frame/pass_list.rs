@@ -91,7 +91,7 @@ pub fn passes_for(
                 passes.push(Box::new(ParticleLightPass::new(gpu, config)?));
             }
             if config.path == RenderPath::Visibility {
-                passes.push(Box::new(VisShadePass::new(gpu, config)?));
+                passes.push(Box::new(VisShadePass::new(gpu, config, materials)?));
             } else if config.path.is_deferred() {
                 passes.push(Box::new(GBufferPass::new(gpu, config, materials)?));
                 passes.push(Box::new(TbdrPass::new(gpu, config)?));

@@ -26,6 +26,8 @@ pub(super) fn forward_variant() -> &'static Variant {
         list: forward::List::List0,
         blend: false,
         scalarize: false,
+        // The forward programs (the visibility kernels are `msaa` above 0).
+        msaa: forward::Msaa::Msaa0,
     })
     .expect("the naive, opaque, plain forward variant always exists")
 }
@@ -84,7 +86,7 @@ impl MaterialTable {
         queue: &wgpu::Queue,
         layouts: &SceneLayouts,
         images: &[std::sync::Arc<Image>],
-        materials: &[Material],
+        (materials, programs): (&[Material], &[u32]),
     ) -> Result<Self, SceneError> {
         let keys: Vec<AtlasKey> = materials.iter().flat_map(atlas_keys).collect();
         let atlas = MaterialAtlas::new(device, queue, images, &keys)
@@ -93,7 +95,7 @@ impl MaterialTable {
         let mut records: Vec<GpuMaterial> = materials
             .iter()
             .enumerate()
-            .map(|(index, m)| material_record(m, index, &atlas))
+            .map(|(index, m)| material_record(m, index, programs[index], &atlas))
             .collect();
         records.resize(capacity, bytemuck::Zeroable::zeroed());
         let records = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -124,7 +126,7 @@ impl MaterialTable {
         queue: &wgpu::Queue,
         (layouts, images): (&SceneLayouts, &[std::sync::Arc<Image>]),
         index: usize,
-        material: &Material,
+        (material, program): (&Material, u32),
     ) -> bool {
         if index >= self.capacity {
             return false;
@@ -146,7 +148,7 @@ impl MaterialTable {
                 Ok(AtlasGrowth::NeedsRepack) | Err(_) => return false,
             }
         }
-        let record = material_record(material, index, &self.atlas);
+        let record = material_record(material, index, program, &self.atlas);
         let offset = (index * size_of::<GpuMaterial>()) as u64;
         queue.write_buffer(&self.records, offset, bytemuck::bytes_of(&record));
         true
@@ -251,9 +253,15 @@ fn key(t: TextureRef, colour: bool) -> AtlasKey {
 }
 
 /// The `GpuMaterial` record of `m`, material `index` (the alpha cutoff is 0 unless the material
-/// is masked), with each texture's UV set, transform and atlas index, and where its parameter
-/// record is (at its own index, `material_params`).
-pub fn material_record(m: &Material, index: usize, atlas: &MaterialAtlas) -> GpuMaterial {
+/// is masked), with each texture's UV set, transform and atlas index, where its parameter
+/// record is (at its own index, `material_params`) and the number of its material program in
+/// the scene (`program`: 0 for glTF PBR).
+pub fn material_record(
+    m: &Material,
+    index: usize,
+    program: u32,
+    atlas: &MaterialAtlas,
+) -> GpuMaterial {
     let cutoff = match m.alpha_mode {
         AlphaMode::Mask { cutoff } => cutoff,
         _ => 0.0,
@@ -283,5 +291,6 @@ pub fn material_record(m: &Material, index: usize, atlas: &MaterialAtlas) -> Gpu
         emissive,
         u32::from(m.double_sided),
         index as u32,
+        program,
     )
 }

@@ -157,8 +157,9 @@ impl PreparedScene {
         let mut materials = scene.materials.clone();
         materials.push(Material::gltf_default());
         let images: Vec<Arc<Image>> = scene.images.iter().cloned().map(Arc::new).collect();
-        let table = MaterialTable::new(device, queue, &layouts, &images, &materials)?;
         let custom = CustomPrograms::new(device, queue, &materials)?;
+        let programs: Vec<u32> = materials.iter().map(|m| custom.program_of(m)).collect();
+        let table = MaterialTable::new(device, queue, &layouts, &images, (&materials, &programs))?;
         // Primitives without a material use the glTF default material, last.
         let default_material = scene.materials.len();
         let mesh_draws = scene
@@ -387,12 +388,24 @@ impl PreparedScene {
     ) -> Result<(), SceneError> {
         self.custom.write(device, queue, &self.materials, index)?;
         let inputs = (&self.layouts, &self.images[..]);
+        let material = &self.materials[index];
+        let program = self.custom.program_of(material);
         if !self
             .table
-            .write(device, queue, inputs, index, &self.materials[index])
+            .write(device, queue, inputs, index, (material, program))
         {
-            self.table =
-                MaterialTable::new(device, queue, &self.layouts, &self.images, &self.materials)?;
+            let programs: Vec<u32> = self
+                .materials
+                .iter()
+                .map(|m| self.custom.program_of(m))
+                .collect();
+            self.table = MaterialTable::new(
+                device,
+                queue,
+                &self.layouts,
+                &self.images,
+                (&self.materials, &programs),
+            )?;
         }
         Ok(())
     }

@@ -239,6 +239,13 @@ impl GpuContext {
         }
     }
 
+    /// Lets go of every compiled program and pipeline the context keeps: each is destroyed
+    /// once no renderer holds it (a renderer keeps its own), and compiled again when a renderer
+    /// asks for it. For an engine done with a configuration's programs, and for leak checks.
+    pub fn release_compiled(&self) {
+        self.programs.release();
+    }
+
     /// Waits until all submitted GPU work is done.
     pub fn wait_idle(&self) -> Result<(), GpuError> {
         self.device

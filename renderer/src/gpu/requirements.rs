@@ -41,10 +41,11 @@ pub fn storage_binding_records(device: &wgpu::Device, element_size: usize) -> u6
 pub const STORAGE_BUFFERS_PER_STAGE: u32 = 10;
 
 /// Storage buffers per stage the renderer asks for where the adapter has them: the visibility
-/// path's shading kernel binds 18 (the light lists, shadow views and decals, the draw records,
-/// the material table and atlas, and the scene's index and vertex streams). A device with
-/// fewer runs every other path; the visibility path is then refused by name.
-pub const WANTED_STORAGE_BUFFERS_PER_STAGE: u32 = 18;
+/// path's shading kernels bind 19 (the light lists, shadow views and decals, the draw records,
+/// the material table and atlas, the scene's index and vertex streams, and the pixel sums the
+/// kernels pass on), a material program's 20 with its parameter records. A device with fewer
+/// runs every other path; the visibility path is then refused by name.
+pub const WANTED_STORAGE_BUFFERS_PER_STAGE: u32 = 20;
 
 /// The smallest storage binding and buffer the renderer is tested with: it sizes its light
 /// lists, lights and scene buffers to the device's limits (with typed errors where something

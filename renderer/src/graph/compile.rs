@@ -230,7 +230,8 @@ fn lifetimes_and_usage(
                 Usage::Texture(wgpu::TextureUsages::RENDER_ATTACHMENT)
             }
             ResourceDesc::Texture(_) => Usage::Texture(wgpu::TextureUsages::empty()),
-            ResourceDesc::Buffer(_) => Usage::Buffer(wgpu::BufferUsages::empty()),
+            // COPY_SRC: tools read back what a kernel bound (the tests' host replay).
+            ResourceDesc::Buffer(_) => Usage::Buffer(wgpu::BufferUsages::COPY_SRC),
         })
         .collect();
     for (position, &p) in order.iter().enumerate() {

@@ -25,7 +25,6 @@ pub mod visibility;
 
 use crate::frame_data::{FrameInputs, FrameReport, FrameResources, RenderError, SceneDrawList};
 use crate::graph::RenderGraph;
-use crate::materials::PARAMS_GROUP;
 
 /// One pass of the frame. A frame calls, for every pass in list order: [`Pass::prepare`], then
 /// [`Pass::add_to_graph`]; after the graph is recorded, [`Pass::after_execute`]; after the
@@ -81,8 +80,9 @@ pub(crate) struct SceneDraws<'p, 'a> {
 }
 
 /// What a batch draws with: its pipeline, the scene's group 2 (if the pipeline has one), and,
-/// for the passes that shade with material programs, the program's group 0 and its parameter
-/// records' group 3 (`passes::forward::programs`).
+/// for the passes that shade with material programs, the program's group 0
+/// (`passes::forward::programs`, with its parameter records), and the visibility raster's
+/// group 3 (the scene's geometry).
 pub(crate) struct BatchState<'a> {
     pub(crate) pipeline: &'a wgpu::RenderPipeline,
     pub(crate) group2: Option<&'a wgpu::BindGroup>,
@@ -229,7 +229,7 @@ impl<'p, 'a> SceneDraws<'p, 'a> {
         if let Some(group) = group3
             && !self.group3.is_some_and(|g| std::ptr::eq(g, group))
         {
-            self.pass.set_bind_group(PARAMS_GROUP, group, &[]);
+            self.pass.set_bind_group(3, group, &[]);
             self.group3 = Some(group);
         }
     }

@@ -30,6 +30,8 @@ pub(crate) struct ProgramStore {
     programs: Mutex<HashMap<ProgramKey, ShaderProgram>>,
     /// Compilations so far.
     compiled: std::sync::atomic::AtomicUsize,
+    /// Pipelines built from programs since released ([`ProgramStore::release`]).
+    released_pipelines: std::sync::atomic::AtomicUsize,
 }
 
 impl std::fmt::Debug for ProgramStore {
@@ -66,12 +68,25 @@ impl ProgramStore {
         Ok(program)
     }
 
-    /// Programs compiled so far, and pipelines built from the kept ones.
+    /// Programs compiled so far, and pipelines built so far.
     pub(crate) fn counts(&self) -> (usize, usize) {
         let programs = self.programs.lock().unwrap_or_else(PoisonError::into_inner);
-        let pipelines = programs.values().map(|p| p.pipelines.built()).sum();
+        let kept: usize = programs.values().map(|p| p.pipelines.built()).sum();
+        let released = self
+            .released_pipelines
+            .load(std::sync::atomic::Ordering::Relaxed);
         let compiled = self.compiled.load(std::sync::atomic::Ordering::Relaxed);
-        (compiled, pipelines)
+        (compiled, kept + released)
+    }
+
+    /// Forgets every kept program and its pipelines: they are destroyed once no renderer holds
+    /// them, and compiled again when asked for.
+    pub(crate) fn release(&self) {
+        let mut programs = self.programs.lock().unwrap_or_else(PoisonError::into_inner);
+        let built: usize = programs.values().map(|p| p.pipelines.built()).sum();
+        self.released_pipelines
+            .fetch_add(built, std::sync::atomic::Ordering::Relaxed);
+        programs.clear();
     }
 }
 

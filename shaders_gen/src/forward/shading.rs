@@ -60,6 +60,7 @@ pub mod gltf_material {
 /// `shadow_visibility`.
 #[shader_dsl::material(
     frame = crate::forward::material_frame,
+    visibility = crate::visibility::vis_frame,
     uses(crate::forward::gltf_material),
 )]
 pub mod forward {

@@ -60,6 +60,10 @@ pub mod material_table {
         /// Where a material written in the DSL (`#[shader_dsl::material]` with a parameter
         /// struct) finds its parameters: an index into its program's `PARAMS` (0 otherwise).
         pub params: u32,
+        /// The material program that shades it: 0 for glTF PBR, else the program's id
+        /// (`MaterialProgram::id` on the host). The visibility path's kernels, one a program,
+        /// each shade the triangles of their own program by it.
+        pub program: u32,
     }
 
     /// A point's two UV sets and their screen derivatives.

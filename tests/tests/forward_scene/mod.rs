@@ -197,6 +197,8 @@ pub fn inputs<'a>(
             NO_TEXTURE,
             0,
             0,
+            // glTF PBR's program.
+            0,
         ),
         vertices,
     }
@@ -221,5 +223,6 @@ pub fn key(list: forward::List, scalarize: bool) -> forward::VariantKey {
         list,
         blend: false,
         scalarize,
+        msaa: forward::Msaa::Msaa0,
     }
 }

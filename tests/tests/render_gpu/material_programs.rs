@@ -225,11 +225,13 @@ fn every_path_equals_naive_with_material_programs_and_they_change_the_image() {
                 "{path:?}, MSAA {msaa}: differs from naive by {worst}"
             );
         }
-        // The deferred paths, within the TBDR tests' whole-image tolerances (`tbdr_gpu`).
+        // The deferred paths and the visibility buffer (one kernel a program, glTF's last), within
+        // the TBDR tests' whole-image tolerances (`tbdr_gpu`).
         for path in [
             RenderPath::Tbdr,
             RenderPath::TbdrPerSample,
             RenderPath::Deferred,
+            RenderPath::Visibility,
         ] {
             let (mean, p99, _) = stats(&pixel_differences(&prez, &frame(path), 3));
             assert!(

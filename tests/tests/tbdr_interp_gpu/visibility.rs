@@ -1,4 +1,6 @@
-//! `vis_shade`, the visibility path's materials-and-lighting kernel, run by the DSL's host
+//! `vis_shade`, the visibility path's materials-and-lighting kernel (glTF PBR's: the
+//! `forward` material module's variant of the frame's `msaa` axis, `vis_frame` around
+//! `gltf_surface`), run by the DSL's host
 //! interpreter on exactly what a lavapipe frame bound (`tests::host_replay`: the triangle IDs of
 //! every sample, the scene's index and vertex streams, draw and material records, the material
 //! atlas, lights, clustered light lists, shadow atlas and views), against that frame's own
@@ -18,12 +20,14 @@ use tests::host_replay::{BindingsProbe, BoundInputs, rgba_texels};
 
 use super::{HEIGHT, TOLERANCE, WIDTH, courtyard_frame, pixel_difference};
 
-/// The kernel's module and every library it uses, as source text.
-const VIS_SOURCE: &str = include_str!("../../../shaders_gen/src/visibility/shade.rs");
-const LIBRARY_SOURCES: [&str; 12] = [
+/// The kernel's module (`forward`, with `gltf_material`), as source text.
+const GLTF_SOURCE: &str = include_str!("../../../shaders_gen/src/forward/shading.rs");
+/// The visibility path's material frame, where the mutation goes.
+const VIS_FRAME_SOURCE: &str = include_str!("../../../shaders_gen/src/visibility/frame.rs");
+/// Every other library the kernel uses, as source text.
+const LIBRARY_SOURCES: [&str; 11] = [
     include_str!("../../../shaders_gen/src/visibility/geometry.rs"),
     include_str!("../../../shaders_gen/src/forward/frame.rs"),
-    include_str!("../../../shaders_gen/src/forward/shading.rs"),
     include_str!("../../../shaders_gen/src/shared/material.rs"),
     include_str!("../../../shaders_gen/src/shared/atlas.rs"),
     include_str!("../../../shaders_gen/src/shared/lights.rs"),
@@ -35,10 +39,14 @@ const LIBRARY_SOURCES: [&str; 12] = [
     include_str!("../../../shaders_gen/src/shared/normals.rs"),
 ];
 
-fn compile(source: &str) -> Compiled {
+/// The `forward` module compiled with `vis_frame` as `frame_source`.
+fn compile(frame_source: &str) -> Compiled {
+    let mut libraries = LIBRARY_SOURCES.to_vec();
+    libraries.push(frame_source);
     let mut modules =
-        codegen::compile_source_all_with(source, &LIBRARY_SOURCES).expect("the sources parse");
+        codegen::compile_source_all_with(GLTF_SOURCE, &libraries).expect("the sources parse");
     let (name, compiled) = modules.swap_remove(0);
+    assert_eq!(name, "forward", "the kernel's module");
     compiled.unwrap_or_else(|e| panic!("{name} does not compile: {e}"))
 }
 
@@ -108,7 +116,7 @@ fn host_image(
     schedule: Schedule,
 ) -> Vec<[f32; 4]> {
     let env = tests::cull_interp::variant(c, axes);
-    let mut d = Dispatch::new(&c.module, env, "shade")
+    let mut d = Dispatch::new(&c.module, env, "vis_shade")
         .and_then(|d| d.with_subgroup_size(subgroup_size))
         .expect("dispatch")
         .with_schedule(schedule)
@@ -153,7 +161,7 @@ fn check(msaa: u32, scalarize: bool, runs: &[(u32, Schedule)]) -> BoundInputs {
     if msaa > 1 {
         assert!(edges > 100, "{edges} pixels see more than one triangle");
     }
-    let c = compile(VIS_SOURCE);
+    let c = compile(VIS_FRAME_SOURCE);
     let axes = [
         ("list", 2),
         ("msaa", i64::from(msaa)),
@@ -196,9 +204,9 @@ fn host_vis_shade_msaa4_equals_the_gpu_frame_at_four_subgroup_sizes() {
 fn host_vis_shade_plain_equals_the_gpu_frames_and_a_kernel_that_drops_edge_coverage_does_not() {
     check(1, false, &[(8, Schedule::Shuffled(5))]);
     let frame = check(4, false, &[(32, Schedule::InOrder)]);
-    let site = "total += color * (count as f32);";
-    assert!(VIS_SOURCE.contains(site), "the mutation site moved");
-    let mutated = compile(&VIS_SOURCE.replacen(site, "total += color * (msaa as f32);", 1));
+    let site = "        count as f32\n";
+    assert!(VIS_FRAME_SOURCE.contains(site), "the mutation site moved");
+    let mutated = compile(&VIS_FRAME_SOURCE.replacen(site, "        msaa as f32\n", 1));
     let (gpu, edges, _) = gpu_image(&frame);
     let axes = [("list", 2), ("msaa", 4), ("scalarize", 0)];
     let host = host_image(&mutated, &axes, &frame, 8, Schedule::InOrder);

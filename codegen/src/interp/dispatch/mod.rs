@@ -134,6 +134,11 @@ impl<'a> Dispatch<'a> {
                 "running `{entry}`: only compute entry points run as a dispatch"
             )));
         };
+        if !crate::variants::entry_present(&module.functions[index], module, env) {
+            return Err(EvalError::Type(format!(
+                "`{entry}` is not an entry point of this variant (its `#[when(..)]` is false here)"
+            )));
+        }
         let mut workgroup_size = [1u32; 3];
         for (slot, e) in workgroup_size.iter_mut().zip(size.iter()) {
             *slot = match eval(e, module, env) {

@@ -222,7 +222,8 @@ fn the_engines_own_material_shows_and_every_path_draws_it_as_naive_does() {
         );
     }
     let prez = render(&scene, RenderPath::NaivePrez);
-    for path in [RenderPath::Tbdr, RenderPath::Deferred] {
+    // The deferred paths, and the visibility buffer: the engine's kernel, then glTF PBR's.
+    for path in [RenderPath::Tbdr, RenderPath::Deferred, RenderPath::Visibility] {
         let (mean, p99) = differences(&prez, &render(&scene, path));
         assert!(
             mean <= 0.3 && p99 <= 4,

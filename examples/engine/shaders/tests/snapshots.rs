@@ -63,21 +63,36 @@ fn the_builders_take_the_library_crate_s_part_by_name() {
 }
 
 /// The material's variants are the renderer's material frame around the engine's surface: the
-/// frame's entry points, the renderer's light loop and the engine's pattern library merged in,
-/// and the parameter records at group 3. The single-sample list kinds are snapshotted.
+/// frame's entry points (the forward ones at `msaa` 0, the visibility path's kernel at its
+/// sample counts), the renderer's light loop and the engine's pattern library merged in, and
+/// the parameter records at group 0, binding 19. The plain forward list kinds and the MSAA 4
+/// kernel are snapshotted.
 #[test]
 fn the_material_is_the_frame_around_the_engines_surface() {
     assert_eq!(
         bricks::VARIANTS.len(),
-        10,
-        "list × blend × scalarize, less naive scalar"
+        18,
+        "list × blend × scalarize, less naive scalar; and the kernels of 1, 2, 4 and 8 samples, \
+         plain and scalarized"
     );
     for &key in bricks::VariantKey::ALL {
         let Ok(variant) = bricks::variant(key) else {
-            assert!(key.list == bricks::List::List0 && key.scalarize, "{key}");
+            let kernel = key.msaa != bricks::Msaa::Msaa0;
+            let excluded = if kernel {
+                key.list != bricks::List::List2 || key.blend
+            } else {
+                key.list == bricks::List::List0 && key.scalarize
+            };
+            assert!(excluded, "{key}");
             continue;
         };
-        for entry in ["vs_forward", "fs_forward", "fs_gbuffer"] {
+        let entries: &[&str] = if key.msaa == bricks::Msaa::Msaa0 {
+            &["vs_forward", "fs_forward", "fs_gbuffer"]
+        } else {
+            &["vis_shade"]
+        };
+        assert_eq!(variant.entry_points.len(), entries.len(), "{key}");
+        for entry in entries {
             assert!(variant.entry_point(entry).is_some(), "{key}: {entry}");
         }
         assert!(variant.wgsl.contains("fn brick_mask("), "{key}");
@@ -85,10 +100,13 @@ fn the_material_is_the_frame_around_the_engines_surface() {
         assert!(
             variant
                 .wgsl
-                .contains("@group(3) @binding(0) var<storage, read> PARAMS: array<Bricks>;"),
+                .contains("@group(0) @binding(19) var<storage, read> PARAMS: array<Bricks>;"),
             "{key}"
         );
-        if !key.blend && !key.scalarize {
+        let snapshotted = !key.blend
+            && !key.scalarize
+            && matches!(key.msaa, bricks::Msaa::Msaa0 | bricks::Msaa::Msaa4);
+        if snapshotted {
             insta::assert_snapshot!(format!("bricks_{key}"), variant.wgsl);
         }
     }

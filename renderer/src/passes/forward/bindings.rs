@@ -6,7 +6,7 @@
 use std::sync::Arc;
 
 use shaders_gen::forward::{forward, material_frame};
-use shaders_gen::visibility::vis_shade;
+use shaders_gen::visibility::vis_frame;
 
 use crate::frame_data::{
     FrameInputs, GpuDecals, LightListHandles, LightSet, ListGeometry, ShadowResources,
@@ -70,68 +70,87 @@ impl FrameGroup {
         }
     }
 
-    /// Group 0 of `program` (a `forward` variant), through the module's generated builder;
-    /// `None` after recording the error in `ctx` ([`PassContext::bind`]).
+    /// Group 0 of `program` (a forward variant of glTF PBR's or a material program's), through
+    /// the module's generated builder, with the program's parameter records `params` where it
+    /// takes them; `None` after recording the error in `ctx` ([`PassContext::bind`]).
     pub(crate) fn bind_group(
         &self,
         ctx: &mut PassContext<'_>,
-        program: &ShaderProgram,
+        (program, params): (&ShaderProgram, Option<&wgpu::Buffer>),
         label: &str,
     ) -> Option<wgpu::BindGroup> {
-        let group = forward::Group0 {
-            material_frame: material_frame::Group0 {
-                camera: self.camera.as_entire_buffer_binding(),
-                lighting: self.lighting.as_entire_buffer_binding(),
-            },
-            light_set: self.lights.bindings(),
-            light_lists: LightListHandles::bindings(self.lists.as_ref(), ctx),
-            shadow_atlas: self.shadows.bindings(),
-            decal_apply: self.decals.bindings(),
-        }
-        .bind_group(
-            ctx.device,
-            program.layout(forward::Group0::GROUP),
-            program.variant,
-            label,
-        );
-        ctx.bind(group)
+        // The visibility kernels' own inputs: not in the forward variants.
+        let vis = vis_frame::Group0 {
+            vis: None,
+            ids: None,
+            ids_ms: None,
+            hdr_out: None,
+            accum: None,
+        };
+        self.build(ctx, (program, params), vis, label)
     }
-}
 
-impl FrameGroup {
-    /// Group 0 of `program`, a `vis_shade` variant: this frame group's parts, the kernel's
-    /// parameters `vis`, the visibility buffer `ids` and the HDR output `out`; `None` after
-    /// recording the error in `ctx`.
+    /// Group 0 of `program`, a material program's visibility kernel (`vis_shade`): this frame
+    /// group's parts, the kernel's own inputs and its parameter records `params` where it takes
+    /// them; `None` after recording the error in `ctx`.
     pub(crate) fn vis_bind_group(
         &self,
         ctx: &mut PassContext<'_>,
-        program: &ShaderProgram,
-        vis: &wgpu::Buffer,
-        ids: &wgpu::TextureView,
-        out: &wgpu::TextureView,
+        (program, params): (&ShaderProgram, Option<&wgpu::Buffer>),
+        vis: &VisInputs<'_>,
     ) -> Option<wgpu::BindGroup> {
-        let builder = vis_shade::Group0 {
-            vis: vis.as_entire_buffer_binding(),
-            ids: Some(ids),
-            ids_ms: Some(ids),
-            hdr_out: out,
+        let inputs = vis_frame::Group0 {
+            vis: Some(vis.params.as_entire_buffer_binding()),
+            ids: Some(vis.ids),
+            ids_ms: Some(vis.ids),
+            hdr_out: Some(vis.out),
+            accum: Some(vis.sums.as_entire_buffer_binding()),
+        };
+        self.build(ctx, (program, params), inputs, "visibility shading")
+    }
+
+    fn build(
+        &self,
+        ctx: &mut PassContext<'_>,
+        (program, params): (&ShaderProgram, Option<&wgpu::Buffer>),
+        vis: vis_frame::Group0<'_>,
+        label: &str,
+    ) -> Option<wgpu::BindGroup> {
+        let builder = forward::Group0 {
             material_frame: material_frame::Group0 {
                 camera: self.camera.as_entire_buffer_binding(),
                 lighting: self.lighting.as_entire_buffer_binding(),
             },
+            vis_frame: vis,
             light_set: self.lights.bindings(),
             light_lists: LightListHandles::bindings(self.lists.as_ref(), ctx),
             shadow_atlas: self.shadows.bindings(),
             decal_apply: self.decals.bindings(),
         };
-        let group = program.bind_group(
-            ctx.device,
-            vis_shade::Group0::GROUP,
-            &shader_bind::Resources::of(&builder),
-            "visibility shading",
-        );
+        let mut resources = shader_bind::Resources::of(&builder);
+        if let Some(params) = params {
+            resources.push(
+                crate::materials::PARAMS_NAME,
+                Some(shader_bind::Resource::Buffer(
+                    params.as_entire_buffer_binding(),
+                )),
+            );
+        }
+        let group = program.bind_group(ctx.device, forward::Group0::GROUP, &resources, label);
         ctx.bind(group)
     }
+}
+
+/// The visibility kernels' own inputs of group 0 ([`FrameGroup::vis_bind_group`]).
+pub(crate) struct VisInputs<'a> {
+    /// The kernel's `VisParams` uniform.
+    pub params: &'a wgpu::Buffer,
+    /// The visibility buffer's IDs.
+    pub ids: &'a wgpu::TextureView,
+    /// The HDR output.
+    pub out: &'a wgpu::TextureView,
+    /// The per-pixel sums the kernels pass on.
+    pub sums: &'a wgpu::Buffer,
 }
 
 /// A `forward` lighting uniform buffer.

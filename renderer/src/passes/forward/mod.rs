@@ -89,6 +89,8 @@ impl ForwardPass {
                 list: forward::List::from_value(list).unwrap_or(forward::List::List0),
                 blend: true,
                 scalarize,
+                // The forward programs (the visibility kernels are `msaa` above 0).
+                msaa: forward::Msaa::Msaa0,
             })?,
         )?;
         let expand = if config.path.is_deferred() && config.msaa > 1 {

@@ -1,16 +1,15 @@
 //! The material programs of a pass that shades surfaces (forward, G-buffer): glTF PBR's and
 //! every registered one ([`crate::materials::MaterialProgram`]), each with its face pipelines;
 //! and per frame, for every program number of the scene (`DrawBatch::program`), the program
-//! and the bind groups it needs besides the scene's: group 0 (the frame, through the program's
-//! own layout) and group 3 (its parameter records, where it takes them).
+//! and the bind group it needs besides the scene's: group 0 (the frame, through the program's
+//! own layout, with its parameter records where it takes them).
 
-use shader_bind::{Resource, Resources};
 use shaders_gen::forward::forward;
 
 use super::bindings::FrameGroup;
 use crate::frame_data::{DrawBatch, PreparedScene, RenderError};
 use crate::graph::PassContext;
-use crate::materials::{MaterialProgram, PARAMS_GROUP};
+use crate::materials::{MaterialProgram, PARAMS_GROUP, PARAMS_NAME};
 use crate::passes::{BatchState, FacePipelines, face_pipeline, face_pipelines};
 use crate::shader::ShaderProgram;
 
@@ -21,7 +20,7 @@ pub(crate) struct ProgramPipelines {
     name: &'static str,
     program: ShaderProgram,
     faces: FacePipelines,
-    /// Whether it binds parameter records (group 3).
+    /// Whether it binds parameter records (`PARAMS`).
     params: bool,
 }
 
@@ -47,6 +46,8 @@ impl MaterialPipelines {
             list: forward::List::from_value(list).unwrap_or(forward::List::List0),
             blend,
             scalarize,
+            // The forward programs (the visibility kernels are `msaa` above 0).
+            msaa: forward::Msaa::Msaa0,
         })?;
         let variants =
             std::iter::once(Ok((forward::MODULE.name, gltf))).chain(materials.iter().map(|m| {
@@ -66,7 +67,9 @@ impl MaterialPipelines {
                 face_pipelines(|double_sided, mirrored| make(&program, double_sided, mirrored));
             out.push(ProgramPipelines {
                 name,
-                params: variant.group(PARAMS_GROUP).next().is_some(),
+                params: variant
+                    .group(PARAMS_GROUP)
+                    .any(|binding| binding.name == PARAMS_NAME),
                 program,
                 faces,
             });
@@ -74,7 +77,7 @@ impl MaterialPipelines {
         Ok(Self(out))
     }
 
-    /// This frame's programs for `scene`'s program numbers, with their groups 0 and 3; `None`
+    /// This frame's programs for `scene`'s program numbers, with their groups 0; `None`
     /// after recording a binding error in `ctx`. A program number whose program this pass does
     /// not have (never so: the renderer refuses materials of unregistered programs) draws
     /// nothing.
@@ -93,50 +96,25 @@ impl MaterialPipelines {
                 continue;
             };
             let p = &self.0[entry];
-            let group0 = frame.bind_group(ctx, &p.program, label)?;
-            let group3 = match (p.params, scene.material_params(number as u32)) {
-                (true, Some(buffer)) => Some(ctx.bind(params_group(ctx.device, p, buffer))?),
+            let params = match (p.params, scene.material_params(number as u32)) {
+                (true, Some(buffer)) => Some(buffer),
                 (true, None) => {
                     bound.push(None);
                     continue;
                 }
                 (false, _) => None,
             };
-            bound.push(Some(BoundProgram {
-                entry,
-                group0,
-                group3,
-            }));
+            let group0 = frame.bind_group(ctx, (&p.program, params), label)?;
+            bound.push(Some(BoundProgram { entry, group0 }));
         }
         Some(BoundPrograms { bound })
     }
-}
-
-/// Group 3 of program `p`: its parameter records.
-fn params_group(
-    device: &wgpu::Device,
-    p: &ProgramPipelines,
-    buffer: &wgpu::Buffer,
-) -> Result<wgpu::BindGroup, shader_bind::BindError> {
-    let mut resources = Resources::new();
-    resources.push(
-        "PARAMS",
-        Some(Resource::Buffer(buffer.as_entire_buffer_binding())),
-    );
-    resources.build(
-        device,
-        p.program.layout(PARAMS_GROUP),
-        p.program.variant,
-        PARAMS_GROUP,
-        "material parameters",
-    )
 }
 
 /// One program number's program and its bind groups for a frame.
 pub(crate) struct BoundProgram {
     entry: usize,
     group0: wgpu::BindGroup,
-    group3: Option<wgpu::BindGroup>,
 }
 
 /// A frame's programs, by the scene's program numbers.
@@ -146,7 +124,7 @@ pub(crate) struct BoundPrograms {
 
 impl BoundPrograms {
     /// The state `batch` draws with: its program's pipeline for its faces, the scene's
-    /// material group 2, and its program's groups 0 and 3; `None` for a program this pass
+    /// material group 2, and its program's group 0; `None` for a program this pass
     /// does not have.
     pub(crate) fn state<'a>(
         &'a self,
@@ -159,7 +137,7 @@ impl BoundPrograms {
         Some(BatchState {
             pipeline: face_pipeline(&p.faces, batch.double_sided, batch.mirrored),
             group2: Some(group2),
-            program_groups: Some((&b.group0, b.group3.as_ref())),
+            program_groups: Some((&b.group0, None)),
         })
     }
 

@@ -1,100 +1,206 @@
-//! The visibility path's shading pass: materials and lighting in compute
-//! (`shaders_gen`'s `vis_shade`), over the light lists, writing the resolved HDR image.
+//! The visibility path's shading pass: materials and lighting in compute, over the light lists,
+//! writing the resolved HDR image. Each material program the scene names has its kernel (its
+//! module's `vis_shade`, `shaders_gen::visibility::vis_frame` around its `surface`), which
+//! shades its own triangles over the whole screen and passes the pixel sums on; glTF PBR's
+//! (`shaders_gen::forward::forward`) runs last, adds the sky and writes the image.
 
-use shaders_gen::visibility::vis_shade;
+use shaders_gen::forward::forward;
+use shaders_gen::visibility::vis_frame;
 
 use super::geometry::geometry_group;
 use crate::GpuContext;
 use crate::frame_data::{
     ConfigError, FrameInputs, FrameResources, FrameView, HDR_FORMAT, RenderError, RenderPath,
-    RendererConfig,
+    RendererConfig, VisibilityHandles,
 };
-use crate::graph::{RenderGraph, TextureAccess, TextureDesc};
+use crate::graph::{BufferAccess, BufferDesc, RenderGraph, TextureAccess, TextureDesc};
+use crate::materials::{MaterialError, MaterialProgram, PARAMS_GROUP, PARAMS_NAME};
 use crate::passes::Pass;
-use crate::passes::forward::bindings::{FrameGroup, lighting_buffer};
+use crate::passes::forward::bindings::{FrameGroup, VisInputs, lighting_buffer};
 use crate::shader::ShaderProgram;
 
-/// The visibility shading pass: its kernel, its parameters and lighting uniforms.
+/// One material program's kernel.
 #[derive(Debug)]
-pub struct VisShadePass {
+struct Kernel {
+    /// Its module's name (what a scene's materials name).
+    name: &'static str,
     program: ShaderProgram,
     pipeline: wgpu::ComputePipeline,
-    params: wgpu::Buffer,
+    /// Whether it binds parameter records (`PARAMS`).
+    params: bool,
+    /// Its `VisParams` uniform.
+    uniform: wgpu::Buffer,
+}
+
+/// The visibility shading pass: glTF PBR's kernel and every registered material program's,
+/// and the lighting uniform.
+#[derive(Debug)]
+pub struct VisShadePass {
+    /// glTF PBR's first, then each registered program's.
+    kernels: Vec<Kernel>,
     lighting: wgpu::Buffer,
 }
 
 impl VisShadePass {
-    /// The pass for `config`: clustered lists (the path's), refused where the device binds
-    /// fewer storage buffers per stage than the kernel reads.
-    pub fn new(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
-        let msaa = vis_shade::Msaa::from_value(config.msaa).ok_or_else(|| {
-            RenderError::Config(ConfigError::SampleCount {
-                asked: config.msaa,
-                supported: vis_shade::Msaa::ALL.iter().map(|m| m.value()).collect(),
-            })
-        })?;
-        let variant = vis_shade::variant(vis_shade::VariantKey {
-            list: vis_shade::List::List2,
+    /// The pass for `config` and the registered `materials`: clustered lists (the path's),
+    /// refused where the device binds fewer storage buffers per stage than a kernel reads.
+    pub fn new(
+        gpu: &GpuContext,
+        config: &RendererConfig,
+        materials: &[MaterialProgram],
+    ) -> Result<Self, RenderError> {
+        let msaa = forward::Msaa::from_value(config.msaa)
+            .filter(|&m| m != forward::Msaa::Msaa0)
+            .ok_or_else(|| {
+                RenderError::Config(ConfigError::SampleCount {
+                    asked: config.msaa,
+                    supported: crate::materials::VIS_SAMPLE_COUNTS.to_vec(),
+                })
+            })?;
+        let gltf = forward::variant(forward::VariantKey {
+            list: forward::List::List2,
             blend: false,
             scalarize: config.scalarize,
             msaa,
-        });
-        let storage = variant
-            .bindings
-            .iter()
-            .filter(|b| matches!(b.kind, codegen::rt::BindingKind::Storage { .. }))
-            .count() as u32;
-        let max = gpu.device().limits().max_storage_buffers_per_shader_stage;
-        if storage > max {
-            return Err(RenderError::Config(ConfigError::PathNeedsLimit {
-                path: RenderPath::Visibility,
-                limit: "max_storage_buffers_per_shader_stage",
-                needs: storage.into(),
-                device: max.into(),
-            }));
+        })?;
+        let mut variants = vec![(forward::MODULE.name, gltf)];
+        for m in materials {
+            let variant = m.vis_variant(config.msaa, config.scalarize).ok_or_else(|| {
+                MaterialError::MissingVariant {
+                    module: m.name().to_string(),
+                    variant: crate::materials::vis_variant_name(config.msaa, config.scalarize),
+                }
+            })?;
+            variants.push((m.name(), variant));
         }
-        let program = gpu.program(variant)?;
+        let mut kernels = Vec::with_capacity(variants.len());
+        for (name, variant) in variants {
+            check_storage_limit(gpu, variant)?;
+            let program = gpu.program(variant)?;
+            kernels.push(Kernel {
+                name,
+                pipeline: program.compute_pipeline(gpu.device(), "vis_shade")?,
+                params: variant
+                    .group(PARAMS_GROUP)
+                    .any(|binding| binding.name == PARAMS_NAME),
+                program,
+                uniform: gpu.device().create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("visibility params"),
+                    size: size_of::<vis_frame::VisParams>() as u64,
+                    // COPY_SRC: tools read back what a kernel bound (the tests' host replay).
+                    usage: wgpu::BufferUsages::UNIFORM
+                        | wgpu::BufferUsages::COPY_DST
+                        | wgpu::BufferUsages::COPY_SRC,
+                    mapped_at_creation: false,
+                }),
+            });
+        }
         Ok(Self {
-            pipeline: program.compute_pipeline(gpu.device(), "shade")?,
-            program,
-            params: gpu.device().create_buffer(&wgpu::BufferDescriptor {
-                label: Some("visibility params"),
-                size: size_of::<vis_shade::VisParams>() as u64,
-                // COPY_SRC: tools read back what a kernel bound (the tests' host replay).
-                usage: wgpu::BufferUsages::UNIFORM
-                    | wgpu::BufferUsages::COPY_DST
-                    | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            }),
+            kernels,
             lighting: lighting_buffer(gpu.device()),
         })
     }
+
+    /// glTF PBR's kernel's program (a tool records its bindings:
+    /// `ShaderProgram::record_bindings`).
+    #[cfg(any(test, feature = "internals"))]
+    pub fn program(&self) -> &ShaderProgram {
+        &self.kernels[0].program
+    }
+}
+
+/// Refuses a kernel that binds more storage buffers per stage than the device allows.
+fn check_storage_limit(
+    gpu: &GpuContext,
+    variant: &codegen::rt::Variant,
+) -> Result<(), RenderError> {
+    let storage = variant
+        .bindings
+        .iter()
+        .filter(|b| matches!(b.kind, codegen::rt::BindingKind::Storage { .. }))
+        .count() as u32;
+    let max = gpu.device().limits().max_storage_buffers_per_shader_stage;
+    if storage > max {
+        return Err(RenderError::Config(ConfigError::PathNeedsLimit {
+            path: RenderPath::Visibility,
+            limit: "max_storage_buffers_per_shader_stage",
+            needs: storage.into(),
+            device: max.into(),
+        }));
+    }
+    Ok(())
+}
+
+/// One kernel's dispatch of a frame: its kernel, its parameter records where it takes them,
+/// and its groups 1 to 3 (group 0 is built at recording, from the frame's textures).
+struct Dispatch {
+    kernel: usize,
+    params: Option<wgpu::Buffer>,
+    groups: [wgpu::BindGroup; 3],
 }
 
 impl VisShadePass {
-    /// The kernel's program (a tool records its bindings: `ShaderProgram::record_bindings`).
-    #[cfg(any(test, feature = "internals"))]
-    pub fn program(&self) -> &ShaderProgram {
-        &self.program
+    /// This frame's dispatches: each material program the scene names (in its program-number
+    /// order) whose kernel this pass has, then glTF PBR's; each kernel's uniform written.
+    fn dispatches(
+        &self,
+        frame: &FrameInputs,
+        vis: &VisibilityHandles,
+    ) -> Result<Vec<Dispatch>, RenderError> {
+        let device = frame.gpu.device();
+        let c = &frame.config;
+        let cam = &frame.camera;
+        let names: Vec<&str> = frame.scene.material_program_names().collect();
+        let order = (1..=names.len() as u32).chain(std::iter::once(0));
+        let mut out = Vec::new();
+        for number in order {
+            let name = match number {
+                0 => forward::MODULE.name,
+                n => names[n as usize - 1],
+            };
+            let Some(kernel) = self.kernels.iter().position(|k| k.name == name) else {
+                // The renderer refuses materials of programs it has not registered.
+                continue;
+            };
+            let k = &self.kernels[kernel];
+            let records = match (k.params, frame.scene.material_params(number)) {
+                (true, Some(buffer)) => Some(buffer.clone()),
+                // A program whose materials hold no parameter records yet draws nothing.
+                (true, None) => continue,
+                (false, _) => None,
+            };
+            let uniform = vis_frame::VisParams::new(
+                (cam.projection * cam.view).inverse(),
+                c.sky,
+                vis.draws,
+                frame.screen(),
+                u32::from(c.view == FrameView::ShadingFrequency),
+                number,
+                // Every kernel after the first adds to the sums the ones before left.
+                u32::from(!out.is_empty()),
+                glam::UVec3::ZERO,
+            );
+            frame
+                .gpu
+                .queue()
+                .write_buffer(&k.uniform, 0, bytemuck::bytes_of(&uniform));
+            out.push(Dispatch {
+                kernel,
+                params: records,
+                groups: [
+                    frame.instances.draw_group_for(device, &k.program)?,
+                    frame.scene.material_group_for(device, &k.program)?,
+                    geometry_group(device, &k.program, &frame.scene, &vis.draw_geometry)?,
+                ],
+            });
+        }
+        Ok(out)
     }
 }
 
 impl Pass for VisShadePass {
     fn name(&self) -> &'static str {
         "visibility shading"
-    }
-
-    /// Refuses a scene whose materials name a material program: the kernel evaluates glTF
-    /// PBR's surface for every triangle.
-    fn prepare(&mut self, frame: &FrameInputs) -> Result<(), RenderError> {
-        match frame.scene.material_program_names().next() {
-            Some(program) => Err(crate::materials::MaterialError::NotOnPath {
-                program: program.to_string(),
-                path: RenderPath::Visibility,
-            }
-            .into()),
-            None => Ok(()),
-        }
     }
 
     fn add_to_graph(
@@ -119,53 +225,65 @@ impl Pass for VisShadePass {
             .clone()
             .ok_or(missing("light lists"))?;
         let shadows = resources.shadows.clone().ok_or(missing("shadow atlas"))?;
-        let cam = &frame.camera;
-        let params = vis_shade::VisParams::new(
-            (cam.projection * cam.view).inverse(),
-            c.sky,
-            vis.draws,
-            frame.screen(),
-            u32::from(c.view == FrameView::ShadingFrequency),
-        );
-        frame
-            .gpu
-            .queue()
-            .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
-        let device = frame.gpu.device();
-        let group1 = frame.instances.draw_group_for(device, &self.program)?;
-        let group2 = frame.scene.material_group_for(device, &self.program)?;
-        let group3 = geometry_group(device, &self.program, &frame.scene, &vis.draw_geometry)?;
+        let dispatches = self.dispatches(frame, &vis)?;
+        // The sums the kernels before glTF PBR's pass on: a vec4 a pixel where there are any.
+        let pixels = if dispatches.len() > 1 {
+            u64::from(c.width) * u64::from(c.height)
+        } else {
+            1
+        };
+        let mut sums = graph.create_buffer("visibility sums", BufferDesc { size: pixels * 16 });
         let mut hdr =
             graph.create_texture("hdr", TextureDesc::new_2d(c.width, c.height, HDR_FORMAT));
         let mut pass = graph.add_pass(self.name());
         pass.read_texture(vis.ids, TextureAccess::Sampled)
             .read_texture(shadows.atlas, TextureAccess::Sampled)
+            .write_buffer(&mut sums, BufferAccess::StorageWrite)
             .write_texture(&mut hdr, TextureAccess::StorageWrite);
         crate::frame_data::LightListHandles::read_by(Some(&lists), &mut pass);
         let group = FrameGroup::new(frame, &self.lighting, Some(lists), shadows);
-        let (program, pipeline) = (self.program.clone(), self.pipeline.clone());
-        let params_buffer = self.params.clone();
+        let kernels: Vec<_> = dispatches
+            .into_iter()
+            .map(|d| {
+                let k = &self.kernels[d.kernel];
+                let program = (k.program.clone(), d.params);
+                (program, k.pipeline.clone(), k.uniform.clone(), d.groups)
+            })
+            .collect();
         let (ids, (width, height)) = (vis.ids, (c.width, c.height));
         pass.execute(move |ctx| {
-            let ids_view = ctx.texture(ids).create_view(&Default::default());
+            let ids = ctx.texture(ids).create_view(&Default::default());
             let out = ctx.texture(hdr).create_view(&Default::default());
-            let Some(group0) =
-                group.vis_bind_group(ctx, &program, &params_buffer, &ids_view, &out)
-            else {
-                return;
-            };
+            let sums = ctx.buffer(sums).clone();
+            let mut groups0 = Vec::with_capacity(kernels.len());
+            for ((program, records), _, uniform, _) in &kernels {
+                let inputs = VisInputs {
+                    params: uniform,
+                    ids: &ids,
+                    out: &out,
+                    sums: &sums,
+                };
+                let Some(group0) = group.vis_bind_group(ctx, (program, records.as_ref()), &inputs)
+                else {
+                    return;
+                };
+                groups0.push(group0);
+            }
             let mut pass = ctx
                 .encoder
                 .begin_compute_pass(&wgpu::ComputePassDescriptor {
                     label: Some("visibility shading"),
                     timestamp_writes: None,
                 });
-            pass.set_pipeline(&pipeline);
-            pass.set_bind_group(0, &group0, &[]);
-            pass.set_bind_group(1, &group1, &[]);
-            pass.set_bind_group(2, &group2, &[]);
-            pass.set_bind_group(3, &group3, &[]);
-            pass.dispatch_workgroups(width.div_ceil(8), height.div_ceil(8), 1);
+            // Each dispatch reads the sums the one before wrote: wgpu orders them.
+            for ((_, pipeline, _, groups), group0) in kernels.iter().zip(&groups0) {
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, group0, &[]);
+                for (index, g) in groups.iter().enumerate() {
+                    pass.set_bind_group(index as u32 + 1, g, &[]);
+                }
+                pass.dispatch_workgroups(width.div_ceil(8), height.div_ceil(8), 1);
+            }
         });
         resources.hdr = Some(hdr);
         resources.hdr_multisampled = None;
