@@ -234,6 +234,7 @@ fn every_path_equals_naive_with_material_programs_and_they_change_the_image() {
             RenderPath::Visibility,
         ] {
             let (mean, p99, _) = stats(&pixel_differences(&prez, &frame(path), 3));
+            eprintln!("{path:?}, MSAA {msaa}: mean {mean:.3}, 99th percentile {p99}");
             assert!(
                 mean <= 0.3 && p99 <= 4,
                 "{path:?}, MSAA {msaa}: differs from naive by mean {mean:.3}, 99th \
