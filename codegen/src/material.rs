@@ -251,10 +251,13 @@ fn entry_points(span: Span, params: Option<&syn::Type>) -> Vec<syn::Item> {
                         let id = vis_id_at(p, s);
                         if vis_first(p, s, id) {
                             kinds += 1u32;
-                            if vis_shades(id) {
-                                let v = vis_point(id, p);
-                                let point = v.point;
-                                total += vis_radiance(v, #call) * vis_coverage(p, s, id);
+                            if id != 0u32 {
+                                let tri = vis_triangle(id);
+                                if vis_shades(tri) {
+                                    let v = vis_point(tri, p);
+                                    let point = v.point;
+                                    total += vis_radiance(v, #call) * vis_coverage(p, s, id);
+                                }
                             }
                         }
                     }

@@ -6,7 +6,7 @@
 /// the raster pass left (`vis_raster`), the triangles its samples see, and shades those of its
 /// own material program once each, as the forward pass would.
 ///
-/// For a triangle of the pixel (`vis_point`):
+/// For a triangle of the pixel (`vis_triangle`, then `vis_point`):
 /// 1. **Reconstruction.** Its three vertices (`vis_geometry`) in world space; the point where
 ///    the view ray through the pixel centre meets the triangle's plane (outside the triangle
 ///    too, as the forward pass extrapolates its attributes there); its barycentric weights (in
@@ -175,15 +175,16 @@ pub mod vis_frame {
         count as f32
     }
 
-    /// Whether this kernel shades triangle `id`: a triangle (not the sky) whose material
-    /// record names this kernel's program.
-    pub fn vis_shades(id: u32) -> bool {
+    /// Scene triangle `id` (not 0, the sky): its draw and vertices.
+    pub fn vis_triangle(id: u32) -> SceneTriangle {
+        triangle_of(id, vis_draws())
+    }
+
+    /// Whether this kernel shades `tri`: its material record names this kernel's program.
+    pub fn vis_shades(tri: SceneTriangle) -> bool {
         let mut mine = false;
         if msaa > 0 {
-            if id != 0u32 {
-                let draw = DRAWS[triangle_of(id, VIS.draws).draw];
-                mine = MATERIALS[draw.material].program == VIS.program;
-            }
+            mine = MATERIALS[DRAWS[tri.draw].material].program == VIS.program;
         }
         mine
     }
@@ -238,10 +239,9 @@ pub mod vis_frame {
         a * w.x + b * w.y + c * w.z
     }
 
-    /// Triangle `id` seen through the centre of pixel `p`, rebuilt as the forward pass's
+    /// Triangle `tri` seen through the centre of pixel `p`, rebuilt as the forward pass's
     /// fragment would see it.
-    pub fn vis_point(id: u32, p: UVec2) -> VisPoint {
-        let tri = triangle_of(id, vis_draws());
+    pub fn vis_point(tri: SceneTriangle, p: UVec2) -> VisPoint {
         let draw = DRAWS[tri.draw];
         let v = tri.vertices;
         let w0 = (draw.world_from_mesh * vertex_position(v.x).extend(1.0)).xyz();
