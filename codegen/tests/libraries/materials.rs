@@ -35,12 +35,56 @@ pub mod mini_frame {
 }
 "#;
 
+/// A small visibility frame with the contract's names: what the kernel `vis_shade` calls.
+const VIS_FRAME: &str = r#"
+#[library(axes(list: u32 = [0, 1, 2], blend: bool = [false, true], scalarize: bool = [false, true], msaa: u32 = [0, 1, 2, 4, 8]), uses(crate::mini_frame))]
+pub mod mini_vis {
+    pub struct SceneTriangle { pub draw: u32 }
+    pub struct VisPoint { pub point: MaterialPoint }
+    #[storage(group = 0, binding = 18, read_write)]
+    #[when(msaa > 0)]
+    static SUMS: [Vec4];
+    pub fn vis_on_screen(p: UVec2) -> bool {
+        p.x < 64u32
+    }
+    pub fn vis_begin(p: UVec2) -> Vec3 {
+        Vec3::ZERO
+    }
+    pub fn vis_id_at(p: UVec2, s: u32) -> u32 {
+        p.x + s
+    }
+    pub fn vis_first(p: UVec2, s: u32, id: u32) -> bool {
+        s == 0u32
+    }
+    pub fn vis_triangle(id: u32) -> SceneTriangle {
+        SceneTriangle { draw: id - 1u32 }
+    }
+    pub fn vis_shades(tri: SceneTriangle) -> bool {
+        tri.draw > 2u32
+    }
+    pub fn vis_point(tri: SceneTriangle, p: UVec2) -> VisPoint {
+        VisPoint { point: MaterialPoint { world: Vec3::splat(tri.draw as f32), params: p.y } }
+    }
+    pub fn vis_radiance(v: VisPoint, s: Surface) -> Vec3 {
+        s.base_color.xyz() * v.point.world
+    }
+    pub fn vis_coverage(p: UVec2, s: u32, id: u32) -> f32 {
+        1.0
+    }
+    pub fn vis_finish(p: UVec2, total: Vec3, kinds: u32) {
+        if msaa > 0 {
+            SUMS[p.x] = total.extend(kinds as f32);
+        }
+    }
+}
+"#;
+
 fn with_frame(material: &str) -> String {
-    format!("{FRAME}{material}")
+    format!("{FRAME}{VIS_FRAME}{material}")
 }
 
 const TINTED: &str = r#"
-#[material(frame = crate::mini_frame, params = Tint)]
+#[material(frame = crate::mini_frame, visibility = crate::mini_vis, params = Tint)]
 mod tinted {
     pub struct Tint { pub colour: Vec4 }
     fn surface(point: MaterialPoint, params: Tint) -> Surface {
@@ -69,17 +113,30 @@ fn a_material_is_the_frame_around_its_surface_for_every_frame_variant() {
         .collect();
     assert_eq!(
         kept.len(),
-        10,
-        "list × blend × scalarize less naive scalar: {kept:?}"
+        18,
+        "list × blend × scalarize less naive scalar, and the kernels of 1, 2, 4 and 8 samples \
+         with clustered lists, plain and scalarized: {kept:?}"
     );
     assert!(!kept.contains(&"list0_scalar"), "{kept:?}");
+    assert!(kept.contains(&"list1_blend"), "the forward names are as they were: {kept:?}");
+    assert!(kept.contains(&"list2_scalar_msaa4"), "{kept:?}");
     for variant in &c.variants {
         let wgsl = &variant.wgsl;
-        for entry in ["fn vs_forward(", "fn fs_forward(", "fn fs_gbuffer("] {
+        let kernel = variant.names.iter().all(|n| n.contains("_msaa"));
+        let (present, absent): (&[&str], &[&str]) = if kernel {
+            (&["fn vis_shade("], &["fn vs_forward(", "fn fs_forward(", "fn fs_gbuffer("])
+        } else {
+            (&["fn vs_forward(", "fn fs_forward(", "fn fs_gbuffer("], &["fn vis_shade("])
+        };
+        for entry in present {
             assert!(wgsl.contains(entry), "{entry} missing:\n{wgsl}");
         }
+        for entry in absent {
+            assert!(!wgsl.contains(entry), "{entry} present:\n{wgsl}");
+        }
+        assert_eq!(wgsl.contains("var<storage, read_write> SUMS"), kernel, "{wgsl}");
         assert!(
-            wgsl.contains("@group(3) @binding(0) var<storage, read> PARAMS: array<Tint>;"),
+            wgsl.contains("@group(0) @binding(19) var<storage, read> PARAMS: array<Tint>;"),
             "{wgsl}"
         );
         assert!(
