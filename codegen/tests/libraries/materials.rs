@@ -118,15 +118,24 @@ fn a_material_is_the_frame_around_its_surface_for_every_frame_variant() {
          with clustered lists, plain and scalarized: {kept:?}"
     );
     assert!(!kept.contains(&"list0_scalar"), "{kept:?}");
-    assert!(kept.contains(&"list1_blend"), "the forward names are as they were: {kept:?}");
+    assert!(
+        kept.contains(&"list1_blend"),
+        "the forward names are as they were: {kept:?}"
+    );
     assert!(kept.contains(&"list2_scalar_msaa4"), "{kept:?}");
     for variant in &c.variants {
         let wgsl = &variant.wgsl;
         let kernel = variant.names.iter().all(|n| n.contains("_msaa"));
         let (present, absent): (&[&str], &[&str]) = if kernel {
-            (&["fn vis_shade("], &["fn vs_forward(", "fn fs_forward(", "fn fs_gbuffer("])
+            (
+                &["fn vis_shade("],
+                &["fn vs_forward(", "fn fs_forward(", "fn fs_gbuffer("],
+            )
         } else {
-            (&["fn vs_forward(", "fn fs_forward(", "fn fs_gbuffer("], &["fn vis_shade("])
+            (
+                &["fn vs_forward(", "fn fs_forward(", "fn fs_gbuffer("],
+                &["fn vis_shade("],
+            )
         };
         for entry in present {
             assert!(wgsl.contains(entry), "{entry} missing:\n{wgsl}");
@@ -134,7 +143,11 @@ fn a_material_is_the_frame_around_its_surface_for_every_frame_variant() {
         for entry in absent {
             assert!(!wgsl.contains(entry), "{entry} present:\n{wgsl}");
         }
-        assert_eq!(wgsl.contains("var<storage, read_write> SUMS"), kernel, "{wgsl}");
+        assert_eq!(
+            wgsl.contains("var<storage, read_write> SUMS"),
+            kernel,
+            "{wgsl}"
+        );
         assert!(
             wgsl.contains("@group(0) @binding(19) var<storage, read> PARAMS: array<Tint>;"),
             "{wgsl}"
