@@ -202,14 +202,14 @@ impl MaterialProgram {
             return Err(MaterialError::BuiltIn(module.name.to_string()));
         }
         let mut params_size = 0;
-        for name in variant_names() {
+        for (name, entries) in variant_names() {
             let missing = || MaterialError::MissingVariant {
                 module: module.name.to_string(),
                 variant: name.clone(),
             };
             let variant = module.variant_named(&name).ok_or_else(missing)?;
             let reference = forward::MODULE.variant_named(&name).ok_or_else(missing)?;
-            check_entry_points(variant, &name)?;
+            check_entry_points(variant, entries)?;
             check_scene_groups(variant, reference)?;
             for binding in variant.bindings {
                 params_size = params_size.max(check_binding(variant, reference, binding)?);
@@ -269,19 +269,22 @@ fn variant_name(list: u32, blend: bool, scalarize: bool) -> String {
     name
 }
 
-/// Every variant name of the frame's axes.
-fn variant_names() -> impl Iterator<Item = String> {
+/// Every variant name of the frame's axes, with the entry points the variant has: the forward
+/// ones, then the visibility kernels.
+fn variant_names() -> impl Iterator<Item = (String, &'static [&'static str])> {
     (0..3u32)
         .flat_map(|list| {
             [(false, false), (true, false), (false, true), (true, true)]
                 .into_iter()
                 .filter(move |&(_, scalarize)| list > 0 || !scalarize)
-                .map(move |(blend, scalarize)| variant_name(list, blend, scalarize))
+                .map(move |(blend, scalarize)| {
+                    (variant_name(list, blend, scalarize), &ENTRY_POINTS[..])
+                })
         })
         .chain(VIS_SAMPLE_COUNTS.into_iter().flat_map(|msaa| {
             [false, true]
                 .into_iter()
-                .map(move |scalarize| vis_variant_name(msaa, scalarize))
+                .map(move |scalarize| (vis_variant_name(msaa, scalarize), &[VIS_ENTRY_POINT][..]))
         }))
 }
 
@@ -312,12 +315,7 @@ fn check_scene_groups(variant: &Variant, reference: &Variant) -> Result<(), Mate
     Ok(())
 }
 
-fn check_entry_points(variant: &Variant, name: &str) -> Result<(), MaterialError> {
-    let entries: &[&str] = if name.contains("_msaa") {
-        &[VIS_ENTRY_POINT]
-    } else {
-        &ENTRY_POINTS
-    };
+fn check_entry_points(variant: &Variant, entries: &[&str]) -> Result<(), MaterialError> {
     for &entry in entries {
         if variant.entry_point(entry).is_none() {
             return Err(MaterialError::MissingEntryPoint {

@@ -5,7 +5,20 @@ use renderer::culling::lists::CullCounters;
 use renderer::decals::DecalSet;
 use renderer::frame::{FrameCamera, FrameReport, Renderer, RendererConfig};
 use renderer::frame::{create_target, framing_camera};
-use renderer::scene::{Scene, SceneLight};
+use renderer::scene::{LightKind, Scene, SceneLight};
+
+/// The courtyard tests' warm sun: a shadowed directional light from above, at an angle.
+pub fn courtyard_sun() -> SceneLight {
+    SceneLight {
+        kind: LightKind::Directional,
+        position: glam::Vec3::ZERO,
+        direction: glam::Vec3::new(-0.4, -1.0, -0.3).normalize(),
+        color: glam::Vec3::new(1.0, 0.9, 0.8),
+        intensity: 0.6,
+        range: None,
+        casts_shadow: true,
+    }
+}
 
 /// The glTF scene committed with the tests (every alpha mode: opaque, masked, blended).
 pub fn committed_scene() -> Scene {

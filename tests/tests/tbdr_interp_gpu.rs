@@ -14,7 +14,6 @@
 //! the hole.
 
 use codegen::interp::{EvalError, Schedule};
-use glam::Vec3;
 use renderer::demo::{courtyard_look, light_space};
 use renderer::demo::{pick_shadowed, procedural_lights};
 use renderer::frame::FrameCamera;
@@ -22,7 +21,7 @@ use renderer::frame::capture::FrameCapture;
 use renderer::frame::{RenderPath, Renderer, RendererConfig};
 use renderer::frame::{create_target, default_camera};
 use renderer::passes::deferred::TbdrPass;
-use renderer::scene::{LightKind, Scene, SceneLight};
+use renderer::scene::{Scene, SceneLight};
 use renderer::shadow::ShadowConfig;
 use shaders_gen::forward::forward::GpuLight;
 use shaders_gen::inspect::depth_probe::ProbeParams;
@@ -51,15 +50,7 @@ fn courtyard_frame(
     let mut lights = procedural_lights(region, 40, 5, rmin, rmax);
     let camera = default_camera(&scene, WIDTH as f32 / HEIGHT as f32);
     pick_shadowed(&mut lights, &camera, HEIGHT as f32, 4);
-    lights.push(SceneLight {
-        kind: LightKind::Directional,
-        position: Vec3::ZERO,
-        direction: Vec3::new(-0.4, -1.0, -0.3).normalize(),
-        color: Vec3::new(1.0, 0.9, 0.8),
-        intensity: 0.6,
-        range: None,
-        casts_shadow: true,
-    });
+    lights.push(tests::frames::courtyard_sun());
     let config = courtyard_look(RendererConfig {
         width: WIDTH,
         height: HEIGHT,

@@ -8,10 +8,9 @@
 //!   changes them rebuilds the shadow pass, so the resized renderer draws what a renderer made
 //!   at the new size draws.
 
-use glam::Vec3;
 use renderer::demo::{courtyard_look, light_space, pick_shadowed, procedural_lights};
 use renderer::frame::{FrameCamera, RenderPath, Renderer, RendererConfig, default_camera};
-use renderer::scene::{LightKind, Scene, SceneLight};
+use renderer::scene::{Scene, SceneLight};
 use tests::frames::{largest_difference, render_one_frame};
 use tests::gpu::gpu_test;
 
@@ -20,15 +19,7 @@ fn courtyard_lights(scene: &Scene, camera: &FrameCamera, height: u32) -> Vec<Sce
     let (region, (rmin, rmax)) = light_space(scene, true);
     let mut lights = procedural_lights(region, 64, 3, rmin, rmax);
     pick_shadowed(&mut lights, camera, height as f32, 6);
-    lights.push(SceneLight {
-        kind: LightKind::Directional,
-        position: Vec3::ZERO,
-        direction: Vec3::new(-0.4, -1.0, -0.3).normalize(),
-        color: Vec3::new(1.0, 0.9, 0.8),
-        intensity: 0.6,
-        range: None,
-        casts_shadow: true,
-    });
+    lights.push(tests::frames::courtyard_sun());
     lights
 }
 

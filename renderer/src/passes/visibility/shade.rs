@@ -131,10 +131,13 @@ fn check_storage_limit(
     Ok(())
 }
 
-/// One kernel's dispatch of a frame: its kernel, its parameter records where it takes them,
-/// and its groups 1 to 3 (group 0 is built at recording, from the frame's textures).
+/// One kernel's dispatch of a frame: its program, pipeline and uniform, its parameter records
+/// where it takes them, and its groups 1 to 3 (group 0 is built at recording, from the frame's
+/// textures).
 struct Dispatch {
-    kernel: usize,
+    program: ShaderProgram,
+    pipeline: wgpu::ComputePipeline,
+    uniform: wgpu::Buffer,
     params: Option<wgpu::Buffer>,
     groups: [wgpu::BindGroup; 3],
 }
@@ -185,7 +188,9 @@ impl VisShadePass {
                 .queue()
                 .write_buffer(&k.uniform, 0, bytemuck::bytes_of(&uniform));
             out.push(Dispatch {
-                kernel,
+                program: k.program.clone(),
+                pipeline: k.pipeline.clone(),
+                uniform: k.uniform.clone(),
                 params: records,
                 groups: [
                     frame.instances.draw_group_for(device, &k.program)?,
@@ -242,29 +247,21 @@ impl Pass for VisShadePass {
             .write_texture(&mut hdr, TextureAccess::StorageWrite);
         crate::frame_data::LightListHandles::read_by(Some(&lists), &mut pass);
         let group = FrameGroup::new(frame, &self.lighting, Some(lists), shadows);
-        let kernels: Vec<_> = dispatches
-            .into_iter()
-            .map(|d| {
-                let k = &self.kernels[d.kernel];
-                let program = (k.program.clone(), d.params);
-                (program, k.pipeline.clone(), k.uniform.clone(), d.groups)
-            })
-            .collect();
         let (ids, (width, height)) = (vis.ids, (c.width, c.height));
         pass.execute(move |ctx| {
             let ids = ctx.texture(ids).create_view(&Default::default());
             let out = ctx.texture(hdr).create_view(&Default::default());
             let sums = ctx.buffer(sums).clone();
-            let mut groups0 = Vec::with_capacity(kernels.len());
-            for ((program, records), _, uniform, _) in &kernels {
+            let mut groups0 = Vec::with_capacity(dispatches.len());
+            for d in &dispatches {
                 let inputs = VisInputs {
-                    params: uniform,
+                    params: &d.uniform,
                     ids: &ids,
                     out: &out,
                     sums: &sums,
                 };
-                let Some(group0) = group.vis_bind_group(ctx, (program, records.as_ref()), &inputs)
-                else {
+                let program = (&d.program, d.params.as_ref());
+                let Some(group0) = group.vis_bind_group(ctx, program, &inputs) else {
                     return;
                 };
                 groups0.push(group0);
@@ -276,10 +273,10 @@ impl Pass for VisShadePass {
                     timestamp_writes: None,
                 });
             // Each dispatch reads the sums the one before wrote: wgpu orders them.
-            for ((_, pipeline, _, groups), group0) in kernels.iter().zip(&groups0) {
-                pass.set_pipeline(pipeline);
+            for (d, group0) in dispatches.iter().zip(&groups0) {
+                pass.set_pipeline(&d.pipeline);
                 pass.set_bind_group(0, group0, &[]);
-                for (index, g) in groups.iter().enumerate() {
+                for (index, g) in d.groups.iter().enumerate() {
                     pass.set_bind_group(index as u32 + 1, g, &[]);
                 }
                 pass.dispatch_workgroups(width.div_ceil(8), height.div_ceil(8), 1);
