@@ -30,6 +30,9 @@ pub struct Capabilities {
     pub msaa_r32uint: Vec<u32>,
     /// Largest compute workgroup (invocations) the device allows.
     pub max_workgroup_invocations: u32,
+    /// `SHADER_INT64` and `SHADER_INT64_ATOMIC_MIN_MAX`: 64-bit atomic min/max on storage
+    /// buffers, which the compute rasteriser needs.
+    pub int64_atomic_min_max: bool,
 }
 
 impl Capabilities {
@@ -101,6 +104,9 @@ impl AdapterReport {
                 msaa_rgba16float: sample_counts(wgpu::TextureFormat::Rgba16Float),
                 msaa_r32uint: sample_counts(wgpu::TextureFormat::R32Uint),
                 max_workgroup_invocations: requirements::workgroup_invocations(adapter),
+                int64_atomic_min_max: features.contains(
+                    wgpu::Features::SHADER_INT64 | wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX,
+                ),
             },
         }
     }
@@ -134,6 +140,11 @@ impl std::fmt::Display for AdapterReport {
         writeln!(f, "  MSAA Depth32Float: {:?}", caps.msaa_depth32float)?;
         writeln!(f, "  MSAA Rgba16Float:  {:?}", caps.msaa_rgba16float)?;
         writeln!(f, "  MSAA R32Uint:      {:?}", caps.msaa_r32uint)?;
+        writeln!(
+            f,
+            "  INT64 atomic min/max: {}",
+            yes_no(caps.int64_atomic_min_max)
+        )?;
         write!(
             f,
             "  workgroup max:     {} invocations",

@@ -18,7 +18,11 @@ pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::SUBGROUP
     .union(wgpu::Features::INDIRECT_FIRST_INSTANCE)
     // Multi-draws whose count the GPU writes: shadow casters culled per region are packed and
     // counted, so a region draws only what reaches it.
-    .union(wgpu::Features::MULTI_DRAW_INDIRECT_COUNT);
+    .union(wgpu::Features::MULTI_DRAW_INDIRECT_COUNT)
+    // 64-bit integers and their atomic min/max on storage buffers: the compute rasteriser
+    // (`passes::visibility::compute_raster`) packs depth and triangle ID into one atomic.
+    .union(wgpu::Features::SHADER_INT64)
+    .union(wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX);
 
 /// Largest compute workgroup the kernels use: a 32×32 tile, one invocation per pixel.
 pub const WANTED_WORKGROUP_INVOCATIONS: u32 = 32 * 32;

@@ -277,6 +277,7 @@ mod tests {
             msaa_rgba16float: vec![1, 4],
             msaa_r32uint: vec![1],
             max_workgroup_invocations: 1024,
+            int64_atomic_min_max: false,
         };
         let err = check_supported(&VARIANT, &caps).unwrap_err();
         assert!(
