@@ -125,7 +125,7 @@ pub(crate) fn compile_module(module: Module) -> syn::Result<Compiled> {
         let start = Instant::now();
         check_capabilities(&module, &key.env, key.subgroup, &key.name)?;
         variants::check_globals(&module, &key.env, &key.name)?;
-        let (text, map) = wgsl::write_string(
+        let wgsl::Printed { text, map, int64 } = wgsl::write_string(
             &module,
             &key.env,
             wgsl::Options {
@@ -141,6 +141,7 @@ pub(crate) fn compile_module(module: Module) -> syn::Result<Compiled> {
             &text,
             &map,
             key.subgroup,
+            int64,
             &key.name,
             module.span,
             &|name| {
@@ -160,7 +161,7 @@ pub(crate) fn compile_module(module: Module) -> syn::Result<Compiled> {
         if naga_layouts_out.is_none() {
             naga_layouts_out = Some(naga_layouts(&module, &validated.module));
         }
-        let reflection = reflect(&module, &key.env, key.subgroup);
+        let reflection = reflect(&module, &key.env, key.subgroup, int64);
         let i = variants.len();
         by_output.insert((text.clone(), key.subgroup), i);
         variants.push(CompiledVariant {

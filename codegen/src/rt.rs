@@ -55,6 +55,10 @@ impl Variant {
 pub struct Features {
     /// Subgroup operations (wgpu `Features::SUBGROUP`).
     pub subgroup: bool,
+    /// 64-bit integers: the variant's WGSL uses `u64` (wgpu `Features::SHADER_INT64`, and
+    /// `Features::SHADER_INT64_ATOMIC_MIN_MAX` for its `Atomic<u64>` `fetch_min`/`fetch_max`;
+    /// both are needed).
+    pub int64: bool,
 }
 
 /// A shader stage.

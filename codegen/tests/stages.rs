@@ -53,8 +53,8 @@ fn front_end_errors_point_at_the_construct() {
         26,
     );
     check_err(
-        &kernel("        let n: u64 = 0;"),
-        "`u64` is not supported",
+        &kernel("        let n: i64 = 0;"),
+        "`i64` is not supported in shader code: the DSL's only 64-bit integer is `u64` (needs wgpu's SHADER_INT64); use `u64` or `i32`",
         7,
         15,
     );

@@ -16,6 +16,9 @@ mod subgroups_mod {
 mod sample_grad_mod {
     include!("../../tests/dsl-golden/sample_grad.rs");
 }
+mod atomic_u64_mod {
+    include!("../../tests/dsl-golden/atomic_u64.rs");
+}
 
 use tile_cull_mod::tile_cull;
 
@@ -71,4 +74,20 @@ fn sample_grad_textures_are_visible_to_fragment_and_compute() {
         let b = v.bindings.iter().find(|b| b.name == name).expect("binding");
         assert!(b.visibility.fragment && b.visibility.compute && !b.visibility.vertex);
     }
+}
+
+#[test]
+fn u64_host_types_constants_and_features() {
+    use atomic_u64_mod::atomic_u64;
+    // `u64` fields are 8-aligned on both sides (the layout is asserted against naga).
+    let f = atomic_u64::Fragment::new(0.5, 7, u64::MAX);
+    assert_eq!(size_of::<atomic_u64::Fragment>(), 16);
+    assert_eq!(core::mem::offset_of!(atomic_u64::Fragment, packed), 8);
+    assert_eq!(f.packed, u64::MAX);
+    assert_eq!(atomic_u64::CLEARED, u64::MAX);
+    assert_eq!(atomic_u64::VARIANTS.len(), 2);
+    for v in atomic_u64::VARIANTS {
+        assert!(v.features.int64 && !v.features.subgroup, "{}", v.name());
+    }
+    assert!(!sample_grad_mod::sample_grad::VARIANTS[0].features.int64);
 }

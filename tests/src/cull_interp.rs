@@ -43,7 +43,7 @@ pub fn variant<'c>(c: &'c Compiled, axes: &[(&str, i64)]) -> &'c codegen::varian
                 return false;
             };
             match k.env.values[i] {
-                Lit::Int(v, _) => v == *value,
+                Lit::Int(v, _) => v == i128::from(*value),
                 Lit::Bool(b) => i64::from(b) == *value,
                 Lit::Float(..) => false,
             }

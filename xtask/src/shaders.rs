@@ -122,11 +122,7 @@ pub fn run(args: &Args) -> Result<()> {
                 spirv_words: v.spirv.len(),
                 workgroup: workgroup(&v.reflection.entry_points),
                 bindings: bindings(&v.reflection.bindings),
-                features: if v.reflection.features.subgroup {
-                    "SUBGROUP"
-                } else {
-                    "-"
-                },
+                features: crate::shaders_doc::features(v.reflection.features),
                 spirv_val: if have_val {
                     spirv_val(&spv_path, v.spirv_version, is_library)?
                 } else {

@@ -149,11 +149,7 @@ fn variants(page: &mut String, c: &Compiled, validation: &[Validation]) {
             } else {
                 entries.join("<br>")
             },
-            if v.reflection.features.subgroup {
-                "SUBGROUP"
-            } else {
-                "-"
-            },
+            features(v.reflection.features),
             v.wgsl.len(),
             v.spirv.len(),
             validation.get(i).map_or("not run", |r| r.spirv_val)
@@ -404,6 +400,16 @@ pub fn index_page(modules: &[(String, usize, bool)]) -> String {
         let _ = writeln!(page, "| [`{name}`]({name}.md) | {kind} | {variants} |");
     }
     page
+}
+
+/// The device features a variant needs, as the tables print them (`-` for none).
+pub(crate) fn features(f: codegen::rt::Features) -> &'static str {
+    match (f.subgroup, f.int64) {
+        (false, false) => "-",
+        (true, false) => "SUBGROUP",
+        (false, true) => "INT64",
+        (true, true) => "SUBGROUP, INT64",
+    }
 }
 
 #[cfg(test)]

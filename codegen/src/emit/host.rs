@@ -17,6 +17,7 @@ fn host_ty(ty: &Ty, m: &Module, env: &Env) -> Option<TokenStream> {
         Ty::Scalar(Scalar::F32) => quote!(f32),
         Ty::Scalar(Scalar::U32) | Ty::Atomic(Scalar::U32) => quote!(u32),
         Ty::Scalar(Scalar::I32) | Ty::Atomic(Scalar::I32) => quote!(i32),
+        Ty::Scalar(Scalar::U64) | Ty::Atomic(Scalar::U64) => quote!(u64),
         Ty::Vector(n, s) => {
             let prefix = match s {
                 Scalar::F32 => "",
@@ -218,6 +219,10 @@ pub(super) fn consts(c: &Compiled) -> TokenStream {
             Lit::Int(i, Scalar::U32) => {
                 let l = Literal::u32_suffixed(i as u32);
                 (quote!(u32), quote!(#l))
+            }
+            Lit::Int(i, Scalar::U64) => {
+                let l = Literal::u64_suffixed(i as u64);
+                (quote!(u64), quote!(#l))
             }
             Lit::Float(f, _) => {
                 let l = Literal::f32_suffixed(f as f32);

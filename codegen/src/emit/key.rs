@@ -255,7 +255,7 @@ pub(super) fn variant_table(c: &Compiled) -> TokenStream {
         let (maj, min) = v.spirv_version;
         let eps = v.reflection.entry_points.iter().map(entry_point);
         let bindings = v.reflection.bindings.iter().map(binding);
-        let subgroup = v.reflection.features.subgroup;
+        let crate::rt::Features { subgroup, int64 } = v.reflection.features;
         quote! {
             ::codegen::rt::Variant {
                 module: #module,
@@ -265,7 +265,7 @@ pub(super) fn variant_table(c: &Compiled) -> TokenStream {
                 spirv_version: (#maj, #min),
                 entry_points: &[#(#eps),*],
                 bindings: &[#(#bindings),*],
-                features: ::codegen::rt::Features { subgroup: #subgroup },
+                features: ::codegen::rt::Features { subgroup: #subgroup, int64: #int64 },
             }
         }
     });

@@ -213,7 +213,10 @@ impl FnCtx<'_> {
             }
             "subgroup_shuffle" => {
                 self.arity(&n, &args, 2, span)?;
-                if !args[0].ty.is_numeric() || !args[1].ty.converts_to(&Ty::U32) {
+                if !args[0].ty.is_numeric()
+                    || args[0].ty == Ty::U64
+                    || !args[1].ty.converts_to(&Ty::U32)
+                {
                     return Err(Error::new(span, "`subgroup_shuffle(value, lane: u32)`"));
                 }
                 let ty = args[0].ty.concretize();
@@ -228,7 +231,7 @@ impl FnCtx<'_> {
             } else {
                 args[0].ty.is_numeric()
             };
-            if !ok {
+            if !ok || args[0].ty == Ty::U64 {
                 return Err(Error::new(
                     args[0].span,
                     format!("`{n}` does not accept `{}`", self.ty_name(&args[0].ty)),
@@ -290,6 +293,14 @@ impl FnCtx<'_> {
     ) -> Result<Expr> {
         let m = method.to_string();
         let rty = recv.ty.clone();
+        if rty == Ty::U64 && !matches!(m.as_str(), "min" | "max") {
+            return Err(Error::new(
+                method.span(),
+                format!(
+                    "`{m}` is not available on `u64`: it has the operators, comparisons, `as`, `min` and `max`; convert to `u32` for the rest"
+                ),
+            ));
+        }
         let float = rty.is_float_like();
         let mut all = vec![recv.clone()];
         if let Some(w) = lookup(FLOAT_UNARY, &m).filter(|_| float) {
@@ -438,7 +449,7 @@ impl FnCtx<'_> {
             ("col", Ty::Matrix(_, r)) => {
                 self.arity(&m, &args, 1, span)?;
                 let i = args.remove(0);
-                if !matches!(i.ty, Ty::Scalar(s) if s.is_int()) {
+                if !matches!(i.ty, Ty::Scalar(s) if s.is_int32()) {
                     return Err(self.err_mismatch(&Ty::U32, &i));
                 }
                 Ok(mk(

@@ -183,6 +183,9 @@ fn check_structs(m: &ModCtx) -> Result<()> {
                         check_builtin_type(&cx, io.builtin().unwrap_or_default(), &f.ty, f.span)?
                     }
                     Some(Io::Location { .. }) => {
+                        if f.ty == Ty::U64 {
+                            return Err(Error::new(f.span, super::build::U64_LOCATION));
+                        }
                         if !f.ty.is_numeric() {
                             return Err(Error::new(
                                 f.span,

@@ -64,7 +64,7 @@ impl FnCtx<'_> {
                     return Err(Error::new(
                         span,
                         format!(
-                            "cannot cast `{}` as `{}`; `as` converts between `u32`, `i32`, `f32` (and `bool` to integers); for vectors use `.as_vec3()`, `.as_uvec3()`, `.as_ivec3()`",
+                            "cannot cast `{}` as `{}`; `as` converts between `u32`, `i32`, `u64`, `f32` (and `bool` to integers); for vectors use `.as_vec3()`, `.as_uvec3()`, `.as_ivec3()`",
                             self.ty_name(&x.ty),
                             self.ty_name(&target)
                         ),
@@ -89,7 +89,7 @@ impl FnCtx<'_> {
                 let base = self.expr(&i.expr)?;
                 let base = self.auto_deref(base);
                 let index = self.expr(&i.index)?;
-                if !matches!(index.ty, Ty::Scalar(s) if s.is_int()) {
+                if !matches!(index.ty, Ty::Scalar(s) if s.is_int32()) {
                     return Err(Error::new(
                         index.span,
                         format!(
@@ -149,7 +149,7 @@ impl FnCtx<'_> {
                 for x in &elems[1..] {
                     ty = ty.unify(&x.ty).ok_or_else(|| self.err_mismatch(&ty, x))?;
                 }
-                let len = lit(Lit::Int(elems.len() as i64, Scalar::AbstractInt), span);
+                let len = lit(Lit::Int(elems.len() as i128, Scalar::AbstractInt), span);
                 let ty = Ty::Array(
                     Box::new(ty.concretize()),
                     crate::ir::ArrayLen(Box::new(len)),
@@ -267,10 +267,12 @@ impl FnCtx<'_> {
             return Ok(lit(Lit::Float((v as f32) as f64, Scalar::F32), span));
         }
         match (owner, last) {
-            ("u32", "MAX") => return Ok(lit(Lit::Int(u32::MAX as i64, Scalar::U32), span)),
+            ("u32", "MAX") => return Ok(lit(Lit::Int(u32::MAX.into(), Scalar::U32), span)),
             ("u32", "MIN") => return Ok(lit(Lit::Int(0, Scalar::U32), span)),
-            ("i32", "MAX") => return Ok(lit(Lit::Int(i32::MAX as i64, Scalar::I32), span)),
-            ("i32", "MIN") => return Ok(lit(Lit::Int(i32::MIN as i64, Scalar::I32), span)),
+            ("u64", "MAX") => return Ok(lit(Lit::Int(u64::MAX.into(), Scalar::U64), span)),
+            ("u64", "MIN") => return Ok(lit(Lit::Int(0, Scalar::U64), span)),
+            ("i32", "MAX") => return Ok(lit(Lit::Int(i32::MAX.into(), Scalar::I32), span)),
+            ("i32", "MIN") => return Ok(lit(Lit::Int(i32::MIN.into(), Scalar::I32), span)),
             ("f32", "MAX") => return Ok(lit(Lit::Float(f32::MAX as f64, Scalar::F32), span)),
             ("f32", "MIN") => return Ok(lit(Lit::Float(f32::MIN as f64, Scalar::F32), span)),
             ("f32", "EPSILON") => {
@@ -389,7 +391,7 @@ impl FnCtx<'_> {
                 match idx {
                     Some(i) if i < *c as usize => {
                         let ty = Ty::Vector(*r, Scalar::F32);
-                        let index = lit(Lit::Int(i as i64, Scalar::U32), span);
+                        let index = lit(Lit::Int(i as i128, Scalar::U32), span);
                         Ok(mk(
                             ExprKind::Index(Box::new(base), Box::new(index)),
                             ty,
@@ -422,26 +424,40 @@ fn lower_lit(l: &syn::Lit) -> Result<Expr> {
                 "" => Scalar::AbstractInt,
                 "u32" => Scalar::U32,
                 "i32" => Scalar::I32,
+                "u64" => Scalar::U64,
                 "f32" => Scalar::F32,
                 other => {
                     return Err(Error::new(
                         span,
-                        format!("`{other}` literals are not GPU types; use `u32`, `i32` or `f32`"),
+                        format!(
+                            "`{other}` literals are not GPU types; use `u32`, `i32`, `u64` or `f32`"
+                        ),
                     ));
                 }
             };
             let v: u64 = i.base10_parse()?;
+            if s == Scalar::U64 {
+                return Ok(lit(Lit::Int(v.into(), s), span));
+            }
             let max = match s {
                 Scalar::I32 => i32::MAX as u64 + 1,
                 _ => u32::MAX as u64,
             };
             if v > max {
-                return Err(Error::new(span, "integer literal out of range for 32 bits"));
+                let hint = if s == Scalar::AbstractInt {
+                    "; write a `u64` suffix for a 64-bit value"
+                } else {
+                    ""
+                };
+                return Err(Error::new(
+                    span,
+                    format!("integer literal out of range for 32 bits{hint}"),
+                ));
             }
             if s == Scalar::F32 {
                 return Ok(lit(Lit::Float(v as f64, s), span));
             }
-            Ok(lit(Lit::Int(v as i64, s), span))
+            Ok(lit(Lit::Int(v.into(), s), span))
         }
         syn::Lit::Float(f) => {
             let s = match f.suffix() {

@@ -22,7 +22,7 @@ fn axis_value(e: &syn::Expr, ty: Scalar) -> Result<Lit> {
             _ => Err(err()),
         },
         (syn::Expr::Lit(l), _) => match &l.lit {
-            syn::Lit::Int(i) => Ok(Lit::Int(i.base10_parse::<u32>()? as i64, ty)),
+            syn::Lit::Int(i) => Ok(Lit::Int(i.base10_parse::<u32>()?.into(), ty)),
             _ => Err(err()),
         },
         (syn::Expr::Unary(u), Scalar::I32) if matches!(u.op, syn::UnOp::Neg(_)) => {

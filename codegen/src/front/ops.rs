@@ -12,7 +12,7 @@ impl FnCtx<'_> {
         match op {
             syn::UnOp::Neg(_) => {
                 if !x.ty.is_numeric() && !matches!(x.ty, Ty::Matrix(..))
-                    || x.ty.scalar() == Some(Scalar::U32)
+                    || matches!(x.ty.scalar(), Some(Scalar::U32 | Scalar::U64))
                 {
                     return Err(Error::new(
                         span,
@@ -62,7 +62,9 @@ impl FnCtx<'_> {
             self.ty_name(&r.ty)
         );
         let mixed = [l.ty.scalar(), r.ty.scalar()];
-        if mixed.contains(&Some(Scalar::I32)) && mixed.contains(&Some(Scalar::U32)) {
+        if mixed.contains(&Some(Scalar::U64)) && mixed.iter().flatten().any(|s| *s != Scalar::U64) {
+            msg.push_str("; convert the other side with `as u64` (or the `u64` one with `as u32`, which keeps its low 32 bits)");
+        } else if mixed.contains(&Some(Scalar::I32)) && mixed.contains(&Some(Scalar::U32)) {
             msg.push_str("; convert one side with `as`, and note that a `let` of an unsuffixed integer literal is `i32` (write `0u32` for a `u32`)");
         } else if mixed.iter().flatten().any(|s| s.is_float())
             && mixed.iter().flatten().any(|s| s.is_int())
@@ -93,6 +95,12 @@ impl FnCtx<'_> {
             Shl | Shr => {
                 if !l.ty.is_int_like() || !r.ty.is_int_like() {
                     return Err(fail(self));
+                }
+                if r.ty.scalar() == Some(Scalar::U64) {
+                    return Err(Error::new(
+                        r.span,
+                        "shift amounts are `u32` (also for a `u64` value); convert with `as u32`",
+                    ));
                 }
                 if r.ty.scalar() == Some(Scalar::I32) {
                     let ty = match r.ty {

@@ -25,6 +25,9 @@ impl FnCtx<'_> {
         };
         let mut all = vec![recv.clone()];
         let value = Ty::Scalar(s);
+        if s == Scalar::U64 {
+            return self.atomic64_method(all, &m, method, args, span);
+        }
         if m == "load" {
             self.arity(&m, &args, 0, span)?;
             return Ok(call(atomic("atomicLoad"), all, value, span));
@@ -42,6 +45,43 @@ impl FnCtx<'_> {
         all.extend(args);
         let ret = if m == "store" { Ty::Unit } else { value };
         Ok(call(atomic(wgsl), all, ret, span))
+    }
+
+    /// `fetch_min(v)`/`fetch_max(v)` on an `Atomic<u64>`: statements of type `()`, printed as
+    /// bare `atomicMin(&X[i], v);`, which naga lowers without a result, the form wgpu's
+    /// `SHADER_INT64_ATOMIC_MIN_MAX` allows (on storage buffers: the only place an
+    /// `Atomic<u64>` may live). Every other atomic operation is an error here.
+    fn atomic64_method(
+        &mut self,
+        mut all: Vec<Expr>,
+        m: &str,
+        method: &syn::Ident,
+        args: Vec<Expr>,
+        span: Span,
+    ) -> Result<Expr> {
+        let wgsl = match m {
+            "fetch_min" => "atomicMin",
+            "fetch_max" => "atomicMax",
+            _ => {
+                return Err(Error::new(
+                    method.span(),
+                    format!(
+                        "`{m}` is not available on `Atomic<u64>`: the device's 64-bit atomics (wgpu's SHADER_INT64_ATOMIC_MIN_MAX) are only `fetch_min(v)` and `fetch_max(v)`, without a returned value"
+                    ),
+                ));
+            }
+        };
+        self.arity(m, &args, 1, span)?;
+        if !args[0].ty.converts_to(&Ty::U64) {
+            return Err(self.err_mismatch(&Ty::U64, &args[0]));
+        }
+        all.extend(args);
+        let b = Builtin {
+            wgsl,
+            subgroup: false,
+            pointer_first: true,
+        };
+        Ok(call(b, all, Ty::Unit, span))
     }
 
     fn sampler_arg(&self, e: &Expr, comparison: bool) -> Result<()> {
@@ -77,7 +117,7 @@ impl FnCtx<'_> {
         };
         debug_assert_eq!(self.m.module.globals[g].space, Space::Handle);
         let ivec2 = |e: &Expr| matches!(e.ty, Ty::Vector(2, s) if s.is_int());
-        let int = |e: &Expr| matches!(e.ty, Ty::Scalar(s) if s.is_int());
+        let int = |e: &Expr| matches!(e.ty, Ty::Scalar(s) if s.is_int32());
         let uv_ok = |e: &Expr| e.ty.converts_to(&Ty::Vector(2, Scalar::F32));
         let mut all = vec![recv.clone()];
         let tyname = self.ty_name(&recv.ty);

@@ -36,7 +36,7 @@ pub(crate) fn lower_signature(m: &ModCtx, f: &syn::ItemFn) -> Result<(ir::Functi
             let mut out = vec![];
             for s in &sizes {
                 let e = cx.const_expr(s)?;
-                if !e.ty.is_int_like() || !matches!(e.ty, Ty::Scalar(_)) {
+                if !matches!(e.ty, Ty::Scalar(s) if s.is_int32()) {
                     return Err(Error::new(
                         s.span(),
                         "workgroup sizes are integer constants (literals, consts or axes)",
@@ -109,6 +109,9 @@ pub(crate) fn lower_signature(m: &ModCtx, f: &syn::ItemFn) -> Result<(ir::Functi
                 Some((io @ (Io::Builtin(_) | Io::InvariantPosition), s)) => {
                     check_builtin_type(&cx, io.builtin().unwrap_or_default(), &ty, *s)?
                 }
+                Some(_) if ty == Ty::U64 => {
+                    return Err(Error::new(pt.ty.span(), super::build::U64_LOCATION));
+                }
                 Some(_) => {}
                 None if matches!(ty, Ty::Struct(_)) => {}
                 None => {
@@ -168,6 +171,9 @@ pub(crate) fn lower_signature(m: &ModCtx, f: &syn::ItemFn) -> Result<(ir::Functi
             ));
         }
         (Some(Stage::Fragment), Ty::Struct(_) | Ty::Unit) => None,
+        (Some(Stage::Fragment), Ty::Scalar(Scalar::U64)) => {
+            return Err(Error::new(sig.output.span(), super::build::U64_LOCATION));
+        }
         (Some(Stage::Fragment), r) if r.is_numeric() => Some(Io::Location {
             location: 0,
             interpolate: None,

@@ -76,6 +76,9 @@ pub(crate) fn lower_static(m: &mut ModCtx, st: &BareStatic) -> Result<()> {
             Space::Handle
         }
         StaticKind::Workgroup => {
+            if contains_atomic64(&ty, &m.module) {
+                return Err(Error::new(st.ty.span(), ATOMIC64_WORKGROUP));
+            }
             let ok = match &ty {
                 Ty::Atomic(_) => true,
                 Ty::Array(e, _) if matches!(**e, Ty::Atomic(_)) => true,
@@ -134,16 +137,27 @@ pub(crate) fn lower_static(m: &mut ModCtx, st: &BareStatic) -> Result<()> {
 }
 
 fn contains_atomic(ty: &Ty, m: &ir::Module) -> bool {
-    match ty {
-        Ty::Atomic(_) => true,
-        Ty::Array(e, _) | Ty::RuntimeArray(e) => contains_atomic(e, m),
-        Ty::Struct(id) => m.structs[*id]
-            .fields
-            .iter()
-            .any(|f| contains_atomic(&f.ty, m)),
-        _ => false,
-    }
+    contains(ty, m, &|s| matches!(s, Ty::Atomic(_)))
 }
+
+fn contains_atomic64(ty: &Ty, m: &ir::Module) -> bool {
+    contains(ty, m, &|s| *s == Ty::Atomic(Scalar::U64))
+}
+
+/// Whether `ty` is, or holds (in arrays and struct fields), a type `leaf` accepts.
+fn contains(ty: &Ty, m: &ir::Module, leaf: &dyn Fn(&Ty) -> bool) -> bool {
+    leaf(ty)
+        || match ty {
+            Ty::Array(e, _) | Ty::RuntimeArray(e) => contains(e, m, leaf),
+            Ty::Struct(id) => m.structs[*id]
+                .fields
+                .iter()
+                .any(|f| contains(&f.ty, m, leaf)),
+            _ => false,
+        }
+}
+
+const ATOMIC64_WORKGROUP: &str = "`Atomic<u64>` lives only in `#[storage(.., read_write)]` buffers: the device's 64-bit atomics (wgpu's SHADER_INT64_ATOMIC_MIN_MAX) are `fetch_min`/`fetch_max` on storage buffers; use `Atomic<u32>` in workgroup memory";
 
 pub(crate) const VEC3_ARRAY: &str = "arrays of 3-component vectors have a 16-byte stride on the GPU but 12 bytes on the host (glam `Vec3`), so buffers of them are a layout trap; use `[Vec4]`/`[UVec4]`, or a struct with a `Vec3` and a scalar";
 

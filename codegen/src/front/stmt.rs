@@ -179,12 +179,12 @@ impl FnCtx<'_> {
                 let ty = start
                     .ty
                     .unify(&end.ty)
-                    .filter(|t| matches!(t, Ty::Scalar(s) if s.is_int()))
+                    .filter(|t| matches!(t, Ty::Scalar(s) if s.is_int32()))
                     .ok_or_else(|| {
                         Error::new(
                             r.span(),
                             format!(
-                                "range bounds must be integers of one type, found `{}` and `{}`",
+                                "range bounds must be `u32` or `i32` integers of one type, found `{}` and `{}`",
                                 self.ty_name(&start.ty),
                                 self.ty_name(&end.ty)
                             ),

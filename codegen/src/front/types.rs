@@ -47,6 +47,7 @@ pub(crate) fn scalar_named(name: &str) -> Option<Scalar> {
         "f32" => Scalar::F32,
         "u32" => Scalar::U32,
         "i32" => Scalar::I32,
+        "u64" => Scalar::U64,
         "bool" => Scalar::Bool,
         _ => return None,
     })
@@ -81,8 +82,14 @@ fn hint_for(name: &str) -> Option<&'static str> {
         "Vec" | "String" | "Box" | "Rc" | "Arc" | "HashMap" | "BTreeMap" | "VecDeque" => {
             "heap types are not available on the GPU; use a fixed-size array `[T; N]`, or a runtime-sized storage buffer `static NAME: [T];`"
         }
-        "usize" | "isize" | "u64" | "i64" | "u8" | "u16" | "i8" | "i16" => {
+        "i64" => {
+            "the DSL's only 64-bit integer is `u64` (needs wgpu's SHADER_INT64); use `u64` or `i32`"
+        }
+        "usize" | "isize" | "u8" | "u16" | "i8" | "i16" | "u128" | "i128" => {
             "this integer type is not a GPU type; use `u32` or `i32`"
+        }
+        "U64Vec2" | "U64Vec3" | "U64Vec4" | "I64Vec2" | "I64Vec3" | "I64Vec4" => {
+            "the DSL has no vectors of 64-bit integers; use one `u64` per component"
         }
         "f64" | "f16" => "use `f32`: it is the only float type of the DSL",
         "Option" | "Result" => {
@@ -108,11 +115,12 @@ impl FnCtx<'_> {
                     ));
                 }
                 let len = self.const_expr(&a.len)?;
-                if !len.ty.scalar().is_some_and(|s| s.is_int()) || !matches!(len.ty, Ty::Scalar(_))
+                if !len.ty.scalar().is_some_and(|s| s.is_int32())
+                    || !matches!(len.ty, Ty::Scalar(_))
                 {
                     return Err(Error::new(
                         a.len.span(),
-                        "array length must be an integer constant",
+                        "array length must be a `u32` or `i32` constant",
                     ));
                 }
                 Ok(Ty::Array(Box::new(elem), ArrayLen(Box::new(len))))
@@ -222,7 +230,9 @@ impl FnCtx<'_> {
                         .get_ident()
                         .and_then(|i| scalar_named(&i.to_string()))
                     {
-                        Some(s) if s != Scalar::Bool => Ok(TexKind::Sampled(s)),
+                        Some(s @ (Scalar::F32 | Scalar::U32 | Scalar::I32)) => {
+                            Ok(TexKind::Sampled(s))
+                        }
                         _ => Err(Error::new(
                             t.span(),
                             "texel type must be `f32`, `u32` or `i32`",
@@ -249,10 +259,10 @@ impl FnCtx<'_> {
                     _ => Ty::Unit,
                 };
                 match inner {
-                    Ty::Scalar(s @ (Scalar::U32 | Scalar::I32)) => Ok(Ty::Atomic(s)),
+                    Ty::Scalar(s @ (Scalar::U32 | Scalar::I32 | Scalar::U64)) => Ok(Ty::Atomic(s)),
                     _ => Err(Error::new(
                         seg.arguments.span(),
-                        "expected `Atomic<u32>` or `Atomic<i32>`",
+                        "expected `Atomic<u32>`, `Atomic<i32>` or `Atomic<u64>`",
                     )),
                 }
             }

@@ -61,6 +61,7 @@ fn min_max(a: &Value, b: &Value, max: bool) -> Result<Value, EvalError> {
         Ok(match (x, y) {
             (Value::I32(p), Value::I32(q)) => Value::I32(if max { *p.max(q) } else { *p.min(q) }),
             (Value::U32(p), Value::U32(q)) => Value::U32(if max { *p.max(q) } else { *p.min(q) }),
+            (Value::U64(p), Value::U64(q)) => Value::U64(if max { *p.max(q) } else { *p.min(q) }),
             (Value::F32(p), Value::F32(q)) => Value::F32(if max { p.max(*q) } else { p.min(*q) }),
             _ => return type_err(format!("min/max of {x} and {y}")),
         })

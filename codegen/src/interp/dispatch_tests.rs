@@ -1,6 +1,6 @@
 //! Whole dispatches: workgroup memory and barriers under every schedule (and a deleted barrier
-//! caught), atomics across workgroups, matrices, textures, and errors that name the invocation
-//! and the line. Subgroup operations are in `dispatch_subgroup_tests`.
+//! caught), atomics across workgroups (64-bit `fetch_min`/`fetch_max` too), matrices, textures,
+//! and errors that name the invocation and the line. Subgroup operations are in `dispatch_subgroup_tests`.
 
 use super::{Dispatch, EvalError, Schedule};
 
@@ -347,4 +347,77 @@ fn textures_sample_compare_and_store_as_the_rules_say() {
         )
     );
     assert_eq!(dst.texels[0], rgba(0.0));
+}
+
+/// The visibility buffer's packing: every invocation `fetch_min`s (and `fetch_max`es) its
+/// `key << 32 | id` into a slot shared with others; each slot ends at the CPU's minimum (and
+/// maximum) over the invocations that share it, whatever the order they run in. Keys repeat (ties
+/// broken by the id), cross bit 31 (an unsigned comparison) and are never 0, so a cleared slot
+/// (`u64::MAX`, both words) is above every value.
+#[test]
+fn u64_atomic_min_max_pack_keys_and_ids() {
+    let c = compile(
+        "#[shader] mod m {
+            #[storage(group = 0, binding = 0)]
+            static IN: [u32];
+            #[storage(group = 0, binding = 1, read_write)]
+            static VIS64: [Atomic<u64>];
+            #[storage(group = 0, binding = 2, read_write)]
+            static FAR64: [Atomic<u64>];
+            #[compute(workgroup_size(32, 1, 1))]
+            fn main(#[builtin(global_invocation_id)] gid: UVec3) {
+                let id = gid.x;
+                let packed: u64 = ((IN[id] as u64) << 32u32) | (id as u64);
+                let slot = id % 8u32;
+                VIS64[slot].fetch_min(packed);
+                let _ = FAR64[slot].fetch_max(packed);
+            }
+        }",
+    );
+    assert!(c.variants[0].reflection.features.int64);
+    let n = 4 * 32;
+    let keys: Vec<u32> = (0..n)
+        .map(|i: u32| ((i.wrapping_mul(2_654_435_761) >> 13) % 3 + 1) * 0x4000_0000 + (i % 3))
+        .collect();
+    let packed = |i: u32| (u64::from(keys[i as usize]) << 32) | u64::from(i);
+    let u64s = |b: &[u8]| -> Vec<u64> {
+        b.chunks_exact(8)
+            .map(|w| u64::from_le_bytes(w.try_into().unwrap()))
+            .collect()
+    };
+    let expected_min: Vec<u64> = (0..8)
+        .map(|s| (s..n).step_by(8).map(packed).min().unwrap())
+        .collect();
+    let expected_max: Vec<u64> = (0..8)
+        .map(|s| (s..n).step_by(8).map(packed).max().unwrap())
+        .collect();
+    // The keys decide: a slot's minimum is not its first invocation's.
+    assert!(
+        (0..8).any(|s| expected_min[s] != packed(s as u32)),
+        "{expected_min:x?}"
+    );
+    assert!(
+        expected_max.iter().all(|m| m >> 63 == 1),
+        "{expected_max:x?}"
+    );
+    for schedule in SCHEDULES {
+        let mut d = Dispatch::new(&c.module, &c.keys[0].env, "main")
+            .unwrap()
+            .with_schedule(schedule);
+        d.set_buffer("IN", &bytes(&keys)).unwrap();
+        let max: Vec<u8> = [u64::MAX; 8].iter().flat_map(|w| w.to_le_bytes()).collect();
+        d.set_buffer("VIS64", &max).unwrap();
+        d.set_buffer("FAR64", &[0; 64]).unwrap();
+        d.run([4, 1, 1]).unwrap();
+        assert_eq!(
+            u64s(&d.buffer("VIS64").unwrap()),
+            expected_min,
+            "{schedule:?}"
+        );
+        assert_eq!(
+            u64s(&d.buffer("FAR64").unwrap()),
+            expected_max,
+            "{schedule:?}"
+        );
+    }
 }

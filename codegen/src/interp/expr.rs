@@ -23,6 +23,7 @@ fn lit(l: Lit, s: Option<Scalar>) -> Value {
     match (l, s.map(Scalar::concretize)) {
         (Lit::Bool(b), _) => Value::Bool(b),
         (Lit::Int(i, _), Some(Scalar::U32)) => Value::U32(i as u32),
+        (Lit::Int(i, _), Some(Scalar::U64)) => Value::U64(i as u64),
         (Lit::Int(i, _), Some(Scalar::F32)) => Value::F32(i as f32),
         (Lit::Int(i, _), _) => Value::I32(i as i32),
         (Lit::Float(x, _), _) => scalar_from_f64(Scalar::F32, x),
@@ -229,7 +230,14 @@ impl Machine<'_> {
             return Err(EvalError::Type(format!("`{wgsl}` without its atomic")));
         };
         let operand = match rest {
-            [v] => Some(self.eval(locals, v, place.ty.scalar())?),
+            // An unsuffixed literal operand takes the atomic's scalar (`A.fetch_add(1)`).
+            [v] => {
+                let want = match place.ty {
+                    Ty::Atomic(s) => Some(s),
+                    ref t => t.scalar(),
+                };
+                Some(self.eval(locals, v, want)?)
+            }
             [] => None,
             _ => {
                 return Err(EvalError::Unsupported(format!(
@@ -243,6 +251,8 @@ impl Machine<'_> {
         let Some(v) = operand else {
             return Ok(old);
         };
+        // `Atomic<u64>`'s `fetch_min`/`fetch_max` return nothing (`()`).
+        let unit = matches!(old, Value::U64(_));
         let new = match wgsl {
             "atomicStore" | "atomicExchange" => v,
             "atomicAdd" => ops::binary(BinOp::Add, &old, &v)?,
@@ -255,7 +265,7 @@ impl Machine<'_> {
             other => return Err(EvalError::Unsupported(format!("the builtin `{other}`"))),
         };
         *slot = new;
-        Ok(if wgsl == "atomicStore" {
+        Ok(if wgsl == "atomicStore" || unit {
             Value::Struct(vec![])
         } else {
             old

@@ -1,6 +1,7 @@
 //! Host bytes ↔ interpreter values, by the WGSL memory layout of the DSL type (`crate::layout`,
 //! the offsets the generated host structs copy): what lets a [`super::Dispatch`] take the same
-//! `bytemuck` bytes a GPU buffer would, and give them back.
+//! `bytemuck` bytes a GPU buffer would, and give them back. Memory is read and written in
+//! little-endian 32-bit words; a `u64` is two of them, the low word first.
 
 use super::{EvalError, Value};
 use crate::ir::{Module, Scalar, Ty};
@@ -32,6 +33,9 @@ impl Memory<'_> {
                 .ok_or_else(|| too_short(ty, bytes.len(), at + 4))
         };
         Ok(match ty {
+            Ty::Scalar(s @ Scalar::U64) | Ty::Atomic(s @ Scalar::U64) => {
+                Value::from_words(*s, &[word(offset)?, word(offset + 4)?])
+            }
             Ty::Scalar(s) | Ty::Atomic(s) => Value::from_bits(*s, word(offset)?),
             Ty::Vector(n, s) => Value::Vector(
                 (0..usize::from(*n))
@@ -103,10 +107,12 @@ impl Memory<'_> {
         };
         match (ty, v) {
             (Ty::Scalar(_) | Ty::Atomic(_), v) => {
-                let bits = v
-                    .bits()
+                let words = v
+                    .words()
                     .ok_or_else(|| EvalError::Type(format!("{v} stored as a scalar")))?;
-                put(offset, bits);
+                for (i, w) in words.into_iter().enumerate() {
+                    put(offset + 4 * i, w);
+                }
             }
             (Ty::Vector(..), Value::Vector(c)) => {
                 for (i, x) in c.iter().enumerate() {

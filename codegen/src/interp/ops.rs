@@ -1,14 +1,17 @@
 //! Operators and conversions with WGSL's runtime semantics (the DSL's documented semantics,
 //! see the guide's "Semantics" section):
 //!
-//! - `i32`/`u32` `+ - *` and unary `-` wrap (two's complement);
-//! - shifts use only the low 5 bits of the amount (`x << 33` is `x << 1`), `>>` is arithmetic
-//!   on `i32` and logical on `u32`;
+//! - `i32`/`u32`/`u64` `+ - *` and unary `-` wrap (two's complement);
+//! - shifts use only the low 5 bits of the amount (`x << 33` is `x << 1`), 6 on `u64`, `>>`
+//!   is arithmetic on `i32` and logical on `u32` and `u64`;
 //! - integer `x / 0` is `x`, `x % 0` is `0`, `i32::MIN / -1` is `i32::MIN` and
 //!   `i32::MIN % -1` is `0`; `%` truncates (its sign is the dividend's);
 //! - float `%` is `x - y * trunc(x / y)`;
 //! - `f32 as i32`/`as u32` saturate to the range (truncating toward zero); NaN gives 0;
-//! - `i32 as u32` and `u32 as i32` keep the bits; `bool as` integer is 0 or 1.
+//! - `i32 as u32` and `u32 as i32` keep the bits; `bool as` integer is 0 or 1;
+//! - `u64 as u32`/`as i32` keep the low 32 bits, `u32 as u64` zero-extends and `i32 as u64`
+//!   sign-extends (as Rust does); `f32 as u64` saturates like `as u32`, to the largest `f32`
+//!   below 2^64.
 
 use super::error::{EvalError, type_err};
 use super::value::Value;
@@ -88,6 +91,7 @@ pub fn unary(op: UnOp, v: &Value) -> Result<Value, EvalError> {
             (UnOp::Not, Value::Bool(b)) => Value::Bool(!b),
             (UnOp::BitNot, Value::I32(i)) => Value::I32(!i),
             (UnOp::BitNot, Value::U32(u)) => Value::U32(!u),
+            (UnOp::BitNot, Value::U64(u)) => Value::U64(!u),
             _ => return type_err(format!("{op:?} of {x}")),
         })
     })
@@ -104,12 +108,14 @@ fn scalar_binary(op: BinOp, a: &Value, b: &Value) -> Result<Value, EvalError> {
         let Value::U32(s) = b else {
             return type_err(format!("shift amount {b}"));
         };
-        let s = s & 31;
+        let (s, s64) = (s & 31, s & 63);
         return Ok(match (op, a) {
             (Shl, Value::I32(x)) => Value::I32(x.wrapping_shl(s)),
             (Shl, Value::U32(x)) => Value::U32(x.wrapping_shl(s)),
+            (Shl, Value::U64(x)) => Value::U64(x.wrapping_shl(s64)),
             (Shr, Value::I32(x)) => Value::I32(x >> s),
             (Shr, Value::U32(x)) => Value::U32(x >> s),
+            (Shr, Value::U64(x)) => Value::U64(x >> s64),
             _ => return type_err(format!("shift of {a}")),
         });
     }
@@ -155,6 +161,22 @@ fn scalar_binary(op: BinOp, a: &Value, b: &Value) -> Result<Value, EvalError> {
                 _ => compare(op, x.cmp(&y))?,
             }
         }
+        (Value::U64(x), Value::U64(y)) => {
+            let (x, y) = (*x, *y);
+            match op {
+                Add => Value::U64(x.wrapping_add(y)),
+                Sub => Value::U64(x.wrapping_sub(y)),
+                Mul => Value::U64(x.wrapping_mul(y)),
+                Div if y == 0 => Value::U64(x),
+                Div => Value::U64(x / y),
+                Rem if y == 0 => Value::U64(0),
+                Rem => Value::U64(x % y),
+                BitAnd => Value::U64(x & y),
+                BitOr => Value::U64(x | y),
+                BitXor => Value::U64(x ^ y),
+                _ => compare(op, x.cmp(&y))?,
+            }
+        }
         (Value::F32(x), Value::F32(y)) => {
             let (x, y) = (*x, *y);
             match op {
@@ -193,6 +215,8 @@ fn compare(op: BinOp, o: std::cmp::Ordering) -> Result<Value, EvalError> {
 const I32_MAX_F: f32 = 2_147_483_520.0;
 /// The largest `f32` not above `u32::MAX` (4294967040).
 const U32_MAX_F: f32 = 4_294_967_040.0;
+/// The largest `f32` not above `u64::MAX` (2^64 - 2^40).
+const U64_MAX_F: f32 = 18_446_742_974_197_923_840.0;
 
 /// `v as T` (componentwise for vectors) with WGSL's value conversions.
 pub fn cast(v: &Value, to: Scalar) -> Result<Value, EvalError> {
@@ -209,6 +233,14 @@ pub fn cast(v: &Value, to: Scalar) -> Result<Value, EvalError> {
             (Value::U32(u), Scalar::I32) => Value::I32(*u as i32),
             (Value::U32(u), Scalar::F32) => Value::F32(*u as f32),
             (Value::U32(u), Scalar::Bool) => Value::Bool(*u != 0),
+            (Value::Bool(b), Scalar::U64) => Value::U64((*b).into()),
+            (Value::I32(i), Scalar::U64) => Value::U64(*i as u64),
+            (Value::U32(u), Scalar::U64) => Value::U64((*u).into()),
+            (Value::F32(f), Scalar::U64) => Value::U64(f.clamp(0.0, U64_MAX_F) as u64),
+            (Value::U64(u), Scalar::U32) => Value::U32(*u as u32),
+            (Value::U64(u), Scalar::I32) => Value::I32(*u as i32),
+            (Value::U64(u), Scalar::F32) => Value::F32(*u as f32),
+            (Value::U64(u), Scalar::Bool) => Value::Bool(*u != 0),
             // Rust's `as` saturates and maps NaN to 0; the clamp to the largest f32 below
             // the bound is WGSL's rule (the same integers result).
             (Value::F32(f), Scalar::I32) => Value::I32(f.clamp(i32::MIN as f32, I32_MAX_F) as i32),

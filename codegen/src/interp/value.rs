@@ -13,6 +13,8 @@ pub enum Value {
     I32(i32),
     /// `u32`
     U32(u32),
+    /// `u64` (in buffers: two 32-bit words, the low one first)
+    U64(u64),
     /// `f32`
     F32(f32),
     /// `vecN<T>`: 2 to 4 scalar components of one type.
@@ -30,6 +32,7 @@ impl Value {
             Value::Bool(_) => Some(Scalar::Bool),
             Value::I32(_) => Some(Scalar::I32),
             Value::U32(_) => Some(Scalar::U32),
+            Value::U64(_) => Some(Scalar::U64),
             Value::F32(_) => Some(Scalar::F32),
             Value::Vector(c) => c.first().and_then(Value::scalar),
             _ => None,
@@ -53,7 +56,24 @@ impl Value {
         })
     }
 
-    /// The 32 bits of a scalar as stored in a buffer (`bool` as 0 or 1).
+    /// The buffer words of a scalar, low first: two for a `u64`, one for the others.
+    pub fn words(&self) -> Option<Vec<u32>> {
+        match self {
+            Value::U64(u) => Some(vec![*u as u32, (*u >> 32) as u32]),
+            v => v.bits().map(|b| vec![b]),
+        }
+    }
+
+    /// A scalar of type `s` from its buffer words, low first (see [`Value::words`]).
+    pub fn from_words(s: Scalar, words: &[u32]) -> Value {
+        match (s, words) {
+            (Scalar::U64, [lo, hi, ..]) => Value::U64(u64::from(*lo) | (u64::from(*hi) << 32)),
+            (s, w) => Value::from_bits(s, w.first().copied().unwrap_or(0)),
+        }
+    }
+
+    /// The 32 bits of a 32-bit scalar as stored in a buffer (`bool` as 0 or 1); `None` for a
+    /// `u64` (see [`Value::words`]) and composites.
     pub fn bits(&self) -> Option<u32> {
         Some(match self {
             Value::Bool(b) => *b as u32,
@@ -70,6 +90,7 @@ impl Value {
             Scalar::Bool => Value::Bool(bits != 0),
             Scalar::I32 => Value::I32(bits as i32),
             Scalar::U32 => Value::U32(bits),
+            Scalar::U64 => Value::U64(bits.into()),
             _ => Value::F32(f32::from_bits(bits)),
         }
     }
@@ -82,6 +103,7 @@ pub(crate) fn scalar_from_f64(s: Scalar, x: f64) -> Value {
         Scalar::Bool => Value::Bool(x != 0.0),
         Scalar::I32 => Value::I32(x as i64 as i32),
         Scalar::U32 => Value::U32(x as i64 as u32),
+        Scalar::U64 => Value::U64(x as u64),
         _ => Value::F32(x as f32),
     }
 }
@@ -92,6 +114,7 @@ impl fmt::Display for Value {
             Value::Bool(b) => write!(f, "{b}"),
             Value::I32(i) => write!(f, "{i}i32"),
             Value::U32(u) => write!(f, "{u}u32"),
+            Value::U64(u) => write!(f, "{u}u64"),
             Value::F32(x) => write!(f, "{x:?}f32 (0x{:08x})", x.to_bits()),
             Value::Vector(c) | Value::Array(c) | Value::Struct(c) => {
                 let open = if matches!(self, Value::Struct(_)) {

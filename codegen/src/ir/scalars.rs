@@ -13,6 +13,8 @@ pub enum Scalar {
     I32,
     /// `u32`
     U32,
+    /// `u64`: scalars only (no vectors); a variant that uses it needs wgpu's `SHADER_INT64`.
+    U64,
     /// `f32`
     F32,
     /// An unsuffixed integer literal: becomes `i32`, `u32` or `f32` by use.
@@ -28,6 +30,7 @@ impl Scalar {
             Scalar::Bool => "bool",
             Scalar::I32 => "i32",
             Scalar::U32 => "u32",
+            Scalar::U64 => "u64",
             Scalar::F32 => "f32",
             Scalar::AbstractInt => "{integer}",
             Scalar::AbstractFloat => "{float}",
@@ -40,22 +43,34 @@ impl Scalar {
             Scalar::Bool => "bool",
             Scalar::I32 | Scalar::AbstractInt => "i32",
             Scalar::U32 => "u32",
+            Scalar::U64 => "u64",
             Scalar::F32 | Scalar::AbstractFloat => "f32",
         }
     }
 
-    /// The glam prefix of vectors of this scalar (`Vec3`, `UVec3`, `IVec3`, `BVec3`).
+    /// The glam prefix of vectors of this scalar (`Vec3`, `UVec3`, `IVec3`, `BVec3`; glam's
+    /// `U64Vec3`, which the DSL rejects, only in messages).
     pub fn vec_prefix(self) -> &'static str {
         match self {
             Scalar::Bool => "B",
             Scalar::I32 | Scalar::AbstractInt => "I",
             Scalar::U32 => "U",
+            Scalar::U64 => "U64",
             Scalar::F32 | Scalar::AbstractFloat => "",
         }
     }
 
-    /// Integer (concrete or abstract).
+    /// Integer (concrete or abstract, 32 or 64 bits).
     pub fn is_int(self) -> bool {
+        matches!(
+            self,
+            Scalar::I32 | Scalar::U32 | Scalar::U64 | Scalar::AbstractInt
+        )
+    }
+
+    /// An integer of 32 bits or an abstract one: what indices, array lengths, workgroup sizes,
+    /// loop counters, texel coordinates and the DSL's integer builtins take.
+    pub fn is_int32(self) -> bool {
         matches!(self, Scalar::I32 | Scalar::U32 | Scalar::AbstractInt)
     }
 
@@ -74,8 +89,8 @@ impl Scalar {
         use Scalar::*;
         match (self, other) {
             (a, b) if a == b => Some(a),
-            (AbstractInt, b @ (I32 | U32 | F32 | AbstractFloat))
-            | (b @ (I32 | U32 | F32 | AbstractFloat), AbstractInt) => Some(b),
+            (AbstractInt, b @ (I32 | U32 | U64 | F32 | AbstractFloat))
+            | (b @ (I32 | U32 | U64 | F32 | AbstractFloat), AbstractInt) => Some(b),
             (AbstractFloat, F32) | (F32, AbstractFloat) => Some(F32),
             _ => None,
         }

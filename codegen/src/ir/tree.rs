@@ -11,8 +11,9 @@ use proc_macro2::Span;
 pub enum Lit {
     /// `true` / `false`
     Bool(bool),
-    /// Integer with its scalar type (`i32`, `u32` or abstract).
-    Int(i64, Scalar),
+    /// Integer with its scalar type (`i32`, `u32`, `u64` or abstract); the value itself, so
+    /// wide enough for every `u64`.
+    Int(i128, Scalar),
     /// Float with its scalar type (`f32` or abstract).
     Float(f64, Scalar),
 }
@@ -252,7 +253,7 @@ pub enum Ty {
     RuntimeArray(Box<Ty>),
     /// A DSL struct.
     Struct(StructId),
-    /// `Atomic<u32>` / `Atomic<i32>`
+    /// `Atomic<u32>` / `Atomic<i32>` / `Atomic<u64>` (storage only, `fetch_min`/`fetch_max`)
     Atomic(Scalar),
     /// Sampled and depth textures.
     Texture(TextureTy),
@@ -276,6 +277,8 @@ impl Ty {
     pub const I32: Ty = Ty::Scalar(Scalar::I32);
     /// Shorthand for `bool`.
     pub const BOOL: Ty = Ty::Scalar(Scalar::Bool);
+    /// Shorthand for `u64`.
+    pub const U64: Ty = Ty::Scalar(Scalar::U64);
 
     /// The scalar of a scalar or vector type.
     pub fn scalar(&self) -> Option<Scalar> {

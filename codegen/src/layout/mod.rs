@@ -5,7 +5,7 @@
 //!
 //! Must not decide where a struct is used (the front end marks that) or emit anything.
 
-use crate::ir::{Module, Ty};
+use crate::ir::{Module, Scalar, Ty};
 use crate::variants::{Env, Value, eval};
 
 /// Size and alignment of a type.
@@ -55,6 +55,7 @@ pub fn array_len(len: &crate::ir::ArrayLen, m: &Module, env: &Env) -> Option<u32
 /// The natural WGSL layout of a type (runtime arrays: one element).
 pub fn layout_of(ty: &Ty, m: &Module, env: &Env) -> Layout {
     match ty {
+        Ty::Scalar(Scalar::U64) | Ty::Atomic(Scalar::U64) => Layout { size: 8, align: 8 },
         Ty::Scalar(_) | Ty::Atomic(_) => Layout { size: 4, align: 4 },
         Ty::Vector(n, _) => match n {
             2 => Layout { size: 8, align: 8 },
@@ -68,7 +69,7 @@ pub fn layout_of(ty: &Ty, m: &Module, env: &Env) -> Layout {
             },
         },
         Ty::Matrix(c, r) => {
-            let col = layout_of(&Ty::Vector(*r, crate::ir::Scalar::F32), m, env);
+            let col = layout_of(&Ty::Vector(*r, Scalar::F32), m, env);
             Layout {
                 size: u32::from(*c) * round_up(col.size, col.align),
                 align: col.align,

@@ -152,8 +152,9 @@ fn binding_kind(g: &crate::ir::Global, m: &Module, env: &Env) -> BindingKind {
     }
 }
 
-/// Reflects one variant.
-pub fn reflect(m: &Module, env: &Env, subgroup: bool) -> Reflection {
+/// Reflects one variant. `subgroup` and `int64` are the features the pipeline found it needs
+/// (declared by `requires(subgroup = ..)`, and 64-bit types in its printed WGSL).
+pub fn reflect(m: &Module, env: &Env, subgroup: bool, int64: bool) -> Reflection {
     let mut entry_points = vec![];
     let mut visibility = vec![Visibility::default(); m.globals.len()];
     let mut all_stages = Visibility::default();
@@ -227,6 +228,6 @@ pub fn reflect(m: &Module, env: &Env, subgroup: bool) -> Reflection {
     Reflection {
         entry_points,
         bindings,
-        features: rt::Features { subgroup },
+        features: rt::Features { subgroup, int64 },
     }
 }

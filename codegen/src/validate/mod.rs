@@ -1,5 +1,6 @@
 //! Validation of each variant's WGSL with naga: parse with naga's WGSL front end, validate with
-//! all flags and only the capabilities the variant declares, and map naga's errors (byte
+//! all flags and only the capabilities the variant needs (what it declares, and the 64-bit
+//! integer ones exactly when the printer wrote a 64-bit type), and map naga's errors (byte
 //! ranges of the WGSL) back through the source map to the user's Rust span, naming the variant.
 //!
 //! Must not change the WGSL; a variant that fails here is a compile error.
@@ -21,13 +22,24 @@ pub struct Validated {
 /// `@builtin(sample_index)` and per-sample interpolation).
 pub const BASELINE: Capabilities = Capabilities::MULTISAMPLED_SHADING;
 
-/// Capabilities a variant is validated with: the baseline plus exactly what it declares.
-pub fn capabilities(subgroup: bool) -> Capabilities {
+/// The capabilities of 64-bit integers: `u64` values and their atomic `min`/`max` on storage
+/// buffers without a returned value (wgpu `SHADER_INT64` and `SHADER_INT64_ATOMIC_MIN_MAX`).
+pub const INT64: Capabilities =
+    Capabilities::SHADER_INT64.union(Capabilities::SHADER_INT64_ATOMIC_MIN_MAX);
+
+/// Capabilities a variant is validated with: the baseline plus exactly what it needs.
+/// `subgroup` is what the variant declares (`requires(subgroup = ..)`); `int64` is whether its
+/// WGSL uses a 64-bit type or literal ([`crate::back::wgsl::Printed::int64`]), so a variant
+/// without one is validated without [`INT64`].
+pub fn capabilities(subgroup: bool, int64: bool) -> Capabilities {
+    let mut caps = BASELINE;
     if subgroup {
-        BASELINE.union(Capabilities::SUBGROUP)
-    } else {
-        BASELINE
+        caps |= Capabilities::SUBGROUP;
     }
+    if int64 {
+        caps |= INT64;
+    }
+    caps
 }
 
 fn error_at(
@@ -64,11 +76,12 @@ fn error_at(
     )
 }
 
-/// Parses and validates one variant.
+/// Parses and validates one variant with [`capabilities`]`(subgroup, int64)`.
 pub fn validate(
     wgsl: &str,
     map: &SourceMap,
     subgroup: bool,
+    int64: bool,
     variant: &str,
     fallback: Span,
     fn_span: &dyn Fn(&str) -> Option<Span>,
@@ -95,7 +108,7 @@ pub fn validate(
             &detail,
         )
     })?;
-    let mut validator = Validator::new(ValidationFlags::all(), capabilities(subgroup));
+    let mut validator = Validator::new(ValidationFlags::all(), capabilities(subgroup, int64));
     let info = validator.validate(&module).map_err(|e| {
         let ranges: Vec<_> = e.spans().filter_map(|(s, _)| s.to_range()).collect();
         let mut detail = e.as_inner().to_string();

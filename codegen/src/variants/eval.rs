@@ -8,8 +8,8 @@ use crate::ir::{BinOp, Expr, ExprKind, Lit, Module, Scalar, Ty, UnOp};
 pub enum Value {
     /// Boolean.
     Bool(bool),
-    /// Integer (wrapped to the expression's 32-bit type).
-    Int(i64),
+    /// Integer (wrapped to the expression's type: `i32`, `u32` or `u64`).
+    Int(i128),
     /// Float.
     Float(f64),
 }
@@ -26,14 +26,27 @@ impl Value {
     }
 }
 
-fn wrap(v: i64, ty: &Ty) -> Option<i64> {
+fn wrap(v: i128, ty: &Ty) -> Option<i128> {
     match ty.scalar() {
-        Some(Scalar::U32) => Some(v as u32 as i64),
-        Some(Scalar::I32) => Some(v as i32 as i64),
+        Some(Scalar::U32) => Some(v as u32 as i128),
+        Some(Scalar::I32) => Some(v as i32 as i128),
+        Some(Scalar::U64) => Some(v as u64 as i128),
         Some(Scalar::AbstractInt) => Some(v),
         _ => None,
     }
 }
+
+/// Bits of an integer type (shift amounts must be below it).
+fn int_bits(ty: &Ty) -> u32 {
+    if ty.scalar() == Some(Scalar::U64) {
+        64
+    } else {
+        32
+    }
+}
+
+/// The largest `f32` not above `u64::MAX` (2^64 - 2^40): WGSL's saturation bound.
+const U64_MAX_F: f64 = 18_446_742_974_197_923_840.0;
 
 /// Evaluates a constant expression (literals, axes, consts, operators, casts); `None` when it
 /// is not constant. `&&`/`||` short-circuit, so `false && x` is constant even when `x` is not.
@@ -56,13 +69,16 @@ pub fn eval(e: &Expr, m: &Module, env: &Env) -> Option<Value> {
             _ => return None,
         },
         ExprKind::Cast(x) => match (eval(x, m, env)?, e.ty.scalar()?) {
-            (Value::Bool(b), s) if s.is_int() => Value::Int(b as i64),
+            (Value::Bool(b), s) if s.is_int() => Value::Int(b.into()),
+            // Rounded once, to `f32` (through `f64` a `u64` would round twice).
+            (Value::Int(i), Scalar::F32) if x.ty == Ty::U64 => Value::Float(i as f32 as f64),
             (Value::Int(i), Scalar::F32) => Value::Float(i as f64),
             (Value::Int(i), _) => Value::Int(wrap(i, &e.ty)?),
             (Value::Float(f), Scalar::F32) => Value::Float(f),
-            (Value::Float(f), Scalar::U32) => Value::Int(f.clamp(0.0, u32::MAX as f64) as i64),
+            (Value::Float(f), Scalar::U32) => Value::Int(f.clamp(0.0, u32::MAX as f64) as i128),
+            (Value::Float(f), Scalar::U64) => Value::Int(f.clamp(0.0, U64_MAX_F) as i128),
             (Value::Float(f), Scalar::I32) => {
-                Value::Int(f.clamp(i32::MIN as f64, i32::MAX as f64) as i64)
+                Value::Int(f.clamp(i32::MIN as f64, i32::MAX as f64) as i128)
             }
             _ => return None,
         },
@@ -96,7 +112,8 @@ fn binary(op: BinOp, a: Value, b: Value, ty: &Ty) -> Option<Value> {
             _ => return None,
         }),
         (Value::Int(x), Value::Int(y)) => {
-            let unsigned = ty.scalar() == Some(Scalar::U32);
+            let bits = int_bits(ty);
+            let amount = || u32::try_from(y).ok().filter(|s| *s < bits);
             match op {
                 Eq => Value::Bool(x == y),
                 Ne => Value::Bool(x != y),
@@ -114,11 +131,10 @@ fn binary(op: BinOp, a: Value, b: Value, ty: &Ty) -> Option<Value> {
                         BitAnd => x & y,
                         BitOr => x | y,
                         BitXor => x ^ y,
-                        Shl => x.checked_shl(u32::try_from(y).ok().filter(|s| *s < 32)?)?,
-                        Shr if unsigned => {
-                            ((x as u32) >> u32::try_from(y).ok().filter(|s| *s < 32)?) as i64
-                        }
-                        Shr => x >> u32::try_from(y).ok().filter(|s| *s < 32)?,
+                        Shl => x.checked_shl(amount()?)?,
+                        // Unsigned values are non-negative here, so `>>` is logical on them
+                        // and arithmetic on `i32`.
+                        Shr => x >> amount()?,
                         _ => return None,
                     },
                     ty,

@@ -38,6 +38,20 @@ pub enum VariantError {
         /// The variant's stable name.
         variant: &'static str,
     },
+    /// A variant that uses `u64` (the `Atomic<u64>` `fetch_min`/`fetch_max` of the compute
+    /// rasteriser) on a device without 64-bit integer atomics
+    /// ([`Capabilities::int64_atomic_min_max`]).
+    #[error(
+        "shader variant `{module}::{variant}` uses 64-bit integers and needs the SHADER_INT64 and \
+         SHADER_INT64_ATOMIC_MIN_MAX features, which this device lacks; use a path without them \
+         or an adapter that has both"
+    )]
+    MissingInt64 {
+        /// The DSL module of the variant.
+        module: &'static str,
+        /// The variant's stable name.
+        variant: &'static str,
+    },
     /// [`ShaderProgram::entry`] (or a pipeline builder) asked for an entry point the variant
     /// lacks at that stage.
     #[error("shader variant `{module}::{variant}` has no {stage:?} entry point named `{entry}`")]
@@ -73,6 +87,12 @@ pub enum VariantError {
 pub fn check_supported(variant: &Variant, caps: &Capabilities) -> Result<(), VariantError> {
     if variant.features.subgroup && caps.subgroup.is_none() {
         return Err(VariantError::MissingSubgroup {
+            module: variant.module,
+            variant: variant.name(),
+        });
+    }
+    if variant.features.int64 && !caps.int64_atomic_min_max {
+        return Err(VariantError::MissingInt64 {
             module: variant.module,
             variant: variant.name(),
         });
@@ -264,12 +284,11 @@ impl ShaderProgram {
 
 #[cfg(test)]
 mod tests {
-    use super::test_variant::VARIANT;
+    use super::test_variant::{INT64_VARIANT, VARIANT};
     use super::*;
 
-    #[test]
-    fn subgroup_variant_is_refused_without_subgroup() {
-        let mut caps = Capabilities {
+    fn caps() -> Capabilities {
+        Capabilities {
             subgroup: None,
             timestamp_query: false,
             timestamp_inside_passes: false,
@@ -278,7 +297,12 @@ mod tests {
             msaa_r32uint: vec![1],
             max_workgroup_invocations: 1024,
             int64_atomic_min_max: false,
-        };
+        }
+    }
+
+    #[test]
+    fn subgroup_variant_is_refused_without_subgroup() {
+        let mut caps = caps();
         let err = check_supported(&VARIANT, &caps).unwrap_err();
         assert!(
             err.to_string().contains("needs the SUBGROUP feature"),
@@ -294,5 +318,30 @@ mod tests {
                 ..
             })
         ));
+    }
+
+    #[test]
+    fn int64_variant_is_refused_without_int64_atomics() {
+        let mut caps = caps();
+        let err = check_supported(&INT64_VARIANT, &caps).unwrap_err();
+        assert_eq!(
+            err,
+            VariantError::MissingInt64 {
+                module: "raster",
+                variant: "t16",
+            }
+        );
+        let msg = err.to_string();
+        for part in [
+            "raster::t16",
+            "SHADER_INT64 and SHADER_INT64_ATOMIC_MIN_MAX",
+        ] {
+            assert!(msg.contains(part), "{msg}");
+        }
+        // A variant without 64-bit integers does not need them.
+        caps.subgroup = Some(crate::gpu::adapter::SubgroupSize { min: 8, max: 8 });
+        assert_eq!(check_supported(&VARIANT, &caps), Ok(()));
+        caps.int64_atomic_min_max = true;
+        assert_eq!(check_supported(&INT64_VARIANT, &caps), Ok(()));
     }
 }

@@ -1,5 +1,5 @@
 //! A reflected compute variant (two bind groups, SUBGROUP, 16×16 workgroups) shared by the
-//! tests of this module and of `layout`.
+//! tests of this module and of `layout`, and a copy of it that needs 64-bit integers instead.
 
 use codegen::rt::{
     Binding, BindingKind, EntryPoint, Features, SampleType, Stage, Variant, ViewDimension,
@@ -62,5 +62,20 @@ pub(super) const VARIANT: Variant = Variant {
         outputs: &[],
     }],
     bindings: BINDINGS,
-    features: Features { subgroup: true },
+    features: Features {
+        subgroup: true,
+        int64: false,
+    },
+};
+
+/// The same variant without subgroup operations but with 64-bit integers (`u64`, the compute
+/// rasteriser's `Atomic<u64>` `fetch_min`).
+pub(super) const INT64_VARIANT: Variant = Variant {
+    module: "raster",
+    names: &["t16"],
+    features: Features {
+        subgroup: false,
+        int64: true,
+    },
+    ..VARIANT
 };

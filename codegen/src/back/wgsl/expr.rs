@@ -30,8 +30,9 @@ pub(crate) fn lit_text(l: Lit) -> String {
     match l {
         Lit::Bool(b) => b.to_string(),
         Lit::Int(v, Scalar::U32) => format!("{}u", v as u32),
-        Lit::Int(v, Scalar::I32) if v == i32::MIN as i64 => "i32(-2147483648)".into(),
+        Lit::Int(v, Scalar::I32) if v == i128::from(i32::MIN) => "i32(-2147483648)".into(),
         Lit::Int(v, Scalar::I32) => format!("{v}i"),
+        Lit::Int(v, Scalar::U64) => format!("{}lu", v as u64),
         Lit::Int(v, Scalar::F32) => format!("{}f", float_text(v as f32 as f64)),
         Lit::Int(v, _) => v.to_string(),
         Lit::Float(v, Scalar::F32) => format!("{}f", f32_text(v as f32)),
@@ -68,15 +69,17 @@ impl Writer<'_> {
         ) || eval(e, self.m, self.env).is_some()
     }
 
-    /// The literal an axis-dependent constant subexpression folds to, if any.
+    /// The literal an axis-dependent constant subexpression folds to, if any, and the literal
+    /// of a constant operator or conversion on a `u64`: naga's constant evaluator has no
+    /// `u64` operators, and converts a constant `u64` to no 32-bit type (a function would
+    /// leave such an operator to run time, a module-scope `const` cannot).
     pub(super) fn folded(&self, e: &Expr) -> Option<Lit> {
-        if !matches!(
-            e.kind,
-            ExprKind::Binary(..) | ExprKind::Unary(..) | ExprKind::Cast(..)
-        ) {
-            return None;
-        }
-        if !crate::front::mentions_axis(e, self.m) {
+        let u64_operand = match &e.kind {
+            ExprKind::Unary(_, x) | ExprKind::Cast(x) => x.ty == Ty::U64,
+            ExprKind::Binary(_, a, b) => a.ty == Ty::U64 || b.ty == Ty::U64,
+            _ => return None,
+        };
+        if !u64_operand && !crate::front::mentions_axis(e, self.m) {
             return None;
         }
         eval(e, self.m, self.env).map(|v| v.to_lit(&e.ty))
@@ -117,29 +120,30 @@ impl Writer<'_> {
         }
     }
 
+    /// Prints a literal, noting a 64-bit one.
+    pub(super) fn lit(&mut self, l: Lit) {
+        if matches!(l, Lit::Int(_, Scalar::U64)) {
+            self.int64.set(true);
+        }
+        self.out.push_str(&lit_text(l));
+    }
+
     pub(super) fn expr(&mut self, e: &Expr) {
         let start = self.out.len();
         if let Some(l) = self.folded(e) {
-            let text = lit_text(l);
-            self.out.push_str(&text);
+            self.lit(l);
             self.map.record(start..self.out.len(), e.span);
             return;
         }
         match &e.kind {
-            ExprKind::Lit(l) => {
-                let text = lit_text(*l);
-                self.out.push_str(&text);
-            }
+            ExprKind::Lit(l) => self.lit(*l),
             ExprKind::Local(l) => {
                 let name = self.locals[*l].name.clone();
                 self.out.push_str(&name);
             }
             ExprKind::Global(g) => self.out.push_str(&self.m.globals[*g].name),
             ExprKind::Const(c) => self.out.push_str(&self.m.consts[*c].name),
-            ExprKind::Axis(a) => {
-                let text = lit_text(self.env.values[*a]);
-                self.out.push_str(&text);
-            }
+            ExprKind::Axis(a) => self.lit(self.env.values[*a]),
             ExprKind::Unary(op, x) => {
                 self.out.push_str(match op {
                     UnOp::Neg => "-",
@@ -151,12 +155,21 @@ impl Writer<'_> {
             ExprKind::Binary(op @ (BinOp::Shl | BinOp::Shr), a, b) if !self.is_constant(b) => {
                 self.operand(a);
                 let _ = write!(self.out, " {} ", op.symbol());
-                self.shift_amount(b);
+                self.shift_amount(&a.ty, b);
             }
             ExprKind::Binary(op, a, b) => {
                 self.operand(a);
                 let _ = write!(self.out, " {} ", op.symbol());
                 self.operand(b);
+            }
+            // `i32 as u64` sign-extends, as in Rust: through `i64`, since naga's SPIR-V writes
+            // `u64(i32)` as a zero-extending `UConvert` (and its constant evaluator
+            // sign-extends).
+            ExprKind::Cast(x) if e.ty == Ty::U64 && x.ty.scalar() == Some(Scalar::I32) => {
+                let t = self.ty(&e.ty);
+                let _ = write!(self.out, "{t}(i64(");
+                self.expr(x);
+                self.out.push_str("))");
             }
             ExprKind::Cast(x) => {
                 let t = self.ty(&e.ty);
@@ -224,15 +237,17 @@ impl Writer<'_> {
         self.map.record(start..self.out.len(), e.span);
     }
 
-    /// A runtime shift amount, masked: WGSL takes it modulo the bit width, but SPIR-V leaves
-    /// amounts of 32 or more undefined (the guide's "Semantics"). Also for `<<=` and `>>=`.
-    pub(super) fn shift_amount(&mut self, b: &Expr) {
+    /// A runtime shift amount, masked: WGSL takes it modulo the bit width of the shifted
+    /// value `base` (32, or 64 for `u64`), but SPIR-V leaves amounts of the width or more
+    /// undefined (the guide's "Semantics"). Also for `<<=` and `>>=`.
+    pub(super) fn shift_amount(&mut self, base: &Ty, b: &Expr) {
         self.out.push('(');
         self.operand(b);
         match b.ty {
             Ty::Vector(n, _) => {
                 let _ = write!(self.out, " & vec{n}<u32>(31u))");
             }
+            _ if *base == Ty::U64 => self.out.push_str(" & 63u)"),
             _ => self.out.push_str(" & 31u)"),
         }
     }

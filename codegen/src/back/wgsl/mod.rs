@@ -7,18 +7,20 @@
 
 mod expr;
 mod options;
+mod printed;
 mod source_map;
 mod stmt;
 mod writer;
 
 pub use options::Options;
+pub use printed::Printed;
 pub use source_map::SourceMap;
 
 use crate::ir::Module;
 use crate::variants::Env;
 
 /// Prints one variant of `module` as WGSL, with its source map.
-pub fn write_string(module: &Module, env: &Env, options: Options) -> (String, SourceMap) {
+pub fn write_string(module: &Module, env: &Env, options: Options) -> Printed {
     let mut w = writer::Writer::new(module, env, options);
     w.module();
     w.finish()

@@ -49,6 +49,9 @@ impl<'a> Writer<'a> {
                         let kw = if local.mutable { "var" } else { "let" };
                         let _ = write!(self.out, "{kw} {}: {} = ", local.name, self.ty(&local.ty));
                     }
+                    // `let _ = A.store(v);` and `let _ = V64.fetch_min(v);`: a call of type
+                    // `()` is a bare statement (naga gives a phony assignment a result).
+                    None if init.ty == Ty::Unit => {}
                     None => self.out.push_str("_ = "),
                 }
                 self.expr(init);
@@ -65,7 +68,7 @@ impl<'a> Writer<'a> {
                 let _ = write!(self.out, " {}= ", op.map_or("", |o| o.symbol()));
                 match op {
                     Some(BinOp::Shl | BinOp::Shr) if !self.is_constant(value) => {
-                        self.shift_amount(value);
+                        self.shift_amount(&place.ty, value);
                     }
                     _ => self.expr(value),
                 }
@@ -246,8 +249,9 @@ impl<'a> Writer<'a> {
 /// plain `for (..; i <= end; i++)` ends.
 fn below_max(end: &Expr) -> bool {
     match (&end.kind, end.ty.scalar()) {
-        (ExprKind::Lit(Lit::Int(v, _)), Some(Scalar::U32)) => *v < u32::MAX as i64,
-        (ExprKind::Lit(Lit::Int(v, _)), _) => *v < i32::MAX as i64,
+        (ExprKind::Lit(Lit::Int(v, _)), Some(Scalar::U32)) => *v < u32::MAX.into(),
+        (ExprKind::Lit(Lit::Int(v, _)), Some(Scalar::U64)) => *v < u64::MAX.into(),
+        (ExprKind::Lit(Lit::Int(v, _)), _) => *v < i32::MAX.into(),
         _ => false,
     }
 }

@@ -3,9 +3,10 @@
 //! contract.
 
 use super::options::Options;
+use super::printed::Printed;
 use super::source_map::SourceMap;
 use crate::ir::is_subgroup_builtin;
-use crate::ir::{Access, Function, Io, Module, Space, Stage, TexKind, Ty};
+use crate::ir::{Access, Function, Io, Module, Scalar, Space, Stage, TexKind, Ty};
 use crate::layout::{array_len, struct_layout};
 use crate::variants::{Env, eval, reachable_functions};
 use std::fmt::Write;
@@ -21,6 +22,8 @@ pub(super) struct Writer<'a> {
     pub(super) locals: &'a [crate::ir::Local],
     /// Widths (1 for scalars) of the `i32` `abs` helpers the printed code calls.
     pub(super) int_abs: std::collections::BTreeSet<u8>,
+    /// Whether a 64-bit type or literal has been printed (`ty` takes `&self`, hence a cell).
+    pub(super) int64: std::cell::Cell<bool>,
 }
 
 impl<'a> Writer<'a> {
@@ -34,11 +37,16 @@ impl<'a> Writer<'a> {
             indent: 0,
             locals: &[],
             int_abs: Default::default(),
+            int64: Default::default(),
         }
     }
 
-    pub(super) fn finish(self) -> (String, SourceMap) {
-        (self.out, self.map)
+    pub(super) fn finish(self) -> Printed {
+        Printed {
+            int64: self.int64.get(),
+            text: self.out,
+            map: self.map,
+        }
     }
 
     pub(super) fn line_start(&mut self) {
@@ -48,6 +56,9 @@ impl<'a> Writer<'a> {
     }
 
     pub(crate) fn ty(&self, ty: &Ty) -> String {
+        if matches!(ty, Ty::Scalar(Scalar::U64) | Ty::Atomic(Scalar::U64)) {
+            self.int64.set(true);
+        }
         match ty {
             Ty::Unit => String::new(),
             Ty::Scalar(s) => s.wgsl_name().into(),
