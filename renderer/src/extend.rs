@@ -14,3 +14,7 @@ pub use crate::frame_data::{
     LightListHandles, ListGeometry, ParticleResources, ShadowResources,
 };
 pub use crate::passes::Pass;
+/// A built-in pass to insert after `"visibility"` on the visibility path: the compute
+/// rasteriser, which rasterises the same opaque triangles with 64-bit atomics beside the
+/// raster pass, to measure it and compare its IDs (the frame does not read them yet).
+pub use crate::passes::visibility::{ComputeRasterCounts, ComputeRasterPass, DEFAULT_SMALL_AREA};

@@ -3,13 +3,15 @@
 //! compaction against its non-subgroup variant, a vertex + fragment pair at MSAA 1 and 4, and
 //! host structs with `Vec3` fields round-tripped through uniform and storage buffers; the
 //! generated bind-group builders (`bind_groups`); the host interpreter and the GPU on a module
-//! using libraries of other crates (`cross_crate`).
+//! using libraries of other crates (`cross_crate`), and on `u64` and 64-bit atomics (`int64`).
 
 #[path = "dsl_gpu/bind_groups.rs"]
 mod bind_groups;
 #[path = "dsl_gpu/cross_crate.rs"]
 mod cross_crate;
 mod dsl_kernels;
+#[path = "dsl_gpu/int64.rs"]
+mod int64;
 
 use codegen::rt::Variant;
 use dsl_kernels::{compaction, depth_bounds, layout_probe, prefix_sum};

@@ -7,7 +7,7 @@
 /// edge test between a pixel's samples (`differs`), and the shading inputs of a sample at its
 /// own point or of a pixel at its centre (`shading_of`, `centre_shading`).
 ///
-/// Sample positions are the standard ones of Vulkan and D3D (`sample_offset`); points come from
+/// Sample positions are the standard ones of Vulkan and D3D (`sample_pattern`); points come from
 /// the inverse projection, and a sample of an edge pixel is shaded where the ray through its
 /// position meets its fragment's plane.
 #[shader_dsl::library(
@@ -17,6 +17,7 @@
         crate::shared::surface_light,
         crate::shared::shadow_atlas,
         crate::shared::octahedral,
+        crate::shared::sample_pattern,
     ),
 )]
 pub mod tbdr_gbuffer {
@@ -125,43 +126,6 @@ pub mod tbdr_gbuffer {
             g.view_depth = VIEW_DEPTH_MS.load(p, s).x;
         }
         g
-    }
-
-    /// Where sample `s` lies in its pixel: the standard sample positions of Vulkan and D3D.
-    fn sample_offset(s: u32) -> Vec2 {
-        let mut o = Vec2::splat(0.5);
-        if msaa == 2 {
-            o = select(s == 0u32, Vec2::splat(0.75), Vec2::splat(0.25));
-        } else if msaa == 4 {
-            if s == 0u32 {
-                o = Vec2::new(0.375, 0.125);
-            } else if s == 1u32 {
-                o = Vec2::new(0.875, 0.375);
-            } else if s == 2u32 {
-                o = Vec2::new(0.125, 0.625);
-            } else {
-                o = Vec2::new(0.625, 0.875);
-            }
-        } else if msaa == 8 {
-            if s == 0u32 {
-                o = Vec2::new(0.5625, 0.3125);
-            } else if s == 1u32 {
-                o = Vec2::new(0.4375, 0.6875);
-            } else if s == 2u32 {
-                o = Vec2::new(0.8125, 0.5625);
-            } else if s == 3u32 {
-                o = Vec2::new(0.3125, 0.1875);
-            } else if s == 4u32 {
-                o = Vec2::new(0.1875, 0.8125);
-            } else if s == 5u32 {
-                o = Vec2::new(0.0625, 0.4375);
-            } else if s == 6u32 {
-                o = Vec2::new(0.6875, 0.9375);
-            } else {
-                o = Vec2::new(0.9375, 0.0625);
-            }
-        }
-        o
     }
 
     fn depth_to_view(d: f32) -> f32 {

@@ -8,8 +8,8 @@
 //! They are also the renderer's shader library for other crates: an engine's crate that depends
 //! on `shaders_gen` (and `shader-dsl`, `codegen`) writes `uses(shaders_gen::shared::pbr)`, and
 //! likewise `view`, `light_set`, `light_lists`, `light_spheres`, `surface_light`, `light_grid`,
-//! `shadow_atlas`, `decal_apply`, `octahedral`, `material_uv`, `cull_append` and `box_frustum`;
-//! `deferred::gbuffer_read::tbdr_gbuffer` reads the deferred G-buffer. The light libraries
+//! `shadow_atlas`, `decal_apply`, `octahedral`, `material_uv`, `cull_append`, `box_frustum` and
+//! `sample_pattern`; `deferred::gbuffer_read::tbdr_gbuffer` reads the deferred G-buffer. The light libraries
 //! (`lights.rs`) are the binding contract of every lit pass's group 0: an engine's pass that
 //! uses `light_lists` binds the renderer's light buffers and lists by name through
 //! `light_set::Group0` and `light_lists::Group0`.
@@ -78,6 +78,7 @@ pub mod grid;
 pub mod lights;
 pub mod material;
 pub mod normals;
+pub mod samples;
 pub mod shadow;
 
 pub use append::cull_append;
@@ -90,4 +91,5 @@ pub use grid::light_grid;
 pub use lights::{light_lists, light_set, light_spheres, surface_light};
 pub use material::{material_table, material_uv};
 pub use normals::octahedral;
+pub use samples::sample_pattern;
 pub use shadow::shadow_atlas;

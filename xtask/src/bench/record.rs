@@ -139,6 +139,9 @@ pub struct CellRecord {
     /// Traditional deferred: the light volumes.
     #[serde(default)]
     pub volumes_median_ms: Option<f64>,
+    /// The compute rasteriser beside the visibility raster (`--compute-raster`).
+    #[serde(default)]
+    pub compute_raster_median_ms: Option<f64>,
     /// Occlusion culling's second phase (`--no-occlusion` leaves it out): the late pre-Z (the
     /// late visibility raster on the visibility path), and the depth pyramid plus the late
     /// culling dispatch (the sum of their medians).
@@ -259,6 +262,7 @@ impl CellRecord {
             .or(pass("visibility shading"))
             .and_then(|s| s.median());
         record.volumes_median_ms = pass("light volumes").and_then(|s| s.median());
+        record.compute_raster_median_ms = pass("compute raster").and_then(|s| s.median());
         record.blended_order_median_ms = pass("blended order").and_then(|s| s.median());
         record.gpu_total_median_ms = m.total.median().unwrap_or(0.0);
         record.cpu_graph_median_ms = m.cpu_graph_ms.median().unwrap_or(0.0);

@@ -7,6 +7,7 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 
 use anyhow::{Context as _, Result};
+use renderer::extend::ComputeRasterPass;
 use renderer::frame::{RenderPath, Renderer};
 use renderer::frame::{create_target, default_camera};
 use renderer::{GpuContext, GpuOptions};
@@ -174,6 +175,12 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
         }
         let mut renderer = Renderer::new(&gpu, config)?;
         renderer.prepare_scene(&bench_scene.scene)?;
+        if let Some(area) = args.compute_raster
+            && config.path == RenderPath::Visibility
+        {
+            let pass = ComputeRasterPass::new(&gpu, &config)?.with_small_area(area);
+            renderer.insert_pass_after("visibility", Box::new(pass))?;
+        }
         let target = create_target(gpu.device(), &config);
         let camera = default_camera(&bench_scene.scene, setup.width as f32 / setup.height as f32);
         let mut previous: Option<(u32, Duration)> = None;
@@ -217,6 +224,14 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
                             measure::measure(&mut renderer, &target, &camera, &mut advance, plan)?;
                         previous = Some((n, m.wall_per_frame));
                         record.fill(&m, &mut renderer);
+                        if let Some(pass) = renderer.pass::<ComputeRasterPass>() {
+                            let c = pass.read_counts(&gpu)?;
+                            let sep = if record.note.is_empty() { "" } else { "; " };
+                            record.note += &format!(
+                                "{sep}compute raster: {} large triangles in {} tiles, {} left out",
+                                c.large, c.tiles, c.overflow
+                            );
+                        }
                         // Once per setup, after its first cell is timed.
                         if n == axes.lights[0] && d == args.decals[0] {
                             edits::measure(

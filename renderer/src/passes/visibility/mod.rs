@@ -2,10 +2,14 @@
 //! depth and, per sample, the ID of the scene triangle it sees (`raster`); a compute pass finds
 //! each pixel's triangles again, evaluates their materials and lights them through the frame's
 //! light lists (`shade`). It replaces pre-Z and the G-buffer: 4 bytes a sample besides depth.
+//! `compute_raster` rasterises the same opaque triangles in compute beside the raster pass,
+//! to measure and check that way of rasterising (opt-in).
 
+mod compute_raster;
 mod geometry;
 mod raster;
 mod shade;
 
+pub use compute_raster::{ComputeRasterCounts, ComputeRasterPass, DEFAULT_SMALL_AREA};
 pub use raster::VisRasterPass;
 pub use shade::VisShadePass;

@@ -1,0 +1,417 @@
+//! The compute rasteriser (`shaders_gen`'s `vis_compute_raster`): the opaque triangles the
+//! visibility raster pass draws, rasterised again by compute kernels into one 64-bit atomic a
+//! sample, on adapters with `SHADER_INT64_ATOMIC_MIN_MAX`.
+//!
+//! It runs beside the hardware raster, not instead of it: the frame still reads the hardware
+//! pass's IDs and depth. It exists to measure whether compute rasterisation is faster on a
+//! device (`cargo xtask bench --compute-raster`) and to check that its IDs are the hardware
+//! raster's (`tests/tests/render_gpu/compute_raster.rs`). Engines and tools add it
+//! ([`crate::extend::ComputeRasterPass`]) with
+//! [`crate::frame::Renderer::insert_pass_after`] after the `"visibility"` pass.
+
+use std::sync::{Arc, Mutex, PoisonError};
+
+use shaders_gen::visibility::compute_raster::vis_compute_raster as kernels;
+
+use super::geometry::geometry_group;
+use crate::frame_data::{
+    BatchLayout, ConfigError, FrameInputs, FrameResources, NO_DRAW, RenderError, RendererConfig,
+};
+use crate::graph::{PassContext, RenderGraph};
+use crate::passes::Pass;
+use crate::shader::ShaderProgram;
+use crate::{GpuContext, GpuError};
+
+/// What a frame of the compute rasteriser counted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct ComputeRasterCounts {
+    /// Triangles rasterised by tiles (their box over `small_area` pixels, or crossing the eye
+    /// plane).
+    pub large: u32,
+    /// Tiles of those triangles.
+    pub tiles: u32,
+    /// Large triangles left out because the lists were full (0 in a correct frame).
+    pub overflow: u32,
+}
+
+/// The buffers of one screen size and scene size.
+#[derive(Debug)]
+struct Buffers {
+    /// What they were made for.
+    sizing: Sizing,
+    vis64: wgpu::Buffer,
+    counters: wgpu::Buffer,
+    large: wgpu::Buffer,
+    items: wgpu::Buffer,
+    tile_args: wgpu::Buffer,
+    /// `tile_args` copied, for the indirect dispatch.
+    indirect: wgpu::Buffer,
+    classes: wgpu::Buffer,
+    /// The batch layout and instance revision `classes` was written for.
+    classes_of: Option<(usize, u64)>,
+}
+
+/// The compute rasteriser pass. Opt-in: insert it after `"visibility"`.
+#[derive(Debug)]
+pub struct ComputeRasterPass {
+    program: ShaderProgram,
+    triangles: wgpu::ComputePipeline,
+    args: wgpu::ComputePipeline,
+    tiles: wgpu::ComputePipeline,
+    params: wgpu::Buffer,
+    msaa: u32,
+    /// Pixel-box area up to which one invocation rasterises a triangle.
+    small_area: u32,
+    buffers: Arc<Mutex<Option<Buffers>>>,
+}
+
+/// Tiles listed per screen tile before large triangles overflow.
+const ITEMS_PER_SCREEN_TILE: u64 = 32;
+/// Large triangles listed at most (80 bytes each).
+const LARGE_CAPACITY: u32 = 1 << 18;
+/// Large triangles listed at most when every triangle is large (`small_area` 0).
+const LARGE_CAPACITY_TILES_ONLY: u32 = 1 << 20;
+/// The default of [`ComputeRasterPass::with_small_area`].
+pub const DEFAULT_SMALL_AREA: u32 = 64;
+
+impl ComputeRasterPass {
+    /// The pass for `config`'s sample count; refused (the variant's error) on a device without
+    /// 64-bit atomic min/max.
+    pub fn new(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
+        let msaa = kernels::Msaa::from_value(config.msaa).ok_or_else(|| {
+            RenderError::Config(ConfigError::SampleCount {
+                asked: config.msaa,
+                supported: vec![1, 2, 4, 8],
+            })
+        })?;
+        let program = gpu.program(kernels::variant(kernels::VariantKey { msaa }))?;
+        let pipeline = |entry| program.compute_pipeline(gpu.device(), entry);
+        let params = gpu.device().create_buffer(&wgpu::BufferDescriptor {
+            label: Some("compute raster params"),
+            size: size_of::<kernels::RasterParams>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Ok(Self {
+            triangles: pipeline("raster_triangles")?,
+            args: pipeline("tile_args")?,
+            tiles: pipeline("raster_tiles")?,
+            program,
+            params,
+            msaa: config.msaa,
+            small_area: DEFAULT_SMALL_AREA,
+            buffers: Arc::default(),
+        })
+    }
+
+    /// Triangles whose pixel box covers at most `pixels` are rasterised by one invocation,
+    /// larger ones by 16×16 tiles (0: every triangle by tiles).
+    pub fn with_small_area(mut self, pixels: u32) -> Self {
+        self.small_area = pixels;
+        self
+    }
+
+    /// The triangle ID every sample of the last frame holds (0: none), `(y × width + x) ×
+    /// msaa + s`. Blocks until the GPU is done: for tests and tools.
+    pub fn read_ids(&self, gpu: &GpuContext) -> Result<Vec<u32>, GpuError> {
+        let Some(vis64) = self.buffer(|b| b.vis64.clone()) else {
+            return Ok(Vec::new());
+        };
+        let words: Vec<u32> = crate::readback::read_buffer(gpu.device(), gpu.queue(), &vis64)?;
+        Ok(words
+            .chunks_exact(2)
+            .map(|w| if w[1] == 0 { 0 } else { !w[0] })
+            .collect())
+    }
+
+    /// What the last frame counted. Blocks until the GPU is done: for tests and tools.
+    pub fn read_counts(&self, gpu: &GpuContext) -> Result<ComputeRasterCounts, GpuError> {
+        let Some(counters) = self.buffer(|b| b.counters.clone()) else {
+            return Ok(ComputeRasterCounts::default());
+        };
+        let c: Vec<u32> = crate::readback::read_buffer(gpu.device(), gpu.queue(), &counters)?;
+        Ok(ComputeRasterCounts {
+            large: c[kernels::LARGE_COUNT as usize],
+            tiles: c[kernels::ITEM_COUNT as usize],
+            overflow: c[kernels::OVERFLOW as usize],
+        })
+    }
+
+    fn buffer<T>(&self, f: impl FnOnce(&Buffers) -> T) -> Option<T> {
+        let buffers = self.buffers.lock().unwrap_or_else(PoisonError::into_inner);
+        buffers.as_ref().map(f)
+    }
+}
+
+/// Each draw's class bits for `layout`: the opaque batches' draws, with their batch's face
+/// culling and winding; 0 for masked, blended and hidden draws.
+fn classes(layout: &BatchLayout, draws: usize) -> Vec<u32> {
+    let mut out = vec![0u32; draws.max(1)];
+    for batch in layout.batches.iter().filter(|b| !b.masked) {
+        let class = kernels::RASTERISE
+            | if batch.double_sided {
+                kernels::DOUBLE_SIDED
+            } else {
+                0
+            }
+            | if batch.mirrored { kernels::MIRRORED } else { 0 };
+        let slots = batch.first_slot as usize..(batch.first_slot + batch.slot_count) as usize;
+        for &draw in &layout.slot_draws[slots] {
+            if draw != NO_DRAW
+                && let Some(c) = out.get_mut(draw as usize)
+            {
+                *c = class;
+            }
+        }
+    }
+    out
+}
+
+fn storage(device: &wgpu::Device, label: &str, size: u64, extra: wgpu::BufferUsages) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: size.max(16),
+        usage: wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_DST
+            | wgpu::BufferUsages::COPY_SRC
+            | extra,
+        mapped_at_creation: false,
+    })
+}
+
+/// A frame's sizes: what the buffers are made for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Sizing {
+    samples: u64,
+    /// Scene triangles: IDs run over every draw's triangles, in draw order (`vis_geometry`).
+    triangles: u32,
+    large_capacity: u32,
+    item_capacity: u32,
+    draws: usize,
+}
+
+impl Sizing {
+    fn of(frame: &FrameInputs, msaa: u32, small_area: u32) -> Self {
+        let c = &frame.config;
+        let triangles = frame
+            .instances
+            .draws
+            .iter()
+            .fold(0u32, |n, d| n.saturating_add(d.geometry.index_count / 3));
+        let screen_tiles = u64::from(c.width.div_ceil(kernels::TILE))
+            * u64::from(c.height.div_ceil(kernels::TILE));
+        // Every triangle is large where `small_area` is 0: room for each and its tiles.
+        let (large_most, per_triangle) = if small_area == 0 {
+            (LARGE_CAPACITY_TILES_ONLY, 4)
+        } else {
+            (LARGE_CAPACITY, 0)
+        };
+        let items = screen_tiles * ITEMS_PER_SCREEN_TILE
+            + u64::from(triangles.min(large_most)) * per_triangle;
+        Self {
+            samples: u64::from(c.width) * u64::from(c.height) * u64::from(msaa),
+            triangles,
+            large_capacity: triangles.clamp(1, large_most),
+            item_capacity: u32::try_from(items).unwrap_or(u32::MAX),
+            draws: frame.instances.draws.len(),
+        }
+    }
+}
+
+impl Buffers {
+    fn new(device: &wgpu::Device, sizing: Sizing) -> Self {
+        let none = wgpu::BufferUsages::empty();
+        let large_bytes = size_of::<kernels::LargeTriangle>() as u64;
+        Self {
+            sizing,
+            vis64: storage(device, "compute raster samples", sizing.samples * 8, none),
+            counters: storage(device, "compute raster counters", 16, none),
+            large: storage(
+                device,
+                "compute raster large",
+                u64::from(sizing.large_capacity) * large_bytes,
+                none,
+            ),
+            items: storage(
+                device,
+                "compute raster items",
+                u64::from(sizing.item_capacity) * 8,
+                none,
+            ),
+            tile_args: storage(device, "compute raster tile args", 16, none),
+            indirect: storage(
+                device,
+                "compute raster tiles",
+                16,
+                wgpu::BufferUsages::INDIRECT,
+            ),
+            classes: storage(
+                device,
+                "compute raster classes",
+                sizing.draws.max(1) as u64 * 4,
+                none,
+            ),
+            classes_of: None,
+        }
+    }
+}
+
+impl ComputeRasterPass {
+    /// Group 0 over `b`, after writing this frame's parameters.
+    fn group0(
+        &self,
+        frame: &FrameInputs,
+        b: &Buffers,
+        draws: u32,
+    ) -> Result<wgpu::BindGroup, RenderError> {
+        let (c, s) = (&frame.config, b.sizing);
+        let params = kernels::RasterParams::new(
+            c.width,
+            c.height,
+            s.triangles,
+            draws,
+            self.small_area,
+            s.large_capacity,
+            s.item_capacity,
+            kernels::TRIANGLE_WORKGROUP * kernels::TILE_ROW,
+        );
+        frame
+            .gpu
+            .queue()
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+        let group0 = kernels::Group0 {
+            camera: frame.camera_uniform.buffer.as_entire_buffer_binding(),
+            params: self.params.as_entire_buffer_binding(),
+            classes: b.classes.as_entire_buffer_binding(),
+            vis64: b.vis64.as_entire_buffer_binding(),
+            counters: b.counters.as_entire_buffer_binding(),
+            large: b.large.as_entire_buffer_binding(),
+            items: b.items.as_entire_buffer_binding(),
+            tile_args: b.tile_args.as_entire_buffer_binding(),
+        };
+        Ok(self.program.bind_group(
+            frame.gpu.device(),
+            kernels::Group0::GROUP,
+            &shader_bind::Resources::of(&group0),
+            "compute raster",
+        )?)
+    }
+}
+
+impl Pass for ComputeRasterPass {
+    fn name(&self) -> &'static str {
+        "compute raster"
+    }
+
+    fn add_to_graph(
+        &self,
+        graph: &mut RenderGraph,
+        frame: &FrameInputs,
+        resources: &mut FrameResources,
+    ) -> Result<(), RenderError> {
+        let missing = |input| {
+            RenderError::Config(ConfigError::MissingInput {
+                pass: "compute raster",
+                input,
+            })
+        };
+        let vis = resources
+            .visibility
+            .clone()
+            .ok_or(missing("the visibility raster's draw geometry"))?;
+        let list = resources
+            .scene_draws
+            .clone()
+            .ok_or(missing("the scene's draw batches (scene culling)"))?;
+        let device = frame.gpu.device();
+        let sizing = Sizing::of(frame, self.msaa, self.small_area);
+        let mut guard = self.buffers.lock().unwrap_or_else(PoisonError::into_inner);
+        let b = match guard.take() {
+            Some(b) if b.sizing == sizing => guard.insert(b),
+            _ => guard.insert(Buffers::new(device, sizing)),
+        };
+        let classes_of = (Arc::as_ptr(&list.layout) as usize, frame.instances.revision);
+        if b.classes_of != Some(classes_of) {
+            let classes = classes(&list.layout, sizing.draws);
+            frame
+                .gpu
+                .queue()
+                .write_buffer(&b.classes, 0, bytemuck::cast_slice(&classes));
+            b.classes_of = Some(classes_of);
+        }
+        let recording = Recording {
+            pipelines: [self.triangles.clone(), self.args.clone(), self.tiles.clone()],
+            groups: [
+                self.group0(frame, b, vis.draws)?,
+                frame.instances.draw_group_for(device, &self.program)?,
+                geometry_group(device, &self.program, &frame.scene, &vis.draw_geometry)?,
+            ],
+            vis64: b.vis64.clone(),
+            counters: b.counters.clone(),
+            tile_args: b.tile_args.clone(),
+            indirect: b.indirect.clone(),
+            triangle_groups: sizing.triangles.div_ceil(kernels::TRIANGLE_WORKGROUP),
+        };
+        drop(guard);
+        // Its buffers are its own, not the graph's: nothing downstream reads them.
+        graph
+            .add_pass(self.name())
+            .side_effects()
+            .execute(move |ctx| recording.record(ctx));
+        Ok(())
+    }
+}
+
+/// What one frame of the pass records with.
+struct Recording {
+    /// `raster_triangles`, `tile_args`, `raster_tiles`.
+    pipelines: [wgpu::ComputePipeline; 3],
+    /// Groups 0, 1 and 3 (the module binds nothing at 2).
+    groups: [wgpu::BindGroup; 3],
+    vis64: wgpu::Buffer,
+    counters: wgpu::Buffer,
+    tile_args: wgpu::Buffer,
+    indirect: wgpu::Buffer,
+    triangle_groups: u32,
+}
+
+impl Recording {
+    /// Clears the samples and counters, rasterises the triangles and lists the large ones,
+    /// then rasterises the large ones' tiles.
+    fn record(&self, ctx: &mut PassContext<'_>) {
+        ctx.encoder.clear_buffer(&self.vis64, 0, None);
+        ctx.encoder.clear_buffer(&self.counters, 0, None);
+        let [triangles, args, tiles] = &self.pipelines;
+        {
+            let mut pass = self.begin(ctx, "compute raster");
+            pass.set_pipeline(triangles);
+            pass.dispatch_workgroups(
+                self.triangle_groups.min(kernels::TILE_ROW),
+                self.triangle_groups.div_ceil(kernels::TILE_ROW),
+                1,
+            );
+            pass.set_pipeline(args);
+            pass.dispatch_workgroups(1, 1, 1);
+        }
+        // `TILE_ARGS` is bound read-write to every entry point: the dispatch reads a copy.
+        ctx.encoder
+            .copy_buffer_to_buffer(&self.tile_args, 0, &self.indirect, 0, Some(12));
+        let mut pass = self.begin(ctx, "compute raster tiles");
+        pass.set_pipeline(tiles);
+        pass.dispatch_workgroups_indirect(&self.indirect, 0);
+    }
+
+    /// A compute pass with every group bound.
+    fn begin<'a>(&self, ctx: &'a mut PassContext<'_>, label: &str) -> wgpu::ComputePass<'a> {
+        let mut pass = ctx
+            .encoder
+            .begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(label),
+                timestamp_writes: None,
+            });
+        for (index, g) in [0, 1, 3].into_iter().zip(&self.groups) {
+            pass.set_bind_group(index, g, &[]);
+        }
+        pass
+    }
+}

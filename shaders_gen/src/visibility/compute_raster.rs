@@ -1,0 +1,335 @@
+//! The compute rasteriser: the visibility raster pass's triangles rasterised by compute kernels
+//! into a buffer of 64-bit atomics, one per sample, depth above the triangle ID.
+
+/// Compute rasterisation of the scene's opaque triangles into `VIS64`, one `u64` a sample
+/// (`(y × width + x) × msaa + s`), for the adapters with 64-bit atomic min/max (wgpu's
+/// `SHADER_INT64_ATOMIC_MIN_MAX`).
+///
+/// A sample holds `(!depth_bits << 32) | !id`, merged with `fetch_max`: the nearest depth wins,
+/// and at equal depth the smallest ID. The buffer is cleared to 0, which no written value is
+/// (the complements of a depth in `[0, 1)` and of a 32-bit ID are never both 0), so a sample
+/// reads `id = !low` where `high != 0`, and sky where it is 0.
+///
+/// Each triangle is set up the same way wherever it is rasterised (`raster_triangle`): its
+/// vertices' clip positions from `view`'s `clip_position`, as the hardware raster's, and the
+/// adjugate of their `(x, y, w)` matrix, whose rows are the three edge functions in
+/// normalised device coordinates. This is 2D homogeneous rasterisation: it needs no clipping,
+/// since a triangle that crosses the eye plane still has correct edge functions (a point is
+/// inside where all three have the sign of the determinant, which also puts it in front of
+/// the eye), and its NDC depth is a plane, `dot(z_plane, (x, y, 1))`, because the edge
+/// functions weighted by the vertices' `w` sum to the determinant. A sample exactly on an edge
+/// belongs to one of the two triangles that share it, as on the hardware: their edge functions
+/// are exact negations of each other, and `owns_edge` applies the top-left rule.
+///
+/// What the hardware raster does and this rasteriser must also do: back faces are culled
+/// where the draw's batch culls them (its class, `CLASSES`, with the batch's double-sidedness
+/// and mirroring), depth outside `[0, 1)` is dropped, and the samples are the standard
+/// pattern's (`sample_pattern`). Masked and blended draws are not in `CLASSES` (class 0): the
+/// hardware raster draws them.
+///
+/// Work is split by size. `raster_triangles`, one invocation a triangle, rasterises a triangle
+/// whose pixel box covers at most `small_area` pixels itself, and lists a larger one (or one
+/// that crosses the eye plane, whose box is the screen) in `LARGE`, set up, with one `ITEMS`
+/// entry per 16×16 tile of its box; `tile_args` writes the indirect dispatch, and `raster_tiles`, one
+/// workgroup an item, rasterises one tile of one large triangle, one invocation a pixel.
+/// Triangles past `LARGE`'s or `ITEMS`' capacity are counted in `COUNTERS[OVERFLOW]` and their
+/// items made empty, so nothing stale is drawn and the host can report what was left out.
+#[shader_dsl::shader(
+    axes(msaa: u32 = [1, 2, 4, 8] => "msaa"),
+    uses(
+        crate::shared::view,
+        crate::shared::sample_pattern,
+        crate::visibility::geometry::vis_geometry,
+    ),
+)]
+pub mod vis_compute_raster {
+    /// Invocations of `raster_triangles`' workgroups.
+    pub const TRIANGLE_WORKGROUP: u32 = 64;
+    /// Side of a large triangle's tiles, in pixels (`raster_tiles`' workgroup).
+    pub const TILE: u32 = 16;
+    /// Workgroups in a row of `raster_tiles`' dispatch (item `x + y × TILE_ROW`).
+    pub const TILE_ROW: u32 = 32768;
+    /// A draw's class: rasterised here.
+    pub const RASTERISE: u32 = 1;
+    /// A draw's class: both faces drawn.
+    pub const DOUBLE_SIDED: u32 = 2;
+    /// A draw's class: front faces wind clockwise (a mirrored instance's batch).
+    pub const MIRRORED: u32 = 4;
+    /// `COUNTERS[LARGE_COUNT]`: triangles listed in `LARGE` (past the capacity too).
+    pub const LARGE_COUNT: u32 = 0;
+    /// `COUNTERS[ITEM_COUNT]`: tiles listed in `ITEMS` (past the capacity too).
+    pub const ITEM_COUNT: u32 = 1;
+    /// `COUNTERS[OVERFLOW]`: large triangles left out, `LARGE` or `ITEMS` being full.
+    pub const OVERFLOW: u32 = 2;
+    /// An `ITEMS` entry that rasterises nothing.
+    pub const NO_ITEM: u32 = 0xFFFF_FFFF;
+
+    /// One frame's rasterisation.
+    pub struct RasterParams {
+        pub width: u32,
+        pub height: u32,
+        /// Scene triangles (IDs `1..=triangles`).
+        pub triangles: u32,
+        /// Draws in `DRAW_GEOMETRY`.
+        pub draws: u32,
+        /// Triangles whose pixel box covers at most this many pixels are rasterised by one
+        /// invocation; larger ones by tiles.
+        pub small_area: u32,
+        /// Entries of `LARGE`.
+        pub large_capacity: u32,
+        /// Entries of `ITEMS`.
+        pub item_capacity: u32,
+        /// Invocations in a row of `raster_triangles`' dispatch (triangle `x + y × row`).
+        pub row: u32,
+    }
+
+    /// A large triangle as `raster_triangles` set it up, for its tiles.
+    pub struct LargeTriangle {
+        pub e0: Vec3,
+        pub id: u32,
+        pub e1: Vec3,
+        /// Tile columns of its box.
+        pub columns: u32,
+        pub e2: Vec3,
+        /// Its box's first tile column and row, `x | y << 16`.
+        pub first_tile: u32,
+        pub z_plane: Vec3,
+        pub pad: u32,
+        pub lo: UVec2,
+        pub hi: UVec2,
+    }
+
+    /// A triangle set up for rasterisation.
+    pub struct RasterTriangle {
+        /// Edge functions over NDC `(x, y, 1)`, positive inside.
+        pub e0: Vec3,
+        pub e1: Vec3,
+        pub e2: Vec3,
+        /// NDC depth over `(x, y, 1)`.
+        pub z_plane: Vec3,
+        /// Its pixel box, inclusive, on the screen.
+        pub lo: UVec2,
+        pub hi: UVec2,
+        /// Whether it draws anything: its draw is rasterised here, it is not a culled back
+        /// face, not degenerate, and not wholly outside one frustum plane.
+        pub drawn: bool,
+        /// All three vertices in front of the eye (its box is its own, not the screen).
+        pub in_front: bool,
+    }
+
+    #[uniform(group = 0, binding = 0)]
+    static CAMERA: Camera;
+    #[uniform(group = 0, binding = 1)]
+    static PARAMS: RasterParams;
+    /// Per draw (as `DRAW_GEOMETRY`): `RASTERISE | DOUBLE_SIDED | MIRRORED` bits, 0 for the
+    /// draws the hardware raster draws (masked) or nothing draws (blended, hidden).
+    #[storage(group = 0, binding = 2)]
+    static CLASSES: [u32];
+    #[storage(group = 0, binding = 3, read_write)]
+    static VIS64: [Atomic<u64>];
+    #[storage(group = 0, binding = 4, read_write)]
+    static COUNTERS: [Atomic<u32>];
+    /// Large triangles, set up once for all their tiles.
+    #[storage(group = 0, binding = 5, read_write)]
+    static LARGE: [LargeTriangle];
+    /// One a tile of a large triangle: its `LARGE` entry and the tile's number in its box.
+    #[storage(group = 0, binding = 6, read_write)]
+    static ITEMS: [UVec2];
+    /// `raster_tiles`' indirect dispatch.
+    #[storage(group = 0, binding = 7, read_write)]
+    static TILE_ARGS: [u32];
+
+    /// Whether the sample at `at` = NDC `(x, y, 1)` is inside edge `e`. On the edge, the
+    /// top-left rule of Vulkan and D3D: a left edge (the inside to its right, `e.x > 0`) or a
+    /// top edge (horizontal, the inside below it: `e.y < 0`, NDC's y being up) owns it.
+    fn owns_edge(e: Vec3, at: Vec3) -> bool {
+        let d = e.dot(at);
+        d > 0.0 || (d == 0.0 && (e.x > 0.0 || (e.x == 0.0 && e.y < 0.0)))
+    }
+
+    /// A clip position's window position, in pixels.
+    fn window_of(c: Vec4) -> Vec2 {
+        let size = Vec2::new(PARAMS.width as f32, PARAMS.height as f32);
+        Vec2::new(c.x / c.w * 0.5 + 0.5, 0.5 - c.y / c.w * 0.5) * size
+    }
+
+    /// Whether all three clip positions lie outside one frustum plane.
+    fn outside_frustum(c0: Vec4, c1: Vec4, c2: Vec4) -> bool {
+        (c0.x > c0.w && c1.x > c1.w && c2.x > c2.w)
+            || (c0.x < -c0.w && c1.x < -c1.w && c2.x < -c2.w)
+            || (c0.y > c0.w && c1.y > c1.w && c2.y > c2.w)
+            || (c0.y < -c0.w && c1.y < -c1.w && c2.y < -c2.w)
+            || (c0.z < 0.0 && c1.z < 0.0 && c2.z < 0.0)
+            || (c0.z > c0.w && c1.z > c1.w && c2.z > c2.w)
+    }
+
+    /// Triangle `id` (not 0) set up: the same wherever it is rasterised.
+    pub fn raster_triangle(id: u32) -> RasterTriangle {
+        let tri = triangle_of(id, PARAMS.draws);
+        let class = CLASSES[tri.draw];
+        let world = DRAWS[tri.draw].world_from_mesh;
+        let c0 = clip_position(
+            CAMERA.view_projection,
+            world,
+            vertex_position(tri.vertices.x),
+        );
+        let c1 = clip_position(
+            CAMERA.view_projection,
+            world,
+            vertex_position(tri.vertices.y),
+        );
+        let c2 = clip_position(
+            CAMERA.view_projection,
+            world,
+            vertex_position(tri.vertices.z),
+        );
+        let a0 = Vec3::new(c0.x, c0.y, c0.w);
+        let a1 = Vec3::new(c1.x, c1.y, c1.w);
+        let a2 = Vec3::new(c2.x, c2.y, c2.w);
+        let e0 = a1.cross(a2);
+        let e1 = a2.cross(a0);
+        let e2 = a0.cross(a1);
+        let det = a0.dot(e0);
+        // Counter-clockwise in NDC (y up) has a positive determinant; mirrored batches' front
+        // faces wind the other way.
+        let front = select((class & MIRRORED) != 0u32, -det, det);
+        let culled = (class & DOUBLE_SIDED) == 0u32 && !(front > 0.0);
+        let inside = select(det < 0.0, -1.0, 1.0);
+        let mut out = RasterTriangle {
+            e0: e0 * inside,
+            e1: e1 * inside,
+            e2: e2 * inside,
+            z_plane: (e0 * c0.z + e1 * c1.z + e2 * c2.z) / det,
+            lo: UVec2::ZERO,
+            hi: UVec2::new(PARAMS.width - 1u32, PARAMS.height - 1u32),
+            drawn: (class & RASTERISE) != 0u32
+                && det != 0.0
+                && !culled
+                && !outside_frustum(c0, c1, c2),
+            in_front: c0.w > 0.0 && c1.w > 0.0 && c2.w > 0.0,
+        };
+        if out.in_front {
+            let w0 = window_of(c0);
+            let w1 = window_of(c1);
+            let w2 = window_of(c2);
+            let top = Vec2::new((PARAMS.width - 1u32) as f32, (PARAMS.height - 1u32) as f32);
+            let lo = w0.min(w1).min(w2).floor().clamp(Vec2::ZERO, top);
+            let hi = w0.max(w1).max(w2).floor().clamp(Vec2::ZERO, top);
+            out.lo = lo.as_uvec2();
+            out.hi = hi.as_uvec2();
+        }
+        out
+    }
+
+    /// Sample `s` of pixel `p` against triangle `t` (ID `id`): its depth and ID into `VIS64`
+    /// where `t` covers it nearer than what is there.
+    fn raster_sample(p: UVec2, s: u32, t: RasterTriangle, id: u32) {
+        let at = p.as_vec2() + sample_offset(s);
+        let ndc = Vec3::new(
+            at.x / PARAMS.width as f32 * 2.0 - 1.0,
+            1.0 - at.y / PARAMS.height as f32 * 2.0,
+            1.0,
+        );
+        if owns_edge(t.e0, ndc) && owns_edge(t.e1, ndc) && owns_edge(t.e2, ndc) {
+            let z = t.z_plane.dot(ndc);
+            if z >= 0.0 && z < 1.0 {
+                let packed = ((!z.to_bits() as u64) << 32u32) | ((!id) as u64);
+                VIS64[(p.y * PARAMS.width + p.x) * msaa + s].fetch_max(packed);
+            }
+        }
+    }
+
+    /// One triangle: small ones rasterised here, large ones listed by tile.
+    #[compute(workgroup_size(64, 1, 1))]
+    pub fn raster_triangles(#[builtin(global_invocation_id)] gid: UVec3) {
+        let index = gid.x + gid.y * PARAMS.row;
+        if index < PARAMS.triangles {
+            let id = index + 1u32;
+            let t = raster_triangle(id);
+            if t.drawn {
+                let size = t.hi - t.lo + UVec2::ONE;
+                if t.in_front && size.x * size.y <= PARAMS.small_area {
+                    for y in t.lo.y..=t.hi.y {
+                        for x in t.lo.x..=t.hi.x {
+                            for s in 0u32..msaa {
+                                raster_sample(UVec2::new(x, y), s, t, id);
+                            }
+                        }
+                    }
+                } else {
+                    let first = t.lo / TILE;
+                    let tiles = t.hi / TILE - first + UVec2::ONE;
+                    let count = tiles.x * tiles.y;
+                    let k = COUNTERS[LARGE_COUNT].fetch_add(1u32);
+                    let base = COUNTERS[ITEM_COUNT].fetch_add(count);
+                    let fits = k < PARAMS.large_capacity && base + count <= PARAMS.item_capacity;
+                    if fits {
+                        LARGE[k] = LargeTriangle {
+                            e0: t.e0,
+                            id,
+                            e1: t.e1,
+                            columns: tiles.x,
+                            e2: t.e2,
+                            first_tile: first.x | (first.y << 16u32),
+                            z_plane: t.z_plane,
+                            pad: 0u32,
+                            lo: t.lo,
+                            hi: t.hi,
+                        };
+                    } else {
+                        COUNTERS[OVERFLOW].fetch_add(1u32);
+                    }
+                    for j in 0u32..count {
+                        if base + j < PARAMS.item_capacity {
+                            ITEMS[base + j] =
+                                select(fits, UVec2::new(k, j), UVec2::new(NO_ITEM, 0u32));
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// `raster_tiles`' dispatch: one workgroup per listed tile, `TILE_ROW` to a row.
+    #[compute(workgroup_size(1, 1, 1))]
+    pub fn tile_args() {
+        let items = COUNTERS[ITEM_COUNT].load().min(PARAMS.item_capacity);
+        TILE_ARGS[0] = items.min(TILE_ROW);
+        TILE_ARGS[1] = (items + TILE_ROW - 1u32) / TILE_ROW;
+        TILE_ARGS[2] = 1u32;
+    }
+
+    /// One tile of one large triangle, an invocation a pixel.
+    #[compute(workgroup_size(16, 16, 1))]
+    pub fn raster_tiles(
+        #[builtin(workgroup_id)] group: UVec3,
+        #[builtin(local_invocation_id)] local: UVec3,
+    ) {
+        let index = group.x + group.y * TILE_ROW;
+        let items = COUNTERS[ITEM_COUNT].load().min(PARAMS.item_capacity);
+        if index < items {
+            let item = ITEMS[index];
+            if item.x != NO_ITEM {
+                let l = LARGE[item.x];
+                let t = RasterTriangle {
+                    e0: l.e0,
+                    e1: l.e1,
+                    e2: l.e2,
+                    z_plane: l.z_plane,
+                    lo: l.lo,
+                    hi: l.hi,
+                    drawn: true,
+                    in_front: true,
+                };
+                let first = UVec2::new(l.first_tile & 0xFFFFu32, l.first_tile >> 16u32);
+                let tile = first + UVec2::new(item.y % l.columns, item.y / l.columns);
+                let p = tile * TILE + local.xy();
+                if p.x >= t.lo.x && p.x <= t.hi.x && p.y >= t.lo.y && p.y <= t.hi.y {
+                    for s in 0u32..msaa {
+                        raster_sample(p, s, t, l.id);
+                    }
+                }
+            }
+        }
+    }
+}
