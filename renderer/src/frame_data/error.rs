@@ -64,6 +64,17 @@ categorised!(
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum ConfigError {
+    /// A pass's buffer for this frame size is larger than the device binds.
+    #[error(
+        "the {pass} pass needs a {bytes}-byte {buffer} buffer; this device binds at most {max} \
+         bytes in one storage binding (lower the frame size or the MSAA count)"
+    )]
+    BufferTooLarge {
+        pass: &'static str,
+        buffer: &'static str,
+        bytes: u64,
+        max: u64,
+    },
     /// `RendererConfig::msaa` is a count the device (depth and colour target together) or the
     /// path's shaders do not have.
     #[error("MSAA {asked} is not supported by this device (supported: {supported:?})")]

@@ -18,8 +18,9 @@
 /// inside where all three have the sign of the determinant, which also puts it in front of
 /// the eye), and its NDC depth is a plane, `dot(z_plane, (x, y, 1))`, because the edge
 /// functions weighted by the vertices' `w` sum to the determinant. A sample exactly on an edge
-/// belongs to one of the two triangles that share it, as on the hardware: their edge functions
-/// are exact negations of each other, and `owns_edge` applies the top-left rule.
+/// belongs to one of the two triangles that share it, as on the hardware: each computes the
+/// edge's function from its lower-numbered vertex (so both get the same bits, FMA contraction
+/// or not), one negates it exactly, and `owns_edge` applies the top-left rule.
 ///
 /// What the hardware raster does and this rasteriser must also do: back faces are culled
 /// where the draw's batch culls them (its class, `CLASSES`, with the batch's double-sidedness
@@ -186,9 +187,13 @@ pub mod vis_compute_raster {
         let a0 = Vec3::new(c0.x, c0.y, c0.w);
         let a1 = Vec3::new(c1.x, c1.y, c1.w);
         let a2 = Vec3::new(c2.x, c2.y, c2.w);
-        let e0 = a1.cross(a2);
-        let e1 = a2.cross(a0);
-        let e2 = a0.cross(a1);
+        // Each edge from its lower-numbered vertex: the triangles sharing an edge compute the
+        // same cross product from the same operands, whatever the compiler fuses, and one of
+        // them negates it exactly.
+        let v = tri.vertices;
+        let e0 = select(v.y < v.z, a1.cross(a2), -a2.cross(a1));
+        let e1 = select(v.z < v.x, a2.cross(a0), -a0.cross(a2));
+        let e2 = select(v.x < v.y, a0.cross(a1), -a1.cross(a0));
         let det = a0.dot(e0);
         // Counter-clockwise in NDC (y up) has a positive determinant; mirrored batches' front
         // faces wind the other way.
@@ -233,7 +238,9 @@ pub mod vis_compute_raster {
         if owns_edge(t.e0, ndc) && owns_edge(t.e1, ndc) && owns_edge(t.e2, ndc) {
             let z = t.z_plane.dot(ndc);
             if z >= 0.0 && z < 1.0 {
-                let packed = ((!z.to_bits() as u64) << 32u32) | ((!id) as u64);
+                // `& 0x7FFF_FFFF`: -0.0 ranks as 0.0.
+                let depth = z.to_bits() & 0x7FFF_FFFFu32;
+                let packed = ((!depth as u64) << 32u32) | ((!id) as u64);
                 VIS64[(p.y * PARAMS.width + p.x) * msaa + s].fetch_max(packed);
             }
         }
@@ -262,7 +269,10 @@ pub mod vis_compute_raster {
                     let count = tiles.x * tiles.y;
                     let k = COUNTERS[LARGE_COUNT].fetch_add(1u32);
                     let base = COUNTERS[ITEM_COUNT].fetch_add(count);
-                    let fits = k < PARAMS.large_capacity && base + count <= PARAMS.item_capacity;
+                    // No `base + count`: it could wrap past `u32::MAX`.
+                    let fits = k < PARAMS.large_capacity
+                        && base < PARAMS.item_capacity
+                        && count <= PARAMS.item_capacity - base;
                     if fits {
                         LARGE[k] = LargeTriangle {
                             e0: t.e0,
@@ -280,7 +290,7 @@ pub mod vis_compute_raster {
                         COUNTERS[OVERFLOW].fetch_add(1u32);
                     }
                     for j in 0u32..count {
-                        if base + j < PARAMS.item_capacity {
+                        if base < PARAMS.item_capacity && j < PARAMS.item_capacity - base {
                             ITEMS[base + j] =
                                 select(fits, UVec2::new(k, j), UVec2::new(NO_ITEM, 0u32));
                         }

@@ -21,7 +21,7 @@
 //! samples differ on the courtyard).
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
-use renderer::extend::ComputeRasterPass;
+use renderer::extend::{ComputeRasterCounts, ComputeRasterPass};
 use renderer::frame::default_camera;
 use renderer::frame::{FrameCamera, RenderPath, Renderer, RendererConfig, create_target};
 use renderer::passes::visibility::VisShadePass;
@@ -29,8 +29,9 @@ use renderer::scene::{Aabb, AlphaMode, Instance, Mesh, Primitive, Scene};
 use tests::gpu::gpu_test;
 use tests::host_replay::BindingsProbe;
 
-const WIDTH: u32 = 160;
-const HEIGHT: u32 = 96;
+/// Not multiples of the 16-pixel tiles: the screen's last tiles are partial.
+const WIDTH: u32 = 150;
+const HEIGHT: u32 = 90;
 /// Samples allowed to differ, as a fraction of all samples.
 const TOLERANCE: f64 = 0.005;
 
@@ -50,16 +51,23 @@ fn both_ids(
     msaa: u32,
     small_area: u32,
 ) -> (Vec<u32>, Vec<u32>) {
-    both_ids_at(scene, camera, (WIDTH, HEIGHT, msaa), small_area)
+    let (hardware, compute, counts) = both_ids_at(scene, camera, (WIDTH, HEIGHT, msaa), small_area);
+    if small_area == 0 {
+        assert!(
+            counts.large > 0 && counts.tiles >= counts.large,
+            "every triangle by tiles"
+        );
+    }
+    (hardware, compute)
 }
 
-/// [`both_ids`] at another frame size.
+/// [`both_ids`] at another frame size, with what the compute rasteriser counted.
 fn both_ids_at(
     scene: &Scene,
     camera: &FrameCamera,
     (width, height, msaa): (u32, u32, u32),
     small_area: u32,
-) -> (Vec<u32>, Vec<u32>) {
+) -> (Vec<u32>, Vec<u32>, ComputeRasterCounts) {
     let config = RendererConfig {
         width,
         height,
@@ -104,7 +112,8 @@ fn both_ids_at(
             .map(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]]))
             .collect();
         eprintln!("MSAA {msaa}, small area {small_area}: {counts:?}");
-        (hardware, compute)
+
+        (hardware, compute, counts)
     })
 }
 
@@ -253,7 +262,14 @@ fn compute_raster_breaks_ties_as_the_hardware_does() {
     let screen = (GRID_SCREEN, GRID_SCREEN, 1);
     // 81-pixel boxes: by tiles at the default limit, one invocation each above it.
     for small_area in [renderer::extend::DEFAULT_SMALL_AREA, 100] {
-        let (hardware, compute) = both_ids_at(&scene, &grid_camera(), screen, small_area);
+        let (hardware, compute, counts) = both_ids_at(&scene, &grid_camera(), screen, small_area);
+        // The two ways of rasterising: every triangle by tiles, or none.
+        let by_tiles = small_area < 81;
+        assert_eq!(
+            counts.large == 0,
+            !by_tiles,
+            "small area {small_area}: {counts:?}"
+        );
         let ids: std::collections::BTreeSet<u32> = hardware.iter().copied().collect();
         assert_eq!(
             ids.len(),

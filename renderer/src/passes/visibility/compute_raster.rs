@@ -9,7 +9,7 @@
 //! ([`crate::extend::ComputeRasterPass`]) with
 //! [`crate::frame::Renderer::insert_pass_after`] after the `"visibility"` pass.
 
-use std::sync::{Arc, Mutex, PoisonError};
+use std::sync::{Arc, Mutex, PoisonError, Weak};
 
 use shaders_gen::visibility::compute_raster::vis_compute_raster as kernels;
 
@@ -47,8 +47,9 @@ struct Buffers {
     /// `tile_args` copied, for the indirect dispatch.
     indirect: wgpu::Buffer,
     classes: wgpu::Buffer,
-    /// The batch layout and instance revision `classes` was written for.
-    classes_of: Option<(usize, u64)>,
+    /// The batch layout and instance revision `classes` was written for (held weakly: a
+    /// dropped layout never matches a new one at the same address).
+    classes_of: Option<(Weak<BatchLayout>, u64)>,
 }
 
 /// The compute rasteriser pass. Opt-in: insert it after `"visibility"`.
@@ -218,6 +219,29 @@ impl Sizing {
     }
 }
 
+impl Sizing {
+    /// Fails with [`ConfigError::BufferTooLarge`] where a buffer is over the device's binding
+    /// size.
+    fn check(&self, device: &wgpu::Device) -> Result<(), RenderError> {
+        let max = device.limits().max_storage_buffer_binding_size;
+        let large = size_of::<kernels::LargeTriangle>() as u64;
+        let buffers = [
+            ("samples", self.samples * 8),
+            ("large-triangle", u64::from(self.large_capacity) * large),
+            ("tile item", u64::from(self.item_capacity) * 8),
+        ];
+        match buffers.into_iter().find(|&(_, bytes)| bytes > max) {
+            Some((buffer, bytes)) => Err(RenderError::Config(ConfigError::BufferTooLarge {
+                pass: "compute raster",
+                buffer,
+                bytes,
+                max,
+            })),
+            None => Ok(()),
+        }
+    }
+}
+
 impl Buffers {
     fn new(device: &wgpu::Device, sizing: Sizing) -> Self {
         let none = wgpu::BufferUsages::empty();
@@ -325,19 +349,23 @@ impl Pass for ComputeRasterPass {
             .ok_or(missing("the scene's draw batches (scene culling)"))?;
         let device = frame.gpu.device();
         let sizing = Sizing::of(frame, self.msaa, self.small_area);
+        sizing.check(device)?;
         let mut guard = self.buffers.lock().unwrap_or_else(PoisonError::into_inner);
         let b = match guard.take() {
             Some(b) if b.sizing == sizing => guard.insert(b),
             _ => guard.insert(Buffers::new(device, sizing)),
         };
-        let classes_of = (Arc::as_ptr(&list.layout) as usize, frame.instances.revision);
-        if b.classes_of != Some(classes_of) {
+        let revision = frame.instances.revision;
+        let current = b.classes_of.as_ref().is_some_and(|(layout, kept)| {
+            *kept == revision && layout.upgrade().is_some_and(|l| Arc::ptr_eq(&l, &list.layout))
+        });
+        if !current {
             let classes = classes(&list.layout, sizing.draws);
             frame
                 .gpu
                 .queue()
                 .write_buffer(&b.classes, 0, bytemuck::cast_slice(&classes));
-            b.classes_of = Some(classes_of);
+            b.classes_of = Some((Arc::downgrade(&list.layout), revision));
         }
         let recording = Recording {
             pipelines: [self.triangles.clone(), self.args.clone(), self.tiles.clone()],
