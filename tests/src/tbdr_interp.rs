@@ -25,13 +25,14 @@ use crate::frame_probe::{ShadowCopies, ShadowInputs, copy_target, padded_row, re
 
 /// Source text of the TBDR module and the libraries it uses.
 pub const TBDR_SOURCE: &str = include_str!("../../shaders_gen/src/deferred/tiled_shading.rs");
-const LIBRARY_SOURCES: [&str; 6] = [
+const LIBRARY_SOURCES: [&str; 7] = [
     include_str!("../../shaders_gen/src/deferred/gbuffer_read.rs"),
     include_str!("../../shaders_gen/src/shared/lights.rs"),
     include_str!("../../shaders_gen/src/shared/brdf.rs"),
     include_str!("../../shaders_gen/src/shared/grid.rs"),
     include_str!("../../shaders_gen/src/shared/shadow.rs"),
     include_str!("../../shaders_gen/src/shared/normals.rs"),
+    include_str!("../../shaders_gen/src/shared/samples.rs"),
 ];
 
 /// Compiles the TBDR module from `source` (its text, or a mutation of it) with its libraries.
