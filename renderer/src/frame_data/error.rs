@@ -70,9 +70,13 @@ pub enum ConfigError {
          bytes in one storage binding (lower the frame size or the MSAA count)"
     )]
     BufferTooLarge {
+        /// The pass's name.
         pass: &'static str,
+        /// Which of its buffers.
         buffer: &'static str,
+        /// Its size at this frame size.
         bytes: u64,
+        /// The device's `max_storage_buffer_binding_size`.
         max: u64,
     },
     /// `RendererConfig::msaa` is a count the device (depth and colour target together) or the
