@@ -1,6 +1,9 @@
 //! Stage-level tests of the compiler, without the proc-macro: front-end errors, texture
 //! sampling methods, variant enumeration, naming, pruning and dedup, the source map, layouts
-//! and reflection.
+//! and reflection; `u64` and 64-bit atomics (`int64`).
+
+#[path = "stages/int64.rs"]
+mod int64;
 
 use codegen::rt::{BindingKind, SampleType};
 

@@ -5,21 +5,7 @@
 
 use codegen::interp::{Dispatch, Value};
 
-fn compile(src: &str) -> codegen::Compiled {
-    codegen::compile_source(src).unwrap_or_else(|e| {
-        let at = e.span().start();
-        panic!("{}:{}: {e}", at.line, at.column)
-    })
-}
-
-/// Asserts that `src` fails with a message containing `msg` at `line:column` (1-based line,
-/// 0-based column).
-fn check_err(src: &str, msg: &str, line: usize, column: usize) {
-    let e = codegen::compile_source(src).expect_err("must fail");
-    let at = e.span().start();
-    assert!(e.to_string().contains(msg), "message `{e}` lacks `{msg}`");
-    assert_eq!((at.line, at.column), (line, column), "span of `{e}`");
-}
+use super::{check_err, compile};
 
 /// A compute rasteriser's packing, with `u64` arithmetic, casts, shifts and `min`/`max`; the
 /// `wide` axis adds the 64-bit binding and code only where it is `true`.
