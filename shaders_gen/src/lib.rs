@@ -53,4 +53,5 @@ pub static MODULES: &[&codegen::rt::Module] = &[
     &shadow::shadow_cull::MODULE,
     &visibility::vis_raster::MODULE,
     &visibility::vis_compute_raster::MODULE,
+    &visibility::vis_resolve::MODULE,
 ];

@@ -79,7 +79,7 @@ pub fn frame(
     edges: EdgeThresholds,
     record: bool,
 ) -> (Vec<u8>, Option<TbdrRecord>) {
-    let config = (stage.look)(RendererConfig {
+    let config = RendererConfig {
         width: stage.size.0,
         height: stage.size.1,
         msaa,
@@ -87,7 +87,18 @@ pub fn frame(
         tile: 16,
         edges,
         ..Default::default()
-    });
+    };
+    frame_with(gpu, stage, config, record)
+}
+
+/// [`frame`] with every setting of `config` (the stage's `look` applied over it).
+pub fn frame_with(
+    gpu: &GpuContext,
+    stage: &Stage,
+    config: RendererConfig,
+    record: bool,
+) -> (Vec<u8>, Option<TbdrRecord>) {
+    let config = (stage.look)(config);
     let mut renderer = Renderer::new(gpu, config).expect("renderer");
     renderer
         .prepare_scene(&stage.scene)

@@ -11,14 +11,14 @@
 
 use renderer::demo::courtyard_look;
 use renderer::frame::create_target;
-use renderer::frame::{FrameCamera, RenderPath, Renderer, RendererConfig};
+use renderer::frame::{FrameCamera, RenderPath, Renderer, RendererConfig, VisibilityRaster};
 use renderer::frame_data::{EdgeThresholds, FrameView};
 use renderer::passes::deferred::TbdrRecord;
 use renderer::readback;
 use renderer::scene::SceneLight;
 use tests::gpu::gpu_test;
 use tests::image_compare::{largest_where, pixel_differences, stats};
-use tests::tbdr_stage::{Stage, city_stage, courtyard_stage, frame, gltf_stage};
+use tests::tbdr_stage::{Stage, city_stage, courtyard_stage, frame, frame_with, gltf_stage};
 
 /// Whole-image tolerance against naive forward, in 8-bit steps after tonemapping: mean and 99th
 /// percentile of each pixel's largest channel difference (RGB). The G-buffer quantises albedo to

@@ -67,7 +67,7 @@ use std::time::Instant;
 pub use crate::frame_data::{
     Ambient, ConfigError, DecalUpload, DeviceError, DrawItem, FrameCamera, FrameReport, FrameView,
     InputError, InstanceHandle, InstanceState, ParticleLighting, ParticleReport, PreparedScene,
-    RenderError, RenderPath, RendererConfig, SceneDrawReport, ViewId, ViewTarget,
+    RenderError, RenderPath, RendererConfig, SceneDrawReport, ViewId, ViewTarget, VisibilityRaster,
 };
 pub use crate::passes::light_cull::Culler;
 pub use assets::GeometryUsage;

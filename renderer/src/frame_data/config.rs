@@ -115,6 +115,41 @@ pub enum FrameView {
     ShadingFrequency,
 }
 
+/// What rasterises the visibility path's opaque triangles
+/// ([`RenderPath::Visibility`]; the other paths ignore it).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum VisibilityRaster {
+    /// The hardware rasteriser, every draw.
+    #[default]
+    Hardware,
+    /// Compute kernels with 64-bit atomics (`passes::visibility::compute_raster`), then one
+    /// full-screen pass at sample rate writes their samples into the depth and visibility
+    /// buffers; alpha-masked draws stay on the hardware rasteriser, over them. Needs
+    /// `SHADER_INT64_ATOMIC_MIN_MAX` ([`crate::gpu::Capabilities::int64_atomic_min_max`]).
+    Compute,
+}
+
+impl VisibilityRaster {
+    /// The command-line name: `hardware` or `compute`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Hardware => "hardware",
+            Self::Compute => "compute",
+        }
+    }
+}
+
+impl std::str::FromStr for VisibilityRaster {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        [Self::Hardware, Self::Compute]
+            .into_iter()
+            .find(|r| r.name() == s)
+            .ok_or_else(|| format!("visibility raster {s:?}: use hardware or compute"))
+    }
+}
+
 /// How particles are lit.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum ParticleLighting {
@@ -235,6 +270,8 @@ pub struct RendererConfig {
     pub msaa: u32,
     /// How lights are culled and surfaces shaded.
     pub path: RenderPath,
+    /// What rasterises the visibility path's opaque triangles.
+    pub visibility_raster: VisibilityRaster,
     /// Tile size of the tiled and clustered paths (8, 16 or 32) and of the TBDR paths (8 or
     /// 16: one invocation per pixel, and a tile's per-sample colours in workgroup memory).
     pub tile: u32,
@@ -327,6 +364,7 @@ impl Default for RendererConfig {
             height: 720,
             msaa: 4,
             path: RenderPath::Tiled,
+            visibility_raster: VisibilityRaster::Hardware,
             tile: 16,
             scalarize: false,
             cull_brute_force: false,

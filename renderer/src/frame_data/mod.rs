@@ -27,7 +27,9 @@ mod views;
 pub use camera::{CameraUniform, FrameCamera, box_in_frustum, farness};
 #[cfg(any(test, feature = "internals"))]
 pub use camera::frustum_planes;
-pub use config::{Ambient, FrameView, ParticleLighting, RenderPath, RendererConfig};
+pub use config::{
+    Ambient, FrameView, ParticleLighting, RenderPath, RendererConfig, VisibilityRaster,
+};
 #[cfg(any(test, feature = "internals"))]
 pub use config::{DEFAULT_LIGHT_CUTOFF, EdgeThresholds};
 pub use decals::{DecalUpload, GpuDecals};

@@ -200,11 +200,32 @@ pub mod vis_compute_raster {
         let front = select((class & MIRRORED) != 0u32, -det, det);
         let culled = (class & DOUBLE_SIDED) == 0u32 && !(front > 0.0);
         let inside = select(det < 0.0, -1.0, 1.0);
+        // The depth plane relative to the NDC depth of the vertex nearest the eye plane's far
+        // side (largest `w`): `Σ eᵢ wᵢ` is `(0, 0, det)`, so subtracting `z_ref · wᵢ` from
+        // each `zᵢ` changes the plane by `(0, 0, z_ref)` exactly, but the sums then add the
+        // small depth differences across the triangle instead of cancelling large products
+        // (far, small triangles otherwise lost up to 4e-4 of depth in float).
+        let mut z_ref = c0.z / c0.w;
+        let mut w_max = c0.w;
+        if c1.w > w_max {
+            z_ref = c1.z / c1.w;
+            w_max = c1.w;
+        }
+        if c2.w > w_max {
+            z_ref = c2.z / c2.w;
+            w_max = c2.w;
+        }
+        if !(w_max > 0.0) {
+            z_ref = 0.0;
+        }
+        let relative =
+            (e0 * (c0.z - z_ref * c0.w) + e1 * (c1.z - z_ref * c1.w) + e2 * (c2.z - z_ref * c2.w))
+                / det;
         let mut out = RasterTriangle {
             e0: e0 * inside,
             e1: e1 * inside,
             e2: e2 * inside,
-            z_plane: (e0 * c0.z + e1 * c1.z + e2 * c2.z) / det,
+            z_plane: Vec3::new(relative.x, relative.y, relative.z + z_ref),
             lo: UVec2::ZERO,
             hi: UVec2::new(PARAMS.width - 1u32, PARAMS.height - 1u32),
             drawn: (class & RASTERISE) != 0u32

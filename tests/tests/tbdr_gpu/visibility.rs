@@ -1,6 +1,7 @@
 //! The visibility path against naive forward: the same scenes and cameras as the deferred paths
 //! above, with tighter tolerances (it shades each triangle at the pixel centre, as forward
-//! does, rather than each sample at its own point), and its shading-frequency view.
+//! does, rather than each sample at its own point), with the hardware and the compute
+//! rasteriser, and its shading-frequency view.
 
 use super::*;
 
@@ -11,6 +12,13 @@ const VIS_P99: u8 = 1;
 /// The largest per-channel difference (edges of MSAA pixels, and points rebuilt from the
 /// triangle's plane rather than interpolated).
 const VIS_MAX: u8 = 8;
+/// Under the compute rasteriser, pixels over [`VIS_MAX`] allowed per thousand: it evaluates
+/// edges in float where the hardware snaps vertices to its sub-pixel grid, so a sample within
+/// rounding of an edge may see the other triangle. Measured: 0 to 5 of 12,288 to 20,736
+/// pixels (at most 0.41 per thousand, the glTF scene at MSAA 4); with the depth plane
+/// computed without its reference depth (the cancellation it avoids), the city has 30 of
+/// 20,736 (1.4 per thousand).
+const COMPUTE_OVER_PER_THOUSAND: usize = 1;
 
 #[test]
 fn the_visibility_path_equals_naive_forward_at_msaa_1_and_4() {
@@ -24,16 +32,38 @@ fn the_visibility_path_equals_naive_forward_at_msaa_1_and_4() {
             for msaa in [1, 4] {
                 let default = EdgeThresholds::default();
                 let (naive, _) = frame(gpu, &stage, RenderPath::NaivePrez, msaa, default, false);
-                let (vis, _) = frame(gpu, &stage, RenderPath::Visibility, msaa, default, false);
-                let what = format!("{name}, visibility, MSAA {msaa}");
-                let d = pixel_differences(&naive, &vis, 3);
-                let (mean, p99, largest) = stats(&d);
-                eprintln!("{what}: mean {mean:.3}, 99th percentile {p99}, largest {largest}");
-                assert!(
-                    mean <= VIS_MEAN && p99 <= VIS_P99 && largest <= VIS_MAX,
-                    "{what}: differs from naive forward by mean {mean:.3}, 99th percentile \
-                     {p99}, largest {largest} (tolerances {VIS_MEAN}, {VIS_P99}, {VIS_MAX})"
-                );
+                for raster in [VisibilityRaster::Hardware, VisibilityRaster::Compute] {
+                    let config = RendererConfig {
+                        width: stage.size.0,
+                        height: stage.size.1,
+                        msaa,
+                        path: RenderPath::Visibility,
+                        visibility_raster: raster,
+                        ..Default::default()
+                    };
+                    let (vis, _) = frame_with(gpu, &stage, config, false);
+                    let what =
+                        format!("{name}, visibility ({} raster), MSAA {msaa}", raster.name());
+                    let d = pixel_differences(&naive, &vis, 3);
+                    let (mean, p99, largest) = stats(&d);
+                    let over = d.iter().filter(|&&x| x > VIS_MAX).count();
+                    eprintln!(
+                        "{what}: mean {mean:.3}, 99th percentile {p99}, largest {largest}, \
+                         {over} of {} pixels over {VIS_MAX}",
+                        d.len()
+                    );
+                    let largest_ok = match raster {
+                        VisibilityRaster::Hardware => largest <= VIS_MAX,
+                        VisibilityRaster::Compute => {
+                            over * 1000 <= d.len() * COMPUTE_OVER_PER_THOUSAND
+                        }
+                    };
+                    assert!(
+                        mean <= VIS_MEAN && p99 <= VIS_P99 && largest_ok,
+                        "{what}: differs from naive forward by mean {mean:.3}, 99th percentile \
+                         {p99}, largest {largest} (tolerances {VIS_MEAN}, {VIS_P99}, {VIS_MAX})"
+                    );
+                }
             }
         }
     });

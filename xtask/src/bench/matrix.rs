@@ -2,19 +2,32 @@
 //! (one `Renderer` each) that are measured at every light count.
 
 use anyhow::{Result, bail};
-use renderer::frame::RenderPath;
+use renderer::frame::{RenderPath, VisibilityRaster};
 
-/// A path of the matrix, with its command-line name.
+/// A path of the matrix, with its command-line name: a render path, and on the visibility
+/// path what rasterises it (`visibility-compute`: the compute rasteriser).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct PathChoice(pub RenderPath);
+pub struct PathChoice(pub RenderPath, pub VisibilityRaster);
+
+/// The name of the visibility path with the compute rasteriser.
+const VISIBILITY_COMPUTE: &str = "visibility-compute";
 
 impl PathChoice {
     pub fn parse(s: &str) -> Result<Self> {
-        s.parse().map(Self).map_err(anyhow::Error::msg)
+        if s == VISIBILITY_COMPUTE {
+            return Ok(Self(RenderPath::Visibility, VisibilityRaster::Compute));
+        }
+        let path = s.parse().map_err(|e: String| {
+            anyhow::anyhow!("{e} (or {VISIBILITY_COMPUTE}: the visibility path, compute raster)")
+        })?;
+        Ok(Self(path, VisibilityRaster::Hardware))
     }
 
     pub fn name(self) -> &'static str {
-        self.0.name()
+        match self.1 {
+            VisibilityRaster::Compute if self.0 == RenderPath::Visibility => VISIBILITY_COMPUTE,
+            _ => self.0.name(),
+        }
     }
 
     fn has_tiles(self) -> bool {
@@ -66,6 +79,8 @@ pub struct Setup {
 pub struct Support {
     pub msaa: Vec<u32>,
     pub subgroup: bool,
+    /// 64-bit atomic min/max (the compute rasteriser).
+    pub int64_atomics: bool,
 }
 
 /// Expands the axes into set-ups the adapter supports, in a stable order, and lists what was
@@ -84,13 +99,23 @@ pub fn expand(axes: &Axes, support: &Support) -> (Vec<Setup>, Vec<String>) {
     if axes.tiles.contains(&32) && axes.paths.iter().any(|p| p.0.is_deferred()) {
         left_out.push("tile 32 on the TBDR paths: their tiles are 8 or 16".into());
     }
+    let compute_raster = |p: &PathChoice| p.1 == VisibilityRaster::Compute;
+    if axes.paths.iter().any(compute_raster) && !support.int64_atomics {
+        left_out.push(format!(
+            "{VISIBILITY_COMPUTE}: the adapter has no 64-bit atomic min/max"
+        ));
+    }
     if axes.scalarize.contains(&true) && !support.subgroup {
         left_out.push("scalarize on: the adapter has no SUBGROUP feature".into());
     }
     for scene in 0..axes.scenes.len() {
         for &(width, height) in &axes.sizes {
             for &msaa in axes.msaa.iter().filter(|m| support.msaa.contains(m)) {
-                for &path in &axes.paths {
+                for &path in axes
+                    .paths
+                    .iter()
+                    .filter(|p| support.int64_atomics || !compute_raster(p))
+                {
                     // TBDR tiles are 8 or 16 (one invocation per pixel); the light volumes
                     // have none (their base pass runs at 16).
                     let tbdr_tiles: Vec<u32> =
@@ -213,6 +238,7 @@ mod tests {
         let support = Support {
             msaa: vec![1, 2, 4, 8],
             subgroup: true,
+            int64_atomics: true,
         };
         let (setups, left_out) = expand(&axes(), &support);
         // Per size and MSAA: naive, naive-prez, tiled 3×2, 2.5D 3×2, clustered 3×2.
@@ -222,10 +248,41 @@ mod tests {
     }
 
     #[test]
+    fn the_compute_raster_is_a_path_left_out_without_64_bit_atomics() {
+        let compute = PathChoice::parse("visibility-compute").unwrap();
+        assert_eq!(
+            (compute.0, compute.1, compute.name()),
+            (
+                RenderPath::Visibility,
+                VisibilityRaster::Compute,
+                "visibility-compute"
+            )
+        );
+        let mut axes = axes();
+        axes.msaa = vec![4];
+        axes.tiles = vec![16];
+        let hardware = PathChoice::parse("visibility").unwrap();
+        axes.paths = vec![hardware, compute];
+        let support = |int64_atomics| Support {
+            msaa: vec![4],
+            subgroup: true,
+            int64_atomics,
+        };
+        let (setups, left_out) = expand(&axes, &support(true));
+        assert!(left_out.is_empty());
+        let count = |path| setups.iter().filter(|s| s.path == path).count();
+        assert!(count(compute) > 0 && count(compute) == count(hardware));
+        let (setups, left_out) = expand(&axes, &support(false));
+        assert!(setups.iter().all(|s| s.path != compute) && !setups.is_empty());
+        assert!(left_out.iter().any(|l| l.contains("visibility-compute")));
+    }
+
+    #[test]
     fn unsupported_cells_are_left_out_and_named() {
         let support = Support {
             msaa: vec![1, 4],
             subgroup: false,
+            int64_atomics: false,
         };
         let (setups, left_out) = expand(&axes(), &support);
         assert_eq!(setups.len(), 2 * 2 * 11);

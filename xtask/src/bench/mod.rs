@@ -52,7 +52,8 @@ pub struct Args {
     /// MSAA counts (those the adapter lacks are left out, and said so).
     #[arg(long, value_delimiter = ',', default_value = "1,2,4,8")]
     msaa: Vec<u32>,
-    /// Paths: naive, naive-prez, tiled, 2.5d, clustered, tbdr, tbdr-per-sample, deferred.
+    /// Paths: naive, naive-prez, tiled, 2.5d, clustered, tbdr, tbdr-per-sample, deferred,
+    /// visibility, visibility-compute (the visibility path with the compute rasteriser).
     #[arg(
         long,
         value_delimiter = ',',
@@ -90,7 +91,7 @@ pub struct Args {
     no_occlusion: bool,
     /// Also rasterise the visibility path's opaque triangles in compute, beside its raster
     /// pass (`ComputeRasterPass`, adapters with 64-bit atomic min/max): the `compute_raster`
-    /// column. The value is the pixel-box area up to which one invocation rasterises a
+    /// column (`visibility-compute` has it in the frame already). The value is the pixel-box area up to which one invocation rasterises a
     /// triangle (0: every triangle by 16×16 tiles). It adds its time to the frame's.
     #[arg(long)]
     compute_raster: Option<u32>,

@@ -106,6 +106,7 @@ pub(super) fn renderer_config(args: &Args, setup: &Setup) -> RendererConfig {
         height: setup.height,
         msaa: setup.msaa,
         path: setup.path.0,
+        visibility_raster: setup.path.1,
         tile: setup.tile.max(8),
         scalarize: setup.scalarize,
         cull_brute_force: setup.brute_force,

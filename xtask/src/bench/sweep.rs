@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context as _, Result};
 use renderer::extend::ComputeRasterPass;
-use renderer::frame::{RenderPath, Renderer};
+use renderer::frame::{RenderPath, Renderer, VisibilityRaster};
 use renderer::frame::{create_target, default_camera};
 use renderer::{GpuContext, GpuOptions};
 
@@ -69,6 +69,7 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
     let support = Support {
         msaa: caps.msaa_counts(),
         subgroup: caps.subgroup.is_some(),
+        int64_atomics: caps.int64_atomic_min_max,
     };
     let (mut setups, left_out) = matrix::expand(&axes, &support);
     let groups = matrix::groups(&setups);
@@ -177,6 +178,7 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
         renderer.prepare_scene(&bench_scene.scene)?;
         if let Some(area) = args.compute_raster
             && config.path == RenderPath::Visibility
+            && config.visibility_raster == VisibilityRaster::Hardware
         {
             let pass = ComputeRasterPass::new(&gpu, &config)?.with_small_area(area);
             renderer.insert_pass_after("visibility", Box::new(pass))?;

@@ -2,12 +2,13 @@
 //! visibility raster pass draws, rasterised again by compute kernels into one 64-bit atomic a
 //! sample, on adapters with `SHADER_INT64_ATOMIC_MIN_MAX`.
 //!
-//! It runs beside the hardware raster, not instead of it: the frame still reads the hardware
-//! pass's IDs and depth. It exists to measure whether compute rasterisation is faster on a
-//! device (`cargo xtask bench --compute-raster`) and to check that its IDs are the hardware
-//! raster's (`tests/tests/render_gpu/compute_raster.rs`). Engines and tools add it
-//! ([`crate::extend::ComputeRasterPass`]) with
-//! [`crate::frame::Renderer::insert_pass_after`] after the `"visibility"` pass.
+//! With [`crate::frame_data::VisibilityRaster::Compute`] the visibility raster pass runs it
+//! first and writes its samples into the frame's depth and visibility buffers
+//! (`super::resolve`). As a pass of its own ([`crate::extend::ComputeRasterPass`], inserted
+//! with [`crate::frame::Renderer::insert_pass_after`] after `"visibility"`) it runs beside the
+//! hardware raster, which the frame then reads: so the bench times both rasterisers on the
+//! same frames (`cargo xtask bench --compute-raster`) and the tests compare their IDs
+//! (`tests/tests/render_gpu/compute_raster.rs`).
 
 use std::sync::{Arc, Mutex, PoisonError, Weak};
 
@@ -16,8 +17,9 @@ use shaders_gen::visibility::compute_raster::vis_compute_raster as kernels;
 use super::geometry::geometry_group;
 use crate::frame_data::{
     BatchLayout, ConfigError, FrameInputs, FrameResources, NO_DRAW, RenderError, RendererConfig,
+    SceneDrawList,
 };
-use crate::graph::{PassContext, RenderGraph};
+use crate::graph::{Buffer, BufferAccess, Handle, ImportAccess, PassContext, RenderGraph};
 use crate::passes::Pass;
 use crate::shader::ShaderProgram;
 use crate::{GpuContext, GpuError};
@@ -322,6 +324,62 @@ impl ComputeRasterPass {
     }
 }
 
+impl ComputeRasterPass {
+    /// Adds the compute raster to `graph` for `list`'s batches, whose draws' geometry records
+    /// are `draw_geometry` (`draws` of them); returns the samples buffer, imported and written
+    /// (the graph keeps the pass), and its handle after the write.
+    pub(crate) fn add_raster(
+        &self,
+        graph: &mut RenderGraph,
+        frame: &FrameInputs,
+        resources: &mut FrameResources,
+        (list, draw_geometry, draws): (&SceneDrawList, &wgpu::Buffer, u32),
+    ) -> Result<(wgpu::Buffer, Handle<Buffer>), RenderError> {
+        let device = frame.gpu.device();
+        let sizing = Sizing::of(frame, self.msaa, self.small_area);
+        sizing.check(device)?;
+        let mut guard = self.buffers.lock().unwrap_or_else(PoisonError::into_inner);
+        let b = match guard.take() {
+            Some(b) if b.sizing == sizing => guard.insert(b),
+            _ => guard.insert(Buffers::new(device, sizing)),
+        };
+        let revision = frame.instances.revision;
+        let current = b.classes_of.as_ref().is_some_and(|(layout, kept)| {
+            *kept == revision && layout.upgrade().is_some_and(|l| Arc::ptr_eq(&l, &list.layout))
+        });
+        if !current {
+            let classes = classes(&list.layout, sizing.draws);
+            frame
+                .gpu
+                .queue()
+                .write_buffer(&b.classes, 0, bytemuck::cast_slice(&classes));
+            b.classes_of = Some((Arc::downgrade(&list.layout), revision));
+        }
+        let recording = Recording {
+            pipelines: [self.triangles.clone(), self.args.clone(), self.tiles.clone()],
+            groups: [
+                self.group0(frame, b, draws)?,
+                frame.instances.draw_group_for(device, &self.program)?,
+                geometry_group(device, &self.program, &frame.scene, draw_geometry)?,
+            ],
+            vis64: b.vis64.clone(),
+            counters: b.counters.clone(),
+            tile_args: b.tile_args.clone(),
+            indirect: b.indirect.clone(),
+            triangle_groups: sizing.triangles.div_ceil(kernels::TRIANGLE_WORKGROUP),
+        };
+        let vis64 = b.vis64.clone();
+        drop(guard);
+        let mut handle =
+            resources.import_buffer(graph, "compute raster samples", &vis64, ImportAccess::ReadWrite);
+        graph
+            .add_pass(self.name())
+            .write_buffer(&mut handle, BufferAccess::StorageWrite)
+            .execute(move |ctx| recording.record(ctx));
+        Ok((vis64, handle))
+    }
+}
+
 impl Pass for ComputeRasterPass {
     fn name(&self) -> &'static str {
         "compute raster"
@@ -347,45 +405,9 @@ impl Pass for ComputeRasterPass {
             .scene_draws
             .clone()
             .ok_or(missing("the scene's draw batches (scene culling)"))?;
-        let device = frame.gpu.device();
-        let sizing = Sizing::of(frame, self.msaa, self.small_area);
-        sizing.check(device)?;
-        let mut guard = self.buffers.lock().unwrap_or_else(PoisonError::into_inner);
-        let b = match guard.take() {
-            Some(b) if b.sizing == sizing => guard.insert(b),
-            _ => guard.insert(Buffers::new(device, sizing)),
-        };
-        let revision = frame.instances.revision;
-        let current = b.classes_of.as_ref().is_some_and(|(layout, kept)| {
-            *kept == revision && layout.upgrade().is_some_and(|l| Arc::ptr_eq(&l, &list.layout))
-        });
-        if !current {
-            let classes = classes(&list.layout, sizing.draws);
-            frame
-                .gpu
-                .queue()
-                .write_buffer(&b.classes, 0, bytemuck::cast_slice(&classes));
-            b.classes_of = Some((Arc::downgrade(&list.layout), revision));
-        }
-        let recording = Recording {
-            pipelines: [self.triangles.clone(), self.args.clone(), self.tiles.clone()],
-            groups: [
-                self.group0(frame, b, vis.draws)?,
-                frame.instances.draw_group_for(device, &self.program)?,
-                geometry_group(device, &self.program, &frame.scene, &vis.draw_geometry)?,
-            ],
-            vis64: b.vis64.clone(),
-            counters: b.counters.clone(),
-            tile_args: b.tile_args.clone(),
-            indirect: b.indirect.clone(),
-            triangle_groups: sizing.triangles.div_ceil(kernels::TRIANGLE_WORKGROUP),
-        };
-        drop(guard);
-        // Its buffers are its own, not the graph's: nothing downstream reads them.
-        graph
-            .add_pass(self.name())
-            .side_effects()
-            .execute(move |ctx| recording.record(ctx));
+        // The samples are imported read-write, so the graph keeps the pass though nothing in
+        // the frame reads them.
+        self.add_raster(graph, frame, resources, (&list, &vis.draw_geometry, vis.draws))?;
         Ok(())
     }
 }

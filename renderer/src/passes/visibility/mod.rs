@@ -2,12 +2,15 @@
 //! depth and, per sample, the ID of the scene triangle it sees (`raster`); a compute pass finds
 //! each pixel's triangles again, evaluates their materials and lights them through the frame's
 //! light lists (`shade`). It replaces pre-Z and the G-buffer: 4 bytes a sample besides depth.
-//! `compute_raster` rasterises the same opaque triangles in compute beside the raster pass,
-//! to measure and check that way of rasterising (opt-in).
+//! `compute_raster` rasterises the opaque triangles in compute instead
+//! ([`crate::frame_data::VisibilityRaster::Compute`]; the raster pass then resolves its samples
+//! into its targets, `resolve`, and draws only the alpha-masked draws), or beside the raster
+//! pass, to measure and check that way of rasterising.
 
 mod compute_raster;
 mod geometry;
 mod raster;
+mod resolve;
 mod shade;
 
 pub use compute_raster::{ComputeRasterCounts, ComputeRasterPass, DEFAULT_SMALL_AREA};

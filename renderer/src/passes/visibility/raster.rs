@@ -1,5 +1,8 @@
 //! The visibility raster pass: every opaque and alpha-masked draw of the scene's batches into
-//! the multisampled depth buffer and the visibility buffer (`shaders_gen`'s `vis_raster`).
+//! the multisampled depth buffer and the visibility buffer (`shaders_gen`'s `vis_raster`). With
+//! [`VisibilityRaster::Compute`] the compute rasteriser draws the opaque ones first
+//! (`super::compute_raster`), this pass resolves its samples into the cleared targets
+//! (`super::resolve`) and draws only the alpha-masked ones over them.
 
 use std::sync::{Arc, Mutex, PoisonError};
 
@@ -7,10 +10,11 @@ use shaders_gen::visibility::geometry::vis_geometry;
 use shaders_gen::visibility::vis_raster;
 
 use super::geometry::{draw_geometry, draw_geometry_buffer, geometry_group, sequence_buffer};
+use super::resolve::ComputeStage;
 use crate::GpuContext;
 use crate::frame_data::{
     ConfigError, DEPTH_FORMAT, FrameInputs, FrameResources, InstanceTable, RenderError,
-    RendererConfig, VISIBILITY_FORMAT, VisibilityHandles,
+    RendererConfig, VISIBILITY_FORMAT, VisibilityHandles, VisibilityRaster,
 };
 use crate::graph::{
     BufferAccess, Handle, PassContext, RenderGraph, Texture, TextureAccess, TextureDesc,
@@ -81,11 +85,14 @@ pub struct VisRasterPass {
     state: Arc<Mutex<SceneState>>,
     /// The second half (occlusion culling's late draws).
     late: bool,
+    /// With [`VisibilityRaster::Compute`]: the compute rasteriser and its resolve.
+    compute: Option<Arc<ComputeStage>>,
 }
 
 impl VisRasterPass {
     /// The pass for `config`, refused when the device cannot multisample the visibility
-    /// buffer at `config.msaa`.
+    /// buffer at `config.msaa`, or (with [`VisibilityRaster::Compute`]) has no 64-bit atomic
+    /// min/max.
     pub fn new(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
         let supported = gpu.capabilities().msaa_r32uint.clone();
         if !supported.contains(&config.msaa) {
@@ -99,6 +106,10 @@ impl VisRasterPass {
             gpu.program(variant)
         };
         let (program, mask_program) = (program(false)?, program(true)?);
+        let compute = match config.visibility_raster {
+            VisibilityRaster::Hardware => None,
+            VisibilityRaster::Compute => Some(ComputeStage::new(gpu, config)?),
+        };
         let pipelines = |program: &ShaderProgram, masked: bool| {
             face_pipelines(|double_sided, mirrored| {
                 mesh_pipeline(
@@ -136,6 +147,7 @@ impl VisRasterPass {
             mask_program,
             state: Arc::default(),
             late: false,
+            compute,
         })
     }
 
@@ -150,6 +162,7 @@ impl VisRasterPass {
             masked: self.masked.clone(),
             state: Arc::clone(&self.state),
             late: true,
+            compute: self.compute.clone(),
         }
     }
 }
@@ -175,6 +188,16 @@ impl VisRasterPass {
             "visibility camera",
         )?;
         Ok((camera, geometry, mask_geometry))
+    }
+}
+
+impl VisRasterPass {
+    /// The draws' geometry records, how many, and the sequence index buffer (built in
+    /// `prepare`).
+    fn kept_buffers(&self) -> Option<(wgpu::Buffer, u32, wgpu::Buffer)> {
+        let state = self.state.lock().unwrap_or_else(PoisonError::into_inner);
+        let (sequence, _) = state.sequence.clone()?;
+        Some((state.draw_geometry.clone()?, state.records.len() as u32, sequence))
     }
 }
 
@@ -238,20 +261,20 @@ impl Pass for VisRasterPass {
         } else {
             None
         };
-        let (draw_geometry, draws, sequence) = {
-            let state = self.state.lock().unwrap_or_else(PoisonError::into_inner);
-            let records = state
-                .draw_geometry
-                .clone()
-                .ok_or(missing("draw geometry (built in prepare)"))?;
-            let (sequence, _) = state
-                .sequence
-                .clone()
-                .ok_or(missing("sequence indices (built in prepare)"))?;
-            (records, state.records.len() as u32, sequence)
-        };
+        let (draw_geometry, draws, sequence) = self
+            .kept_buffers()
+            .ok_or(missing("draw geometry and sequence indices (built in prepare)"))?;
         let (camera, geometry, mask_geometry) = self.groups(frame, &draw_geometry)?;
         let c = &frame.config;
+        let resolve = match (&self.compute, first) {
+            (Some(stage), None) => Some(stage.add_to_graph(
+                graph,
+                frame,
+                resources,
+                (&list, &draw_geometry, draws),
+            )?),
+            _ => None,
+        };
         let (mut depth, mut ids) = first.unwrap_or_else(|| {
             let size = TextureDesc::new_2d(c.width, c.height, DEPTH_FORMAT).with_samples(c.msaa);
             let ids = TextureDesc::new_2d(c.width, c.height, VISIBILITY_FORMAT).with_samples(c.msaa);
@@ -273,10 +296,16 @@ impl Pass for VisRasterPass {
             depth,
             ids,
             load: first.is_some(),
+            resolve: resolve
+                .as_ref()
+                .map(|r| (r.pipeline.clone(), r.group.clone())),
+            masked_only: self.compute.is_some(),
         };
-        graph
-            .add_pass(self.name())
-            .read_buffer(list.args, BufferAccess::Indirect)
+        let mut pass = graph.add_pass(self.name());
+        if let Some(r) = resolve {
+            pass.read_buffer(r.samples, BufferAccess::StorageRead);
+        }
+        pass.read_buffer(list.args, BufferAccess::Indirect)
             .write_texture(&mut depth, TextureAccess::DepthWrite)
             .write_texture(&mut ids, TextureAccess::ColorAttachment)
             .execute(move |ctx| recording.record(ctx));
@@ -306,11 +335,16 @@ struct Recording {
     ids: Handle<Texture>,
     /// The second half: keep what the first drew.
     load: bool,
+    /// The compute raster's resolve, drawn first (the first half under the compute raster).
+    resolve: Option<(wgpu::RenderPipeline, wgpu::BindGroup)>,
+    /// Under the compute raster: the opaque batches are the compute rasteriser's.
+    masked_only: bool,
 }
 
 impl Recording {
-    /// Clears depth and IDs (the first half) and draws every batch of its list, through the
-    /// sequence index buffer.
+    /// Clears depth and IDs (the first half), resolves the compute raster's samples into them
+    /// (under the compute raster) and draws every batch of its list (only the masked ones under
+    /// the compute raster), through the sequence index buffer.
     fn record(&self, ctx: &mut PassContext<'_>) {
         let depth_view = ctx.texture(self.depth).create_view(&Default::default());
         let ids_view = ctx.texture(self.ids).create_view(&Default::default());
@@ -345,6 +379,11 @@ impl Recording {
             occlusion_query_set: None,
             multiview_mask: None,
         });
+        if let Some((pipeline, group)) = &self.resolve {
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, group, &[]);
+            pass.draw(0..3, 0..1);
+        }
         let mut draws =
             SceneDraws::new(&mut pass, &self.scene, &self.instances, VertexStreams::Position);
         // Drawn through the sequence: `vertex_index` is the position in the index buffer (plus
@@ -353,6 +392,9 @@ impl Recording {
             .pass()
             .set_index_buffer(self.sequence.slice(..), wgpu::IndexFormat::Uint32);
         draws.draw_batches_with(&self.list, &self.instances, |batch| {
+            if self.masked_only && !batch.masked {
+                return None;
+            }
             let (pipelines, group3) = if batch.masked {
                 (&self.masked, &self.mask_geometry)
             } else {

@@ -1,0 +1,55 @@
+//! The compute rasteriser's samples written into the frame's multisampled depth buffer and
+//! visibility buffer, so the passes after the visibility raster read them as they read the
+//! hardware raster's.
+
+/// Full-screen pass at sample rate: each invocation reads its sample of `VIS64` (the compute
+/// rasteriser's buffer, `vis_compute_raster`, two 32-bit words a sample, the low word first)
+/// and writes the depth and the triangle ID it holds; a sample no triangle covered (both words
+/// 0) is discarded, keeping the cleared depth and ID. A sample holds
+/// `(!depth_bits << 32) | !id`, so the depth is `bitcast(!high)` and the ID `!low`.
+#[shader_dsl::shader]
+pub mod vis_resolve {
+    /// The frame's size and sample count, for the sample's index in `VIS64`.
+    pub struct ResolveParams {
+        pub width: u32,
+        pub msaa: u32,
+        pub pad: UVec2,
+    }
+
+    /// What a sample gets.
+    pub struct ResolveOut {
+        #[builtin(frag_depth)]
+        pub depth: f32,
+        #[location(0)]
+        pub id: u32,
+    }
+
+    #[uniform(group = 0, binding = 0)]
+    static PARAMS: ResolveParams;
+    /// The compute rasteriser's samples, as `(low, high)` word pairs.
+    #[storage(group = 0, binding = 1)]
+    static VIS64: [u32];
+
+    #[vertex]
+    pub fn vs_fullscreen(#[builtin(vertex_index)] index: u32) -> Vec4 {
+        let uv = Vec2::new(((index << 1u32) & 2u32) as f32, (index & 2u32) as f32);
+        Vec4::new(uv.x * 2.0 - 1.0, uv.y * 2.0 - 1.0, 0.0, 1.0)
+    }
+
+    #[fragment]
+    pub fn fs_resolve(
+        #[builtin(position)] position: Vec4,
+        #[builtin(sample_index)] sample: u32,
+    ) -> ResolveOut {
+        let p = position.xy().floor().as_uvec2();
+        let at = ((p.y * PARAMS.width + p.x) * PARAMS.msaa + sample) * 2u32;
+        let high = VIS64[at + 1u32];
+        if high == 0u32 {
+            discard();
+        }
+        ResolveOut {
+            depth: f32::from_bits(!high),
+            id: !VIS64[at],
+        }
+    }
+}
