@@ -61,6 +61,7 @@ fn scene(count: u32, bench: &Bench) -> Result<Setup> {
         decals_file: None,
         particles: count,
         particle_lighting: "atlas".into(),
+        vis_raster: "hardware".into(),
         particle_atlas: 0,
         light_radius: None,
         path: bench.path.clone(),

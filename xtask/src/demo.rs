@@ -8,8 +8,10 @@
 //! dust, lit once per frame and drawn blended in `frame.png`),
 //! `target/demo/shading_frequency.png` (the same frame by tile-based deferred shading, the
 //! pixels it shaded per sample in red), `target/demo/deferred.png` (the same frame by
-//! traditional deferred shading, a light volume per light) and `target/demo/graph.dot` (the
-//! compiled frame graph), compares the deferred paths' frames and GPU times with Forward+'s,
+//! traditional deferred shading, a light volume per light), `target/demo/visibility.png` and,
+//! where the adapter has 64-bit atomics, `target/demo/visibility_compute.png` (the visibility
+//! buffer path, rasterised by the hardware and by compute kernels), and `target/demo/graph.dot`
+//! (the compiled frame graph), compares the deferred paths' frames and GPU times with Forward+'s,
 //! then moves a sphere marked dynamic over
 //! three frames and reports what the shadow cache redrew, with a summary of at most about 20
 //! lines.
@@ -18,7 +20,7 @@ use anyhow::{Context as _, Result};
 use glam::{Mat4, Vec3};
 use renderer::demo::moving_instance;
 use renderer::frame::create_target;
-use renderer::frame::{FrameView, RenderPath, Renderer, RendererConfig};
+use renderer::frame::{FrameView, RenderPath, Renderer, RendererConfig, VisibilityRaster};
 use renderer::scene::{LightKind, SceneLight};
 use renderer::shadow::ShadowReport;
 
@@ -54,6 +56,7 @@ pub fn run(args: &Args) -> Result<()> {
         decals_file: None,
         particles: DEMO_PARTICLES,
         particle_lighting: "atlas".into(),
+        vis_raster: "hardware".into(),
         particle_atlas: 1024,
         light_radius: None,
         path: "tiled".into(),
@@ -91,15 +94,29 @@ pub fn run(args: &Args) -> Result<()> {
     let tbdr = lit_by(RenderPath::TbdrPerSample)?;
     let volumes = lit_by(RenderPath::Deferred)?;
     let visibility = lit_by(RenderPath::Visibility)?;
-    let warm = [
+    // The visibility path with the compute rasteriser, where the adapter has 64-bit atomics.
+    let compute = RendererConfig {
+        path: RenderPath::Visibility,
+        visibility_raster: VisibilityRaster::Compute,
+        ..s.config
+    };
+    let compute = s.gpu.capabilities().int64_atomic_min_max.then_some(compute);
+    let vis_compute = compute
+        .map(|config| shoot_with(&s, config, false))
+        .transpose()?;
+    let mut timed: Vec<RendererConfig> = [
         s.config.path,
         RenderPath::TbdrPerSample,
         RenderPath::Deferred,
         RenderPath::Visibility,
     ]
-    .map(|path| warm_frame_ms(&s, RendererConfig { path, ..s.config }));
-    let [forward_ms, tbdr_ms, deferred_ms, visibility_ms] = warm;
-    let warm_ms = [forward_ms?, tbdr_ms?, deferred_ms?, visibility_ms?];
+    .map(|path| RendererConfig { path, ..s.config })
+    .to_vec();
+    timed.extend(compute);
+    let warm_ms = timed
+        .into_iter()
+        .map(|config| warm_frame_ms(&s, config))
+        .collect::<Result<Vec<_>>>()?;
     let moving = moving_sphere(&s)?;
     let dir = args
         .out_dir
@@ -116,6 +133,7 @@ pub fn run(args: &Args) -> Result<()> {
         dir.join("deferred.png"),
         dir.join("visibility.png"),
         dir.join("graph.dot"),
+        dir.join("visibility_compute.png"),
     ];
     save_png(&files[0], &lit.rgba, size)?;
     save_png(&files[1], &heat.rgba, size)?;
@@ -126,16 +144,24 @@ pub fn run(args: &Args) -> Result<()> {
     save_png(&files[6], &volumes.rgba, size)?;
     save_png(&files[7], &visibility.rgba, size)?;
     save_text(&files[8], &lit.graph_dot)?;
-    summary(&s, &lit, &files, started.elapsed().as_secs_f64());
-    print_deferred(
-        &lit,
-        &[
-            ("tbdr-per-sample", &tbdr),
-            ("deferred", &volumes),
-            ("visibility", &visibility),
-        ],
-        warm_ms,
-    );
+    let mut paths = vec![
+        ("tbdr-per-sample", &tbdr),
+        ("deferred", &volumes),
+        ("visibility", &visibility),
+    ];
+    let files = match &vis_compute {
+        Some(shot) => {
+            save_png(&files[9], &shot.rgba, size)?;
+            paths.push(("visibility, compute raster", shot));
+            &files[..]
+        }
+        None => &files[..9],
+    };
+    summary(&s, &lit, files, started.elapsed().as_secs_f64());
+    print_deferred(&lit, &paths, &warm_ms);
+    if vis_compute.is_none() {
+        print_no_compute_raster();
+    }
     print_moving(&moving);
     Ok(())
 }
@@ -178,10 +204,16 @@ fn warm_frame_ms(s: &Setup, config: RendererConfig) -> Result<Option<f64>> {
     Ok(Some(totals[totals.len() / 2]))
 }
 
+/// Says why the demo has no frame of the compute rasteriser.
+#[expect(clippy::print_stdout, reason = "the demo's report")]
+fn print_no_compute_raster() {
+    println!("visibility, compute raster: not on this adapter (no SHADER_INT64_ATOMIC_MIN_MAX)");
+}
+
 /// The deferred paths' frames against Forward+'s `lit`: image difference, and the warm GPU
 /// time of each path (`warm_ms`: Forward+, then `paths` in order).
 #[expect(clippy::print_stdout, reason = "the demo's report")]
-fn print_deferred(lit: &Shot, paths: &[(&str, &Shot)], warm_ms: [Option<f64>; 4]) {
+fn print_deferred(lit: &Shot, paths: &[(&str, &Shot)], warm_ms: &[Option<f64>]) {
     let time = |ms: Option<f64>| ms.map_or("no timestamps".into(), |ms| format!("{ms:.2} ms"));
     let cells: Vec<String> = paths
         .iter()

@@ -8,7 +8,9 @@
 //! compute rasteriser leaves masked draws to the hardware); they may differ only on samples
 //! within rounding of an edge (the hardware snaps vertices to a sub-pixel grid, the compute
 //! rasteriser evaluates edges in floating point) or of a depth tie. The stated tolerance is
-//! 0.5% of samples; neither a hole nor a different surface fits in it.
+//! 0.1% of samples (measured: at most 0.052%, 7 of 13,500 on the courtyard at MSAA 1);
+//! neither a hole nor a different surface fits in it, nor depth planes that lose precision to
+//! cancellation (computed without the reference depth, the city differs on 0.16%).
 //!
 //! A grid of square quads placed so that their vertical, horizontal and diagonal edges pass
 //! exactly through pixel centres, drawn once as it is and once mirrored (a negative scale,
@@ -33,7 +35,7 @@ use tests::host_replay::BindingsProbe;
 const WIDTH: u32 = 150;
 const HEIGHT: u32 = 90;
 /// Samples allowed to differ, as a fraction of all samples.
-const TOLERANCE: f64 = 0.005;
+const TOLERANCE: f64 = 0.001;
 
 /// `scene` with every material opaque.
 fn opaque(mut scene: Scene) -> Scene {

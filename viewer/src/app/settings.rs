@@ -1,10 +1,10 @@
 //! The running window's responses that change its state: the settings keys (path, MSAA, tile,
-//! views, draw culling, light count), each reconfiguring the renderer in place (the scene, its
+//! views, the visibility rasteriser, draw culling, light count), each reconfiguring the renderer in place (the scene, its
 //! added instances, decals and lights stay uploaded); hot reload outcomes (the programs built
 //! again on the new WGSL, or the refusal shown); the overlay's status lines; and window resizes.
 
 use anyhow::Result;
-use renderer::frame::{FrameView, ParticleLighting, RenderPath};
+use renderer::frame::{FrameView, ParticleLighting, RenderPath, VisibilityRaster};
 use viewer::hot_reload::Outcome;
 use viewer::scene::{Shown, procedural};
 use winit::dpi::PhysicalSize;
@@ -13,8 +13,8 @@ use winit::keyboard::KeyCode;
 use super::Running;
 
 impl Running {
-    /// A settings key: path, MSAA, tile, heatmap, decal heatmap, shadow atlas, draw culling or
-    /// light count; reconfigures the renderer ([`renderer::frame::Renderer::reconfigure`]), or
+    /// A settings key: path, MSAA, tile, heatmap, decal heatmap, shadow atlas, the visibility
+    /// path's rasteriser, draw culling or light count; reconfigures the renderer ([`renderer::frame::Renderer::reconfigure`]), or
     /// replaces its lights.
     pub(super) fn action(&mut self, key: char, shown: &Shown) -> Result<()> {
         let mut config = self.config;
@@ -55,6 +55,13 @@ impl Running {
                 config.particle_lighting = match config.particle_lighting {
                     ParticleLighting::Atlas => ParticleLighting::PerPixel,
                     ParticleLighting::PerPixel => ParticleLighting::Atlas,
+                }
+            }
+            // The visibility path's rasteriser (a device without 64-bit atomics refuses it).
+            'r' => {
+                config.visibility_raster = match config.visibility_raster {
+                    VisibilityRaster::Hardware => VisibilityRaster::Compute,
+                    VisibilityRaster::Compute => VisibilityRaster::Hardware,
                 }
             }
             'o' => {
@@ -124,8 +131,13 @@ impl Running {
         let mut lines: Vec<String> = self.message.clone().into_iter().collect();
         lines.extend([
             format!(
-                "{:?}, MSAA {}, tile {}, {:?}, particles lit {}",
+                "{:?}{}, MSAA {}, tile {}, {:?}, particles lit {}",
                 c.path,
+                if c.path == RenderPath::Visibility {
+                    format!(" ({} raster, R)", c.visibility_raster.name())
+                } else {
+                    String::new()
+                },
                 c.msaa,
                 c.tile,
                 c.view,
@@ -182,6 +194,7 @@ impl Running {
             KeyCode::KeyC => self.action('c', shown)?,
             KeyCode::KeyP => self.action('p', shown)?,
             KeyCode::KeyO => self.action('o', shown)?,
+            KeyCode::KeyR => self.action('r', shown)?,
             KeyCode::KeyG => self.action('g', shown)?,
             KeyCode::KeyI => self.added.add_batch(&mut self.renderer, shown, &self.fly)?,
             KeyCode::KeyU => self.added.remove_batch(&mut self.renderer)?,

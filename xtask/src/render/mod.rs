@@ -11,6 +11,7 @@ use renderer::demo::{courtyard_look, pick_shadowed, procedural_lights};
 use renderer::frame::create_target;
 use renderer::frame::{
     FrameCamera, FrameReport, FrameView, ParticleLighting, RenderPath, Renderer, RendererConfig,
+    VisibilityRaster,
 };
 use renderer::frame_data::LightSet;
 use renderer::graph::PassTiming;
@@ -69,6 +70,10 @@ pub struct Args {
     /// (the reference).
     #[arg(long, default_value = "atlas")]
     pub particle_lighting: String,
+    /// hardware | compute: what rasterises the visibility path's opaque triangles (compute:
+    /// kernels with 64-bit atomics, on adapters with them).
+    #[arg(long, default_value = "hardware")]
+    pub vis_raster: String,
     /// Side of the particle lighting atlas in texels (a power of two); 0: 2048, or more when
     /// the pool needs it.
     #[arg(long, default_value_t = 0)]
@@ -209,6 +214,13 @@ pub fn setup(args: &Args) -> Result<Setup> {
         .particle_lighting
         .parse()
         .map_err(|e: String| anyhow::anyhow!("--particle-lighting: {e}"))?;
+    let visibility_raster: VisibilityRaster = args
+        .vis_raster
+        .parse()
+        .map_err(|e: String| anyhow::anyhow!("--vis-raster: {e}"))?;
+    if visibility_raster == VisibilityRaster::Compute && path != RenderPath::Visibility {
+        bail!("--vis-raster compute: only the visibility path has it; add --path visibility");
+    }
     let side = args.particle_atlas;
     if side != 0 && (!side.is_power_of_two() || !(64..=4096).contains(&side)) {
         bail!("--particle-atlas {side}: use a power of two from 64 to 4096, or 0 for the default");
@@ -251,6 +263,7 @@ pub fn setup(args: &Args) -> Result<Setup> {
             1
         },
         path,
+        visibility_raster,
         tile: args.tile,
         scalarize,
         view,
