@@ -12,7 +12,8 @@
 //! [`interp`] evaluates IR expressions on the host with the DSL's runtime semantics.
 //!
 //! Without `compiler`, only [`rt`] (the runtime reflection types generated code stores in
-//! statics) and the hidden re-exports generated code needs are available.
+//! statics), [`web`] (a variant's WGSL for browsers, and its fit to WebGPU's limits) and the
+//! hidden re-exports generated code needs are available.
 
 // No panics on any input: errors are typed and point at the user's span. An invariant that truly
 // holds is a documented `#[expect(clippy::expect_used, reason = ..)]`; tests may unwrap
@@ -20,6 +21,7 @@
 #![warn(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 pub mod rt;
+pub mod web;
 
 #[cfg(feature = "compiler")]
 pub mod back;

@@ -81,6 +81,9 @@ pub struct EntryPoint {
     pub stage: Stage,
     /// The workgroup size; `[0, 0, 0]` for vertex and fragment.
     pub workgroup_size: [u32; 3],
+    /// Bytes of workgroup memory it uses, each variable rounded up to 16 bytes as WebGPU's
+    /// `maxComputeWorkgroupStorageSize` counts them; 0 for vertex and fragment.
+    pub workgroup_memory: u32,
     /// User-defined inputs (`#[location]` parameters and IO struct fields), by location: for a
     /// vertex entry point, the vertex attributes.
     pub inputs: &'static [Location],

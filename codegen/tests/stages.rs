@@ -4,6 +4,8 @@
 
 #[path = "stages/int64.rs"]
 mod int64;
+#[path = "stages/workgroup_memory.rs"]
+mod workgroup_memory;
 
 use codegen::rt::{BindingKind, SampleType};
 

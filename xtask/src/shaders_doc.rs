@@ -1,6 +1,7 @@
 //! `cargo xtask shaders --doc`: one Markdown page per DSL module, for an engine engineer who
 //! should not have to open WGSL: the module's own documentation, its variant axes, the variant
-//! table (axis values, entry points and workgroup sizes, features, validation), the bindings
+//! table (axis values, entry points and workgroup sizes, features, validation, and whether it
+//! runs in a browser: `codegen::web`), the bindings
 //! (which variants have each), and the host structs with every field's offset and size.
 //!
 //! Offsets come from the DSL's layout (`codegen::layout`, what the generated host structs copy)
@@ -13,6 +14,7 @@ use codegen::Compiled;
 use codegen::ir::{Lit, Module, Scalar, TexKind, Ty};
 use codegen::rt::{BindingKind, Stage};
 use codegen::variants::Env;
+use codegen::web::{WebLimits, web_issues};
 
 /// What validated each variant, in `compiled.variants` order.
 pub struct Validation {
@@ -110,7 +112,7 @@ fn variants(page: &mut String, c: &Compiled, validation: &[Validation]) {
     );
     let _ = writeln!(
         page,
-        "| variant | axis values | entry points | features | WGSL bytes | SPIR-V words | naga | spirv-val |\n|---|---|---|---|---:|---:|---|---|"
+        "| variant | axis values | entry points | features | WGSL bytes | SPIR-V words | naga | spirv-val | in a browser |\n|---|---|---|---|---:|---:|---|---|---|"
     );
     for (i, v) in c.variants.iter().enumerate() {
         let key = c.keys.iter().find(|k| k.name == v.names[0]);
@@ -143,7 +145,7 @@ fn variants(page: &mut String, c: &Compiled, validation: &[Validation]) {
         };
         let _ = writeln!(
             page,
-            "| {name} | {values} | {} | {} | {} | {} | ok | {} |",
+            "| {name} | {values} | {} | {} | {} | {} | ok | {} | {} |",
             if entries.is_empty() {
                 "-".to_owned()
             } else {
@@ -152,7 +154,8 @@ fn variants(page: &mut String, c: &Compiled, validation: &[Validation]) {
             features(v.reflection.features),
             v.wgsl.len(),
             v.spirv.len(),
-            validation.get(i).map_or("not run", |r| r.spirv_val)
+            validation.get(i).map_or("not run", |r| r.spirv_val),
+            browser(&c.module.name, v)
         );
     }
     page.push('\n');
@@ -169,6 +172,73 @@ fn variants(page: &mut String, c: &Compiled, validation: &[Validation]) {
             let _ = writeln!(page, "- `{name}`: {first}");
         }
         page.push('\n');
+    }
+}
+
+/// Whether the variant runs in a browser with WebGPU's default limits: `yes`, what it needs
+/// beyond them (limits an adapter may offer), or why it cannot.
+pub(crate) fn browser(module: &str, v: &codegen::CompiledVariant) -> String {
+    let variant = as_rt(module, v);
+    let issues = web_issues(&variant, &WebLimits::DEFAULT);
+    let list = |limits: bool| {
+        issues
+            .iter()
+            .filter(|i| i.is_limit() == limits)
+            .map(ToString::to_string)
+            .collect::<Vec<_>>()
+            .join("; ")
+    };
+    let subgroups = if variant.features.subgroup {
+        " (the `subgroups` feature)"
+    } else {
+        ""
+    };
+    if issues.iter().any(|i| !i.is_limit()) {
+        format!("no: {}", list(false))
+    } else if issues.is_empty() {
+        format!("yes{subgroups}")
+    } else {
+        format!("above the default limits{subgroups}: {}", list(true))
+    }
+}
+
+/// A compiled variant as the runtime's [`codegen::rt::Variant`] (its strings leaked: the
+/// command runs once).
+fn as_rt(module: &str, v: &codegen::CompiledVariant) -> codegen::rt::Variant {
+    let leak = |s: &str| -> &'static str { Box::leak(s.to_owned().into_boxed_str()) };
+    let r = &v.reflection;
+    let entry_points: Vec<codegen::rt::EntryPoint> = r
+        .entry_points
+        .iter()
+        .map(|e| codegen::rt::EntryPoint {
+            name: leak(&e.name),
+            stage: e.stage,
+            workgroup_size: e.workgroup_size,
+            workgroup_memory: e.workgroup_memory,
+            inputs: Vec::leak(e.inputs.clone()),
+            outputs: Vec::leak(e.outputs.clone()),
+        })
+        .collect();
+    let bindings: Vec<codegen::rt::Binding> = r
+        .bindings
+        .iter()
+        .map(|b| codegen::rt::Binding {
+            name: leak(&b.name),
+            group: b.group,
+            binding: b.binding,
+            visibility: b.visibility,
+            kind: b.kind,
+        })
+        .collect();
+    codegen::rt::Variant {
+        module: leak(module),
+        names: Vec::leak(v.names.iter().map(|n| leak(n)).collect()),
+        wgsl: leak(&v.wgsl),
+        spirv: Vec::leak(v.spirv.clone()),
+        spirv_version: v.spirv_version,
+        entry_points: Vec::leak(entry_points),
+        bindings: Vec::leak(bindings),
+        features: r.features,
     }
 }
 

@@ -173,6 +173,7 @@ fn entry_point(e: &EntryPointInfo) -> TokenStream {
     let name = &e.name;
     let stage = format_ident!("{}", format!("{:?}", e.stage));
     let [x, y, z] = e.workgroup_size;
+    let workgroup_memory = e.workgroup_memory;
     let loc = |l: &crate::rt::Location| {
         let location = l.location;
         let format = format_ident!("{}", format!("{:?}", l.format));
@@ -184,6 +185,7 @@ fn entry_point(e: &EntryPointInfo) -> TokenStream {
         name: #name,
         stage: ::codegen::rt::Stage::#stage,
         workgroup_size: [#x, #y, #z],
+        workgroup_memory: #workgroup_memory,
         inputs: &[#(#inputs),*],
         outputs: &[#(#outputs),*],
     })

@@ -17,6 +17,8 @@ pub struct EntryPointInfo {
     pub stage: rt::Stage,
     /// Workgroup size (`[0; 3]` for graphics stages).
     pub workgroup_size: [u32; 3],
+    /// Bytes of the workgroup variables it uses, each rounded up to 16.
+    pub workgroup_memory: u32,
     /// `#[location]` inputs, sorted by location.
     pub inputs: Vec<rt::Location>,
     /// `#[location]` outputs, sorted by location.
@@ -181,9 +183,15 @@ pub fn reflect(m: &Module, env: &Env, subgroup: bool, int64: bool) -> Reflection
             rt::Stage::Fragment => v.fragment = true,
         };
         set(&mut all_stages);
+        let mut workgroup_memory = 0u32;
         for (g, used) in used_globals(m, env, i).into_iter().enumerate() {
             if used {
                 set(&mut visibility[g]);
+                let global = &m.globals[g];
+                if global.space == Space::Workgroup {
+                    let size = layout_of(&global.ty, m, env).size;
+                    workgroup_memory = workgroup_memory.saturating_add(size.next_multiple_of(16));
+                }
             }
         }
         let mut inputs = vec![];
@@ -198,6 +206,7 @@ pub fn reflect(m: &Module, env: &Env, subgroup: bool, int64: bool) -> Reflection
             name: f.name.clone(),
             stage,
             workgroup_size,
+            workgroup_memory,
             inputs,
             outputs,
         });

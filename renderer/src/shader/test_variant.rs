@@ -58,6 +58,7 @@ pub(super) const VARIANT: Variant = Variant {
         name: "main",
         stage: Stage::Compute,
         workgroup_size: [16, 16, 1],
+        workgroup_memory: 0,
         inputs: &[],
         outputs: &[],
     }],

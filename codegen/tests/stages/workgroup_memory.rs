@@ -1,0 +1,65 @@
+//! Each entry point's workgroup memory as WebGPU's `maxComputeWorkgroupStorageSize` counts it:
+//! the workgroup variables it uses (directly or through the functions it calls), each rounded
+//! up to 16 bytes; a variable only another entry point uses is not counted.
+
+use super::compile;
+
+const TILES: &str = r#"#[shader(axes(tile: u32 = [8, 16] => "t"))]
+mod tiles {
+    #[storage(group = 0, binding = 0, read_write)]
+    static OUT: [f32];
+    #[workgroup]
+    static DEPTHS: [f32; tile * tile];
+    #[workgroup]
+    static COUNT: Atomic<u32>;
+    #[workgroup]
+    static OTHER: [Vec4; 100];
+
+    fn count_one() {
+        COUNT.fetch_add(1u32);
+    }
+
+    #[compute(workgroup_size(tile, tile, 1))]
+    fn reduce(#[builtin(local_invocation_index)] i: u32) {
+        DEPTHS[i] = 1.0;
+        count_one();
+        workgroup_barrier();
+        OUT[i] = DEPTHS[0];
+    }
+
+    #[compute(workgroup_size(64))]
+    fn other(#[builtin(local_invocation_index)] i: u32) {
+        OTHER[i] = Vec4::ZERO;
+        OUT[i] = OTHER[0].x;
+    }
+
+    #[compute(workgroup_size(64))]
+    fn none(#[builtin(local_invocation_index)] i: u32) {
+        OUT[i] = 0.0;
+    }
+}
+"#;
+
+#[test]
+fn workgroup_memory_counts_what_each_entry_point_uses_rounded_to_16_bytes() {
+    let c = compile(TILES);
+    let memory = |variant: usize| -> Vec<(String, u32)> {
+        c.variants[variant]
+            .reflection
+            .entry_points
+            .iter()
+            .map(|e| (e.name.clone(), e.workgroup_memory))
+            .collect()
+    };
+    // Tile 8: 64 depths (256 bytes) and the counter (4, counted as 16), through `count_one`.
+    assert_eq!(
+        memory(0),
+        [
+            ("reduce".into(), 256 + 16),
+            ("other".into(), 1600),
+            ("none".into(), 0)
+        ]
+    );
+    // Tile 16: 256 depths (1,024 bytes).
+    assert_eq!(memory(1)[0], ("reduce".into(), 1024 + 16));
+}
