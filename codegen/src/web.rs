@@ -156,12 +156,20 @@ impl fmt::Display for WebIssue {
     }
 }
 
+/// What a variant with subgroup operations starts with in a browser: the extension, and the
+/// subgroup uniformity analysis turned off. WGSL's analysis cannot prove that a scalarization
+/// loop (`subgroupBroadcastFirst` of a value, then the lanes holding it, until none is left)
+/// calls its subgroup operations in subgroup-uniform control flow, and rejects it by default;
+/// the loop is correct wherever the lanes that leave it stop taking part, which is what WGSL
+/// (and the Vulkan path, where this WGSL already runs) guarantees.
+pub const SUBGROUP_DIRECTIVES: &str = "enable subgroups;\ndiagnostic(off, subgroup_uniformity);\n";
+
 /// The variant's WGSL as a browser takes it: the `enable` directives its features need, then
 /// [`Variant::wgsl`] unchanged.
 pub fn browser_wgsl(variant: &Variant) -> String {
     let mut out = String::with_capacity(variant.wgsl.len() + 32);
     if variant.features.subgroup {
-        out.push_str("enable subgroups;\n");
+        out.push_str(SUBGROUP_DIRECTIVES);
     }
     out.push_str(variant.wgsl);
     out

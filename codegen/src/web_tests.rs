@@ -171,6 +171,9 @@ fn browser_wgsl_enables_subgroups_only_where_the_variant_uses_them() {
     );
     assert_eq!(
         browser_wgsl(&subgroup),
-        format!("enable subgroups;\n{}", subgroup.wgsl)
+        format!(
+            "enable subgroups;\ndiagnostic(off, subgroup_uniformity);\n{}",
+            subgroup.wgsl
+        )
     );
 }

@@ -5,6 +5,7 @@
 //! test gets its device from [`gpu::gpu_test`], which fails loudly when there is no adapter or no
 //! validation layer, and fails the test on any validation error it caused.
 
+pub mod browser;
 pub mod cull_interp;
 pub mod cull_run;
 pub mod cull_scene;

@@ -3,6 +3,11 @@
 //!
 //! To re-approve after a deliberate change: `INSTA_UPDATE=always cargo test -p tests --test
 //! shaders_gen_snapshots`, then review `git diff tests/tests/snapshots` before committing.
+//!
+//! `browser` compiles every variant in headless Chromium against the WebGPU checks.
+
+#[path = "shaders_gen_snapshots/browser.rs"]
+mod browser;
 
 #[test]
 fn every_shaders_gen_variant_matches_its_wgsl_snapshot() {
