@@ -1,5 +1,5 @@
-//! System packages the tests need: a Vulkan driver, the Khronos validation layer, spirv-val and
-//! Xvfb (the benchmark charts' font is embedded in the binary).
+//! System packages the tests need: a Vulkan driver, the Khronos validation layer, spirv-val,
+//! Xvfb and Chromium (the benchmark charts' font is embedded in the binary).
 //!
 //! On a Debian/Ubuntu machine where we run as root, missing packages are installed with apt;
 //! anywhere else the command stops and names the packages to install.
@@ -64,6 +64,12 @@ const REQUIREMENTS: &[Requirement] = &[
             "libxkbcommon-x11-0",
         ],
         present: has_xvfb,
+        backports: false,
+    },
+    Requirement {
+        what: "Chromium (every shader variant compiled by a browser's WebGPU, headless)",
+        packages: &["chromium"],
+        present: has_chromium,
         backports: false,
     },
 ];
@@ -280,6 +286,14 @@ fn has_xvfb() -> bool {
         ]
         .iter()
         .all(|l| libraries.contains(l))
+}
+
+/// Debian's Chromium, where `tests::browser` looks for it (`$CHROMIUM` overrides both).
+fn has_chromium() -> bool {
+    std::env::var_os("CHROMIUM").map_or_else(
+        || Path::new("/usr/bin/chromium").is_file(),
+        |p| Path::new(&p).is_file(),
+    )
 }
 
 fn has_spirv_val() -> bool {

@@ -9,10 +9,9 @@
 //! variant without 64-bit integers must compile, and every one with them must not (WebGPU has
 //! none). Chromium found what naga cannot: the light-culling modules' barriers in non-uniform
 //! control flow ([`KNOWN_NON_UNIFORM_BARRIERS`]), and the scalarized variants' subgroup
-//! operations, which needed `diagnostic(off, subgroup_uniformity)`. Mutations, each of which
-//! fails here: `enable subgroups;` left out (the subgroup
-//! variants do not compile), the per-stage storage-buffer count off by one, the invocation
-//! limit taken from the workgroup's x size alone.
+//! operations, which needed `diagnostic(off, subgroup_uniformity)`. A mutation that leaves
+//! `enable subgroups;` out fails here (every subgroup variant disagrees); the limits' edges are
+//! the unit tests' (`codegen/src/web_tests.rs`, which fail with the per-stage count off by one).
 
 use std::time::Duration;
 
