@@ -256,6 +256,9 @@ impl FnCtx<'_> {
         span: Span,
     ) -> Result<Expr> {
         let recv = self.auto_deref(recv);
+        if method == "uniform_load" {
+            return self.uniform_load(recv, args, span);
+        }
         match recv.ty.clone() {
             Ty::Atomic(s) => self.atomic_method(recv, s, method, args, span),
             Ty::Texture(_) | Ty::StorageTexture(..) => {

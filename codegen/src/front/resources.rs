@@ -47,6 +47,49 @@ impl FnCtx<'_> {
         Ok(call(atomic(wgsl), all, ret, span))
     }
 
+    /// `X.uniform_load()` on a workgroup static (or an element or field of one, an atomic
+    /// too): WGSL's `workgroupUniformLoad(&X)`, a workgroup barrier and then a load whose value
+    /// every invocation shares, so control flow that depends on it (a loop with barriers in
+    /// it) is uniform to WGSL's analysis. It must itself be reached by the whole workgroup.
+    pub(super) fn uniform_load(&mut self, recv: Expr, args: Vec<Expr>, span: Span) -> Result<Expr> {
+        self.arity("uniform_load", &args, 0, span)?;
+        if !self.rooted_in_workgroup(&recv) {
+            return Err(Error::new(
+                recv.span,
+                "`uniform_load()` reads a `#[workgroup]` static, or an element or field of one \
+                 (WGSL's workgroupUniformLoad); other values need no uniform load",
+            ));
+        }
+        let ty = match &recv.ty {
+            Ty::Atomic(s) => Ty::Scalar(*s),
+            t if t.is_constructible() => t.clone(),
+            t => {
+                return Err(Error::new(
+                    recv.span,
+                    format!(
+                        "`uniform_load()` cannot load a `{}`: a runtime-sized array has no value",
+                        self.ty_name(t)
+                    ),
+                ));
+            }
+        };
+        let b = Builtin {
+            wgsl: "workgroupUniformLoad",
+            subgroup: false,
+            pointer_first: true,
+        };
+        Ok(call(b, vec![recv], ty, span))
+    }
+
+    /// Whether `e` is a workgroup static, or an element or field of one.
+    fn rooted_in_workgroup(&self, e: &Expr) -> bool {
+        match &e.kind {
+            ExprKind::Global(g) => self.m.module.globals[*g].space == Space::Workgroup,
+            ExprKind::Field(b, _) | ExprKind::Index(b, _) => self.rooted_in_workgroup(b),
+            _ => false,
+        }
+    }
+
     /// `fetch_min(v)`/`fetch_max(v)` on an `Atomic<u64>`: statements of type `()`, printed as
     /// bare `atomicMin(&X[i], v);`, which naga lowers without a result, the form wgpu's
     /// `SHADER_INT64_ATOMIC_MIN_MAX` allows (on storage buffers: the only place an

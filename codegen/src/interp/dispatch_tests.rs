@@ -421,3 +421,64 @@ fn u64_atomic_min_max_pack_keys_and_ids() {
         );
     }
 }
+
+/// `uniform_load()`: invocation 0's write and every invocation's atomic add, then one value for
+/// the whole workgroup, which bounds a loop with barriers in it.
+const UNIFORM_LOAD: &str = "#[shader] mod m {
+    #[storage(group = 0, binding = 0, read_write)]
+    static OUT: [u32];
+    #[workgroup]
+    static ROUNDS: u32;
+    #[workgroup]
+    static COUNT: Atomic<u32>;
+    #[compute(workgroup_size(8, 1, 1))]
+    fn main(#[builtin(local_invocation_index)] lid: u32, #[builtin(workgroup_id)] wg: UVec3) {
+        if lid == 0u32 {
+            ROUNDS = wg.x + 2u32;
+        }
+        COUNT.fetch_add(1u32);
+        let rounds = ROUNDS.uniform_load();
+        let count = COUNT.uniform_load();
+        let mut sum = 0u32;
+        for r in 0u32..rounds {
+            workgroup_barrier();
+            sum += r;
+        }
+        OUT[wg.x * 8u32 + lid] = sum * 100u32 + count;
+    }
+}";
+
+#[test]
+fn uniform_load_is_a_barrier_then_one_value_for_the_workgroup() {
+    let c = compile(UNIFORM_LOAD);
+    let wgsl = &c.variants[0].wgsl;
+    assert!(
+        wgsl.contains("workgroupUniformLoad(&ROUNDS)")
+            && wgsl.contains("workgroupUniformLoad(&COUNT)"),
+        "{wgsl}"
+    );
+    // Workgroup g: g + 2 rounds summing 0..g + 2, and all 8 invocations counted.
+    let expected: Vec<u32> = (0..2u32)
+        .flat_map(|g| vec![(0..g + 2).sum::<u32>() * 100 + 8; 8])
+        .collect();
+    for schedule in SCHEDULES {
+        assert_eq!(
+            run(&c, schedule, 32, 2, None, 16).unwrap(),
+            expected,
+            "{schedule:?}"
+        );
+    }
+}
+
+#[test]
+fn uniform_load_some_invocations_skip_is_a_uniformity_error() {
+    let skipped = UNIFORM_LOAD.replace(
+        "let rounds = ROUNDS.uniform_load();",
+        "let mut rounds = 1u32;\n        if lid < 4u32 { rounds = ROUNDS.uniform_load(); }",
+    );
+    let c = compile(&skipped);
+    let err = run(&c, Schedule::InOrder, 32, 1, None, 8).unwrap_err();
+    let text = err.to_string();
+    assert!(matches!(err.cause(), EvalError::Uniformity(_)), "{text}");
+    assert!(text.contains("workgroupUniformLoad"), "{text}");
+}

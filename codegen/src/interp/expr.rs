@@ -134,6 +134,19 @@ impl Machine<'_> {
                     self.sync(SyncOp::Barrier(b.wgsl), e.span)?;
                     return Ok(Value::Struct(vec![]));
                 }
+                if b.wgsl == "workgroupUniformLoad" {
+                    // A workgroup barrier, then every invocation loads the same value.
+                    self.sync(SyncOp::Barrier(b.wgsl), e.span)?;
+                    let [place] = args.as_slice() else {
+                        return Err(EvalError::Type(
+                            "`workgroupUniformLoad` without its place".into(),
+                        ));
+                    };
+                    return match place.ty {
+                        Ty::Atomic(_) => self.atomic(locals, "atomicLoad", args),
+                        _ => self.eval(locals, place, s),
+                    };
+                }
                 if b.pointer_first && b.wgsl.starts_with("atomic") {
                     return self.atomic(locals, b.wgsl, args);
                 }

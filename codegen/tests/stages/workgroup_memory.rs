@@ -1,6 +1,7 @@
 //! Each entry point's workgroup memory as WebGPU's `maxComputeWorkgroupStorageSize` counts it:
 //! the workgroup variables it uses (directly or through the functions it calls), each rounded
-//! up to 16 bytes; a variable only another entry point uses is not counted.
+//! up to 16 bytes; a variable only another entry point uses is not counted. And
+//! `uniform_load()`, which only workgroup statics (and their elements and fields) take.
 
 use super::compile;
 
@@ -62,4 +63,34 @@ fn workgroup_memory_counts_what_each_entry_point_uses_rounded_to_16_bytes() {
     );
     // Tile 16: 256 depths (1,024 bytes).
     assert_eq!(memory(1)[0], ("reduce".into(), 1024 + 16));
+}
+
+#[test]
+fn uniform_load_reads_workgroup_statics_only() {
+    let module = |body: &str| {
+        format!(
+            "#[shader]\nmod m {{\n    #[storage(group = 0, binding = 0, read_write)]\n    static OUT: [u32];\n    #[workgroup]\n    static W: [u32; 4];\n    #[compute(workgroup_size(4))]\n    fn main() {{\n        {body}\n    }}\n}}\n"
+        )
+    };
+    // An element of a workgroup array loads; a storage element and a local do not.
+    let ok = compile(&module("OUT[0] = W[1].uniform_load();"));
+    assert!(ok.variants[0].wgsl.contains("workgroupUniformLoad(&W[1])"));
+    super::check_err(
+        &module("OUT[0] = OUT[1].uniform_load();"),
+        "`uniform_load()` reads a `#[workgroup]` static",
+        9,
+        17,
+    );
+    super::check_err(
+        &module("let x = 1u32;\n        OUT[0] = x.uniform_load();"),
+        "`uniform_load()` reads a `#[workgroup]` static",
+        10,
+        17,
+    );
+    super::check_err(
+        &module("OUT[0] = W.uniform_load(1u32);"),
+        "uniform_load",
+        9,
+        17,
+    );
 }

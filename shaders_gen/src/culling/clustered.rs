@@ -127,7 +127,7 @@ pub mod cluster_cull {
     pub fn cull(#[builtin(local_invocation_index)] lid: u32, #[builtin(workgroup_id)] wg: UVec3) {
         let tile_index = wg.y * PARAMS.tiles.x + wg.x;
         let lists = PARAMS.slices;
-        let bounds = TILE_DEPTH[tile_index];
+        let bounds = tile_bounds(lid, tile_index);
         let mut slices = bounds.w;
         let mut depth_lo = 0.0;
         let mut depth_hi = UNBOUNDED;

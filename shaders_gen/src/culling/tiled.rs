@@ -137,7 +137,7 @@ pub mod tile_cull {
     #[compute(workgroup_size(64, 1, 1))]
     pub fn cull(#[builtin(local_invocation_index)] lid: u32, #[builtin(workgroup_id)] wg: UVec3) {
         let tile_index = wg.y * PARAMS.tiles.x + wg.x;
-        let bounds = TILE_DEPTH[tile_index];
+        let bounds = tile_bounds(lid, tile_index);
         let opaque = bounds.x <= bounds.y;
         let mut lists = 1u32;
         if PARAMS.transparent != 0u32 {

@@ -170,6 +170,9 @@ pub mod cull_append {
     static BOX_HIT_COUNT: Atomic<u32>;
     #[workgroup]
     static HITS: [UVec2; MAX_HITS];
+    /// The workgroup's tile's `TILE_DEPTH` entry, shared by `tile_bounds`.
+    #[workgroup]
+    static TILE_BOUNDS: UVec4;
 
     /// An item's bounding sphere in view space: centre in `xyz`, radius in `w`.
     fn view_sphere(item: u32) -> Vec4 {
@@ -258,6 +261,18 @@ pub mod cull_append {
             y: (PARAMS.view * b.axis_y.xyz().extend(0.0)).xyz(),
             z: (PARAMS.view * b.axis_z.xyz().extend(0.0)).xyz(),
         }
+    }
+
+    /// Tile `tile`'s `TILE_DEPTH` entry, the same value in every invocation to WGSL's
+    /// uniformity analysis too: a read of a `read_write` buffer may differ between invocations
+    /// as far as the analysis knows, and the kernels return early and run barriers on these
+    /// bounds. Invocation 0 (`lid`) reads it, and `uniform_load()` shares it. Every invocation
+    /// of the workgroup calls it.
+    fn tile_bounds(lid: u32, tile: u32) -> UVec4 {
+        if lid == 0u32 {
+            TILE_BOUNDS = TILE_DEPTH[tile];
+        }
+        TILE_BOUNDS.uniform_load()
     }
 
     /// Zeroes the per-list counters and the hit cache; invocations `0..ITEM_TYPES · MAX_LISTS`
@@ -368,9 +383,12 @@ pub mod cull_append {
         if PARAMS.first_box < PARAMS.item_count {
             workgroup_barrier();
             storage_barrier();
+            // Loads every invocation shares (`uniform_load`): the rounds below hold barriers,
+            // so their count must be uniform to WGSL's analysis, not only in fact.
+            let room = LIST_ROOM.uniform_load();
             for j in 0u32..lists {
                 let base = LIST_BASE[MAX_LISTS + j];
-                let n = LIST_COUNT[MAX_LISTS + j].load() * LIST_ROOM;
+                let n = LIST_COUNT[MAX_LISTS + j].uniform_load() * room;
                 for round in 0u32..n {
                     let mut p = 2u32 * lid + (round & 1u32);
                     while p + 1u32 < n {
