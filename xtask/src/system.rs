@@ -1,5 +1,6 @@
 //! System packages the tests need: a Vulkan driver, the Khronos validation layer, spirv-val,
-//! Xvfb and Chromium (the benchmark charts' font is embedded in the binary).
+//! Xvfb and Chromium (the benchmark charts' font is embedded in the binary); and the Rust
+//! wasm32 target, added with rustup.
 //!
 //! On a Debian/Ubuntu machine where we run as root, missing packages are installed with apt;
 //! anywhere else the command stops and names the packages to install.
@@ -286,6 +287,36 @@ fn has_xvfb() -> bool {
         ]
         .iter()
         .all(|l| libraries.contains(l))
+}
+
+/// The Rust target of the renderer in a browser.
+pub const WASM_TARGET: &str = "wasm32-unknown-unknown";
+
+/// Adds [`WASM_TARGET`] to the toolchain with rustup where it is missing.
+#[expect(
+    clippy::print_stdout,
+    reason = "progress report of a command-line tool"
+)]
+pub fn ensure_wasm_target() -> Result<()> {
+    let installed = Command::new("rustup")
+        .args(["target", "list", "--installed"])
+        .output()
+        .context("running rustup (the wasm32 target is added with it)")?;
+    if String::from_utf8_lossy(&installed.stdout)
+        .lines()
+        .any(|l| l.trim() == WASM_TARGET)
+    {
+        return Ok(());
+    }
+    println!("xtask: adding the Rust target {WASM_TARGET}");
+    let status = Command::new("rustup")
+        .args(["target", "add", WASM_TARGET])
+        .status()
+        .context("running rustup target add")?;
+    if !status.success() {
+        bail!("rustup target add {WASM_TARGET} failed with {status}");
+    }
+    Ok(())
 }
 
 /// Debian's Chromium, where `tests::browser` looks for it (`$CHROMIUM` overrides both).

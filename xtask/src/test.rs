@@ -50,6 +50,24 @@ pub fn run(args: &Args) -> Result<()> {
             "warnings",
         ])
     })?;
+    // The renderer for the browser (wasm32, wgpu's WebGPU backend): nothing native-only
+    // creeps into it unnoticed.
+    step(
+        "cargo clippy -p renderer --target wasm32-unknown-unknown",
+        || {
+            crate::system::ensure_wasm_target()?;
+            cargo(&[
+                "clippy",
+                "-p",
+                "renderer",
+                "--target",
+                crate::system::WASM_TARGET,
+                "--",
+                "-D",
+                "warnings",
+            ])
+        },
+    )?;
     step("architecture invariants", crate::invariants::run)?;
     step("cargo xtask shaders --check", || {
         crate::shaders::run(&crate::shaders::Args::check_all())

@@ -62,7 +62,7 @@ mod views;
 
 use std::collections::VecDeque;
 use std::sync::Arc;
-use std::time::Instant;
+use web_time::Instant;
 
 pub use crate::frame_data::{
     Ambient, ConfigError, DecalUpload, DeviceError, DrawItem, FrameCamera, FrameReport, FrameView,
@@ -321,11 +321,15 @@ impl Renderer {
             .ok_or(RenderError::Input(InputError::NoScene))?;
         check_target(&self.config, target)?;
         // Allocation failures while the frame is recorded come back as an error, not a panic.
+        // In a browser the scope's answer is a promise the page's thread cannot wait for: an
+        // allocation failure there reaches the device's uncaptured-error handler instead.
+        #[cfg(not(target_arch = "wasm32"))]
         let out_of_memory = self
             .gpu
             .device()
             .push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let report = self.record_and_submit(camera, target, scene, views);
+        #[cfg(not(target_arch = "wasm32"))]
         if let Some(error) = pollster::block_on(out_of_memory.pop()) {
             return Err(RenderError::Device(DeviceError::OutOfMemory(
                 error.to_string(),

@@ -174,7 +174,9 @@ impl GpuContext {
         })
     }
 
-    /// Blocking form of [`GpuContext::new`] for tools and tests.
+    /// Blocking form of [`GpuContext::new`] for tools and tests. Not in a browser, where
+    /// nothing may block the page's thread: await [`GpuContext::new`] there.
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn new_blocking(options: &GpuOptions) -> Result<Self, GpuError> {
         pollster::block_on(Self::new(options))
     }

@@ -193,11 +193,11 @@ fn check(r: &Replacement) -> Result<(String, String), HotReloadError> {
         variant: variant.to_owned(),
         message,
     };
-    let parsed = wgpu::naga::front::wgsl::parse_str(&r.wgsl)
-        .map_err(|e| invalid(e.emit_to_string(&r.wgsl)))?;
-    wgpu::naga::valid::Validator::new(
-        wgpu::naga::valid::ValidationFlags::all(),
-        wgpu::naga::valid::Capabilities::all(),
+    let parsed =
+        naga::front::wgsl::parse_str(&r.wgsl).map_err(|e| invalid(e.emit_to_string(&r.wgsl)))?;
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
     )
     .validate(&parsed)
     .map_err(|e| invalid(e.emit_to_string(&r.wgsl)))?;

@@ -254,7 +254,7 @@ impl Pass for ShadowPass {
             self.plan = FramePlan::default();
             return Ok(());
         }
-        let started = std::time::Instant::now();
+        let started = web_time::Instant::now();
         let lights = &frame.lights;
         let shadowed = lights
             .punctual_sources
