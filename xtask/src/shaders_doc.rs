@@ -177,7 +177,7 @@ fn variants(page: &mut String, c: &Compiled, validation: &[Validation]) {
 
 /// Whether the variant runs in a browser with WebGPU's default limits: `yes`, what it needs
 /// beyond them (limits an adapter may offer), or why it cannot.
-pub(crate) fn browser(module: &str, v: &codegen::CompiledVariant) -> String {
+fn browser(module: &str, v: &codegen::CompiledVariant) -> String {
     let variant = as_rt(module, v);
     let issues = web_issues(&variant, &WebLimits::DEFAULT);
     let list = |limits: bool| {

@@ -10,9 +10,10 @@
 //! none). Chromium found what naga cannot check: the light-culling kernels ran barriers in
 //! control flow that depended on reads WGSL's uniformity analysis cannot prove uniform (a
 //! `read_write` buffer, workgroup atomics; now shared with `uniform_load()`), and the
-//! scalarized variants' subgroup operations needed `diagnostic(off, subgroup_uniformity)`. A mutation that leaves
-//! `enable subgroups;` out fails here (every subgroup variant disagrees); the limits' edges are
-//! the unit tests' (`codegen/src/web_tests.rs`, which fail with the per-stage count off by one).
+//! scalarized variants' subgroup operations needed `diagnostic(off, subgroup_uniformity)`. A
+//! mutation that leaves `enable subgroups;` out fails here (every subgroup variant disagrees);
+//! the limits' edges are the unit tests' (`codegen/src/web_tests.rs`, which fail with the
+//! per-stage count off by one).
 
 use std::time::Duration;
 

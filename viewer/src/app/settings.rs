@@ -1,7 +1,8 @@
 //! The running window's responses that change its state: the settings keys (path, MSAA, tile,
-//! views, the visibility rasteriser, draw culling, light count), each reconfiguring the renderer in place (the scene, its
-//! added instances, decals and lights stay uploaded); hot reload outcomes (the programs built
-//! again on the new WGSL, or the refusal shown); the overlay's status lines; and window resizes.
+//! views, the visibility rasteriser, draw culling, light count), each reconfiguring the
+//! renderer in place (the scene, its added instances, decals and lights stay uploaded); hot
+//! reload outcomes (the programs built again on the new WGSL, or the refusal shown); the
+//! overlay's status lines; and window resizes.
 
 use anyhow::Result;
 use renderer::frame::{FrameView, ParticleLighting, RenderPath, VisibilityRaster};
@@ -14,8 +15,8 @@ use super::Running;
 
 impl Running {
     /// A settings key: path, MSAA, tile, heatmap, decal heatmap, shadow atlas, the visibility
-    /// path's rasteriser, draw culling or light count; reconfigures the renderer ([`renderer::frame::Renderer::reconfigure`]), or
-    /// replaces its lights.
+    /// path's rasteriser, draw culling or light count; reconfigures the renderer
+    /// ([`renderer::frame::Renderer::reconfigure`]), or replaces its lights.
     pub(super) fn action(&mut self, key: char, shown: &Shown) -> Result<()> {
         let mut config = self.config;
         match key {

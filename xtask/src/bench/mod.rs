@@ -91,8 +91,9 @@ pub struct Args {
     no_occlusion: bool,
     /// Also rasterise the visibility path's opaque triangles in compute, beside its raster
     /// pass (`ComputeRasterPass`, adapters with 64-bit atomic min/max): the `compute_raster`
-    /// column (`visibility-compute` has it in the frame already). The value is the pixel-box area up to which one invocation rasterises a
-    /// triangle (0: every triangle by 16×16 tiles). It adds its time to the frame's.
+    /// column (`visibility-compute` has it in the frame already). The value is the pixel-box
+    /// area up to which one invocation rasterises a triangle (0: every triangle by 16×16
+    /// tiles). It adds its time to the frame's.
     #[arg(long)]
     compute_raster: Option<u32>,
     /// Timed frames per cell.

@@ -10,7 +10,7 @@ use shaders_gen::visibility::geometry::vis_geometry;
 use shaders_gen::visibility::vis_raster;
 
 use super::geometry::{draw_geometry, draw_geometry_buffer, geometry_group, sequence_buffer};
-use super::resolve::ComputeStage;
+use super::resolve::{ComputeStage, Resolve};
 use crate::GpuContext;
 use crate::frame_data::{
     ConfigError, DEPTH_FORMAT, FrameInputs, FrameResources, InstanceTable, RenderError,
@@ -296,13 +296,11 @@ impl Pass for VisRasterPass {
             depth,
             ids,
             load: first.is_some(),
-            resolve: resolve
-                .as_ref()
-                .map(|r| (r.pipeline.clone(), r.group.clone())),
             masked_only: self.compute.is_some(),
+            resolve,
         };
         let mut pass = graph.add_pass(self.name());
-        if let Some(r) = resolve {
+        if let Some(r) = &recording.resolve {
             pass.read_buffer(r.samples, BufferAccess::StorageRead);
         }
         pass.read_buffer(list.args, BufferAccess::Indirect)
@@ -336,7 +334,7 @@ struct Recording {
     /// The second half: keep what the first drew.
     load: bool,
     /// The compute raster's resolve, drawn first (the first half under the compute raster).
-    resolve: Option<(wgpu::RenderPipeline, wgpu::BindGroup)>,
+    resolve: Option<Resolve>,
     /// Under the compute raster: the opaque batches are the compute rasteriser's.
     masked_only: bool,
 }
@@ -379,9 +377,9 @@ impl Recording {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        if let Some((pipeline, group)) = &self.resolve {
-            pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, group, &[]);
+        if let Some(r) = &self.resolve {
+            pass.set_pipeline(&r.pipeline);
+            pass.set_bind_group(0, &r.group, &[]);
             pass.draw(0..3, 0..1);
         }
         let mut draws =
