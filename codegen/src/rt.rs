@@ -16,7 +16,8 @@ pub struct Variant {
     pub names: &'static [&'static str],
     /// The WGSL source, as printed by the DSL's own printer and validated by naga.
     pub wgsl: &'static str,
-    /// SPIR-V words from naga's SPIR-V backend.
+    /// SPIR-V words from naga's SPIR-V backend; empty in a browser build (`wasm32`), which
+    /// takes WGSL only.
     pub spirv: &'static [u32],
     /// The SPIR-V version of [`Variant::spirv`], `(major, minor)`.
     pub spirv_version: (u8, u8),

@@ -168,11 +168,20 @@ pub const SUBGROUP_DIRECTIVES: &str = "enable subgroups;\ndiagnostic(off, subgro
 /// [`Variant::wgsl`] unchanged.
 pub fn browser_wgsl(variant: &Variant) -> String {
     let mut out = String::with_capacity(variant.wgsl.len() + 32);
-    if variant.features.subgroup {
-        out.push_str(SUBGROUP_DIRECTIVES);
-    }
+    out.push_str(browser_directives(variant));
     out.push_str(variant.wgsl);
     out
+}
+
+/// What [`browser_wgsl`] puts before the variant's WGSL (empty for a variant that uses no
+/// feature a browser must enable): for a renderer that prefixes another source of the same
+/// variant, such as a hot-reloaded replacement.
+pub fn browser_directives(variant: &Variant) -> &'static str {
+    if variant.features.subgroup {
+        SUBGROUP_DIRECTIVES
+    } else {
+        ""
+    }
 }
 
 /// Every way `variant` goes beyond `limits` (none: it runs on any WebGPU device with those

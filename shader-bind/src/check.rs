@@ -197,3 +197,55 @@ fn resource_name(r: &Resource<'_>) -> &'static str {
         Resource::Sampler(_) => "a sampler",
     }
 }
+
+/// The first pair of `variant`'s group-`group` bindings given overlapping ranges of one buffer
+/// where the shader may write one of them, as an error.
+pub(crate) fn no_writable_alias<'a>(
+    variant: &Variant,
+    group: u32,
+    given: impl Fn(&str) -> Option<&'a Resource<'a>>,
+) -> Result<(), BindError> {
+    let buffers: Vec<(&Binding, &wgpu::BufferBinding<'a>)> = variant
+        .group(group)
+        .filter_map(|b| match given(b.name) {
+            Some(Resource::Buffer(range)) => Some((b, range)),
+            _ => None,
+        })
+        .collect();
+    let writable = |b: &Binding| {
+        matches!(
+            b.kind,
+            BindingKind::Storage {
+                read_only: false,
+                ..
+            }
+        )
+    };
+    for (i, (first, a)) in buffers.iter().enumerate() {
+        for (second, b) in &buffers[i + 1..] {
+            if (writable(first) || writable(second)) && a.buffer == b.buffer && overlap(a, b) {
+                let (writable, other) = if writable(first) {
+                    (first.name, second.name)
+                } else {
+                    (second.name, first.name)
+                };
+                return Err(BindError::WritableAlias {
+                    variant: variant_name(variant),
+                    group,
+                    writable,
+                    other,
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Whether two ranges of one buffer share a byte (a range without a size runs to the end).
+fn overlap(a: &wgpu::BufferBinding<'_>, b: &wgpu::BufferBinding<'_>) -> bool {
+    let end = |r: &wgpu::BufferBinding<'_>| {
+        r.size
+            .map_or(r.buffer.size(), |s| r.offset.saturating_add(s.get()))
+    };
+    a.offset < end(b) && b.offset < end(a)
+}

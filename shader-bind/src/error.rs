@@ -35,6 +35,19 @@ pub enum BindError {
         expected: String,
         given: String,
     },
+    /// Two bindings of the group were given overlapping ranges of one buffer, and the shader
+    /// may write through `writable`.
+    #[error(
+        "`{writable}` and `{other}` (group {group} of shader variant `{variant}`) were given \
+         overlapping ranges of one buffer, and the shader writes `{writable}`: give each its own \
+         buffer or a range of its own"
+    )]
+    WritableAlias {
+        variant: String,
+        group: u32,
+        writable: &'static str,
+        other: &'static str,
+    },
     /// The variant binds nothing in `group`.
     #[error("shader variant `{variant}` has no bind group {group}")]
     NoGroup { variant: String, group: u32 },

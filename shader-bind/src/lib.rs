@@ -22,7 +22,10 @@
 //! - a texture must be multisampled exactly when the binding is, have a depth format for a depth
 //!   binding, integer texels for an integer binding, float (or depth) texels for a float binding,
 //!   the `STORAGE_BINDING` usage and the declared format for a storage texture;
-//! - a sampler can only be given where a sampler is bound (the field's type).
+//! - a sampler can only be given where a sampler is bound (the field's type);
+//! - a buffer range bound where the shader may write it overlaps no other binding's range of
+//!   the same buffer in the group (WebGPU refuses such a group; native backends let the two
+//!   bindings race).
 //!
 //! A crate that uses the DSL depends on this crate (the generated builders name
 //! `::shader_bind`), and through it on wgpu.
@@ -101,7 +104,7 @@ impl<'a> Resources<'a> {
                 group,
             });
         }
-        variant
+        let entries = variant
             .group(group)
             .map(|binding| {
                 let at = check::Site::new(variant, binding);
@@ -112,7 +115,9 @@ impl<'a> Resources<'a> {
                     resource: check::binding_resource(resource),
                 })
             })
-            .collect()
+            .collect::<Result<Vec<_>, BindError>>()?;
+        check::no_writable_alias(variant, group, |name| self.get(name))?;
+        Ok(entries)
     }
 
     /// Builds bind group `group` of `variant` on `layout` (a layout made from the same

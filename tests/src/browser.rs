@@ -38,9 +38,10 @@ pub fn chromium_path() -> Result<PathBuf, String> {
     }
 }
 
-/// Opens `index.html` of `files` in headless Chromium and returns the body the page POSTs to
-/// `/result`, or an error if Chromium cannot start or the page posts nothing within `timeout`.
-pub fn run_page(files: Vec<ServedFile>, timeout: Duration) -> Result<String, String> {
+/// Opens `page` (a path of `files` with an optional query, `index.html?path=tiled`) in headless
+/// Chromium and returns the body the page POSTs to `/result`, or an error if Chromium cannot
+/// start or the page posts nothing within `timeout`.
+pub fn run_page(files: Vec<ServedFile>, page: &str, timeout: Duration) -> Result<String, String> {
     let chromium = chromium_path()?;
     let listener =
         TcpListener::bind("127.0.0.1:0").map_err(|e| format!("binding loopback: {e}"))?;
@@ -50,11 +51,7 @@ pub fn run_page(files: Vec<ServedFile>, timeout: Duration) -> Result<String, Str
         .port();
     let (sender, results) = mpsc::channel();
     // The server thread lives until the test process ends; it only answers loopback requests.
-    std::thread::spawn(move || {
-        for stream in listener.incoming().flatten() {
-            let _ = serve(stream, &files, &sender);
-        }
-    });
+    std::thread::spawn(move || serve_files(&listener, &files, &sender));
     let profile = tempdir()?;
     let mut child = Command::new(&chromium)
         .args([
@@ -71,7 +68,7 @@ pub fn run_page(files: Vec<ServedFile>, timeout: Duration) -> Result<String, Str
             "--disable-default-apps",
         ])
         .arg(format!("--user-data-dir={}", profile.display()))
-        .arg(format!("http://127.0.0.1:{port}/index.html"))
+        .arg(format!("http://127.0.0.1:{port}/{page}"))
         .stdout(Stdio::null())
         .stderr(log_file(&profile)?)
         .spawn()
@@ -87,6 +84,51 @@ pub fn run_page(files: Vec<ServedFile>, timeout: Duration) -> Result<String, Str
             tail(&stderr, 40)
         )
     })
+}
+
+/// Answers `listener`'s requests with `files` until it closes: each `GET` of a file's path,
+/// and each `POST /result` body sent on to `results`.
+pub fn serve_files(listener: &TcpListener, files: &[ServedFile], results: &mpsc::Sender<String>) {
+    for stream in listener.incoming().flatten() {
+        let _ = serve(stream, files, results);
+    }
+}
+
+/// Every file under `dir` (recursively), served under its path relative to `dir`, with its
+/// content type from its extension (`application/wasm` for `.wasm`, which browsers need to
+/// compile a module while it downloads).
+pub fn files_under(dir: &std::path::Path) -> Result<Vec<ServedFile>, String> {
+    let mut files = Vec::new();
+    let mut pending = vec![dir.to_path_buf()];
+    while let Some(folder) = pending.pop() {
+        let entries =
+            std::fs::read_dir(&folder).map_err(|e| format!("reading {}: {e}", folder.display()))?;
+        for entry in entries {
+            let path = entry
+                .map_err(|e| format!("reading {}: {e}", folder.display()))?
+                .path();
+            if path.is_dir() {
+                pending.push(path);
+                continue;
+            }
+            let relative = path
+                .strip_prefix(dir)
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+            let content_type = match path.extension().and_then(|e| e.to_str()) {
+                Some("html") => "text/html; charset=utf-8",
+                Some("js") => "text/javascript",
+                Some("wasm") => "application/wasm",
+                Some("json") => "application/json",
+                _ => "application/octet-stream",
+            };
+            files.push(ServedFile {
+                path: relative.to_string_lossy().replace('\\', "/"),
+                content_type,
+                bytes: std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?,
+            });
+        }
+    }
+    Ok(files)
 }
 
 /// Answers one request: a served file, the posted result (sent on), or 404.
@@ -112,7 +154,9 @@ fn serve(
     }
     let mut parts = request.split_whitespace();
     let (method, path) = (parts.next().unwrap_or(""), parts.next().unwrap_or("/"));
-    let path = path.trim_start_matches('/');
+    // The query is the page's; `/` is its index.
+    let path = path.split('?').next().unwrap_or("").trim_start_matches('/');
+    let path = if path.is_empty() { "index.html" } else { path };
     let mut stream = stream;
     if method == "POST" && path == "result" {
         let mut body = vec![0; length];

@@ -3,6 +3,8 @@
 //! the naive forward image (every light at every pixel) within a stated tolerance, at MSAA 1 and
 //! 4 (the courtyard at 4). Lights without a range get an effective range that changes no pixel.
 
+#[path = "render_gpu/browser.rs"]
+mod browser;
 #[path = "render_gpu/compute_raster.rs"]
 mod compute_raster;
 #[path = "render_gpu/material_programs.rs"]

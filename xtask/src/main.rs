@@ -20,6 +20,7 @@ mod shaders_doc;
 mod system;
 mod test;
 mod view;
+mod web;
 mod workspace;
 
 use clap::{Parser, Subcommand};
@@ -65,6 +66,9 @@ enum Command {
     /// Speed of the shader DSL's code generation: per variant, all of shaders_gen, the
     /// incremental rebuild after a one-line kernel change, and the output sizes.
     BenchCodegen(bench_codegen::Args),
+    /// The web demo: build the renderer for the browser (wasm32, WebGPU) into target/web/ and
+    /// serve the page on loopback; installs the wasm target and wasm-bindgen-cli if needed.
+    Web(web::Args),
     /// GPU time of the particle pipeline at full pools of 10k to 1M particles: simulation step,
     /// lighting-atlas layout and back-to-front sort.
     BenchParticles(bench_particles::Args),
@@ -75,6 +79,7 @@ fn main() -> anyhow::Result<()> {
     system::private_runtime_dir()?;
     match cli.command {
         Command::Demo(args) => demo::run(&args),
+        Command::Web(args) => web::run(&args),
         Command::Render(args) => render::run(&args, "target/render/frame.png"),
         Command::Test(args) => test::run(&args),
         Command::View(args) => view::run(&args),

@@ -1,10 +1,12 @@
 //! `cargo xtask test`: the README's test command, and what CI runs.
 //!
 //! It provisions the system packages the GPU tests need, then runs formatting, clippy (over the
-//! workspace, and over the renderer without its default features, as an engine may build it), the
-//! architecture invariants, `cargo xtask shaders --check` (every shaders_gen variant written and
-//! passed by `spirv-val`), every workspace test (doc tests included) and the tests of the engine
-//! example outside the workspace (`examples/engine`), stopping at the first failing step. It ends with a one-line `N passed, N failed` summary.
+//! workspace, over the renderer without its default features, as an engine may build it, and
+//! over the renderer and the web demo for wasm32), the architecture invariants,
+//! `cargo xtask shaders --check` (every shaders_gen variant written and passed by `spirv-val`),
+//! the web demo's build (which the browser frame test loads), every workspace test (doc tests
+//! included) and the tests of the engine example outside the workspace (`examples/engine`),
+//! stopping at the first failing step. It ends with a one-line `N passed, N failed` summary.
 
 use std::io::{BufRead as _, BufReader};
 use std::process::{Command, Stdio};
@@ -50,16 +52,18 @@ pub fn run(args: &Args) -> Result<()> {
             "warnings",
         ])
     })?;
-    // The renderer for the browser (wasm32, wgpu's WebGPU backend): nothing native-only
-    // creeps into it unnoticed.
+    // The renderer and the web demo for the browser (wasm32, wgpu's WebGPU backend): nothing
+    // native-only creeps into them unnoticed.
     step(
-        "cargo clippy -p renderer --target wasm32-unknown-unknown",
+        "cargo clippy -p renderer -p web-demo --target wasm32-unknown-unknown",
         || {
             crate::system::ensure_wasm_target()?;
             cargo(&[
                 "clippy",
                 "-p",
                 "renderer",
+                "-p",
+                "web-demo",
                 "--target",
                 crate::system::WASM_TARGET,
                 "--",
@@ -71,6 +75,10 @@ pub fn run(args: &Args) -> Result<()> {
     step("architecture invariants", crate::invariants::run)?;
     step("cargo xtask shaders --check", || {
         crate::shaders::run(&crate::shaders::Args::check_all())
+    })?;
+    // The web demo's module, which the browser frame test loads in headless Chromium.
+    step("cargo xtask web --build-only", || {
+        crate::web::build().map(|_| ())
     })?;
     let mut counts = step("cargo test", || cargo_test(&args.cargo_test_args))?;
     let example = step(

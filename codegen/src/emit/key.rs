@@ -250,10 +250,22 @@ fn binding(b: &BindingInfo) -> TokenStream {
 
 pub(super) fn variant_table(c: &Compiled) -> TokenStream {
     let module = c.module.name.as_str();
-    let variants = c.variants.iter().map(|v| {
+    // Each variant's SPIR-V is a constant of its own, empty in a browser build (wasm32), which
+    // takes WGSL only: the words would be most of the module's size there.
+    let spirv_consts = c.variants.iter().enumerate().map(|(i, v)| {
+        let name = format_ident!("__SPIRV_{}", i);
+        let words = v.spirv.iter().map(|w| Literal::u32_unsuffixed(*w));
+        quote! {
+            #[cfg(not(target_arch = "wasm32"))]
+            const #name: &[u32] = &[#(#words),*];
+            #[cfg(target_arch = "wasm32")]
+            const #name: &[u32] = &[];
+        }
+    });
+    let variants = c.variants.iter().enumerate().map(|(i, v)| {
         let names = &v.names;
         let wgsl = &v.wgsl;
-        let words = v.spirv.iter().map(|w| Literal::u32_unsuffixed(*w));
+        let spirv = format_ident!("__SPIRV_{}", i);
         let (maj, min) = v.spirv_version;
         let eps = v.reflection.entry_points.iter().map(entry_point);
         let bindings = v.reflection.bindings.iter().map(binding);
@@ -263,7 +275,7 @@ pub(super) fn variant_table(c: &Compiled) -> TokenStream {
                 module: #module,
                 names: &[#(#names),*],
                 wgsl: #wgsl,
-                spirv: &[#(#words),*],
+                spirv: #spirv,
                 spirv_version: (#maj, #min),
                 entry_points: &[#(#eps),*],
                 bindings: &[#(#bindings),*],
@@ -272,6 +284,7 @@ pub(super) fn variant_table(c: &Compiled) -> TokenStream {
         }
     });
     quote! {
+        #(#spirv_consts)*
         const VARIANT_TABLE: &[::codegen::rt::Variant] = &[#(#variants),*];
         /// Every distinct variant (keys with identical output share one).
         pub static VARIANTS: &[::codegen::rt::Variant] = VARIANT_TABLE;

@@ -33,6 +33,9 @@ pub struct Capabilities {
     /// `SHADER_INT64` and `SHADER_INT64_ATOMIC_MIN_MAX`: 64-bit atomic min/max on storage
     /// buffers, which the compute rasteriser needs.
     pub int64_atomic_min_max: bool,
+    /// The adapter is a browser's WebGPU: shader source gets the `enable` directives its
+    /// features need (`codegen::web::browser_directives`), which naga does not take.
+    pub browser: bool,
 }
 
 impl Capabilities {
@@ -107,6 +110,7 @@ impl AdapterReport {
                 int64_atomic_min_max: features.contains(
                     wgpu::Features::SHADER_INT64 | wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX,
                 ),
+                browser: info.backend == wgpu::Backend::BrowserWebGpu,
             },
         }
     }

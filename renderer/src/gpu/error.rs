@@ -89,6 +89,11 @@ pub enum GpuError {
     /// A mapped staging buffer's contents could not be accessed; the text is wgpu's error.
     #[error("reading a mapped readback buffer failed: {0}")]
     MapRange(String),
+
+    /// A blocking readback was called in a browser, whose page cannot wait for the GPU; the
+    /// text names it. Use its `_async` form (`readback::read_texture_rgba8_async`).
+    #[error("{0} blocks until the GPU is done, which a browser page cannot: use its async form")]
+    BlockingInBrowser(&'static str),
 }
 
 /// `items` as a comma-separated list.

@@ -114,6 +114,21 @@ pub fn check_supported(variant: &Variant, caps: &Capabilities) -> Result<(), Var
     Ok(())
 }
 
+/// The WGSL to compile for `variant` on a device with `caps`: the generated source or its
+/// hot-reloaded replacement, after the `enable` directives a browser needs.
+pub(crate) fn source_for(
+    variant: &'static Variant,
+    caps: &Capabilities,
+) -> std::borrow::Cow<'static, str> {
+    let source = hot::wgsl_of(variant);
+    let directives = codegen::web::browser_directives(variant);
+    if caps.browser && !directives.is_empty() {
+        std::borrow::Cow::Owned(format!("{directives}{source}"))
+    } else {
+        source
+    }
+}
+
 /// A variant compiled on a device: its shader module and bind-group layouts.
 #[derive(Debug, Clone)]
 pub struct ShaderProgram {
@@ -147,7 +162,7 @@ impl ShaderProgram {
         variant: &'static Variant,
     ) -> Result<Self, VariantError> {
         check_supported(variant, caps)?;
-        Ok(Self::compile(device, variant, hot::wgsl_of(variant)))
+        Ok(Self::compile(device, variant, source_for(variant, caps)))
     }
 
     /// Compiles `source` (the WGSL of `variant`, or its hot-reloaded replacement).
@@ -297,6 +312,7 @@ mod tests {
             msaa_r32uint: vec![1],
             max_workgroup_invocations: 1024,
             int64_atomic_min_max: false,
+            browser: false,
         }
     }
 

@@ -55,7 +55,7 @@ impl ProgramStore {
         super::check_supported(variant, caps)?;
         let key = (
             std::ptr::from_ref(variant) as usize,
-            super::hot::wgsl_of(variant),
+            super::source_for(variant, caps),
         );
         let mut programs = self.programs.lock().unwrap_or_else(PoisonError::into_inner);
         if let Some(kept) = programs.get(&key) {

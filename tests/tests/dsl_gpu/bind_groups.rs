@@ -245,8 +245,45 @@ fn bind_group_builders_refuse_what_does_not_fit_naming_the_binding() {
         texels.texels = &uint;
         let (binding, _) = mismatch_of(&refusal(gpu, false, 1, &Resources::of(&texels)));
         assert_eq!(binding, "TEXELS");
-        // A group the variant does not have.
+        // The written output over the read input: one buffer at two bindings, one writable
+        // (WebGPU refuses the group; native backends would let them race).
+        let mut aliased = group0(&r);
+        aliased.output = r.input.as_entire_buffer_binding();
+        let e = refusal(gpu, false, 0, &Resources::of(&aliased));
+        assert!(
+            matches!(
+                e,
+                BindError::WritableAlias {
+                    writable: "OUTPUT",
+                    other: "INPUT",
+                    group: 0,
+                    ..
+                }
+            ),
+            "{e:?}"
+        );
+        // Two ranges of one buffer that do not overlap are fine, and one byte of overlap is not.
         let variant = program(gpu, false).variant;
+        let both = buffer(
+            gpu,
+            "input and output",
+            &[0; N * 8],
+            wgpu::BufferUsages::STORAGE,
+        );
+        let range = |offset: usize| wgpu::BufferBinding {
+            buffer: &both,
+            offset: offset as u64,
+            size: wgpu::BufferSize::new((N * 4) as u64),
+        };
+        let mut split = group0(&r);
+        (split.input, split.output) = (range(0), range(N * 4));
+        assert!(Resources::of(&split).entries(variant, 0).is_ok());
+        split.output = range(N * 4 - 1);
+        let e = Resources::of(&split)
+            .entries(variant, 0)
+            .expect_err("one byte shared");
+        assert!(matches!(e, BindError::WritableAlias { .. }), "{e:?}");
+        // A group the variant does not have.
         let e = Resources::of(&group1(&r, false))
             .entries(variant, 3)
             .expect_err("no group 3");

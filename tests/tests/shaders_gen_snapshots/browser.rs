@@ -158,7 +158,7 @@ fn every_variant_runs_in_chromium_exactly_where_the_web_check_says() {
             bytes: serde_json::to_vec(&listed).expect("JSON"),
         },
     ];
-    let posted = run_page(files, PAGE_TIMEOUT).unwrap_or_else(|e| panic!("{e}"));
+    let posted = run_page(files, "index.html", PAGE_TIMEOUT).unwrap_or_else(|e| panic!("{e}"));
     let page: Value = serde_json::from_str(&posted).expect("the page posts JSON");
     if let Some(fatal) = page["fatal"].as_str() {
         panic!("the page failed: {fatal}");

@@ -1,10 +1,12 @@
-//! "Engines see the renderer's public API only, and its errors speak that API": the viewer and
-//! the engine example (the workspace's two embedders) never turn on the renderer's `internals`
-//! feature, and no renderer message names a command-line flag, which an engine does not have.
+//! "Engines see the renderer's public API only, and its errors speak that API": the viewer, the
+//! web demo and the engine example (the workspace's embedders) never turn on the renderer's
+//! `internals` feature, and no renderer message names a command-line flag, which an engine does
+//! not have.
 
 /// The manifests of crates that embed the renderer as an engine would (workspace-relative).
 pub const EMBEDDER_MANIFESTS: &[&str] = &[
     "viewer/Cargo.toml",
+    "web/Cargo.toml",
     "examples/engine/Cargo.toml",
     "examples/engine/app/Cargo.toml",
     "examples/engine/shaders/Cargo.toml",

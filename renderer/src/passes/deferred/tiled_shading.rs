@@ -80,8 +80,10 @@ pub struct TbdrPass {
     capture: wgpu::ComputePipeline,
     params: wgpu::Buffer,
     spheres: wgpu::Buffer,
-    /// A word each for `EDGE_BITS` and `CAPTURE` when not recording.
-    unused: wgpu::Buffer,
+    /// What `EDGE_BITS` and `CAPTURE` bind when not recording: one buffer each, since WebGPU
+    /// forbids one buffer at two writable bindings of a group.
+    unused_edges: wgpu::Buffer,
+    unused_capture: wgpu::Buffer,
     /// The deferred base pass of [`RenderPath::Deferred`]: no punctual lights, edges always
     /// marked (in `edges`, or the recording's buffer).
     base_only: bool,
@@ -130,7 +132,8 @@ impl TbdrPass {
                 mapped_at_creation: false,
             }),
             spheres: storage("tbdr light spheres", 16),
-            unused: storage("tbdr unused", 16),
+            unused_edges: storage("tbdr unused edge bits", 16),
+            unused_capture: storage("tbdr unused capture", 16),
             base_only,
             edges: storage("deferred edge bits", 16),
             record: false,
@@ -308,7 +311,8 @@ impl Pass for TbdrPass {
             .as_ref()
             .filter(|_| self.record)
             .map(|r| (r.edge_bits.clone(), r.gbuffer.clone()));
-        let unused = self.unused.clone();
+        let (unused_edges, unused_capture) =
+            (self.unused_edges.clone(), self.unused_capture.clone());
         // Edge bits: the recording's buffer when recording, the base pass's own otherwise.
         let edges = match (&recording, self.base_only) {
             (Some((e, _)), _) => Some(e.clone()),
@@ -321,8 +325,8 @@ impl Pass for TbdrPass {
         let name = self.name();
         let (width, height, tile) = (c.width, c.height, c.tile);
         pass.execute(move |ctx| {
-            let edge_bits = edges.as_ref().unwrap_or(&unused);
-            let captured = recording.as_ref().map_or(&unused, |(_, g)| g);
+            let edge_bits = edges.as_ref().unwrap_or(&unused_edges);
+            let captured = recording.as_ref().map_or(&unused_capture, |(_, g)| g);
             if edges.is_some() {
                 ctx.encoder.clear_buffer(edge_bits, 0, None);
             }

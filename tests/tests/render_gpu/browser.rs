@@ -1,0 +1,274 @@
+//! The web demo in a real browser: headless Chromium runs the `web` crate's wasm module (built
+//! by `cargo xtask web --build-only`, which `cargo xtask test` runs first) on its WebGPU
+//! (Dawn over SwiftShader's Vulkan driver), renders the courtyard with lights, shadows, decals
+//! and particles on every path at MSAA 4 and three at MSAA 1, and reads each frame back
+//! without blocking (`tests/web/browser_frame.html`). Each frame must equal the native frame
+//! of the same settings and camera on lavapipe, and the culled paths must equal naive forward
+//! in the browser too. The visibility path's kernels bind more storage buffers than the
+//! browser's adapter offers: it must be refused by that limit's name, not drawn wrong.
+
+use std::path::PathBuf;
+use std::time::Duration;
+
+use renderer::frame::{RenderPath, create_target};
+use serde_json::{Value, json};
+use tests::browser::{ServedFile, files_under, run_page};
+use tests::gpu::gpu_test;
+use tests::image_compare::{pixel_differences, stats};
+use web_demo::showcase::{Settings, Showcase};
+
+/// Loading the module, compiling every path's pipelines with Tint and rendering twelve frames
+/// on SwiftShader (measured: about 40 s on a 2-core machine).
+const PAGE_TIMEOUT: Duration = Duration::from_secs(300);
+
+/// What the page renders: small, so SwiftShader and lavapipe each draw a frame in about a
+/// second, with every kind of content the demo has.
+const SETTINGS: Settings = Settings {
+    path: RenderPath::Tiled,
+    msaa: 4,
+    width: 256,
+    height: 144,
+    lights: 64,
+    shadowed: 4,
+    decals: 24,
+    particles: 1000,
+    seed: 7,
+};
+
+/// The page's settings as its address's query.
+fn query(s: &Settings) -> String {
+    format!(
+        "path={}&msaa={}&width={}&height={}&lights={}&shadowed={}&decals={}&particles={}&seed={}",
+        s.path.name(),
+        s.msaa,
+        s.width,
+        s.height,
+        s.lights,
+        s.shadowed,
+        s.decals,
+        s.particles,
+        s.seed
+    )
+}
+
+/// Every path at MSAA 4, then naive, tiled, clustered and visibility at MSAA 1.
+fn cases() -> Vec<(RenderPath, u32)> {
+    let mut cases: Vec<_> = RenderPath::ALL.iter().map(|&p| (p, 4)).collect();
+    cases.extend(
+        [
+            RenderPath::Naive,
+            RenderPath::Tiled,
+            RenderPath::Clustered,
+            RenderPath::Visibility,
+        ]
+        .map(|p| (p, 1)),
+    );
+    cases
+}
+
+/// What the browser's adapter (SwiftShader through Dawn) cannot do for a case, as the
+/// renderer's refusal must name it: multisampled `R32Uint` (the visibility buffer; WebGPU
+/// guarantees integer formats one sample), and the 19 storage buffers per stage the visibility
+/// kernels bind (it offers 10).
+fn refusal(path: RenderPath, msaa: u32) -> Option<&'static str> {
+    match (path, msaa) {
+        (RenderPath::Visibility, 1) => Some("max_storage_buffers_per_shader_stage"),
+        (RenderPath::Visibility, _) => Some("MSAA 4 is not supported"),
+        _ => None,
+    }
+}
+
+/// Where `cargo xtask web` builds the demo: `target/web` (or under `CARGO_TARGET_DIR`).
+fn web_build() -> PathBuf {
+    std::env::var_os("CARGO_TARGET_DIR")
+        .map_or_else(
+            || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target"),
+            PathBuf::from,
+        )
+        .join("web")
+}
+
+/// The page, the cases and the built module (under `pkg/`).
+fn served_files() -> Vec<ServedFile> {
+    let pkg = web_build().join("pkg");
+    assert!(
+        pkg.join("web_demo_bg.wasm").is_file(),
+        "no web build at {}: run `cargo xtask web --build-only` (`cargo xtask test` does, \
+         before the tests)",
+        pkg.display()
+    );
+    let mut files: Vec<ServedFile> = files_under(&pkg)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .into_iter()
+        .map(|f| ServedFile {
+            path: format!("pkg/{}", f.path),
+            ..f
+        })
+        .collect();
+    let listed: Vec<Value> = cases()
+        .iter()
+        .map(|(path, msaa)| json!({ "path": path.name(), "msaa": msaa }))
+        .collect();
+    files.push(ServedFile {
+        path: "index.html".into(),
+        content_type: "text/html; charset=utf-8",
+        bytes: include_bytes!("../../web/browser_frame.html").to_vec(),
+    });
+    files.push(ServedFile {
+        path: "cases.json".into(),
+        content_type: "application/json",
+        bytes: serde_json::to_vec(&listed).expect("JSON"),
+    });
+    files
+}
+
+/// Writes a frame the browser rendered to `target/web/browser-frames/` for a reader to look
+/// at (the closing note's pictures come from here).
+fn save_browser_frame(label: &str, pixels: &[u8]) {
+    let dir = web_build().join("browser-frames");
+    std::fs::create_dir_all(&dir).expect("creating target/web/browser-frames");
+    let name = label.replace(" at MSAA ", "-msaa");
+    image::save_buffer(
+        dir.join(format!("{name}.png")),
+        pixels,
+        SETTINGS.width,
+        SETTINGS.height,
+        image::ColorType::Rgba8,
+    )
+    .expect("writing a browser frame");
+}
+
+/// `hex` (two digits a byte) as bytes.
+fn unhex(hex: &str) -> Vec<u8> {
+    (0..hex.len())
+        .step_by(2)
+        .map(|i| u8::from_str_radix(&hex[i..i + 2], 16).expect("hex"))
+        .collect()
+}
+
+/// The same frame rendered natively on lavapipe, and the names of its passes.
+fn native_frame(gpu: &renderer::GpuContext, settings: &Settings) -> (Vec<u8>, Vec<&'static str>) {
+    let showcase = Showcase::courtyard(settings);
+    let mut renderer = showcase.renderer(gpu, settings).expect("renderer");
+    let target = create_target(gpu.device(), renderer.config());
+    let aspect = settings.width as f32 / settings.height as f32;
+    renderer
+        .render(&showcase.orbit.camera(aspect), &target)
+        .expect("frame");
+    let pixels = renderer::readback::read_texture_rgba8(gpu.device(), gpu.queue(), &target)
+        .expect("readback");
+    (pixels, renderer.pass_names())
+}
+
+#[test]
+#[expect(
+    clippy::print_stdout,
+    reason = "the measured differences and the time to first frame are this test's report"
+)]
+fn the_browser_frame_equals_the_native_frame_on_every_path_that_fits() {
+    let files = served_files();
+    let page = format!("index.html?{}", query(&SETTINGS));
+    let posted = run_page(files, &page, PAGE_TIMEOUT).unwrap_or_else(|e| panic!("{e}"));
+    let result: Value = serde_json::from_str(&posted).expect("the page posts JSON");
+    if let Some(fatal) = result["fatal"].as_str() {
+        panic!("the page failed: {fatal}");
+    }
+    let adapter = result["adapter"].as_str().unwrap_or("?");
+    println!(
+        "browser adapter: {adapter}\nfirst frame read back {:.0} ms after navigation",
+        result["first_frame_ms"].as_f64().unwrap_or(f64::NAN)
+    );
+    let frames = result["frames"].as_array().expect("frames");
+    assert_eq!(frames.len(), cases().len(), "one result per case");
+    let mut browser = Vec::new();
+    gpu_test(|gpu| {
+        for ((path, msaa), frame) in cases().into_iter().zip(frames) {
+            let label = format!("{} at MSAA {msaa}", path.name());
+            if let Some(reason) = refusal(path, msaa) {
+                let error = frame["error"].as_str().unwrap_or_else(|| {
+                    panic!("{label}: drawn in a browser that cannot ({reason})")
+                });
+                assert!(
+                    error.contains(reason),
+                    "{label}: refused for another reason than `{reason}`: {error}"
+                );
+                println!("{label}: refused in the browser: {error}");
+                continue;
+            }
+            if let Some(error) = frame["error"].as_str() {
+                panic!("{label}: the browser could not render it: {error}");
+            }
+            let pixels = unhex(frame["pixels"].as_str().expect("pixels"));
+            save_browser_frame(&label, &pixels);
+            let settings = Settings {
+                path,
+                msaa,
+                ..SETTINGS
+            };
+            let (native, native_passes) = native_frame(gpu, &settings);
+            // The page switched to the case's path: the same passes as the native renderer's.
+            let passes: Vec<&str> = frame["passes"]
+                .as_array()
+                .expect("pass names")
+                .iter()
+                .map(|p| p.as_str().expect("a pass name"))
+                .collect();
+            assert_eq!(passes, native_passes, "{label}: the page ran other passes");
+            let differences = pixel_differences(&pixels, &native, 3);
+            let (mean, p99, max) = stats(&differences);
+            let far = differences.iter().filter(|&&d| d > NATIVE_FAR).count();
+            println!(
+                "{label}: browser against lavapipe: mean {mean:.3}, p99 {p99}, max {max}, \
+                 {far} of {} pixels beyond {NATIVE_FAR}",
+                differences.len()
+            );
+            assert!(
+                mean <= NATIVE_MEAN
+                    && p99 <= NATIVE_P99
+                    && far * 1000 <= differences.len() * NATIVE_FAR_PER_MILLE,
+                "{label}: the browser frame differs from lavapipe's: mean {mean:.3} (at most \
+                 {NATIVE_MEAN}), p99 {p99} (at most {NATIVE_P99}), {far} pixels beyond \
+                 {NATIVE_FAR} (at most {NATIVE_FAR_PER_MILLE} per 1,000)"
+            );
+            browser.push((path, msaa, pixels));
+        }
+    });
+    for (path, msaa, pixels) in &browser {
+        let naive = browser
+            .iter()
+            .find(|(p, m, _)| *p == RenderPath::Naive && m == msaa)
+            .map(|(_, _, px)| px)
+            .expect("naive at every MSAA count");
+        let (mean, p99, max) = stats(&pixel_differences(pixels, naive, 3));
+        println!(
+            "{} at MSAA {msaa}: against naive in the browser: mean {mean:.3}, p99 {p99}, max {max}",
+            path.name()
+        );
+        let holds = if path.is_deferred() {
+            mean <= DEFERRED_MEAN && p99 <= DEFERRED_P99
+        } else {
+            max <= FORWARD_MAX
+        };
+        assert!(
+            holds,
+            "{} at MSAA {msaa}: differs from naive forward in the browser: mean {mean:.3}, \
+             p99 {p99}, max {max}",
+            path.name()
+        );
+    }
+}
+
+/// Browser against lavapipe, per pixel (largest RGB difference of 255). Two software
+/// rasterisers with their own float rounding: most pixels differ by one level (measured: mean
+/// 0.9, 99th percentile 1 on every path); a few sparks and highlights, whose particles the two
+/// simulations move a little apart, by more (measured: 0.3 per 1,000 beyond 24, largest 174).
+const NATIVE_MEAN: f64 = 1.5;
+const NATIVE_P99: u8 = 3;
+const NATIVE_FAR: u8 = 24;
+const NATIVE_FAR_PER_MILLE: usize = 2;
+/// Against naive forward within the browser, the bounds the native tests hold on lavapipe: the
+/// forward paths' largest difference (`render_gpu`), the deferred paths' mean and 99th
+/// percentile over the whole image (`tbdr_gpu`).
+const FORWARD_MAX: u8 = 1;
+const DEFERRED_MEAN: f64 = 0.3;
+const DEFERRED_P99: u8 = 4;

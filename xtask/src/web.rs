@@ -1,0 +1,187 @@
+//! `cargo xtask web`: builds the web demo (the `web` crate for `wasm32-unknown-unknown`, its
+//! JavaScript bindings by `wasm-bindgen`, and `web/index.html`) into `target/web/`, then serves
+//! that folder on loopback until stopped. Adds the wasm target with rustup and installs
+//! `wasm-bindgen-cli` at the version `Cargo.lock` holds for `wasm-bindgen` where either is
+//! missing; `cargo xtask test` builds it the same way before the browser frame test reads it.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use anyhow::{Context as _, Result, bail, ensure};
+
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Build `target/web/` and stop, without serving it.
+    #[arg(long)]
+    pub build_only: bool,
+    /// Loopback port to serve the page on.
+    #[arg(long, default_value_t = 8000)]
+    pub port: u16,
+}
+
+/// What a build wrote and how big the module is.
+#[derive(Debug)]
+pub struct Built {
+    /// The folder holding `index.html` and `pkg/`.
+    pub dir: PathBuf,
+    /// The wasm module's size in bytes, and gzipped.
+    pub wasm_bytes: u64,
+    pub wasm_gzipped: u64,
+}
+
+#[expect(
+    clippy::print_stdout,
+    reason = "progress report of a command-line tool"
+)]
+pub fn run(args: &Args) -> Result<()> {
+    let built = build()?;
+    println!(
+        "web: {} (wasm {:.2} MB, {:.2} MB gzipped)",
+        built.dir.display(),
+        built.wasm_bytes as f64 / 1e6,
+        built.wasm_gzipped as f64 / 1e6
+    );
+    if args.build_only {
+        return Ok(());
+    }
+    let files = ::tests::browser::files_under(&built.dir).map_err(anyhow::Error::msg)?;
+    let listener = std::net::TcpListener::bind(("127.0.0.1", args.port))
+        .with_context(|| format!("binding 127.0.0.1:{}", args.port))?;
+    println!(
+        "web: open http://127.0.0.1:{}/ in a browser with WebGPU (Chromium: \
+         --enable-unsafe-webgpu); Ctrl-C stops",
+        args.port
+    );
+    let (results, _unused) = std::sync::mpsc::channel();
+    ::tests::browser::serve_files(&listener, &files, &results);
+    Ok(())
+}
+
+/// The folder the web demo is built into: `target/web` of the workspace (or of
+/// `CARGO_TARGET_DIR`), where `tests::browser` looks for it too.
+pub fn out_dir() -> PathBuf {
+    target_dir().join("web")
+}
+
+fn target_dir() -> PathBuf {
+    std::env::var_os("CARGO_TARGET_DIR").map_or_else(
+        || crate::workspace::workspace_root().join("target"),
+        PathBuf::from,
+    )
+}
+
+/// Builds the demo into [`out_dir`]: the release wasm, its bindings and the page.
+pub fn build() -> Result<Built> {
+    let root = crate::workspace::workspace_root();
+    crate::system::ensure_wasm_target()?;
+    let bindgen = ensure_wasm_bindgen(&root)?;
+    let status = Command::new(env!("CARGO"))
+        .args(["build", "--release", "-p", "web-demo", "--target"])
+        .arg(crate::system::WASM_TARGET)
+        .current_dir(&root)
+        .status()
+        .context("running cargo build -p web-demo")?;
+    ensure!(
+        status.success(),
+        "cargo build -p web-demo failed with {status}"
+    );
+    let module = target_dir()
+        .join(crate::system::WASM_TARGET)
+        .join("release/web_demo.wasm");
+    let dir = out_dir();
+    let pkg = dir.join("pkg");
+    if pkg.exists() {
+        std::fs::remove_dir_all(&pkg).with_context(|| format!("clearing {}", pkg.display()))?;
+    }
+    let status = Command::new(&bindgen)
+        .args(["--target", "web", "--no-typescript", "--out-dir"])
+        .arg(&pkg)
+        .arg(&module)
+        .status()
+        .with_context(|| format!("running {}", bindgen.display()))?;
+    ensure!(status.success(), "wasm-bindgen failed with {status}");
+    std::fs::copy(root.join("web/index.html"), dir.join("index.html"))
+        .context("copying web/index.html")?;
+    let wasm = std::fs::read(pkg.join("web_demo_bg.wasm")).context("reading the built module")?;
+    Ok(Built {
+        dir,
+        wasm_bytes: wasm.len() as u64,
+        wasm_gzipped: gzipped_len(&wasm)?,
+    })
+}
+
+/// `wasm-bindgen` at the version `Cargo.lock` pins for the `wasm-bindgen` crate, installed with
+/// `cargo install` where the one on `PATH` (or in cargo's bin folder) is missing or another
+/// version: the CLI and the crate must match exactly.
+#[expect(
+    clippy::print_stdout,
+    reason = "progress report of a command-line tool"
+)]
+fn ensure_wasm_bindgen(root: &Path) -> Result<PathBuf> {
+    let lock = std::fs::read_to_string(root.join("Cargo.lock")).context("reading Cargo.lock")?;
+    let version =
+        locked_version(&lock, "wasm-bindgen").context("Cargo.lock has no wasm-bindgen package")?;
+    let installed = cargo_bin().join("wasm-bindgen");
+    for candidate in [PathBuf::from("wasm-bindgen"), installed.clone()] {
+        if let Ok(out) = Command::new(&candidate).arg("--version").output()
+            && String::from_utf8_lossy(&out.stdout).trim() == format!("wasm-bindgen {version}")
+        {
+            return Ok(candidate);
+        }
+    }
+    println!("xtask: installing wasm-bindgen-cli {version} (the version of Cargo.lock)");
+    let status = Command::new(env!("CARGO"))
+        .args(["install", "wasm-bindgen-cli", "--version"])
+        .arg(format!("={version}"))
+        .status()
+        .context("running cargo install wasm-bindgen-cli")?;
+    if !status.success() {
+        bail!("cargo install wasm-bindgen-cli --version ={version} failed with {status}");
+    }
+    Ok(installed)
+}
+
+/// Where `cargo install` puts binaries: `$CARGO_HOME/bin`, else `~/.cargo/bin`.
+fn cargo_bin() -> PathBuf {
+    std::env::var_os("CARGO_HOME")
+        .map(PathBuf::from)
+        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cargo")))
+        .unwrap_or_else(|| PathBuf::from(".cargo"))
+        .join("bin")
+}
+
+/// The version `lock` (a `Cargo.lock`) holds for package `name` (the first, where several).
+fn locked_version(lock: &str, name: &str) -> Option<String> {
+    let mut lines = lock.lines();
+    while let Some(line) = lines.next() {
+        if line.trim() == format!("name = \"{name}\"") {
+            let version = lines.next()?.trim().strip_prefix("version = \"")?;
+            return Some(version.trim_end_matches('"').to_owned());
+        }
+    }
+    None
+}
+
+/// The size of `bytes` gzipped at the default level, as a web server would send them.
+fn gzipped_len(bytes: &[u8]) -> Result<u64> {
+    use std::io::Write as _;
+    let mut encoder = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+    encoder.write_all(bytes)?;
+    Ok(encoder.finish()?.len() as u64)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::locked_version;
+
+    #[test]
+    fn the_locked_version_is_the_named_package_s() {
+        let lock = "[[package]]\nname = \"wasm-bindgen-futures\"\nversion = \"0.4.80\"\n\n\
+                    [[package]]\nname = \"wasm-bindgen\"\nversion = \"0.2.130\"\n";
+        assert_eq!(
+            locked_version(lock, "wasm-bindgen").as_deref(),
+            Some("0.2.130")
+        );
+        assert_eq!(locked_version(lock, "js-sys"), None);
+    }
+}
