@@ -115,6 +115,11 @@ fn served_files() -> Vec<ServedFile> {
         bytes: include_bytes!("../../web/browser_frame.html").to_vec(),
     });
     files.push(ServedFile {
+        path: "scene.glb".into(),
+        content_type: "model/gltf-binary",
+        bytes: GLB.to_vec(),
+    });
+    files.push(ServedFile {
         path: "cases.json".into(),
         content_type: "application/json",
         bytes: serde_json::to_vec(&listed).expect("JSON"),
@@ -127,7 +132,7 @@ fn served_files() -> Vec<ServedFile> {
 fn save_browser_frame(label: &str, pixels: &[u8]) {
     let dir = web_build().join("browser-frames");
     std::fs::create_dir_all(&dir).expect("creating target/web/browser-frames");
-    let name = label.replace(" at MSAA ", "-msaa");
+    let name = label.replace(" at MSAA ", "-msaa").replace(' ', "-");
     image::save_buffer(
         dir.join(format!("{name}.png")),
         pixels,
@@ -146,9 +151,15 @@ fn unhex(hex: &str) -> Vec<u8> {
         .collect()
 }
 
+/// The glTF scene the page opens from its bytes after the courtyard.
+const GLB: &[u8] = include_bytes!("../../scenes/AlphaBlendModeTest/AlphaBlendModeTest.glb");
+
 /// The same frame rendered natively on lavapipe, and the names of its passes.
-fn native_frame(gpu: &renderer::GpuContext, settings: &Settings) -> (Vec<u8>, Vec<&'static str>) {
-    let showcase = Showcase::courtyard(settings);
+fn native_frame(
+    gpu: &renderer::GpuContext,
+    showcase: &Showcase,
+    settings: &Settings,
+) -> (Vec<u8>, Vec<&'static str>) {
     let mut renderer = showcase.renderer(gpu, settings).expect("renderer");
     let target = create_target(gpu.device(), renderer.config());
     let aspect = settings.width as f32 / settings.height as f32;
@@ -158,6 +169,52 @@ fn native_frame(gpu: &renderer::GpuContext, settings: &Settings) -> (Vec<u8>, Ve
     let pixels = renderer::readback::read_texture_rgba8(gpu.device(), gpu.queue(), &target)
         .expect("readback");
     (pixels, renderer.pass_names())
+}
+
+/// Checks the page's `frame` (its pixels and pass names, or its error) against the native
+/// frame of `showcase` and `settings` on lavapipe, and returns the browser's pixels.
+#[expect(
+    clippy::print_stdout,
+    reason = "the measured differences are the test's report"
+)]
+fn equal_to_native(
+    gpu: &renderer::GpuContext,
+    label: &str,
+    frame: &Value,
+    showcase: &Showcase,
+    settings: &Settings,
+) -> Vec<u8> {
+    if let Some(error) = frame["error"].as_str() {
+        panic!("{label}: the browser could not render it: {error}");
+    }
+    let pixels = unhex(frame["pixels"].as_str().expect("pixels"));
+    save_browser_frame(label, &pixels);
+    let (native, native_passes) = native_frame(gpu, showcase, settings);
+    // The page switched to the case's path: the same passes as the native renderer's.
+    let passes: Vec<&str> = frame["passes"]
+        .as_array()
+        .expect("pass names")
+        .iter()
+        .map(|p| p.as_str().expect("a pass name"))
+        .collect();
+    assert_eq!(passes, native_passes, "{label}: the page ran other passes");
+    let differences = pixel_differences(&pixels, &native, 3);
+    let (mean, p99, max) = stats(&differences);
+    let far = differences.iter().filter(|&&d| d > NATIVE_FAR).count();
+    println!(
+        "{label}: browser against lavapipe: mean {mean:.3}, p99 {p99}, max {max}, \
+         {far} of {} pixels beyond {NATIVE_FAR}",
+        differences.len()
+    );
+    assert!(
+        mean <= NATIVE_MEAN
+            && p99 <= NATIVE_P99
+            && far * 1000 <= differences.len() * NATIVE_FAR_PER_MILLE,
+        "{label}: the browser frame differs from lavapipe's: mean {mean:.3} (at most \
+         {NATIVE_MEAN}), p99 {p99} (at most {NATIVE_P99}), {far} pixels beyond \
+         {NATIVE_FAR} (at most {NATIVE_FAR_PER_MILLE} per 1,000)"
+    );
+    pixels
 }
 
 #[test]
@@ -195,43 +252,24 @@ fn the_browser_frame_equals_the_native_frame_on_every_path_that_fits() {
                 println!("{label}: refused in the browser: {error}");
                 continue;
             }
-            if let Some(error) = frame["error"].as_str() {
-                panic!("{label}: the browser could not render it: {error}");
-            }
-            let pixels = unhex(frame["pixels"].as_str().expect("pixels"));
-            save_browser_frame(&label, &pixels);
             let settings = Settings {
                 path,
                 msaa,
                 ..SETTINGS
             };
-            let (native, native_passes) = native_frame(gpu, &settings);
-            // The page switched to the case's path: the same passes as the native renderer's.
-            let passes: Vec<&str> = frame["passes"]
-                .as_array()
-                .expect("pass names")
-                .iter()
-                .map(|p| p.as_str().expect("a pass name"))
-                .collect();
-            assert_eq!(passes, native_passes, "{label}: the page ran other passes");
-            let differences = pixel_differences(&pixels, &native, 3);
-            let (mean, p99, max) = stats(&differences);
-            let far = differences.iter().filter(|&&d| d > NATIVE_FAR).count();
-            println!(
-                "{label}: browser against lavapipe: mean {mean:.3}, p99 {p99}, max {max}, \
-                 {far} of {} pixels beyond {NATIVE_FAR}",
-                differences.len()
-            );
-            assert!(
-                mean <= NATIVE_MEAN
-                    && p99 <= NATIVE_P99
-                    && far * 1000 <= differences.len() * NATIVE_FAR_PER_MILLE,
-                "{label}: the browser frame differs from lavapipe's: mean {mean:.3} (at most \
-                 {NATIVE_MEAN}), p99 {p99} (at most {NATIVE_P99}), {far} pixels beyond \
-                 {NATIVE_FAR} (at most {NATIVE_FAR_PER_MILLE} per 1,000)"
-            );
+            let showcase = Showcase::courtyard(&settings);
+            let pixels = equal_to_native(gpu, &label, frame, &showcase, &settings);
             browser.push((path, msaa, pixels));
         }
+        let settings = SETTINGS;
+        let showcase = Showcase::from_gltf(GLB, &settings).expect("the committed scene loads");
+        equal_to_native(
+            gpu,
+            "AlphaBlendModeTest from its bytes",
+            &result["scene"],
+            &showcase,
+            &settings,
+        );
     });
     for (path, msaa, pixels) in &browser {
         let naive = browser
