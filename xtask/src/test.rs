@@ -77,8 +77,10 @@ pub fn run(args: &Args) -> Result<()> {
         crate::shaders::run(&crate::shaders::Args::check_all())
     })?;
     // The web demo's module, which the browser frame test loads in headless Chromium.
-    step("cargo xtask web --build-only", || {
-        crate::web::build().map(|_| ())
+    // The dev profile: the tests' host build of the DSL compiler serves it (a release build
+    // compiles that again, and every dependency optimised: minutes more from scratch).
+    step("cargo xtask web --build-only --dev", || {
+        crate::web::build(crate::web::Profile::Dev).map(|_| ())
     })?;
     let mut counts = step("cargo test", || cargo_test(&args.cargo_test_args))?;
     let example = step(
