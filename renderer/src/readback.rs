@@ -1,9 +1,10 @@
 //! Copies GPU textures and buffers back to the CPU, for tests, screenshots and debug views.
 //!
-//! Each reader has two forms. The `_async` one never blocks: in a browser the copy's mapping
-//! completes from the page's event loop, and on native backends the future polls the device
-//! until the copy is done. The plain one blocks until the GPU is done (native only: in a
-//! browser it returns [`GpuError::BlockingInBrowser`]). Both belong in tools and tests, not in a
+//! Each reader has two forms. The `_async` one is what a browser page uses: there it never
+//! blocks, the copy's mapping completing from the page's event loop; on native backends the
+//! future polls the device until the copy is done, blocking its thread meanwhile. The plain
+//! one blocks until the GPU is done (native only: in a browser it returns
+//! [`GpuError::BlockingInBrowser`]). Both belong in tools and tests, not in a
 //! frame.
 
 use crate::GpuError;

@@ -198,8 +198,10 @@ fn resource_name(r: &Resource<'_>) -> &'static str {
     }
 }
 
-/// The first pair of `variant`'s group-`group` bindings given overlapping ranges of one buffer
-/// where the shader may write one of them, as an error.
+/// The first pair of `variant`'s group-`group` bindings that may not share their buffer, as an
+/// error: a binding the shader may write and any other binding of the same buffer (a usage
+/// conflict, for WebGPU and wgpu alike), except a second writable binding whose range does not
+/// overlap it (WebGPU refuses overlapping writable ranges; native backends let them race).
 pub(crate) fn no_writable_alias<'a>(
     variant: &Variant,
     group: u32,
@@ -223,7 +225,12 @@ pub(crate) fn no_writable_alias<'a>(
     };
     for (i, (first, a)) in buffers.iter().enumerate() {
         for (second, b) in &buffers[i + 1..] {
-            if (writable(first) || writable(second)) && a.buffer == b.buffer && overlap(a, b) {
+            let conflict = match (writable(first), writable(second)) {
+                (false, false) => false,
+                (true, true) => overlap(byte_range(a), byte_range(b)),
+                _ => true,
+            };
+            if conflict && a.buffer == b.buffer {
                 let (writable, other) = if writable(first) {
                     (first.name, second.name)
                 } else {
@@ -241,11 +248,29 @@ pub(crate) fn no_writable_alias<'a>(
     Ok(())
 }
 
-/// Whether two ranges of one buffer share a byte (a range without a size runs to the end).
-fn overlap(a: &wgpu::BufferBinding<'_>, b: &wgpu::BufferBinding<'_>) -> bool {
-    let end = |r: &wgpu::BufferBinding<'_>| {
-        r.size
-            .map_or(r.buffer.size(), |s| r.offset.saturating_add(s.get()))
-    };
-    a.offset < end(b) && b.offset < end(a)
+/// The bytes `[start, end)` a binding covers (one without a size runs to the buffer's end).
+fn byte_range(r: &wgpu::BufferBinding<'_>) -> (u64, u64) {
+    let end = r
+        .size
+        .map_or(r.buffer.size(), |s| r.offset.saturating_add(s.get()));
+    (r.offset, end)
+}
+
+/// Whether two byte ranges `[start, end)` share a byte.
+fn overlap(a: (u64, u64), b: (u64, u64)) -> bool {
+    a.0 < b.1 && b.0 < a.1
+}
+
+#[cfg(test)]
+mod tests {
+    use super::overlap;
+
+    #[test]
+    fn ranges_overlap_when_they_share_a_byte() {
+        assert!(overlap((0, 16), (15, 32)));
+        assert!(overlap((8, 9), (0, 16)));
+        assert!(!overlap((0, 16), (16, 32)));
+        assert!(!overlap((16, 32), (0, 16)));
+        assert!(!overlap((0, 0), (0, 16)));
+    }
 }

@@ -35,12 +35,12 @@ pub enum BindError {
         expected: String,
         given: String,
     },
-    /// Two bindings of the group were given overlapping ranges of one buffer, and the shader
-    /// may write through `writable`.
+    /// The shader may write through `writable`, and `other` was given the same buffer: as a
+    /// read binding (a usage conflict), or as a writable one over an overlapping range.
     #[error(
         "`{writable}` and `{other}` (group {group} of shader variant `{variant}`) were given \
-         overlapping ranges of one buffer, and the shader writes `{writable}`: give each its own \
-         buffer or a range of its own"
+         the same buffer, and the shader writes `{writable}`: give `{writable}` a buffer of its \
+         own (two writable bindings may share one in ranges that do not overlap)"
     )]
     WritableAlias {
         variant: String,

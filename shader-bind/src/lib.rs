@@ -23,9 +23,10 @@
 //!   binding, integer texels for an integer binding, float (or depth) texels for a float binding,
 //!   the `STORAGE_BINDING` usage and the declared format for a storage texture;
 //! - a sampler can only be given where a sampler is bound (the field's type);
-//! - a buffer range bound where the shader may write it overlaps no other binding's range of
-//!   the same buffer in the group (WebGPU refuses such a group; native backends let the two
-//!   bindings race).
+//! - a buffer bound where the shader may write it is bound nowhere else in the group, but for
+//!   another writable binding over a range that does not overlap (a read binding of the same
+//!   buffer is a usage conflict for WebGPU and wgpu alike; overlapping writable ranges WebGPU
+//!   refuses and native backends let race).
 //!
 //! A crate that uses the DSL depends on this crate (the generated builders name
 //! `::shader_bind`), and through it on wgpu.

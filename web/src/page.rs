@@ -184,25 +184,42 @@ impl WebDemo {
             .collect()
     }
 
-    /// Switches to the path `name`, keeping the current one when the device cannot run it
-    /// (the error says why).
-    pub fn set_path(&mut self, name: &str) -> Result<(), JsError> {
-        let path = name.parse().map_err(|e: String| JsError::new(&e))?;
+    /// Switches to the path named `path` (`RenderPath::name`) at `msaa` samples per pixel,
+    /// keeping the running renderer when the renderer refuses them (the error says why: a
+    /// path whose kernels exceed the device's limits, an MSAA count it lacks). Nothing is
+    /// rebuilt when both are already running.
+    pub fn configure(&mut self, path: &str, msaa: u32) -> Result<(), JsError> {
+        let path = path.parse().map_err(|e: String| JsError::new(&e))?;
+        let mut state = self.state.borrow_mut();
         let settings = Settings {
             path,
-            ..self.state.borrow().settings
+            msaa,
+            ..state.settings
         };
-        self.state.borrow_mut().rebuild(settings)
+        if settings == state.settings {
+            return Ok(());
+        }
+        state.rebuild(settings)
     }
 
-    /// Switches to `msaa` samples per pixel, keeping the current count when the device cannot
-    /// render with it.
-    pub fn set_msaa(&mut self, msaa: u32) -> Result<(), JsError> {
-        let settings = Settings {
-            msaa,
-            ..self.state.borrow().settings
-        };
-        self.state.borrow_mut().rebuild(settings)
+    /// The running path's name.
+    pub fn path(&self) -> String {
+        self.state.borrow().settings.path.name().to_owned()
+    }
+
+    /// The running MSAA count.
+    pub fn msaa(&self) -> u32 {
+        self.state.borrow().settings.msaa
+    }
+
+    /// The frame's width in pixels.
+    pub fn width(&self) -> u32 {
+        self.state.borrow().settings.width
+    }
+
+    /// The frame's height in pixels.
+    pub fn height(&self) -> u32 {
+        self.state.borrow().settings.height
     }
 
     /// Replaces the scene with a glTF one (a `.glb`, or a `.gltf` with embedded buffers), with

@@ -337,6 +337,18 @@ mod tests {
     }
 
     #[test]
+    fn a_browser_gets_the_enable_directives_its_variant_needs() {
+        let mut caps = caps();
+        assert_eq!(source_for(&VARIANT, &caps), VARIANT.wgsl);
+        caps.browser = true;
+        let source = source_for(&VARIANT, &caps);
+        assert!(source.starts_with("enable subgroups;"), "{source}");
+        assert!(source.ends_with(VARIANT.wgsl));
+        // A variant without subgroup operations needs no directive.
+        assert_eq!(source_for(&INT64_VARIANT, &caps), INT64_VARIANT.wgsl);
+    }
+
+    #[test]
     fn int64_variant_is_refused_without_int64_atomics() {
         let mut caps = caps();
         let err = check_supported(&INT64_VARIANT, &caps).unwrap_err();
