@@ -9,6 +9,7 @@ use renderer::culling::lists::CullReadback;
 use renderer::culling::reference::Method;
 use renderer::culling::tiled::{TileCullConfig, TiledCulling};
 use renderer::decals::OrientedBox;
+use renderer::graph::PassEncoder;
 
 use crate::cull_scene::CullScene;
 use crate::depth_upload::write_msaa_depth;
@@ -98,7 +99,7 @@ pub fn run_with_boxes(s: &CullScene, method: GpuMethod, boxes: &[OrientedBox]) -
             }
         };
         levels
-            .encode(d, &mut encoder, &view, None)
+            .encode(d, &mut PassEncoder::untimed(&mut encoder), &view, false)
             .expect("the culling buffers bind");
         gpu.queue().submit([encoder.finish()]);
         levels.lists.read_back(gpu).expect("readback")

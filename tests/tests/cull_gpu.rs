@@ -377,7 +377,12 @@ fn overflow_reported_asynchronously_then_buffers_grow_for_the_next_frame() {
             let mut encoder = gpu.device().create_command_encoder(&Default::default());
             culling
                 .levels
-                .encode(gpu.device(), &mut encoder, &view, None)
+                .encode(
+                    gpu.device(),
+                    &mut renderer::graph::PassEncoder::untimed(&mut encoder),
+                    &view,
+                    false,
+                )
                 .expect("the culling buffers bind");
             let counters = (&culling.levels.lists.counters, CullCounters::WORDS * 4);
             assert!(readback.record(&mut encoder, &[counters], n));

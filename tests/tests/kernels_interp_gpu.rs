@@ -52,7 +52,7 @@ fn gpu_sort(padded: &[UVec2], items: u32) -> Vec<UVec2> {
         gpu.queue()
             .write_buffer(&sort.keys, 0, bytemuck::cast_slice(padded));
         let mut encoder = gpu.device().create_command_encoder(&Default::default());
-        sort.record_in(&mut encoder);
+        sort.record_in(&mut renderer::graph::PassEncoder::untimed(&mut encoder));
         gpu.queue().submit([encoder.finish()]);
         read_buffer::<UVec2>(gpu.device(), gpu.queue(), &sort.keys).expect("readback")
     })

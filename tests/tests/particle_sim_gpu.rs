@@ -159,7 +159,7 @@ fn gpu_bitonic_sort_equals_the_cpu_sort() {
             gpu.queue()
                 .write_buffer(&sort.keys, 0, bytemuck::cast_slice(&padded));
             let mut encoder = gpu.device().create_command_encoder(&Default::default());
-            sort.record_in(&mut encoder);
+            sort.record_in(&mut renderer::graph::PassEncoder::untimed(&mut encoder));
             gpu.queue().submit([encoder.finish()]);
             read_buffer::<UVec2>(gpu.device(), gpu.queue(), &sort.keys).expect("readback")
         });

@@ -163,18 +163,26 @@ impl WebDemo {
         self.state.borrow_mut().frame()
     }
 
-    /// Whether frames are timed per pass: the frame graph times its passes with timestamps
-    /// written between commands, which WebGPU does not have (it times whole passes only).
+    /// Whether frames are timed per pass: where the browser has `timestamp-query`. WebGPU
+    /// writes timestamps only at the bounds of compute and render passes, so a graph pass's
+    /// time is the sum of its compute and render passes; one that only copies is not listed.
     pub fn times_passes(&self) -> bool {
+        self.state.borrow().gpu.capabilities().timestamp_query
+    }
+
+    /// The newest frame's graph passes in the order they were recorded: what
+    /// [`WebDemo::timings`] names.
+    pub fn graph_passes(&self) -> Vec<String> {
         self.state
             .borrow()
-            .gpu
-            .capabilities()
-            .timestamp_inside_passes
+            .renderer
+            .graph_passes()
+            .unwrap_or_default()
     }
 
     /// The newest per-pass GPU timings that have arrived, as `[pass, milliseconds]` pairs
-    /// (empty where [`WebDemo::times_passes`] is false).
+    /// (empty where [`WebDemo::times_passes`] is false). They arrive a frame or more after the
+    /// frame they time, and [`WebDemo::frame`] collects them.
     pub fn timings(&self) -> js_sys::Array {
         self.state
             .borrow()
@@ -233,6 +241,7 @@ impl WebDemo {
         state.orbit = showcase.orbit;
         state.showcase = showcase;
         state.renderer = renderer;
+        state.timings.clear();
         Ok(())
     }
 
@@ -292,10 +301,13 @@ impl State {
 
     fn frame(&mut self) -> Result<(), JsError> {
         let camera = self.camera();
-        self.renderer
+        let report = self
+            .renderer
             .render(&camera, &self.target)
             .map_err(|e| js_error(&e))?;
-        if let Some(newest) = self.renderer.drain_timings().pop() {
+        // The frame's report carries the oldest timings that had arrived; any drained after
+        // it are newer.
+        if let Some(newest) = self.renderer.drain_timings().pop().or(report.timings) {
             self.timings = newest;
         }
         let Some((surface, config)) = &self.canvas else {
@@ -334,6 +346,8 @@ impl State {
             .map_err(|e| js_error(&e))?;
         self.renderer = renderer;
         self.settings = settings;
+        // The old renderer's timings are not this one's.
+        self.timings.clear();
         Ok(())
     }
 }

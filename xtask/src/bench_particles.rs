@@ -9,6 +9,7 @@ use std::path::PathBuf;
 use anyhow::Result;
 use glam::Vec3;
 use renderer::frame::framing_camera;
+use renderer::graph::PassEncoder;
 use renderer::particles::{ParticleSystem, dust, smoke, sparks};
 use renderer::passes::particles::{GpuSort, ParticleAtlas, ParticleSimulation};
 use renderer::scene::Aabb;
@@ -133,7 +134,7 @@ fn measure(gpu: &GpuContext, count: u32, frames: u32) -> Result<String> {
         let mut encoder = gpu.device().create_command_encoder(&Default::default());
         {
             let mut scope = profiler.scope(STAGES[0], &mut encoder);
-            sim.record_step(gpu.queue(), &mut scope);
+            sim.record_step(gpu.queue(), &mut PassEncoder::untimed(&mut scope));
         }
         {
             let mut scope = profiler.scope(STAGES[1], &mut encoder);
@@ -141,7 +142,7 @@ fn measure(gpu: &GpuContext, count: u32, frames: u32) -> Result<String> {
         }
         {
             let mut scope = profiler.scope(STAGES[2], &mut encoder);
-            sort.record_in(&mut scope);
+            sort.record_in(&mut PassEncoder::untimed(&mut scope));
         }
         profiler.resolve_queries(&mut encoder);
         gpu.queue().submit([encoder.finish()]);

@@ -16,6 +16,7 @@ use shaders_gen::shared::cull_append;
 use super::CullError;
 use super::lists::LightLists;
 use crate::GpuContext;
+use crate::graph::PassEncoder;
 use crate::shader::ShaderProgram;
 
 /// Edge of a super-tile in pixels (`cull_append::SUPER_TILE_PIXELS`).
@@ -297,16 +298,17 @@ impl CullHierarchy {
     }
 
     /// Records the three dispatches reading `depth` (the pre-Z buffer, `shape.msaa` samples), in
-    /// one compute pass; with a `profiler`, each in its own compute pass timed as
-    /// `cull: tile depth`, `cull: super-tiles` and `cull: tiles`. Separate passes cost time of
-    /// their own (about 30 µs per frame on the H100 at 1080p), so frames time their dispatches
-    /// only when asked (`RendererConfig::time_cull_dispatches`).
+    /// one compute pass; with `time_dispatches`, each in its own compute pass with its own
+    /// timestamps, listed in frame timings as `cull: tile depth`, `cull: super-tiles` and
+    /// `cull: tiles`. Separate passes cost time of their own (about 30 µs per frame on the H100
+    /// at 1080p), so frames time their dispatches only when asked
+    /// (`RendererConfig::time_cull_dispatches`).
     pub fn encode(
         &self,
         device: &wgpu::Device,
-        encoder: &mut wgpu::CommandEncoder,
+        encoder: &mut PassEncoder<'_>,
         depth: &wgpu::TextureView,
-        profiler: Option<&wgpu_profiler::GpuProfiler>,
+        time_dispatches: bool,
     ) -> Result<(), shader_bind::BindError> {
         let (prepare, fine) = self.bind_groups(device, depth)?;
         encoder.clear_buffer(&self.lists.counters, 0, None);
@@ -335,32 +337,22 @@ impl CullHierarchy {
         let steps = steps
             .iter()
             .filter(|(name, ..)| !(self.shape.brute_force && *name == "cull: super-tiles"));
-        let Some(profiler) = profiler else {
+        if !time_dispatches {
             // One compute pass: wgpu orders the dispatches by their storage hazards.
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("light cull"),
-                timestamp_writes: None,
-            });
+            let mut pass = encoder.begin_compute("light cull");
             for (_, bind_group, pipeline, groups) in steps {
                 pass.set_bind_group(0, *bind_group, &[]);
                 pass.set_pipeline(pipeline);
                 pass.dispatch_workgroups(groups.x, groups.y, groups.z);
             }
             return Ok(());
-        };
+        }
         // A compute pass per dispatch, each with its own timestamps.
         for (name, bind_group, pipeline, groups) in steps {
-            let query = profiler.begin_pass_query(*name, encoder);
-            {
-                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some(name),
-                    timestamp_writes: query.compute_pass_timestamp_writes(),
-                });
-                pass.set_bind_group(0, *bind_group, &[]);
-                pass.set_pipeline(pipeline);
-                pass.dispatch_workgroups(groups.x, groups.y, groups.z);
-            }
-            profiler.end_query(encoder, query);
+            let mut pass = encoder.begin_compute_timed(name);
+            pass.set_bind_group(0, *bind_group, &[]);
+            pass.set_pipeline(pipeline);
+            pass.dispatch_workgroups(groups.x, groups.y, groups.z);
         }
         Ok(())
     }

@@ -84,6 +84,13 @@ impl Renderer {
         Ok(())
     }
 
+    /// The newest frame's graph passes in the order they were recorded (passes culled because
+    /// nothing needed them left out): the names its [`PassTiming`]s use. `None` before the
+    /// first frame.
+    pub fn graph_passes(&self) -> Option<Vec<String>> {
+        self.graph_cache.pass_order()
+    }
+
     /// Per-pass timings of every frame whose timestamps have arrived and were not yet returned
     /// (by `render`'s report or an earlier call), oldest first. Does not block.
     pub fn drain_timings(&mut self) -> Vec<Vec<PassTiming>> {

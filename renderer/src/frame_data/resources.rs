@@ -200,7 +200,7 @@ pub struct OcclusionDraws {
 #[derive(Clone)]
 pub struct OcclusionPacked {
     /// Records the packing of both lists, once the late cull has written them.
-    pub record: std::sync::Arc<dyn Fn(&mut wgpu::CommandEncoder) + Send + Sync>,
+    pub record: std::sync::Arc<dyn Fn(&mut crate::graph::PassEncoder<'_>) + Send + Sync>,
     /// The packed late list in the graph, its arguments and its counts.
     pub late: Handle<Buffer>,
     pub late_args: wgpu::Buffer,

@@ -42,6 +42,18 @@ impl GraphCache {
         Some(dot::to_dot(&self.passes, &self.resources, plan))
     }
 
+    /// The last graph's passes in the order they were recorded (culled ones left out), if one
+    /// was compiled.
+    pub fn pass_order(&self) -> Option<Vec<String>> {
+        let plan = self.plan.as_ref()?;
+        Some(
+            plan.order
+                .iter()
+                .map(|&p| self.passes[p].name.clone())
+                .collect(),
+        )
+    }
+
     /// Whether `graph` has the shape the plan was made for.
     fn fits(&self, graph: &RenderGraph) -> bool {
         self.plan.is_some()

@@ -1,6 +1,7 @@
 //! What a pass's recording function gets: the encoder, the device and the GPU objects behind its
 //! handles. Below the builder (which stores recording functions) and execution (which calls them).
 
+use super::encoder::PassEncoder;
 use super::resource::{Buffer, Handle, Texture};
 
 /// A physical GPU object behind a resource: a pool transient or a bound import.
@@ -12,8 +13,10 @@ pub(crate) enum PoolObject {
 
 /// What a pass's recording function gets: the encoder and its resources' GPU objects.
 pub struct PassContext<'a> {
-    /// The frame's encoder, inside this pass's profiler scope (debug group and timestamps).
-    pub encoder: &'a mut wgpu::CommandEncoder,
+    /// The frame's encoder, inside this pass's profiler scope. Compute and render passes begin
+    /// through it ([`PassEncoder::begin_compute`], [`PassEncoder::begin_render`]) so that they
+    /// are timed on devices that time only whole passes.
+    pub encoder: PassEncoder<'a>,
     /// The device, for bind groups and other per-pass objects.
     pub device: &'a wgpu::Device,
     /// The frame's profiler, for passes that time their dispatches separately (each pass is
@@ -36,7 +39,7 @@ impl std::fmt::Debug for PassContext<'_> {
 
 impl<'a> PassContext<'a> {
     pub(super) fn new(
-        encoder: &'a mut wgpu::CommandEncoder,
+        encoder: PassEncoder<'a>,
         device: &'a wgpu::Device,
         profiler: &'a wgpu_profiler::GpuProfiler,
         objects: &'a [Option<PoolObject>],

@@ -5,6 +5,7 @@ use std::sync::Arc;
 
 use super::compile::CompiledGraph;
 use super::context::{PassContext, PoolObject};
+use super::encoder::PassEncoder;
 use super::error::GraphError;
 use super::nodes::ResourceDesc;
 use super::pool::{PoolStats, TransientPool};
@@ -21,20 +22,46 @@ pub struct PassTiming {
 
 impl PassTiming {
     /// Flattens wgpu-profiler's results for one frame into per-pass timings (nested scopes are
-    /// listed after their parent). Scopes without a time (no timestamp support) are skipped.
+    /// listed after their parent).
+    ///
+    /// A scope without a time of its own whose compute and render passes carry timestamps (a
+    /// device that times only whole passes, as WebGPU does: see `graph::encoder`) is timed as
+    /// the sum of those passes, and they are not listed again. Scopes with no time at all (no
+    /// timestamp support) are skipped.
     pub fn from_profiler(results: &[wgpu_profiler::GpuTimerQueryResult]) -> Vec<Self> {
         let mut out = Vec::new();
         for r in results {
-            if let Some(t) = &r.time {
-                out.push(Self {
-                    pass: r.label.clone(),
-                    gpu_ms: (t.end - t.start) * 1e3,
-                });
+            match &r.time {
+                Some(t) => {
+                    out.push(Self {
+                        pass: r.label.clone(),
+                        gpu_ms: (t.end - t.start) * 1e3,
+                    });
+                    out.extend(Self::from_profiler(&r.nested_queries));
+                }
+                None => match summed_seconds(&r.nested_queries) {
+                    Some(seconds) => out.push(Self {
+                        pass: r.label.clone(),
+                        gpu_ms: seconds * 1e3,
+                    }),
+                    None => out.extend(Self::from_profiler(&r.nested_queries)),
+                },
             }
-            out.extend(Self::from_profiler(&r.nested_queries));
         }
         out
     }
+}
+
+/// The summed time of the timed scopes among `results` (for an untimed one, of its own nested
+/// scopes), or `None` when none has a time.
+fn summed_seconds(results: &[wgpu_profiler::GpuTimerQueryResult]) -> Option<f64> {
+    results
+        .iter()
+        .filter_map(|r| match &r.time {
+            Some(t) => Some(t.end - t.start),
+            None => summed_seconds(&r.nested_queries),
+        })
+        .reduce(|a, b| a + b)
 }
 
 impl CompiledGraph {
@@ -98,16 +125,23 @@ impl CompiledGraph {
         let plan = Arc::clone(&self.plan);
         for &p in &plan.order {
             let pass = &mut self.passes[p];
-            let mut scope = profiler.scope(pass.name.clone(), &mut *encoder);
+            let scope = profiler.begin_query(pass.name.clone(), &mut *encoder);
+            let mut bind_error = None;
             if let Some(record) = pass.execute.take() {
-                let mut ctx = PassContext::new(&mut scope, device, profiler, &objects);
+                let pass_encoder =
+                    PassEncoder::for_graph_pass(&mut *encoder, device, profiler, &scope);
+                let mut ctx = PassContext::new(pass_encoder, device, profiler, &objects);
                 record(&mut ctx);
-                if let Some(source) = ctx.bind_error.take() {
-                    return Err(GraphError::Bind {
-                        pass: pass.name.clone(),
-                        source,
-                    });
-                }
+                bind_error = ctx.bind_error.take();
+            }
+            // The scope is closed on every path: the profiler refuses to end a frame with one
+            // left open.
+            profiler.end_query(&mut *encoder, scope);
+            if let Some(source) = bind_error {
+                return Err(GraphError::Bind {
+                    pass: pass.name.clone(),
+                    source,
+                });
             }
         }
         Ok(stats)

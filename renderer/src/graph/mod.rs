@@ -12,15 +12,16 @@
 //! always names the exact write it depends on. Mistakes are [`GraphError`]s at compile time,
 //! never wgpu validation errors later.
 //!
-//! Files are layered, each using only those below it: `resource`, `error` → `context` (what a
-//! recording function gets) → `nodes` (the shared plain data) → `builder`, `pool` → `compile` →
-//! `execute`, `dot` → `cache`. `cargo xtask check-invariants` rejects any import circle between them.
+//! Files are layered, each using only those below it: `resource`, `error`, `encoder` (how compute
+//! and render passes begin, timed) → `context` (what a recording function gets) → `nodes` (the
+//! shared plain data) → `builder`, `pool` → `compile` → `execute`, `dot` → `cache`. `cargo xtask check-invariants` rejects any import circle between them.
 
 mod builder;
 mod cache;
 mod compile;
 mod context;
 mod dot;
+mod encoder;
 mod error;
 mod execute;
 mod nodes;
@@ -31,6 +32,7 @@ pub use builder::{PassBuilder, PassId, RenderGraph};
 internal_use!(cache::GraphCache);
 internal_use!(compile::CompiledGraph);
 pub use context::PassContext;
+pub use encoder::{PassEncoder, TimedPass};
 pub use error::GraphError;
 pub use execute::PassTiming;
 pub use nodes::Lifetime;

@@ -337,3 +337,53 @@ fn a_graph_of_the_same_shape_reuses_the_plan_and_another_compiles() {
     g.compile_cached(&mut cache).expect("valid");
     assert_eq!(cache.counts(), (3, 1), "an added pass compiles again");
 }
+
+fn scope(
+    label: &str,
+    seconds: Option<(f64, f64)>,
+    nested: Vec<wgpu_profiler::GpuTimerQueryResult>,
+) -> wgpu_profiler::GpuTimerQueryResult {
+    wgpu_profiler::GpuTimerQueryResult {
+        label: label.to_owned(),
+        pid: 0,
+        tid: std::thread::current().id(),
+        time: seconds.map(|(start, end)| start..end),
+        nested_queries: nested,
+    }
+}
+
+/// Timings from the profiler's scopes: a timed scope lists itself and then its nested scopes;
+/// an untimed one whose compute and render passes carry timestamps (WebGPU) is timed as their
+/// sum, without listing them; one with no time anywhere is left out.
+#[test]
+fn pass_timings_sum_whole_pass_timestamps_under_an_untimed_scope() {
+    let results = [
+        scope(
+            "light culling",
+            Some((1.0, 1.004)),
+            vec![scope("cull: tiles", Some((1.001, 1.003)), vec![])],
+        ),
+        scope(
+            "forward",
+            None,
+            vec![
+                scope("forward", Some((2.0, 2.002)), vec![]),
+                scope("resolve", Some((2.003, 2.004)), vec![]),
+            ],
+        ),
+        scope("particle fade depth", None, vec![]),
+    ];
+    let timings = PassTiming::from_profiler(&results);
+    let listed: Vec<(&str, i64)> = timings
+        .iter()
+        .map(|t| (t.pass.as_str(), (t.gpu_ms * 1000.0).round() as i64))
+        .collect();
+    assert_eq!(
+        listed,
+        [
+            ("light culling", 4000),
+            ("cull: tiles", 2000),
+            ("forward", 3000)
+        ]
+    );
+}

@@ -10,6 +10,7 @@ use shaders_gen::particles::particle_sort::{self, SortParams};
 use crate::GpuContext;
 use crate::frame_data::RenderError;
 use crate::shader::ShaderProgram;
+use crate::graph::PassEncoder;
 
 /// The sort's program and pipelines, shared by every sort built from them.
 #[derive(Debug)]
@@ -201,11 +202,8 @@ impl GpuSort {
     }
 
     /// Dispatches in a compute pass of its own.
-    pub fn record_in(&self, encoder: &mut wgpu::CommandEncoder) {
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("sort"),
-            timestamp_writes: None,
-        });
+    pub fn record_in(&self, encoder: &mut PassEncoder<'_>) {
+        let mut pass = encoder.begin_compute("sort");
         self.record(&mut pass);
     }
 }

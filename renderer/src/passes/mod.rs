@@ -25,6 +25,7 @@ pub mod visibility;
 
 use crate::frame_data::{FrameInputs, FrameReport, FrameResources, RenderError, SceneDrawList};
 use crate::graph::RenderGraph;
+use crate::graph::{PassEncoder, TimedPass};
 
 /// One pass of the frame. A frame calls, for every pass in list order: [`Pass::prepare`], then
 /// [`Pass::add_to_graph`]; after the graph is recorded, [`Pass::after_execute`]; after the
@@ -431,11 +432,11 @@ pub(crate) fn fullscreen_pipeline(
 
 /// A render pass over one colour attachment (cleared to black), without depth.
 pub(crate) fn color_pass<'e>(
-    encoder: &'e mut wgpu::CommandEncoder,
+    encoder: &'e mut PassEncoder<'_>,
     label: &str,
     view: &wgpu::TextureView,
-) -> wgpu::RenderPass<'e> {
-    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+) -> TimedPass<'e, wgpu::RenderPass<'e>> {
+    encoder.begin_render(&wgpu::RenderPassDescriptor {
         label: Some(label),
         color_attachments: &[Some(wgpu::RenderPassColorAttachment {
             view,
@@ -466,7 +467,7 @@ pub(crate) fn draw_fullscreen(
     let Some(bind_group) = ctx.bind(group) else {
         return;
     };
-    let mut pass = color_pass(ctx.encoder, label, target);
+    let mut pass = color_pass(&mut ctx.encoder, label, target);
     pass.set_pipeline(pipeline);
     pass.set_bind_group(0, &bind_group, &[]);
     pass.draw(0..3, 0..1);

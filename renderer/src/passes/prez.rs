@@ -159,7 +159,7 @@ impl Pass for PrezPass {
             .write_texture(&mut depth, TextureAccess::DepthWrite)
             .execute(move |ctx| {
                 let view = ctx.texture(target).create_view(&Default::default());
-                let mut pass = ctx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                let mut pass = ctx.encoder.begin_render(&wgpu::RenderPassDescriptor {
                     label: Some("pre-z"),
                     color_attachments: &[],
                     depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {

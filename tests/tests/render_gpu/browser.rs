@@ -4,9 +4,12 @@
 //! and particles on every path at MSAA 4 and three at MSAA 1, and reads each frame back
 //! without blocking (`tests/web/browser_frame.html`). Each frame must equal the native frame
 //! of the same settings and camera on lavapipe, and the culled paths must equal naive forward
-//! in the browser too. The visibility path's kernels bind more storage buffers than the
-//! browser's adapter offers: it must be refused by that limit's name, not drawn wrong.
+//! in the browser too, and the page's per-pass GPU timings must cover the passes the native frame
+//! times (WebGPU times whole compute and render passes only). The visibility path's kernels bind
+//! more storage buffers than the browser's adapter offers: it must be refused by that limit's
+//! name, not drawn wrong.
 
+use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, SystemTime};
 
@@ -16,6 +19,8 @@ use tests::browser::{ServedFile, files_under, run_page};
 use tests::gpu::gpu_test;
 use tests::image_compare::{pixel_differences, stats};
 use web_demo::showcase::{Settings, Showcase};
+
+use super::pass_timings::COPY_ONLY;
 
 /// Loading the module, compiling every path's pipelines with Tint and rendering thirteen frames
 /// on SwiftShader (measured: about 40 s on a 2-core machine).
@@ -187,12 +192,19 @@ fn unhex(hex: &str) -> Vec<u8> {
 /// The glTF scene the page opens from its bytes after the courtyard.
 const GLB: &[u8] = include_bytes!("../../scenes/AlphaBlendModeTest/AlphaBlendModeTest.glb");
 
-/// The same frame rendered natively on lavapipe, and the names of its passes.
+/// The same frame rendered natively on lavapipe: its pixels, the names of its renderer's
+/// passes, and the graph passes it timed (with timestamps between commands).
+struct NativeFrame {
+    pixels: Vec<u8>,
+    passes: Vec<&'static str>,
+    timed: BTreeSet<String>,
+}
+
 fn native_frame(
     gpu: &renderer::GpuContext,
     showcase: &Showcase,
     settings: &Settings,
-) -> (Vec<u8>, Vec<&'static str>) {
+) -> NativeFrame {
     let mut renderer = showcase.renderer(gpu, settings).expect("renderer");
     let target = create_target(gpu.device(), renderer.config());
     let aspect = settings.width as f32 / settings.height as f32;
@@ -201,7 +213,58 @@ fn native_frame(
         .expect("frame");
     let pixels = renderer::readback::read_texture_rgba8(gpu.device(), gpu.queue(), &target)
         .expect("readback");
-    (pixels, renderer.pass_names())
+    let timings = renderer.finish().expect("lavapipe times the frame");
+    NativeFrame {
+        pixels,
+        passes: renderer.pass_names(),
+        timed: timings.into_iter().map(|t| t.pass).collect(),
+    }
+}
+
+/// Checks the page's per-pass GPU timings of `frame`: the browser times whole compute and
+/// render passes only, and still times every pass of its frame graph that the native frame
+/// timed (the native graph has passes the browser's lacks, such as the draw compaction that
+/// needs `MULTI_DRAW_INDIRECT_COUNT`), but for those that only copy; each with a time, the
+/// frame above zero.
+#[expect(
+    clippy::print_stdout,
+    reason = "the browser's timings are the test's report"
+)]
+fn timed_like_native(label: &str, frame: &Value, native: &NativeFrame) {
+    let timings = frame["timings"].as_array().unwrap_or_else(|| {
+        panic!(
+            "{label}: no timings: the browser has no timestamp-query (Chromium on SwiftShader has)"
+        )
+    });
+    let mut total = 0.0;
+    let mut timed = BTreeSet::new();
+    for t in timings {
+        let (pass, ms) = (
+            t[0].as_str().expect("a pass name"),
+            t[1].as_f64().expect("ms"),
+        );
+        assert!(ms.is_finite() && ms >= 0.0, "{label}: {pass} took {ms} ms");
+        total += ms;
+        timed.insert(pass.to_owned());
+    }
+    let graph: BTreeSet<String> = frame["graph_passes"]
+        .as_array()
+        .expect("graph passes")
+        .iter()
+        .map(|p| p.as_str().expect("a pass name").to_owned())
+        .collect();
+    let expected: BTreeSet<String> = native
+        .timed
+        .intersection(&graph)
+        .filter(|p| !COPY_ONLY.contains(&p.as_str()))
+        .cloned()
+        .collect();
+    assert_eq!(timed, expected, "{label}: the browser timed other passes");
+    assert!(total > 0.0, "{label}: a frame of no GPU time");
+    println!(
+        "{label}: {} passes timed in the browser, {total:.3} ms of GPU in them",
+        timed.len()
+    );
 }
 
 /// Checks the page's `frame` (its pixels and pass names, or its error) against the native
@@ -228,7 +291,9 @@ fn equal_to_native(
     );
     let pixels = unhex(frame["pixels"].as_str().expect("pixels"));
     save_browser_frame(label, &pixels);
-    let (native, native_passes) = native_frame(gpu, showcase, settings);
+    let native_frame = native_frame(gpu, showcase, settings);
+    timed_like_native(label, frame, &native_frame);
+    let (native, native_passes) = (native_frame.pixels, native_frame.passes);
     let passes: Vec<&str> = frame["passes"]
         .as_array()
         .expect("pass names")

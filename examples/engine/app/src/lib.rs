@@ -148,7 +148,7 @@ impl Pass for LightCensusPass {
             else {
                 return;
             };
-            let mut compute = ctx.encoder.begin_compute_pass(&Default::default());
+            let mut compute = ctx.encoder.begin_compute("census");
             compute.set_pipeline(&pipeline);
             compute.set_bind_group(0, &lists_group, &[]);
             compute.set_bind_group(1, &own_group, &[]);

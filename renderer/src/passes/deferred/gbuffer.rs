@@ -16,6 +16,7 @@ use crate::materials::MaterialProgram;
 use crate::passes::forward::{FrameGroup, MaterialPipelines, lighting_buffer};
 use crate::passes::{MeshPipeline, Pass, SceneDraws, depth_state, mesh_pipeline};
 use crate::scene::VertexStreams;
+use crate::graph::{PassEncoder, TimedPass};
 
 /// The G-buffer pass: programs (glTF PBR's and every registered material program's) for
 /// decals from every decal (no lists this frame) and from the tiled lists, and the lighting
@@ -115,7 +116,7 @@ impl Pass for GBufferPass {
             };
             let views = targets.map(|t| ctx.texture(t).create_view(&Default::default()));
             let depth_view = ctx.texture(depth).create_view(&Default::default());
-            let mut pass = begin_gbuffer_pass(ctx.encoder, &views, &depth_view);
+            let mut pass = begin_gbuffer_pass(&mut ctx.encoder, &views, &depth_view);
             // The opaque and masked batches, as pre-Z and the forward pass draw them, each
             // with its material program.
             let mut draws = SceneDraws::new(&mut pass, &scene, &instances, VertexStreams::Forward);
@@ -135,10 +136,10 @@ impl Pass for GBufferPass {
 
 /// The G-buffer render pass: the four targets cleared, the pre-Z depth loaded.
 fn begin_gbuffer_pass<'e>(
-    encoder: &'e mut wgpu::CommandEncoder,
+    encoder: &'e mut PassEncoder<'_>,
     views: &[wgpu::TextureView; 4],
     depth: &wgpu::TextureView,
-) -> wgpu::RenderPass<'e> {
+) -> TimedPass<'e, wgpu::RenderPass<'e>> {
     let attachments = views.each_ref().map(|view| {
         Some(wgpu::RenderPassColorAttachment {
             view,
@@ -150,7 +151,7 @@ fn begin_gbuffer_pass<'e>(
             },
         })
     });
-    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+    encoder.begin_render(&wgpu::RenderPassDescriptor {
         label: Some("gbuffer"),
         color_attachments: &attachments,
         depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {

@@ -173,7 +173,7 @@ impl Pass for LightVolumePass {
                 return;
             };
             let target = ctx.texture(hdr).create_view(&Default::default());
-            let mut pass = ctx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            let mut pass = ctx.encoder.begin_render(&wgpu::RenderPassDescriptor {
                 label: Some("light volumes"),
                 color_attachments: &[Some(wgpu::RenderPassColorAttachment {
                     view: &target,

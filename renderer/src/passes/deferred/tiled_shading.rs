@@ -344,10 +344,7 @@ impl Pass for TbdrPass {
             };
             let mut pass = ctx
                 .encoder
-                .begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some(name),
-                    timestamp_writes: None,
-                });
+                .begin_compute(name);
             pass.set_bind_group(0, &group, &[]);
             if recording.is_some() {
                 pass.set_pipeline(&capture);

@@ -96,10 +96,7 @@ impl Pass for DepthProbePass {
                 };
                 let mut pass = ctx
                     .encoder
-                    .begin_compute_pass(&wgpu::ComputePassDescriptor {
-                        label: Some("depth probe"),
-                        timestamp_writes: None,
-                    });
+                    .begin_compute("depth probe");
                 pass.set_pipeline(&probe.kernel.pipeline);
                 pass.set_bind_group(0, &bind_group, &[]);
                 let side = depth_probe::WORKGROUP_SIDE;

@@ -337,7 +337,7 @@ impl ForwardPass {
             } else {
                 wgpu::LoadOp::Clear(sky)
             };
-            let mut pass = ctx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            let mut pass = ctx.encoder.begin_render(&wgpu::RenderPassDescriptor {
                 label: Some("forward"),
                 color_attachments: &[Some(wgpu::RenderPassColorAttachment {
                     view: msaa_view.as_ref().unwrap_or(&resolved_view),

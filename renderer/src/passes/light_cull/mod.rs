@@ -364,7 +364,7 @@ impl LightCullPass {
             .write_buffer(&mut indices, BufferAccess::StorageWrite)
             .execute(move |ctx| {
                 let view = ctx.texture(depth).create_view(&Default::default());
-                let encoded = k.levels.encode(ctx.device, ctx.encoder, &view, None);
+                let encoded = k.levels.encode(ctx.device, &mut ctx.encoder, &view, false);
                 ctx.bind(encoded);
             });
         LightListHandles {
@@ -441,8 +441,7 @@ impl Pass for LightCullPass {
             .execute(move |ctx| {
                 let view = ctx.texture(depth).create_view(&Default::default());
                 if let Some(levels) = culler.levels() {
-                    let profiler = timed.then_some(ctx.profiler);
-                    let encoded = levels.encode(ctx.device, ctx.encoder, &view, profiler);
+                    let encoded = levels.encode(ctx.device, &mut ctx.encoder, &view, timed);
                     ctx.bind(encoded);
                 }
             });

@@ -9,6 +9,7 @@ use crate::GpuContext;
 use crate::frame_data::FrameCamera;
 use crate::frame_data::RenderError;
 use crate::particles::ParticleError;
+use crate::graph::PassEncoder;
 
 /// Words of the `STATE` buffer (see `particle_atlas`).
 pub const STATE_WORDS: usize = 32;
@@ -166,7 +167,7 @@ impl ParticleAtlas {
         height: u32,
     ) {
         self.write_params(queue, camera, height);
-        self.encode(encoder);
+        self.encode(&mut PassEncoder::untimed(encoder));
     }
 
     /// Writes the frame's layout parameters for [`Self::encode`].
@@ -183,15 +184,12 @@ impl ParticleAtlas {
     }
 
     /// Records sizing, planning and allocation with the parameters last written.
-    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder) {
+    pub fn encode(&self, encoder: &mut PassEncoder<'_>) {
         // The counters and plan, not the shrunk-frames count (word 18) nor the owner bases
         // after it, which every plan writes.
         encoder.clear_buffer(&self.state, 0, Some(18 * 4));
         let groups = |threads: u32| threads.div_ceil(particle_atlas::WORKGROUP);
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("particle atlas layout"),
-            timestamp_writes: None,
-        });
+        let mut pass = encoder.begin_compute("particle atlas layout");
         pass.set_bind_group(0, &self.bind_group, &[]);
         pass.set_pipeline(&self.size);
         pass.dispatch_workgroups(groups(self.key_count), 1, 1);

@@ -213,7 +213,7 @@ impl Pass for ParticleDrawPass {
             };
             let resolved = ctx.texture(hdr).create_view(&Default::default());
             let msaa_view = multisampled.map(|m| ctx.texture(m).create_view(&Default::default()));
-            let mut render = ctx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            let mut render = ctx.encoder.begin_render(&wgpu::RenderPassDescriptor {
                 label: Some("particles"),
                 color_attachments: &[Some(wgpu::RenderPassColorAttachment {
                     view: msaa_view.as_ref().unwrap_or(&resolved),

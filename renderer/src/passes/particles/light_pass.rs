@@ -118,10 +118,7 @@ impl Pass for ParticleLightPass {
             {
                 let mut compute = ctx
                     .encoder
-                    .begin_compute_pass(&wgpu::ComputePassDescriptor {
-                        label: Some("particle lighting"),
-                        timestamp_writes: None,
-                    });
+                    .begin_compute("particle lighting");
                 compute.set_pipeline(&pipeline);
                 compute.set_bind_group(0, &frame_group, &[]);
                 compute.set_bind_group(1, &particle_group, &[]);

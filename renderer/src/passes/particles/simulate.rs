@@ -9,6 +9,7 @@ use crate::frame_data::RenderError;
 use crate::gpu::requirements::storage_binding_records;
 use crate::particles::ParticleSystem;
 use crate::particles::schedule::{FIXED_STEP, spawn_batches};
+use crate::graph::PassEncoder;
 
 /// What the counters say after a step.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -163,7 +164,7 @@ impl ParticleSimulation {
 
     /// Records the next fixed step into `encoder`, then rebuilds the live list. Its parameters
     /// go through `queue.write_buffer`, so record at most one step per submission.
-    pub fn record_step(&self, queue: &wgpu::Queue, encoder: &mut wgpu::CommandEncoder) {
+    pub fn record_step(&self, queue: &wgpu::Queue, encoder: &mut PassEncoder<'_>) {
         let births = self.write_step(queue);
         self.encode_step(encoder, births);
     }
@@ -194,14 +195,11 @@ impl ParticleSimulation {
 
     /// Records the step [`Self::write_step`] prepared (`spawn_total` births): update and
     /// spawn, then the live list.
-    pub fn encode_step(&self, encoder: &mut wgpu::CommandEncoder, spawn_total: u32) {
+    pub fn encode_step(&self, encoder: &mut PassEncoder<'_>, spawn_total: u32) {
         let capacity = self.system.capacity;
         let groups = |threads: u32| threads.div_ceil(particle_sim::WORKGROUP);
         {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("particle update and spawn"),
-                timestamp_writes: None,
-            });
+            let mut pass = encoder.begin_compute("particle update and spawn");
             pass.set_bind_group(0, &self.bind_group, &[]);
             pass.set_pipeline(&self.update);
             pass.dispatch_workgroups(groups(capacity), 1, 1);
@@ -211,10 +209,7 @@ impl ParticleSimulation {
             }
         }
         encoder.clear_buffer(&self.counters, 4, Some(4));
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("particle compact"),
-            timestamp_writes: None,
-        });
+        let mut pass = encoder.begin_compute("particle compact");
         pass.set_bind_group(0, &self.bind_group, &[]);
         pass.set_pipeline(&self.compact);
         pass.dispatch_workgroups(groups(capacity), 1, 1);
@@ -228,7 +223,7 @@ impl ParticleSimulation {
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                     label: Some("particle steps"),
                 });
-            self.record_step(gpu.queue(), &mut encoder);
+            self.record_step(gpu.queue(), &mut PassEncoder::untimed(&mut encoder));
             gpu.queue().submit([encoder.finish()]);
         }
     }

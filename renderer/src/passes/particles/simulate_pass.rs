@@ -164,7 +164,7 @@ impl Pass for ParticleSimPass {
             graph
                 .add_pass(self.name())
                 .write_buffer(&mut simulated, BufferAccess::StorageWrite)
-                .execute(move |ctx| step.sim.encode_step(ctx.encoder, births));
+                .execute(move |ctx| step.sim.encode_step(&mut ctx.encoder, births));
         }
         let layout = Arc::clone(system);
         graph
@@ -172,8 +172,8 @@ impl Pass for ParticleSimPass {
             .read_buffer(simulated, BufferAccess::StorageRead)
             .write_buffer(&mut laid_out, BufferAccess::StorageWrite)
             .execute(move |ctx| {
-                layout.atlas.encode(ctx.encoder);
-                layout.sort.record_in(ctx.encoder);
+                layout.atlas.encode(&mut ctx.encoder);
+                layout.sort.record_in(&mut ctx.encoder);
             });
         system.write_view(frame, resources.particle_lists.as_ref().map(|l| l.method));
         resources.particles = Some(ParticleResources {

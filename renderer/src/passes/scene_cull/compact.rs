@@ -15,6 +15,7 @@ use wgpu::util::DeviceExt as _;
 use crate::GpuContext;
 use crate::frame_data::{BatchLayout, RenderError};
 use crate::shader::ShaderProgram;
+use crate::graph::PassEncoder;
 
 /// The compaction kernels.
 #[derive(Debug)]
@@ -133,7 +134,7 @@ impl Compaction {
     pub fn record(
         &self,
         kernels: &CompactKernels,
-        encoder: &mut wgpu::CommandEncoder,
+        encoder: &mut PassEncoder<'_>,
         list: usize,
     ) {
         let Some(packed) = self.packed.get(list) else {
@@ -141,10 +142,7 @@ impl Compaction {
         };
         // A batch of no slot writes no count.
         encoder.clear_buffer(&packed.counts, 0, None);
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("draw compaction"),
-            timestamp_writes: None,
-        });
+        let mut pass = encoder.begin_compute("draw compaction");
         pass.set_bind_group(0, &packed.group, &[]);
         pass.set_pipeline(&kernels.scan_blocks);
         pass.dispatch_workgroups(self.block_count, 1, 1);

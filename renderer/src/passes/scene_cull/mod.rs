@@ -181,7 +181,7 @@ impl Pass for SceneCullPass {
                 .write_buffer(&mut args, BufferAccess::StorageWrite)
                 .execute(move |ctx| {
                     ctx.encoder.clear_buffer(&visible, 0, None);
-                    let mut pass = ctx.encoder.begin_compute_pass(&Default::default());
+                    let mut pass = ctx.encoder.begin_compute("scene culling");
                     pass.set_pipeline(&pipeline);
                     pass.set_bind_group(0, &group, &[]);
                     pass.dispatch_workgroups(groups, 1, 1);
@@ -269,7 +269,7 @@ impl SceneCullPass {
                 );
                 let (k, c) = (Arc::clone(kernels), Arc::clone(compaction));
                 packed_late = Some(OcclusionPacked {
-                    record: Arc::new(move |encoder: &mut wgpu::CommandEncoder| {
+                    record: Arc::new(move |encoder: &mut crate::graph::PassEncoder<'_>| {
                         c.record(&k, encoder, 1);
                         c.record(&k, encoder, 2);
                     }),
@@ -288,7 +288,7 @@ impl SceneCullPass {
                 .add_pass("scene draw compaction")
                 .read_buffer(*args, BufferAccess::StorageRead)
                 .write_buffer(&mut packed, BufferAccess::StorageWrite)
-                .execute(move |ctx| compaction.record(&kernels, ctx.encoder, 0));
+                .execute(move |ctx| compaction.record(&kernels, &mut ctx.encoder, 0));
             *args = packed;
             (args_buffer, counts, packed_late)
         }
@@ -341,7 +341,7 @@ impl SceneCullPass {
             .add_pass("blended order")
             .write_buffer(&mut args, BufferAccess::StorageWrite)
             .execute(move |ctx| {
-                let mut pass = ctx.encoder.begin_compute_pass(&Default::default());
+                let mut pass = ctx.encoder.begin_compute("blended order");
                 record(&mut pass);
             });
         BlendedDraws::Sorted {

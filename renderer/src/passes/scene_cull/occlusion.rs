@@ -322,7 +322,7 @@ impl OcclusionCullPass {
                 let Some(seed_group) = ctx.bind(built) else {
                     return;
                 };
-                let mut pass = ctx.encoder.begin_compute_pass(&Default::default());
+                let mut pass = ctx.encoder.begin_compute("depth pyramid");
                 pass.set_pipeline(&seed_pipeline);
                 pass.set_bind_group(0, &seed_group, &[]);
                 pass.dispatch_workgroups(seed_groups.0, seed_groups.1, 1);
@@ -371,7 +371,7 @@ impl OcclusionCullPass {
             .write_buffer(&mut occlusion.late, BufferAccess::StorageWrite)
             .write_buffer(&mut occlusion.all, BufferAccess::StorageWrite)
             .execute(move |ctx| {
-                let mut pass = ctx.encoder.begin_compute_pass(&Default::default());
+                let mut pass = ctx.encoder.begin_compute("scene culling (late)");
                 pass.set_pipeline(&pipeline);
                 pass.set_bind_group(0, &group, &[]);
                 pass.dispatch_workgroups(workgroups, 1, 1);
@@ -395,5 +395,5 @@ fn add_late_compaction(
         .read_buffer(*all, BufferAccess::StorageRead)
         .write_buffer(&mut packed.late, BufferAccess::StorageWrite)
         .write_buffer(&mut packed.all, BufferAccess::StorageWrite)
-        .execute(move |ctx| record(ctx.encoder));
+        .execute(move |ctx| record(&mut ctx.encoder));
 }

@@ -26,6 +26,7 @@ use crate::readback_ring::ReadbackRing;
 use crate::shader::ShaderProgram;
 use crate::shadow::cache::RegionPlan;
 use crate::shadow::region_test::RegionTest;
+use crate::graph::PassEncoder;
 
 /// A region's volume for the GPU.
 fn region_volume(r: &RegionPlan) -> RegionVolume {
@@ -458,11 +459,8 @@ impl CullDispatches {
     }
 
     /// Culls chunk `c`: every slot of each of its work items.
-    pub fn cull(&self, encoder: &mut wgpu::CommandEncoder, c: usize) {
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("shadow caster culling"),
-            timestamp_writes: None,
-        });
+    pub fn cull(&self, encoder: &mut PassEncoder<'_>, c: usize) {
+        let mut pass = encoder.begin_compute("shadow caster culling");
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &self.groups[c], &[]);
         pass.dispatch_workgroups(self.stride.div_ceil(shadow_cull::WORKGROUP), 1, 1);

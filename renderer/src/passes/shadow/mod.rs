@@ -334,7 +334,7 @@ impl Pass for ShadowPass {
             graph
                 .add_pass(self.name())
                 .write_texture(&mut atlas, TextureAccess::DepthWrite)
-                .execute(move |ctx| recording.record(ctx.encoder, &target));
+                .execute(move |ctx| recording.record(&mut ctx.encoder, &target));
         }
         resources.shadows = Some(ShadowResources {
             atlas,

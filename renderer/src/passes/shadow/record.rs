@@ -12,6 +12,7 @@ use super::work::{CastList, Start, WorkItem};
 use crate::frame_data::PreparedScene;
 use crate::scene::{AlphaMode, VertexStreams};
 use crate::shadow::atlas::AtlasRect;
+use crate::graph::{PassEncoder, TimedPass};
 
 /// Where a frame's casts come from.
 pub enum CastSource {
@@ -43,7 +44,7 @@ pub struct Recording {
 impl Recording {
     /// Records the work items in order: per chunk of GPU-culled work, the culling dispatch,
     /// then the chunk's static-cache redraws, then its draws into the shadow atlas.
-    pub fn record(&self, encoder: &mut wgpu::CommandEncoder, atlas: &wgpu::TextureView) {
+    pub fn record(&self, encoder: &mut PassEncoder<'_>, atlas: &wgpu::TextureView) {
         match &self.casts {
             CastSource::Culled { dispatches, .. } => {
                 dispatches.clear_counts(encoder);
@@ -63,7 +64,7 @@ impl Recording {
     /// cache's, then the shadow atlas's.
     fn record_items(
         &self,
-        encoder: &mut wgpu::CommandEncoder,
+        encoder: &mut PassEncoder<'_>,
         atlas: &wgpu::TextureView,
         range: std::ops::Range<usize>,
     ) {
@@ -195,11 +196,11 @@ fn set_region(pass: &mut wgpu::RenderPass<'_>, rect: AtlasRect) {
 /// frames that redraw every region instead of a triangle per region was measured: −0.2 ms in
 /// the city's spot-light frames, +0.18 ms in the courtyard's, so regions are cleared alone.)
 fn depth_pass<'e>(
-    encoder: &'e mut wgpu::CommandEncoder,
+    encoder: &'e mut PassEncoder<'_>,
     label: &str,
     view: &wgpu::TextureView,
-) -> wgpu::RenderPass<'e> {
-    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+) -> TimedPass<'e, wgpu::RenderPass<'e>> {
+    encoder.begin_render(&wgpu::RenderPassDescriptor {
         label: Some(label),
         color_attachments: &[],
         depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {

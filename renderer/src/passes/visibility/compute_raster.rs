@@ -23,6 +23,7 @@ use crate::graph::{Buffer, BufferAccess, Handle, ImportAccess, PassContext, Rend
 use crate::passes::Pass;
 use crate::shader::ShaderProgram;
 use crate::{GpuContext, GpuError};
+use crate::graph::TimedPass;
 
 /// What a frame of the compute rasteriser counted.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -452,13 +453,10 @@ impl Recording {
     }
 
     /// A compute pass with every group bound.
-    fn begin<'a>(&self, ctx: &'a mut PassContext<'_>, label: &str) -> wgpu::ComputePass<'a> {
+    fn begin<'a>(&self, ctx: &'a mut PassContext<'_>, label: &str) -> TimedPass<'a, wgpu::ComputePass<'a>> {
         let mut pass = ctx
             .encoder
-            .begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some(label),
-                timestamp_writes: None,
-            });
+            .begin_compute(label);
         for (index, g) in [0, 1, 3].into_iter().zip(&self.groups) {
             pass.set_bind_group(index, g, &[]);
         }

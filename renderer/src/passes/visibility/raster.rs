@@ -346,7 +346,7 @@ impl Recording {
     fn record(&self, ctx: &mut PassContext<'_>) {
         let depth_view = ctx.texture(self.depth).create_view(&Default::default());
         let ids_view = ctx.texture(self.ids).create_view(&Default::default());
-        let mut pass = ctx.encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        let mut pass = ctx.encoder.begin_render(&wgpu::RenderPassDescriptor {
             label: Some("visibility"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
                 view: &ids_view,

@@ -268,10 +268,7 @@ impl Pass for VisShadePass {
             }
             let mut pass = ctx
                 .encoder
-                .begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("visibility shading"),
-                    timestamp_writes: None,
-                });
+                .begin_compute("visibility shading");
             // Each dispatch reads the sums the one before wrote: wgpu orders them.
             for (d, group0) in dispatches.iter().zip(&groups0) {
                 pass.set_pipeline(&d.pipeline);
