@@ -67,7 +67,8 @@ enum Command {
     /// incremental rebuild after a one-line kernel change, and the output sizes.
     BenchCodegen(bench_codegen::Args),
     /// The web demo: build the renderer for the browser (wasm32, WebGPU) into target/web/ and
-    /// serve the page on loopback; installs the wasm target and wasm-bindgen-cli if needed.
+    /// serve the page on loopback; adds the wasm target if needed (the bindings are written by
+    /// wasm-bindgen's own library).
     Web(web::Args),
     /// GPU time of the particle pipeline at full pools of 10k to 1M particles: simulation step,
     /// lighting-atlas layout and back-to-front sort.

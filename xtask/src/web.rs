@@ -1,14 +1,13 @@
 //! `cargo xtask web`: builds the web demo (the `web` crate for `wasm32-unknown-unknown` in
-//! release, or the dev profile with `--dev`, its JavaScript bindings by `wasm-bindgen`, and
-//! `web/index.html`) into `target/web/`, then serves that folder on loopback until stopped. Adds the wasm target with rustup and installs
-//! `wasm-bindgen-cli` at the version `Cargo.lock` holds for `wasm-bindgen` where either is
-//! missing; `cargo xtask test` builds it with the dev profile before the browser frame test
-//! reads it.
+//! release, or the dev profile with `--dev`, its JavaScript bindings by `wasm-bindgen`'s own
+//! library, and `web/index.html`) into `target/web/`, then serves that folder on loopback until
+//! stopped. Adds the wasm target with rustup where it is missing; `cargo xtask test` builds the
+//! demo with the dev profile before the browser frame test reads it.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::Command;
 
-use anyhow::{Context as _, Result, bail, ensure};
+use anyhow::{Context as _, Result, ensure};
 
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -93,7 +92,6 @@ fn target_dir() -> PathBuf {
 pub fn build(profile: Profile) -> Result<Built> {
     let root = crate::workspace::workspace_root();
     crate::system::ensure_wasm_target()?;
-    let bindgen = ensure_wasm_bindgen(&root)?;
     let mut cargo = Command::new(env!("CARGO"));
     cargo.args([
         "build",
@@ -126,13 +124,15 @@ pub fn build(profile: Profile) -> Result<Built> {
     if pkg.exists() {
         std::fs::remove_dir_all(&pkg).with_context(|| format!("clearing {}", pkg.display()))?;
     }
-    let status = Command::new(&bindgen)
-        .args(["--target", "web", "--no-typescript", "--out-dir"])
-        .arg(&pkg)
-        .arg(&module)
-        .status()
-        .with_context(|| format!("running {}", bindgen.display()))?;
-    ensure!(status.success(), "wasm-bindgen failed with {status}");
+    // What `wasm-bindgen --target web --no-typescript` writes: the module and its ES module,
+    // whose `init()` fetches the module beside it (the library's default omits that path).
+    wasm_bindgen_cli_support::Bindgen::new()
+        .input_path(&module)
+        .web(true)?
+        .typescript(false)
+        .omit_default_module_path(false)
+        .generate(&pkg)
+        .with_context(|| format!("writing the bindings of {}", module.display()))?;
     std::fs::copy(root.join("web/index.html"), dir.join("index.html"))
         .context("copying web/index.html")?;
     let wasm = std::fs::read(pkg.join("web_demo_bg.wasm")).context("reading the built module")?;
@@ -141,58 +141,6 @@ pub fn build(profile: Profile) -> Result<Built> {
         wasm_bytes: wasm.len() as u64,
         wasm_gzipped: gzipped_len(&wasm)?,
     })
-}
-
-/// `wasm-bindgen` at the version `Cargo.lock` pins for the `wasm-bindgen` crate, installed with
-/// `cargo install` where the one on `PATH` (or in cargo's bin folder) is missing or another
-/// version: the CLI and the crate must match exactly.
-#[expect(
-    clippy::print_stdout,
-    reason = "progress report of a command-line tool"
-)]
-fn ensure_wasm_bindgen(root: &Path) -> Result<PathBuf> {
-    let lock = std::fs::read_to_string(root.join("Cargo.lock")).context("reading Cargo.lock")?;
-    let version =
-        locked_version(&lock, "wasm-bindgen").context("Cargo.lock has no wasm-bindgen package")?;
-    let installed = cargo_bin().join("wasm-bindgen");
-    for candidate in [PathBuf::from("wasm-bindgen"), installed.clone()] {
-        if let Ok(out) = Command::new(&candidate).arg("--version").output()
-            && String::from_utf8_lossy(&out.stdout).trim() == format!("wasm-bindgen {version}")
-        {
-            return Ok(candidate);
-        }
-    }
-    println!("xtask: installing wasm-bindgen-cli {version} (the version of Cargo.lock)");
-    let status = Command::new(env!("CARGO"))
-        .args(["install", "wasm-bindgen-cli", "--version"])
-        .arg(format!("={version}"))
-        .status()
-        .context("running cargo install wasm-bindgen-cli")?;
-    if !status.success() {
-        bail!("cargo install wasm-bindgen-cli --version ={version} failed with {status}");
-    }
-    Ok(installed)
-}
-
-/// Where `cargo install` puts binaries: `$CARGO_HOME/bin`, else `~/.cargo/bin`.
-fn cargo_bin() -> PathBuf {
-    std::env::var_os("CARGO_HOME")
-        .map(PathBuf::from)
-        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cargo")))
-        .unwrap_or_else(|| PathBuf::from(".cargo"))
-        .join("bin")
-}
-
-/// The version `lock` (a `Cargo.lock`) holds for package `name` (the first, where several).
-fn locked_version(lock: &str, name: &str) -> Option<String> {
-    let mut lines = lock.lines();
-    while let Some(line) = lines.next() {
-        if line.trim() == format!("name = \"{name}\"") {
-            let version = lines.next()?.trim().strip_prefix("version = \"")?;
-            return Some(version.trim_end_matches('"').to_owned());
-        }
-    }
-    None
 }
 
 /// The size of `bytes` gzipped at the default level, as a web server would send them.
@@ -205,7 +153,31 @@ fn gzipped_len(bytes: &[u8]) -> Result<u64> {
 
 #[cfg(test)]
 mod tests {
-    use super::locked_version;
+    /// The version `lock` (a `Cargo.lock`) holds for package `name` (the first, where several).
+    fn locked_version(lock: &str, name: &str) -> Option<String> {
+        let mut lines = lock.lines();
+        while let Some(line) = lines.next() {
+            if line.trim() == format!("name = \"{name}\"") {
+                let version = lines.next()?.trim().strip_prefix("version = \"")?;
+                return Some(version.trim_end_matches('"').to_owned());
+            }
+        }
+        None
+    }
+
+    /// The bindings generator and the crate the module is built with are one version: a
+    /// mismatch fails only when the bindings are written, with wasm-bindgen's schema error.
+    #[test]
+    fn the_bindings_generator_matches_the_wasm_bindgen_crate() {
+        let root = crate::workspace::workspace_root();
+        let lock = std::fs::read_to_string(root.join("Cargo.lock")).expect("Cargo.lock");
+        let crate_version = locked_version(&lock, "wasm-bindgen").expect("wasm-bindgen locked");
+        assert_eq!(
+            locked_version(&lock, "wasm-bindgen-cli-support").as_deref(),
+            Some(crate_version.as_str()),
+            "pin wasm-bindgen-cli-support to wasm-bindgen's version in Cargo.toml"
+        );
+    }
 
     #[test]
     fn the_locked_version_is_the_named_package_s() {
