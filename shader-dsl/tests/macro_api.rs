@@ -1,5 +1,14 @@
 //! The `#[shader]` macro end to end: generated host types, key types, variant table and
-//! reflection, as user crates see them.
+//! reflection, as user crates see them; and its compile errors: each `tests/ui/*.rs` must fail
+//! with the committed `.stderr` (the DSL's message, at the offending span). Re-approve with
+//! `TRYBUILD=overwrite`. The suite lives in this crate so that trybuild checks its cases against
+//! this crate's few dependencies, not the renderer's.
+
+#[test]
+fn dsl_compile_errors() {
+    let t = trybuild::TestCases::new();
+    t.compile_fail("tests/ui/*.rs");
+}
 
 #[shader_dsl::shader(axes(tile: u32 = [8, 16] => "t", fast: bool = [false, true]), exclude(tile == 8 && fast))]
 pub mod smoke {
