@@ -4,8 +4,21 @@
 //! `TRYBUILD=overwrite`. The suite lives in this crate so that trybuild checks its cases against
 //! this crate's few dependencies, not the renderer's.
 
+/// The fixture crate's library resolves from here, so the case naming one it lacks fails for
+/// that reason alone.
+#[shader_dsl::shader(uses(dsl_library_crate::shared::tint))]
+mod uses_the_fixture_library {
+    #[storage(group = 0, binding = 0, read_write)]
+    static OUT: [Vec4];
+    #[compute(workgroup_size(1))]
+    fn main() {
+        OUT[0] = Vec4::new(tinted(Vec3::ONE).x, 0.0, 0.0, 1.0);
+    }
+}
+
 #[test]
 fn dsl_compile_errors() {
+    assert!(!uses_the_fixture_library::MODULE.variants.is_empty());
     let t = trybuild::TestCases::new();
     t.compile_fail("tests/ui/*.rs");
 }

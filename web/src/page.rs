@@ -180,6 +180,12 @@ impl WebDemo {
             .unwrap_or_default()
     }
 
+    /// Collects the frame timings that have arrived since the last frame, without rendering
+    /// one ([`WebDemo::frame`] collects them too): for a page that reads one frame's timings.
+    pub fn collect_timings(&mut self) {
+        self.state.borrow_mut().collect_timings(None);
+    }
+
     /// The newest per-pass GPU timings that have arrived, as `[pass, milliseconds]` pairs
     /// (empty where [`WebDemo::times_passes`] is false). They arrive a frame or more after the
     /// frame they time, and [`WebDemo::frame`] collects them.
@@ -305,11 +311,7 @@ impl State {
             .renderer
             .render(&camera, &self.target)
             .map_err(|e| js_error(&e))?;
-        // The frame's report carries the oldest timings that had arrived; any drained after
-        // it are newer.
-        if let Some(newest) = self.renderer.drain_timings().pop().or(report.timings) {
-            self.timings = newest;
-        }
+        self.collect_timings(report.timings);
         let Some((surface, config)) = &self.canvas else {
             return Ok(());
         };
@@ -336,6 +338,14 @@ impl State {
         self.gpu.queue().submit([encoder.finish()]);
         self.gpu.queue().present(frame);
         Ok(())
+    }
+
+    /// Keeps the newest timings that have arrived: those drained now, else `reported` (what a
+    /// frame's report carried, older than any drained after it).
+    fn collect_timings(&mut self, reported: Option<Vec<PassTiming>>) {
+        if let Some(newest) = self.renderer.drain_timings().pop().or(reported) {
+            self.timings = newest;
+        }
     }
 
     /// A renderer for `settings`, replacing the current one only when it could be built.

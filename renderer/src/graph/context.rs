@@ -19,9 +19,6 @@ pub struct PassContext<'a> {
     pub encoder: PassEncoder<'a>,
     /// The device, for bind groups and other per-pass objects.
     pub device: &'a wgpu::Device,
-    /// The frame's profiler, for passes that time their dispatches separately (each pass is
-    /// already timed as a whole).
-    pub profiler: &'a wgpu_profiler::GpuProfiler,
     objects: &'a [Option<PoolObject>],
     /// The first bind group this pass could not build ([`PassContext::bind`]).
     pub(super) bind_error: Option<shader_bind::BindError>,
@@ -41,13 +38,11 @@ impl<'a> PassContext<'a> {
     pub(super) fn new(
         encoder: PassEncoder<'a>,
         device: &'a wgpu::Device,
-        profiler: &'a wgpu_profiler::GpuProfiler,
         objects: &'a [Option<PoolObject>],
     ) -> Self {
         Self {
             encoder,
             device,
-            profiler,
             objects,
             bind_error: None,
         }

@@ -8,7 +8,9 @@
 //! graph pass's scope, and [`super::PassTiming`] sums them into the graph pass's time.
 //!
 //! `cargo xtask check-invariants` rejects `begin_compute_pass` and `begin_render_pass` anywhere
-//! in the renderer outside this file, so no pass escapes the timing.
+//! in the renderer outside this file, so no pass escapes the timing through a raw
+//! `wgpu::CommandEncoder`; on a `PassEncoder` those names are its own, timed, methods, so an
+//! engine's pass written against wgpu's names is timed too.
 
 use std::ops::{Deref, DerefMut};
 
@@ -27,8 +29,9 @@ struct PassTimer<'a> {
 
 /// The command encoder a pass records into. It dereferences to [`wgpu::CommandEncoder`] for
 /// copies, clears and the like; compute and render passes begin through
-/// [`PassEncoder::begin_compute`] and [`PassEncoder::begin_render`], which time them where the
-/// device can only time whole passes.
+/// [`PassEncoder::begin_compute`] and [`PassEncoder::begin_render`] (or wgpu's names,
+/// `begin_compute_pass` and `begin_render_pass`, which this type's own methods shadow), which
+/// time them where the device can only time whole passes.
 pub struct PassEncoder<'a> {
     encoder: &'a mut wgpu::CommandEncoder,
     timer: Option<PassTimer<'a>>,
@@ -85,10 +88,34 @@ impl<'a> PassEncoder<'a> {
     }
 
     /// Begins a compute pass named `label` that carries its own timestamps on every device
-    /// with timestamp queries, so that frame timings list it under its label, nested in its
-    /// graph pass (outside a frame graph, untimed like any other).
+    /// with timestamp queries. Where the device also times between commands, frame timings list
+    /// it under its label after its graph pass; where it times only whole passes (WebGPU), its
+    /// time is part of its graph pass's sum. Outside a frame graph it is untimed like any other.
     pub fn begin_compute_timed(&mut self, label: &str) -> TimedPass<'_, wgpu::ComputePass<'_>> {
         self.compute(label, true)
+    }
+
+    /// [`PassEncoder::begin_compute`] under wgpu's name and descriptor, so that a pass written
+    /// against `wgpu::CommandEncoder` (`ctx.encoder.begin_compute_pass(..)`) is timed too; the
+    /// descriptor's `timestamp_writes` must be `None`.
+    pub fn begin_compute_pass(
+        &mut self,
+        desc: &wgpu::ComputePassDescriptor<'_>,
+    ) -> TimedPass<'_, wgpu::ComputePass<'_>> {
+        assert!(
+            desc.timestamp_writes.is_none(),
+            "the pass encoder sets timestamp_writes"
+        );
+        self.begin_compute(desc.label.unwrap_or("compute pass"))
+    }
+
+    /// [`PassEncoder::begin_render`] under wgpu's name, so that a pass written against
+    /// `wgpu::CommandEncoder` (`ctx.encoder.begin_render_pass(..)`) is timed too.
+    pub fn begin_render_pass(
+        &mut self,
+        desc: &wgpu::RenderPassDescriptor<'_>,
+    ) -> TimedPass<'_, wgpu::RenderPass<'_>> {
+        self.begin_render(desc)
     }
 
     fn compute(&mut self, label: &str, timed: bool) -> TimedPass<'_, wgpu::ComputePass<'_>> {
@@ -111,7 +138,7 @@ impl<'a> PassEncoder<'a> {
         &mut self,
         desc: &wgpu::RenderPassDescriptor<'_>,
     ) -> TimedPass<'_, wgpu::RenderPass<'_>> {
-        debug_assert!(
+        assert!(
             desc.timestamp_writes.is_none(),
             "the pass encoder sets timestamp_writes"
         );

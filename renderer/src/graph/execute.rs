@@ -130,7 +130,7 @@ impl CompiledGraph {
             if let Some(record) = pass.execute.take() {
                 let pass_encoder =
                     PassEncoder::for_graph_pass(&mut *encoder, device, profiler, &scope);
-                let mut ctx = PassContext::new(pass_encoder, device, profiler, &objects);
+                let mut ctx = PassContext::new(pass_encoder, device, &objects);
                 record(&mut ctx);
                 bind_error = ctx.bind_error.take();
             }

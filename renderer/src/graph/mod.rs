@@ -14,7 +14,8 @@
 //!
 //! Files are layered, each using only those below it: `resource`, `error`, `encoder` (how compute
 //! and render passes begin, timed) → `context` (what a recording function gets) → `nodes` (the
-//! shared plain data) → `builder`, `pool` → `compile` → `execute`, `dot` → `cache`. `cargo xtask check-invariants` rejects any import circle between them.
+//! shared plain data) → `builder`, `pool` → `compile` → `execute`, `dot` → `cache`.
+//! `cargo xtask check-invariants` rejects any import circle between them.
 
 mod builder;
 mod cache;
