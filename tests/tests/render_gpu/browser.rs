@@ -13,14 +13,14 @@ use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, SystemTime};
 
-use renderer::frame::{RenderPath, create_target};
+use renderer::frame::RenderPath;
 use serde_json::{Value, json};
 use tests::browser::{ServedFile, files_under, run_page};
 use tests::gpu::gpu_test;
 use tests::image_compare::{pixel_differences, stats};
 use web_demo::showcase::{Settings, Showcase};
 
-use super::pass_timings::COPY_ONLY;
+use super::pass_timings::{COPY_ONLY, render_showcase_frame};
 
 /// Loading the module, compiling every path's pipelines with Tint and rendering thirteen frames
 /// on SwiftShader (measured: about 40 s on a 2-core machine).
@@ -205,12 +205,7 @@ fn native_frame(
     showcase: &Showcase,
     settings: &Settings,
 ) -> NativeFrame {
-    let mut renderer = showcase.renderer(gpu, settings).expect("renderer");
-    let target = create_target(gpu.device(), renderer.config());
-    let aspect = settings.width as f32 / settings.height as f32;
-    renderer
-        .render(&showcase.orbit.camera(aspect), &target)
-        .expect("frame");
+    let (mut renderer, target) = render_showcase_frame(gpu, showcase, settings);
     let pixels = renderer::readback::read_texture_rgba8(gpu.device(), gpu.queue(), &target)
         .expect("readback");
     let timings = renderer.finish().expect("lavapipe times the frame");

@@ -8,7 +8,7 @@ use std::collections::BTreeSet;
 use std::sync::{Arc, Mutex, PoisonError};
 
 use renderer::GpuContext;
-use renderer::frame::{RenderPath, create_target};
+use renderer::frame::{RenderPath, Renderer, create_target};
 use tests::gpu::gpu_test;
 use web_demo::showcase::{Settings, Showcase};
 
@@ -50,15 +50,26 @@ fn device_timing_whole_passes_only(gpu: &GpuContext) -> GpuContext {
         .expect("the renderer accepts it")
 }
 
-/// The names of the timed passes of one frame of `settings` on `gpu`, each with a time.
-fn timed_passes(gpu: &GpuContext, settings: &Settings) -> BTreeSet<String> {
-    let showcase = Showcase::courtyard(settings);
+/// The renderer of `showcase` at `settings` on `gpu` after one frame of its orbit camera, and
+/// the target it drew.
+pub(crate) fn render_showcase_frame(
+    gpu: &GpuContext,
+    showcase: &Showcase,
+    settings: &Settings,
+) -> (Renderer, wgpu::Texture) {
     let mut renderer = showcase.renderer(gpu, settings).expect("renderer");
     let target = create_target(gpu.device(), renderer.config());
     let aspect = settings.width as f32 / settings.height as f32;
     renderer
         .render(&showcase.orbit.camera(aspect), &target)
         .expect("frame");
+    (renderer, target)
+}
+
+/// The names of the timed passes of one frame of `settings` on `gpu`, each with a time.
+fn timed_passes(gpu: &GpuContext, settings: &Settings) -> BTreeSet<String> {
+    let (mut renderer, _target) =
+        render_showcase_frame(gpu, &Showcase::courtyard(settings), settings);
     let timings = renderer.finish().expect("the frame's timings arrived");
     for t in &timings {
         assert!(
