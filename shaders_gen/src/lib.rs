@@ -33,7 +33,7 @@ pub static MODULES: &[&codegen::rt::Module] = &[
     &culling::depth_pyramid_seed::MODULE,
     &culling::depth_pyramid_reduce::MODULE,
     &culling::occlusion_cull::MODULE,
-    &deferred::hdr_expand::MODULE,
+    &deferred::hdr_overlay::MODULE,
     &deferred::tbdr::MODULE,
     &deferred::light_volume::MODULE,
     &forward::prez::MODULE,

@@ -1,6 +1,7 @@
 //! Particles end to end through the renderer: smoke lit once per frame into the lighting atlas
 //! and drawn from it looks like the same smoke lit per pixel, on every path and at MSAA 1 and 4;
-//! a wrong atlas mapping (each particle sampling another's region) is caught. The statistics
+//! a wrong atlas mapping (each particle sampling another's region) is caught; smoke over the
+//! deferred paths matches smoke in naive forward. The statistics
 //! run over the smoke pixels only (those a frame with particles changes), each of them bounded;
 //! off the smoke the frames must be equal. `particle_light_reference_gpu.rs` checks the lighting
 //! itself against an independent CPU evaluation.
@@ -148,6 +149,61 @@ fn atlas_lit_smoke_matches_per_pixel_lit_smoke() {
         }
     });
 }
+
+/// Smoke drawn over the deferred paths' image (with MSAA into the overlay the blended surfaces
+/// go into, laid over the image afterwards) looks as smoke drawn in naive forward does. Over the
+/// smoke pixels the frames differ by what deferred and forward shading of the stage behind it
+/// differ by (a step or so after tonemapping) plus half-float rounding of the overlay; a
+/// missing or wrongly blended overlay changes the smoke by tens of steps.
+#[test]
+fn smoke_over_the_deferred_paths_matches_smoke_in_naive_forward() {
+    gpu_test(|gpu| {
+        let scene = stage();
+        for msaa in [1, 4] {
+            let frame_of = |path, particles: bool| {
+                let config = config(path, msaa, ParticleLighting::Atlas);
+                let mut r = renderer(gpu, &scene, config);
+                if !particles {
+                    r.clear_particles();
+                }
+                render(&mut r, &config, gpu).0
+            };
+            let naive = frame_of(RenderPath::NaivePrez, true);
+            let naive_bare = frame_of(RenderPath::NaivePrez, false);
+            for path in [
+                RenderPath::TbdrPerSample,
+                RenderPath::Deferred,
+                RenderPath::Visibility,
+            ] {
+                let lit = frame_of(path, true);
+                let bare = frame_of(path, false);
+                let smoke: Vec<bool> = smoke_pixels(&[&naive], &naive_bare)
+                    .iter()
+                    .zip(smoke_pixels(&[&lit], &bare))
+                    .map(|(a, b)| *a || b)
+                    .collect();
+                let count = smoke.iter().filter(|&&s| s).count();
+                let (mean, p99, largest, _) = difference_stats(&lit, &naive, &smoke);
+                let what = format!("{} at MSAA {msaa}", path.name());
+                eprintln!(
+                    "{what}: {count} smoke pixels against naive forward: mean {mean:.3}, \
+                     99th percentile {p99}, largest {largest}"
+                );
+                assert!(count > 800, "{what}: only {count} pixels show smoke");
+                assert!(
+                    mean <= OVER_DEFERRED_MEAN && p99 <= OVER_DEFERRED_P99,
+                    "{what}: the smoke differs from naive forward's by mean {mean:.3}, 99th \
+                     percentile {p99} (tolerances {OVER_DEFERRED_MEAN}, {OVER_DEFERRED_P99})"
+                );
+            }
+        }
+    });
+}
+
+/// The tolerances of smoke over a deferred path against smoke in naive forward, over the smoke
+/// pixels, in 8-bit steps.
+const OVER_DEFERRED_MEAN: f64 = 0.3;
+const OVER_DEFERRED_P99: u8 = 2;
 
 /// An engine's pass that breaks the atlas mapping: after the atlas is lit, every particle's
 /// region is replaced by the next slot's, so each samples another particle's lighting.

@@ -372,7 +372,8 @@ fn the_shading_frequency_view_marks_edges_red_and_bad_settings_are_errors() {
                 "gbuffer",
             ];
             passes.extend(shading);
-            passes.extend(["forward", "particles", "tonemap", "depth probe"]);
+            // The default MSAA 4: blended surfaces and particles go into the overlay.
+            passes.extend(["forward", "particles", "overlay", "tonemap", "depth probe"]);
             passes
         };
         assert_eq!(

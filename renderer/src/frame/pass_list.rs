@@ -7,7 +7,7 @@ use crate::materials::MaterialProgram;
 use crate::passes::Pass;
 use crate::passes::deferred::{GBufferPass, LightVolumePass, TbdrPass};
 use crate::passes::depth_probe::DepthProbePass;
-use crate::passes::forward::ForwardPass;
+use crate::passes::forward::{ForwardPass, OverlayPass};
 use crate::passes::heatmap::HeatmapPass;
 use crate::passes::light_cull::LightCullPass;
 use crate::passes::particles::{ParticleDrawPass, ParticleLightPass, ParticleSimPass};
@@ -30,9 +30,9 @@ use crate::passes::visibility::{VisRasterPass, VisShadePass};
 /// | naive | shadow atlas → particles* → forward (own depth) → particle draw → tonemap |
 /// | naive-prez | pre-Z → shadow atlas → particles* → forward → particle draw → tonemap → depth probe |
 /// | tiled, 2.5D, clustered | pre-Z → light culling → shadow atlas → particles* → forward → particle draw → tonemap → depth probe |
-/// | tbdr, tbdr-per-sample | pre-Z → light culling† → shadow atlas → particles* → G-buffer → TBDR shading → forward‡ → particle draw → tonemap → depth probe |
-/// | deferred | pre-Z → light culling† → shadow atlas → particles* → G-buffer → deferred base → light volumes → forward‡ → particle draw → tonemap → depth probe |
-/// | visibility | visibility raster → light culling (clustered) → shadow atlas → particles* → visibility shading → forward‡ → particle draw → tonemap → depth probe |
+/// | tbdr, tbdr-per-sample | pre-Z → light culling† → shadow atlas → particles* → G-buffer → TBDR shading → forward‡ → particle draw → overlay§ → tonemap → depth probe |
+/// | deferred | pre-Z → light culling† → shadow atlas → particles* → G-buffer → deferred base → light volumes → forward‡ → particle draw → overlay§ → tonemap → depth probe |
+/// | visibility | visibility raster → light culling (clustered) → shadow atlas → particles* → visibility shading → forward‡ → particle draw → overlay§ → tonemap → depth probe |
 /// | shading-frequency view | as the deferred path, edge pixels red |
 /// | particle-atlas view | as the path, the tonemap showing the lit atlas |
 /// | heatmap view (culled paths) | pre-Z → light culling → light heatmap → depth probe |
@@ -42,7 +42,9 @@ use crate::passes::visibility::{VisRasterPass, VisShadePass};
 /// view) the particle lighting; the particle passes add work only when the renderer has
 /// particles. The depth probe adds work only to frames a tool asked to capture. † On the
 /// deferred paths light culling adds work only for the passes that read lists (blended
-/// surfaces, decals, particles). ‡ Blended surfaces only, over the deferred image.
+/// surfaces, decals, particles). ‡ Blended surfaces only, over the deferred image (with MSAA into
+/// a transparent overlay, which the particles draw into too). § With MSAA: the overlay laid over
+/// the deferred image.
 pub fn passes_for(
     gpu: &GpuContext,
     config: &RendererConfig,
@@ -101,6 +103,9 @@ pub fn passes_for(
             }
             passes.push(Box::new(ForwardPass::new(gpu, config, materials)?));
             passes.push(Box::new(ParticleDrawPass::new(gpu, config)?));
+            if config.path.is_deferred() && config.msaa > 1 {
+                passes.push(Box::new(OverlayPass::new(gpu)?));
+            }
             passes.push(Box::new(TonemapPass::new(gpu, config)?));
         }
     }

@@ -329,9 +329,16 @@ pub struct FrameResources {
     pub hdr: Option<Handle<Texture>>,
     /// The shadow atlas (absent when the frame has no shadow pass).
     pub shadows: Option<ShadowResources>,
-    /// The multisampled HDR colour the forward pass resolved into `hdr` (MSAA only), for passes
-    /// that draw more over it.
+    /// The multisampled HDR colour the forward pass resolved (MSAA only), for passes that draw
+    /// more over it: into `hdr`, or on the deferred paths into `hdr_overlay`.
     pub hdr_multisampled: Option<Handle<Texture>>,
+    /// On the deferred paths with MSAA: what is drawn over the deferred image (blended
+    /// surfaces, particles), resolved from `hdr_multisampled`, with premultiplied colour over
+    /// transparent black. Draw into it with `One, OneMinusSrcAlpha` for alpha (as
+    /// [`wgpu::BlendState::ALPHA_BLENDING`] and `PREMULTIPLIED_ALPHA_BLENDING` do); the
+    /// `overlay` pass lays it over `hdr` (into a new texture) after the particles and clears
+    /// this field.
+    pub hdr_overlay: Option<Handle<Texture>>,
     /// Light lists covering every depth slice, for particles: the frame's clustered lists, or
     /// on the tiled paths lists of their own (absent on the naive paths and without particles).
     pub particle_lists: Option<LightListHandles>,
@@ -365,6 +372,7 @@ impl FrameResources {
             hdr: None,
             shadows: None,
             hdr_multisampled: None,
+            hdr_overlay: None,
             particle_lists: None,
             particles: None,
             main_particles: None,

@@ -1,16 +1,16 @@
 //! Deferred shading over the forward module's G-buffer (`forward::fs_gbuffer`): tile-based
-//! deferred shading in one compute dispatch (`tbdr`, reference 000), and the expansion of its
-//! resolved image into a multisampled target for what is drawn over it (`hdr_expand`), and
-//! traditional deferred shading's light volumes (`light_volume`). Reading
+//! deferred shading in one compute dispatch (`tbdr`, reference 000), the overlay of what is
+//! drawn over its image with MSAA (`hdr_overlay`), and traditional deferred shading's light
+//! volumes (`light_volume`). Reading
 //! the G-buffer (its bindings, samples, the edge test and shading points) is the
 //! `tbdr_gbuffer` library, which uses the shared light-grid, shadow-atlas and octahedral
 //! libraries.
 
-pub mod expand;
 pub mod gbuffer_read;
 pub mod light_volumes;
+pub mod overlay;
 pub mod tiled_shading;
 
-pub use expand::hdr_expand;
 pub use light_volumes::light_volume;
+pub use overlay::hdr_overlay;
 pub use tiled_shading::tbdr;

@@ -152,6 +152,14 @@ pub struct CellRecord {
     /// The blended draws' order on the GPU (keys, sort, arguments), where the scene has any.
     #[serde(default)]
     pub blended_order_median_ms: Option<f64>,
+    /// The deferred paths with MSAA: laying the overlay of blended surfaces and particles over
+    /// the shaded image (the `overlay` pass; the forward pass draws into the overlay).
+    #[serde(default)]
+    pub overlay_median_ms: Option<f64>,
+    /// Every timed pass's median GPU ms, `name=ms` separated by `;`, in name order: what the
+    /// columns above leave out (scene culling, the shadow atlas, particles, ...).
+    #[serde(default)]
+    pub pass_medians: String,
     /// Editing the scene by handle (`bench::edits`, the first cell of each setup): CPU µs to
     /// add an instance (median and most), move one and remove one, and CPU ms of the frames
     /// that follow edits.
@@ -264,6 +272,13 @@ impl CellRecord {
         record.volumes_median_ms = pass("light volumes").and_then(|s| s.median());
         record.compute_raster_median_ms = pass("compute raster").and_then(|s| s.median());
         record.blended_order_median_ms = pass("blended order").and_then(|s| s.median());
+        record.overlay_median_ms = pass("overlay").and_then(|s| s.median());
+        record.pass_medians = m
+            .passes
+            .iter()
+            .filter_map(|(name, s)| s.median().map(|ms| format!("{name}={ms:.4}")))
+            .collect::<Vec<_>>()
+            .join(";");
         record.gpu_total_median_ms = m.total.median().unwrap_or(0.0);
         record.cpu_graph_median_ms = m.cpu_graph_ms.median().unwrap_or(0.0);
         record.cpu_upload_median_ms = m.cpu_upload_ms.median().unwrap_or(0.0);

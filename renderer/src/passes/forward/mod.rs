@@ -5,20 +5,21 @@
 //! without one (the naive path) it writes its own.
 //!
 //! On the deferred paths opaque surfaces are shaded already; the pass then draws only blended
-//! surfaces over the deferred image (expanded into every sample first, with MSAA, so particles
-//! can be drawn over it too), and adds nothing when there are neither blended surfaces nor
-//! particles.
+//! surfaces: without MSAA over the deferred image in place, with MSAA into a transparent
+//! multisampled overlay (particles draw into it too) that [`OverlayPass`] lays over the image.
+//! It adds nothing when there are neither blended surfaces nor particles.
 
 pub(crate) mod bindings;
+pub(crate) mod overlay;
 pub(crate) mod programs;
 
 pub(crate) use bindings::{FrameGroup, lighting_buffer};
+pub(crate) use overlay::OverlayPass;
 pub(crate) use programs::MaterialPipelines;
 
 use crate::frame_data::ConfigError;
 use std::sync::Arc;
 
-use shaders_gen::deferred::hdr_expand;
 use shaders_gen::forward::forward;
 
 use super::{MeshPipeline, Pass, SceneDraws, depth_state, mesh_pipeline};
@@ -34,13 +35,11 @@ use crate::shader::ShaderProgram;
 use programs::BoundPrograms;
 
 /// The forward pass: its programs (glTF PBR's and every registered material program's) and
-/// pipelines, its lighting uniform, and on the deferred paths with MSAA the pipeline that
-/// expands the deferred image into every sample.
+/// pipelines, and its lighting uniform.
 #[derive(Debug)]
 pub struct ForwardPass {
     pipelines: Arc<ForwardPipelines>,
     lighting: wgpu::Buffer,
-    expand: Option<Arc<Expand>>,
 }
 
 /// The opaque and masked draws' programs and pipelines (`[double_sided][mirrored]` per
@@ -51,13 +50,6 @@ pub struct ForwardPass {
 struct ForwardPipelines {
     opaque: MaterialPipelines,
     blended: wgpu::RenderPipeline,
-}
-
-/// The `hdr_expand` program and pipeline.
-#[derive(Debug)]
-struct Expand {
-    program: ShaderProgram,
-    pipeline: wgpu::RenderPipeline,
 }
 
 impl ForwardPass {
@@ -93,68 +85,13 @@ impl ForwardPass {
                 msaa: forward::Msaa::Msaa0,
             })?,
         )?;
-        let expand = if config.path.is_deferred() && config.msaa > 1 {
-            Some(Arc::new(Expand::new(gpu, config.msaa)?))
-        } else {
-            None
-        };
         Ok(Self {
             pipelines: Arc::new(ForwardPipelines {
                 blended: make(&blended, (true, true, false)),
                 opaque,
             }),
             lighting: lighting_buffer(gpu.device()),
-            expand,
         })
-    }
-}
-
-impl Expand {
-    fn new(gpu: &GpuContext, msaa: u32) -> Result<Self, RenderError> {
-        use shaders_gen::deferred::hdr_expand;
-        let program = gpu.program(hdr_expand::variant(hdr_expand::VariantKey {}),
-        )?;
-        let pipeline = program.render_pipeline(gpu.device(), &wgpu::RenderPipelineDescriptor {
-                label: Some("hdr expand"),
-                layout: Some(&program.pipeline_layout),
-                vertex: wgpu::VertexState {
-                    module: &program.module,
-                    entry_point: Some("vs_fullscreen"),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                primitive: wgpu::PrimitiveState::default(),
-                // The forward pass's depth attachment is bound; the expansion ignores it.
-                depth_stencil: Some(depth_state(false, wgpu::CompareFunction::Always)),
-                multisample: wgpu::MultisampleState {
-                    count: msaa,
-                    ..Default::default()
-                },
-                fragment: Some(wgpu::FragmentState {
-                    module: &program.module,
-                    entry_point: Some("fs_expand"),
-                    compilation_options: Default::default(),
-                    targets: &[Some(HDR_FORMAT.into())],
-                }),
-                multiview_mask: None,
-                cache: None,
-            });
-        Ok(Self { program, pipeline })
-    }
-
-    /// The bind group that reads the deferred image `shaded`.
-    fn bind_group(
-        &self,
-        ctx: &crate::graph::PassContext<'_>,
-        shaded: Handle<Texture>,
-    ) -> Result<wgpu::BindGroup, shader_bind::BindError> {
-        let view = ctx.texture(shaded).create_view(&Default::default());
-        hdr_expand::Group0 { hdr: &view }.bind_group(
-            ctx.device,
-            self.program.layout(0),
-            self.program.variant,
-            "hdr expand",
-        )
     }
 }
 
@@ -167,6 +104,8 @@ fn pipeline(
 ) -> wgpu::RenderPipeline {
     let target = wgpu::ColorTargetState {
         format: HDR_FORMAT,
+        // Alpha accumulates as `One, OneMinusSrcAlpha`, so drawn into a transparent overlay
+        // the blended layers compose into one that `OverlayPass` lays over the deferred image.
         blend: blend.then_some(wgpu::BlendState::ALPHA_BLENDING),
         write_mask: wgpu::ColorWrites::ALL,
     };
@@ -202,9 +141,19 @@ struct Targets {
     depth: Handle<Texture>,
     /// Whether `depth` holds the pre-pass's depth (load it) or is the pass's own (clear it).
     prepass: bool,
-    /// On the deferred paths: draw blended surfaces only, over the colour already in
-    /// `resolved` (no MSAA) or over this deferred image expanded into `multisampled`.
-    over: Option<Option<Handle<Texture>>>,
+    layer: Layer,
+}
+
+/// What the pass draws, and over what.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Layer {
+    /// The whole scene, over the sky.
+    Scene,
+    /// The blended surfaces, over the deferred image already in `resolved` (no MSAA).
+    OverInPlace,
+    /// The blended surfaces, into a transparent overlay (`resolved` its resolve target) that
+    /// [`OverlayPass`] lays over the deferred image (MSAA).
+    Overlay,
 }
 
 impl Pass for ForwardPass {
@@ -238,13 +187,25 @@ impl Pass for ForwardPass {
             None
         };
         let desc = TextureDesc::new_2d(c.width, c.height, HDR_FORMAT);
-        // Without MSAA the deferred image is drawn over in place.
-        let mut hdr = match shaded {
-            Some(h) if c.msaa == 1 => h,
+        // Without MSAA the deferred image is drawn over in place; with MSAA, into an overlay.
+        let layer = match shaded {
+            None => Layer::Scene,
+            Some(_) if c.msaa == 1 => Layer::OverInPlace,
+            Some(_) => Layer::Overlay,
+        };
+        let mut hdr = match (shaded, layer) {
+            (Some(h), Layer::OverInPlace) => h,
+            (_, Layer::Overlay) => graph.create_texture("hdr overlay", desc),
             _ => graph.create_texture("hdr", desc),
         };
-        let mut hdr_msaa =
-            (c.msaa > 1).then(|| graph.create_texture("hdr msaa", desc.with_samples(c.msaa)));
+        let mut hdr_msaa = (c.msaa > 1).then(|| {
+            let name = if layer == Layer::Overlay {
+                "hdr overlay msaa"
+            } else {
+                "hdr msaa"
+            };
+            graph.create_texture(name, desc.with_samples(c.msaa))
+        });
         let mut own_depth = resources.depth.is_none().then(|| {
             let desc = TextureDesc::new_2d(c.width, c.height, DEPTH_FORMAT).with_samples(c.msaa);
             graph.create_texture("depth", desc)
@@ -257,7 +218,7 @@ impl Pass for ForwardPass {
                 .or(own_depth)
                 .ok_or(missing("depth buffer"))?,
             prepass: resources.depth.is_some(),
-            over: shaded.map(|h| (c.msaa > 1).then_some(h)),
+            layer,
         };
         let mut pass = graph.add_pass(self.name());
         match (resources.depth, own_depth.as_mut()) {
@@ -265,9 +226,6 @@ impl Pass for ForwardPass {
             (None, Some(d)) => pass.write_texture(d, TextureAccess::DepthWrite),
             (None, None) => &mut pass,
         };
-        if let Some(h) = shaded.filter(|_| c.msaa > 1) {
-            pass.read_texture(h, TextureAccess::Sampled);
-        }
         pass.write_texture(&mut hdr, TextureAccess::ColorAttachment);
         if let Some(h) = hdr_msaa.as_mut() {
             pass.write_texture(h, TextureAccess::ColorAttachment);
@@ -286,7 +244,11 @@ impl Pass for ForwardPass {
         let group = FrameGroup::new(frame, &self.lighting, lists, shadows);
         let record = self.recorder(frame, targets, group, list);
         pass.execute(record);
-        resources.hdr = Some(hdr);
+        if layer == Layer::Overlay {
+            resources.hdr_overlay = Some(hdr);
+        } else {
+            resources.hdr = Some(hdr);
+        }
         resources.hdr_multisampled = hdr_msaa;
         if resources.depth.is_none() {
             resources.depth = own_depth;
@@ -305,7 +267,6 @@ impl ForwardPass {
         list: SceneDrawList,
     ) -> impl FnOnce(&mut crate::graph::PassContext<'_>) + 'static {
         let pipelines = Arc::clone(&self.pipelines);
-        let expand = self.expand.clone();
         let (scene, instances) = (Arc::clone(&frame.scene), Arc::clone(&frame.instances));
         let sky = sky_color(frame.config.sky);
         move |ctx| {
@@ -315,16 +276,6 @@ impl ForwardPass {
             let Some(frame_group) = bound.gltf_group0() else {
                 return;
             };
-            let expand_group = match (&targets.over, &expand) {
-                (Some(Some(h)), Some(e)) => {
-                    let built = e.bind_group(ctx, *h);
-                    let Some(group) = ctx.bind(built) else {
-                        return;
-                    };
-                    Some((group, &e.pipeline))
-                }
-                _ => None,
-            };
             let depth_view = ctx.texture(targets.depth).create_view(&Default::default());
             let resolved_view = ctx
                 .texture(targets.resolved)
@@ -332,10 +283,10 @@ impl ForwardPass {
             let msaa_view = targets
                 .multisampled
                 .map(|h| ctx.texture(h).create_view(&Default::default()));
-            let load = if targets.over.is_some() {
-                wgpu::LoadOp::Load
-            } else {
-                wgpu::LoadOp::Clear(sky)
+            let load = match targets.layer {
+                Layer::Scene => wgpu::LoadOp::Clear(sky),
+                Layer::OverInPlace => wgpu::LoadOp::Load,
+                Layer::Overlay => wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
             };
             let mut pass = ctx.encoder.begin_render(&wgpu::RenderPassDescriptor {
                 label: Some("forward"),
@@ -364,14 +315,9 @@ impl ForwardPass {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            if let Some((group, pipeline)) = &expand_group {
-                pass.set_pipeline(pipeline);
-                pass.set_bind_group(0, group, &[]);
-                pass.draw(0..3, 0..1);
-            }
             pass.set_bind_group(0, frame_group, &[]);
             // Over a deferred image only the blended surfaces are left to draw.
-            let opaque = targets.over.is_none();
+            let opaque = targets.layer == Layer::Scene;
             draw_scene(
                 &mut pass,
                 (&scene, &instances),

@@ -1,5 +1,6 @@
 //! The particle draw: camera-facing billboards, back to front (the sorted keys), blended over the
-//! forward pass's HDR colour (its multisampled target under MSAA, resolved again), depth tested
+//! forward pass's HDR colour (its multisampled target under MSAA, resolved again; on the deferred
+//! paths with MSAA, the overlay of blended surfaces laid over the image later), depth tested
 //! per sample by the pipeline against the pre-Z depth attached read-only, and faded against a copy
 //! of it the shader samples (soft particles; sampling the attached depth itself would make its
 //! end-of-pass store a write after the shader's read, a hazard Vulkan's synchronization
@@ -109,7 +110,11 @@ impl Pass for ParticleDrawPass {
             return Ok(());
         };
         let depth = resources.depth.ok_or(missing("depth buffer"))?;
-        let mut hdr = resources.hdr.ok_or(missing("HDR colour"))?;
+        // With MSAA on the deferred paths, particles join the blended surfaces' overlay.
+        let mut hdr = resources
+            .hdr_overlay
+            .or(resources.hdr)
+            .ok_or(missing("HDR colour"))?;
         let mut multisampled = resources.hdr_multisampled;
         let shadows = resources.shadows.clone().ok_or(missing("shadow atlas"))?;
         let listed = self.key.list == List::List2;
@@ -238,7 +243,11 @@ impl Pass for ParticleDrawPass {
             render.set_bind_group(1, &particle_group, &[]);
             render.draw_indirect(&p.state, super::atlas::DRAW_ARGS_OFFSET);
         });
-        resources.hdr = Some(hdr);
+        if resources.hdr_overlay.is_some() {
+            resources.hdr_overlay = Some(hdr);
+        } else {
+            resources.hdr = Some(hdr);
+        }
         resources.hdr_multisampled = multisampled;
         Ok(())
     }

@@ -1,0 +1,93 @@
+//! The overlay pass: on the deferred paths with MSAA, lays what was drawn over the deferred
+//! image (blended surfaces and particles, drawn into a transparent multisampled overlay and
+//! resolved, `FrameResources::hdr_overlay`) over that image, in one compute dispatch into a new
+//! HDR texture.
+//!
+//! This replaces expanding the deferred image into every sample of a multisampled target and
+//! resolving it again, which wrote every sample of the screen to draw a few blended surfaces.
+//! The overlay's clear and resolve are of a target that is mostly untouched, and laying it over
+//! reads two single-sample images and writes one. The result is the same up to half-float
+//! rounding: see `shaders_gen::deferred::hdr_overlay`.
+
+use shaders_gen::deferred::hdr_overlay;
+
+use crate::GpuContext;
+use crate::frame_data::{
+    ConfigError, FrameInputs, FrameResources, HDR_FORMAT, RenderError,
+};
+use crate::graph::{RenderGraph, TextureAccess, TextureDesc};
+use crate::passes::Pass;
+use crate::shader::ShaderProgram;
+
+/// The overlay pass: its program and compute pipeline.
+#[derive(Debug)]
+pub struct OverlayPass {
+    program: ShaderProgram,
+    pipeline: wgpu::ComputePipeline,
+}
+
+impl OverlayPass {
+    pub fn new(gpu: &GpuContext) -> Result<Self, RenderError> {
+        let program = gpu.program(hdr_overlay::variant(hdr_overlay::VariantKey {}))?;
+        let pipeline = program.compute_pipeline(gpu.device(), "lay_over")?;
+        Ok(Self { program, pipeline })
+    }
+}
+
+impl Pass for OverlayPass {
+    fn name(&self) -> &'static str {
+        "overlay"
+    }
+
+    fn add_to_graph(
+        &self,
+        graph: &mut RenderGraph,
+        frame: &FrameInputs,
+        resources: &mut FrameResources,
+    ) -> Result<(), RenderError> {
+        // Nothing was drawn over the deferred image (no blended surfaces, no particles).
+        let Some(overlay) = resources.hdr_overlay.take() else {
+            return Ok(());
+        };
+        let shaded = resources
+            .hdr
+            .ok_or(RenderError::Config(ConfigError::MissingInput {
+                pass: "overlay",
+                input: "deferred HDR image",
+            }))?;
+        let c = &frame.config;
+        let mut hdr = graph.create_texture("hdr", TextureDesc::new_2d(c.width, c.height, HDR_FORMAT));
+        let groups = (c.width.div_ceil(8), c.height.div_ceil(8));
+        let (program, pipeline) = (self.program.clone(), self.pipeline.clone());
+        graph
+            .add_pass(self.name())
+            .read_texture(shaded, TextureAccess::Sampled)
+            .read_texture(overlay, TextureAccess::Sampled)
+            .write_texture(&mut hdr, TextureAccess::StorageWrite)
+            .execute(move |ctx| {
+                let view = |h| ctx.texture(h).create_view(&Default::default());
+                let (shaded_view, overlay_view, out_view) = (view(shaded), view(overlay), view(hdr));
+                let group = hdr_overlay::Group0 {
+                    shaded: &shaded_view,
+                    overlay: &overlay_view,
+                    hdr_out: &out_view,
+                }
+                .bind_group(
+                    ctx.device,
+                    program.layout(0),
+                    program.variant,
+                    "hdr overlay",
+                );
+                let Some(group) = ctx.bind(group) else {
+                    return;
+                };
+                let mut pass = ctx.encoder.begin_compute("overlay");
+                pass.set_pipeline(&pipeline);
+                pass.set_bind_group(0, &group, &[]);
+                pass.dispatch_workgroups(groups.0, groups.1, 1);
+            });
+        resources.hdr = Some(hdr);
+        resources.hdr_multisampled = None;
+        Ok(())
+    }
+}

@@ -1,0 +1,32 @@
+//! What the deferred paths draw over their shaded image with MSAA (blended surfaces, then
+//! particles) is drawn into a transparent multisampled overlay, which resolves into a
+//! single-sample one; this kernel lays that overlay over the shaded image.
+
+/// Each invocation lays one pixel of the resolved `OVERLAY` (premultiplied colour, and the
+/// coverage `1 - Π(1 - aᵢ)` of the layers drawn into it) over the same pixel of `SHADED`:
+/// `overlay + (1 - overlay.a) · shaded`, into `HDR_OUT`.
+///
+/// This equals drawing every layer over the shaded pixel in each sample and resolving: each
+/// layer maps a colour `d` to `c + (1 - a) d`, such maps compose into one of the same form (the
+/// overlay's sample), and the resolve's mean commutes with them where the pixel below is one
+/// colour, which the deferred image is.
+#[shader_dsl::shader]
+pub mod hdr_overlay {
+    #[texture(group = 0, binding = 0, unfilterable)]
+    static SHADED: Texture2d<f32>;
+    #[texture(group = 0, binding = 1, unfilterable)]
+    static OVERLAY: Texture2d<f32>;
+    #[texture(group = 0, binding = 2)]
+    static HDR_OUT: StorageTexture2d<Rgba16Float, Write>;
+
+    #[compute(workgroup_size(8, 8, 1))]
+    pub fn lay_over(#[builtin(global_invocation_id)] gid: UVec3) {
+        let pixel = gid.xy();
+        let size = HDR_OUT.dimensions();
+        if pixel.x < size.x && pixel.y < size.y {
+            let below = SHADED.load(pixel, 0u32);
+            let over = OVERLAY.load(pixel, 0u32);
+            HDR_OUT.store(pixel, over + below * (1.0 - over.w));
+        }
+    }
+}
