@@ -104,7 +104,7 @@ pub fn passes_for(
             passes.push(Box::new(ForwardPass::new(gpu, config, materials)?));
             passes.push(Box::new(ParticleDrawPass::new(gpu, config)?));
             if config.path.is_deferred() && config.msaa > 1 {
-                passes.push(Box::new(OverlayPass::new(gpu)?));
+                passes.push(Box::new(OverlayPass::new(gpu, config.msaa)?));
             }
             passes.push(Box::new(TonemapPass::new(gpu, config)?));
         }

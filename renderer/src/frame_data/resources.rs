@@ -329,15 +329,15 @@ pub struct FrameResources {
     pub hdr: Option<Handle<Texture>>,
     /// The shadow atlas (absent when the frame has no shadow pass).
     pub shadows: Option<ShadowResources>,
-    /// The multisampled HDR colour the forward pass resolved (MSAA only), for passes that draw
-    /// more over it: into `hdr`, or on the deferred paths into `hdr_overlay`.
+    /// The multisampled HDR colour the forward pass resolved into `hdr` (MSAA only, not on the
+    /// deferred paths), for passes that draw more over it.
     pub hdr_multisampled: Option<Handle<Texture>>,
-    /// On the deferred paths with MSAA: what is drawn over the deferred image (blended
-    /// surfaces, particles), resolved from `hdr_multisampled`, with premultiplied colour over
-    /// transparent black. Draw into it with `One, OneMinusSrcAlpha` for alpha (as
-    /// [`wgpu::BlendState::ALPHA_BLENDING`] and `PREMULTIPLIED_ALPHA_BLENDING` do); the
-    /// `overlay` pass lays it over `hdr` (into a new texture) after the particles and clears
-    /// this field.
+    /// On the deferred paths with MSAA: the multisampled overlay of what is drawn over the
+    /// deferred image (blended surfaces, particles), premultiplied colour over transparent
+    /// black, never resolved by a render pass. Draw into it with `One, OneMinusSrcAlpha` for
+    /// alpha (as [`wgpu::BlendState::ALPHA_BLENDING`] and `PREMULTIPLIED_ALPHA_BLENDING` do);
+    /// the `overlay` pass resolves it and lays it over `hdr` (into a new texture) after the
+    /// particles, and clears this field.
     pub hdr_overlay: Option<Handle<Texture>>,
     /// Light lists covering every depth slice, for particles: the frame's clustered lists, or
     /// on the tiled paths lists of their own (absent on the naive paths and without particles).

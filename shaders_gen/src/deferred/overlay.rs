@@ -1,21 +1,22 @@
 //! What the deferred paths draw over their shaded image with MSAA (blended surfaces, then
-//! particles) is drawn into a transparent multisampled overlay, which resolves into a
-//! single-sample one; this kernel lays that overlay over the shaded image.
+//! particles) is drawn into a transparent multisampled overlay; this kernel resolves that
+//! overlay and lays it over the shaded image.
 
-/// Each invocation lays one pixel of the resolved `OVERLAY` (premultiplied colour, and the
-/// coverage `1 - Π(1 - aᵢ)` of the layers drawn into it) over the same pixel of `SHADED`:
-/// `overlay + (1 - overlay.a) · shaded`, into `HDR_OUT`.
+/// Each invocation resolves one pixel of `OVERLAY` (the mean of its samples: premultiplied
+/// colour, and the coverage `1 - Π(1 - aᵢ)` of the layers drawn into it) and lays it over the
+/// same pixel of `SHADED`: `overlay + (1 - overlay.a) · shaded`, into `HDR_OUT`. Resolving here
+/// rather than in the render passes that draw the overlay saves writing a resolved image each.
 ///
 /// This equals drawing every layer over the shaded pixel in each sample and resolving: each
 /// layer maps a colour `d` to `c + (1 - a) d`, such maps compose into one of the same form (the
 /// overlay's sample), and the resolve's mean commutes with them where the pixel below is one
 /// colour, which the deferred image is.
-#[shader_dsl::shader]
+#[shader_dsl::shader(axes(msaa: u32 = [2, 4, 8]))]
 pub mod hdr_overlay {
     #[texture(group = 0, binding = 0, unfilterable)]
     static SHADED: Texture2d<f32>;
     #[texture(group = 0, binding = 1, unfilterable)]
-    static OVERLAY: Texture2d<f32>;
+    static OVERLAY: TextureMultisampled2d<f32>;
     #[texture(group = 0, binding = 2)]
     static HDR_OUT: StorageTexture2d<Rgba16Float, Write>;
 
@@ -25,7 +26,11 @@ pub mod hdr_overlay {
         let size = HDR_OUT.dimensions();
         if pixel.x < size.x && pixel.y < size.y {
             let below = SHADED.load(pixel, 0u32);
-            let over = OVERLAY.load(pixel, 0u32);
+            let mut sum = Vec4::new(0.0, 0.0, 0.0, 0.0);
+            for s in 0u32..msaa {
+                sum = sum + OVERLAY.load(pixel, s);
+            }
+            let over = sum / (msaa as f32);
             HDR_OUT.store(pixel, over + below * (1.0 - over.w));
         }
     }

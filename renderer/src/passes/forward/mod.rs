@@ -6,7 +6,8 @@
 //!
 //! On the deferred paths opaque surfaces are shaded already; the pass then draws only blended
 //! surfaces: without MSAA over the deferred image in place, with MSAA into a transparent
-//! multisampled overlay (particles draw into it too) that [`OverlayPass`] lays over the image.
+//! multisampled overlay (particles draw into it too) that [`OverlayPass`] resolves and lays over
+//! the image.
 //! It adds nothing when there are neither blended surfaces nor particles.
 
 pub(crate) mod bindings;
@@ -136,8 +137,10 @@ fn pipeline(
 
 /// The colour and depth targets of the pass.
 struct Targets {
-    resolved: Handle<Texture>,
-    multisampled: Option<Handle<Texture>>,
+    /// The colour attachment.
+    color: Handle<Texture>,
+    /// Where `color` resolves to (the scene with MSAA).
+    resolve: Option<Handle<Texture>>,
     depth: Handle<Texture>,
     /// Whether `depth` holds the pre-pass's depth (load it) or is the pass's own (clear it).
     prepass: bool,
@@ -149,10 +152,10 @@ struct Targets {
 enum Layer {
     /// The whole scene, over the sky.
     Scene,
-    /// The blended surfaces, over the deferred image already in `resolved` (no MSAA).
+    /// The blended surfaces, over the deferred image, which is `color` (no MSAA).
     OverInPlace,
-    /// The blended surfaces, into a transparent overlay (`resolved` its resolve target) that
-    /// [`OverlayPass`] lays over the deferred image (MSAA).
+    /// The blended surfaces, into a transparent multisampled overlay (`color`, not resolved)
+    /// that [`OverlayPass`] resolves and lays over the deferred image (MSAA).
     Overlay,
 }
 
@@ -193,26 +196,23 @@ impl Pass for ForwardPass {
             Some(_) if c.msaa == 1 => Layer::OverInPlace,
             Some(_) => Layer::Overlay,
         };
-        let mut hdr = match (shaded, layer) {
-            (Some(h), Layer::OverInPlace) => h,
-            (_, Layer::Overlay) => graph.create_texture("hdr overlay", desc),
-            _ => graph.create_texture("hdr", desc),
+        let multisampled = desc.with_samples(c.msaa);
+        let (mut color, mut resolve) = match (shaded, layer) {
+            (Some(h), Layer::OverInPlace) => (h, None),
+            (_, Layer::Overlay) => (graph.create_texture("hdr overlay", multisampled), None),
+            _ if c.msaa > 1 => (
+                graph.create_texture("hdr msaa", multisampled),
+                Some(graph.create_texture("hdr", desc)),
+            ),
+            _ => (graph.create_texture("hdr", desc), None),
         };
-        let mut hdr_msaa = (c.msaa > 1).then(|| {
-            let name = if layer == Layer::Overlay {
-                "hdr overlay msaa"
-            } else {
-                "hdr msaa"
-            };
-            graph.create_texture(name, desc.with_samples(c.msaa))
-        });
         let mut own_depth = resources.depth.is_none().then(|| {
             let desc = TextureDesc::new_2d(c.width, c.height, DEPTH_FORMAT).with_samples(c.msaa);
             graph.create_texture("depth", desc)
         });
         let targets = Targets {
-            resolved: hdr,
-            multisampled: hdr_msaa,
+            color,
+            resolve,
             depth: resources
                 .depth
                 .or(own_depth)
@@ -226,8 +226,8 @@ impl Pass for ForwardPass {
             (None, Some(d)) => pass.write_texture(d, TextureAccess::DepthWrite),
             (None, None) => &mut pass,
         };
-        pass.write_texture(&mut hdr, TextureAccess::ColorAttachment);
-        if let Some(h) = hdr_msaa.as_mut() {
+        pass.write_texture(&mut color, TextureAccess::ColorAttachment);
+        if let Some(h) = resolve.as_mut() {
             pass.write_texture(h, TextureAccess::ColorAttachment);
         }
         LightListHandles::read_by(lists.as_ref(), &mut pass);
@@ -245,11 +245,12 @@ impl Pass for ForwardPass {
         let record = self.recorder(frame, targets, group, list);
         pass.execute(record);
         if layer == Layer::Overlay {
-            resources.hdr_overlay = Some(hdr);
+            resources.hdr_overlay = Some(color);
+            resources.hdr_multisampled = None;
         } else {
-            resources.hdr = Some(hdr);
+            resources.hdr = Some(resolve.unwrap_or(color));
+            resources.hdr_multisampled = resolve.map(|_| color);
         }
-        resources.hdr_multisampled = hdr_msaa;
         if resources.depth.is_none() {
             resources.depth = own_depth;
         }
@@ -277,11 +278,9 @@ impl ForwardPass {
                 return;
             };
             let depth_view = ctx.texture(targets.depth).create_view(&Default::default());
-            let resolved_view = ctx
-                .texture(targets.resolved)
-                .create_view(&Default::default());
-            let msaa_view = targets
-                .multisampled
+            let color_view = ctx.texture(targets.color).create_view(&Default::default());
+            let resolve_view = targets
+                .resolve
                 .map(|h| ctx.texture(h).create_view(&Default::default()));
             let load = match targets.layer {
                 Layer::Scene => wgpu::LoadOp::Clear(sky),
@@ -291,9 +290,9 @@ impl ForwardPass {
             let mut pass = ctx.encoder.begin_render(&wgpu::RenderPassDescriptor {
                 label: Some("forward"),
                 color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: msaa_view.as_ref().unwrap_or(&resolved_view),
+                    view: &color_view,
                     depth_slice: None,
-                    resolve_target: msaa_view.as_ref().map(|_| &resolved_view),
+                    resolve_target: resolve_view.as_ref(),
                     ops: wgpu::Operations {
                         load,
                         store: wgpu::StoreOp::Store,

@@ -1,13 +1,13 @@
-//! The overlay pass: on the deferred paths with MSAA, lays what was drawn over the deferred
-//! image (blended surfaces and particles, drawn into a transparent multisampled overlay and
-//! resolved, `FrameResources::hdr_overlay`) over that image, in one compute dispatch into a new
-//! HDR texture.
+//! The overlay pass: on the deferred paths with MSAA, resolves what was drawn over the deferred
+//! image (blended surfaces and particles, drawn into a transparent multisampled overlay,
+//! `FrameResources::hdr_overlay`) and lays it over that image, in one compute dispatch into a
+//! new HDR texture.
 //!
 //! This replaces expanding the deferred image into every sample of a multisampled target and
 //! resolving it again, which wrote every sample of the screen to draw a few blended surfaces.
-//! The overlay's clear and resolve are of a target that is mostly untouched, and laying it over
-//! reads two single-sample images and writes one. The result is the same up to half-float
-//! rounding: see `shaders_gen::deferred::hdr_overlay`.
+//! The overlay is cleared and drawn into, never resolved by a render pass; this pass reads its
+//! samples and the image and writes one single-sample image. The result is the same up to
+//! half-float rounding: see `shaders_gen::deferred::hdr_overlay`.
 
 use shaders_gen::deferred::hdr_overlay;
 
@@ -27,8 +27,15 @@ pub struct OverlayPass {
 }
 
 impl OverlayPass {
-    pub fn new(gpu: &GpuContext) -> Result<Self, RenderError> {
-        let program = gpu.program(hdr_overlay::variant(hdr_overlay::VariantKey {}))?;
+    /// The pass for `msaa` samples (2, 4 or 8; without MSAA nothing is drawn into an overlay).
+    pub fn new(gpu: &GpuContext, msaa: u32) -> Result<Self, RenderError> {
+        let msaa = hdr_overlay::Msaa::from_value(msaa).ok_or_else(|| {
+            RenderError::Config(ConfigError::SampleCount {
+                asked: msaa,
+                supported: hdr_overlay::Msaa::ALL.iter().map(|m| m.value()).collect(),
+            })
+        })?;
+        let program = gpu.program(hdr_overlay::variant(hdr_overlay::VariantKey { msaa }))?;
         let pipeline = program.compute_pipeline(gpu.device(), "lay_over")?;
         Ok(Self { program, pipeline })
     }

@@ -1,6 +1,7 @@
 //! The particle draw: camera-facing billboards, back to front (the sorted keys), blended over the
 //! forward pass's HDR colour (its multisampled target under MSAA, resolved again; on the deferred
-//! paths with MSAA, the overlay of blended surfaces laid over the image later), depth tested
+//! paths with MSAA, the multisampled overlay of blended surfaces laid over the image later),
+//! depth tested
 //! per sample by the pipeline against the pre-Z depth attached read-only, and faded against a copy
 //! of it the shader samples (soft particles; sampling the attached depth itself would make its
 //! end-of-pass store a write after the shader's read, a hazard Vulkan's synchronization
@@ -110,12 +111,13 @@ impl Pass for ParticleDrawPass {
             return Ok(());
         };
         let depth = resources.depth.ok_or(missing("depth buffer"))?;
-        // With MSAA on the deferred paths, particles join the blended surfaces' overlay.
-        let mut hdr = resources
-            .hdr_overlay
+        // With MSAA on the deferred paths, particles join the blended surfaces' multisampled
+        // overlay (the overlay pass resolves it).
+        let overlay = resources.hdr_overlay;
+        let mut hdr = overlay
             .or(resources.hdr)
             .ok_or(missing("HDR colour"))?;
-        let mut multisampled = resources.hdr_multisampled;
+        let mut multisampled = resources.hdr_multisampled.filter(|_| overlay.is_none());
         let shadows = resources.shadows.clone().ok_or(missing("shadow atlas"))?;
         let listed = self.key.list == List::List2;
         let lists = listed.then(|| resources.particle_lists.clone()).flatten();
@@ -243,7 +245,7 @@ impl Pass for ParticleDrawPass {
             render.set_bind_group(1, &particle_group, &[]);
             render.draw_indirect(&p.state, super::atlas::DRAW_ARGS_OFFSET);
         });
-        if resources.hdr_overlay.is_some() {
+        if overlay.is_some() {
             resources.hdr_overlay = Some(hdr);
         } else {
             resources.hdr = Some(hdr);
