@@ -156,10 +156,8 @@ fn begin_gbuffer_pass<'e>(
         color_attachments: &attachments,
         depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
             view: depth,
-            depth_ops: Some(wgpu::Operations {
-                load: wgpu::LoadOp::Load,
-                store: wgpu::StoreOp::Store,
-            }),
+            // The G-buffer tests against pre-Z's depth and never writes it: attached read-only.
+            depth_ops: None,
             stencil_ops: None,
         }),
         timestamp_writes: None,

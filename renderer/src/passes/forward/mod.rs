@@ -300,12 +300,10 @@ impl ForwardPass {
                 })],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: &depth_view,
-                    depth_ops: Some(wgpu::Operations {
-                        load: if targets.prepass {
-                            wgpu::LoadOp::Load
-                        } else {
-                            wgpu::LoadOp::Clear(1.0)
-                        },
+                    // After a pre-pass no pipeline of this pass writes depth: attached
+                    // read-only, the pass neither stores nor decompresses it.
+                    depth_ops: (!targets.prepass).then_some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
                         store: wgpu::StoreOp::Store,
                     }),
                     stencil_ops: None,
