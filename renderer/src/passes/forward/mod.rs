@@ -189,23 +189,7 @@ impl Pass for ForwardPass {
         } else {
             None
         };
-        let desc = TextureDesc::new_2d(c.width, c.height, HDR_FORMAT);
-        // Without MSAA the deferred image is drawn over in place; with MSAA, into an overlay.
-        let layer = match shaded {
-            None => Layer::Scene,
-            Some(_) if c.msaa == 1 => Layer::OverInPlace,
-            Some(_) => Layer::Overlay,
-        };
-        let multisampled = desc.with_samples(c.msaa);
-        let (mut color, mut resolve) = match (shaded, layer) {
-            (Some(h), Layer::OverInPlace) => (h, None),
-            (_, Layer::Overlay) => (graph.create_texture("hdr overlay", multisampled), None),
-            _ if c.msaa > 1 => (
-                graph.create_texture("hdr msaa", multisampled),
-                Some(graph.create_texture("hdr", desc)),
-            ),
-            _ => (graph.create_texture("hdr", desc), None),
-        };
+        let (layer, mut color, mut resolve) = color_targets(graph, c, shaded);
         let mut own_depth = resources.depth.is_none().then(|| {
             let desc = TextureDesc::new_2d(c.width, c.height, DEPTH_FORMAT).with_samples(c.msaa);
             graph.create_texture("depth", desc)
@@ -255,6 +239,31 @@ impl Pass for ForwardPass {
             resources.depth = own_depth;
         }
         Ok(())
+    }
+}
+
+/// What the pass draws (`Layer`), its colour attachment and where that resolves to: without
+/// MSAA the deferred image `shaded` is drawn over in place; with MSAA, a new overlay.
+fn color_targets(
+    graph: &mut RenderGraph,
+    c: &RendererConfig,
+    shaded: Option<Handle<Texture>>,
+) -> (Layer, Handle<Texture>, Option<Handle<Texture>>) {
+    let desc = TextureDesc::new_2d(c.width, c.height, HDR_FORMAT);
+    let multisampled = desc.with_samples(c.msaa);
+    match shaded {
+        Some(h) if c.msaa == 1 => (Layer::OverInPlace, h, None),
+        Some(_) => (
+            Layer::Overlay,
+            graph.create_texture("hdr overlay", multisampled),
+            None,
+        ),
+        None if c.msaa > 1 => (
+            Layer::Scene,
+            graph.create_texture("hdr msaa", multisampled),
+            Some(graph.create_texture("hdr", desc)),
+        ),
+        None => (Layer::Scene, graph.create_texture("hdr", desc), None),
     }
 }
 
