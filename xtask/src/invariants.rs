@@ -10,7 +10,7 @@ mod circles;
 mod graph;
 #[cfg(test)]
 mod import_tests;
-mod lengths;
+pub(crate) mod lengths;
 mod modules;
 mod resolve;
 mod uses;

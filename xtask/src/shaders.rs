@@ -209,7 +209,7 @@ pub(crate) fn dsl_modules(dir: &Path) -> Result<Vec<(PathBuf, Vec<DslModule>)>> 
 }
 
 /// The `.rs` files under `dir`, sorted.
-fn rust_files(dir: &Path) -> Result<Vec<PathBuf>> {
+pub(crate) fn rust_files(dir: &Path) -> Result<Vec<PathBuf>> {
     let mut files = Vec::new();
     let mut stack = vec![dir.to_path_buf()];
     while let Some(d) = stack.pop() {

@@ -28,7 +28,10 @@ pub struct Args {
 pub fn run(args: &Args) -> Result<()> {
     let started = Instant::now();
     step("system packages", crate::system::ensure_test_requirements)?;
-    step("cargo fmt --check", || cargo(&["fmt", "--all", "--check"]))?;
+    step("cargo fmt --check", || {
+        cargo(&["fmt", "--all", "--check"])?;
+        rustfmt_check_every_file()
+    })?;
     step("cargo clippy", || {
         cargo(&[
             "clippy",
@@ -117,6 +120,61 @@ fn step<T>(name: &str, f: impl FnOnce() -> Result<T>) -> Result<T> {
         }
     }
     result
+}
+
+/// `cargo fmt` formats the files it reaches through `mod` items, and rustfmt does not expand
+/// macros: the renderer declares its internal modules through one (`internal_modules!`), so
+/// `cargo fmt --check` never saw them. The engine example is a workspace of its own. So every
+/// `.rs` file of every crate here and in `examples/engine` is checked by name too, but the
+/// compile-fail cases (`tests/ui`), whose expected messages name their lines.
+fn rustfmt_check_every_file() -> Result<()> {
+    let root = crate::workspace::workspace_root();
+    let files = formatted_files(&root)?;
+    let status = Command::new("rustfmt")
+        .args(["--check", "--edition", "2024"])
+        .args(&files)
+        .current_dir(&root)
+        .status()
+        .context("running rustfmt")?;
+    if !status.success() {
+        bail!(
+            "rustfmt --check found unformatted files among {} (run rustfmt --edition 2024 on them)",
+            files.len()
+        );
+    }
+    Ok(())
+}
+
+/// The `.rs` files rustfmt must find formatted: those of every crate folder (`src`, `tests`,
+/// `benches`, `examples`, `fuzz_targets`) of the workspace's members and the engine example's,
+/// without `tests/ui`.
+fn formatted_files(root: &std::path::Path) -> Result<Vec<std::path::PathBuf>> {
+    let mut crates = Vec::new();
+    for parent in [root.to_path_buf(), root.join("examples/engine")] {
+        for entry in
+            std::fs::read_dir(&parent).with_context(|| format!("reading {}", parent.display()))?
+        {
+            let dir = entry?.path();
+            if dir.join("Cargo.toml").is_file() {
+                crates.push(dir);
+            }
+        }
+    }
+    let mut files = Vec::new();
+    for dir in crates {
+        for folder in crate::invariants::lengths::SOURCE_FOLDERS {
+            let folder = dir.join(folder);
+            if folder.is_dir() {
+                files.extend(
+                    crate::shaders::rust_files(&folder)?
+                        .into_iter()
+                        .filter(|f| !f.starts_with(dir.join("tests/ui"))),
+                );
+            }
+        }
+    }
+    files.sort();
+    Ok(files)
 }
 
 fn cargo(args: &[&str]) -> Result<()> {
@@ -225,6 +283,31 @@ fn private_runtime_dir() -> Result<std::path::PathBuf> {
 #[cfg(test)]
 mod tests {
     use super::Counts;
+
+    /// The files the format check names include those `cargo fmt` does not reach (the renderer's
+    /// macro-declared modules, the engine example) and leave out the compile-fail cases.
+    #[test]
+    fn the_format_check_names_the_files_cargo_fmt_cannot_reach() {
+        let root = crate::workspace::workspace_root();
+        let files = super::formatted_files(&root).expect("listing");
+        for reached in [
+            "renderer/src/passes/forward/overlay.rs",
+            "renderer/src/culling/hierarchy.rs",
+            "examples/engine/app/src/lib.rs",
+            "xtask/src/test.rs",
+        ] {
+            assert!(
+                files.contains(&root.join(reached)),
+                "{reached} is not checked"
+            );
+        }
+        let ui = root.join("shader-dsl/tests/ui");
+        assert!(ui.is_dir());
+        assert!(
+            !files.iter().any(|f| f.starts_with(&ui)),
+            "a compile-fail case is checked"
+        );
+    }
 
     #[test]
     fn counts_sum_libtest_summaries() {

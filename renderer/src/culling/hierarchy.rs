@@ -7,10 +7,10 @@
 //! [`super::clustered`] choose the fine kernel and fill in the parameters.
 
 use glam::{Mat4, UVec2, Vec3};
-use shaders_gen::culling::cull_prepare::{self, CullParams, Msaa, Tile};
-pub use shaders_gen::culling::cull_prepare::{CullBox, CullSphere};
 #[cfg(any(test, feature = "internals"))]
 pub use shaders_gen::culling::cull_prepare::ITEM_TYPES;
+use shaders_gen::culling::cull_prepare::{self, CullParams, Msaa, Tile};
+pub use shaders_gen::culling::cull_prepare::{CullBox, CullSphere};
 use shaders_gen::shared::cull_append;
 
 use super::CullError;
@@ -181,8 +181,7 @@ impl CullHierarchy {
     ) -> Result<Self, CullError> {
         super::check_index_capacity(gpu.device(), shape.index_capacity)?;
         let device = gpu.device();
-        let prepare = gpu.program(cull_prepare::variant(prepare_key(shape.tile, shape.msaa)?),
-        )?;
+        let prepare = gpu.program(cull_prepare::variant(prepare_key(shape.tile, shape.msaa)?))?;
         let fine = gpu.program(fine)?;
         let tiles = UVec2::new(width.div_ceil(shape.tile), height.div_ceil(shape.tile));
         let super_tiles = UVec2::new(

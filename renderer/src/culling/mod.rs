@@ -18,9 +18,9 @@ pub mod reference;
 pub mod tiled;
 pub mod vocabulary;
 
-pub use vocabulary::{ClusterGrid, CullCamera, LightSphere, Method, Plane};
 #[cfg(any(test, feature = "internals"))]
 pub use vocabulary::SUPER_TILE_PIXELS;
+pub use vocabulary::{ClusterGrid, CullCamera, LightSphere, Method, Plane};
 
 use crate::GpuError;
 use crate::shader::VariantError;

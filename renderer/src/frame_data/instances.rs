@@ -18,8 +18,8 @@
 use std::ops::Range;
 
 use glam::Mat4;
-use shaders_gen::forward::forward;
 use records::{draw_group, records_buffer};
+use shaders_gen::forward::forward;
 
 mod records;
 

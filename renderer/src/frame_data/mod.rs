@@ -24,27 +24,27 @@ mod resources;
 mod scene;
 mod views;
 
-pub use camera::{CameraUniform, FrameCamera, box_in_frustum, farness};
 #[cfg(any(test, feature = "internals"))]
 pub use camera::frustum_planes;
+pub use camera::{CameraUniform, FrameCamera, box_in_frustum, farness};
 pub use config::{
     Ambient, FrameView, ParticleLighting, RenderPath, RendererConfig, VisibilityRaster,
 };
 #[cfg(any(test, feature = "internals"))]
 pub use config::{DEFAULT_LIGHT_CUTOFF, EdgeThresholds};
-pub use decals::{DecalUpload, GpuDecals};
 #[cfg(any(test, feature = "internals"))]
 pub use decals::cull_box;
-pub use draw_batches::{BatchLayout, DrawBatch, NO_DRAW, draw_place};
+pub use decals::{DecalUpload, GpuDecals};
 #[cfg(any(test, feature = "internals"))]
 pub use draw_batches::{BatchKey, DrawPlace, NoRoom};
+pub use draw_batches::{BatchLayout, DrawBatch, NO_DRAW, draw_place};
 pub use error::{ConfigError, DeviceError, InputError, RenderError};
 pub use formats::{DEPTH_FORMAT, GBUFFER_FORMATS, HDR_FORMAT, VISIBILITY_FORMAT};
 pub use inputs::{FrameInputs, ParticleInput};
 pub use instances::{DrawItem, InstanceEditError, InstanceHandle, InstanceState, InstanceTable};
-pub use lights::{LightSet, with_effective_ranges};
 #[cfg(any(test, feature = "internals"))]
 pub use lights::effective_range;
+pub use lights::{LightSet, with_effective_ranges};
 #[cfg(any(test, feature = "internals"))]
 pub use material_groups::material_record;
 #[cfg(any(test, feature = "internals"))]

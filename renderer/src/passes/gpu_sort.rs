@@ -9,8 +9,8 @@ use shaders_gen::particles::particle_sort::{self, SortParams};
 
 use crate::GpuContext;
 use crate::frame_data::RenderError;
-use crate::shader::ShaderProgram;
 use crate::graph::PassEncoder;
+use crate::shader::ShaderProgram;
 
 /// The sort's program and pipelines, shared by every sort built from them.
 #[derive(Debug)]
@@ -140,7 +140,10 @@ impl GpuSort {
         let device = gpu.device();
         let max = Self::max_items(device);
         if items > max {
-            return Err(RenderError::Input(InputError::SortTooLarge { asked: items, max }));
+            return Err(RenderError::Input(InputError::SortTooLarge {
+                asked: items,
+                max,
+            }));
         }
         let count = padded_count(items);
         let keys = device.create_buffer(&wgpu::BufferDescriptor {

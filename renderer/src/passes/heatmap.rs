@@ -108,10 +108,12 @@ impl Pass for HeatmapPass {
         frame: &FrameInputs,
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
-        let missing = |input| RenderError::Config(ConfigError::MissingInput {
-            pass: "light heatmap",
-            input,
-        });
+        let missing = |input| {
+            RenderError::Config(ConfigError::MissingInput {
+                pass: "light heatmap",
+                input,
+            })
+        };
         let lists = resources
             .light_lists
             .clone()

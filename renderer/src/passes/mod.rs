@@ -328,34 +328,37 @@ pub(crate) fn mesh_pipeline(
     p: &MeshPipeline<'_>,
 ) -> wgpu::RenderPipeline {
     let streams = vertex_streams(p.streams);
-    program.render_pipeline(device, &wgpu::RenderPipelineDescriptor {
-        label: Some(p.label),
-        layout: Some(&program.pipeline_layout),
-        vertex: wgpu::VertexState {
-            module: &program.module,
-            entry_point: Some(p.vertex_entry),
-            compilation_options: Default::default(),
-            buffers: &stream_layouts(&streams),
+    program.render_pipeline(
+        device,
+        &wgpu::RenderPipelineDescriptor {
+            label: Some(p.label),
+            layout: Some(&program.pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &program.module,
+                entry_point: Some(p.vertex_entry),
+                compilation_options: Default::default(),
+                buffers: &stream_layouts(&streams),
+            },
+            primitive: wgpu::PrimitiveState {
+                front_face: front_face(p.mirrored),
+                cull_mode: cull_mode(p.double_sided),
+                ..Default::default()
+            },
+            depth_stencil: Some(p.depth.clone()),
+            multisample: wgpu::MultisampleState {
+                count: p.msaa,
+                ..Default::default()
+            },
+            fragment: p.fragment.map(|(entry, targets)| wgpu::FragmentState {
+                module: &program.module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                targets,
+            }),
+            multiview_mask: None,
+            cache: None,
         },
-        primitive: wgpu::PrimitiveState {
-            front_face: front_face(p.mirrored),
-            cull_mode: cull_mode(p.double_sided),
-            ..Default::default()
-        },
-        depth_stencil: Some(p.depth.clone()),
-        multisample: wgpu::MultisampleState {
-            count: p.msaa,
-            ..Default::default()
-        },
-        fragment: p.fragment.map(|(entry, targets)| wgpu::FragmentState {
-            module: &program.module,
-            entry_point: Some(entry),
-            compilation_options: Default::default(),
-            targets,
-        }),
-        multiview_mask: None,
-        cache: None,
-    })
+    )
 }
 
 /// Depth test state on [`crate::frame_data::DEPTH_FORMAT`].
@@ -407,27 +410,30 @@ pub(crate) fn fullscreen_pipeline(
     fragment: &str,
     format: wgpu::TextureFormat,
 ) -> wgpu::RenderPipeline {
-    program.render_pipeline(device, &wgpu::RenderPipelineDescriptor {
-        label: Some(fragment),
-        layout: Some(&program.pipeline_layout),
-        vertex: wgpu::VertexState {
-            module: &program.module,
-            entry_point: Some("vs_fullscreen"),
-            compilation_options: Default::default(),
-            buffers: &[],
+    program.render_pipeline(
+        device,
+        &wgpu::RenderPipelineDescriptor {
+            label: Some(fragment),
+            layout: Some(&program.pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &program.module,
+                entry_point: Some("vs_fullscreen"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: None,
+            multisample: wgpu::MultisampleState::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &program.module,
+                entry_point: Some(fragment),
+                compilation_options: Default::default(),
+                targets: &[Some(format.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
         },
-        primitive: wgpu::PrimitiveState::default(),
-        depth_stencil: None,
-        multisample: wgpu::MultisampleState::default(),
-        fragment: Some(wgpu::FragmentState {
-            module: &program.module,
-            entry_point: Some(fragment),
-            compilation_options: Default::default(),
-            targets: &[Some(format.into())],
-        }),
-        multiview_mask: None,
-        cache: None,
-    })
+    )
 }
 
 /// A render pass over one colour attachment (cleared to black), without depth.

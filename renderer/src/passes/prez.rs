@@ -34,10 +34,8 @@ pub struct PrezPass {
 
 impl PrezPass {
     pub fn new(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
-        let program = gpu.program(prez::variant(prez::VariantKey { alpha_mask: false }),
-        )?;
-        let mask_program = gpu.program(prez::variant(prez::VariantKey { alpha_mask: true }),
-        )?;
+        let program = gpu.program(prez::variant(prez::VariantKey { alpha_mask: false }))?;
+        let mask_program = gpu.program(prez::variant(prez::VariantKey { alpha_mask: true }))?;
         let pipelines = |program: &ShaderProgram, masked: bool| {
             face_pipelines(|d, m| pipeline(gpu.device(), program, config.msaa, masked, d, m))
         };
@@ -121,10 +119,12 @@ impl Pass for PrezPass {
         frame: &FrameInputs,
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
-        let missing = |input| RenderError::Config(ConfigError::MissingInput {
-            pass: "pre-z",
-            input,
-        });
+        let missing = |input| {
+            RenderError::Config(ConfigError::MissingInput {
+                pass: "pre-z",
+                input,
+            })
+        };
         let mut list = resources
             .scene_draws
             .clone()

@@ -121,7 +121,11 @@ mod fitted_tests {
         assert_eq!(defaults.fitted(2048, 2048), defaults);
         let small = defaults.fitted(96, 64);
         assert_eq!(
-            (small.atlas_size, small.max_resolution, small.cascade_resolution),
+            (
+                small.atlas_size,
+                small.max_resolution,
+                small.cascade_resolution
+            ),
             (FITTED_ATLAS_FLOOR, 128, 128)
         );
         let mid = defaults.fitted(640, 480);

@@ -4,10 +4,10 @@
 //! the pass binds the renderer's buffers by name through the generated builders
 //! (`light_set::Group0`, `light_lists::Group0`), with no binding number written here.
 
-use renderer::frame::ConfigError;
 use renderer::GpuContext;
-use renderer::frame::RenderError;
 use renderer::extend::{FrameInputs, FrameResources, LightListHandles, ListGeometry, Pass};
+use renderer::frame::ConfigError;
+use renderer::frame::RenderError;
 use renderer::graph::{BufferAccess, ImportAccess, RenderGraph};
 use renderer::shader::ShaderProgram;
 
@@ -108,13 +108,12 @@ impl Pass for LightCensusPass {
         frame: &FrameInputs,
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
-        let lists = resources
-            .light_lists
-            .clone()
-            .ok_or(RenderError::Config(ConfigError::MissingInput {
+        let lists = resources.light_lists.clone().ok_or(RenderError::Config(
+            ConfigError::MissingInput {
                 pass: "light census",
                 input: "light lists",
-            }))?;
+            },
+        ))?;
         let geometry = ListGeometry::new(Some(lists.method), &frame.config, &frame.camera);
         let cells = geometry.tiles.x * geometry.tiles.y * geometry.slices;
         let mut census =

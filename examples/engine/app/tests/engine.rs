@@ -12,8 +12,8 @@
 
 use engine_app::{Census, LightCensusPass, light_census};
 use glam::{Mat4, Vec3};
-use renderer::frame::{create_target, framing_camera};
 use renderer::frame::{RenderPath, Renderer, RendererConfig};
+use renderer::frame::{create_target, framing_camera};
 use renderer::materials::MaterialProgram;
 use renderer::scene::procedural::SceneBuilder;
 use renderer::scene::{CustomShading, LightKind, Scene, SceneLight};
@@ -223,7 +223,11 @@ fn the_engines_own_material_shows_and_every_path_draws_it_as_naive_does() {
     }
     let prez = render(&scene, RenderPath::NaivePrez);
     // The deferred paths, and the visibility buffer: the engine's kernel, then glTF PBR's.
-    for path in [RenderPath::Tbdr, RenderPath::Deferred, RenderPath::Visibility] {
+    for path in [
+        RenderPath::Tbdr,
+        RenderPath::Deferred,
+        RenderPath::Visibility,
+    ] {
         let (mean, p99) = differences(&prez, &render(&scene, path));
         assert!(
             mean <= 0.3 && p99 <= 4,

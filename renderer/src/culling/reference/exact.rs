@@ -18,8 +18,8 @@ pub fn for_each_surface_sample_pub(
 ) {
     for_each_surface_sample(camera, depth, f);
 }
-pub use crate::culling::depth::Efficiency;
 use super::{CullCamera, DepthBuffer, LightSphere};
+pub use crate::culling::depth::Efficiency;
 
 /// Lights whose sphere contains view-space point `p`, sorted.
 pub fn lights_reaching(grid: &LightGrid, lights_view: &[LightSphere], p: Vec3) -> Vec<u32> {

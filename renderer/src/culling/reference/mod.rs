@@ -27,10 +27,10 @@ mod methods;
 #[cfg(test)]
 mod ortho_tests;
 
+pub use super::depth::{DepthBuffer, standard_sample_offset};
 pub use super::vocabulary::{
     ClusterGrid, CullCamera, DEPTH_MASK_CELLS, LightSphere, Method, Plane, SUPER_TILE_PIXELS,
 };
 pub use cells::{Borderline, CellLists};
-pub use super::depth::{DepthBuffer, standard_sample_offset};
 pub use frustum::tile_side_planes;
 pub use methods::{cull, cull_boxes, cull_brute_force};

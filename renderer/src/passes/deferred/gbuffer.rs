@@ -12,11 +12,11 @@ use crate::frame_data::{
     RendererConfig,
 };
 use crate::graph::{BufferAccess, RenderGraph, TextureAccess, TextureDesc};
+use crate::graph::{PassEncoder, TimedPass};
 use crate::materials::MaterialProgram;
 use crate::passes::forward::{FrameGroup, MaterialPipelines, lighting_buffer};
 use crate::passes::{MeshPipeline, Pass, SceneDraws, depth_state, mesh_pipeline};
 use crate::scene::VertexStreams;
-use crate::graph::{PassEncoder, TimedPass};
 
 /// The G-buffer pass: programs (glTF PBR's and every registered material program's) for
 /// decals from every decal (no lists this frame) and from the tiled lists, and the lighting
@@ -71,10 +71,12 @@ impl Pass for GBufferPass {
         frame: &FrameInputs,
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
-        let missing = |input| RenderError::Config(ConfigError::MissingInput {
-            pass: "gbuffer",
-            input,
-        });
+        let missing = |input| {
+            RenderError::Config(ConfigError::MissingInput {
+                pass: "gbuffer",
+                input,
+            })
+        };
         let c = &frame.config;
         let depth = resources.depth.ok_or(missing("pre-Z depth"))?;
         let shadows = resources.shadows.clone().ok_or(missing("shadow atlas"))?;
@@ -90,13 +92,12 @@ impl Pass for GBufferPass {
                 TextureDesc::new_2d(c.width, c.height, GBUFFER_FORMATS[i]).with_samples(c.msaa);
             graph.create_texture(names[i], desc)
         });
-        let list = resources
-            .scene_draws
-            .clone()
-            .ok_or(RenderError::Config(ConfigError::MissingInput {
+        let list = resources.scene_draws.clone().ok_or(RenderError::Config(
+            ConfigError::MissingInput {
                 pass: "gbuffer",
                 input: "the scene's draw batches (scene culling)",
-            }))?;
+            },
+        ))?;
         let mut pass = graph.add_pass(self.name());
         pass.read_texture(depth, TextureAccess::DepthRead)
             .read_texture(shadows.atlas, TextureAccess::Sampled)

@@ -78,38 +78,41 @@ fn volume_pipeline(device: &wgpu::Device, program: &ShaderProgram) -> wgpu::Rend
         dst_factor: wgpu::BlendFactor::One,
         operation: wgpu::BlendOperation::Add,
     };
-    program.render_pipeline(device, &wgpu::RenderPipelineDescriptor {
-        label: Some("light volumes"),
-        layout: Some(&program.pipeline_layout),
-        vertex: wgpu::VertexState {
-            module: &program.module,
-            entry_point: Some("vs_light_volume"),
-            compilation_options: Default::default(),
-            buffers: &[],
+    program.render_pipeline(
+        device,
+        &wgpu::RenderPipelineDescriptor {
+            label: Some("light volumes"),
+            layout: Some(&program.pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &program.module,
+                entry_point: Some("vs_light_volume"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState {
+                front_face: wgpu::FrontFace::Ccw,
+                cull_mode: Some(wgpu::Face::Front),
+                ..Default::default()
+            },
+            depth_stencil: None,
+            multisample: wgpu::MultisampleState::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &program.module,
+                entry_point: Some("fs_light_volume"),
+                compilation_options: Default::default(),
+                targets: &[Some(wgpu::ColorTargetState {
+                    format: HDR_FORMAT,
+                    blend: Some(wgpu::BlendState {
+                        color: add,
+                        alpha: add,
+                    }),
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            }),
+            multiview_mask: None,
+            cache: None,
         },
-        primitive: wgpu::PrimitiveState {
-            front_face: wgpu::FrontFace::Ccw,
-            cull_mode: Some(wgpu::Face::Front),
-            ..Default::default()
-        },
-        depth_stencil: None,
-        multisample: wgpu::MultisampleState::default(),
-        fragment: Some(wgpu::FragmentState {
-            module: &program.module,
-            entry_point: Some("fs_light_volume"),
-            compilation_options: Default::default(),
-            targets: &[Some(wgpu::ColorTargetState {
-                format: HDR_FORMAT,
-                blend: Some(wgpu::BlendState {
-                    color: add,
-                    alpha: add,
-                }),
-                write_mask: wgpu::ColorWrites::ALL,
-            })],
-        }),
-        multiview_mask: None,
-        cache: None,
-    })
+    )
 }
 
 impl Pass for LightVolumePass {
@@ -132,10 +135,12 @@ impl Pass for LightVolumePass {
         frame: &FrameInputs,
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
-        let missing = |input| RenderError::Config(ConfigError::MissingInput {
-            pass: "light volumes",
-            input,
-        });
+        let missing = |input| {
+            RenderError::Config(ConfigError::MissingInput {
+                pass: "light volumes",
+                input,
+            })
+        };
         let depth = resources.depth.ok_or(missing("pre-Z depth"))?;
         let gbuffer = resources.gbuffer.ok_or(missing("G-buffer"))?;
         let shadows = resources.shadows.clone().ok_or(missing("shadow atlas"))?;

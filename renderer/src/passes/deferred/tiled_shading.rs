@@ -170,10 +170,12 @@ impl TbdrPass {
 
 /// The `tbdr` module's MSAA axis value for `msaa` samples.
 pub(super) fn variant_msaa(msaa: u32) -> Result<tbdr::Msaa, RenderError> {
-    tbdr::Msaa::from_value(msaa).ok_or_else(|| RenderError::Config(ConfigError::SampleCount {
-        asked: msaa,
-        supported: tbdr::Msaa::ALL.iter().map(|m| m.value()).collect(),
-    }))
+    tbdr::Msaa::from_value(msaa).ok_or_else(|| {
+        RenderError::Config(ConfigError::SampleCount {
+            asked: msaa,
+            supported: tbdr::Msaa::ALL.iter().map(|m| m.value()).collect(),
+        })
+    })
 }
 
 /// The `tbdr` module's parameters for `frame`, with `light_count` punctual lights culled and
@@ -288,10 +290,12 @@ impl Pass for TbdrPass {
         frame: &FrameInputs,
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
-        let missing = |input| RenderError::Config(ConfigError::MissingInput {
-            pass: self.name(),
-            input,
-        });
+        let missing = |input| {
+            RenderError::Config(ConfigError::MissingInput {
+                pass: self.name(),
+                input,
+            })
+        };
         let c = &frame.config;
         let depth = resources.depth.ok_or(missing("pre-Z depth"))?;
         let gbuffer = resources.gbuffer.ok_or(missing("G-buffer"))?;
@@ -342,9 +346,7 @@ impl Pass for TbdrPass {
             let Some(group) = bind_group(ctx, &program, &buffers, &views, &out, &shadows) else {
                 return;
             };
-            let mut pass = ctx
-                .encoder
-                .begin_compute(name);
+            let mut pass = ctx.encoder.begin_compute(name);
             pass.set_bind_group(0, &group, &[]);
             if recording.is_some() {
                 pass.set_pipeline(&capture);

@@ -34,8 +34,7 @@ impl ProbePipeline {
                 }),
             )?,
         };
-        let program =
-            gpu.program(depth_probe::variant(key))?;
+        let program = gpu.program(depth_probe::variant(key))?;
         let pipeline = program.compute_pipeline(gpu.device(), "probe")?;
         Ok(Self { program, pipeline })
     }

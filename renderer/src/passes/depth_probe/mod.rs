@@ -65,7 +65,9 @@ impl Pass for DepthProbePass {
         let Some(probe) = self.current.clone() else {
             return Ok(());
         };
-        let depth = resources.depth.ok_or(RenderError::Config(ConfigError::CaptureNeedsDepth))?;
+        let depth = resources
+            .depth
+            .ok_or(RenderError::Config(ConfigError::CaptureNeedsDepth))?;
         let mut probes = resources.import_buffer(
             graph,
             "depth probes",
@@ -94,9 +96,7 @@ impl Pass for DepthProbePass {
                 let Some(bind_group) = ctx.bind(built) else {
                     return;
                 };
-                let mut pass = ctx
-                    .encoder
-                    .begin_compute("depth probe");
+                let mut pass = ctx.encoder.begin_compute("depth probe");
                 pass.set_pipeline(&probe.kernel.pipeline);
                 pass.set_bind_group(0, &bind_group, &[]);
                 let side = depth_probe::WORKGROUP_SIDE;

@@ -79,13 +79,12 @@ impl ForwardPass {
                 make(p, (false, d, m))
             })?;
         let blended = gpu.program(forward::variant(forward::VariantKey {
-                list: forward::List::from_value(list).unwrap_or(forward::List::List0),
-                blend: true,
-                scalarize,
-                // The forward programs (the visibility kernels are `msaa` above 0).
-                msaa: forward::Msaa::Msaa0,
-            })?,
-        )?;
+            list: forward::List::from_value(list).unwrap_or(forward::List::List0),
+            blend: true,
+            scalarize,
+            // The forward programs (the visibility kernels are `msaa` above 0).
+            msaa: forward::Msaa::Msaa0,
+        })?)?;
         Ok(Self {
             pipelines: Arc::new(ForwardPipelines {
                 blended: make(&blended, (true, true, false)),
@@ -171,10 +170,12 @@ impl Pass for ForwardPass {
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
         let c = &frame.config;
-        let missing = |input| RenderError::Config(ConfigError::MissingInput {
-            pass: "forward",
-            input,
-        });
+        let missing = |input| {
+            RenderError::Config(ConfigError::MissingInput {
+                pass: "forward",
+                input,
+            })
+        };
         let deferred = c.path.is_deferred();
         let has_blend = frame.scene.has_blended();
         if deferred && !has_blend && frame.particles.is_none() {

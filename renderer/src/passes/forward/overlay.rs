@@ -12,9 +12,7 @@
 use shaders_gen::deferred::hdr_overlay;
 
 use crate::GpuContext;
-use crate::frame_data::{
-    ConfigError, FrameInputs, FrameResources, HDR_FORMAT, RenderError,
-};
+use crate::frame_data::{ConfigError, FrameInputs, FrameResources, HDR_FORMAT, RenderError};
 use crate::graph::{RenderGraph, TextureAccess, TextureDesc};
 use crate::passes::Pass;
 use crate::shader::ShaderProgram;
@@ -63,7 +61,8 @@ impl Pass for OverlayPass {
                 input: "deferred HDR image",
             }))?;
         let c = &frame.config;
-        let mut hdr = graph.create_texture("hdr", TextureDesc::new_2d(c.width, c.height, HDR_FORMAT));
+        let mut hdr =
+            graph.create_texture("hdr", TextureDesc::new_2d(c.width, c.height, HDR_FORMAT));
         let groups = (c.width.div_ceil(8), c.height.div_ceil(8));
         let (program, pipeline) = (self.program.clone(), self.pipeline.clone());
         graph
@@ -73,7 +72,8 @@ impl Pass for OverlayPass {
             .write_texture(&mut hdr, TextureAccess::StorageWrite)
             .execute(move |ctx| {
                 let view = |h| ctx.texture(h).create_view(&Default::default());
-                let (shaded_view, overlay_view, out_view) = (view(shaded), view(overlay), view(hdr));
+                let (shaded_view, overlay_view, out_view) =
+                    (view(shaded), view(overlay), view(hdr));
                 let group = hdr_overlay::Group0 {
                     shaded: &shaded_view,
                     overlay: &overlay_view,

@@ -419,10 +419,12 @@ impl Pass for LightCullPass {
         let (Some(lists), Some(method)) = (self.culler.lists(), self.culler.method()) else {
             return Ok(());
         };
-        let depth = resources.depth.ok_or(RenderError::Config(ConfigError::MissingInput {
-            pass: "light culling",
-            input: "depth buffer",
-        }))?;
+        let depth = resources
+            .depth
+            .ok_or(RenderError::Config(ConfigError::MissingInput {
+                pass: "light culling",
+                input: "depth buffer",
+            }))?;
         let mut grid =
             resources.import_buffer(graph, "light grid", &lists.grid, ImportAccess::ReadWrite);
         let mut indices = resources.import_buffer(

@@ -8,8 +8,8 @@ use super::{GpuSort, ParticleSimulation};
 use crate::GpuContext;
 use crate::frame_data::FrameCamera;
 use crate::frame_data::RenderError;
-use crate::particles::ParticleError;
 use crate::graph::PassEncoder;
+use crate::particles::ParticleError;
 
 /// Words of the `STATE` buffer (see `particle_atlas`).
 pub const STATE_WORDS: usize = 32;

@@ -42,8 +42,7 @@ impl ParticleDrawPass {
             },
             msaa: config.msaa > 1,
         };
-        let program = gpu.program(particle_draw::variant(key)?,
-        )?;
+        let program = gpu.program(particle_draw::variant(key)?)?;
         let pipeline = pipeline(gpu.device(), &program, config.msaa);
         Ok(Self {
             program,
@@ -54,38 +53,41 @@ impl ParticleDrawPass {
 }
 
 fn pipeline(device: &wgpu::Device, program: &ShaderProgram, msaa: u32) -> wgpu::RenderPipeline {
-    program.render_pipeline(device, &wgpu::RenderPipelineDescriptor {
-        label: Some("particles"),
-        layout: Some(&program.pipeline_layout),
-        vertex: wgpu::VertexState {
-            module: &program.module,
-            entry_point: Some("vs_particle"),
-            compilation_options: Default::default(),
-            buffers: &[],
+    program.render_pipeline(
+        device,
+        &wgpu::RenderPipelineDescriptor {
+            label: Some("particles"),
+            layout: Some(&program.pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &program.module,
+                entry_point: Some("vs_particle"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            // Per-sample occlusion by the pre-Z depth, attached read-only (and sampled for the fade).
+            depth_stencil: Some(crate::passes::depth_state(
+                false,
+                wgpu::CompareFunction::Less,
+            )),
+            multisample: wgpu::MultisampleState {
+                count: msaa,
+                ..Default::default()
+            },
+            fragment: Some(wgpu::FragmentState {
+                module: &program.module,
+                entry_point: Some("fs_particle"),
+                compilation_options: Default::default(),
+                targets: &[Some(wgpu::ColorTargetState {
+                    format: HDR_FORMAT,
+                    blend: Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            }),
+            multiview_mask: None,
+            cache: None,
         },
-        primitive: wgpu::PrimitiveState::default(),
-        // Per-sample occlusion by the pre-Z depth, attached read-only (and sampled for the fade).
-        depth_stencil: Some(crate::passes::depth_state(
-            false,
-            wgpu::CompareFunction::Less,
-        )),
-        multisample: wgpu::MultisampleState {
-            count: msaa,
-            ..Default::default()
-        },
-        fragment: Some(wgpu::FragmentState {
-            module: &program.module,
-            entry_point: Some("fs_particle"),
-            compilation_options: Default::default(),
-            targets: &[Some(wgpu::ColorTargetState {
-                format: HDR_FORMAT,
-                blend: Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
-                write_mask: wgpu::ColorWrites::ALL,
-            })],
-        }),
-        multiview_mask: None,
-        cache: None,
-    })
+    )
 }
 
 impl Pass for ParticleDrawPass {
@@ -103,10 +105,12 @@ impl Pass for ParticleDrawPass {
         frame: &FrameInputs,
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
-        let missing = |input| RenderError::Config(ConfigError::MissingInput {
-            pass: "particles",
-            input,
-        });
+        let missing = |input| {
+            RenderError::Config(ConfigError::MissingInput {
+                pass: "particles",
+                input,
+            })
+        };
         let Some(particles) = resources.particles.clone() else {
             return Ok(());
         };
@@ -114,9 +118,7 @@ impl Pass for ParticleDrawPass {
         // With MSAA on the deferred paths, particles join the blended surfaces' multisampled
         // overlay (the overlay pass resolves it).
         let overlay = resources.hdr_overlay;
-        let mut hdr = overlay
-            .or(resources.hdr)
-            .ok_or(missing("HDR colour"))?;
+        let mut hdr = overlay.or(resources.hdr).ok_or(missing("HDR colour"))?;
         let mut multisampled = resources.hdr_multisampled.filter(|_| overlay.is_none());
         let shadows = resources.shadows.clone().ok_or(missing("shadow atlas"))?;
         let listed = self.key.list == List::List2;

@@ -30,8 +30,7 @@ impl ParticleLightPass {
                 particle_light::List::List0
             },
         };
-        let program = gpu.program(particle_light::variant(key),
-        )?;
+        let program = gpu.program(particle_light::variant(key))?;
         Ok(Self {
             pipeline: program.compute_pipeline(gpu.device(), "light_atlas")?,
             program,
@@ -54,10 +53,12 @@ impl Pass for ParticleLightPass {
         frame: &FrameInputs,
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
-        let missing = |input| RenderError::Config(ConfigError::MissingInput {
-            pass: "particle lighting",
-            input,
-        });
+        let missing = |input| {
+            RenderError::Config(ConfigError::MissingInput {
+                pass: "particle lighting",
+                input,
+            })
+        };
         let Some(particles) = resources.particles.clone() else {
             return Ok(());
         };
@@ -116,9 +117,7 @@ impl Pass for ParticleLightPass {
                 return;
             };
             {
-                let mut compute = ctx
-                    .encoder
-                    .begin_compute("particle lighting");
+                let mut compute = ctx.encoder.begin_compute("particle lighting");
                 compute.set_pipeline(&pipeline);
                 compute.set_bind_group(0, &frame_group, &[]);
                 compute.set_bind_group(1, &particle_group, &[]);

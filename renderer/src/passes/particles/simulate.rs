@@ -7,9 +7,9 @@ use wgpu::util::DeviceExt as _;
 use crate::GpuContext;
 use crate::frame_data::RenderError;
 use crate::gpu::requirements::storage_binding_records;
+use crate::graph::PassEncoder;
 use crate::particles::ParticleSystem;
 use crate::particles::schedule::{FIXED_STEP, spawn_batches};
-use crate::graph::PassEncoder;
 
 /// What the counters say after a step.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -218,11 +218,11 @@ impl ParticleSimulation {
     /// Records and submits `steps` steps, one submission each.
     pub fn advance(&self, gpu: &GpuContext, steps: u32) {
         for _ in 0..steps {
-            let mut encoder = gpu
-                .device()
-                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                    label: Some("particle steps"),
-                });
+            let mut encoder =
+                gpu.device()
+                    .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                        label: Some("particle steps"),
+                    });
             self.record_step(gpu.queue(), &mut PassEncoder::untimed(&mut encoder));
             gpu.queue().submit([encoder.finish()]);
         }

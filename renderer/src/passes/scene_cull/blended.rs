@@ -73,7 +73,10 @@ impl BlendedOrder {
         let count = draws.len() as u32;
         let max = GpuSort::max_items(gpu.device());
         if count > max {
-            return Err(RenderError::Input(InputError::TooManyBlendedDraws { count, max }));
+            return Err(RenderError::Input(InputError::TooManyBlendedDraws {
+                count,
+                max,
+            }));
         }
         let usage = wgpu::BufferUsages::empty();
         let sort = GpuSort::with_kernels(gpu, &kernels.sort, count, usage)?;

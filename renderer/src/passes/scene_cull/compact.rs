@@ -14,8 +14,8 @@ use wgpu::util::DeviceExt as _;
 
 use crate::GpuContext;
 use crate::frame_data::{BatchLayout, RenderError};
-use crate::shader::ShaderProgram;
 use crate::graph::PassEncoder;
+use crate::shader::ShaderProgram;
 
 /// The compaction kernels.
 #[derive(Debug)]
@@ -131,12 +131,7 @@ impl Compaction {
     }
 
     /// Records the packing of list `list` (after its culling dispatch, before its draws).
-    pub fn record(
-        &self,
-        kernels: &CompactKernels,
-        encoder: &mut PassEncoder<'_>,
-        list: usize,
-    ) {
+    pub fn record(&self, kernels: &CompactKernels, encoder: &mut PassEncoder<'_>, list: usize) {
         let Some(packed) = self.packed.get(list) else {
             return;
         };

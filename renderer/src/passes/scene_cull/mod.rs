@@ -162,10 +162,13 @@ impl Pass for SceneCullPass {
         frame: &FrameInputs,
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
-        let draws = self.draws.as_ref().ok_or(RenderError::Config(ConfigError::MissingInput {
-            pass: "scene culling",
-            input: "the scene's draws (built in prepare)",
-        }))?;
+        let draws = self
+            .draws
+            .as_ref()
+            .ok_or(RenderError::Config(ConfigError::MissingInput {
+                pass: "scene culling",
+                input: "the scene's draws (built in prepare)",
+            }))?;
         let mut args = resources.import_buffer(
             graph,
             "scene draw args",

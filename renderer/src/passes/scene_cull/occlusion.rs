@@ -134,11 +134,12 @@ impl OcclusionCullPass {
             let pipeline = program.compute_pipeline(device, entry)?;
             Ok((program, pipeline))
         };
-        let msaa =
-            depth_pyramid_seed::Msaa::from_value(config.msaa).ok_or(RenderError::Config(ConfigError::SampleCount {
+        let msaa = depth_pyramid_seed::Msaa::from_value(config.msaa).ok_or(RenderError::Config(
+            ConfigError::SampleCount {
                 asked: config.msaa,
                 supported: caps.msaa_counts(),
-            }))?;
+            },
+        ))?;
         let seed_key = depth_pyramid_seed::VariantKey { msaa };
         Ok(Self {
             seed: compute(depth_pyramid_seed::variant(seed_key), "seed")?,
@@ -227,10 +228,12 @@ impl Pass for OcclusionCullPass {
         let Some(mut occlusion) = list.occlusion.clone() else {
             return Ok(());
         };
-        let missing = |input| RenderError::Config(ConfigError::MissingInput {
-            pass: "occlusion culling",
-            input,
-        });
+        let missing = |input| {
+            RenderError::Config(ConfigError::MissingInput {
+                pass: "occlusion culling",
+                input,
+            })
+        };
         let depth = resources.depth.ok_or(missing("the pre-Z depth"))?;
         let pyramid = self
             .pyramid

@@ -22,11 +22,11 @@ use super::slots::{SlotLayout, caster_box, caster_kind, slot_record};
 use super::work::WorkItem;
 use crate::GpuContext;
 use crate::frame_data::{FrameInputs, RenderError};
+use crate::graph::PassEncoder;
 use crate::readback_ring::ReadbackRing;
 use crate::shader::ShaderProgram;
 use crate::shadow::cache::RegionPlan;
 use crate::shadow::region_test::RegionTest;
-use crate::graph::PassEncoder;
 
 /// A region's volume for the GPU.
 fn region_volume(r: &RegionPlan) -> RegionVolume {

@@ -129,27 +129,30 @@ fn region_pipeline(
     fragment: Option<&str>,
 ) -> wgpu::RenderPipeline {
     let module = &program.module;
-    program.render_pipeline(device, &wgpu::RenderPipelineDescriptor {
-        label: Some(fragment.unwrap_or("shadow clear")),
-        layout: Some(layout),
-        vertex: wgpu::VertexState {
-            module,
-            entry_point: Some("vs_region"),
-            compilation_options: Default::default(),
-            buffers: &[],
+    program.render_pipeline(
+        device,
+        &wgpu::RenderPipelineDescriptor {
+            label: Some(fragment.unwrap_or("shadow clear")),
+            layout: Some(layout),
+            vertex: wgpu::VertexState {
+                module,
+                entry_point: Some("vs_region"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: Some(region_depth(wgpu::CompareFunction::Always)),
+            multisample: wgpu::MultisampleState::default(),
+            fragment: fragment.map(|entry| wgpu::FragmentState {
+                module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                targets: &[],
+            }),
+            multiview_mask: None,
+            cache: None,
         },
-        primitive: wgpu::PrimitiveState::default(),
-        depth_stencil: Some(region_depth(wgpu::CompareFunction::Always)),
-        multisample: wgpu::MultisampleState::default(),
-        fragment: fragment.map(|entry| wgpu::FragmentState {
-            module,
-            entry_point: Some(entry),
-            compilation_options: Default::default(),
-            targets: &[],
-        }),
-        multiview_mask: None,
-        cache: None,
-    })
+    )
 }
 
 /// The atlases and the view buffers.

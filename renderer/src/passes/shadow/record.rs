@@ -10,9 +10,9 @@ use super::culling::CullDispatches;
 use super::gpu::CasterPipelines;
 use super::work::{CastList, Start, WorkItem};
 use crate::frame_data::PreparedScene;
+use crate::graph::{PassEncoder, TimedPass};
 use crate::scene::{AlphaMode, VertexStreams};
 use crate::shadow::atlas::AtlasRect;
-use crate::graph::{PassEncoder, TimedPass};
 
 /// Where a frame's casts come from.
 pub enum CastSource {

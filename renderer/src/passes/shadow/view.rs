@@ -22,8 +22,7 @@ pub struct ShadowAtlasViewPass {
 
 impl ShadowAtlasViewPass {
     pub fn new(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
-        let program = gpu.program(&shadow_atlas_view::VARIANTS[0],
-        )?;
+        let program = gpu.program(&shadow_atlas_view::VARIANTS[0])?;
         Ok(Self {
             pipeline: fullscreen_pipeline(gpu.device(), &program, "fs_atlas", config.output_format),
             program,
@@ -48,10 +47,14 @@ impl Pass for ShadowAtlasViewPass {
         frame: &FrameInputs,
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
-        let shadows = resources.shadows.clone().ok_or(RenderError::Config(ConfigError::MissingInput {
-            pass: "shadow atlas view",
-            input: "shadow atlas",
-        }))?;
+        let shadows =
+            resources
+                .shadows
+                .clone()
+                .ok_or(RenderError::Config(ConfigError::MissingInput {
+                    pass: "shadow atlas view",
+                    input: "shadow atlas",
+                }))?;
         let mut regions: Vec<[u32; 4]> = shadows.regions.to_vec();
         let count = regions.len() as u32;
         if regions.is_empty() {

@@ -19,11 +19,11 @@ use crate::frame_data::{
     BatchLayout, ConfigError, FrameInputs, FrameResources, NO_DRAW, RenderError, RendererConfig,
     SceneDrawList,
 };
+use crate::graph::TimedPass;
 use crate::graph::{Buffer, BufferAccess, Handle, ImportAccess, PassContext, RenderGraph};
 use crate::passes::Pass;
 use crate::shader::ShaderProgram;
 use crate::{GpuContext, GpuError};
-use crate::graph::TimedPass;
 
 /// What a frame of the compute rasteriser counted.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -171,7 +171,12 @@ fn classes(layout: &BatchLayout, draws: usize) -> Vec<u32> {
     out
 }
 
-fn storage(device: &wgpu::Device, label: &str, size: u64, extra: wgpu::BufferUsages) -> wgpu::Buffer {
+fn storage(
+    device: &wgpu::Device,
+    label: &str,
+    size: u64,
+    extra: wgpu::BufferUsages,
+) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
         size: size.max(16),
@@ -346,7 +351,10 @@ impl ComputeRasterPass {
         };
         let revision = frame.instances.revision;
         let current = b.classes_of.as_ref().is_some_and(|(layout, kept)| {
-            *kept == revision && layout.upgrade().is_some_and(|l| Arc::ptr_eq(&l, &list.layout))
+            *kept == revision
+                && layout
+                    .upgrade()
+                    .is_some_and(|l| Arc::ptr_eq(&l, &list.layout))
         });
         if !current {
             let classes = classes(&list.layout, sizing.draws);
@@ -357,7 +365,11 @@ impl ComputeRasterPass {
             b.classes_of = Some((Arc::downgrade(&list.layout), revision));
         }
         let recording = Recording {
-            pipelines: [self.triangles.clone(), self.args.clone(), self.tiles.clone()],
+            pipelines: [
+                self.triangles.clone(),
+                self.args.clone(),
+                self.tiles.clone(),
+            ],
             groups: [
                 self.group0(frame, b, draws)?,
                 frame.instances.draw_group_for(device, &self.program)?,
@@ -371,8 +383,12 @@ impl ComputeRasterPass {
         };
         let vis64 = b.vis64.clone();
         drop(guard);
-        let mut handle =
-            resources.import_buffer(graph, "compute raster samples", &vis64, ImportAccess::ReadWrite);
+        let mut handle = resources.import_buffer(
+            graph,
+            "compute raster samples",
+            &vis64,
+            ImportAccess::ReadWrite,
+        );
         graph
             .add_pass(self.name())
             .write_buffer(&mut handle, BufferAccess::StorageWrite)
@@ -408,7 +424,12 @@ impl Pass for ComputeRasterPass {
             .ok_or(missing("the scene's draw batches (scene culling)"))?;
         // The samples are imported read-write, so the graph keeps the pass though nothing in
         // the frame reads them.
-        self.add_raster(graph, frame, resources, (&list, &vis.draw_geometry, vis.draws))?;
+        self.add_raster(
+            graph,
+            frame,
+            resources,
+            (&list, &vis.draw_geometry, vis.draws),
+        )?;
         Ok(())
     }
 }
@@ -453,10 +474,12 @@ impl Recording {
     }
 
     /// A compute pass with every group bound.
-    fn begin<'a>(&self, ctx: &'a mut PassContext<'_>, label: &str) -> TimedPass<'a, wgpu::ComputePass<'a>> {
-        let mut pass = ctx
-            .encoder
-            .begin_compute(label);
+    fn begin<'a>(
+        &self,
+        ctx: &'a mut PassContext<'_>,
+        label: &str,
+    ) -> TimedPass<'a, wgpu::ComputePass<'a>> {
+        let mut pass = ctx.encoder.begin_compute(label);
         for (index, g) in [0, 1, 3].into_iter().zip(&self.groups) {
             pass.set_bind_group(index, g, &[]);
         }

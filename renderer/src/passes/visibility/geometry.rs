@@ -36,7 +36,11 @@ pub(super) fn draw_geometry_buffer(
     records: &[vis_geometry::DrawGeometry],
 ) -> wgpu::Buffer {
     let empty = [vis_geometry::DrawGeometry::new(0, 0, 0, 0)];
-    let records = if records.is_empty() { &empty[..] } else { records };
+    let records = if records.is_empty() {
+        &empty[..]
+    } else {
+        records
+    };
     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("visibility draw geometry"),
         contents: bytemuck::cast_slice(records),

@@ -197,7 +197,11 @@ impl VisRasterPass {
     fn kept_buffers(&self) -> Option<(wgpu::Buffer, u32, wgpu::Buffer)> {
         let state = self.state.lock().unwrap_or_else(PoisonError::into_inner);
         let (sequence, _) = state.sequence.clone()?;
-        Some((state.draw_geometry.clone()?, state.records.len() as u32, sequence))
+        Some((
+            state.draw_geometry.clone()?,
+            state.records.len() as u32,
+            sequence,
+        ))
     }
 }
 
@@ -213,7 +217,11 @@ impl Pass for VisRasterPass {
     fn prepare(&mut self, frame: &FrameInputs) -> Result<(), RenderError> {
         let device = frame.gpu.device();
         let mut state = self.state.lock().unwrap_or_else(PoisonError::into_inner);
-        let key = (frame.scene.id, frame.instances.id(), frame.instances.revision);
+        let key = (
+            frame.scene.id,
+            frame.instances.id(),
+            frame.instances.revision,
+        );
         if state.key != Some(key) {
             if !state.still_valid(frame.scene.id, &frame.instances) {
                 let records = draw_geometry(&frame.instances);
@@ -261,23 +269,21 @@ impl Pass for VisRasterPass {
         } else {
             None
         };
-        let (draw_geometry, draws, sequence) = self
-            .kept_buffers()
-            .ok_or(missing("draw geometry and sequence indices (built in prepare)"))?;
+        let (draw_geometry, draws, sequence) = self.kept_buffers().ok_or(missing(
+            "draw geometry and sequence indices (built in prepare)",
+        ))?;
         let (camera, geometry, mask_geometry) = self.groups(frame, &draw_geometry)?;
         let c = &frame.config;
         let resolve = match (&self.compute, first) {
-            (Some(stage), None) => Some(stage.add_to_graph(
-                graph,
-                frame,
-                resources,
-                (&list, &draw_geometry, draws),
-            )?),
+            (Some(stage), None) => {
+                Some(stage.add_to_graph(graph, frame, resources, (&list, &draw_geometry, draws))?)
+            }
             _ => None,
         };
         let (mut depth, mut ids) = first.unwrap_or_else(|| {
             let size = TextureDesc::new_2d(c.width, c.height, DEPTH_FORMAT).with_samples(c.msaa);
-            let ids = TextureDesc::new_2d(c.width, c.height, VISIBILITY_FORMAT).with_samples(c.msaa);
+            let ids =
+                TextureDesc::new_2d(c.width, c.height, VISIBILITY_FORMAT).with_samples(c.msaa);
             (
                 graph.create_texture("depth", size),
                 graph.create_texture("visibility", ids),
@@ -382,8 +388,12 @@ impl Recording {
             pass.set_bind_group(0, &r.group, &[]);
             pass.draw(0..3, 0..1);
         }
-        let mut draws =
-            SceneDraws::new(&mut pass, &self.scene, &self.instances, VertexStreams::Position);
+        let mut draws = SceneDraws::new(
+            &mut pass,
+            &self.scene,
+            &self.instances,
+            VertexStreams::Position,
+        );
         // Drawn through the sequence: `vertex_index` is the position in the index buffer (plus
         // the base vertex), from which the shader pulls the vertex.
         draws

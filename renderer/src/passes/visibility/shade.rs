@@ -65,12 +65,12 @@ impl VisShadePass {
         })?;
         let mut variants = vec![(forward::MODULE.name, gltf)];
         for m in materials {
-            let variant = m.vis_variant(config.msaa, config.scalarize).ok_or_else(|| {
-                MaterialError::MissingVariant {
+            let variant = m
+                .vis_variant(config.msaa, config.scalarize)
+                .ok_or_else(|| MaterialError::MissingVariant {
                     module: m.name().to_string(),
                     variant: crate::materials::vis_variant_name(config.msaa, config.scalarize),
-                }
-            })?;
+                })?;
             variants.push((m.name(), variant));
         }
         let mut kernels = Vec::with_capacity(variants.len());
@@ -266,9 +266,7 @@ impl Pass for VisShadePass {
                 };
                 groups0.push(group0);
             }
-            let mut pass = ctx
-                .encoder
-                .begin_compute("visibility shading");
+            let mut pass = ctx.encoder.begin_compute("visibility shading");
             // Each dispatch reads the sums the one before wrote: wgpu orders them.
             for (d, group0) in dispatches.iter().zip(&groups0) {
                 pass.set_pipeline(&d.pipeline);

@@ -22,9 +22,9 @@ mod cascade_tests;
 #[cfg(test)]
 mod tests;
 
-pub use cascade::{CameraLens, cascade_views};
 #[cfg(any(test, feature = "internals"))]
 pub use cascade::{CASCADE_COUNT, CASCADE_SPLIT_LAMBDA, cascade_splits, slice_bounding_sphere};
+pub use cascade::{CameraLens, cascade_views};
 pub use cube::cube_views;
 #[cfg(any(test, feature = "internals"))]
 pub use cube::{CUBE_FACE_DIRECTIONS, CUBE_FACE_UPS, cube_face, cube_tan_half_fov};
