@@ -15,7 +15,7 @@ mod modules;
 mod resolve;
 mod uses;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use anyhow::{Context as _, Result, bail};
@@ -342,66 +342,57 @@ fn unparsable(invariant: &'static str, error: String) -> Violation {
 /// The `src/` files of every workspace member (a directory with a Cargo.toml and a `src/`), as
 /// (path relative to the workspace root with `/` separators, contents).
 fn read_workspace_sources(root: &Path) -> Result<Vec<(String, String)>> {
-    let mut out = Vec::new();
-    for entry in std::fs::read_dir(root).context("reading the workspace root")? {
-        let dir = entry?.path();
-        if dir.join("Cargo.toml").is_file() && dir.join("src").is_dir() {
-            for (path, text) in read_rust_sources(&dir.join("src"))? {
-                let relative = Path::new(&path)
-                    .strip_prefix(root)
-                    .unwrap_or(Path::new(&path));
-                let parts: Vec<_> = relative.iter().map(|p| p.to_string_lossy()).collect();
-                out.push((parts.join("/"), text));
-            }
-        }
-    }
-    out.sort();
-    Ok(out)
+    read_relative(root, crate_source_files(root, &["src"])?)
 }
 
 /// Every hand-written `.rs` file of every crate of the workspace (its
 /// [`lengths::SOURCE_FOLDERS`]), as (workspace-relative path, contents).
 fn read_crate_files(root: &Path) -> Result<Vec<(String, String)>> {
-    let mut out = Vec::new();
-    for entry in std::fs::read_dir(root).context("reading the workspace root")? {
+    read_relative(root, crate_source_files(root, lengths::SOURCE_FOLDERS)?)
+}
+
+/// The `.rs` files of every crate directly under `parent` (a folder with a `Cargo.toml`), from
+/// the folders of each crate that `folders` names, sorted.
+pub(crate) fn crate_source_files(parent: &Path, folders: &[&str]) -> Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    for entry in
+        std::fs::read_dir(parent).with_context(|| format!("reading {}", parent.display()))?
+    {
         let dir = entry?.path();
         if !dir.join("Cargo.toml").is_file() {
             continue;
         }
-        for folder in lengths::SOURCE_FOLDERS {
-            if !dir.join(folder).is_dir() {
-                continue;
-            }
-            for (path, text) in read_rust_sources(&dir.join(folder))? {
-                let relative = Path::new(&path)
-                    .strip_prefix(root)
-                    .unwrap_or(Path::new(&path));
-                let parts: Vec<_> = relative.iter().map(|p| p.to_string_lossy()).collect();
-                out.push((parts.join("/"), text));
+        for folder in folders {
+            if dir.join(folder).is_dir() {
+                files.extend(crate::shaders::rust_files(&dir.join(folder))?);
             }
         }
     }
-    out.sort();
+    files.sort();
+    Ok(files)
+}
+
+/// `files` read, as (path relative to `root` with `/` separators, contents).
+fn read_relative(root: &Path, files: Vec<PathBuf>) -> Result<Vec<(String, String)>> {
+    let mut out = Vec::new();
+    for path in files {
+        let text = std::fs::read_to_string(&path)
+            .with_context(|| format!("reading {}", path.display()))?;
+        let relative = path.strip_prefix(root).unwrap_or(&path);
+        let parts: Vec<_> = relative.iter().map(|p| p.to_string_lossy()).collect();
+        out.push((parts.join("/"), text));
+    }
     Ok(out)
 }
 
 /// Every `.rs` file under `dir`, as (path, contents), in a stable order.
 fn read_rust_sources(dir: &Path) -> Result<Vec<(String, String)>> {
     let mut out = Vec::new();
-    let mut stack = vec![dir.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        for entry in std::fs::read_dir(&d).with_context(|| format!("reading {}", d.display()))? {
-            let path = entry?.path();
-            if path.is_dir() {
-                stack.push(path);
-            } else if path.extension().is_some_and(|e| e == "rs") {
-                let text = std::fs::read_to_string(&path)
-                    .with_context(|| format!("reading {}", path.display()))?;
-                out.push((path.display().to_string(), text));
-            }
-        }
+    for path in crate::shaders::rust_files(dir)? {
+        let text = std::fs::read_to_string(&path)
+            .with_context(|| format!("reading {}", path.display()))?;
+        out.push((path.display().to_string(), text));
     }
-    out.sort();
     Ok(out)
 }
 

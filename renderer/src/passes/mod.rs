@@ -27,6 +27,11 @@ use crate::frame_data::{FrameInputs, FrameReport, FrameResources, RenderError, S
 use crate::graph::RenderGraph;
 use crate::graph::{PassEncoder, TimedPass};
 
+/// Workgroups of 8×8 invocations that cover a `(width, height)` image, one invocation a texel.
+pub(crate) fn groups_8x8((width, height): (u32, u32)) -> (u32, u32) {
+    (width.div_ceil(8), height.div_ceil(8))
+}
+
 /// One pass of the frame. A frame calls, for every pass in list order: [`Pass::prepare`], then
 /// [`Pass::add_to_graph`]; after the graph is recorded, [`Pass::after_execute`]; after the
 /// frame is submitted, [`Pass::after_submit`].

@@ -159,8 +159,9 @@ fn touch(path: &Path) -> Result<()> {
         .with_context(|| format!("touching {}", path.display()))
 }
 
-/// Times `cargo build -p shaders_gen` in the workspace at `dir`, with the caller's environment,
-/// into `target_dir`. With `expect_rebuild`, fails when cargo did not recompile shaders_gen (the
+/// Times `cargo build -p shaders_gen` in the workspace at `dir`, with the caller's environment
+/// (incremental in the dev profile unless `CARGO_INCREMENTAL` says otherwise), into
+/// `target_dir`. With `expect_rebuild`, fails when cargo did not recompile shaders_gen (the
 /// measurement would be of a no-op).
 fn cargo_build(
     dir: &Path,
@@ -182,6 +183,11 @@ fn cargo_build(
         .arg(target_dir);
     if release {
         command.arg("--release");
+    } else if std::env::var_os("CARGO_INCREMENTAL").is_none() {
+        // The workspace's dev profile (copied into the scratch workspace) turns incremental
+        // compilation off for CI's cold builds; a user's own crate has it on, as cargo's
+        // default dev profile does, and that is the rebuild this measures.
+        command.env("CARGO_INCREMENTAL", "1");
     }
     let start = Instant::now();
     let output = command.output().context("running cargo build")?;

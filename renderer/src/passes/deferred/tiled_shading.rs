@@ -18,7 +18,7 @@ use crate::frame_data::{
     RendererConfig, ShadowResources,
 };
 use crate::graph::{Handle, PassBuilder, RenderGraph, Texture, TextureAccess, TextureDesc};
-use crate::passes::Pass;
+use crate::passes::{Pass, groups_8x8};
 use crate::shader::ShaderProgram;
 
 /// What a recording frame left: which pixels were shaded per sample, and the G-buffer.
@@ -350,7 +350,8 @@ impl Pass for TbdrPass {
             pass.set_bind_group(0, &group, &[]);
             if recording.is_some() {
                 pass.set_pipeline(&capture);
-                pass.dispatch_workgroups(width.div_ceil(8), height.div_ceil(8), 1);
+                let (x, y) = groups_8x8((width, height));
+                pass.dispatch_workgroups(x, y, 1);
             }
             pass.set_pipeline(&shade);
             pass.dispatch_workgroups(width.div_ceil(tile), height.div_ceil(tile), 1);

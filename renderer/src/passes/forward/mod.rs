@@ -141,7 +141,8 @@ struct Targets {
     /// Where `color` resolves to (the scene with MSAA).
     resolve: Option<Handle<Texture>>,
     depth: Handle<Texture>,
-    /// Whether `depth` holds the pre-pass's depth (load it) or is the pass's own (clear it).
+    /// Whether `depth` holds the pre-pass's depth (attached read-only) or is the pass's own
+    /// (cleared and written).
     prepass: bool,
     layer: Layer,
 }

@@ -14,7 +14,7 @@ use shaders_gen::deferred::hdr_overlay;
 use crate::GpuContext;
 use crate::frame_data::{ConfigError, FrameInputs, FrameResources, HDR_FORMAT, RenderError};
 use crate::graph::{RenderGraph, TextureAccess, TextureDesc};
-use crate::passes::Pass;
+use crate::passes::{Pass, groups_8x8};
 use crate::shader::ShaderProgram;
 
 /// The overlay pass: its program and compute pipeline.
@@ -63,7 +63,7 @@ impl Pass for OverlayPass {
         let c = &frame.config;
         let mut hdr =
             graph.create_texture("hdr", TextureDesc::new_2d(c.width, c.height, HDR_FORMAT));
-        let groups = (c.width.div_ceil(8), c.height.div_ceil(8));
+        let groups = groups_8x8((c.width, c.height));
         let (program, pipeline) = (self.program.clone(), self.pipeline.clone());
         graph
             .add_pass(self.name())
@@ -94,7 +94,6 @@ impl Pass for OverlayPass {
                 pass.dispatch_workgroups(groups.0, groups.1, 1);
             });
         resources.hdr = Some(hdr);
-        resources.hdr_multisampled = None;
         Ok(())
     }
 }

@@ -23,7 +23,7 @@ use crate::frame_data::{
 use crate::graph::{
     Buffer, BufferAccess, Handle, ImportAccess, RenderGraph, Texture, TextureAccess,
 };
-use crate::passes::Pass;
+use crate::passes::{Pass, groups_8x8};
 use crate::shader::ShaderProgram;
 
 /// The pyramid's format: one 32-bit float per texel, the farthest depth it covers.
@@ -199,10 +199,6 @@ impl OcclusionCullPass {
 }
 
 /// Workgroups of 8×8 over `size`.
-fn groups_8x8((w, h): (u32, u32)) -> (u32, u32) {
-    (w.div_ceil(8), h.div_ceil(8))
-}
-
 impl Pass for OcclusionCullPass {
     fn name(&self) -> &'static str {
         "occlusion culling"

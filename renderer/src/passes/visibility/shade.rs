@@ -15,8 +15,8 @@ use crate::frame_data::{
 };
 use crate::graph::{BufferAccess, BufferDesc, RenderGraph, TextureAccess, TextureDesc};
 use crate::materials::{MaterialError, MaterialProgram, PARAMS_GROUP, PARAMS_NAME};
-use crate::passes::Pass;
 use crate::passes::forward::bindings::{FrameGroup, VisInputs, lighting_buffer};
+use crate::passes::{Pass, groups_8x8};
 use crate::shader::ShaderProgram;
 
 /// One material program's kernel.
@@ -274,7 +274,8 @@ impl Pass for VisShadePass {
                 for (index, g) in d.groups.iter().enumerate() {
                     pass.set_bind_group(index as u32 + 1, g, &[]);
                 }
-                pass.dispatch_workgroups(width.div_ceil(8), height.div_ceil(8), 1);
+                let (x, y) = groups_8x8((width, height));
+                pass.dispatch_workgroups(x, y, 1);
             }
         });
         resources.hdr = Some(hdr);
