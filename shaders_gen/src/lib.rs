@@ -40,6 +40,7 @@ pub static MODULES: &[&codegen::rt::Module] = &[
     &forward::forward::MODULE,
     &forward::heatmap::MODULE,
     &forward::tonemap::MODULE,
+    &forward::tonemap_compute::MODULE,
     &inspect::depth_probe::MODULE,
     &inspect::sample_copy::MODULE,
     &particles::particle_atlas::MODULE,

@@ -7,13 +7,13 @@ mod forward_kernels;
 mod forward_reference;
 mod forward_scene;
 
-use forward_kernels::{draw_forward, draw_heatmap, draw_prez, draw_tonemap};
+use forward_kernels::{dispatch_tonemap, draw_forward, draw_heatmap, draw_prez, draw_tonemap};
 use forward_reference::{Light, aces_cpu, neutral_cpu, ramp_cpu, shade_cpu, srgb_encode};
 use forward_scene::{
     FAR, FROXELS, NEAR, SIZE, SLICES, SURFACE, TILE, froxel, inputs, key, quad, quad_point, scene,
 };
 use glam::{Mat4, UVec2, Vec3, Vec4, Vec4Swizzles as _};
-use shaders_gen::forward::{forward, heatmap, prez, tonemap};
+use shaders_gen::forward::{forward, heatmap, prez, tonemap, tonemap_compute};
 use tests::gpu::gpu_test;
 
 /// Compares a GPU image with the CPU radiance at every pixel. Tolerance: f32 on both sides,
@@ -229,38 +229,78 @@ fn tiled_and_clustered_read_their_partial_lists() {
     }
 }
 
-#[test]
-fn tonemap_matches_cpu_curve_and_srgb_encode() {
+/// A ramp of HDR colours through the tone curves' shoulders and toes (16 × 4 texels).
+fn tonemap_input() -> ((u32, u32), Vec<[f32; 4]>) {
     let size = (16u32, 4u32);
-    let exposure = 1.5;
-    let hdr: Vec<[f32; 4]> = (0..size.0 * size.1)
+    let hdr = (0..size.0 * size.1)
         .map(|i| {
             let t = i as f32 / 8.0;
             [t * 0.05, t * t * 0.1, (i % 5) as f32 * 0.7, 1.0]
         })
         .collect();
+    (size, hdr)
+}
+
+/// The CPU's tonemap of `hdr` texel by texel: `curve` (0 ACES, 1 PBR Neutral) after
+/// `exposure`, to 8 bits, sRGB-encoded or linear.
+fn tonemap_cpu(hdr: &[[f32; 4]], exposure: f32, curve: u32, srgb: bool) -> Vec<[u8; 4]> {
+    hdr.iter()
+        .map(|px| {
+            let c = Vec3::new(px[0], px[1], px[2]) * exposure;
+            let mapped = match curve {
+                0 => Vec3::new(aces_cpu(c.x), aces_cpu(c.y), aces_cpu(c.z)),
+                _ => neutral_cpu(c),
+            };
+            let byte = |x: f32| {
+                if srgb {
+                    srgb_encode(x)
+                } else {
+                    (x.clamp(0.0, 1.0) * 255.0).round() as u8
+                }
+            };
+            [byte(mapped.x), byte(mapped.y), byte(mapped.z), 255]
+        })
+        .collect()
+}
+
+/// Every texel of `bytes` within one 8-bit step of `want`.
+fn assert_within_one_step(bytes: &[u8], want: &[[u8; 4]], what: &str) {
+    assert_eq!(bytes.len(), want.len() * 4, "{what}: texel count");
+    for (i, want) in want.iter().enumerate() {
+        let got = &bytes[i * 4..i * 4 + 4];
+        for c in 0..4 {
+            assert!(
+                (i32::from(got[c]) - i32::from(want[c])).abs() <= 1,
+                "{what} texel {i} channel {c}: GPU {got:?} vs CPU {want:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn tonemap_matches_cpu_curve_and_srgb_encode() {
+    let (size, hdr) = tonemap_input();
+    let exposure = 1.5;
     for curve in tonemap::Curve::ALL {
         let bytes =
             gpu_test(|gpu| draw_tonemap(gpu, tonemap::VariantKey { curve }, exposure, size, &hdr));
-        for (i, px) in hdr.iter().enumerate() {
-            let c = Vec3::new(px[0], px[1], px[2]) * exposure;
-            let mapped = match curve {
-                tonemap::Curve::Curve0 => Vec3::new(aces_cpu(c.x), aces_cpu(c.y), aces_cpu(c.z)),
-                tonemap::Curve::Curve1 => neutral_cpu(c),
-            };
-            let want = [
-                srgb_encode(mapped.x),
-                srgb_encode(mapped.y),
-                srgb_encode(mapped.z),
-                255,
-            ];
-            let got = &bytes[i * 4..i * 4 + 4];
-            for c in 0..4 {
-                assert!(
-                    (i32::from(got[c]) - i32::from(want[c])).abs() <= 1,
-                    "{curve:?} texel {i} channel {c}: GPU {got:?} vs CPU {want:?}"
-                );
-            }
+        let want = tonemap_cpu(&hdr, exposure, curve.value(), true);
+        assert_within_one_step(&bytes, &want, &format!("fragment {curve:?}"));
+    }
+}
+
+/// The compute kernel encodes sRGB itself (a storage image cannot be sRGB): every variant
+/// against the CPU's curve and encoding, sRGB and linear.
+#[test]
+fn compute_tonemap_matches_cpu_curve_and_srgb_encode() {
+    let (size, hdr) = tonemap_input();
+    let exposure = 1.5;
+    for curve in tonemap_compute::Curve::ALL {
+        for srgb in [false, true] {
+            let key = tonemap_compute::VariantKey { curve, srgb };
+            let bytes = gpu_test(|gpu| dispatch_tonemap(gpu, key, exposure, size, &hdr));
+            let want = tonemap_cpu(&hdr, exposure, curve.value(), srgb);
+            assert_within_one_step(&bytes, &want, &format!("compute {key:?}"));
         }
     }
 }

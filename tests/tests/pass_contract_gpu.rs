@@ -193,3 +193,121 @@ fn a_pass_from_outside_the_renderer_joins_the_frame() {
         assert!(resized.graph_compiled, "a new size compiles again");
     });
 }
+
+/// A pass whose bind group the builder refuses while `fail` is set (as a generated builder
+/// refuses a resource that does not fit).
+#[derive(Debug)]
+struct RefusedBinding {
+    fail: std::sync::Arc<std::sync::atomic::AtomicBool>,
+}
+
+impl Pass for RefusedBinding {
+    fn name(&self) -> &'static str {
+        "refused binding"
+    }
+
+    fn add_to_graph(
+        &self,
+        graph: &mut RenderGraph,
+        _frame: &FrameInputs,
+        _resources: &mut FrameResources,
+    ) -> Result<(), RenderError> {
+        let fail = self.fail.load(std::sync::atomic::Ordering::Relaxed);
+        graph
+            .add_pass(self.name())
+            .side_effects()
+            .execute(move |ctx| {
+                let built = if fail {
+                    Err(shader_bind::BindError::Missing {
+                        variant: "refused binding".into(),
+                        group: 0,
+                        binding: "missing",
+                        index: 0,
+                    })
+                } else {
+                    Ok(())
+                };
+                let _ = ctx.bind(built);
+            });
+        Ok(())
+    }
+}
+
+/// A frame whose pass cannot bind fails with `GraphError::Bind` and is never submitted; its
+/// passes' timer queries must not reach a later frame's timings, which list the same passes
+/// as a frame before the failure.
+#[test]
+fn a_frame_that_cannot_bind_leaves_no_timings_to_the_next() {
+    use renderer::graph::GraphError;
+    use std::sync::atomic::{AtomicBool, Ordering};
+    let config = RendererConfig {
+        width: WIDTH,
+        height: HEIGHT,
+        msaa: 1,
+        path: RenderPath::Clustered,
+        ..Default::default()
+    };
+    gpu_test(|gpu| {
+        let scene = renderer::scene::procedural::courtyard();
+        let mut renderer = Renderer::new(gpu, config).expect("renderer");
+        let fail = std::sync::Arc::new(AtomicBool::new(false));
+        renderer
+            .insert_pass_after(
+                "light culling",
+                Box::new(RefusedBinding {
+                    fail: std::sync::Arc::clone(&fail),
+                }),
+            )
+            .expect("insert");
+        renderer.prepare_scene(&scene).expect("scene");
+        renderer
+            .set_lights(&procedural_lights(scene.bounds, 32, 3, 0.5, 2.0))
+            .expect("lights");
+        let target = create_target(gpu.device(), &config);
+        let camera = framing_camera(scene.bounds, WIDTH as f32 / HEIGHT as f32);
+        let labels = |timings: &[renderer::graph::PassTiming]| -> Vec<String> {
+            timings.iter().map(|t| t.pass.clone()).collect()
+        };
+
+        // Every frame's timings come back once: in a later report, or drained.
+        let timed = |renderer: &mut Renderer, frames: usize| {
+            let mut timings = Vec::new();
+            for _ in 0..frames {
+                let report = renderer.render(&camera, &target).expect("frame");
+                timings.extend(report.timings);
+            }
+            gpu.wait_idle().expect("the frames finish");
+            timings.extend(renderer.drain_timings());
+            timings
+        };
+        let before = timed(&mut renderer, 1);
+        let reference = labels(before.last().expect("the first frame's timings"));
+        assert!(reference.iter().any(|p| p == "refused binding"));
+
+        fail.store(true, Ordering::Relaxed);
+        match renderer.render(&camera, &target) {
+            Err(RenderError::Config(ConfigError::Graph(GraphError::Bind { pass, .. }))) => {
+                assert_eq!(pass, "refused binding");
+            }
+            other => panic!("the frame must fail to bind, got {other:?}"),
+        }
+        fail.store(false, Ordering::Relaxed);
+        let after = timed(&mut renderer, 2);
+        assert!(!after.is_empty(), "the frames after the failure are timed");
+        for timings in &after {
+            assert_eq!(
+                labels(timings),
+                reference,
+                "a frame after the failure lists other passes"
+            );
+            for t in timings {
+                assert!(
+                    t.gpu_ms.is_finite() && (0.0..1e4).contains(&t.gpu_ms),
+                    "{}: {} ms",
+                    t.pass,
+                    t.gpu_ms
+                );
+            }
+        }
+    });
+}

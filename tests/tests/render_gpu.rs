@@ -15,6 +15,8 @@ mod material_programs;
 mod pass_timings;
 #[path = "render_gpu/sharing.rs"]
 mod sharing;
+#[path = "render_gpu/tonemap.rs"]
+mod tonemap;
 #[path = "render_gpu/views.rs"]
 mod views;
 

@@ -137,6 +137,8 @@ impl App {
             .or_else(|| caps.formats.first().copied())
             .context("the surface offers no format")?;
         let mut usage = wgpu::TextureUsages::RENDER_ATTACHMENT;
+        // Frames copied into the swap chain let the renderer tonemap in compute.
+        usage |= caps.usages & wgpu::TextureUsages::COPY_DST;
         if self.args.screenshot.is_some() || self.args.reload_shots.is_some() {
             anyhow::ensure!(
                 caps.usages.contains(wgpu::TextureUsages::COPY_SRC),

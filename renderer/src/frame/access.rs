@@ -92,7 +92,9 @@ impl Renderer {
     }
 
     /// Per-pass timings of every frame whose timestamps have arrived and were not yet returned
-    /// (by `render`'s report or an earlier call), oldest first. Does not block.
+    /// (by `render`'s report or an earlier call), oldest first. Does not block. A frame that
+    /// fails while its graph is recorded (a pass's bind group refused) drops the timings of the
+    /// frames still in flight, so that no frame's timings carry its unwritten queries.
     pub fn drain_timings(&mut self) -> Vec<Vec<PassTiming>> {
         let _ = self.gpu.device().poll(wgpu::PollType::Poll);
         let mut frames = Vec::new();

@@ -73,7 +73,8 @@ pub fn scene_camera(
 }
 
 /// A texture the renderer can draw a frame into (`config.output_format`, the configured size),
-/// readable back with [`crate::readback::read_texture_rgba8`].
+/// readable back with [`crate::readback::read_texture_rgba8`]; it takes copies, so the tonemap
+/// can run in compute ([`RendererConfig::compute_tonemap`]).
 pub fn create_target(device: &wgpu::Device, config: &RendererConfig) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some("frame target"),
@@ -86,7 +87,9 @@ pub fn create_target(device: &wgpu::Device, config: &RendererConfig) -> wgpu::Te
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
         format: config.output_format,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::COPY_SRC
+            | wgpu::TextureUsages::COPY_DST,
         view_formats: &[],
     })
 }

@@ -33,8 +33,8 @@
 //! });
 //! renderer.set_lights(&lights)?;
 //!
-//! // The engine's own target: any texture of `config.output_format` with RENDER_ATTACHMENT
-//! // (this helper makes one of the configured size).
+//! // The engine's own target: any texture of `config.output_format` with RENDER_ATTACHMENT,
+//! // and COPY_DST for the compute tonemap (this helper makes one of the configured size).
 //! let target = renderer::frame::create_target(gpu.device(), &config);
 //! let camera = framing_camera(scene.bounds, 1280.0 / 720.0);
 //! let report = renderer.render(&camera, &target)?;
@@ -58,6 +58,7 @@ mod extra_view;
 mod motion;
 mod pass_list;
 mod reconfigure;
+mod timing;
 mod views;
 
 use std::collections::VecDeque;
@@ -144,10 +145,6 @@ impl Renderer {
     /// needs is built now. [`Renderer::reconfigure`] changes it later, keeping the scene.
     pub fn new(gpu: &GpuContext, config: RendererConfig) -> Result<Self, RenderError> {
         check_config(gpu, &config)?;
-        let settings = wgpu_profiler::GpuProfilerSettings {
-            enable_debug_groups: false,
-            ..Default::default()
-        };
         Ok(Self {
             passes: pass_list::passes_for(gpu, &config, &[])?,
             materials: Vec::new(),
@@ -162,8 +159,7 @@ impl Renderer {
             camera_uniform: CameraUniform::new(gpu.device()),
             pool: TransientPool::new(),
             graph_cache: GraphCache::new(),
-            profiler: wgpu_profiler::GpuProfiler::new(gpu.device(), settings)
-                .map_err(|e| RenderError::Device(DeviceError::Profiler(e.to_string())))?,
+            profiler: Self::new_profiler(gpu.device())?,
             frame_index: 0,
             in_flight: VecDeque::new(),
             capture_request: None,
@@ -362,6 +358,7 @@ impl Renderer {
             camera_uniform: self.camera_uniform.clone(),
             capture: self.capture_request.take(),
             index: self.frame_index,
+            target_usage: target.usage(),
         };
         let upload_started = Instant::now();
         self.camera_uniform.write(self.gpu.queue(), camera);
@@ -390,7 +387,7 @@ impl Renderer {
         let gpu = self.gpu.clone();
         let gpu = &gpu;
         let mut encoder = gpu.device().create_command_encoder(&Default::default());
-        let pool = compiled.execute(gpu.device(), &mut encoder, &mut self.pool, &self.profiler)?;
+        let pool = self.execute_graph(compiled, &mut encoder)?;
         for pass in &mut self.passes {
             pass.after_execute(&frame, &resources, &mut encoder);
         }

@@ -126,6 +126,7 @@ impl Renderer {
                 camera: *v.camera,
                 camera_uniform: view.camera_uniform.clone(),
                 capture: None,
+                target_usage: v.target.usage(),
                 ..main.clone()
             };
             for pass in &mut view.passes {

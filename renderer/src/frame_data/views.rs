@@ -8,7 +8,8 @@ use super::FrameCamera;
 pub struct ViewId(pub(crate) u32);
 
 /// A further view to draw in a frame: which, from where, into what (a texture of the view's
-/// `output_format` and size, with `RENDER_ATTACHMENT`).
+/// `output_format` and size, with `RENDER_ATTACHMENT`, and `COPY_DST` for the compute
+/// tonemap).
 #[derive(Debug, Clone, Copy)]
 pub struct ViewTarget<'a> {
     /// The view ([`crate::frame::Renderer::add_view`]).

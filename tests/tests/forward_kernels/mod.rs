@@ -8,7 +8,7 @@
 mod passes;
 mod resources;
 
-pub use passes::{draw_heatmap, draw_prez, draw_tonemap};
+pub use passes::{dispatch_tonemap, draw_heatmap, draw_prez, draw_tonemap};
 
 use renderer::GpuContext;
 use shaders_gen::forward::forward;

@@ -3,7 +3,7 @@
 
 use renderer::GpuContext;
 use renderer::shader::ShaderProgram;
-use shaders_gen::forward::{heatmap, prez, tonemap};
+use shaders_gen::forward::{heatmap, prez, tonemap, tonemap_compute};
 
 use super::resources::{
     bind_group, buffer, cleared, color_pass, program, read_texture, storage, texture, texture_with,
@@ -91,6 +91,57 @@ pub fn draw_tonemap(
         size,
         wgpu::TextureFormat::Rgba8UnormSrgb,
     )
+}
+
+/// Tonemaps an `Rgba32Float` image of `size` with the compute kernel into `Rgba8Unorm` bytes
+/// (sRGB-encoded by the kernel where `key.srgb`).
+pub fn dispatch_tonemap(
+    gpu: &GpuContext,
+    key: tonemap_compute::VariantKey,
+    exposure: f32,
+    size: (u32, u32),
+    hdr: &[[f32; 4]],
+) -> Vec<u8> {
+    let p = program(gpu, tonemap_compute::variant(key));
+    let params = uniform(gpu, &tonemap_compute::TonemapParams::new(exposure, 1.0));
+    let input = texture_with(
+        gpu,
+        size,
+        wgpu::TextureFormat::Rgba32Float,
+        bytemuck::cast_slice(hdr),
+    );
+    let output = texture(
+        gpu,
+        size,
+        wgpu::TextureFormat::Rgba8Unorm,
+        wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_SRC,
+    );
+    let (input_view, output_view) = (
+        input.create_view(&Default::default()),
+        output.create_view(&Default::default()),
+    );
+    let group = bind_group(
+        gpu,
+        &p,
+        0,
+        vec![
+            (0, params.as_entire_binding()),
+            (1, wgpu::BindingResource::TextureView(&input_view)),
+            (2, wgpu::BindingResource::TextureView(&output_view)),
+        ],
+    );
+    let pipeline = p
+        .compute_pipeline(gpu.device(), "cs_tonemap")
+        .expect("cs_tonemap");
+    let mut encoder = gpu.device().create_command_encoder(&Default::default());
+    {
+        let mut pass = encoder.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &group, &[]);
+        pass.dispatch_workgroups(size.0.div_ceil(8), size.1.div_ceil(8), 1);
+    }
+    gpu.queue().submit([encoder.finish()]);
+    read_texture(gpu, &output, 4)
 }
 
 /// Draws the heatmap into an `Rgba8Unorm` target; for the clustered variant the depth buffer

@@ -26,8 +26,9 @@ const SETTINGS: Settings = Settings {
 };
 
 /// Graph passes that record only copies and clears, which only a device that times between
-/// commands can time: the depth copy the particles sample to fade at surfaces.
-pub(crate) const COPY_ONLY: &[&str] = &["particle fade depth"];
+/// commands can time: the depth copy the particles sample to fade at surfaces, and the compute
+/// tonemap's copy into the target.
+pub(crate) const COPY_ONLY: &[&str] = &["particle fade depth", "tonemap copy"];
 
 /// A second device on `gpu`'s adapter with its features less the timestamps between commands.
 fn device_timing_whole_passes_only(gpu: &GpuContext) -> GpuContext {

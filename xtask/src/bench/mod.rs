@@ -89,6 +89,10 @@ pub struct Args {
     /// culling.
     #[arg(long)]
     no_occlusion: bool,
+    /// Tonemap with the full-screen fragment pass instead of the compute kernel and its copy
+    /// (`RendererConfig::compute_tonemap`), to compare the two.
+    #[arg(long)]
+    fragment_tonemap: bool,
     /// Also rasterise the visibility path's opaque triangles in compute, beside its raster
     /// pass (`ComputeRasterPass`, adapters with 64-bit atomic min/max): the `compute_raster`
     /// column (`visibility-compute` has it in the frame already). The value is the pixel-box

@@ -113,6 +113,7 @@ pub(super) fn renderer_config(args: &Args, setup: &Setup) -> RendererConfig {
         time_cull_dispatches: args.cull_dispatch_times,
         cull_draws: !args.no_cull_draws,
         occlusion_cull: !args.no_occlusion,
+        compute_tonemap: !args.fragment_tonemap,
         ..Default::default()
     };
     config.shadows.atlas_size = args.shadow_atlas;
