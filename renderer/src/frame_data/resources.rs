@@ -291,7 +291,9 @@ pub struct ParticleResources {
     pub sampler: wgpu::Sampler,
 }
 
-/// The multisampled G-buffer of the deferred paths (`frame_data::GBUFFER_FORMATS`).
+/// The multisampled G-buffer of the deferred paths (`frame_data::GBUFFER_FORMATS`). Only the
+/// samples a surface covers are written; where the depth buffer holds 1.0 (sky) the targets are
+/// not cleared and hold anything: read them only where the depth is below 1.
 #[derive(Debug, Clone, Copy)]
 pub struct GBufferHandles {
     /// Albedo (sRGB) and metalness.

@@ -2,6 +2,12 @@
 //! pre-Z depth (`LessEqual`, no writes) through the `forward` module's `fs_gbuffer`, which
 //! shares the forward fragment's material and decal code, into the three multisampled targets
 //! of `GBUFFER_FORMATS`.
+//!
+//! The targets are loaded, not cleared: a sample no surface covers is sky, where the pre-Z depth
+//! is 1.0, and every reader of the G-buffer tests that depth before it reads the targets (the
+//! TBDR and deferred-base kernel's `tbdr_gbuffer`, the light volumes). Clearing them cost more
+//! than drawing into them on the H200 (at MSAA 4, 3.5 of the pass's 6.15 ms on the courtyard;
+//! BENCHMARKS.md).
 
 use crate::frame_data::ConfigError;
 use std::sync::Arc;
@@ -135,7 +141,7 @@ impl Pass for GBufferPass {
     }
 }
 
-/// The G-buffer render pass: the four targets cleared, the pre-Z depth loaded.
+/// The G-buffer render pass: the four targets and the pre-Z depth loaded.
 fn begin_gbuffer_pass<'e>(
     encoder: &'e mut PassEncoder<'_>,
     views: &[wgpu::TextureView; 4],
@@ -147,7 +153,8 @@ fn begin_gbuffer_pass<'e>(
             depth_slice: None,
             resolve_target: None,
             ops: wgpu::Operations {
-                load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                // Sky samples keep whatever the texture held: no reader looks at them.
+                load: wgpu::LoadOp::Load,
                 store: wgpu::StoreOp::Store,
             },
         })
