@@ -56,7 +56,7 @@ struct Running {
     cursor: (f64, f64),
     timings: Vec<PassTiming>,
     /// The newest frame's scene draws and CPU time (prepare + record + submit, ms).
-    draws: Option<renderer::frame_data::SceneDrawReport>,
+    draws: Option<renderer::frame::SceneDrawReport>,
     cpu_ms: f64,
     last: Instant,
     light_count: usize,

@@ -16,9 +16,11 @@ use notify_debouncer_full::notify::{self, RecursiveMode, Watcher as _};
 use viewer::hot_reload::{DEBOUNCE, Outcome, Watch};
 
 const TONEMAP: &str = "forward/tonemapping.rs";
-const ORIGINAL: &str = "mapped.extend(1.0)";
-const TINTED: &str = "(mapped * Vec3::new(1.0, 0.25, 0.25)).extend(1.0)";
-const BROKEN: &str = "undefined_tint(mapped).extend(1.0)";
+/// The edit site: `tone_curves::tone_mapped`, the library both tonemaps (the full-screen pass
+/// and the compute kernel) use, so the edit shows whichever runs.
+const ORIGINAL: &str = "let c = hdr.max(Vec3::ZERO) * exposure;";
+const TINTED: &str = "let c = hdr.max(Vec3::ZERO) * exposure * Vec3::new(1.0, 0.25, 0.25);";
+const BROKEN: &str = "let c = undefined_tint(hdr) * exposure;";
 /// `surface_light::light_contribution`'s result, and an edit of it.
 const RESPONSE: &str = "radiance * visibility\n";
 const HALVED: &str = "radiance * visibility * 0.5\n";
@@ -160,7 +162,7 @@ fn each_saved_change_is_one_reload_off_the_polling_thread() {
         panic!("the broken edit was not refused: {outcome:?}");
     };
     assert!(
-        why.contains("forward/tonemapping.rs:73:") && why.contains("undefined_tint"),
+        why.contains("forward/tonemapping.rs:48:") && why.contains("undefined_tint"),
         "{why}"
     );
     assert_eq!(renderer::shader::hot::installed(), replaced);

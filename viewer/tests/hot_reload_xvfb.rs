@@ -8,11 +8,13 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 const TONEMAP: &str = "forward/tonemapping.rs";
-const ORIGINAL: &str = "mapped.extend(1.0)";
+/// The edit site: `tone_curves::tone_mapped`, the library both tonemaps (the full-screen pass
+/// and the compute kernel) use, so the edit shows whichever runs.
+const ORIGINAL: &str = "let c = hdr.max(Vec3::ZERO) * exposure;";
 /// The colour edit: a red tint.
-const TINTED: &str = "(mapped * Vec3::new(1.0, 0.25, 0.25)).extend(1.0)";
+const TINTED: &str = "let c = hdr.max(Vec3::ZERO) * exposure * Vec3::new(1.0, 0.25, 0.25);";
 /// The broken edit: a function that does not exist.
-const BROKEN: &str = "undefined_tint(mapped).extend(1.0)";
+const BROKEN: &str = "let c = undefined_tint(hdr) * exposure;";
 
 fn copy_dir(from: &Path, to: &Path) {
     std::fs::create_dir_all(to).expect("create the copy");
@@ -134,7 +136,7 @@ fn a_colour_edit_shows_without_a_restart_and_a_broken_edit_keeps_the_last_good_s
         "the log does not show the DSL error:\n{text}"
     );
     assert!(
-        text.contains("forward/tonemapping.rs:73:"),
+        text.contains("forward/tonemapping.rs:48:"),
         "the error has no source position:\n{text}"
     );
     assert!(
