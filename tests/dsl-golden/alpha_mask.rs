@@ -35,10 +35,7 @@ pub mod alpha_mask {
 
     #[vertex]
     pub fn vs(#[location(0)] position: Vec3, #[location(1)] uv: Vec2) -> VsOut {
-        VsOut {
-            clip: Vec4::new(position.x, position.y, position.z, 1.0),
-            uv,
-        }
+        VsOut { clip: Vec4::new(position.x, position.y, position.z, 1.0), uv }
     }
 
     #[fragment]

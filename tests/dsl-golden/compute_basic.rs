@@ -22,10 +22,7 @@ pub mod compute_basic {
     }
 
     #[compute(workgroup_size(tile, tile, 1))]
-    pub fn main(
-        #[builtin(global_invocation_id)] gid: UVec3,
-        #[builtin(local_invocation_index)] lid: u32,
-    ) {
+    pub fn main(#[builtin(global_invocation_id)] gid: UVec3, #[builtin(local_invocation_index)] lid: u32) {
         let i = gid.x;
         if i >= PARAMS.count {
             return;

@@ -35,10 +35,7 @@ pub mod control_flow {
     }
 
     #[compute(workgroup_size(64, 1, 1))]
-    pub fn main(
-        #[builtin(global_invocation_id)] gid: UVec3,
-        #[builtin(num_workgroups)] groups: UVec3,
-    ) {
+    pub fn main(#[builtin(global_invocation_id)] gid: UVec3, #[builtin(num_workgroups)] groups: UVec3) {
         let i = gid.x;
         if i >= VALUES.len() {
             return;

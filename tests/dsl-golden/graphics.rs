@@ -47,19 +47,10 @@ pub mod graphics {
     static IDS: Texture2d<u32>;
 
     #[vertex]
-    pub fn vs(
-        #[builtin(vertex_index)] vi: u32,
-        #[builtin(instance_index)] ii: u32,
-        #[location(0)] pos: Vec3,
-    ) -> VsOut {
+    pub fn vs(#[builtin(vertex_index)] vi: u32, #[builtin(instance_index)] ii: u32, #[location(0)] pos: Vec3) -> VsOut {
         let uv = Vec2::new((vi & 1u32) as f32, (vi >> 1u32) as f32);
         let clip = GLOBALS.view_proj * pos.extend(1.0);
-        VsOut {
-            clip,
-            uv,
-            layer: ii,
-            normal: GLOBALS.light_dir,
-        }
+        VsOut { clip, uv, layer: ii, normal: GLOBALS.light_dir }
     }
 
     #[fragment]

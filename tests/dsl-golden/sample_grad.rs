@@ -30,12 +30,7 @@ pub mod sample_grad {
     pub fn vs(#[builtin(vertex_index)] vi: u32, #[builtin(instance_index)] ii: u32) -> VsOut {
         let uv = Vec2::new((vi & 1u32) as f32, (vi >> 1u32) as f32);
         let clip = Vec4::new(uv.x * 2.0 - 1.0, uv.y * 2.0 - 1.0, 0.0, 1.0);
-        VsOut {
-            clip,
-            uv,
-            taps: vi % 5u32,
-            layer: ii,
-        }
+        VsOut { clip, uv, taps: vi % 5u32, layer: ii }
     }
 
     #[fragment]

@@ -12,13 +12,7 @@ pub mod sample_mask {
     }
 
     #[fragment]
-    pub fn fs(
-        #[builtin(sample_mask)] coverage: u32,
-        #[builtin(sample_index)] sample: u32,
-    ) -> FsOut {
-        FsOut {
-            color: Vec4::ONE,
-            mask: coverage & (1u32 << sample),
-        }
+    pub fn fs(#[builtin(sample_mask)] coverage: u32, #[builtin(sample_index)] sample: u32) -> FsOut {
+        FsOut { color: Vec4::ONE, mask: coverage & (1u32 << sample) }
     }
 }

@@ -18,10 +18,7 @@ pub mod storage_textures {
     static BINS: [Atomic<u32>; 16];
 
     #[compute(workgroup_size(8, 8))]
-    pub fn main(
-        #[builtin(global_invocation_id)] gid: UVec3,
-        #[builtin(local_invocation_index)] lid: u32,
-    ) {
+    pub fn main(#[builtin(global_invocation_id)] gid: UVec3, #[builtin(local_invocation_index)] lid: u32) {
         let dims = DST.dimensions();
         if gid.x >= dims.x || gid.y >= dims.y {
             return;
@@ -38,10 +35,7 @@ pub mod storage_textures {
         workgroup_barrier();
         if lid < 16u32 {
             let old = HIST.load(Vec2::new(lid as f32, 0.0).as_uvec2()).x;
-            HIST.store(
-                UVec2::new(lid, 0u32),
-                UVec4::new(old + BINS[lid].load(), 0u32, 0u32, levels),
-            );
+            HIST.store(UVec2::new(lid, 0u32), UVec4::new(old + BINS[lid].load(), 0u32, 0u32, levels));
         }
         storage_barrier();
         DST.store(p, Vec4::new(luma, luma, luma, 1.0));

@@ -25,10 +25,7 @@ pub mod subgroups {
         let keep = value % 3u32 == 0u32;
         if wave {
             let ballot = subgroup_ballot(keep);
-            let kept = ballot.x.count_ones()
-                + ballot.y.count_ones()
-                + ballot.z.count_ones()
-                + ballot.w.count_ones();
+            let kept = ballot.x.count_ones() + ballot.y.count_ones() + ballot.z.count_ones() + ballot.w.count_ones();
             let slot = subgroup_exclusive_add(select(keep, 1u32, 0u32));
             let running = subgroup_inclusive_add(value);
             let mut base = 0u32;
@@ -43,9 +40,7 @@ pub mod subgroups {
             let lo = subgroup_min(value);
             let sum = subgroup_add(value);
             if subgroup_all(hi >= lo) && subgroup_any(keep) && lane + 1u32 == lanes {
-                COUNTERS
-                    .max_value
-                    .fetch_max(hi + sum * 0u32 + running * 0u32);
+                COUNTERS.max_value.fetch_max(hi + sum * 0u32 + running * 0u32);
             }
             let neighbour = subgroup_shuffle(value, (lane + 1u32) % lanes);
             OUTPUT[gid.x + 1024u32] = neighbour;

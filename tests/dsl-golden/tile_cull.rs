@@ -196,10 +196,7 @@ pub mod tile_cull {
             }
             if scalarize {
                 let ballot = subgroup_ballot(visible);
-                let total = ballot.x.count_ones()
-                    + ballot.y.count_ones()
-                    + ballot.z.count_ones()
-                    + ballot.w.count_ones();
+                let total = ballot.x.count_ones() + ballot.y.count_ones() + ballot.z.count_ones() + ballot.w.count_ones();
                 let offset = subgroup_exclusive_add(select(visible, 1u32, 0u32));
                 let mut base = 0u32;
                 if subgroup_any(visible) && subgroup_exclusive_add(1u32) == 0u32 {
@@ -217,19 +214,11 @@ pub mod tile_cull {
 
         // 4. Write the tile's header and light list.
         let tile_index = wg.y * CAMERA.tile_count.x + wg.x;
-        let stored = TILE_COUNT
-            .load()
-            .min(MAX_LIGHTS_PER_TILE)
-            .min(CAMERA.max_per_tile);
+        let stored = TILE_COUNT.load().min(MAX_LIGHTS_PER_TILE).min(CAMERA.max_per_tile);
         let offset = tile_index * CAMERA.max_per_tile;
         if lid == 0u32 {
             TILE_BASE = offset;
-            HEADERS[tile_index] = TileHeader {
-                offset,
-                count: stored,
-                min_depth: zmin,
-                max_depth: zmax,
-            };
+            HEADERS[tile_index] = TileHeader { offset, count: stored, min_depth: zmin, max_depth: zmax };
         }
         workgroup_barrier();
         let mut i = lid;

@@ -332,9 +332,10 @@ pub struct RendererConfig {
     /// fixed cost (a depth pyramid of the frame, about 0.1 ms at 1080p on an H200) outweighs
     /// what it saves on small scenes (the courtyard's 154 draws). 0 always runs it.
     pub occlusion_min_draws: u32,
-    /// Tonemap with a compute kernel and a copy where the target allows it (an `Rgba8Unorm` or
-    /// `Rgba8UnormSrgb` output with `COPY_DST`), else with a full-screen fragment pass; `false`:
-    /// always the fragment pass. The two agree within one 8-bit step; on GPUs whose fragment
+    /// Tonemap with a compute kernel where the target allows it (an `Rgba8Unorm` output with
+    /// `STORAGE_BINDING`, written directly; an `Rgba8Unorm` or `Rgba8UnormSrgb` one with
+    /// `COPY_DST`, written by a copy), else with a full-screen fragment pass; `false`: always the
+    /// fragment pass. The two agree within one 8-bit step; on GPUs whose fragment
     /// rate is far below their compute rate the kernel costs a tenth of the pass.
     pub compute_tonemap: bool,
 }

@@ -45,8 +45,8 @@ pub struct FrameInputs {
     pub capture: Option<u32>,
     /// Counts rendered frames, from 1.
     pub index: u64,
-    /// The usages of the texture this view is drawn into (the tonemap writes it by a copy
-    /// where it has `COPY_DST`).
+    /// The usages of the texture this view is drawn into (the tonemap writes it from a compute
+    /// kernel where it has `STORAGE_BINDING` or `COPY_DST`).
     pub target_usage: wgpu::TextureUsages,
 }
 

@@ -71,18 +71,6 @@ impl TonemapPass {
         })
     }
 
-    /// How a frame into a target of `format` and `usage` is tonemapped.
-    fn route(&self, format: wgpu::TextureFormat, usage: wgpu::TextureUsages) -> Route {
-        use wgpu::TextureUsages as U;
-        match self.compute {
-            Some(_) if format == STORAGE_FORMAT && usage.contains(U::STORAGE_BINDING) => {
-                Route::Direct
-            }
-            Some(_) if usage.contains(U::COPY_DST) => Route::Copied,
-            _ => Route::Fragment,
-        }
-    }
-
     /// The compute kernel: into the target where it is a storage image, else into a new
     /// storage image copied into the target.
     fn add_compute(
@@ -91,10 +79,8 @@ impl TonemapPass {
         frame: &FrameInputs,
         resources: &mut FrameResources,
         (hdr, route): (Handle<Texture>, Route),
+        (program, pipeline): (ShaderProgram, wgpu::ComputePipeline),
     ) {
-        let Some((program, pipeline)) = self.compute.clone() else {
-            return;
-        };
         let c = &frame.config;
         let mut image = if route == Route::Direct {
             resources.output
@@ -163,6 +149,19 @@ enum Route {
     Fragment,
 }
 
+/// How a frame into a target of `format` and `usage` is tonemapped where the compute kernel
+/// exists (`compute_serves`).
+fn route(format: wgpu::TextureFormat, usage: wgpu::TextureUsages) -> Route {
+    use wgpu::TextureUsages as U;
+    if format == STORAGE_FORMAT && usage.contains(U::STORAGE_BINDING) {
+        Route::Direct
+    } else if usage.contains(U::COPY_DST) {
+        Route::Copied
+    } else {
+        Route::Fragment
+    }
+}
+
 /// Whether `config` tonemaps in compute where the target allows it.
 fn compute_serves(config: &RendererConfig) -> bool {
     config.compute_tonemap && config.output_format.remove_srgb_suffix() == STORAGE_FORMAT
@@ -203,9 +202,9 @@ impl Pass for TonemapPass {
             .gpu
             .queue()
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
-        let route = self.route(c.output_format, frame.target_usage);
-        if route != Route::Fragment {
-            self.add_compute(graph, frame, resources, (hdr, route));
+        let route = route(c.output_format, frame.target_usage);
+        if let (Some(kernel), Route::Direct | Route::Copied) = (&self.compute, route) {
+            self.add_compute(graph, frame, resources, (hdr, route), kernel.clone());
             return Ok(());
         }
         let target = resources.output;

@@ -63,6 +63,24 @@ fn fullscreen(
     read_texture(gpu, &target, format.block_copy_size(None).expect("color"))
 }
 
+/// What both tonemaps read: their parameters (`exposure`, the source at the target's scale) and
+/// `hdr` as an `Rgba32Float` texture of `size`.
+fn tonemap_inputs(
+    gpu: &GpuContext,
+    exposure: f32,
+    size: (u32, u32),
+    hdr: &[[f32; 4]],
+) -> (wgpu::Buffer, wgpu::Texture) {
+    let params = uniform(gpu, &tonemap::TonemapParams::new(exposure, 1.0));
+    let input = texture_with(
+        gpu,
+        size,
+        wgpu::TextureFormat::Rgba32Float,
+        bytemuck::cast_slice(hdr),
+    );
+    (params, input)
+}
+
 /// Tonemaps an `Rgba32Float` image of `size` into `Rgba8UnormSrgb` bytes.
 pub fn draw_tonemap(
     gpu: &GpuContext,
@@ -72,13 +90,7 @@ pub fn draw_tonemap(
     hdr: &[[f32; 4]],
 ) -> Vec<u8> {
     let p = program(gpu, tonemap::variant(key));
-    let params = uniform(gpu, &tonemap::TonemapParams::new(exposure, 1.0));
-    let input = texture_with(
-        gpu,
-        size,
-        wgpu::TextureFormat::Rgba32Float,
-        bytemuck::cast_slice(hdr),
-    );
+    let (params, input) = tonemap_inputs(gpu, exposure, size, hdr);
     let view = input.create_view(&Default::default());
     fullscreen(
         gpu,
@@ -103,13 +115,7 @@ pub fn dispatch_tonemap(
     hdr: &[[f32; 4]],
 ) -> Vec<u8> {
     let p = program(gpu, tonemap_compute::variant(key));
-    let params = uniform(gpu, &tonemap_compute::TonemapParams::new(exposure, 1.0));
-    let input = texture_with(
-        gpu,
-        size,
-        wgpu::TextureFormat::Rgba32Float,
-        bytemuck::cast_slice(hdr),
-    );
+    let (params, input) = tonemap_inputs(gpu, exposure, size, hdr);
     let output = texture(
         gpu,
         size,
