@@ -53,25 +53,39 @@ pub mod depth_probe {
     }
 }
 
-/// Copies every sample of a multisampled `u32` texture (the visibility buffer's triangle IDs)
-/// into a buffer, texel by texel, sample after sample: `SAMPLES[(y · width + x) · msaa + s]`.
-/// A multisampled texture cannot be copied to a buffer directly; a tool that reads one back (the
-/// tests' host replay of the visibility shading kernel) dispatches this over it.
-#[shader_dsl::shader(axes(msaa: u32 = [2, 4, 8]))]
+/// Copies every sample of a multisampled `u32` texture (the visibility buffer's triangle IDs),
+/// or with `depth` of a multisampled depth texture (as the bits of each `f32`), into a buffer,
+/// texel by texel, sample after sample: `SAMPLES[(y · width + x) · msaa + s]`. A multisampled
+/// texture cannot be copied to a buffer directly; a tool that reads one back (the tests' host
+/// replay of the visibility shading kernel) dispatches this over it.
+#[shader_dsl::shader(axes(msaa: u32 = [2, 4, 8], depth: bool = [false, true]))]
 pub mod sample_copy {
     #[storage(group = 0, binding = 0, read_write)]
     static SAMPLES: [u32];
     #[texture(group = 0, binding = 1)]
+    #[when(!depth)]
     static SOURCE: TextureMultisampled2d<u32>;
+    #[texture(group = 0, binding = 1)]
+    #[when(depth)]
+    static SOURCE_DEPTH: TextureDepthMultisampled2d;
 
     /// Copies the samples of texel `gid.xy` (8 × 8 texels a workgroup).
     #[compute(workgroup_size(8, 8, 1))]
     pub fn copy(#[builtin(global_invocation_id)] gid: UVec3) {
-        let size = SOURCE.dimensions();
+        let mut size = UVec2::ZERO;
+        if depth {
+            size = SOURCE_DEPTH.dimensions();
+        } else {
+            size = SOURCE.dimensions();
+        }
         if gid.x < size.x && gid.y < size.y {
             let first = (gid.y * size.x + gid.x) * msaa;
             for s in 0u32..msaa {
-                SAMPLES[first + s] = SOURCE.load(gid.xy(), s).x;
+                if depth {
+                    SAMPLES[first + s] = SOURCE_DEPTH.load(gid.xy(), s).to_bits();
+                } else {
+                    SAMPLES[first + s] = SOURCE.load(gid.xy(), s).x;
+                }
             }
         }
     }

@@ -34,6 +34,7 @@ pub static MODULES: &[&codegen::rt::Module] = &[
     &culling::depth_pyramid_reduce::MODULE,
     &culling::occlusion_cull::MODULE,
     &deferred::hdr_overlay::MODULE,
+    &deferred::overlay_erase::MODULE,
     &deferred::tbdr::MODULE,
     &deferred::light_volume::MODULE,
     &forward::prez::MODULE,

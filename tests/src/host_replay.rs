@@ -127,6 +127,10 @@ impl Pass for BindingsProbe {
                 TextureAccess::CopySrc
             };
             pass.read_texture(vis.ids, access);
+            // The shading kernel tells sky by the depth (`VIS_DEPTH`).
+            if let Some(depth) = resources.depth {
+                pass.read_texture(depth, access);
+            }
         }
         if let Some(shadows) = &resources.shadows {
             pass.read_texture(shadows.atlas, TextureAccess::CopySrc);
@@ -248,12 +252,12 @@ fn texel_bytes(format: wgpu::TextureFormat) -> Option<u32> {
     }
 }
 
-/// `sample_copy` for one sample count: every sample of a multisampled `u32` texture into a
-/// storage buffer.
+/// `sample_copy` for one sample count: every sample of a multisampled `u32` or depth texture
+/// into a storage buffer.
 #[derive(Debug)]
 struct SampleCopier {
-    program: ShaderProgram,
-    pipeline: wgpu::ComputePipeline,
+    /// The `R32Uint` copy, then the `Depth32Float` one.
+    kernels: [(ShaderProgram, wgpu::ComputePipeline); 2],
 }
 
 impl SampleCopier {
@@ -264,11 +268,14 @@ impl SampleCopier {
                 supported: sample_copy::Msaa::ALL.iter().map(|m| m.value()).collect(),
             })
         })?;
-        let variant = sample_copy::variant(sample_copy::VariantKey { msaa });
-        let program = ShaderProgram::new(gpu.device(), gpu.capabilities(), variant)?;
+        let kernel = |depth| -> Result<_, RenderError> {
+            let variant = sample_copy::variant(sample_copy::VariantKey { msaa, depth });
+            let program = ShaderProgram::new(gpu.device(), gpu.capabilities(), variant)?;
+            Ok((program.compute_pipeline(gpu.device(), "copy")?, program))
+        };
+        let ((ids_pipeline, ids), (depth_pipeline, depth)) = (kernel(false)?, kernel(true)?);
         Ok(Self {
-            pipeline: program.compute_pipeline(gpu.device(), "copy")?,
-            program,
+            kernels: [(ids, ids_pipeline), (depth, depth_pipeline)],
         })
     }
 
@@ -279,9 +286,11 @@ impl SampleCopier {
         texture: &wgpu::Texture,
         shape: TextureShape,
     ) -> Result<wgpu::Buffer, String> {
-        if shape.format != wgpu::TextureFormat::R32Uint {
-            return Err(format!("`{name}`: multisampled {:?}", shape.format));
-        }
+        let (program, pipeline) = match shape.format {
+            wgpu::TextureFormat::R32Uint => &self.kernels[0],
+            wgpu::TextureFormat::Depth32Float => &self.kernels[1],
+            other => return Err(format!("`{name}`: multisampled {other:?}")),
+        };
         let size = 4 * u64::from(shape.width * shape.height * shape.samples);
         let copy = ctx.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some(name),
@@ -290,21 +299,23 @@ impl SampleCopier {
             mapped_at_creation: false,
         });
         let view = texture.create_view(&Default::default());
+        let is_depth = shape.format == wgpu::TextureFormat::Depth32Float;
         let group = sample_copy::Group0 {
             samples: copy.as_entire_buffer_binding(),
-            source: &view,
+            source: (!is_depth).then_some(&view),
+            source_depth: is_depth.then_some(&view),
         }
         .bind_group(
             ctx.device,
-            self.program.layout(sample_copy::Group0::GROUP),
-            self.program.variant,
+            program.layout(sample_copy::Group0::GROUP),
+            program.variant,
             "sample copy",
         )
         .map_err(|e| e.to_string())?;
         let mut pass = ctx
             .encoder
             .begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-        pass.set_pipeline(&self.pipeline);
+        pass.set_pipeline(pipeline);
         pass.set_bind_group(0, &group, &[]);
         pass.dispatch_workgroups(shape.width.div_ceil(8), shape.height.div_ceil(8), 1);
         Ok(copy)

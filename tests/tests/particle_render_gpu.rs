@@ -8,7 +8,7 @@
 
 use renderer::frame::create_target;
 use renderer::frame::{
-    FrameReport, ParticleLighting, RenderError, RenderPath, Renderer, RendererConfig,
+    FrameCamera, FrameReport, ParticleLighting, RenderError, RenderPath, Renderer, RendererConfig,
 };
 use renderer::frame_data::{FrameInputs, FrameResources};
 use renderer::graph::{BufferAccess, RenderGraph};
@@ -245,6 +245,61 @@ impl Pass for ShiftRegions {
             });
         Ok(())
     }
+}
+
+/// On the deferred paths with MSAA the overlay the smoke is drawn into is kept between frames
+/// and erased, not cleared (`passes::overlay_erase`): the particles' eraser must cover every
+/// sample they drew. A renderer's frame after one seen from elsewhere equals a frame after one
+/// seen from the same camera (the particles stepped alike in both), where smoke left in the
+/// overlay would show where the first camera saw it.
+#[test]
+fn smoke_of_an_earlier_frame_leaves_nothing_in_the_overlay() {
+    gpu_test(|gpu| {
+        let scene = stage();
+        // From the right and lower: the plume crosses other pixels.
+        let aside = FrameCamera::look_at(
+            glam::Vec3::new(3.0, 0.8, 2.5),
+            glam::Vec3::new(-0.5, 1.6, 0.0),
+            glam::Vec3::Y,
+            50f32.to_radians(),
+            WIDTH as f32 / HEIGHT as f32,
+            (0.1, 30.0),
+        );
+        for path in [RenderPath::TbdrPerSample, RenderPath::Visibility] {
+            let config = config(path, 4, ParticleLighting::Atlas);
+            let frames_after = |first: &FrameCamera| {
+                let mut r = renderer(gpu, &scene, config);
+                let target = create_target(gpu.device(), &config);
+                r.render(first, &target).expect("frame");
+                r.finish();
+                let earlier = readback::read_texture_rgba8(gpu.device(), gpu.queue(), &target)
+                    .expect("readback");
+                (earlier, render(&mut r, &config, gpu).0)
+            };
+            let (here, after_here) = frames_after(&camera());
+            let (elsewhere, after_elsewhere) = frames_after(&aside);
+            let moved = here
+                .chunks(4)
+                .zip(elsewhere.chunks(4))
+                .filter(|(a, b)| a != b)
+                .count();
+            assert!(
+                moved > here.len() / 4 / 2,
+                "{path:?}: the first cameras see other pixels"
+            );
+            let differing = after_here
+                .chunks(4)
+                .zip(after_elsewhere.chunks(4))
+                .filter(|(a, b)| a != b)
+                .count();
+            let worst = tests::frames::largest_difference(&after_here, &after_elsewhere);
+            eprintln!("{path:?}: {differing} pixels differ, by at most {worst}");
+            assert!(
+                worst <= 1,
+                "{path:?}: the frame after another camera's differs by {worst} ({differing} pixels)"
+            );
+        }
+    });
 }
 
 #[test]

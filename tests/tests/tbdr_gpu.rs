@@ -476,7 +476,7 @@ fn light_volumes_cover_pixels_from_inside_a_volume_and_past_the_far_plane() {
     });
 }
 
-#[path = "tbdr_gpu/stale_gbuffer.rs"]
-mod stale_gbuffer;
+#[path = "tbdr_gpu/stale_targets.rs"]
+mod stale_targets;
 #[path = "tbdr_gpu/visibility.rs"]
 mod visibility;

@@ -52,7 +52,8 @@ pub use material_inputs::{sampler_descriptor, uv_map};
 pub use report::{FrameReport, ParticleReport, SceneDrawReport};
 pub use resources::{
     BlendedDraws, FrameResources, GBufferHandles, LightListHandles, ListGeometry, OcclusionDraws,
-    OcclusionPacked, ParticleResources, SceneDrawList, ShadowResources, VisibilityHandles,
+    OcclusionPacked, OverlayEraser, ParticleResources, SceneDrawList, ShadowResources,
+    VisibilityHandles,
 };
 pub use scene::PreparedScene;
 #[cfg(any(test, feature = "internals"))]

@@ -310,7 +310,9 @@ pub struct GBufferHandles {
 #[derive(Debug, Clone)]
 pub struct VisibilityHandles {
     /// `R32Uint`, multisampled with the frame: per sample the ID of the scene triangle it
-    /// sees (the `vis_geometry` library's numbering), 0 where it sees none.
+    /// sees (the `vis_geometry` library's numbering). The target is loaded, not cleared: where
+    /// [`FrameResources::depth`] is 1.0 a sample sees no triangle and its ID is meaningless
+    /// (0, or what an earlier frame left). Read it only where the depth is below 1.0.
     pub ids: Handle<Texture>,
     /// Where each draw's triangles are (`vis_geometry`'s `DRAW_GEOMETRY`), in draw order.
     pub draw_geometry: wgpu::Buffer,
@@ -340,6 +342,10 @@ pub struct FrameResources {
     /// alpha (as [`wgpu::BlendState::ALPHA_BLENDING`] and `PREMULTIPLIED_ALPHA_BLENDING` do);
     /// the `overlay` pass resolves it and lays it over `hdr` (into a new texture) after the
     /// particles, and clears this field.
+    ///
+    /// The overlay is kept between frames and loaded, not cleared: a pass that draws into it
+    /// must add an eraser ([`FrameResources::add_overlay_eraser`]) that draws the same geometry
+    /// again in transparent black once the overlay has been laid over the image.
     pub hdr_overlay: Option<Handle<Texture>>,
     /// Light lists covering every depth slice, for particles: the frame's clustered lists, or
     /// on the tiled paths lists of their own (absent on the naive paths and without particles).
@@ -360,8 +366,25 @@ pub struct FrameResources {
     pub scene_draws: Option<SceneDrawList>,
     /// The visibility buffer (the visibility path): the triangle each sample sees.
     pub visibility: Option<VisibilityHandles>,
+    overlay_erasers: OverlayErasers,
     imports: Vec<(Handle<Buffer>, wgpu::Buffer)>,
     texture_imports: Vec<(Handle<Texture>, wgpu::Texture)>,
+}
+
+/// Erases what one pass drew into [`FrameResources::hdr_overlay`]: called by the overlay pass
+/// after it read the overlay, it adds a graph pass that writes the given overlay handle,
+/// drawing the pass's geometry again in transparent black over every sample it may have
+/// touched (more is harmless), without blending or a depth test.
+pub type OverlayEraser = Box<dyn FnOnce(&mut RenderGraph, &mut Handle<Texture>)>;
+
+/// The erasers of a frame, in the order their passes drew.
+#[derive(Default)]
+struct OverlayErasers(Vec<OverlayEraser>);
+
+impl std::fmt::Debug for OverlayErasers {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{} overlay erasers", self.0.len())
+    }
 }
 
 impl FrameResources {
@@ -382,9 +405,21 @@ impl FrameResources {
             scene_draws: None,
             deferred_edges: None,
             visibility: None,
+            overlay_erasers: OverlayErasers::default(),
             imports: Vec::new(),
             texture_imports: Vec::new(),
         }
+    }
+
+    /// Registers the eraser of what a pass drew into [`FrameResources::hdr_overlay`] this
+    /// frame; the overlay pass runs it after reading the overlay.
+    pub fn add_overlay_eraser(&mut self, eraser: OverlayEraser) {
+        self.overlay_erasers.0.push(eraser);
+    }
+
+    /// The erasers registered this frame, taken (the overlay pass runs them).
+    pub(crate) fn take_overlay_erasers(&mut self) -> Vec<OverlayEraser> {
+        std::mem::take(&mut self.overlay_erasers.0)
     }
 
     /// Imports a buffer a pass owns across frames; it is bound when the graph is compiled.

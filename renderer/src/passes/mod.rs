@@ -16,6 +16,7 @@ pub mod forward;
 pub mod gpu_sort;
 pub mod heatmap;
 pub mod light_cull;
+pub(crate) mod overlay_erase;
 pub mod particles;
 pub mod prez;
 pub mod scene_cull;

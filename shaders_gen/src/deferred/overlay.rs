@@ -35,3 +35,18 @@ pub mod hdr_overlay {
         }
     }
 }
+
+/// The overlay is kept between frames and never cleared (a multisampled clear ran at a fiftieth
+/// of the memory's speed on the H200). Instead, once `hdr_overlay` has laid it over the image,
+/// every pass that drew into it draws the same geometry again with its own vertex stage and this
+/// fragment stage, without blending or a depth test: the samples it covered (and perhaps more)
+/// go back to transparent, so the next frame's first layer blends over transparent samples, as
+/// over a cleared target.
+#[shader_dsl::shader]
+pub mod overlay_erase {
+    /// Transparent black, written over whatever the sample held.
+    #[fragment]
+    pub fn fs_erase() -> Vec4 {
+        Vec4::ZERO
+    }
+}

@@ -104,6 +104,15 @@ pub mod vis_frame {
     #[storage(group = 0, binding = 18, read_write)]
     #[when(msaa > 0)]
     static ACCUM: [Vec4];
+    /// The raster pass's depth. The ID target is loaded, not cleared (a multisampled clear is
+    /// slow on some chips), so a sample no triangle covered holds an old ID: its depth, 1.0,
+    /// tells it is sky.
+    #[texture(group = 0, binding = 20)]
+    #[when(msaa == 1)]
+    static VIS_DEPTH: TextureDepth2d;
+    #[texture(group = 0, binding = 20)]
+    #[when(msaa > 1)]
+    static VIS_DEPTH_MS: TextureDepthMultisampled2d;
 
     // `VIS`, `HDR_OUT` and `ACCUM` exist where `msaa > 0` (the kernels' variants); the
     // library is also checked at `msaa` 0 (a material's forward variants), so what reads them
@@ -142,13 +151,20 @@ pub mod vis_frame {
         p.x < size.x && p.y < size.y
     }
 
-    /// The triangle ID of sample `s` of pixel `p` (0: sky).
+    /// The triangle ID of sample `s` of pixel `p` (0: sky, where the depth is 1.0 whatever
+    /// the ID target holds).
     pub fn vis_id_at(p: UVec2, s: u32) -> u32 {
         let mut id = 0u32;
+        let mut depth = 1.0f32;
         if msaa == 1 {
             id = IDS.load(p, 0u32).x;
+            depth = VIS_DEPTH.load(p, 0u32);
         } else if msaa > 1 {
             id = IDS_MS.load(p, s).x;
+            depth = VIS_DEPTH_MS.load(p, s);
+        }
+        if depth >= 1.0 {
+            id = 0u32;
         }
         id
     }

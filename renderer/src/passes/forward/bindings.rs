@@ -38,6 +38,7 @@ pub(crate) fn lighting_uniform(
 }
 
 /// What group 0 binds, captured for a pass's recording.
+#[derive(Clone)]
 pub(crate) struct FrameGroup {
     camera: wgpu::Buffer,
     lighting: wgpu::Buffer,
@@ -86,6 +87,8 @@ impl FrameGroup {
             ids_ms: None,
             hdr_out: None,
             accum: None,
+            vis_depth: None,
+            vis_depth_ms: None,
         };
         self.build(ctx, (program, params), vis, label)
     }
@@ -105,6 +108,8 @@ impl FrameGroup {
             ids_ms: Some(vis.ids),
             hdr_out: Some(vis.out),
             accum: Some(vis.sums.as_entire_buffer_binding()),
+            vis_depth: Some(vis.depth),
+            vis_depth_ms: Some(vis.depth),
         };
         self.build(ctx, (program, params), inputs, "visibility shading")
     }
@@ -147,6 +152,8 @@ pub(crate) struct VisInputs<'a> {
     pub params: &'a wgpu::Buffer,
     /// The visibility buffer's IDs.
     pub ids: &'a wgpu::TextureView,
+    /// The raster pass's depth (1.0: sky, whatever the ID).
+    pub depth: &'a wgpu::TextureView,
     /// The HDR output.
     pub out: &'a wgpu::TextureView,
     /// The per-pixel sums the kernels pass on.

@@ -23,11 +23,13 @@ use std::sync::Arc;
 
 use shaders_gen::forward::forward;
 
+use super::overlay_erase::{EraseStage, KeptOverlay, begin_erase};
 use super::{MeshPipeline, Pass, SceneDraws, depth_state, mesh_pipeline};
 use crate::GpuContext;
 use crate::frame_data::{
     BlendedDraws, DEPTH_FORMAT, FrameInputs, FrameResources, HDR_FORMAT, InstanceTable,
-    LightListHandles, PreparedScene, RenderError, RenderPath, RendererConfig, SceneDrawList,
+    LightListHandles, OverlayEraser, PreparedScene, RenderError, RenderPath, RendererConfig,
+    SceneDrawList,
 };
 use crate::graph::{BufferAccess, Handle, RenderGraph, Texture, TextureAccess, TextureDesc};
 use crate::materials::MaterialProgram;
@@ -41,6 +43,8 @@ use programs::BoundPrograms;
 pub struct ForwardPass {
     pipelines: Arc<ForwardPipelines>,
     lighting: wgpu::Buffer,
+    /// The overlay the blended surfaces are drawn into on the deferred paths with MSAA.
+    overlay: KeptOverlay,
 }
 
 /// The opaque and masked draws' programs and pipelines (`[double_sided][mirrored]` per
@@ -51,6 +55,9 @@ pub struct ForwardPass {
 struct ForwardPipelines {
     opaque: MaterialPipelines,
     blended: wgpu::RenderPipeline,
+    /// Where the pass draws into an overlay: glTF PBR's blended program and the pipeline that
+    /// erases what its draws covered (`passes::overlay_erase`).
+    erase: Option<(ShaderProgram, wgpu::RenderPipeline)>,
 }
 
 impl ForwardPass {
@@ -85,12 +92,26 @@ impl ForwardPass {
             // The forward programs (the visibility kernels are `msaa` above 0).
             msaa: forward::Msaa::Msaa0,
         })?)?;
+        let erase = if config.path.is_deferred() && config.msaa > 1 {
+            let streams = super::vertex_streams(&super::FORWARD_STREAMS);
+            let pipeline = EraseStage::new(gpu)?.pipeline(
+                gpu.device(),
+                (&blended, "vs_forward"),
+                &super::stream_layouts(&streams),
+                config.msaa,
+            );
+            Some((blended.clone(), pipeline))
+        } else {
+            None
+        };
         Ok(Self {
             pipelines: Arc::new(ForwardPipelines {
                 blended: make(&blended, (true, true, false)),
                 opaque,
+                erase,
             }),
             lighting: lighting_buffer(gpu.device()),
+            overlay: KeptOverlay::default(),
         })
     }
 }
@@ -191,7 +212,10 @@ impl Pass for ForwardPass {
         } else {
             None
         };
-        let (layer, mut color, mut resolve) = color_targets(graph, c, shaded);
+        let kept = |graph: &mut RenderGraph| {
+            (self.overlay).import(frame.gpu.device(), graph, resources, c)
+        };
+        let (layer, mut color, mut resolve) = color_targets(graph, c, shaded, kept);
         let mut own_depth = resources.depth.is_none().then(|| {
             let desc = TextureDesc::new_2d(c.width, c.height, DEPTH_FORMAT).with_samples(c.msaa);
             graph.create_texture("depth", desc)
@@ -228,8 +252,14 @@ impl Pass for ForwardPass {
             pass.read_buffer(*args, BufferAccess::Indirect);
         }
         let group = FrameGroup::new(frame, &self.lighting, lists, shadows);
+        let eraser = (layer == Layer::Overlay && has_blend)
+            .then(|| self.blended_eraser(frame, group.clone(), list.clone()))
+            .flatten();
         let record = self.recorder(frame, targets, group, list);
         pass.execute(record);
+        if let Some(eraser) = eraser {
+            resources.add_overlay_eraser(eraser);
+        }
         if layer == Layer::Overlay {
             resources.hdr_overlay = Some(color);
             resources.hdr_multisampled = None;
@@ -245,21 +275,19 @@ impl Pass for ForwardPass {
 }
 
 /// What the pass draws (`Layer`), its colour attachment and where that resolves to: without
-/// MSAA the deferred image `shaded` is drawn over in place; with MSAA, a new overlay.
+/// MSAA the deferred image `shaded` is drawn over in place; with MSAA, the kept overlay
+/// `overlay` imports.
 fn color_targets(
     graph: &mut RenderGraph,
     c: &RendererConfig,
     shaded: Option<Handle<Texture>>,
+    overlay: impl FnOnce(&mut RenderGraph) -> Handle<Texture>,
 ) -> (Layer, Handle<Texture>, Option<Handle<Texture>>) {
     let desc = TextureDesc::new_2d(c.width, c.height, HDR_FORMAT);
     let multisampled = desc.with_samples(c.msaa);
     match shaded {
         Some(h) if c.msaa == 1 => (Layer::OverInPlace, h, None),
-        Some(_) => (
-            Layer::Overlay,
-            graph.create_texture("hdr overlay", multisampled),
-            None,
-        ),
+        Some(_) => (Layer::Overlay, overlay(graph), None),
         None if c.msaa > 1 => (
             Layer::Scene,
             graph.create_texture("hdr msaa", multisampled),
@@ -270,6 +298,39 @@ fn color_targets(
 }
 
 impl ForwardPass {
+    /// The eraser of the blended draws this frame draws into the overlay: the same draws with
+    /// the erase pipeline, in a pass of their own after the overlay pass read the overlay
+    /// (`passes::overlay_erase`). `None` where the pass draws into no overlay.
+    fn blended_eraser(
+        &self,
+        frame: &FrameInputs,
+        group: FrameGroup,
+        list: SceneDrawList,
+    ) -> Option<OverlayEraser> {
+        let (program, pipeline) = self.pipelines.erase.clone()?;
+        let (scene, instances) = (Arc::clone(&frame.scene), Arc::clone(&frame.instances));
+        Some(Box::new(move |graph, overlay| {
+            let mut pass = graph.add_pass("erase blended");
+            if let BlendedDraws::Sorted { args, .. } = &list.blended {
+                pass.read_buffer(*args, BufferAccess::Indirect);
+            }
+            pass.write_texture(overlay, TextureAccess::ColorAttachment);
+            let overlay = *overlay;
+            pass.execute(move |ctx| {
+                let Some(group0) = group.bind_group(ctx, (&program, None), "overlay erase") else {
+                    return;
+                };
+                let view = ctx.texture(overlay).create_view(&Default::default());
+                let mut pass = begin_erase(&mut ctx.encoder, &view, "erase blended");
+                pass.set_bind_group(0, &group0, &[]);
+                let mut draws =
+                    SceneDraws::new(&mut pass, &scene, &instances, VertexStreams::Forward);
+                let materials = Some(scene.material_group());
+                draw_blended(&mut draws, (&list, &instances), &pipeline, materials);
+            });
+        }))
+    }
+
     /// The recording function of one frame.
     fn recorder(
         &self,
@@ -296,7 +357,8 @@ impl ForwardPass {
             let load = match targets.layer {
                 Layer::Scene => wgpu::LoadOp::Clear(sky),
                 Layer::OverInPlace => wgpu::LoadOp::Load,
-                Layer::Overlay => wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                // Transparent where the last frame's erasers drew (`passes::overlay_erase`).
+                Layer::Overlay => wgpu::LoadOp::Load,
             };
             let mut pass = ctx.encoder.begin_render(&wgpu::RenderPassDescriptor {
                 label: Some("forward"),
@@ -359,6 +421,17 @@ fn draw_scene<'a>(
             draws.set_program_groups(group0, None);
         }
     }
+    draw_blended(&mut draws, (list, instances), &pipelines.blended, materials);
+}
+
+/// Records `list`'s blended draws with `pipeline` (the blended one, or the overlay's erase),
+/// back to front (one multi-draw where they were ordered on the GPU).
+fn draw_blended<'a>(
+    draws: &mut SceneDraws<'_, 'a>,
+    (list, instances): (&'a SceneDrawList, &InstanceTable),
+    pipeline: &'a wgpu::RenderPipeline,
+    materials: Option<&'a wgpu::BindGroup>,
+) {
     match &list.blended {
         BlendedDraws::Sorted {
             args_buffer,
@@ -371,20 +444,20 @@ fn draw_scene<'a>(
             // draw of the pass, which then draws only as many as that count says.
             if list.counts.is_some() {
                 draws.multi_draw_count(
-                    (&pipelines.blended, materials),
+                    (pipeline, materials),
                     args_buffer,
                     0,
                     (count_buffer, 0),
                     *count,
                 )
             } else {
-                draws.multi_draw(&pipelines.blended, materials, args_buffer, 0, *count)
+                draws.multi_draw(pipeline, materials, args_buffer, 0, *count)
             }
         }
         BlendedDraws::Listed(blended) => {
             for &d in blended.iter() {
                 let geometry = instances.draws[d as usize].geometry;
-                draws.draw(&pipelines.blended, materials, geometry, d);
+                draws.draw(pipeline, materials, geometry, d);
             }
         }
     }

@@ -5,9 +5,11 @@
 //!
 //! This replaces expanding the deferred image into every sample of a multisampled target and
 //! resolving it again, which wrote every sample of the screen to draw a few blended surfaces.
-//! The overlay is cleared and drawn into, never resolved by a render pass; this pass reads its
-//! samples and the image and writes one single-sample image. The result is the same up to
-//! half-float rounding: see `shaders_gen::deferred::hdr_overlay`.
+//! The overlay is drawn into, never resolved by a render pass; this pass reads its samples and
+//! the image and writes one single-sample image. The result is the same up to half-float
+//! rounding: see `shaders_gen::deferred::hdr_overlay`. The overlay is kept between frames and
+//! never cleared: after reading it, this pass runs the erasers of the passes that drew into it
+//! (`crate::passes::overlay_erase`).
 
 use shaders_gen::deferred::hdr_overlay;
 
@@ -51,7 +53,7 @@ impl Pass for OverlayPass {
         resources: &mut FrameResources,
     ) -> Result<(), RenderError> {
         // Nothing was drawn over the deferred image (no blended surfaces, no particles).
-        let Some(overlay) = resources.hdr_overlay.take() else {
+        let Some(mut overlay) = resources.hdr_overlay.take() else {
             return Ok(());
         };
         let shaded = resources
@@ -94,6 +96,11 @@ impl Pass for OverlayPass {
                 pass.dispatch_workgroups(groups.0, groups.1, 1);
             });
         resources.hdr = Some(hdr);
+        // The overlay is kept, not cleared: what was drawn into it is erased now that it is
+        // read (`passes::overlay_erase`).
+        for erase in resources.take_overlay_erasers() {
+            erase(graph, &mut overlay);
+        }
         Ok(())
     }
 }

@@ -12,13 +12,19 @@ use crate::frame_data::ConfigError;
 use shaders_gen::particles::particle_draw::{self, List, VariantKey};
 use shaders_gen::particles::particle_lighting;
 
+use std::sync::Arc;
+
 use crate::GpuContext;
 use crate::frame_data::{
-    FrameInputs, FrameResources, HDR_FORMAT, LightListHandles, ParticleLighting, RenderError,
-    RendererConfig,
+    FrameInputs, FrameResources, HDR_FORMAT, LightListHandles, LightSet, OverlayEraser,
+    ParticleLighting, ParticleResources, RenderError, RendererConfig, ShadowResources,
 };
-use crate::graph::{BufferAccess, RenderGraph, TextureAccess, TextureDesc};
+use crate::graph::{
+    BufferAccess, Handle, PassBuilder, PassContext, RenderGraph, Texture, TextureAccess,
+    TextureDesc, TimedPass,
+};
 use crate::passes::Pass;
+use crate::passes::overlay_erase::{EraseStage, begin_erase};
 use crate::shader::ShaderProgram;
 
 /// The particle draw pass.
@@ -28,6 +34,9 @@ pub struct ParticleDrawPass {
     pipeline: wgpu::RenderPipeline,
     /// The variant's key: lit from the atlas, or per pixel over every light or the lists.
     key: VariantKey,
+    /// On the deferred paths with MSAA, where the billboards go into the overlay: the
+    /// pipeline that erases them (`passes::overlay_erase`).
+    erase: Option<wgpu::RenderPipeline>,
 }
 
 impl ParticleDrawPass {
@@ -44,10 +53,17 @@ impl ParticleDrawPass {
         };
         let program = gpu.program(particle_draw::variant(key)?)?;
         let pipeline = pipeline(gpu.device(), &program, config.msaa);
+        let erase = if config.path.is_deferred() && config.msaa > 1 {
+            let stage = EraseStage::new(gpu)?;
+            Some(stage.pipeline(gpu.device(), (&program, "vs_particle"), &[], config.msaa))
+        } else {
+            None
+        };
         Ok(Self {
             program,
             pipeline,
             key,
+            erase,
         })
     }
 }
@@ -95,10 +111,6 @@ impl Pass for ParticleDrawPass {
         "particles"
     }
 
-    #[allow(
-        clippy::too_many_lines,
-        reason = "declares its reads, then builds two bind groups and one render pass"
-    )]
     fn add_to_graph(
         &self,
         graph: &mut RenderGraph,
@@ -135,118 +147,40 @@ impl Pass for ParticleDrawPass {
         } else {
             None
         };
-        let c = &frame.config;
-        let mut fade_depth = graph.create_texture(
-            "particle fade depth",
-            TextureDesc::new_2d(c.width, c.height, crate::frame_data::DEPTH_FORMAT)
-                .with_samples(c.msaa),
-        );
-        graph
-            .add_pass("particle fade depth")
-            .read_texture(depth, TextureAccess::CopySrc)
-            .write_texture(&mut fade_depth, TextureAccess::CopyDst)
-            .execute(move |ctx| {
-                let from = ctx.texture(depth).clone();
-                let to = ctx.texture(fade_depth).clone();
-                ctx.encoder.copy_texture_to_texture(
-                    from.as_image_copy(),
-                    to.as_image_copy(),
-                    from.size(),
-                );
-            });
+        let fade_depth = fade_depth_copy(graph, depth, &frame.config);
+        let inputs = DrawInputs {
+            particles,
+            lights: Arc::clone(&frame.lights),
+            lists,
+            fade_depth,
+            shadows,
+            atlas,
+        };
         let mut pass = graph.add_pass(self.name());
-        pass.read_buffer(particles.simulated, BufferAccess::StorageRead)
-            .read_buffer(particles.laid_out, BufferAccess::StorageRead)
-            .read_texture(fade_depth, TextureAccess::Sampled)
-            .read_texture(depth, TextureAccess::DepthRead)
-            .read_texture(shadows.atlas, TextureAccess::Sampled)
+        inputs.read_by(&mut pass);
+        pass.read_texture(depth, TextureAccess::DepthRead)
             .write_texture(&mut hdr, TextureAccess::ColorAttachment);
         if let Some(m) = multisampled.as_mut() {
             pass.write_texture(m, TextureAccess::ColorAttachment);
         }
-        if let Some(a) = atlas {
-            pass.read_texture(a, TextureAccess::Sampled);
-        }
-        LightListHandles::read_by(lists.as_ref(), &mut pass);
         let program = self.program.clone();
         let pipeline = self.pipeline.clone();
-        let lights = std::sync::Arc::clone(&frame.lights);
-        let p = particles;
+        let eraser = overlay
+            .and(self.erase.clone())
+            .map(|erase| inputs.clone().eraser(program.clone(), erase));
         pass.execute(move |ctx| {
-            let depth_view = ctx.texture(depth).create_view(&Default::default());
-            let fade_view = ctx
-                .texture(fade_depth)
-                .create_view(&wgpu::TextureViewDescriptor {
-                    aspect: wgpu::TextureAspect::DepthOnly,
-                    ..Default::default()
-                });
-            // The fade depth is given for both spellings; the variant binds the one its MSAA
-            // axis declares.
-            let frame_group = particle_draw::Group0 {
-                particle_lighting: particle_lighting::Group0 {
-                    view: p.view.as_entire_buffer_binding(),
-                },
-                light_set: lights.bindings(),
-                light_lists: LightListHandles::bindings(lists.as_ref(), ctx),
-                depth: Some(&fade_view),
-                depth_ms: Some(&fade_view),
-                shadow_atlas: shadows.bindings(),
-            }
-            .bind_group(
-                ctx.device,
-                program.layout(particle_draw::Group0::GROUP),
-                program.variant,
-                "particles frame",
-            );
-            let atlas_view = atlas.map(|a| ctx.texture(a).create_view(&Default::default()));
-            let particle_group = particle_draw::Group1 {
-                emitters: p.emitters.as_entire_buffer_binding(),
-                particles: p.particles.as_entire_buffer_binding(),
-                regions: p.regions.as_entire_buffer_binding(),
-                keys: p.keys.as_entire_buffer_binding(),
-                light_atlas: atlas_view.as_ref(),
-                atlas_sampler: atlas_view.as_ref().map(|_| &p.sampler),
-                sprites: &p.sprites,
-                sprite_sampler: &p.sampler,
-            }
-            .bind_group(
-                ctx.device,
-                program.layout(particle_draw::Group1::GROUP),
-                program.variant,
-                "particles",
-            );
-            let (Some(frame_group), Some(particle_group)) =
-                (ctx.bind(frame_group), ctx.bind(particle_group))
-            else {
+            let Some(groups) = inputs.bind(ctx, &program) else {
                 return;
             };
+            let depth_view = ctx.texture(depth).create_view(&Default::default());
             let resolved = ctx.texture(hdr).create_view(&Default::default());
             let msaa_view = multisampled.map(|m| ctx.texture(m).create_view(&Default::default()));
-            let mut render = ctx.encoder.begin_render(&wgpu::RenderPassDescriptor {
-                label: Some("particles"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: msaa_view.as_ref().unwrap_or(&resolved),
-                    depth_slice: None,
-                    resolve_target: msaa_view.as_ref().map(|_| &resolved),
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &depth_view,
-                    depth_ops: None,
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            render.set_pipeline(&pipeline);
-            render.set_bind_group(0, &frame_group, &[]);
-            render.set_bind_group(1, &particle_group, &[]);
-            render.draw_indirect(&p.state, super::atlas::DRAW_ARGS_OFFSET);
+            let mut render = begin_particles(ctx, (&resolved, msaa_view.as_ref()), &depth_view);
+            inputs.draw(&mut render, &pipeline, (&groups.0, &groups.1));
         });
+        if let Some(eraser) = eraser {
+            resources.add_overlay_eraser(eraser);
+        }
         if overlay.is_some() {
             resources.hdr_overlay = Some(hdr);
         } else {
@@ -254,5 +188,174 @@ impl Pass for ParticleDrawPass {
         }
         resources.hdr_multisampled = multisampled;
         Ok(())
+    }
+}
+
+/// A copy of the pre-Z `depth` for the shader's fade (sampling the attached depth itself would
+/// be a hazard; see the module's doc).
+fn fade_depth_copy(
+    graph: &mut RenderGraph,
+    depth: Handle<Texture>,
+    c: &RendererConfig,
+) -> Handle<Texture> {
+    let mut fade_depth = graph.create_texture(
+        "particle fade depth",
+        TextureDesc::new_2d(c.width, c.height, crate::frame_data::DEPTH_FORMAT)
+            .with_samples(c.msaa),
+    );
+    graph
+        .add_pass("particle fade depth")
+        .read_texture(depth, TextureAccess::CopySrc)
+        .write_texture(&mut fade_depth, TextureAccess::CopyDst)
+        .execute(move |ctx| {
+            let from = ctx.texture(depth).clone();
+            let to = ctx.texture(fade_depth).clone();
+            ctx.encoder.copy_texture_to_texture(
+                from.as_image_copy(),
+                to.as_image_copy(),
+                from.size(),
+            );
+        });
+    fade_depth
+}
+
+/// The particles' render pass: over `resolved`, or over `multisampled` resolving into it, the
+/// depth attached read-only.
+fn begin_particles<'e>(
+    ctx: &'e mut PassContext<'_>,
+    (resolved, multisampled): (&wgpu::TextureView, Option<&wgpu::TextureView>),
+    depth: &wgpu::TextureView,
+) -> TimedPass<'e, wgpu::RenderPass<'e>> {
+    ctx.encoder.begin_render(&wgpu::RenderPassDescriptor {
+        label: Some("particles"),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view: multisampled.unwrap_or(resolved),
+            depth_slice: None,
+            resolve_target: multisampled.map(|_| resolved),
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Load,
+                store: wgpu::StoreOp::Store,
+            },
+        })],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: depth,
+            depth_ops: None,
+            stencil_ops: None,
+        }),
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
+}
+
+/// What one frame's particle draw binds, shared by the draw and its overlay eraser.
+#[derive(Clone)]
+struct DrawInputs {
+    particles: ParticleResources,
+    lights: Arc<LightSet>,
+    lists: Option<LightListHandles>,
+    /// The copy of the depth the shader samples for the fade.
+    fade_depth: Handle<Texture>,
+    shadows: ShadowResources,
+    atlas: Option<Handle<Texture>>,
+}
+
+impl DrawInputs {
+    /// Declares what the bind groups read.
+    fn read_by(&self, pass: &mut PassBuilder<'_>) {
+        let p = &self.particles;
+        pass.read_buffer(p.simulated, BufferAccess::StorageRead)
+            .read_buffer(p.laid_out, BufferAccess::StorageRead)
+            .read_texture(self.fade_depth, TextureAccess::Sampled)
+            .read_texture(self.shadows.atlas, TextureAccess::Sampled);
+        if let Some(a) = self.atlas {
+            pass.read_texture(a, TextureAccess::Sampled);
+        }
+        LightListHandles::read_by(self.lists.as_ref(), pass);
+    }
+
+    /// Groups 0 and 1 of `program`; `None` after recording the error in `ctx`.
+    fn bind(
+        &self,
+        ctx: &mut PassContext<'_>,
+        program: &ShaderProgram,
+    ) -> Option<(wgpu::BindGroup, wgpu::BindGroup)> {
+        let p = &self.particles;
+        let fade_view = ctx
+            .texture(self.fade_depth)
+            .create_view(&wgpu::TextureViewDescriptor {
+                aspect: wgpu::TextureAspect::DepthOnly,
+                ..Default::default()
+            });
+        // The fade depth is given for both spellings; the variant binds the one its MSAA axis
+        // declares.
+        let frame_group = particle_draw::Group0 {
+            particle_lighting: particle_lighting::Group0 {
+                view: p.view.as_entire_buffer_binding(),
+            },
+            light_set: self.lights.bindings(),
+            light_lists: LightListHandles::bindings(self.lists.as_ref(), ctx),
+            depth: Some(&fade_view),
+            depth_ms: Some(&fade_view),
+            shadow_atlas: self.shadows.bindings(),
+        }
+        .bind_group(
+            ctx.device,
+            program.layout(particle_draw::Group0::GROUP),
+            program.variant,
+            "particles frame",
+        );
+        let atlas_view = self
+            .atlas
+            .map(|a| ctx.texture(a).create_view(&Default::default()));
+        let particle_group = particle_draw::Group1 {
+            emitters: p.emitters.as_entire_buffer_binding(),
+            particles: p.particles.as_entire_buffer_binding(),
+            regions: p.regions.as_entire_buffer_binding(),
+            keys: p.keys.as_entire_buffer_binding(),
+            light_atlas: atlas_view.as_ref(),
+            atlas_sampler: atlas_view.as_ref().map(|_| &p.sampler),
+            sprites: &p.sprites,
+            sprite_sampler: &p.sampler,
+        }
+        .bind_group(
+            ctx.device,
+            program.layout(particle_draw::Group1::GROUP),
+            program.variant,
+            "particles",
+        );
+        Some((ctx.bind(frame_group)?, ctx.bind(particle_group)?))
+    }
+
+    /// The billboards, with `pipeline` (the draw's or the eraser's).
+    fn draw(
+        &self,
+        render: &mut wgpu::RenderPass<'_>,
+        pipeline: &wgpu::RenderPipeline,
+        (frame_group, particle_group): (&wgpu::BindGroup, &wgpu::BindGroup),
+    ) {
+        render.set_pipeline(pipeline);
+        render.set_bind_group(0, frame_group, &[]);
+        render.set_bind_group(1, particle_group, &[]);
+        render.draw_indirect(&self.particles.state, super::atlas::DRAW_ARGS_OFFSET);
+    }
+
+    /// The eraser of the billboards this frame draws into the overlay: the same draw with the
+    /// erase pipeline `erase` of `program` (`passes::overlay_erase`).
+    fn eraser(self, program: ShaderProgram, erase: wgpu::RenderPipeline) -> OverlayEraser {
+        Box::new(move |graph, overlay| {
+            let mut pass = graph.add_pass("erase particles");
+            self.read_by(&mut pass);
+            pass.write_texture(overlay, TextureAccess::ColorAttachment);
+            let overlay = *overlay;
+            pass.execute(move |ctx| {
+                let Some(groups) = self.bind(ctx, &program) else {
+                    return;
+                };
+                let view = ctx.texture(overlay).create_view(&Default::default());
+                let mut render = begin_erase(&mut ctx.encoder, &view, "erase particles");
+                self.draw(&mut render, &erase, (&groups.0, &groups.1));
+            });
+        })
     }
 }

@@ -225,6 +225,7 @@ impl Pass for VisShadePass {
             .visibility
             .clone()
             .ok_or(missing("visibility buffer"))?;
+        let depth = resources.depth.ok_or(missing("depth"))?;
         let lists = resources
             .light_lists
             .clone()
@@ -242,6 +243,7 @@ impl Pass for VisShadePass {
             graph.create_texture("hdr", TextureDesc::new_2d(c.width, c.height, HDR_FORMAT));
         let mut pass = graph.add_pass(self.name());
         pass.read_texture(vis.ids, TextureAccess::Sampled)
+            .read_texture(depth, TextureAccess::Sampled)
             .read_texture(shadows.atlas, TextureAccess::Sampled)
             .write_buffer(&mut sums, BufferAccess::StorageWrite)
             .write_texture(&mut hdr, TextureAccess::StorageWrite);
@@ -250,6 +252,7 @@ impl Pass for VisShadePass {
         let (ids, (width, height)) = (vis.ids, (c.width, c.height));
         pass.execute(move |ctx| {
             let ids = ctx.texture(ids).create_view(&Default::default());
+            let depth = ctx.texture(depth).create_view(&Default::default());
             let out = ctx.texture(hdr).create_view(&Default::default());
             let sums = ctx.buffer(sums).clone();
             let mut groups0 = Vec::with_capacity(dispatches.len());
@@ -257,6 +260,7 @@ impl Pass for VisShadePass {
                 let inputs = VisInputs {
                     params: &d.uniform,
                     ids: &ids,
+                    depth: &depth,
                     out: &out,
                     sums: &sums,
                 };

@@ -1,8 +1,11 @@
-//! The G-buffer is not cleared (`passes::deferred::gbuffer`): its sky samples keep what the
-//! texture held, here a surface of the frame before. Every reader must test the depth first, so
-//! a renderer's frame after one whose surfaces covered the whole screen equals a new renderer's
-//! first frame (whose targets start zeroed), on TBDR per-sample and the deferred path with its
-//! light volumes.
+//! Targets kept between frames and never cleared. The G-buffer (`passes::deferred::gbuffer`)
+//! and the visibility path's ID target (`passes::visibility::raster`): their sky samples keep
+//! what the texture held, here a surface of the frame before, so every reader must test the
+//! depth first. The overlay of blended surfaces (`passes::overlay_erase`): what the frame before
+//! drew into it must have been erased. So a renderer's frame after one whose surfaces covered
+//! the whole screen equals a new renderer's first frame (whose targets start zeroed), on TBDR
+//! per-sample, the deferred path with its light volumes, and the visibility path's shading
+//! kernel with either rasteriser. (`particle_render_gpu.rs` checks the particles' eraser.)
 
 use super::*;
 use tests::frames::largest_difference;
@@ -20,15 +23,23 @@ fn sky_over_an_earlier_frames_surfaces_equals_a_first_frame() {
             stage.size.0 as f32 / stage.size.1 as f32,
             (0.1, 100.0),
         );
-        for path in [RenderPath::TbdrPerSample, RenderPath::Deferred] {
+        let cases = [
+            (RenderPath::TbdrPerSample, VisibilityRaster::Hardware),
+            (RenderPath::Deferred, VisibilityRaster::Hardware),
+            (RenderPath::Visibility, VisibilityRaster::Hardware),
+            (RenderPath::Visibility, VisibilityRaster::Compute),
+        ];
+        for (path, visibility_raster) in cases {
             let config = (stage.look)(RendererConfig {
                 width: stage.size.0,
                 height: stage.size.1,
                 msaa: 4,
                 path,
                 tile: 16,
+                visibility_raster,
                 ..Default::default()
             });
+            let path = format!("{path:?} ({visibility_raster:?} raster)");
             let render = |renderer: &mut Renderer, camera: &FrameCamera| {
                 let target = create_target(gpu.device(), &config);
                 renderer.render(camera, &target).expect("frame");
@@ -46,10 +57,10 @@ fn sky_over_an_earlier_frames_surfaces_equals_a_first_frame() {
             let mut reused = new_renderer();
             let covered = render(&mut reused, &floor);
             let sky = |rgba: &[u8]| rgba.chunks(4).filter(|p| p == &&first[..4]).count();
-            assert_eq!(sky(&covered), 0, "{path:?}: the floor view has no sky");
+            assert_eq!(sky(&covered), 0, "{path}: the floor view has no sky");
             assert!(
                 sky(&first) > first.len() / 4 / 10,
-                "{path:?}: the stage's view shows sky"
+                "{path}: the stage's view shows sky"
             );
             let after = render(&mut reused, &stage.camera);
             let worst = largest_difference(&first, &after);
@@ -58,10 +69,10 @@ fn sky_over_an_earlier_frames_surfaces_equals_a_first_frame() {
                 .zip(after.chunks(4))
                 .filter(|(a, b)| a != b)
                 .count();
-            eprintln!("{path:?}: {differing} pixels differ, by at most {worst}");
+            eprintln!("{path}: {differing} pixels differ, by at most {worst}");
             assert!(
                 worst <= 1,
-                "{path:?}: the frame after the floor's differs from a first frame by {worst} \
+                "{path}: the frame after the floor's differs from a first frame by {worst} \
                  ({differing} pixels)"
             );
         }
