@@ -311,3 +311,58 @@ fn a_frame_that_cannot_bind_leaves_no_timings_to_the_next() {
         }
     });
 }
+
+/// An engine pass that takes the blended overlay (`FrameResources::hdr_overlay`) before the
+/// overlay pass, which then has nothing to lay over or erase.
+#[derive(Debug)]
+struct TakesOverlay;
+
+impl Pass for TakesOverlay {
+    fn name(&self) -> &'static str {
+        "takes overlay"
+    }
+
+    fn add_to_graph(
+        &self,
+        _graph: &mut RenderGraph,
+        _frame: &FrameInputs,
+        resources: &mut FrameResources,
+    ) -> Result<(), RenderError> {
+        resources.hdr_overlay = None;
+        Ok(())
+    }
+}
+
+/// The overlay is kept between frames and erased by what drew into it, not cleared
+/// (`passes::overlay_erase`). A pass that takes it before the overlay pass runs the erasers
+/// leaves what was drawn in it for every later frame: the frame is refused with an error that
+/// names the erasers, not drawn wrong.
+#[test]
+fn taking_the_overlay_before_its_erasers_run_is_an_error() {
+    let config = RendererConfig {
+        width: WIDTH,
+        height: HEIGHT,
+        msaa: 4,
+        path: RenderPath::TbdrPerSample,
+        ..Default::default()
+    };
+    gpu_test(|gpu| {
+        let scene = renderer::scene::procedural::courtyard();
+        let glass =
+            (scene.materials.iter()).any(|m| m.alpha_mode == renderer::scene::AlphaMode::Blend);
+        assert!(glass, "the courtyard has glass");
+        let mut renderer = Renderer::new(gpu, config).expect("renderer");
+        renderer
+            .insert_pass_after("forward", Box::new(TakesOverlay))
+            .expect("insert");
+        renderer.prepare_scene(&scene).expect("scene");
+        let target = create_target(gpu.device(), &config);
+        let camera = framing_camera(scene.bounds, WIDTH as f32 / HEIGHT as f32);
+        match renderer.render(&camera, &target) {
+            Err(RenderError::Config(ConfigError::MissingInput { pass, input })) => {
+                assert_eq!(pass, "overlay erase", "{input}");
+            }
+            other => panic!("the frame must be refused, got {other:?}"),
+        }
+    });
+}

@@ -377,6 +377,7 @@ impl Renderer {
         for pass in &self.passes {
             pass.add_to_graph(&mut graph, &frame, &mut resources)?;
         }
+        resources.run_left_erasers(&mut graph)?;
         self.add_views_to_graph(&mut graph, &resources, &mut view_frames)?;
         let compilations = self.graph_cache.counts().0;
         let mut compiled = graph.compile_cached(&mut self.graph_cache)?;

@@ -44,7 +44,8 @@ use crate::passes::visibility::{VisRasterPass, VisShadePass};
 /// deferred paths light culling adds work only for the passes that read lists (blended
 /// surfaces, decals, particles). ‡ Blended surfaces only, over the deferred image (with MSAA into
 /// a transparent overlay, which the particles draw into too). § With MSAA: the overlay laid over
-/// the deferred image. The tonemap is a compute kernel and a copy into the target (graph passes
+/// the deferred image, then the erasers of what was drawn into the overlay (graph passes
+/// `erase blended`, `erase particles`; `passes::overlay_erase`). The tonemap is a compute kernel and a copy into the target (graph passes
 /// `tonemap`, `tonemap copy`) where the target takes copies and `compute_tonemap` is set, else
 /// a full-screen fragment pass (`TonemapPass`).
 pub fn passes_for(

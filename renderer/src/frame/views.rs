@@ -165,6 +165,7 @@ impl Renderer {
             for pass in &self.views[frame.index].passes {
                 pass.add_to_graph(graph, &frame.inputs, &mut resources)?;
             }
+            resources.run_left_erasers(graph)?;
             frame.resources = Some(resources);
         }
         Ok(())

@@ -3,6 +3,7 @@
 //! decal list) is a new field here, not a change to the orchestrator.
 
 use crate::culling::Method;
+use crate::frame_data::{ConfigError, RenderError};
 use crate::graph::{
     Buffer, BufferAccess, CompiledGraph, Handle, ImportAccess, PassBuilder, PassContext,
     RenderGraph, Texture,
@@ -341,7 +342,7 @@ pub struct FrameResources {
     /// black, never resolved by a render pass. Draw into it with `One, OneMinusSrcAlpha` for
     /// alpha (as [`wgpu::BlendState::ALPHA_BLENDING`] and `PREMULTIPLIED_ALPHA_BLENDING` do);
     /// the `overlay` pass resolves it and lays it over `hdr` (into a new texture) after the
-    /// particles, and clears this field.
+    /// particles, and takes (empties) this field.
     ///
     /// The overlay is kept between frames and loaded, not cleared: a pass that draws into it
     /// must add an eraser ([`FrameResources::add_overlay_eraser`]) that draws the same geometry
@@ -375,7 +376,7 @@ pub struct FrameResources {
 /// after it read the overlay, it adds a graph pass that writes the given overlay handle,
 /// drawing the pass's geometry again in transparent black over every sample it may have
 /// touched (more is harmless), without blending or a depth test.
-pub type OverlayEraser = Box<dyn FnOnce(&mut RenderGraph, &mut Handle<Texture>)>;
+pub type OverlayEraser = Box<dyn FnOnce(&mut RenderGraph, &mut Handle<Texture>) + Send + Sync>;
 
 /// The erasers of a frame, in the order their passes drew.
 #[derive(Default)]
@@ -415,6 +416,29 @@ impl FrameResources {
     /// frame; the overlay pass runs it after reading the overlay.
     pub fn add_overlay_eraser(&mut self, eraser: OverlayEraser) {
         self.overlay_erasers.0.push(eraser);
+    }
+
+    /// Runs the erasers no overlay pass ran this frame (a pass list without one, or an engine
+    /// pass that took the overlay before it) over [`FrameResources::hdr_overlay`], so the kept
+    /// overlay is transparent again for the next frame. An error where erasers are left and the
+    /// overlay was taken: what they would erase can no longer be reached.
+    pub(crate) fn run_left_erasers(&mut self, graph: &mut RenderGraph) -> Result<(), RenderError> {
+        let erasers = self.take_overlay_erasers();
+        if erasers.is_empty() {
+            return Ok(());
+        }
+        let Some(mut overlay) = self.hdr_overlay else {
+            return Err(RenderError::Config(ConfigError::MissingInput {
+                pass: "overlay erase",
+                input: "the overlay its erasers draw into (a pass took hdr_overlay without \
+                        running FrameResources' erasers)",
+            }));
+        };
+        for erase in erasers {
+            erase(graph, &mut overlay);
+        }
+        self.hdr_overlay = Some(overlay);
+        Ok(())
     }
 
     /// The erasers registered this frame, taken (the overlay pass runs them).

@@ -34,7 +34,10 @@
 )]
 pub mod particle_draw {
     pub struct ParticleVarying {
+        /// Invariant: the overlay's eraser (`overlay_erase`) draws the same billboards with
+        /// another fragment stage and must cover exactly the samples this draw covered.
         #[builtin(position)]
+        #[invariant]
         pub clip: Vec4,
         #[location(0)]
         pub uv: Vec2,

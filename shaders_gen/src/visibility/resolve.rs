@@ -5,7 +5,7 @@
 /// Full-screen pass at sample rate: each invocation reads its sample of `VIS64` (the compute
 /// rasteriser's buffer, `vis_compute_raster`, two 32-bit words a sample, the low word first)
 /// and writes the depth and the triangle ID it holds; a sample no triangle covered (both words
-/// 0) is discarded, keeping the cleared depth and ID. A sample holds
+/// 0) is discarded, keeping the cleared depth (1.0: sky, whatever ID the loaded target holds). A sample holds
 /// `(!depth_bits << 32) | !id`, so the depth is `bitcast(!high)` and the ID `!low`.
 #[shader_dsl::shader]
 pub mod vis_resolve {

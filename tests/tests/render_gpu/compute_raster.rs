@@ -106,6 +106,8 @@ fn both_ids_at(
             .expect("the probe runs")
             .take(gpu)
             .expect("the kernel's bindings read back");
+        // The target is loaded, not cleared, and sky samples keep what it held: a new
+        // renderer's first frame, as here, finds it zeroed by wgpu, so they read 0.
         let name = if msaa == 1 { "IDS" } else { "IDS_MS" };
         let ids = bound.texture(name).expect("the IDs are bound");
         let hardware: Vec<u32> = ids

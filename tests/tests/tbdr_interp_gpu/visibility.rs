@@ -135,6 +135,8 @@ fn host_image(
 fn gpu_image(frame: &BoundInputs) -> (Vec<[f32; 4]>, usize, usize) {
     let hdr = frame.texture("HDR_OUT").expect("HDR_OUT was bound");
     let gpu = rgba_texels(&hdr.host(false).expect("HDR_OUT decodes"));
+    // A new renderer's first frame: the ID target (loaded, not cleared) starts zeroed, so its
+    // sky samples read 0 here.
     let ids = frame
         .texture("IDS")
         .or(frame.texture("IDS_MS"))

@@ -11,7 +11,7 @@ use shaders_gen::visibility::vis_frame;
 use crate::frame_data::{
     FrameInputs, GpuDecals, LightListHandles, LightSet, ListGeometry, ShadowResources,
 };
-use crate::graph::PassContext;
+use crate::graph::{PassBuilder, PassContext, TextureAccess};
 use crate::shader::ShaderProgram;
 
 /// The frame's lighting uniform: light counts and the geometry of `lists`.
@@ -49,6 +49,12 @@ pub(crate) struct FrameGroup {
 }
 
 impl FrameGroup {
+    /// Declares what group 0 reads from the frame graph: the light lists and the shadow atlas.
+    pub(crate) fn read_by(&self, pass: &mut PassBuilder<'_>) {
+        LightListHandles::read_by(self.lists.as_ref(), pass);
+        pass.read_texture(self.shadows.atlas, TextureAccess::Sampled);
+    }
+
     /// Writes `lighting` for this frame and captures the rest of group 0.
     pub(crate) fn new(
         frame: &FrameInputs,

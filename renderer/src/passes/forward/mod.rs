@@ -311,6 +311,7 @@ impl ForwardPass {
         let (scene, instances) = (Arc::clone(&frame.scene), Arc::clone(&frame.instances));
         Some(Box::new(move |graph, overlay| {
             let mut pass = graph.add_pass("erase blended");
+            group.read_by(&mut pass);
             if let BlendedDraws::Sorted { args, .. } = &list.blended {
                 pass.read_buffer(*args, BufferAccess::Indirect);
             }

@@ -130,6 +130,14 @@ impl Pass for ParticleDrawPass {
         // With MSAA on the deferred paths, particles join the blended surfaces' multisampled
         // overlay (the overlay pass resolves it).
         let overlay = resources.hdr_overlay;
+        let erase = match (overlay, self.erase.clone()) {
+            (Some(_), None) => {
+                return Err(missing(
+                    "an erase pipeline for the overlay (built on the deferred paths with MSAA)",
+                ));
+            }
+            (overlay, erase) => erase.filter(|_| overlay.is_some()),
+        };
         let mut hdr = overlay.or(resources.hdr).ok_or(missing("HDR colour"))?;
         let mut multisampled = resources.hdr_multisampled.filter(|_| overlay.is_none());
         let shadows = resources.shadows.clone().ok_or(missing("shadow atlas"))?;
@@ -165,9 +173,7 @@ impl Pass for ParticleDrawPass {
         }
         let program = self.program.clone();
         let pipeline = self.pipeline.clone();
-        let eraser = overlay
-            .and(self.erase.clone())
-            .map(|erase| inputs.clone().eraser(program.clone(), erase));
+        let eraser = erase.map(|erase| inputs.clone().eraser(program.clone(), erase));
         pass.execute(move |ctx| {
             let Some(groups) = inputs.bind(ctx, &program) else {
                 return;

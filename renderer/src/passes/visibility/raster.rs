@@ -75,7 +75,7 @@ impl SceneState {
 
 /// The visibility raster pass: its programs and pipelines (`[double_sided][mirrored]`, plain
 /// and alpha-masked). With occlusion culling it runs twice, as pre-Z does: first the draws
-/// visible last frame into cleared depth and IDs; then ([`VisRasterPass::late`], after
+/// visible last frame into cleared depth (the IDs are loaded); then ([`VisRasterPass::late`], after
 /// `passes::scene_cull::occlusion`) the draws the occlusion test found visible that the first
 /// half left out, over them.
 #[derive(Debug)]

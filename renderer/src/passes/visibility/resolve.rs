@@ -1,7 +1,7 @@
 //! The compute raster's samples written into the visibility raster's targets
 //! (`shaders_gen`'s `vis_resolve`): with [`crate::frame_data::VisibilityRaster::Compute`] the
-//! visibility raster pass draws this full-screen, at sample rate, into its cleared depth and
-//! visibility buffers before the alpha-masked draws, so every pass after it reads the compute
+//! visibility raster pass draws this full-screen, at sample rate, into its depth (cleared) and
+//! visibility buffer (loaded) before the alpha-masked draws, so every pass after it reads the compute
 //! rasteriser's depth and IDs as it reads the hardware's.
 
 use std::sync::Arc;
