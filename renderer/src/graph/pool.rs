@@ -160,20 +160,7 @@ fn create(device: &wgpu::Device, slot: &SlotPlan, index: usize) -> PoolObject {
     let label = format!("graph transient {index}");
     match (slot.desc, slot.usage) {
         (ResourceDesc::Texture(d), Usage::Texture(usage)) => {
-            PoolObject::Texture(device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(&label),
-                size: wgpu::Extent3d {
-                    width: d.width,
-                    height: d.height,
-                    depth_or_array_layers: d.layers,
-                },
-                mip_level_count: 1,
-                sample_count: d.sample_count,
-                dimension: wgpu::TextureDimension::D2,
-                format: d.format,
-                usage,
-                view_formats: &[],
-            }))
+            PoolObject::Texture(d.create(device, &label, usage))
         }
         (ResourceDesc::Buffer(d), Usage::Buffer(usage)) => {
             PoolObject::Buffer(device.create_buffer(&wgpu::BufferDescriptor {

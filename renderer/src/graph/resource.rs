@@ -74,6 +74,40 @@ impl TextureDesc {
         self.sample_count = sample_count;
         self
     }
+
+    /// A texture of this description (one mip level) with `usage`.
+    pub fn create(
+        &self,
+        device: &wgpu::Device,
+        label: &str,
+        usage: wgpu::TextureUsages,
+    ) -> wgpu::Texture {
+        device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d {
+                width: self.width,
+                height: self.height,
+                depth_or_array_layers: self.layers,
+            },
+            mip_level_count: 1,
+            sample_count: self.sample_count,
+            dimension: wgpu::TextureDimension::D2,
+            format: self.format,
+            usage,
+            view_formats: &[],
+        })
+    }
+
+    /// Whether `texture` is of this description.
+    pub fn describes(&self, texture: &wgpu::Texture) -> bool {
+        let size = (
+            texture.width(),
+            texture.height(),
+            texture.depth_or_array_layers(),
+        );
+        size == (self.width, self.height, self.layers)
+            && (texture.sample_count(), texture.format()) == (self.sample_count, self.format)
+    }
 }
 
 /// A buffer the graph creates (transient) or is given (imported).

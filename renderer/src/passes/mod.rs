@@ -442,11 +442,13 @@ pub(crate) fn fullscreen_pipeline(
     )
 }
 
-/// A render pass over one colour attachment (cleared to black), without depth.
+/// A render pass over one colour attachment (loaded or cleared as `load` says, and stored),
+/// without depth.
 pub(crate) fn color_pass<'e>(
     encoder: &'e mut PassEncoder<'_>,
     label: &str,
     view: &wgpu::TextureView,
+    load: wgpu::LoadOp<wgpu::Color>,
 ) -> TimedPass<'e, wgpu::RenderPass<'e>> {
     encoder.begin_render(&wgpu::RenderPassDescriptor {
         label: Some(label),
@@ -455,7 +457,7 @@ pub(crate) fn color_pass<'e>(
             depth_slice: None,
             resolve_target: None,
             ops: wgpu::Operations {
-                load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                load,
                 store: wgpu::StoreOp::Store,
             },
         })],
@@ -466,7 +468,7 @@ pub(crate) fn color_pass<'e>(
     })
 }
 
-/// Draws the full-screen triangle of `pipeline` into `target` (cleared to black, as
+/// Draws the full-screen triangle of `pipeline` into `target` (cleared to black, by
 /// [`color_pass`]) with group 0 as its module's generated builder built it (nothing, after
 /// keeping the error in `ctx`, where it could not).
 pub(crate) fn draw_fullscreen(
@@ -479,7 +481,8 @@ pub(crate) fn draw_fullscreen(
     let Some(bind_group) = ctx.bind(group) else {
         return;
     };
-    let mut pass = color_pass(&mut ctx.encoder, label, target);
+    let black = wgpu::LoadOp::Clear(wgpu::Color::BLACK);
+    let mut pass = color_pass(&mut ctx.encoder, label, target, black);
     pass.set_pipeline(pipeline);
     pass.set_bind_group(0, &bind_group, &[]);
     pass.draw(0..3, 0..1);

@@ -11,8 +11,8 @@
 //! ([`FrameResources::add_overlay_eraser`]). The overlay pass runs the erasers after it has read
 //! the overlay: each draws its pass's geometry again with the same vertex stage and
 //! `overlay_erase`'s fragment stage, no depth test, no face culled and no blending
-//! ([`erase_pipeline`]), so every sample a layer touched (and any the depth test or a discard
-//! spared) is transparent again for the next frame. A new texture starts zeroed (wgpu
+//! ([`EraseStage::pipeline`]), so every sample a layer touched (and any the depth test or a
+//! discard spared) is transparent again for the next frame. A new texture starts zeroed (wgpu
 //! initialises it on first use), so the overlay is transparent at the start of every frame.
 
 use std::sync::{Mutex, PoisonError};
@@ -21,7 +21,7 @@ use shaders_gen::deferred::overlay_erase;
 
 use crate::GpuContext;
 use crate::frame_data::{FrameResources, HDR_FORMAT, RenderError, RendererConfig};
-use crate::graph::{Handle, ImportAccess, PassEncoder, RenderGraph, Texture, TimedPass};
+use crate::graph::{Handle, ImportAccess, RenderGraph, Texture, TextureDesc};
 use crate::shader::ShaderProgram;
 
 /// The multisampled overlay a forward pass keeps between frames, made again when the frame's
@@ -39,28 +39,16 @@ impl KeptOverlay {
         resources: &mut FrameResources,
         c: &RendererConfig,
     ) -> Handle<Texture> {
+        let desc = TextureDesc::new_2d(c.width, c.height, HDR_FORMAT).with_samples(c.msaa);
         let mut kept = self.0.lock().unwrap_or_else(PoisonError::into_inner);
         let texture = match kept.as_ref() {
-            Some(t) if (t.width(), t.height(), t.sample_count()) == (c.width, c.height, c.msaa) => {
-                t.clone()
+            Some(t) if desc.describes(t) => t.clone(),
+            _ => {
+                let usage =
+                    wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
+                kept.insert(desc.create(device, "hdr overlay", usage))
+                    .clone()
             }
-            _ => kept
-                .insert(device.create_texture(&wgpu::TextureDescriptor {
-                    label: Some("hdr overlay"),
-                    size: wgpu::Extent3d {
-                        width: c.width,
-                        height: c.height,
-                        depth_or_array_layers: 1,
-                    },
-                    mip_level_count: 1,
-                    sample_count: c.msaa,
-                    dimension: wgpu::TextureDimension::D2,
-                    format: HDR_FORMAT,
-                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                        | wgpu::TextureUsages::TEXTURE_BINDING,
-                    view_formats: &[],
-                }))
-                .clone(),
         };
         resources.import_texture(graph, "hdr overlay", &texture, ImportAccess::ReadWrite)
     }
@@ -125,28 +113,4 @@ impl EraseStage {
             },
         )
     }
-}
-
-/// A render pass over the overlay `view` for an eraser's draws: loaded and stored, no depth.
-pub(crate) fn begin_erase<'e>(
-    encoder: &'e mut PassEncoder<'_>,
-    view: &wgpu::TextureView,
-    label: &str,
-) -> TimedPass<'e, wgpu::RenderPass<'e>> {
-    encoder.begin_render(&wgpu::RenderPassDescriptor {
-        label: Some(label),
-        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-            view,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                load: wgpu::LoadOp::Load,
-                store: wgpu::StoreOp::Store,
-            },
-        })],
-        depth_stencil_attachment: None,
-        timestamp_writes: None,
-        occlusion_query_set: None,
-        multiview_mask: None,
-    })
 }

@@ -14,8 +14,7 @@ use std::sync::Arc;
 
 use crate::GpuContext;
 use crate::frame_data::{
-    FrameInputs, FrameResources, GBUFFER_FORMATS, GBufferHandles, LightListHandles, RenderError,
-    RendererConfig,
+    FrameInputs, FrameResources, GBUFFER_FORMATS, GBufferHandles, RenderError, RendererConfig,
 };
 use crate::graph::{BufferAccess, RenderGraph, TextureAccess, TextureDesc};
 use crate::graph::{PassEncoder, TimedPass};
@@ -106,15 +105,14 @@ impl Pass for GBufferPass {
         ))?;
         let mut pass = graph.add_pass(self.name());
         pass.read_texture(depth, TextureAccess::DepthRead)
-            .read_texture(shadows.atlas, TextureAccess::Sampled)
             .read_buffer(list.args, BufferAccess::Indirect);
         for t in &mut targets {
             pass.write_texture(t, TextureAccess::ColorAttachment);
         }
-        LightListHandles::read_by(lists.as_ref(), &mut pass);
         let programs = Arc::clone(&self.programs);
         let which = usize::from(lists.is_some());
         let group = FrameGroup::new(frame, &self.lighting, lists, shadows);
+        group.read_by(&mut pass);
         let (scene, instances) = (Arc::clone(&frame.scene), Arc::clone(&frame.instances));
         pass.execute(move |ctx| {
             let p = &programs[which];

@@ -17,7 +17,7 @@ use super::tiled_shading::{GBufferViews, kernel_params, read_gbuffer, upload_sph
 use crate::GpuContext;
 use crate::frame_data::{FrameInputs, FrameResources, HDR_FORMAT, RenderError, RendererConfig};
 use crate::graph::{RenderGraph, TextureAccess};
-use crate::passes::Pass;
+use crate::passes::{Pass, color_pass};
 use crate::shader::ShaderProgram;
 
 /// Vertices of one light volume: the cube's twelve triangles.
@@ -178,22 +178,8 @@ impl Pass for LightVolumePass {
                 return;
             };
             let target = ctx.texture(hdr).create_view(&Default::default());
-            let mut pass = ctx.encoder.begin_render(&wgpu::RenderPassDescriptor {
-                label: Some("light volumes"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &target,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: None,
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
+            let load = wgpu::LoadOp::Load;
+            let mut pass = color_pass(&mut ctx.encoder, "light volumes", &target, load);
             if count > 0 {
                 pass.set_pipeline(&pipeline);
                 pass.set_bind_group(0, &group, &[]);

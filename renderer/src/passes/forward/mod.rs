@@ -23,13 +23,12 @@ use std::sync::Arc;
 
 use shaders_gen::forward::forward;
 
-use super::overlay_erase::{EraseStage, KeptOverlay, begin_erase};
-use super::{MeshPipeline, Pass, SceneDraws, depth_state, mesh_pipeline};
+use super::overlay_erase::{EraseStage, KeptOverlay};
+use super::{MeshPipeline, Pass, SceneDraws, color_pass, depth_state, mesh_pipeline};
 use crate::GpuContext;
 use crate::frame_data::{
     BlendedDraws, DEPTH_FORMAT, FrameInputs, FrameResources, HDR_FORMAT, InstanceTable,
-    LightListHandles, OverlayEraser, PreparedScene, RenderError, RenderPath, RendererConfig,
-    SceneDrawList,
+    OverlayEraser, PreparedScene, RenderError, RenderPath, RendererConfig, SceneDrawList,
 };
 use crate::graph::{BufferAccess, Handle, RenderGraph, Texture, TextureAccess, TextureDesc};
 use crate::materials::MaterialProgram;
@@ -240,9 +239,9 @@ impl Pass for ForwardPass {
         if let Some(h) = resolve.as_mut() {
             pass.write_texture(h, TextureAccess::ColorAttachment);
         }
-        LightListHandles::read_by(lists.as_ref(), &mut pass);
         let shadows = resources.shadows.clone().ok_or(missing("shadow atlas"))?;
-        pass.read_texture(shadows.atlas, TextureAccess::Sampled);
+        let group = FrameGroup::new(frame, &self.lighting, lists, shadows);
+        group.read_by(&mut pass);
         let list = resources
             .scene_draws
             .clone()
@@ -251,7 +250,6 @@ impl Pass for ForwardPass {
         if let BlendedDraws::Sorted { args, .. } = &list.blended {
             pass.read_buffer(*args, BufferAccess::Indirect);
         }
-        let group = FrameGroup::new(frame, &self.lighting, lists, shadows);
         let eraser = (layer == Layer::Overlay && has_blend)
             .then(|| self.blended_eraser(frame, group.clone(), list.clone()))
             .flatten();
@@ -322,7 +320,8 @@ impl ForwardPass {
                     return;
                 };
                 let view = ctx.texture(overlay).create_view(&Default::default());
-                let mut pass = begin_erase(&mut ctx.encoder, &view, "erase blended");
+                let load = wgpu::LoadOp::Load;
+                let mut pass = color_pass(&mut ctx.encoder, "erase blended", &view, load);
                 pass.set_bind_group(0, &group0, &[]);
                 let mut draws =
                     SceneDraws::new(&mut pass, &scene, &instances, VertexStreams::Forward);

@@ -23,8 +23,8 @@ use crate::graph::{
     BufferAccess, Handle, PassBuilder, PassContext, RenderGraph, Texture, TextureAccess,
     TextureDesc, TimedPass,
 };
-use crate::passes::Pass;
-use crate::passes::overlay_erase::{EraseStage, begin_erase};
+use crate::passes::overlay_erase::EraseStage;
+use crate::passes::{Pass, color_pass};
 use crate::shader::ShaderProgram;
 
 /// The particle draw pass.
@@ -359,7 +359,8 @@ impl DrawInputs {
                     return;
                 };
                 let view = ctx.texture(overlay).create_view(&Default::default());
-                let mut render = begin_erase(&mut ctx.encoder, &view, "erase particles");
+                let load = wgpu::LoadOp::Load;
+                let mut render = color_pass(&mut ctx.encoder, "erase particles", &view, load);
                 self.draw(&mut render, &erase, (&groups.0, &groups.1));
             });
         })

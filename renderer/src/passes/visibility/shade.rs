@@ -244,11 +244,10 @@ impl Pass for VisShadePass {
         let mut pass = graph.add_pass(self.name());
         pass.read_texture(vis.ids, TextureAccess::Sampled)
             .read_texture(depth, TextureAccess::Sampled)
-            .read_texture(shadows.atlas, TextureAccess::Sampled)
             .write_buffer(&mut sums, BufferAccess::StorageWrite)
             .write_texture(&mut hdr, TextureAccess::StorageWrite);
-        crate::frame_data::LightListHandles::read_by(Some(&lists), &mut pass);
         let group = FrameGroup::new(frame, &self.lighting, Some(lists), shadows);
+        group.read_by(&mut pass);
         let (ids, (width, height)) = (vis.ids, (c.width, c.height));
         pass.execute(move |ctx| {
             let ids = ctx.texture(ids).create_view(&Default::default());
