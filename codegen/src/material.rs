@@ -245,23 +245,27 @@ fn entry_points(span: Span, params: Option<&syn::Type>) -> Vec<syn::Item> {
             pub fn vis_shade(#[builtin(global_invocation_id)] gid: UVec3) {
                 let p = gid.xy();
                 if vis_on_screen(p) {
+                    let mut ids = vis_samples(p);
                     let mut total = vis_begin(p);
                     let mut kinds = 0u32;
+                    let mut sky = 0.0f32;
                     for s in 0u32..msaa {
-                        let id = vis_id_at(p, s);
-                        if vis_first(p, s, id) {
+                        if vis_first(ids, s) {
                             kinds += 1u32;
-                            if id != 0u32 {
+                            let id = ids[s];
+                            if id == 0u32 {
+                                sky = vis_coverage(ids, s);
+                            } else {
                                 let tri = vis_triangle(id);
                                 if vis_shades(tri) {
                                     let v = vis_point(tri, p);
                                     let point = v.point;
-                                    total += vis_radiance(v, #call) * vis_coverage(p, s, id);
+                                    total += vis_radiance(v, #call) * vis_coverage(ids, s);
                                 }
                             }
                         }
                     }
-                    vis_finish(p, total, kinds);
+                    vis_finish(p, total, kinds, sky);
                 }
             }
         },

@@ -169,22 +169,35 @@ pub mod vis_frame {
         id
     }
 
-    /// Whether sample `s` is the first of pixel `p` to see `id`.
-    pub fn vis_first(p: UVec2, s: u32, id: u32) -> bool {
+    /// The triangle IDs of pixel `p`'s samples (`vis_id_at`), each read once; the entries from
+    /// `msaa` on are 0. The kernel finds the pixel's distinct triangles among them
+    /// (`vis_first`, `vis_coverage`) without reading the targets again.
+    pub fn vis_samples(p: UVec2) -> [u32; 8] {
+        let mut ids = [0u32, 0u32, 0u32, 0u32, 0u32, 0u32, 0u32, 0u32];
+        for s in 0u32..msaa {
+            ids[s] = vis_id_at(p, s);
+        }
+        ids
+    }
+
+    /// Whether sample `s` is the first of `ids` to hold its ID.
+    pub fn vis_first(ids: [u32; 8], s: u32) -> bool {
+        let mut samples = ids;
         let mut first = true;
         for r in 0u32..s {
-            if vis_id_at(p, r) == id {
+            if samples[r] == samples[s] {
                 first = false;
             }
         }
         first
     }
 
-    /// How many samples of pixel `p` from `s` on see `id`.
-    pub fn vis_coverage(p: UVec2, s: u32, id: u32) -> f32 {
+    /// How many of `ids`' samples from `s` on hold sample `s`'s ID.
+    pub fn vis_coverage(ids: [u32; 8], s: u32) -> f32 {
+        let mut samples = ids;
         let mut count = 0u32;
         for r in s..msaa {
-            if vis_id_at(p, r) == id {
+            if samples[r] == samples[s] {
                 count += 1u32;
             }
         }
@@ -344,18 +357,12 @@ pub mod vis_frame {
     }
 
     /// Leaves pixel `p`'s sum `total` (its samples saw `kinds` distinct IDs) for the next
-    /// kernel, or, in glTF PBR's kernel (the last), adds the sky's samples, resolves and writes
-    /// `HDR_OUT`.
-    pub fn vis_finish(p: UVec2, total: Vec3, kinds: u32) {
+    /// kernel, or, in glTF PBR's kernel (the last), adds the sky's `sky` samples, resolves and
+    /// writes `HDR_OUT`.
+    pub fn vis_finish(p: UVec2, total: Vec3, kinds: u32, sky: f32) {
         if msaa > 0 {
             if VIS.program == 0u32 {
-                let mut sky = 0u32;
-                for s in 0u32..msaa {
-                    if vis_id_at(p, s) == 0u32 {
-                        sky += 1u32;
-                    }
-                }
-                let mut resolved = (total + VIS.sky * (sky as f32)) / (msaa as f32);
+                let mut resolved = (total + VIS.sky * sky) / (msaa as f32);
                 if VIS.show_frequency != 0u32 && kinds > 1u32 {
                     resolved = Vec3::new(1.0, 0.0, 0.0);
                 }
