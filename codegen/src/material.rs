@@ -138,9 +138,11 @@ pub fn as_shader(
             blend: bool = [false, true] => "blend",
             scalarize: bool = [false, true] => "scalar",
             msaa: u32 = [0, 1, 2, 4, 8] => "msaa" unless 0,
+            vis64: bool = [false, true] => "vis64",
         ),
         exclude(list == 0 && scalarize),
         exclude(msaa > 0 && (list != 2 || blend)),
+        exclude(msaa == 0 && vis64),
         requires(subgroup = scalarize),
         uses(#frame, #visibility #(, #uses)*),
     };
@@ -245,27 +247,23 @@ fn entry_points(span: Span, params: Option<&syn::Type>) -> Vec<syn::Item> {
             pub fn vis_shade(#[builtin(global_invocation_id)] gid: UVec3) {
                 let p = gid.xy();
                 if vis_on_screen(p) {
-                    let mut ids = vis_samples(p);
                     let mut total = vis_begin(p);
                     let mut kinds = 0u32;
-                    let mut sky = 0.0f32;
                     for s in 0u32..msaa {
-                        if vis_first(ids, s) {
+                        let id = vis_id_at(p, s);
+                        if vis_first(p, s, id) {
                             kinds += 1u32;
-                            let id = ids[s];
-                            if id == 0u32 {
-                                sky = vis_coverage(ids, s);
-                            } else {
+                            if id != 0u32 {
                                 let tri = vis_triangle(id);
                                 if vis_shades(tri) {
                                     let v = vis_point(tri, p);
                                     let point = v.point;
-                                    total += vis_radiance(v, #call) * vis_coverage(ids, s);
+                                    total += vis_radiance(v, #call) * vis_coverage(p, s, id);
                                 }
                             }
                         }
                     }
-                    vis_finish(p, total, kinds, sky);
+                    vis_finish(p, total, kinds);
                 }
             }
         },

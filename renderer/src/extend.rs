@@ -12,6 +12,7 @@
 pub use crate::frame_data::{
     DEPTH_FORMAT, FrameInputs, FrameResources, GBUFFER_FORMATS, GBufferHandles, HDR_FORMAT,
     LightListHandles, ListGeometry, OverlayEraser, ParticleResources, ShadowResources,
+    VisibilityHandles, VisibilitySamples,
 };
 pub use crate::passes::Pass;
 /// A built-in pass to insert after `"visibility"` on the visibility path: the compute

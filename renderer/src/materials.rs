@@ -244,16 +244,23 @@ impl MaterialProgram {
     }
 
     /// The visibility kernel of `msaa` samples ([`VIS_SAMPLE_COUNTS`]), plain or scalarized.
-    pub(crate) fn vis_variant(&self, msaa: u32, scalarize: bool) -> Option<&'static Variant> {
+    pub(crate) fn vis_variant(
+        &self,
+        msaa: u32,
+        scalarize: bool,
+        vis64: bool,
+    ) -> Option<&'static Variant> {
         self.module
-            .variant_named(&vis_variant_name(msaa, scalarize))
+            .variant_named(&vis_variant_name(msaa, scalarize, vis64))
     }
 }
 
 /// The name of the visibility kernel's variant of `msaa` samples: clustered lists, opaque
-/// (`list2`, `scalar`, then `msaa`).
-pub(crate) fn vis_variant_name(msaa: u32, scalarize: bool) -> String {
-    format!("{}_msaa{msaa}", variant_name(2, false, scalarize))
+/// (`list2`, `scalar`, then `msaa`, then `vis64` where it reads the compute rasteriser's
+/// buffer).
+pub(crate) fn vis_variant_name(msaa: u32, scalarize: bool, vis64: bool) -> String {
+    let buffer = if vis64 { "_vis64" } else { "" };
+    format!("{}_msaa{msaa}{buffer}", variant_name(2, false, scalarize))
 }
 
 /// The name of the frame's variant of `list`, `blend` and `scalarize`, as the DSL names keys
@@ -282,9 +289,12 @@ fn variant_names() -> impl Iterator<Item = (String, &'static [&'static str])> {
                 })
         })
         .chain(VIS_SAMPLE_COUNTS.into_iter().flat_map(|msaa| {
-            [false, true]
+            [(false, false), (true, false), (false, true), (true, true)]
                 .into_iter()
-                .map(move |scalarize| (vis_variant_name(msaa, scalarize), &[VIS_ENTRY_POINT][..]))
+                .map(move |(scalarize, vis64)| {
+                    let name = vis_variant_name(msaa, scalarize, vis64);
+                    (name, &[VIS_ENTRY_POINT][..])
+                })
         }))
 }
 

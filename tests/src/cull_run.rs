@@ -4,7 +4,7 @@
 
 use glam::UVec2;
 use renderer::culling::clustered::{ClusterCullConfig, ClusteredCulling};
-use renderer::culling::hierarchy::{CullBox, CullItems, CullSphere};
+use renderer::culling::hierarchy::{CullBox, CullItems, CullSphere, DepthInput};
 use renderer::culling::lists::CullReadback;
 use renderer::culling::reference::Method;
 use renderer::culling::tiled::{TileCullConfig, TiledCulling};
@@ -98,12 +98,44 @@ pub fn run_with_boxes(s: &CullScene, method: GpuMethod, boxes: &[OrientedBox]) -
                 culling.levels
             }
         };
+        // A hierarchy built for the compute rasteriser's samples reads the same depths packed
+        // as that rasteriser packs them.
+        let samples = levels
+            .shape
+            .vis64
+            .then(|| compute_raster_samples(gpu, &s.depth.depth));
+        let input = match &samples {
+            Some(buffer) => DepthInput::Samples(buffer),
+            None => DepthInput::Texture(&view),
+        };
         levels
-            .encode(d, &mut PassEncoder::untimed(&mut encoder), &view, false)
+            .encode(d, &mut PassEncoder::untimed(&mut encoder), input, false)
             .expect("the culling buffers bind");
         gpu.queue().submit([encoder.finish()]);
         levels.lists.read_back(gpu).expect("readback")
     })
+}
+
+/// `depths` (`(y × w + x) × samples + s`) as the compute rasteriser's buffer holds them: a
+/// `u64` a sample, `(!depth_bits << 32) | !id` (ID 1 here), 0 where the depth is 1.0 (sky).
+pub fn compute_raster_samples(gpu: &renderer::GpuContext, depths: &[f32]) -> wgpu::Buffer {
+    use wgpu::util::DeviceExt as _;
+    let words: Vec<u64> = depths
+        .iter()
+        .map(|&d| {
+            if d >= 1.0 {
+                0
+            } else {
+                (u64::from(!d.to_bits()) << 32) | u64::from(!1u32)
+            }
+        })
+        .collect();
+    gpu.device()
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("compute raster samples (test)"),
+            contents: bytemuck::cast_slice(&words),
+            usage: wgpu::BufferUsages::STORAGE,
+        })
 }
 
 /// Culls the scene's lights with `method` and reads the lists back.

@@ -11,7 +11,7 @@
 
 use glam::UVec2;
 use renderer::culling::clustered::ClusterCullConfig;
-use renderer::culling::hierarchy::CullItems;
+use renderer::culling::hierarchy::{CullItems, DepthInput};
 use renderer::culling::lists::{CullReadback, GUARD_WORD, GUARD_WORDS};
 use renderer::culling::reference::{CellLists, ClusterGrid, Method, cull, cull_brute_force, exact};
 use renderer::culling::tiled::{TileCullConfig, TiledCulling};
@@ -232,6 +232,7 @@ fn lights_covering_every_cell_are_in_every_list() {
     let config = ClusterCullConfig {
         grid,
         msaa: 1,
+        vis64: false,
         skip_empty: false,
         brute_force: false,
         coarse_slots: None,
@@ -281,6 +282,57 @@ fn slice_neighbours(method: Method, s: &CullScene, x: u32, y: u32, depth: f32) -
         .collect()
 }
 
+/// Under the compute rasteriser the light culling reads its buffer of samples
+/// (`cull_prepare`'s `vis64` variants) instead of a depth buffer: the same depths give the same
+/// lists, froxel for froxel, with and without empty froxels skipped (which depends on which
+/// froxels hold a sample) and with sky samples among them.
+#[test]
+fn clustered_lists_from_the_compute_rasterisers_samples_equal_the_depth_buffers() {
+    let grid = ClusterGrid {
+        tile: 16,
+        slices: 32,
+        near: tests::cull_scene::NEAR,
+        far: tests::cull_scene::FAR,
+    };
+    for (seed, msaa) in msaa_cases(71) {
+        let s = scene(seed, 150, 90, msaa, 300);
+        let sky = s.depth.depth.iter().filter(|&&d| d >= 1.0).count();
+        assert!(sky > 0, "the scene has sky samples");
+        for skip_empty in [false, true] {
+            let config = |vis64| ClusterCullConfig {
+                grid,
+                msaa,
+                vis64,
+                skip_empty,
+                brute_force: false,
+                coarse_slots: None,
+                index_capacity: 1 << 20,
+                item_capacity: 4096,
+            };
+            let sorted = |vis64| {
+                let lists = run_method(&s, GpuMethod::Clustered(config(vis64))).all_lists();
+                lists
+                    .into_iter()
+                    .map(|mut l| {
+                        l.sort_unstable();
+                        l
+                    })
+                    .collect::<Vec<_>>()
+            };
+            let (depth, samples) = (sorted(false), sorted(true));
+            let listed = depth.iter().filter(|l| !l.is_empty()).count();
+            assert!(listed > 0, "MSAA {msaa}: some froxel lists a light");
+            let differ = depth.iter().zip(&samples).filter(|(a, b)| a != b).count();
+            assert_eq!(
+                differ,
+                0,
+                "MSAA {msaa}, skip empty {skip_empty}: {differ} of {} froxels differ",
+                depth.len()
+            );
+        }
+    }
+}
+
 #[test]
 fn clustered_kernel_matches_cpu_reference_in_every_variant() {
     let grid = ClusterGrid {
@@ -298,6 +350,7 @@ fn clustered_kernel_matches_cpu_reference_in_every_variant() {
                 let config = ClusterCullConfig {
                     grid,
                     msaa,
+                    vis64: false,
                     skip_empty,
                     brute_force,
                     coarse_slots: None,
@@ -380,7 +433,7 @@ fn overflow_reported_asynchronously_then_buffers_grow_for_the_next_frame() {
                 .encode(
                     gpu.device(),
                     &mut renderer::graph::PassEncoder::untimed(&mut encoder),
-                    &view,
+                    DepthInput::Texture(&view),
                     false,
                 )
                 .expect("the culling buffers bind");

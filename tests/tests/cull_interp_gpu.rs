@@ -165,6 +165,7 @@ fn host_clustered_culling_equals_the_gpu_and_the_reference() {
     let config = ClusterCullConfig {
         grid,
         msaa: 1,
+        vis64: false,
         skip_empty: false,
         brute_force: false,
         coarse_slots: None,

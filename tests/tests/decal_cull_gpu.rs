@@ -36,6 +36,7 @@ fn clustered(grid: ClusterGrid, msaa: u32, skip_empty: bool, brute: bool) -> Gpu
     GpuMethod::Clustered(ClusterCullConfig {
         grid,
         msaa,
+        vis64: false,
         skip_empty,
         brute_force: brute,
         coarse_slots: None,

@@ -257,6 +257,7 @@ fn an_engines_own_device_reports_only_what_it_enabled() {
             blend: false,
             scalarize: true,
             msaa: shaders_gen::forward::forward::Msaa::Msaa0,
+            vis64: false,
         };
         let variant = shaders_gen::forward::forward::variant(key).expect("a generated variant");
         let err = ShaderProgram::new(wrapped.device(), caps, variant).unwrap_err();

@@ -50,10 +50,10 @@ pub mod mini_vis {
     pub fn vis_begin(p: UVec2) -> Vec3 {
         Vec3::ZERO
     }
-    pub fn vis_samples(p: UVec2) -> [u32; 8] {
-        [p.x, p.x, p.x, p.x, p.x, p.x, p.x, p.x]
+    pub fn vis_id_at(p: UVec2, s: u32) -> u32 {
+        p.x + s
     }
-    pub fn vis_first(ids: [u32; 8], s: u32) -> bool {
+    pub fn vis_first(p: UVec2, s: u32, id: u32) -> bool {
         s == 0u32
     }
     pub fn vis_triangle(id: u32) -> SceneTriangle {
@@ -68,10 +68,10 @@ pub mod mini_vis {
     pub fn vis_radiance(v: VisPoint, s: Surface) -> Vec3 {
         s.base_color.xyz() * v.point.world
     }
-    pub fn vis_coverage(ids: [u32; 8], s: u32) -> f32 {
+    pub fn vis_coverage(p: UVec2, s: u32, id: u32) -> f32 {
         1.0
     }
-    pub fn vis_finish(p: UVec2, total: Vec3, kinds: u32, sky: f32) {
+    pub fn vis_finish(p: UVec2, total: Vec3, kinds: u32) {
         if msaa > 0 {
             SUMS[p.x] = total.extend(kinds as f32);
         }

@@ -6,6 +6,8 @@ use shaders_gen::culling::cluster_cull::{self, MAX_LISTS, Tile, VariantKey};
 
 use super::ClusterGrid;
 use super::CullError;
+#[cfg(doc)]
+use super::hierarchy::DepthInput;
 use super::hierarchy::{CullHierarchy, CullItems, CullView, HierarchyShape, MethodParams};
 use crate::GpuContext;
 
@@ -15,6 +17,9 @@ pub struct ClusterCullConfig {
     pub grid: ClusterGrid,
     /// MSAA sample count of the depth buffer (used to find occupied froxels).
     pub msaa: u32,
+    /// The depths are the compute rasteriser's buffer of samples, not a depth buffer
+    /// ([`crate::frame_data::VisibilityRaster::Compute`]; [`DepthInput::Samples`]).
+    pub vis64: bool,
     /// Give froxels without any depth sample empty lists.
     pub skip_empty: bool,
     /// Skip the super-tile level: every tile tests every item (for comparison).
@@ -57,6 +62,7 @@ impl ClusteredCulling {
         let shape = HierarchyShape {
             tile: g.tile,
             msaa: config.msaa,
+            vis64: config.vis64,
             lists_per_tile: g.slices,
             index_capacity: config.index_capacity,
             item_capacity: config.item_capacity,

@@ -29,6 +29,9 @@ pub struct HierarchyShape {
     pub tile: u32,
     /// MSAA sample count of the depth buffer: 1, 2, 4 or 8.
     pub msaa: u32,
+    /// The depths come from the compute rasteriser's buffer ([`DepthInput::Samples`]), not a
+    /// depth buffer.
+    pub vis64: bool,
     /// Lists per tile (tiled: 1, or 2 with a transparent list; clustered: the depth slices).
     pub lists_per_tile: u32,
     /// Entries the index list holds.
@@ -41,6 +44,16 @@ pub struct HierarchyShape {
     /// as one storage binding allows). A super-tile with more candidates than slots falls back
     /// to testing every item: slower, never incomplete.
     pub coarse_slots: Option<u32>,
+}
+
+/// Where the culling hierarchy reads the frame's depths.
+#[derive(Debug, Clone, Copy)]
+pub enum DepthInput<'a> {
+    /// A depth buffer of the hierarchy's sample count.
+    Texture(&'a wgpu::TextureView),
+    /// The compute rasteriser's buffer of samples (`u64` a sample, `(!depth_bits << 32) |
+    /// !id`, 0 where no triangle), for a hierarchy of [`HierarchyShape::vis64`].
+    Samples(&'a wgpu::Buffer),
 }
 
 /// The camera as culling sees it.
@@ -154,10 +167,12 @@ pub struct CullHierarchy {
 }
 
 /// The `cull_prepare` variant key of a tile size and sample count.
-fn prepare_key(tile: u32, msaa: u32) -> Result<cull_prepare::VariantKey, CullError> {
+fn prepare_key(shape: &HierarchyShape) -> Result<cull_prepare::VariantKey, CullError> {
+    let (tile, msaa) = (shape.tile, shape.msaa);
     Ok(cull_prepare::VariantKey {
         tile: Tile::from_value(tile).ok_or(CullError::TileSize(tile))?,
         msaa: Msaa::from_value(msaa).ok_or(CullError::SampleCount(msaa))?,
+        vis64: shape.vis64,
     })
 }
 
@@ -181,7 +196,7 @@ impl CullHierarchy {
     ) -> Result<Self, CullError> {
         super::check_index_capacity(gpu.device(), shape.index_capacity)?;
         let device = gpu.device();
-        let prepare = gpu.program(cull_prepare::variant(prepare_key(shape.tile, shape.msaa)?))?;
+        let prepare = gpu.program(cull_prepare::variant(prepare_key(&shape)?))?;
         let fine = gpu.program(fine)?;
         let tiles = UVec2::new(width.div_ceil(shape.tile), height.div_ceil(shape.tile));
         let super_tiles = UVec2::new(
@@ -296,7 +311,8 @@ impl CullHierarchy {
         Ok(())
     }
 
-    /// Records the three dispatches reading `depth` (the pre-Z buffer, `shape.msaa` samples), in
+    /// Records the three dispatches reading `depth` (the pre-Z buffer, `shape.msaa` samples, or
+    /// the compute rasteriser's samples), in
     /// one compute pass; with `time_dispatches`, each in its own compute pass with its own
     /// timestamps, listed in frame timings as `cull: tile depth`, `cull: super-tiles` and
     /// `cull: tiles`. Separate passes cost time of their own (about 30 µs per frame on the H100
@@ -306,7 +322,7 @@ impl CullHierarchy {
         &self,
         device: &wgpu::Device,
         encoder: &mut PassEncoder<'_>,
-        depth: &wgpu::TextureView,
+        depth: DepthInput<'_>,
         time_dispatches: bool,
     ) -> Result<(), shader_bind::BindError> {
         let (prepare, fine) = self.bind_groups(device, depth)?;
@@ -362,7 +378,7 @@ impl CullHierarchy {
     fn bind_groups(
         &self,
         device: &wgpu::Device,
-        depth: &wgpu::TextureView,
+        depth: DepthInput<'_>,
     ) -> Result<(wgpu::BindGroup, wgpu::BindGroup), shader_bind::BindError> {
         let lists = cull_append::Group0 {
             params: self.params.as_entire_buffer_binding(),
@@ -375,9 +391,14 @@ impl CullHierarchy {
             spheres: self.spheres.as_entire_buffer_binding(),
             boxes: self.boxes.as_entire_buffer_binding(),
         };
+        let (texture, samples) = match depth {
+            DepthInput::Texture(view) => (Some(view), None),
+            DepthInput::Samples(buffer) => (None, Some(buffer.as_entire_buffer_binding())),
+        };
         let prepare = cull_prepare::Group0 {
-            depth: Some(depth),
-            depth_ms: Some(depth),
+            depth: texture,
+            depth_ms: texture,
+            vis64: samples,
             cull_append: lists.clone(),
         }
         .bind_group(

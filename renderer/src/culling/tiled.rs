@@ -60,6 +60,8 @@ impl TiledCulling {
         let shape = HierarchyShape {
             tile: config.tile,
             msaa: config.msaa,
+            // Tiled lists are not on the visibility path.
+            vis64: false,
             lists_per_tile: 1 + u32::from(config.transparent_lists),
             index_capacity: config.index_capacity,
             item_capacity: config.item_capacity,

@@ -122,10 +122,13 @@ pub enum VisibilityRaster {
     /// The hardware rasteriser, every draw.
     #[default]
     Hardware,
-    /// Compute kernels with 64-bit atomics (`passes::visibility::compute_raster`), then one
-    /// full-screen pass at sample rate writes their samples into the depth and visibility
-    /// buffers; alpha-masked draws stay on the hardware rasteriser, over them. Needs
-    /// `SHADER_INT64_ATOMIC_MIN_MAX` ([`crate::gpu::Capabilities::int64_atomic_min_max`]).
+    /// Compute kernels with 64-bit atomics (`passes::visibility::compute_raster`) write one
+    /// `u64` a sample into a buffer; the alpha-masked draws, on the hardware rasteriser, add
+    /// theirs with the same atomics. The shading kernels read that buffer
+    /// ([`crate::frame_data::VisibilitySamples::Buffer`]); a full-screen pass at sample rate
+    /// writes its depths into a depth target only for the passes that depth-test in hardware.
+    /// Needs `SHADER_INT64_ATOMIC_MIN_MAX`
+    /// ([`crate::gpu::Capabilities::int64_atomic_min_max`]).
     Compute,
 }
 

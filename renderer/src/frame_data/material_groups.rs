@@ -28,6 +28,7 @@ pub(super) fn forward_variant() -> &'static Variant {
         scalarize: false,
         // The forward programs (the visibility kernels are `msaa` above 0).
         msaa: forward::Msaa::Msaa0,
+        vis64: false,
     })
     .expect("the naive, opaque, plain forward variant always exists")
 }

@@ -23,6 +23,7 @@ mod report;
 mod resources;
 mod scene;
 mod views;
+mod visibility_handles;
 
 #[cfg(any(test, feature = "internals"))]
 pub use camera::frustum_planes;
@@ -53,8 +54,8 @@ pub use report::{FrameReport, ParticleReport, SceneDrawReport};
 pub use resources::{
     BlendedDraws, FrameResources, GBufferHandles, LightListHandles, ListGeometry, OcclusionDraws,
     OcclusionPacked, OverlayEraser, ParticleResources, SceneDrawList, ShadowResources,
-    VisibilityHandles,
 };
+pub use visibility_handles::{VisibilityHandles, VisibilitySamples};
 pub use scene::PreparedScene;
 #[cfg(any(test, feature = "internals"))]
 pub use scene::{MeshDraw, PlannedDraw, draw_plan, is_mirrored};

@@ -3,7 +3,7 @@
 //! decal list) is a new field here, not a change to the orchestrator.
 
 use crate::culling::Method;
-use crate::frame_data::{ConfigError, RenderError};
+use crate::frame_data::{ConfigError, RenderError, VisibilityHandles};
 use crate::graph::{
     Buffer, BufferAccess, CompiledGraph, Handle, ImportAccess, PassBuilder, PassContext,
     RenderGraph, Texture,
@@ -305,20 +305,6 @@ pub struct GBufferHandles {
     pub radiance: Handle<Texture>,
     /// View depth, where deferred shading puts the shaded point.
     pub view_depth: Handle<Texture>,
-}
-
-/// The visibility buffer of a frame (`passes::visibility`).
-#[derive(Debug, Clone)]
-pub struct VisibilityHandles {
-    /// `R32Uint`, multisampled with the frame: per sample the ID of the scene triangle it
-    /// sees (the `vis_geometry` library's numbering). The target is loaded, not cleared: where
-    /// [`FrameResources::depth`] is 1.0 a sample sees no triangle and its ID is meaningless
-    /// (0, or what an earlier frame left). Read it only where the depth is below 1.0.
-    pub ids: Handle<Texture>,
-    /// Where each draw's triangles are (`vis_geometry`'s `DRAW_GEOMETRY`), in draw order.
-    pub draw_geometry: wgpu::Buffer,
-    /// Draws in `draw_geometry`.
-    pub draws: u32,
 }
 
 /// What the passes of one frame have produced so far.

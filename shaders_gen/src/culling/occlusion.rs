@@ -17,22 +17,46 @@
 //! is never nearer than this frame's true depth, and what it left out is tested against it. A
 //! box that reaches behind the eye or across the near plane is never hidden.
 
-/// The first texel of each depth-pyramid level from the depth buffer.
-#[shader_dsl::shader(axes(msaa: u32 = [1, 2, 4, 8]))]
+/// The first texel of each depth-pyramid level from the depth buffer, or with `vis64` from
+/// the compute rasteriser's samples (the visibility path under
+/// `VisibilityRaster::Compute`, whose frame may have no depth buffer).
+#[shader_dsl::shader(axes(
+    msaa: u32 = [1, 2, 4, 8] => "msaa",
+    vis64: bool = [false, true] => "vis64",
+))]
 pub mod depth_pyramid_seed {
+    /// The frame's size (`vis64`: the samples are `(y × width + x) × msaa + s`).
+    pub struct SeedFrame {
+        pub size: UVec2,
+        pub pad: UVec2,
+    }
+
     #[texture(group = 0, binding = 0)]
-    #[when(msaa == 1)]
+    #[when(msaa == 1 && !vis64)]
     static DEPTH: TextureDepth2d;
     #[texture(group = 0, binding = 0)]
-    #[when(msaa > 1)]
+    #[when(msaa > 1 && !vis64)]
     static DEPTH_MS: TextureDepthMultisampled2d;
+    /// The compute rasteriser's samples as `(low, high)` word pairs: the depth is
+    /// `bitcast(!high)`, the far plane where both words are 0.
+    #[storage(group = 0, binding = 0)]
+    #[when(vis64)]
+    static VIS64: [UVec2];
+    #[uniform(group = 0, binding = 2)]
+    #[when(vis64)]
+    static FRAME: SeedFrame;
     #[texture(group = 0, binding = 1)]
     static LEVEL: StorageTexture2d<R32Float, Write>;
 
     /// Depth-buffer value of sample `s` of pixel `p`.
     fn sample_depth(p: UVec2, s: u32) -> f32 {
         let mut d = 1.0;
-        if msaa == 1 {
+        if vis64 {
+            let high = VIS64[(p.y * FRAME.size.x + p.x) * msaa + s].y;
+            if high != 0u32 {
+                d = f32::from_bits(!high);
+            }
+        } else if msaa == 1 {
             d = DEPTH.load(p, 0u32);
         } else {
             d = DEPTH_MS.load(p, s);
@@ -47,7 +71,9 @@ pub mod depth_pyramid_seed {
         let size = LEVEL.dimensions();
         if texel.x < size.x && texel.y < size.y {
             let mut pixels = UVec2::new(1u32, 1u32);
-            if msaa == 1 {
+            if vis64 {
+                pixels = FRAME.size;
+            } else if msaa == 1 {
                 pixels = DEPTH.dimensions();
             } else {
                 pixels = DEPTH_MS.dimensions();

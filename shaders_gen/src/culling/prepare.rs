@@ -25,6 +25,7 @@
     axes(
         tile: u32 = [8, 16, 32] => "t",
         msaa: u32 = [1, 2, 4, 8],
+        vis64: bool = [false, true] => "vis64",
     ),
     uses(crate::shared::light_grid, crate::shared::cull_append),
 )]
@@ -37,11 +38,17 @@ pub mod cull_prepare {
     const INFINITY_BITS: u32 = 0x7f80_0000;
 
     #[texture(group = 0, binding = 5)]
-    #[when(msaa == 1)]
+    #[when(msaa == 1 && !vis64)]
     static DEPTH: TextureDepth2d;
     #[texture(group = 0, binding = 5)]
-    #[when(msaa > 1)]
+    #[when(msaa > 1 && !vis64)]
     static DEPTH_MS: TextureDepthMultisampled2d;
+    /// With `vis64`, in place of the depth buffer: the compute rasteriser's samples
+    /// (`vis_compute_raster`'s `VIS64`) as `(low, high)` word pairs, `(y × width + x) × msaa +
+    /// s`; a sample's depth is `bitcast(!high)`, or sky where both words are 0.
+    #[storage(group = 0, binding = 5)]
+    #[when(vis64)]
+    static VIS64: [UVec2];
 
     #[workgroup]
     static RANGE_MIN: Atomic<u32>;
@@ -61,7 +68,12 @@ pub mod cull_prepare {
     /// Depth-buffer value of sample `s` of pixel `p`.
     fn sample_depth(p: UVec2, s: u32) -> f32 {
         let mut d = 1.0;
-        if msaa == 1 {
+        if vis64 {
+            let high = VIS64[(p.y * PARAMS.screen.x + p.x) * msaa + s].y;
+            if high != 0u32 {
+                d = f32::from_bits(!high);
+            }
+        } else if msaa == 1 {
             d = DEPTH.load(p, 0u32);
         } else {
             d = DEPTH_MS.load(p, s);

@@ -24,7 +24,8 @@
 ///
 /// A pixel whose samples all see one triangle (or the sky) is shaded once; otherwise each
 /// distinct triangle once, weighted by the samples it covers (`vis_coverage`), the sky by the
-/// sky's. The forward pass shades each triangle at the pixel centre and the resolve averages
+/// sky's. Each test reads the samples' IDs again (from the texture cache): a version that read
+/// them once into a local array was 8% slower on the H200 (BENCHMARKS.md). The forward pass shades each triangle at the pixel centre and the resolve averages
 /// its samples: the same sum.
 ///
 /// **Several programs.** Each material program's kernel runs over the whole screen and shades
@@ -39,6 +40,7 @@
         blend: bool = [false, true],
         scalarize: bool = [false, true],
         msaa: u32 = [0, 1, 2, 4, 8],
+        vis64: bool = [false, true],
     ),
     requires(subgroup = scalarize),
     uses(
@@ -92,11 +94,17 @@ pub mod vis_frame {
     #[when(msaa > 0)]
     static VIS: VisParams;
     #[texture(group = 0, binding = 16)]
-    #[when(msaa == 1)]
+    #[when(msaa == 1 && !vis64)]
     static IDS: Texture2d<u32>;
     #[texture(group = 0, binding = 16)]
-    #[when(msaa > 1)]
+    #[when(msaa > 1 && !vis64)]
     static IDS_MS: TextureMultisampled2d<u32>;
+    /// With `vis64`: the compute rasteriser's samples (`vis_compute_raster`'s `VIS64`), in
+    /// place of the raster targets, as `(low, high)` word pairs, `(y × width + x) × msaa + s`.
+    /// A sample holds `(!depth_bits << 32) | !id`, or 0 where no triangle covered it.
+    #[storage(group = 0, binding = 16)]
+    #[when(msaa > 0 && vis64)]
+    static VIS64: [UVec2];
     #[texture(group = 0, binding = 17)]
     #[when(msaa > 0)]
     static HDR_OUT: StorageTexture2d<Rgba16Float, Write>;
@@ -108,10 +116,10 @@ pub mod vis_frame {
     /// slow on some chips), so a sample no triangle covered holds an old ID: its depth, 1.0,
     /// tells it is sky.
     #[texture(group = 0, binding = 20)]
-    #[when(msaa == 1)]
+    #[when(msaa == 1 && !vis64)]
     static VIS_DEPTH: TextureDepth2d;
     #[texture(group = 0, binding = 20)]
-    #[when(msaa > 1)]
+    #[when(msaa > 1 && !vis64)]
     static VIS_DEPTH_MS: TextureDepthMultisampled2d;
 
     // `VIS`, `HDR_OUT` and `ACCUM` exist where `msaa > 0` (the kernels' variants); the
@@ -152,11 +160,19 @@ pub mod vis_frame {
     }
 
     /// The triangle ID of sample `s` of pixel `p` (0: sky, where the depth is 1.0 whatever
-    /// the ID target holds).
+    /// the ID target holds; with `vis64`, where no triangle covered the sample).
     pub fn vis_id_at(p: UVec2, s: u32) -> u32 {
         let mut id = 0u32;
         let mut depth = 1.0f32;
-        if msaa == 1 {
+        if vis64 {
+            if msaa > 0 {
+                let sample = VIS64[(p.y * VIS.screen.x + p.x) * msaa + s];
+                if sample.y != 0u32 {
+                    id = !sample.x;
+                    depth = f32::from_bits(!sample.y);
+                }
+            }
+        } else if msaa == 1 {
             id = IDS.load(p, 0u32).x;
             depth = VIS_DEPTH.load(p, 0u32);
         } else if msaa > 1 {
@@ -169,35 +185,22 @@ pub mod vis_frame {
         id
     }
 
-    /// The triangle IDs of pixel `p`'s samples (`vis_id_at`), each read once; the entries from
-    /// `msaa` on are 0. The kernel finds the pixel's distinct triangles among them
-    /// (`vis_first`, `vis_coverage`) without reading the targets again.
-    pub fn vis_samples(p: UVec2) -> [u32; 8] {
-        let mut ids = [0u32, 0u32, 0u32, 0u32, 0u32, 0u32, 0u32, 0u32];
-        for s in 0u32..msaa {
-            ids[s] = vis_id_at(p, s);
-        }
-        ids
-    }
-
-    /// Whether sample `s` is the first of `ids` to hold its ID.
-    pub fn vis_first(ids: [u32; 8], s: u32) -> bool {
-        let mut samples = ids;
+    /// Whether sample `s` is the first of pixel `p` to see `id`.
+    pub fn vis_first(p: UVec2, s: u32, id: u32) -> bool {
         let mut first = true;
         for r in 0u32..s {
-            if samples[r] == samples[s] {
+            if vis_id_at(p, r) == id {
                 first = false;
             }
         }
         first
     }
 
-    /// How many of `ids`' samples from `s` on hold sample `s`'s ID.
-    pub fn vis_coverage(ids: [u32; 8], s: u32) -> f32 {
-        let mut samples = ids;
+    /// How many samples of pixel `p` from `s` on see `id`.
+    pub fn vis_coverage(p: UVec2, s: u32, id: u32) -> f32 {
         let mut count = 0u32;
         for r in s..msaa {
-            if samples[r] == samples[s] {
+            if vis_id_at(p, r) == id {
                 count += 1u32;
             }
         }
@@ -357,12 +360,18 @@ pub mod vis_frame {
     }
 
     /// Leaves pixel `p`'s sum `total` (its samples saw `kinds` distinct IDs) for the next
-    /// kernel, or, in glTF PBR's kernel (the last), adds the sky's `sky` samples, resolves and
-    /// writes `HDR_OUT`.
-    pub fn vis_finish(p: UVec2, total: Vec3, kinds: u32, sky: f32) {
+    /// kernel, or, in glTF PBR's kernel (the last), adds the sky's samples, resolves and writes
+    /// `HDR_OUT`.
+    pub fn vis_finish(p: UVec2, total: Vec3, kinds: u32) {
         if msaa > 0 {
             if VIS.program == 0u32 {
-                let mut resolved = (total + VIS.sky * sky) / (msaa as f32);
+                let mut sky = 0u32;
+                for s in 0u32..msaa {
+                    if vis_id_at(p, s) == 0u32 {
+                        sky += 1u32;
+                    }
+                }
+                let mut resolved = (total + VIS.sky * (sky as f32)) / (msaa as f32);
                 if VIS.show_frequency != 0u32 && kinds > 1u32 {
                     resolved = Vec3::new(1.0, 0.0, 0.0);
                 }

@@ -14,8 +14,17 @@
 /// The clip position is `view`'s `clip_position`, `#[invariant]`, as every geometry pass's.
 /// Alpha-masked materials (`alpha_mask`) discard what the masked pre-Z discards
 /// (`material_table`'s `masked_out`), so the IDs and the depth agree with the other paths.
+///
+/// With `vis64` (masked draws only), under the compute rasteriser: the masked draws add their
+/// samples to its buffer (`vis_compute_raster`'s `VIS64`, the same packing and `fetch_max`)
+/// instead of writing an ID target. The fragment stage runs per sample (it reads
+/// `sample_index`), so each covered sample merges its own depth.
 #[shader_dsl::shader(
-    axes(alpha_mask: bool = [false, true] => "mask"),
+    axes(
+        alpha_mask: bool = [false, true] => "mask",
+        vis64: bool = [false, true] => "vis64",
+    ),
+    exclude(vis64 && !alpha_mask),
     uses(
         crate::shared::view,
         crate::shared::material_uv,
@@ -45,6 +54,20 @@ pub mod vis_raster {
 
     #[uniform(group = 0, binding = 0)]
     static CAMERA: Camera;
+    /// The compute rasteriser's samples and the frame's size and sample count (`vis64`).
+    #[storage(group = 0, binding = 1, read_write)]
+    #[when(vis64)]
+    static VIS64: [Atomic<u64>];
+    #[uniform(group = 0, binding = 2)]
+    #[when(vis64)]
+    static SAMPLES: SampleLayout;
+
+    /// Where a sample is in `VIS64`: `(y × width + x) × msaa + s`.
+    pub struct SampleLayout {
+        pub width: u32,
+        pub msaa: u32,
+        pub pad: UVec2,
+    }
 
     #[vertex]
     pub fn vs_vis(
@@ -87,6 +110,30 @@ pub mod vis_raster {
             discard();
         }
         VisOut { id: input.id }
+    }
+
+    /// `vis64`: the sample's depth and triangle into `VIS64` where nearer than what is
+    /// there; masked materials' texels below the cutoff leave nothing. The depth target is
+    /// written by the pipeline as without `vis64`.
+    #[fragment]
+    #[when(vis64)]
+    pub fn fs_vis64(input: VisVsOut, #[builtin(sample_index)] sample: u32) {
+        if masked_out(
+            input.material,
+            uv_derivatives(input.uv0, input.uv1),
+            input.color_alpha,
+        ) {
+            discard();
+        }
+        // In the fragment stage the position is the sample's window position and depth.
+        let at = input.clip;
+        if at.z >= 0.0 && at.z < 1.0 {
+            let p = at.xy().floor().as_uvec2();
+            // `& 0x7FFF_FFFF`: -0.0 ranks as 0.0, as in the compute rasteriser.
+            let depth = at.z.to_bits() & 0x7FFF_FFFFu32;
+            let packed = ((!depth as u64) << 32u32) | ((!input.id) as u64);
+            VIS64[(p.y * SAMPLES.width + p.x) * SAMPLES.msaa + sample].fetch_max(packed);
+        }
     }
 
     pub struct VisOut {

@@ -1,12 +1,11 @@
-//! The compute rasteriser's samples written into the frame's multisampled depth buffer and
-//! visibility buffer, so the passes after the visibility raster read them as they read the
-//! hardware raster's.
+//! The compute rasteriser's depths written into a multisampled depth target, for the passes
+//! after the visibility raster that depth-test in hardware.
 
 /// Full-screen pass at sample rate: each invocation reads its sample of `VIS64` (the compute
 /// rasteriser's buffer, `vis_compute_raster`, two 32-bit words a sample, the low word first)
-/// and writes the depth and the triangle ID it holds; a sample no triangle covered (both words
-/// 0) is discarded, keeping the cleared depth (1.0: sky, whatever ID the loaded target holds). A sample holds
-/// `(!depth_bits << 32) | !id`, so the depth is `bitcast(!high)` and the ID `!low`.
+/// and writes the depth it holds; a sample no triangle covered (both words 0) is discarded,
+/// keeping the cleared depth (1.0: sky). A sample holds `(!depth_bits << 32) | !id`, so the
+/// depth is `bitcast(!high)`. The IDs stay in the buffer, which the shading kernels read.
 #[shader_dsl::shader]
 pub mod vis_resolve {
     /// The frame's size and sample count, for the sample's index in `VIS64`.
@@ -20,14 +19,14 @@ pub mod vis_resolve {
     pub struct ResolveOut {
         #[builtin(frag_depth)]
         pub depth: f32,
-        #[location(0)]
-        pub id: u32,
     }
 
     #[uniform(group = 0, binding = 0)]
     static PARAMS: ResolveParams;
-    /// The compute rasteriser's samples, as `(low, high)` word pairs.
-    #[storage(group = 0, binding = 1)]
+    /// The compute rasteriser's samples, as `(low, high)` word pairs. Read only, but bound
+    /// `read_write`: the masked draws after it in the same render pass merge their samples
+    /// into the buffer, and a render pass may not bind one buffer both ways.
+    #[storage(group = 0, binding = 1, read_write)]
     static VIS64: [u32];
 
     #[vertex]
@@ -49,7 +48,6 @@ pub mod vis_resolve {
         }
         ResolveOut {
             depth: f32::from_bits(!high),
-            id: !VIS64[at],
         }
     }
 }

@@ -224,5 +224,6 @@ pub fn key(list: forward::List, scalarize: bool) -> forward::VariantKey {
         blend: false,
         scalarize,
         msaa: forward::Msaa::Msaa0,
+        vis64: false,
     }
 }

@@ -264,11 +264,8 @@ fn sweep(args: &Args, out: &Path) -> Result<()> {
                                 reaching.insert(key, c);
                             }
                             let culler = renderer.culler();
-                            let depth_bytes = if culler.reads_depth() {
-                                u64::from(setup.width * setup.height * setup.msaa) * 4
-                            } else {
-                                0
-                            };
+                            let depth_bytes = u64::from(setup.width * setup.height * setup.msaa)
+                                * u64::from(culler.depth_bytes_per_sample());
                             let cells = culler.lists().map_or(0, |l| u64::from(l.cells));
                             record.cull_floor_us = ceilings.map(|c| {
                                 c.cull_floor_us(depth_bytes, cells, u64::from(record.lights))

@@ -91,6 +91,7 @@ impl FrameGroup {
             vis: None,
             ids: None,
             ids_ms: None,
+            vis64: None,
             hdr_out: None,
             accum: None,
             vis_depth: None,
@@ -108,14 +109,19 @@ impl FrameGroup {
         (program, params): (&ShaderProgram, Option<&wgpu::Buffer>),
         vis: &VisInputs<'_>,
     ) -> Option<wgpu::BindGroup> {
+        let (ids, depth, samples) = match vis.samples {
+            VisSampleViews::Targets { ids, depth } => (Some(ids), Some(depth), None),
+            VisSampleViews::Buffer(samples) => (None, None, Some(samples)),
+        };
         let inputs = vis_frame::Group0 {
             vis: Some(vis.params.as_entire_buffer_binding()),
-            ids: Some(vis.ids),
-            ids_ms: Some(vis.ids),
+            ids,
+            ids_ms: ids,
+            vis64: samples.map(wgpu::Buffer::as_entire_buffer_binding),
             hdr_out: Some(vis.out),
             accum: Some(vis.sums.as_entire_buffer_binding()),
-            vis_depth: Some(vis.depth),
-            vis_depth_ms: Some(vis.depth),
+            vis_depth: depth,
+            vis_depth_ms: depth,
         };
         self.build(ctx, (program, params), inputs, "visibility shading")
     }
@@ -156,14 +162,23 @@ impl FrameGroup {
 pub(crate) struct VisInputs<'a> {
     /// The kernel's `VisParams` uniform.
     pub params: &'a wgpu::Buffer,
-    /// The visibility buffer's IDs.
-    pub ids: &'a wgpu::TextureView,
-    /// The raster pass's depth (1.0: sky, whatever the ID).
-    pub depth: &'a wgpu::TextureView,
+    /// The visibility samples.
+    pub samples: &'a VisSampleViews,
     /// The HDR output.
     pub out: &'a wgpu::TextureView,
     /// The per-pixel sums the kernels pass on.
     pub sums: &'a wgpu::Buffer,
+}
+
+/// Where a visibility shading kernel reads its samples (`VisibilitySamples`, recorded).
+pub(crate) enum VisSampleViews {
+    /// The raster's ID target and its depth (1.0: sky, whatever the ID).
+    Targets {
+        ids: wgpu::TextureView,
+        depth: wgpu::TextureView,
+    },
+    /// The compute rasteriser's buffer (the `vis64` variants).
+    Buffer(wgpu::Buffer),
 }
 
 /// A `forward` lighting uniform buffer.

@@ -90,6 +90,7 @@ impl ForwardPass {
             scalarize,
             // The forward programs (the visibility kernels are `msaa` above 0).
             msaa: forward::Msaa::Msaa0,
+            vis64: false,
         })?)?;
         let erase = if config.path.is_deferred() && config.msaa > 1 {
             let streams = super::vertex_streams(&super::FORWARD_STREAMS);

@@ -48,6 +48,7 @@ impl MaterialPipelines {
             scalarize,
             // The forward programs (the visibility kernels are `msaa` above 0).
             msaa: forward::Msaa::Msaa0,
+            vis64: false,
         })?;
         let variants =
             std::iter::once(Ok((forward::MODULE.name, gltf))).chain(materials.iter().map(|m| {

@@ -6,7 +6,10 @@
 //! counters back asynchronously (an overflow, possible only past one storage binding, is
 //! reported and grows the list). The naive paths have no culling pass.
 
+mod culler;
 mod sizing;
+
+pub use culler::Culler;
 
 use crate::frame_data::ConfigError;
 use std::sync::Arc;
@@ -14,16 +17,19 @@ use std::sync::Arc;
 use super::Pass;
 use crate::GpuContext;
 use crate::culling::clustered::{ClusterCullConfig, ClusteredCulling};
-use crate::culling::hierarchy::{CullHierarchy, CullItems, CullSphere};
-use crate::culling::lists::{CullCounters, LightLists};
+use crate::culling::hierarchy::{CullItems, CullSphere, DepthInput};
+use crate::culling::lists::CullCounters;
 use crate::culling::max_index_entries;
 use crate::culling::overflow::grow_for;
 use crate::culling::tiled::{TileCullConfig, TiledCulling};
 use crate::culling::{ClusterGrid, Method};
 use crate::frame_data::{
     FrameInputs, FrameReport, FrameResources, LightListHandles, RenderError, RenderPath,
+    VisibilityRaster, VisibilitySamples,
 };
-use crate::graph::{BufferAccess, ImportAccess, RenderGraph, TextureAccess};
+use crate::graph::{
+    Buffer, BufferAccess, Handle, ImportAccess, RenderGraph, Texture, TextureAccess,
+};
 use crate::readback_ring::ReadbackRing;
 
 /// Index-list entries before the first frame; every frame grows the list to its CPU bound
@@ -32,58 +38,6 @@ const INITIAL_INDEX_ENTRIES: u32 = 1 << 16;
 
 /// Depth slices of the clustered path (the kernels' limit, `cull_append::MAX_LISTS`).
 pub const CLUSTER_SLICES: u32 = 32;
-
-/// The light culler of the configured path.
-#[derive(Debug, Clone)]
-pub enum Culler {
-    /// No culling: every light shades every pixel.
-    Naive,
-    /// Screen tiles (tiled and 2.5D).
-    Tiled(Arc<TiledCulling>),
-    /// View-space clusters.
-    Clustered(Arc<ClusteredCulling>),
-}
-
-impl Culler {
-    /// The culling hierarchy of this culler (none on the naive paths).
-    pub fn levels(&self) -> Option<&CullHierarchy> {
-        match self {
-            Self::Tiled(c) => Some(&c.levels),
-            Self::Clustered(c) => Some(&c.levels),
-            Self::Naive => None,
-        }
-    }
-
-    /// The light lists this culler writes (none on the naive paths).
-    pub fn lists(&self) -> Option<&LightLists> {
-        self.levels().map(|l| &l.lists)
-    }
-
-    /// Whether the culling pass reads the depth buffer (every culled path does: tile depth
-    /// bounds bound the super-tiles and tiles, and mark the occupied froxels).
-    pub fn reads_depth(&self) -> bool {
-        !matches!(self, Self::Naive)
-    }
-
-    /// The culling method, as the CPU reference names it.
-    pub fn method(&self) -> Option<Method> {
-        match self {
-            Self::Tiled(t) if t.config.depth_mask => Some(Method::Depth25 {
-                tile: t.config.tile,
-                transparent: t.config.transparent_lists,
-            }),
-            Self::Tiled(t) => Some(Method::Tiled {
-                tile: t.config.tile,
-                transparent: t.config.transparent_lists,
-            }),
-            Self::Clustered(k) => Some(Method::Clustered {
-                grid: k.config.grid,
-                skip_empty: k.config.skip_empty,
-            }),
-            Self::Naive => None,
-        }
-    }
-}
 
 /// The culling a frame needs: its path's, except that the deferred paths, which shade opaque
 /// surfaces with lights they cull themselves, need tiled lists only for the other passes that
@@ -237,6 +191,8 @@ impl LightCullPass {
                 far: frame.camera.far,
             },
             msaa: c.msaa,
+            vis64: c.path == RenderPath::Visibility
+                && c.visibility_raster == VisibilityRaster::Compute,
             skip_empty,
             brute_force: c.cull_brute_force,
             coarse_slots: None,
@@ -341,7 +297,7 @@ impl LightCullPass {
         graph: &mut RenderGraph,
         resources: &mut FrameResources,
         culler: &Arc<ClusteredCulling>,
-        depth: crate::graph::Handle<crate::graph::Texture>,
+        depth: Handle<Texture>,
     ) -> LightListHandles {
         let lists = &culler.levels.lists;
         let mut grid = resources.import_buffer(
@@ -364,7 +320,12 @@ impl LightCullPass {
             .write_buffer(&mut indices, BufferAccess::StorageWrite)
             .execute(move |ctx| {
                 let view = ctx.texture(depth).create_view(&Default::default());
-                let encoded = k.levels.encode(ctx.device, &mut ctx.encoder, &view, false);
+                let encoded = k.levels.encode(
+                    ctx.device,
+                    &mut ctx.encoder,
+                    DepthInput::Texture(&view),
+                    false,
+                );
                 ctx.bind(encoded);
             });
         LightListHandles {
@@ -419,12 +380,22 @@ impl Pass for LightCullPass {
         let (Some(lists), Some(method)) = (self.culler.lists(), self.culler.method()) else {
             return Ok(());
         };
-        let depth = resources
-            .depth
-            .ok_or(RenderError::Config(ConfigError::MissingInput {
+        let missing = |input| {
+            RenderError::Config(ConfigError::MissingInput {
                 pass: "light culling",
-                input: "depth buffer",
-            }))?;
+                input,
+            })
+        };
+        // Under the compute rasteriser the depths are its samples: the depth target, which
+        // the light culling would otherwise make the frame resolve, stays unwritten.
+        let source = if self.culler.reads_samples() {
+            match resources.visibility.as_ref().map(|v| v.samples) {
+                Some(VisibilitySamples::Buffer { samples }) => Source::Samples(samples),
+                _ => return Err(missing("the compute rasteriser's samples")),
+            }
+        } else {
+            Source::Texture(resources.depth.ok_or(missing("depth buffer"))?)
+        };
         let mut grid =
             resources.import_buffer(graph, "light grid", &lists.grid, ImportAccess::ReadWrite);
         let mut indices = resources.import_buffer(
@@ -435,17 +406,38 @@ impl Pass for LightCullPass {
         );
         let culler = self.culler.clone();
         let timed = frame.config.time_cull_dispatches;
-        graph
-            .add_pass(self.name())
-            .read_texture(depth, TextureAccess::Sampled)
-            .write_buffer(&mut grid, BufferAccess::StorageWrite)
+        let mut pass = graph.add_pass(self.name());
+        match source {
+            Source::Texture(depth) => pass.read_texture(depth, TextureAccess::Sampled),
+            Source::Samples(samples) => pass.read_buffer(samples, BufferAccess::StorageRead),
+        };
+        pass.write_buffer(&mut grid, BufferAccess::StorageWrite)
             .write_buffer(&mut indices, BufferAccess::StorageWrite)
             .execute(move |ctx| {
-                let view = ctx.texture(depth).create_view(&Default::default());
-                if let Some(levels) = culler.levels() {
-                    let encoded = levels.encode(ctx.device, &mut ctx.encoder, &view, timed);
-                    ctx.bind(encoded);
-                }
+                let Some(levels) = culler.levels() else {
+                    return;
+                };
+                let encoded = match source {
+                    Source::Texture(depth) => {
+                        let view = ctx.texture(depth).create_view(&Default::default());
+                        levels.encode(
+                            ctx.device,
+                            &mut ctx.encoder,
+                            DepthInput::Texture(&view),
+                            timed,
+                        )
+                    }
+                    Source::Samples(samples) => {
+                        let buffer = ctx.buffer(samples).clone();
+                        levels.encode(
+                            ctx.device,
+                            &mut ctx.encoder,
+                            DepthInput::Samples(&buffer),
+                            timed,
+                        )
+                    }
+                };
+                ctx.bind(encoded);
             });
         let handles = LightListHandles {
             grid,
@@ -455,7 +447,10 @@ impl Pass for LightCullPass {
         };
         if frame.particles.is_some() {
             resources.particle_lists = match &self.particle_culler {
-                Some(k) => Some(self.add_particle_culling(graph, resources, k, depth)),
+                Some(k) => {
+                    let depth = resources.depth.ok_or(missing("depth buffer"))?;
+                    Some(self.add_particle_culling(graph, resources, k, depth))
+                }
                 None => Some(handles.clone()),
             };
         }
@@ -489,4 +484,13 @@ impl Pass for LightCullPass {
         self.poll_counters();
         report.culling = self.last_counters;
     }
+}
+
+/// Where this frame's light culling reads the depths.
+#[derive(Clone, Copy)]
+enum Source {
+    /// The depth buffer.
+    Texture(Handle<Texture>),
+    /// The compute rasteriser's samples (a culler built with `vis64`).
+    Samples(Handle<Buffer>),
 }

@@ -17,8 +17,8 @@ use shaders_gen::culling::{
 
 use crate::GpuContext;
 use crate::frame_data::{
-    FrameInputs, FrameResources, OcclusionDraws, OcclusionPacked, RenderError, RendererConfig,
-    SceneDrawList,
+    FrameInputs, FrameResources, OcclusionDraws, OcclusionPacked, RenderError, RenderPath,
+    RendererConfig, SceneDrawList, VisibilityRaster, VisibilitySamples,
 };
 use crate::graph::{
     Buffer, BufferAccess, Handle, ImportAccess, RenderGraph, Texture, TextureAccess,
@@ -38,6 +38,9 @@ pub struct OcclusionCullPass {
     params: wgpu::Buffer,
     /// The pyramid of the current frame size.
     pyramid: Option<Pyramid>,
+    /// The seed reads the compute rasteriser's samples, not a depth buffer (the visibility
+    /// path under [`VisibilityRaster::Compute`]), with the frame's size from this uniform.
+    samples_frame: Option<wgpu::Buffer>,
 }
 
 /// A depth pyramid: level 0 half the frame on each axis (rounding up) and then up to a power
@@ -140,7 +143,9 @@ impl OcclusionCullPass {
                 supported: caps.msaa_counts(),
             },
         ))?;
-        let seed_key = depth_pyramid_seed::VariantKey { msaa };
+        let vis64 = config.path == RenderPath::Visibility
+            && config.visibility_raster == VisibilityRaster::Compute;
+        let seed_key = depth_pyramid_seed::VariantKey { msaa, vis64 };
         Ok(Self {
             seed: compute(depth_pyramid_seed::variant(seed_key), "seed")?,
             reduce: compute(
@@ -158,6 +163,14 @@ impl OcclusionCullPass {
                 mapped_at_creation: false,
             }),
             pyramid: None,
+            samples_frame: vis64.then(|| {
+                device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("depth pyramid frame"),
+                    size: size_of::<depth_pyramid_seed::SeedFrame>() as u64,
+                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                })
+            }),
         })
     }
 }
@@ -230,7 +243,26 @@ impl Pass for OcclusionCullPass {
                 input,
             })
         };
-        let depth = resources.depth.ok_or(missing("the pre-Z depth"))?;
+        // Under the compute rasteriser the depths are its samples (which hold every opaque
+        // triangle, whatever the first phase drew): the frame need not resolve a depth target.
+        let source = match &self.samples_frame {
+            Some(uniform) => match resources.visibility.as_ref().map(|v| v.samples) {
+                Some(VisibilitySamples::Buffer { samples }) => {
+                    let c = &frame.config;
+                    let size = depth_pyramid_seed::SeedFrame::new(
+                        glam::UVec2::new(c.width, c.height),
+                        glam::UVec2::ZERO,
+                    );
+                    frame
+                        .gpu
+                        .queue()
+                        .write_buffer(uniform, 0, bytemuck::bytes_of(&size));
+                    SeedSource::Samples(samples, uniform.clone())
+                }
+                _ => return Err(missing("the compute rasteriser's samples")),
+            },
+            None => SeedSource::Depth(resources.depth.ok_or(missing("the pre-Z depth"))?),
+        };
         let pyramid = self
             .pyramid
             .as_ref()
@@ -242,7 +274,7 @@ impl Pass for OcclusionCullPass {
             &pyramid.texture,
             ImportAccess::ReadWrite,
         );
-        self.add_pyramid(graph, pyramid, depth, &mut texture);
+        self.add_pyramid(graph, pyramid, source, &mut texture);
         self.add_late_cull(graph, frame, pyramid, texture, &list, &mut occlusion)?;
         // From here on the passes draw every slot either phase drew.
         list.args = occlusion.all;
@@ -282,12 +314,12 @@ impl OcclusionCullPass {
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
     }
 
-    /// The pyramid from `depth` into `texture`: level 0, then each level from the one below.
+    /// The pyramid from `source` into `texture`: level 0, then each level from the one below.
     fn add_pyramid(
         &self,
         graph: &mut RenderGraph,
         pyramid: &Pyramid,
-        depth: Handle<Texture>,
+        source: SeedSource,
         texture: &mut Handle<Texture>,
     ) {
         let seed_pipeline = self.seed.1.clone();
@@ -301,15 +333,33 @@ impl OcclusionCullPass {
             .map(|(k, g)| (g.clone(), groups_8x8(pyramid.level_size(k as u32 + 1))))
             .collect();
         let seed_groups = groups_8x8(pyramid.level_size(0));
-        graph
-            .add_pass("depth pyramid")
-            .read_texture(depth, TextureAccess::Sampled)
-            .write_texture(texture, TextureAccess::StorageWrite)
+        let mut pass = graph.add_pass("depth pyramid");
+        match &source {
+            SeedSource::Depth(depth) => pass.read_texture(*depth, TextureAccess::Sampled),
+            SeedSource::Samples(samples, _) => {
+                pass.read_buffer(*samples, BufferAccess::StorageRead)
+            }
+        };
+        pass.write_texture(texture, TextureAccess::StorageWrite)
             .execute(move |ctx| {
-                let depth_view = ctx.texture(depth).create_view(&Default::default());
+                let depth_view = match &source {
+                    SeedSource::Depth(depth) => {
+                        Some(ctx.texture(*depth).create_view(&Default::default()))
+                    }
+                    SeedSource::Samples(..) => None,
+                };
+                let (samples, frame) = match &source {
+                    SeedSource::Samples(samples, frame) => (
+                        Some(ctx.buffer(*samples).as_entire_buffer_binding()),
+                        Some(frame.as_entire_buffer_binding()),
+                    ),
+                    SeedSource::Depth(_) => (None, None),
+                };
                 let built = depth_pyramid_seed::Group0 {
-                    depth: Some(&depth_view),
-                    depth_ms: Some(&depth_view),
+                    depth: depth_view.as_ref(),
+                    depth_ms: depth_view.as_ref(),
+                    vis64: samples,
+                    frame,
                     level: &level0,
                 }
                 .bind_group(
@@ -395,4 +445,12 @@ fn add_late_compaction(
         .write_buffer(&mut packed.late, BufferAccess::StorageWrite)
         .write_buffer(&mut packed.all, BufferAccess::StorageWrite)
         .execute(move |ctx| record(&mut ctx.encoder));
+}
+
+/// What the depth pyramid's level 0 is made from.
+enum SeedSource {
+    /// The depth buffer.
+    Depth(Handle<Texture>),
+    /// The compute rasteriser's samples, and the seed's frame-size uniform.
+    Samples(Handle<Buffer>, wgpu::Buffer),
 }

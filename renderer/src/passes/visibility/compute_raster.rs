@@ -115,6 +115,12 @@ impl ComputeRasterPass {
         self
     }
 
+    /// The buffer of samples the last frame rasterised into (none before the first).
+    pub(crate) fn samples_buffer(&self) -> Option<wgpu::Buffer> {
+        let buffers = self.buffers.lock().unwrap_or_else(PoisonError::into_inner);
+        buffers.as_ref().map(|b| b.vis64.clone())
+    }
+
     /// The triangle ID every sample of the last frame holds (0: none), `(y × width + x) ×
     /// msaa + s`. Blocks until the GPU is done: for tests and tools.
     pub fn read_ids(&self, gpu: &GpuContext) -> Result<Vec<u32>, GpuError> {

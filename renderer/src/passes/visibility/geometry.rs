@@ -86,3 +86,47 @@ pub(super) fn geometry_group(
         "visibility geometry",
     )
 }
+
+/// What the pass keeps between frames for the scene it last drew: the draws' geometry records
+/// (rebuilt when a draw's triangles change, not when an instance only moves) and the sequence
+/// index buffer (grown with the scene's index buffer).
+#[derive(Debug, Default)]
+pub(super) struct SceneState {
+    /// Scene id, instance table id and revision the records were checked at.
+    pub(super) key: Option<(u32, u32, u64)>,
+    pub(super) records: Vec<vis_geometry::DrawGeometry>,
+    /// `records` on the GPU.
+    pub(super) draw_geometry: Option<wgpu::Buffer>,
+    pub(super) sequence: Option<(wgpu::Buffer, u64)>,
+}
+
+impl SceneState {
+    /// Whether the kept records still describe `table` of scene `scene`: the same scene and
+    /// table, as many draws, and every draw of an instance changed since the kept revision
+    /// still where it was (moving, restyling or removing an instance keeps its triangles; a
+    /// reused slot takes a mesh of the same geometry only if the records say so).
+    pub(super) fn still_valid(&self, scene: u32, table: &InstanceTable) -> bool {
+        let Some((kept_scene, kept_table, revision)) = self.key else {
+            return false;
+        };
+        if kept_scene != scene
+            || kept_table != table.id()
+            || self.records.len() != table.draws.len()
+        {
+            return false;
+        }
+        let Some(changed) = table.changed_since(revision) else {
+            return false;
+        };
+        changed.iter().all(|&i| {
+            table.states[i].draws().all(|d| {
+                let g = table.draws[d].geometry;
+                self.records.get(d).is_some_and(|kept| {
+                    kept.first_index == g.first_index
+                        && kept.base_vertex == g.base_vertex as u32
+                        && kept.triangle_count == g.index_count / 3
+                })
+            })
+        })
+    }
+}

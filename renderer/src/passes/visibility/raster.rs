@@ -1,26 +1,31 @@
 //! The visibility raster pass: every opaque and alpha-masked draw of the scene's batches into
 //! the multisampled depth buffer and the visibility buffer (`shaders_gen`'s `vis_raster`). With
 //! [`VisibilityRaster::Compute`] the compute rasteriser draws the opaque ones first
-//! (`super::compute_raster`), this pass resolves its samples into the targets
-//! (`super::resolve`) and draws only the alpha-masked ones over them.
+//! (`super::compute_raster`) into its buffer, which is then the frame's visibility samples
+//! ([`VisibilitySamples::Buffer`]): this pass adds the alpha-masked draws to it with the same
+//! 64-bit atomics (`vis_raster`'s `vis64` variant), and resolves its depths into the depth
+//! target first (`super::resolve`) for the passes that depth-test in hardware. Without masked
+//! draws it writes only that target, and the graph leaves it out of a frame that reads none.
 //!
 //! The depth is cleared and the ID target only loaded: a sample at depth 1.0 is sky whatever
 //! ID it holds, and every reader of the IDs tests the depth first (`vis_frame::vis_id_at`).
 
 use std::sync::{Arc, Mutex, PoisonError};
 
-use shaders_gen::visibility::geometry::vis_geometry;
 use shaders_gen::visibility::vis_raster;
 
-use super::geometry::{draw_geometry, draw_geometry_buffer, geometry_group, sequence_buffer};
+use super::geometry::{
+    SceneState, draw_geometry, draw_geometry_buffer, geometry_group, sequence_buffer,
+};
 use super::resolve::{ComputeStage, Resolve};
 use crate::GpuContext;
 use crate::frame_data::{
     ConfigError, DEPTH_FORMAT, FrameInputs, FrameResources, InstanceTable, RenderError,
-    RendererConfig, VISIBILITY_FORMAT, VisibilityHandles, VisibilityRaster,
+    RendererConfig, VISIBILITY_FORMAT, VisibilityHandles, VisibilityRaster, VisibilitySamples,
 };
 use crate::graph::{
-    BufferAccess, Handle, PassContext, RenderGraph, Texture, TextureAccess, TextureDesc,
+    BufferAccess, Handle, PassBuilder, PassContext, RenderGraph, Texture, TextureAccess,
+    TextureDesc,
 };
 use crate::passes::{
     BatchState, FacePipelines, MeshPipeline, Pass, SceneDraws, depth_state, face_pipeline,
@@ -28,50 +33,6 @@ use crate::passes::{
 };
 use crate::scene::VertexStreams;
 use crate::shader::ShaderProgram;
-
-/// What the pass keeps between frames for the scene it last drew: the draws' geometry records
-/// (rebuilt when a draw's triangles change, not when an instance only moves) and the sequence
-/// index buffer (grown with the scene's index buffer).
-#[derive(Debug, Default)]
-struct SceneState {
-    /// Scene id, instance table id and revision the records were checked at.
-    key: Option<(u32, u32, u64)>,
-    records: Vec<vis_geometry::DrawGeometry>,
-    /// `records` on the GPU.
-    draw_geometry: Option<wgpu::Buffer>,
-    sequence: Option<(wgpu::Buffer, u64)>,
-}
-
-impl SceneState {
-    /// Whether the kept records still describe `table` of scene `scene`: the same scene and
-    /// table, as many draws, and every draw of an instance changed since the kept revision
-    /// still where it was (moving, restyling or removing an instance keeps its triangles; a
-    /// reused slot takes a mesh of the same geometry only if the records say so).
-    fn still_valid(&self, scene: u32, table: &InstanceTable) -> bool {
-        let Some((kept_scene, kept_table, revision)) = self.key else {
-            return false;
-        };
-        if kept_scene != scene
-            || kept_table != table.id()
-            || self.records.len() != table.draws.len()
-        {
-            return false;
-        }
-        let Some(changed) = table.changed_since(revision) else {
-            return false;
-        };
-        changed.iter().all(|&i| {
-            table.states[i].draws().all(|d| {
-                let g = table.draws[d].geometry;
-                self.records.get(d).is_some_and(|kept| {
-                    kept.first_index == g.first_index
-                        && kept.base_vertex == g.base_vertex as u32
-                        && kept.triangle_count == g.index_count / 3
-                })
-            })
-        })
-    }
-}
 
 /// The visibility raster pass: its programs and pipelines (`[double_sided][mirrored]`, plain
 /// and alpha-masked). With occlusion culling it runs twice, as pre-Z does: first the draws
@@ -90,6 +51,8 @@ pub struct VisRasterPass {
     late: bool,
     /// With [`VisibilityRaster::Compute`]: the compute rasteriser and its resolve.
     compute: Option<Arc<ComputeStage>>,
+    /// With [`VisibilityRaster::Compute`]: the masked program's `SAMPLES` uniform.
+    sample_layout: Option<wgpu::Buffer>,
 }
 
 impl VisRasterPass {
@@ -104,16 +67,28 @@ impl VisRasterPass {
                 supported,
             }));
         }
-        let program = |alpha_mask| {
-            let variant = vis_raster::variant(vis_raster::VariantKey { alpha_mask });
-            gpu.program(variant)
-        };
-        let (program, mask_program) = (program(false)?, program(true)?);
         let compute = match config.visibility_raster {
             VisibilityRaster::Hardware => None,
             VisibilityRaster::Compute => Some(ComputeStage::new(gpu, config)?),
         };
+        // Under the compute rasteriser the masked draws add their samples to its buffer.
+        let vis64 = compute.is_some();
+        let program = |alpha_mask, vis64| {
+            let variant = vis_raster::variant(vis_raster::VariantKey { alpha_mask, vis64 })?;
+            Ok::<_, RenderError>(gpu.program(variant)?)
+        };
+        let (program, mask_program) = (program(false, false)?, program(true, vis64)?);
+        let ids_target = [Some(wgpu::ColorTargetState {
+            format: VISIBILITY_FORMAT,
+            blend: None,
+            write_mask: wgpu::ColorWrites::ALL,
+        })];
         let pipelines = |program: &ShaderProgram, masked: bool| {
+            let fragment = if masked && vis64 {
+                ("fs_vis64", &[][..])
+            } else {
+                ("fs_vis", &ids_target[..])
+            };
             face_pipelines(|double_sided, mirrored| {
                 mesh_pipeline(
                     gpu.device(),
@@ -131,14 +106,7 @@ impl VisRasterPass {
                         mirrored,
                         depth: depth_state(true, wgpu::CompareFunction::Less),
                         msaa: config.msaa,
-                        fragment: Some((
-                            "fs_vis",
-                            &[Some(wgpu::ColorTargetState {
-                                format: VISIBILITY_FORMAT,
-                                blend: None,
-                                write_mask: wgpu::ColorWrites::ALL,
-                            })],
-                        )),
+                        fragment: Some(fragment),
                     },
                 )
             })
@@ -150,6 +118,14 @@ impl VisRasterPass {
             mask_program,
             state: Arc::default(),
             late: false,
+            sample_layout: vis64.then(|| {
+                gpu.device().create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("visibility sample layout"),
+                    size: size_of::<vis_raster::SampleLayout>() as u64,
+                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                })
+            }),
             compute,
         })
     }
@@ -166,31 +142,62 @@ impl VisRasterPass {
             state: Arc::clone(&self.state),
             late: true,
             compute: self.compute.clone(),
+            sample_layout: self.sample_layout.clone(),
         }
     }
 }
 
 impl VisRasterPass {
-    /// Group 0 (the camera) and group 3 of the plain and the masked programs.
+    /// Group 0 (the camera; for the masked program under the compute rasteriser, its buffer
+    /// `vis64` too) and group 3 of the plain and the masked programs: `(camera, mask camera,
+    /// geometry, mask geometry)`.
     fn groups(
         &self,
         frame: &FrameInputs,
         draw_geometry: &wgpu::Buffer,
-    ) -> Result<(wgpu::BindGroup, wgpu::BindGroup, wgpu::BindGroup), RenderError> {
+        vis64: Option<&wgpu::Buffer>,
+    ) -> Result<[wgpu::BindGroup; 4], RenderError> {
         let device = frame.gpu.device();
         let geometry = geometry_group(device, &self.program, &frame.scene, draw_geometry)?;
         let mask_geometry =
             geometry_group(device, &self.mask_program, &frame.scene, draw_geometry)?;
-        let camera = vis_raster::Group0 {
-            camera: frame.camera_uniform.buffer.as_entire_buffer_binding(),
+        let camera = frame.camera_uniform.buffer.as_entire_buffer_binding();
+        let layout = match (vis64, &self.sample_layout) {
+            (Some(_), Some(layout)) => {
+                let c = &frame.config;
+                let params = vis_raster::SampleLayout::new(c.width, c.msaa, glam::UVec2::ZERO);
+                frame
+                    .gpu
+                    .queue()
+                    .write_buffer(layout, 0, bytemuck::bytes_of(&params));
+                Some(layout.as_entire_buffer_binding())
+            }
+            _ => None,
         };
-        let camera = self.program.bind_group(
-            device,
-            vis_raster::Group0::GROUP,
-            &shader_bind::Resources::of(&camera),
-            "visibility camera",
-        )?;
-        Ok((camera, geometry, mask_geometry))
+        let group0 = |program: &ShaderProgram, group: vis_raster::Group0<'_>| {
+            program.bind_group(
+                device,
+                vis_raster::Group0::GROUP,
+                &shader_bind::Resources::of(&group),
+                "visibility camera",
+            )
+        };
+        let plain = vis_raster::Group0 {
+            camera: camera.clone(),
+            vis64: None,
+            samples: None,
+        };
+        let masked = vis_raster::Group0 {
+            camera,
+            vis64: vis64.map(wgpu::Buffer::as_entire_buffer_binding),
+            samples: layout,
+        };
+        Ok([
+            group0(&self.program, plain)?,
+            group0(&self.mask_program, masked)?,
+            geometry,
+            mask_geometry,
+        ])
     }
 }
 
@@ -268,61 +275,103 @@ impl Pass for VisRasterPass {
                 .visibility
                 .clone()
                 .ok_or(missing("the first half's visibility buffer"))?;
-            Some((depth, vis.ids))
+            Some((depth, vis.samples))
         } else {
             None
         };
         let (draw_geometry, draws, sequence) = self.kept_buffers().ok_or(missing(
             "draw geometry and sequence indices (built in prepare)",
         ))?;
-        let (camera, geometry, mask_geometry) = self.groups(frame, &draw_geometry)?;
-        let c = &frame.config;
-        let resolve = match (&self.compute, first) {
+        // Under the compute rasteriser its buffer holds the IDs: the first half rasterises
+        // the opaque draws into it and resolves their depths; both halves add the masked
+        // draws' samples to it.
+        let (resolve, vis64) = match (&self.compute, first) {
             (Some(stage), None) => {
-                Some(stage.add_to_graph(graph, frame, resources, (&list, &draw_geometry, draws))?)
+                let (resolve, buffer) =
+                    stage.add_to_graph(graph, frame, resources, (&list, &draw_geometry, draws))?;
+                (Some(resolve), Some(buffer))
             }
-            _ => None,
+            (Some(stage), Some(_)) => (None, stage.samples_buffer()),
+            (None, _) => (None, None),
         };
-        let (mut depth, mut ids) = first.unwrap_or_else(|| {
-            let size = TextureDesc::new_2d(c.width, c.height, DEPTH_FORMAT).with_samples(c.msaa);
-            let ids =
-                TextureDesc::new_2d(c.width, c.height, VISIBILITY_FORMAT).with_samples(c.msaa);
-            (
-                graph.create_texture("depth", size),
-                graph.create_texture("visibility", ids),
-            )
-        });
+        let [camera, mask_camera, geometry, mask_geometry] =
+            self.groups(frame, &draw_geometry, vis64.as_ref())?;
+        let (mut depth, mut samples) = match first {
+            Some(kept) => kept,
+            None => new_targets(graph, frame, resolve.as_ref()),
+        };
         let recording = Recording {
             plain: self.plain.clone(),
             masked: self.masked.clone(),
             scene: Arc::clone(&frame.scene),
             instances: Arc::clone(&frame.instances),
             camera,
+            mask_camera,
             geometry,
             mask_geometry,
             sequence,
             list: list.clone(),
             depth,
-            ids,
+            ids: match samples {
+                VisibilitySamples::Targets { ids } => Some(ids),
+                VisibilitySamples::Buffer { .. } => None,
+            },
             load: first.is_some(),
             masked_only: self.compute.is_some(),
             resolve,
         };
         let mut pass = graph.add_pass(self.name());
-        if let Some(r) = &recording.resolve {
-            pass.read_buffer(r.samples, BufferAccess::StorageRead);
-        }
         pass.read_buffer(list.args, BufferAccess::Indirect)
-            .write_texture(&mut depth, TextureAccess::DepthWrite)
-            .write_texture(&mut ids, TextureAccess::ColorAttachment)
-            .execute(move |ctx| recording.record(ctx));
+            .write_texture(&mut depth, TextureAccess::DepthWrite);
+        let masked = list.layout.batches.iter().any(|b| b.masked);
+        declare_samples(&mut pass, &mut samples, masked);
+        pass.execute(move |ctx| recording.record(ctx));
         resources.depth = Some(depth);
         resources.visibility = Some(VisibilityHandles {
-            ids,
+            samples,
             draw_geometry,
             draws,
         });
         Ok(())
+    }
+}
+
+/// The first half's depth target and visibility samples: the compute rasteriser's buffer
+/// where it ran (`resolve`), else a new ID target.
+fn new_targets(
+    graph: &mut RenderGraph,
+    frame: &FrameInputs,
+    resolve: Option<&Resolve>,
+) -> (Handle<Texture>, VisibilitySamples) {
+    let c = &frame.config;
+    let size = TextureDesc::new_2d(c.width, c.height, DEPTH_FORMAT).with_samples(c.msaa);
+    let samples = match resolve {
+        Some(r) => VisibilitySamples::Buffer { samples: r.samples },
+        None => {
+            let ids =
+                TextureDesc::new_2d(c.width, c.height, VISIBILITY_FORMAT).with_samples(c.msaa);
+            VisibilitySamples::Targets {
+                ids: graph.create_texture("visibility", ids),
+            }
+        }
+    };
+    (graph.create_texture("depth", size), samples)
+}
+
+/// Declares what the pass does with the samples: writes the ID target, or adds the `masked`
+/// draws to the compute rasteriser's buffer. Without masked draws the pass only resolves the
+/// depth, and the graph leaves it out of a frame that reads no depth target.
+fn declare_samples(pass: &mut PassBuilder<'_>, samples: &mut VisibilitySamples, masked: bool) {
+    match samples {
+        VisibilitySamples::Targets { ids } => {
+            pass.write_texture(ids, TextureAccess::ColorAttachment);
+        }
+        VisibilitySamples::Buffer { samples } if masked => {
+            pass.write_buffer(samples, BufferAccess::StorageWrite);
+        }
+        VisibilitySamples::Buffer { samples } => {
+            pass.read_buffer(*samples, BufferAccess::StorageRead);
+        }
     }
 }
 
@@ -333,13 +382,16 @@ struct Recording {
     scene: Arc<crate::frame_data::PreparedScene>,
     instances: Arc<InstanceTable>,
     camera: wgpu::BindGroup,
+    /// The masked program's group 0 (with the compute rasteriser's buffer under it).
+    mask_camera: wgpu::BindGroup,
     /// Group 3 of the plain and the masked programs.
     geometry: wgpu::BindGroup,
     mask_geometry: wgpu::BindGroup,
     sequence: wgpu::Buffer,
     list: crate::frame_data::SceneDrawList,
     depth: Handle<Texture>,
-    ids: Handle<Texture>,
+    /// The ID target (the hardware raster's; none under the compute rasteriser).
+    ids: Option<Handle<Texture>>,
     /// The second half: keep what the first drew.
     load: bool,
     /// The compute raster's resolve, drawn first (the first half under the compute raster).
@@ -354,11 +406,13 @@ impl Recording {
     /// the compute raster), through the sequence index buffer.
     fn record(&self, ctx: &mut PassContext<'_>) {
         let depth_view = ctx.texture(self.depth).create_view(&Default::default());
-        let ids_view = ctx.texture(self.ids).create_view(&Default::default());
-        let mut pass = ctx.encoder.begin_render(&wgpu::RenderPassDescriptor {
-            label: Some("visibility"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &ids_view,
+        let ids_view = self
+            .ids
+            .map(|ids| ctx.texture(ids).create_view(&Default::default()));
+        let ids_attachment = ids_view
+            .as_ref()
+            .map(|view| wgpu::RenderPassColorAttachment {
+                view,
                 depth_slice: None,
                 resolve_target: None,
                 ops: wgpu::Operations {
@@ -369,7 +423,14 @@ impl Recording {
                     load: wgpu::LoadOp::Load,
                     store: wgpu::StoreOp::Store,
                 },
-            })],
+            });
+        let mut pass = ctx.encoder.begin_render(&wgpu::RenderPassDescriptor {
+            label: Some("visibility"),
+            color_attachments: if ids_attachment.is_some() {
+                std::slice::from_ref(&ids_attachment)
+            } else {
+                &[]
+            },
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &depth_view,
                 depth_ops: Some(wgpu::Operations {
@@ -406,15 +467,15 @@ impl Recording {
             if self.masked_only && !batch.masked {
                 return None;
             }
-            let (pipelines, group3) = if batch.masked {
-                (&self.masked, &self.mask_geometry)
+            let (pipelines, group0, group3) = if batch.masked {
+                (&self.masked, &self.mask_camera, &self.mask_geometry)
             } else {
-                (&self.plain, &self.geometry)
+                (&self.plain, &self.camera, &self.geometry)
             };
             Some(BatchState {
                 pipeline: face_pipeline(pipelines, batch.double_sided, batch.mirrored),
                 group2: batch.masked.then(|| self.scene.mask_group()),
-                program_groups: Some((&self.camera, Some(group3))),
+                program_groups: Some((group0, Some(group3))),
             })
         });
     }

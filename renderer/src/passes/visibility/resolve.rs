@@ -10,9 +10,7 @@ use shaders_gen::visibility::vis_resolve;
 
 use super::ComputeRasterPass;
 use crate::GpuContext;
-use crate::frame_data::{
-    FrameInputs, FrameResources, RenderError, RendererConfig, SceneDrawList, VISIBILITY_FORMAT,
-};
+use crate::frame_data::{FrameInputs, FrameResources, RenderError, RendererConfig, SceneDrawList};
 use crate::graph::{Buffer, Handle, RenderGraph};
 use crate::passes::depth_state;
 use crate::shader::ShaderProgram;
@@ -63,11 +61,7 @@ impl ComputeStage {
                     module: &program.module,
                     entry_point: Some("fs_resolve"),
                     compilation_options: Default::default(),
-                    targets: &[Some(wgpu::ColorTargetState {
-                        format: VISIBILITY_FORMAT,
-                        blend: None,
-                        write_mask: wgpu::ColorWrites::ALL,
-                    })],
+                    targets: &[],
                 }),
                 multiview_mask: None,
                 cache: None,
@@ -96,14 +90,20 @@ impl ComputeStage {
         frame: &FrameInputs,
         resources: &mut FrameResources,
         draws: (&SceneDrawList, &wgpu::Buffer, u32),
-    ) -> Result<Resolve, RenderError> {
+    ) -> Result<(Resolve, wgpu::Buffer), RenderError> {
         let (vis64, samples) = self.raster.add_raster(graph, frame, resources, draws)?;
         let c = &frame.config;
-        Ok(Resolve {
+        let resolve = Resolve {
             pipeline: self.pipeline.clone(),
             group: self.bind_group(&frame.gpu, (c.width, c.msaa), &vis64)?,
             samples,
-        })
+        };
+        Ok((resolve, vis64))
+    }
+
+    /// The compute rasteriser's buffer of this frame (after `add_to_graph`).
+    pub(crate) fn samples_buffer(&self) -> Option<wgpu::Buffer> {
+        self.raster.samples_buffer()
     }
 
     /// The resolve's bind group over the samples `vis64` of a `width`-pixel-wide frame at

@@ -11,11 +11,14 @@ use super::geometry::geometry_group;
 use crate::GpuContext;
 use crate::frame_data::{
     ConfigError, FrameInputs, FrameResources, FrameView, HDR_FORMAT, RenderError, RenderPath,
-    RendererConfig, VisibilityHandles,
+    RendererConfig, VisibilityHandles, VisibilityRaster, VisibilitySamples,
 };
-use crate::graph::{BufferAccess, BufferDesc, RenderGraph, TextureAccess, TextureDesc};
+use crate::graph::{
+    Buffer, BufferAccess, BufferDesc, Handle, PassBuilder, RenderGraph, Texture, TextureAccess,
+    TextureDesc,
+};
 use crate::materials::{MaterialError, MaterialProgram, PARAMS_GROUP, PARAMS_NAME};
-use crate::passes::forward::bindings::{FrameGroup, VisInputs, lighting_buffer};
+use crate::passes::forward::bindings::{FrameGroup, VisInputs, VisSampleViews, lighting_buffer};
 use crate::passes::{Pass, groups_8x8};
 use crate::shader::ShaderProgram;
 
@@ -57,19 +60,26 @@ impl VisShadePass {
                     supported: crate::materials::VIS_SAMPLE_COUNTS.to_vec(),
                 })
             })?;
+        // The compute rasteriser's frames read its buffer (`vis64`), the hardware's its targets.
+        let vis64 = config.visibility_raster == VisibilityRaster::Compute;
         let gltf = forward::variant(forward::VariantKey {
             list: forward::List::List2,
             blend: false,
             scalarize: config.scalarize,
             msaa,
+            vis64,
         })?;
         let mut variants = vec![(forward::MODULE.name, gltf)];
         for m in materials {
             let variant = m
-                .vis_variant(config.msaa, config.scalarize)
+                .vis_variant(config.msaa, config.scalarize, vis64)
                 .ok_or_else(|| MaterialError::MissingVariant {
                     module: m.name().to_string(),
-                    variant: crate::materials::vis_variant_name(config.msaa, config.scalarize),
+                    variant: crate::materials::vis_variant_name(
+                        config.msaa,
+                        config.scalarize,
+                        vis64,
+                    ),
                 })?;
             variants.push((m.name(), variant));
         }
@@ -225,7 +235,6 @@ impl Pass for VisShadePass {
             .visibility
             .clone()
             .ok_or(missing("visibility buffer"))?;
-        let depth = resources.depth.ok_or(missing("depth"))?;
         let lists = resources
             .light_lists
             .clone()
@@ -241,25 +250,36 @@ impl Pass for VisShadePass {
         let mut sums = graph.create_buffer("visibility sums", BufferDesc { size: pixels * 16 });
         let mut hdr =
             graph.create_texture("hdr", TextureDesc::new_2d(c.width, c.height, HDR_FORMAT));
+        // The hardware raster's IDs are read with its depth (1.0: sky, whatever the ID).
+        let source = match vis.samples {
+            VisibilitySamples::Targets { ids } => {
+                let depth = resources.depth.ok_or(missing("depth"))?;
+                Source::Targets { ids, depth }
+            }
+            VisibilitySamples::Buffer { samples } => Source::Buffer(samples),
+        };
         let mut pass = graph.add_pass(self.name());
-        pass.read_texture(vis.ids, TextureAccess::Sampled)
-            .read_texture(depth, TextureAccess::Sampled)
-            .write_buffer(&mut sums, BufferAccess::StorageWrite)
+        source.read_by(&mut pass);
+        pass.write_buffer(&mut sums, BufferAccess::StorageWrite)
             .write_texture(&mut hdr, TextureAccess::StorageWrite);
         let group = FrameGroup::new(frame, &self.lighting, Some(lists), shadows);
         group.read_by(&mut pass);
-        let (ids, (width, height)) = (vis.ids, (c.width, c.height));
+        let (width, height) = (c.width, c.height);
         pass.execute(move |ctx| {
-            let ids = ctx.texture(ids).create_view(&Default::default());
-            let depth = ctx.texture(depth).create_view(&Default::default());
+            let samples = match source {
+                Source::Targets { ids, depth } => VisSampleViews::Targets {
+                    ids: ctx.texture(ids).create_view(&Default::default()),
+                    depth: ctx.texture(depth).create_view(&Default::default()),
+                },
+                Source::Buffer(samples) => VisSampleViews::Buffer(ctx.buffer(samples).clone()),
+            };
             let out = ctx.texture(hdr).create_view(&Default::default());
             let sums = ctx.buffer(sums).clone();
             let mut groups0 = Vec::with_capacity(dispatches.len());
             for d in &dispatches {
                 let inputs = VisInputs {
                     params: &d.uniform,
-                    ids: &ids,
-                    depth: &depth,
+                    samples: &samples,
                     out: &out,
                     sums: &sums,
                 };
@@ -284,5 +304,31 @@ impl Pass for VisShadePass {
         resources.hdr = Some(hdr);
         resources.hdr_multisampled = None;
         Ok(())
+    }
+}
+
+/// Where this frame's shading kernels read their samples (`VisibilitySamples`, with the
+/// hardware raster's depth).
+#[derive(Clone, Copy)]
+enum Source {
+    Targets {
+        ids: Handle<Texture>,
+        depth: Handle<Texture>,
+    },
+    Buffer(Handle<Buffer>),
+}
+
+impl Source {
+    /// Declares `pass`'s reads of the samples.
+    fn read_by(self, pass: &mut PassBuilder<'_>) {
+        match self {
+            Self::Targets { ids, depth } => {
+                pass.read_texture(ids, TextureAccess::Sampled)
+                    .read_texture(depth, TextureAccess::Sampled);
+            }
+            Self::Buffer(samples) => {
+                pass.read_buffer(samples, BufferAccess::StorageRead);
+            }
+        }
     }
 }

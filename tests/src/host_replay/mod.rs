@@ -12,17 +12,20 @@
 //! Samplers cannot be read back from wgpu: the caller states each one's settings, and binding
 //! fails, naming the sampler, where a recorded sampler has none.
 
+mod sample_copier;
+
+use sample_copier::{SampleCopier, TextureShape};
+
 use std::sync::Mutex;
 
 use codegen::interp::{Dispatch, EvalError, HostSampler, HostTexture, Value};
 use renderer::GpuContext;
-use renderer::frame::{ConfigError, RenderError};
-use renderer::frame_data::{FrameInputs, FrameResources};
+use renderer::frame::RenderError;
+use renderer::frame_data::{FrameInputs, FrameResources, VisibilitySamples};
 use renderer::graph::{BufferAccess, ImportAccess, PassContext, RenderGraph, TextureAccess};
 use renderer::passes::Pass;
 use renderer::shader::ShaderProgram;
 use shader_bind::BoundResource;
-use shaders_gen::inspect::sample_copy;
 
 use crate::frame_probe::{copy_target, padded_row, read_bytes, unpad};
 
@@ -39,16 +42,6 @@ enum Copy {
         shape: TextureShape,
     },
     Sampler(&'static str),
-}
-
-/// A texture's size and format as copied: `samples > 1` only for a `sample_copy` copy.
-#[derive(Debug, Clone, Copy)]
-struct TextureShape {
-    width: u32,
-    height: u32,
-    layers: u32,
-    samples: u32,
-    format: wgpu::TextureFormat,
 }
 
 /// The pass that copies what `program` last bound. Insert it right after the kernel's pass, on
@@ -126,10 +119,17 @@ impl Pass for BindingsProbe {
             } else {
                 TextureAccess::CopySrc
             };
-            pass.read_texture(vis.ids, access);
-            // The shading kernel tells sky by the depth (`VIS_DEPTH`).
-            if let Some(depth) = resources.depth {
-                pass.read_texture(depth, access);
+            match vis.samples {
+                VisibilitySamples::Targets { ids } => {
+                    pass.read_texture(ids, access);
+                    // The shading kernel tells sky by the depth (`VIS_DEPTH`).
+                    if let Some(depth) = resources.depth {
+                        pass.read_texture(depth, access);
+                    }
+                }
+                VisibilitySamples::Buffer { samples } => {
+                    pass.read_buffer(samples, BufferAccess::CopySrc);
+                }
             }
         }
         if let Some(shadows) = &resources.shadows {
@@ -249,76 +249,6 @@ fn texel_bytes(format: wgpu::TextureFormat) -> Option<u32> {
         F::R32Uint | F::R32Float | F::Depth32Float | F::Rgba8Unorm | F::Rgba8UnormSrgb => Some(4),
         F::Rgba16Float => Some(8),
         _ => None,
-    }
-}
-
-/// `sample_copy` for one sample count: every sample of a multisampled `u32` or depth texture
-/// into a storage buffer.
-#[derive(Debug)]
-struct SampleCopier {
-    /// The `R32Uint` copy, then the `Depth32Float` one.
-    kernels: [(ShaderProgram, wgpu::ComputePipeline); 2],
-}
-
-impl SampleCopier {
-    fn new(gpu: &GpuContext, msaa: u32) -> Result<Self, RenderError> {
-        let msaa = sample_copy::Msaa::from_value(msaa).ok_or_else(|| {
-            RenderError::Config(ConfigError::SampleCount {
-                asked: msaa,
-                supported: sample_copy::Msaa::ALL.iter().map(|m| m.value()).collect(),
-            })
-        })?;
-        let kernel = |depth| -> Result<_, RenderError> {
-            let variant = sample_copy::variant(sample_copy::VariantKey { msaa, depth });
-            let program = ShaderProgram::new(gpu.device(), gpu.capabilities(), variant)?;
-            Ok((program.compute_pipeline(gpu.device(), "copy")?, program))
-        };
-        let ((ids_pipeline, ids), (depth_pipeline, depth)) = (kernel(false)?, kernel(true)?);
-        Ok(Self {
-            kernels: [(ids, ids_pipeline), (depth, depth_pipeline)],
-        })
-    }
-
-    fn copy(
-        &self,
-        ctx: &mut PassContext<'_>,
-        name: &str,
-        texture: &wgpu::Texture,
-        shape: TextureShape,
-    ) -> Result<wgpu::Buffer, String> {
-        let (program, pipeline) = match shape.format {
-            wgpu::TextureFormat::R32Uint => &self.kernels[0],
-            wgpu::TextureFormat::Depth32Float => &self.kernels[1],
-            other => return Err(format!("`{name}`: multisampled {other:?}")),
-        };
-        let size = 4 * u64::from(shape.width * shape.height * shape.samples);
-        let copy = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some(name),
-            size,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let view = texture.create_view(&Default::default());
-        let is_depth = shape.format == wgpu::TextureFormat::Depth32Float;
-        let group = sample_copy::Group0 {
-            samples: copy.as_entire_buffer_binding(),
-            source: (!is_depth).then_some(&view),
-            source_depth: is_depth.then_some(&view),
-        }
-        .bind_group(
-            ctx.device,
-            program.layout(sample_copy::Group0::GROUP),
-            program.variant,
-            "sample copy",
-        )
-        .map_err(|e| e.to_string())?;
-        let mut pass = ctx
-            .encoder
-            .begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-        pass.set_pipeline(pipeline);
-        pass.set_bind_group(0, &group, &[]);
-        pass.dispatch_workgroups(shape.width.div_ceil(8), shape.height.div_ceil(8), 1);
-        Ok(copy)
     }
 }
 
