@@ -55,8 +55,8 @@ pub use resources::{
     BlendedDraws, FrameResources, GBufferHandles, LightListHandles, ListGeometry, OcclusionDraws,
     OcclusionPacked, OverlayEraser, ParticleResources, SceneDrawList, ShadowResources,
 };
-pub use visibility_handles::{VisibilityHandles, VisibilitySamples};
 pub use scene::PreparedScene;
 #[cfg(any(test, feature = "internals"))]
 pub use scene::{MeshDraw, PlannedDraw, draw_plan, is_mirrored};
 pub use views::{ViewId, ViewTarget};
+pub use visibility_handles::{VisibilityHandles, VisibilitySamples};

@@ -401,9 +401,10 @@ struct Recording {
 }
 
 impl Recording {
-    /// Clears depth (the first half; the IDs are loaded), resolves the compute raster's samples into them
-    /// (under the compute raster) and draws every batch of its list (only the masked ones under
-    /// the compute raster), through the sequence index buffer.
+    /// Clears depth (the hardware raster's first half; the IDs are loaded), or under the
+    /// compute raster resolves its depths into every sample instead, then draws every batch
+    /// of its list (only the masked ones, into the compute raster's buffer, under the compute
+    /// raster), through the sequence index buffer.
     fn record(&self, ctx: &mut PassContext<'_>) {
         let depth_view = ctx.texture(self.depth).create_view(&Default::default());
         let ids_view = self
@@ -434,7 +435,9 @@ impl Recording {
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &depth_view,
                 depth_ops: Some(wgpu::Operations {
-                    load: if self.load {
+                    // The second half keeps the first's depth; the compute rasteriser's
+                    // resolve writes every sample, so its target is not cleared either.
+                    load: if self.load || self.resolve.is_some() {
                         wgpu::LoadOp::Load
                     } else {
                         wgpu::LoadOp::Clear(1.0)
