@@ -113,9 +113,17 @@ fn a_material_is_the_frame_around_its_surface_for_every_frame_variant() {
         .collect();
     assert_eq!(
         kept.len(),
-        18,
+        26,
         "list × blend × scalarize less naive scalar, and the kernels of 1, 2, 4 and 8 samples \
-         with clustered lists, plain and scalarized: {kept:?}"
+         with clustered lists, plain and scalarized, over the raster targets and over the \
+         compute rasteriser's buffer (`vis64`): {kept:?}"
+    );
+    assert!(kept.contains(&"list2_scalar_msaa4_vis64"), "{kept:?}");
+    assert!(
+        !kept
+            .iter()
+            .any(|k| k.ends_with("_vis64") && !k.contains("_msaa")),
+        "`vis64` is an axis of the kernels only: {kept:?}"
     );
     assert!(!kept.contains(&"list0_scalar"), "{kept:?}");
     assert!(

@@ -23,7 +23,8 @@ pub enum VisibilitySamples {
     /// `(!depth_bits << 32) | !id`, or 0 where no triangle covers the sample. The alpha-masked
     /// draws are in it too. [`FrameResources::depth`] is then a depth target resolved from it,
     /// for the passes that depth-test in hardware (blended surfaces, particles); a frame
-    /// whose passes read only the buffer never writes that target.
+    /// whose passes read only the buffer, and which has no alpha-masked draws, never writes
+    /// that target.
     Buffer {
         /// The samples.
         samples: Handle<Buffer>,

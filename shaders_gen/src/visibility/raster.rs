@@ -18,7 +18,9 @@
 /// With `vis64` (masked draws only), under the compute rasteriser: the masked draws add their
 /// samples to its buffer (`vis_compute_raster`'s `VIS64`, the same packing and `fetch_max`)
 /// instead of writing an ID target. The fragment stage runs per sample (it reads
-/// `sample_index`), so each covered sample merges its own depth.
+/// `sample_index`), so each covered sample merges its own depth; the alpha test then runs per
+/// sample too (at the sample's texture coordinates), where the other paths' masked draws test
+/// once per pixel, so a masked edge can differ from theirs by a sample.
 #[shader_dsl::shader(
     axes(
         alpha_mask: bool = [false, true] => "mask",

@@ -5,7 +5,8 @@
 //! ([`VisibilitySamples::Buffer`]): this pass adds the alpha-masked draws to it with the same
 //! 64-bit atomics (`vis_raster`'s `vis64` variant), and resolves its depths into the depth
 //! target first (`super::resolve`) for the passes that depth-test in hardware. Without masked
-//! draws it writes only that target, and the graph leaves it out of a frame that reads none.
+//! draws it writes only that target, and the graph leaves it out of a frame that reads none;
+//! with masked draws it always runs (they write the buffer) and resolves the depth too.
 //!
 //! The depth is cleared and the ID target only loaded: a sample at depth 1.0 is sky whatever
 //! ID it holds, and every reader of the IDs tests the depth first (`vis_frame::vis_id_at`).
@@ -36,7 +37,8 @@ use crate::shader::ShaderProgram;
 
 /// The visibility raster pass: its programs and pipelines (`[double_sided][mirrored]`, plain
 /// and alpha-masked). With occlusion culling it runs twice, as pre-Z does: first the draws
-/// visible last frame into cleared depth (the IDs are loaded); then ([`VisRasterPass::late`], after
+/// visible last frame into cleared depth (the IDs are loaded; under the compute rasteriser,
+/// the resolved depth and its buffer); then ([`VisRasterPass::late`], after
 /// `passes::scene_cull::occlusion`) the draws the occlusion test found visible that the first
 /// half left out, over them.
 #[derive(Debug)]

@@ -1,8 +1,9 @@
-//! The compute raster's samples written into the visibility raster's targets
-//! (`shaders_gen`'s `vis_resolve`): with [`crate::frame_data::VisibilityRaster::Compute`] the
-//! visibility raster pass draws this full-screen, at sample rate, into its depth (cleared) and
-//! visibility buffer (loaded) before the alpha-masked draws, so every pass after it reads the compute
-//! rasteriser's depth and IDs as it reads the hardware's.
+//! The compute rasteriser and its depth resolve (`shaders_gen`'s `vis_resolve`): with
+//! [`crate::frame_data::VisibilityRaster::Compute`] the visibility raster pass draws the resolve
+//! full-screen, at sample rate, into its depth target (loaded: every sample is written, 1.0
+//! where no triangle is) before the alpha-masked draws, for the passes after it that
+//! depth-test in hardware. The IDs stay in the compute rasteriser's buffer, which the shading,
+//! the light culling and the depth pyramid read.
 
 use std::sync::Arc;
 
@@ -51,7 +52,7 @@ impl ComputeStage {
                     buffers: &[],
                 },
                 primitive: wgpu::PrimitiveState::default(),
-                // Every sample a triangle covered takes its depth; the rest keep the clear.
+                // Every sample takes the depth the buffer holds, 1.0 where no triangle is.
                 depth_stencil: Some(depth_state(true, wgpu::CompareFunction::Always)),
                 multisample: wgpu::MultisampleState {
                     count: config.msaa,
