@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Device run: the visibility shading kernels read each sample's ID and depth once (24c7449)
+# Device run: the visibility shading kernels read each sample's ID and depth once (10b752d,
+# built as 24c7449, the same tree before its commit message was amended)
 # against before (6009364), alternated twice in one call: the courtyard at MSAA 1, 4 and 8,
 # DamagedHelmet and the city of 20,000 instances at MSAA 4, on the visibility path; 1080p,
 # 4,096 lights. Then, from an experimental build (`after` plus `experiment.patch`, not
