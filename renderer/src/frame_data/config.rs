@@ -359,6 +359,13 @@ impl std::str::FromStr for RenderPath {
 }
 
 impl RendererConfig {
+    /// Whether the frame's passes read the compute rasteriser's buffer of samples rather than
+    /// raster targets: the visibility path under [`VisibilityRaster::Compute`] (the shading
+    /// kernels', light culling's and depth pyramid's `vis64` variants).
+    pub fn reads_compute_samples(&self) -> bool {
+        self.path == RenderPath::Visibility && self.visibility_raster == VisibilityRaster::Compute
+    }
+
     /// The shadow settings this configuration draws with: `shadows` fitted to the output
     /// ([`crate::shadow::ShadowConfig::fitted`]).
     pub fn fitted_shadows(&self) -> crate::shadow::ShadowConfig {

@@ -25,7 +25,7 @@ use crate::culling::tiled::{TileCullConfig, TiledCulling};
 use crate::culling::{ClusterGrid, Method};
 use crate::frame_data::{
     FrameInputs, FrameReport, FrameResources, LightListHandles, RenderError, RenderPath,
-    VisibilityRaster, VisibilitySamples,
+    VisibilitySamples,
 };
 use crate::graph::{
     Buffer, BufferAccess, Handle, ImportAccess, RenderGraph, Texture, TextureAccess,
@@ -191,8 +191,7 @@ impl LightCullPass {
                 far: frame.camera.far,
             },
             msaa: c.msaa,
-            vis64: c.path == RenderPath::Visibility
-                && c.visibility_raster == VisibilityRaster::Compute,
+            vis64: c.reads_compute_samples(),
             skip_empty,
             brute_force: c.cull_brute_force,
             coarse_slots: None,

@@ -17,8 +17,8 @@ use shaders_gen::culling::{
 
 use crate::GpuContext;
 use crate::frame_data::{
-    FrameInputs, FrameResources, OcclusionDraws, OcclusionPacked, RenderError, RenderPath,
-    RendererConfig, SceneDrawList, VisibilityRaster, VisibilitySamples,
+    FrameInputs, FrameResources, OcclusionDraws, OcclusionPacked, RenderError, RendererConfig,
+    SceneDrawList, VisibilitySamples,
 };
 use crate::graph::{
     Buffer, BufferAccess, Handle, ImportAccess, RenderGraph, Texture, TextureAccess,
@@ -38,8 +38,8 @@ pub struct OcclusionCullPass {
     params: wgpu::Buffer,
     /// The pyramid of the current frame size.
     pyramid: Option<Pyramid>,
-    /// The seed reads the compute rasteriser's samples, not a depth buffer (the visibility
-    /// path under [`VisibilityRaster::Compute`]), with the frame's size from this uniform.
+    /// The seed reads the compute rasteriser's samples, not a depth buffer
+    /// ([`RendererConfig::reads_compute_samples`]), with the frame's size from this uniform.
     samples_frame: Option<wgpu::Buffer>,
 }
 
@@ -143,8 +143,7 @@ impl OcclusionCullPass {
                 supported: caps.msaa_counts(),
             },
         ))?;
-        let vis64 = config.path == RenderPath::Visibility
-            && config.visibility_raster == VisibilityRaster::Compute;
+        let vis64 = config.reads_compute_samples();
         let seed_key = depth_pyramid_seed::VariantKey { msaa, vis64 };
         Ok(Self {
             seed: compute(depth_pyramid_seed::variant(seed_key), "seed")?,

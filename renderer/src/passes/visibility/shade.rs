@@ -11,7 +11,7 @@ use super::geometry::geometry_group;
 use crate::GpuContext;
 use crate::frame_data::{
     ConfigError, FrameInputs, FrameResources, FrameView, HDR_FORMAT, RenderError, RenderPath,
-    RendererConfig, VisibilityHandles, VisibilityRaster, VisibilitySamples,
+    RendererConfig, VisibilityHandles, VisibilitySamples,
 };
 use crate::graph::{
     Buffer, BufferAccess, BufferDesc, Handle, PassBuilder, RenderGraph, Texture, TextureAccess,
@@ -61,7 +61,7 @@ impl VisShadePass {
                 })
             })?;
         // The compute rasteriser's frames read its buffer (`vis64`), the hardware's its targets.
-        let vis64 = config.visibility_raster == VisibilityRaster::Compute;
+        let vis64 = config.reads_compute_samples();
         let gltf = forward::variant(forward::VariantKey {
             list: forward::List::List2,
             blend: false,
