@@ -17,7 +17,11 @@
 //!   (`visibility = path`, by default `shaders_gen::visibility::vis_frame`) `vis_point`,
 //!   `vis_radiance` and the pixel's sample loop around `surface`. It exists in the variants of
 //!   the axis `msaa` above 0 (the raster pass's sample count; clustered lists, opaque), and the
-//!   forward entry points in those at 0, whose names the axis leaves as they were (`unless 0`).
+//!   forward entry points in those at 0, whose names the axis leaves as they were (`unless 0`);
+//! * for blended surfaces drawn over the compute rasteriser's frame (`msaa` above 0 with
+//!   `blend` and `vis64`), `vs_forward` and `fs_forward_vis64`: the forward shading, drawn into
+//!   the samples where the visibility frame's `vis_in_front` finds the fragment in front of the
+//!   opaque surface, through the `sample_mask` output, so no depth target is needed.
 //!
 //! What the frame's functions do, and the names the renderer expects, are the frame library's
 //! contract; this expansion only writes the calls.
@@ -29,9 +33,10 @@ use syn::spanned::Spanned;
 use syn::{Ident, Token};
 
 /// The items the expansion adds; a module may not declare them itself.
-const RESERVED: [&str; 5] = [
+const RESERVED: [&str; 6] = [
     "vs_forward",
     "fs_forward",
+    "fs_forward_vis64",
     "fs_gbuffer",
     "vis_shade",
     "PARAMS",
@@ -141,7 +146,8 @@ pub fn as_shader(
             vis64: bool = [false, true] => "vis64",
         ),
         exclude(list == 0 && scalarize),
-        exclude(msaa > 0 && (list != 2 || blend)),
+        exclude(msaa > 0 && list != 2),
+        exclude(msaa > 0 && blend && !vis64),
         exclude(msaa == 0 && vis64),
         requires(subgroup = scalarize),
         uses(#frame, #visibility #(, #uses)*),
@@ -210,7 +216,7 @@ fn entry_points(span: Span, params: Option<&syn::Type>) -> Vec<syn::Item> {
     let mut items: Vec<syn::Item> = vec![
         syn::parse_quote! {
             #[vertex]
-            #[when(msaa == 0)]
+            #[when(msaa == 0 || blend)]
             pub fn vs_forward(
                 #[location(0)] position: Vec3,
                 #[location(1)] normal: Vec3,
@@ -232,6 +238,24 @@ fn entry_points(span: Span, params: Option<&syn::Type>) -> Vec<syn::Item> {
             }
         },
         syn::parse_quote! {
+            /// A blended fragment over the compute rasteriser's frame: drawn into the samples
+            /// where it is in front of the opaque surface in `VIS64`, as a depth test would.
+            #[fragment]
+            #[when(msaa > 0 && blend)]
+            pub fn fs_forward_vis64(
+                input: VsOut,
+                #[builtin(front_facing)] front: bool,
+                #[builtin(sample_mask)] coverage: u32,
+            ) -> VisBlendOut {
+                let mask = vis_in_front(input.clip, coverage);
+                if mask == 0u32 {
+                    discard();
+                }
+                let point = material_point(input, forward_facing(input, front));
+                VisBlendOut { color: material_forward(input, point, #call), mask }
+            }
+        },
+        syn::parse_quote! {
             #[fragment]
             #[when(msaa == 0)]
             pub fn fs_gbuffer(input: VsOut, #[builtin(front_facing)] front: bool) -> GBufferOut {
@@ -243,7 +267,7 @@ fn entry_points(span: Span, params: Option<&syn::Type>) -> Vec<syn::Item> {
             /// One pixel (8 × 8 a workgroup): each distinct triangle of its samples whose
             /// material is this program's, shaded once and weighted by its samples.
             #[compute(workgroup_size(8, 8, 1))]
-            #[when(msaa > 0)]
+            #[when(msaa > 0 && !blend)]
             pub fn vis_shade(#[builtin(global_invocation_id)] gid: UVec3) {
                 let p = gid.xy();
                 if vis_on_screen(p) {

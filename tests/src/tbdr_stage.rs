@@ -114,6 +114,15 @@ pub fn frame_with(
     // One frame: lists are sized before every frame, the first included.
     renderer.render(&stage.camera, &target).expect("frame");
     renderer.finish();
+    if config.reads_compute_samples() {
+        // Every pass of the compute rasteriser's frame reads its samples: none reads a depth
+        // target, so the graph leaves the depth resolve out.
+        let passes = renderer.graph_passes().expect("the frame's graph");
+        assert!(
+            !passes.iter().any(|p| p == "visibility depth"),
+            "the compute rasteriser's frame resolved a depth target: {passes:?}"
+        );
+    }
     if let Some(c) = renderer.culling_counters() {
         assert_eq!(c.dropped, 0, "the frame dropped list entries");
     }

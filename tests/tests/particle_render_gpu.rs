@@ -9,6 +9,7 @@
 use renderer::frame::create_target;
 use renderer::frame::{
     FrameCamera, FrameReport, ParticleLighting, RenderError, RenderPath, Renderer, RendererConfig,
+    VisibilityRaster,
 };
 use renderer::frame_data::{FrameInputs, FrameResources};
 use renderer::graph::{BufferAccess, RenderGraph};
@@ -160,23 +161,42 @@ fn smoke_over_the_deferred_paths_matches_smoke_in_naive_forward() {
     gpu_test(|gpu| {
         let scene = stage();
         for msaa in [1, 4] {
-            let frame_of = |path, particles: bool| {
-                let config = config(path, msaa, ParticleLighting::Atlas);
+            let frame_of = |(path, raster), particles: bool| {
+                let config = RendererConfig {
+                    visibility_raster: raster,
+                    ..config(path, msaa, ParticleLighting::Atlas)
+                };
                 let mut r = renderer(gpu, &scene, config);
                 if !particles {
                     r.clear_particles();
                 }
-                render(&mut r, &config, gpu).0
+                let rgba = render(&mut r, &config, gpu).0;
+                if config.reads_compute_samples() {
+                    // The particles read the compute rasteriser's samples: no depth target is
+                    // resolved for them, or copied for their fade.
+                    let passes = r.graph_passes().expect("the frame's graph");
+                    assert!(
+                        !passes
+                            .iter()
+                            .any(|p| p == "visibility depth" || p == "particle fade depth"),
+                        "the compute rasteriser's frame made a depth target: {passes:?}"
+                    );
+                }
+                rgba
             };
-            let naive = frame_of(RenderPath::NaivePrez, true);
-            let naive_bare = frame_of(RenderPath::NaivePrez, false);
-            for path in [
-                RenderPath::TbdrPerSample,
-                RenderPath::Deferred,
-                RenderPath::Visibility,
+            let hardware = VisibilityRaster::Hardware;
+            let naive = frame_of((RenderPath::NaivePrez, hardware), true);
+            let naive_bare = frame_of((RenderPath::NaivePrez, hardware), false);
+            // On the compute rasteriser's frame the particles test its samples, not a depth
+            // target.
+            for (path, raster) in [
+                (RenderPath::TbdrPerSample, hardware),
+                (RenderPath::Deferred, hardware),
+                (RenderPath::Visibility, hardware),
+                (RenderPath::Visibility, VisibilityRaster::Compute),
             ] {
-                let lit = frame_of(path, true);
-                let bare = frame_of(path, false);
+                let lit = frame_of((path, raster), true);
+                let bare = frame_of((path, raster), false);
                 let smoke: Vec<bool> = smoke_pixels(&[&naive], &naive_bare)
                     .iter()
                     .zip(smoke_pixels(&[&lit], &bare))
@@ -184,7 +204,7 @@ fn smoke_over_the_deferred_paths_matches_smoke_in_naive_forward() {
                     .collect();
                 let count = smoke.iter().filter(|&&s| s).count();
                 let (mean, p99, largest, _) = difference_stats(&lit, &naive, &smoke);
-                let what = format!("{} at MSAA {msaa}", path.name());
+                let what = format!("{} ({} raster) at MSAA {msaa}", path.name(), raster.name());
                 eprintln!(
                     "{what}: {count} smoke pixels against naive forward: mean {mean:.3}, \
                      99th percentile {p99}, largest {largest}"
@@ -265,8 +285,16 @@ fn smoke_of_an_earlier_frame_leaves_nothing_in_the_overlay() {
             WIDTH as f32 / HEIGHT as f32,
             (0.1, 30.0),
         );
-        for path in [RenderPath::TbdrPerSample, RenderPath::Visibility] {
-            let config = config(path, 4, ParticleLighting::Atlas);
+        let paths = [
+            (RenderPath::TbdrPerSample, VisibilityRaster::Hardware),
+            (RenderPath::Visibility, VisibilityRaster::Hardware),
+            (RenderPath::Visibility, VisibilityRaster::Compute),
+        ];
+        for (path, raster) in paths {
+            let config = RendererConfig {
+                visibility_raster: raster,
+                ..config(path, 4, ParticleLighting::Atlas)
+            };
             let frames_after = |first: &FrameCamera| {
                 let mut r = renderer(gpu, &scene, config);
                 let target = create_target(gpu.device(), &config);
@@ -285,7 +313,7 @@ fn smoke_of_an_earlier_frame_leaves_nothing_in_the_overlay() {
                 .count();
             assert!(
                 moved > here.len() / 4 / 2,
-                "{path:?}: the first cameras see other pixels"
+                "{path:?} ({raster:?}): the first cameras see other pixels"
             );
             let differing = after_here
                 .chunks(4)
@@ -293,10 +321,10 @@ fn smoke_of_an_earlier_frame_leaves_nothing_in_the_overlay() {
                 .filter(|(a, b)| a != b)
                 .count();
             let worst = tests::frames::largest_difference(&after_here, &after_elsewhere);
-            eprintln!("{path:?}: {differing} pixels differ, by at most {worst}");
+            eprintln!("{path:?} ({raster:?}): {differing} pixels differ, by at most {worst}");
             assert!(
                 worst <= 1,
-                "{path:?}: the frame after another camera's differs by {worst} ({differing} pixels)"
+                "{path:?} ({raster:?}): the frame after another camera's differs by {worst} ({differing} pixels)"
             );
         }
     });

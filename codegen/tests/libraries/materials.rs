@@ -35,15 +35,25 @@ pub mod mini_frame {
 }
 "#;
 
-/// A small visibility frame with the contract's names: what the kernel `vis_shade` calls.
+/// A small visibility frame with the contract's names: what the kernel `vis_shade` and the
+/// blended entry point over the compute rasteriser's samples, `fs_forward_vis64`, call.
 const VIS_FRAME: &str = r#"
 #[library(axes(list: u32 = [0, 1, 2], blend: bool = [false, true], scalarize: bool = [false, true], msaa: u32 = [0, 1, 2, 4, 8]), uses(crate::mini_frame))]
 pub mod mini_vis {
     pub struct SceneTriangle { pub draw: u32 }
     pub struct VisPoint { pub point: MaterialPoint }
+    pub struct VisBlendOut {
+        #[location(0)]
+        pub color: Vec4,
+        #[builtin(sample_mask)]
+        pub mask: u32,
+    }
     #[storage(group = 0, binding = 18, read_write)]
-    #[when(msaa > 0)]
+    #[when(msaa > 0 && !blend)]
     static SUMS: [Vec4];
+    pub fn vis_in_front(frag: Vec4, coverage: u32) -> u32 {
+        coverage & select(frag.z < 0.5, 1u32, 0u32)
+    }
     pub fn vis_on_screen(p: UVec2) -> bool {
         p.x < 64u32
     }
@@ -72,7 +82,7 @@ pub mod mini_vis {
         1.0
     }
     pub fn vis_finish(p: UVec2, total: Vec3, kinds: u32) {
-        if msaa > 0 {
+        if msaa > 0 && !blend {
             SUMS[p.x] = total.extend(kinds as f32);
         }
     }
@@ -113,12 +123,20 @@ fn a_material_is_the_frame_around_its_surface_for_every_frame_variant() {
         .collect();
     assert_eq!(
         kept.len(),
-        26,
-        "list × blend × scalarize less naive scalar, and the kernels of 1, 2, 4 and 8 samples \
+        34,
+        "list × blend × scalarize less naive scalar, the kernels of 1, 2, 4 and 8 samples \
          with clustered lists, plain and scalarized, over the raster targets and over the \
-         compute rasteriser's buffer (`vis64`): {kept:?}"
+         compute rasteriser's buffer (`vis64`), and the blended surfaces over that buffer \
+         at each sample count, plain and scalarized: {kept:?}"
     );
     assert!(kept.contains(&"list2_scalar_msaa4_vis64"), "{kept:?}");
+    assert!(kept.contains(&"list2_blend_scalar_msaa8_vis64"), "{kept:?}");
+    assert!(
+        !kept
+            .iter()
+            .any(|k| k.contains("_blend") && k.contains("_msaa") && !k.ends_with("_vis64")),
+        "blended surfaces over the hardware raster's targets are the forward variants: {kept:?}"
+    );
     assert!(
         !kept
             .iter()
@@ -133,17 +151,26 @@ fn a_material_is_the_frame_around_its_surface_for_every_frame_variant() {
     assert!(kept.contains(&"list2_scalar_msaa4"), "{kept:?}");
     for variant in &c.variants {
         let wgsl = &variant.wgsl;
-        let kernel = variant.names.iter().all(|n| n.contains("_msaa"));
-        let (present, absent): (&[&str], &[&str]) = if kernel {
-            (
+        let over_samples = variant.names.iter().all(|n| n.contains("_msaa"));
+        let blend = variant.names.iter().all(|n| n.contains("_blend"));
+        let kernel = over_samples && !blend;
+        let (present, absent): (&[&str], &[&str]) = match (over_samples, blend) {
+            (true, false) => (
                 &["fn vis_shade("],
                 &["fn vs_forward(", "fn fs_forward(", "fn fs_gbuffer("],
-            )
-        } else {
-            (
+            ),
+            (true, true) => (
+                &[
+                    "fn vs_forward(",
+                    "fn fs_forward_vis64(",
+                    "vis_in_front(input.clip, coverage)",
+                ],
+                &["fn vis_shade(", "fn fs_forward(", "fn fs_gbuffer("],
+            ),
+            (false, _) => (
                 &["fn vs_forward(", "fn fs_forward(", "fn fs_gbuffer("],
-                &["fn vis_shade("],
-            )
+                &["fn vis_shade(", "fn fs_forward_vis64("],
+            ),
         };
         for entry in present {
             assert!(wgsl.contains(entry), "{entry} missing:\n{wgsl}");

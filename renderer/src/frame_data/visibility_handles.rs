@@ -22,9 +22,9 @@ pub enum VisibilitySamples {
     /// buffer of one `u64` a sample, `(y × width + x) × msaa + s`, holding
     /// `(!depth_bits << 32) | !id`, or 0 where no triangle covers the sample. The alpha-masked
     /// draws are in it too. [`FrameResources::depth`] is then a depth target resolved from it,
-    /// for the passes that depth-test in hardware (blended surfaces, particles); a frame
-    /// whose passes read only the buffer, and which has no alpha-masked draws, never writes
-    /// that target.
+    /// by a pass the graph leaves out unless a pass reads that target: the renderer's own
+    /// passes (shading, light culling, occlusion culling, blended surfaces, particles) read
+    /// the buffer.
     Buffer {
         /// The samples.
         samples: Handle<Buffer>,

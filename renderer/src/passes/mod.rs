@@ -321,7 +321,8 @@ pub(crate) struct MeshPipeline<'a> {
     /// For mirrored draws (`DrawItem::mirrored`): front faces wind clockwise (glTF 2.0), which
     /// both the culling and `front_facing` follow.
     pub mirrored: bool,
-    pub depth: wgpu::DepthStencilState,
+    /// The depth test; `None` for a pipeline drawn without a depth target.
+    pub depth: Option<wgpu::DepthStencilState>,
     pub msaa: u32,
     /// The fragment entry point and its colour targets; `None` draws depth only.
     pub fragment: Option<(&'a str, &'a [Option<wgpu::ColorTargetState>])>,
@@ -350,7 +351,7 @@ pub(crate) fn mesh_pipeline(
                 cull_mode: cull_mode(p.double_sided),
                 ..Default::default()
             },
-            depth_stencil: Some(p.depth.clone()),
+            depth_stencil: p.depth.clone(),
             multisample: wgpu::MultisampleState {
                 count: p.msaa,
                 ..Default::default()

@@ -84,7 +84,7 @@ fn pipeline(
             },
             double_sided,
             mirrored,
-            depth: depth_state(true, wgpu::CompareFunction::Less),
+            depth: Some(depth_state(true, wgpu::CompareFunction::Less)),
             msaa,
             // Opaque draws need no fragment stage at all; masked ones discard.
             fragment: masked.then_some(("fs_prez_mask", &[][..])),

@@ -90,6 +90,9 @@ pub mod particle_common {
         /// View-depth distance over which a particle fades out in front of a surface (soft
         /// particles); 0 turns the fade off.
         pub soft_distance: f32,
+        /// Samples a pixel of the frame (its MSAA count): how `particle_draw`'s `vis64`
+        /// variants index the compute rasteriser's samples.
+        pub samples: u32,
         /// Where view vectors point, homogeneous: `(eye, 1)`, or for an orthographic camera
         /// the view's +Z axis with `w` 0; the view vector at `p` is `normalize(xyz − p w)`.
         pub eye_homogeneous: Vec4,

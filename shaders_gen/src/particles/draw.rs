@@ -17,19 +17,23 @@
 /// the lighting plus its emitter's `emissive`, premultiplied by alpha (blend: one, one minus
 /// source alpha).
 ///
-/// Depth: the pipeline's depth test (read-only, `Less`, against the pre-Z depth attached
-/// read-only) keeps occlusion per sample; a copy of that depth is bound (`DEPTH`, or
-/// `DEPTH_MS` with `msaa`) for the soft fade: alpha fades to 0 as the particle's view depth
-/// nears the farthest surface behind it among the pixel's samples (`soft_distance`; 0 turns the
-/// fade off). No sample mask is written (naga 30 writes the SampleMask built-in as a scalar, which
-/// Vulkan rejects).
+/// Depth: the fragment finds the samples of its pixel whose surface lies beyond the particle
+/// (`visible_samples`) and writes them as its `sample_mask`; it fades alpha to 0 as the
+/// particle's view depth nears the farthest of those surfaces (soft particles,
+/// `soft_distance`; 0 turns the fade off). The surfaces' depths are a copy of the pre-Z depth
+/// (`DEPTH`, or `DEPTH_MS` with `msaa`), which the pipeline also tests against (read-only,
+/// `Less`); or, with `vis64`, the compute rasteriser's samples (`VIS64`, `VIEW.samples` a
+/// pixel whatever the frame's MSAA, so `msaa` stays false), with no depth target at all: the
+/// sample mask is then the only occlusion test.
 #[shader_dsl::shader(
     axes(
         atlas: bool = [false, true] => "atlas",
         list: u32 = [0, 2] => "list",
         msaa: bool = [false, true] => "ms",
+        vis64: bool = [false, true] => "vis64",
     ),
     exclude(atlas && list == 2),
+    exclude(vis64 && msaa),
     uses(crate::particles::lighting::particle_lighting),
 )]
 pub mod particle_draw {
@@ -70,14 +74,23 @@ pub mod particle_draw {
     pub struct ParticleOut {
         #[location(0)]
         pub color: Vec4,
+        /// The samples the particle is in front of (`visible_samples`).
+        #[builtin(sample_mask)]
+        pub mask: u32,
     }
 
     #[texture(group = 0, binding = 5)]
-    #[when(!msaa)]
+    #[when(!msaa && !vis64)]
     static DEPTH: TextureDepth2d;
     #[texture(group = 0, binding = 5)]
     #[when(msaa)]
     static DEPTH_MS: TextureDepthMultisampled2d;
+    /// The compute rasteriser's samples (`vis_compute_raster`'s `VIS64`) as `(low, high)` word
+    /// pairs, `(y × width + x) × samples + s`: `(!depth_bits << 32) | !id`, 0 where no
+    /// triangle covered the sample.
+    #[storage(group = 0, binding = 5)]
+    #[when(vis64)]
+    static VIS64: [UVec2];
 
     #[storage(group = 1, binding = 0)]
     static EMITTERS: [GpuEmitter];
@@ -173,7 +186,7 @@ pub mod particle_draw {
         (t00 * g0.x + t10 * g1.x) * g0.y + (t01 * g0.x + t11 * g1.x) * g1.y
     }
 
-    /// The samples of `pixel` whose pre-Z surface lies beyond view depth `depth` (bit per
+    /// The samples of `pixel` whose opaque surface lies beyond view depth `depth` (bit per
     /// sample) and the farthest such surface's view depth.
     fn visible_samples(pixel: UVec2, depth: f32) -> Visible {
         let mut mask = 0u32;
@@ -181,10 +194,17 @@ pub mod particle_draw {
         let mut samples = 1u32;
         if msaa {
             samples = DEPTH_MS.num_samples();
+        } else if vis64 {
+            samples = VIEW.samples;
         }
         for s in 0u32..samples {
             let mut d = 1.0;
-            if msaa {
+            if vis64 {
+                let sample = VIS64[(pixel.y * VIEW.screen.x + pixel.x) * samples + s];
+                if sample.y != 0u32 {
+                    d = f32::from_bits(!sample.y);
+                }
+            } else if msaa {
                 d = DEPTH_MS.load(pixel, s);
             } else {
                 d = DEPTH.load(pixel, 0u32);
@@ -220,6 +240,7 @@ pub mod particle_draw {
         let color = input.tint.xyz() * sprite.xyz() * (lighting + input.emissive) * alpha;
         ParticleOut {
             color: color.extend(alpha),
+            mask: visible.mask,
         }
     }
 }

@@ -2,8 +2,9 @@
 //! the hardware rasteriser uses and the code that finds a sample's point again (the deferred
 //! G-buffer reads, the compute rasteriser) must agree with.
 
-/// `sample_offset(s)`: sample `s` of a pixel at the variant's `msaa` (1: the centre).
-#[shader_dsl::library(axes(msaa: u32 = [1, 2, 4, 8]))]
+/// `sample_offset(s)`: sample `s` of a pixel at the variant's `msaa` (1: the centre; 0, a
+/// module's variants that have no sample count, the centre too).
+#[shader_dsl::library(axes(msaa: u32 = [0, 1, 2, 4, 8]))]
 pub mod sample_pattern {
     /// Where sample `s` of a pixel lies in it, in pixels from its top-left corner.
     pub fn sample_offset(s: u32) -> Vec2 {

@@ -57,6 +57,7 @@
         crate::shared::decal_apply,
         crate::shared::octahedral,
         crate::visibility::geometry::vis_geometry,
+        crate::shared::sample_pattern,
     ),
 )]
 pub mod vis_frame {
@@ -106,11 +107,11 @@ pub mod vis_frame {
     #[when(msaa > 0 && vis64)]
     static VIS64: [UVec2];
     #[texture(group = 0, binding = 17)]
-    #[when(msaa > 0)]
+    #[when(msaa > 0 && !blend)]
     static HDR_OUT: StorageTexture2d<Rgba16Float, Write>;
     /// Per pixel, row by row: the sum of coverage-weighted radiance the kernels so far added.
     #[storage(group = 0, binding = 18, read_write)]
-    #[when(msaa > 0)]
+    #[when(msaa > 0 && !blend)]
     static ACCUM: [Vec4];
     /// The raster pass's depth. The ID target is loaded, not cleared (a multisampled clear is
     /// slow on some chips), so a sample no triangle covered holds an old ID: its depth, 1.0,
@@ -122,7 +123,8 @@ pub mod vis_frame {
     #[when(msaa > 1 && !vis64)]
     static VIS_DEPTH_MS: TextureDepthMultisampled2d;
 
-    // `VIS`, `HDR_OUT` and `ACCUM` exist where `msaa > 0` (the kernels' variants); the
+    // `VIS` exists where `msaa > 0` (the kernels' variants and the blended surfaces drawn over
+    // their image), `HDR_OUT` and `ACCUM` only in the kernels' (`!blend`); the
     // library is also checked at `msaa` 0 (a material's forward variants), so what reads them
     // is guarded by the axis.
 
@@ -351,7 +353,7 @@ pub mod vis_frame {
     /// What earlier kernels of the frame added at pixel `p` (nothing for the first).
     pub fn vis_begin(p: UVec2) -> Vec3 {
         let mut sum = Vec3::ZERO;
-        if msaa > 0 {
+        if msaa > 0 && !blend {
             if VIS.accumulated != 0u32 {
                 sum = ACCUM[p.y * VIS.screen.x + p.x].xyz();
             }
@@ -363,7 +365,7 @@ pub mod vis_frame {
     /// kernel, or, in glTF PBR's kernel (the last), adds the sky's samples, resolves and writes
     /// `HDR_OUT`.
     pub fn vis_finish(p: UVec2, total: Vec3, kinds: u32) {
-        if msaa > 0 {
+        if msaa > 0 && !blend {
             if VIS.program == 0u32 {
                 let mut sky = 0u32;
                 for s in 0u32..msaa {
@@ -380,5 +382,41 @@ pub mod vis_frame {
                 ACCUM[p.y * VIS.screen.x + p.x] = total.extend(0.0);
             }
         }
+    }
+
+    /// The colour of a blended fragment drawn over the compute rasteriser's frame, and the
+    /// samples it goes to (`fs_forward_vis64`).
+    pub struct VisBlendOut {
+        #[location(0)]
+        pub color: Vec4,
+        #[builtin(sample_mask)]
+        pub mask: u32,
+    }
+
+    /// With `vis64`: the samples of `coverage` (the fragment's `sample_mask` input) where a
+    /// blended fragment at `frag` (its `position` built-in: the pixel centre and the depth
+    /// there) is no farther than the opaque surface in `VIS64` (`LessEqual`, the hardware
+    /// raster's blended depth test). Its depth at a sample is taken on its plane through the
+    /// screen derivatives of `frag.z`, as the hardware interpolates depth at the sample; 0
+    /// where the module has no `VIS64`.
+    pub fn vis_in_front(frag: Vec4, coverage: u32) -> u32 {
+        let slope = Vec2::new(dpdx(frag.z), dpdy(frag.z));
+        let mut mask = 0u32;
+        if vis64 && msaa > 0 {
+            let p = frag.xy().floor().as_uvec2();
+            let first = (p.y * VIS.screen.x + p.x) * msaa;
+            for s in 0u32..msaa {
+                let depth = frag.z + slope.dot(sample_offset(s) - Vec2::splat(0.5));
+                let sample = VIS64[first + s];
+                let mut opaque = 1.0f32;
+                if sample.y != 0u32 {
+                    opaque = f32::from_bits(!sample.y);
+                }
+                if ((coverage >> s) & 1u32) != 0u32 && depth <= opaque {
+                    mask = mask | (1u32 << s);
+                }
+            }
+        }
+        mask
     }
 }

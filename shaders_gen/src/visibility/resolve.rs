@@ -1,5 +1,5 @@
-//! The compute rasteriser's depths written into a multisampled depth target, for the passes
-//! after the visibility raster that depth-test in hardware.
+//! The compute rasteriser's depths written into a multisampled depth target, for a pass after
+//! the visibility raster that reads a depth target.
 
 /// Full-screen pass at sample rate: each invocation reads its sample of `VIS64` (the compute
 /// rasteriser's buffer, `vis_compute_raster`, two 32-bit words a sample, the low word first)
@@ -25,10 +25,8 @@ pub mod vis_resolve {
 
     #[uniform(group = 0, binding = 0)]
     static PARAMS: ResolveParams;
-    /// The compute rasteriser's samples, as `(low, high)` word pairs. Read only, but bound
-    /// `read_write`: the masked draws after it in the same render pass merge their samples
-    /// into the buffer, and a render pass may not bind one buffer both ways.
-    #[storage(group = 0, binding = 1, read_write)]
+    /// The compute rasteriser's samples, as `(low, high)` word pairs.
+    #[storage(group = 0, binding = 1)]
     static VIS64: [u32];
 
     #[vertex]

@@ -64,6 +64,7 @@ fn the_builders_take_the_library_crate_s_part_by_name() {
 
 /// The material's variants are the renderer's material frame around the engine's surface: the
 /// frame's entry points (the forward ones at `msaa` 0, the visibility path's kernel at its
+/// sample counts, and the blended entry points over the compute rasteriser's buffer at its
 /// sample counts), the renderer's light loop and the engine's pattern library merged in, and
 /// the parameter records at group 0, binding 19. The plain forward list kinds and the MSAA 4
 /// kernels (over the raster targets, and over the compute rasteriser's buffer, `vis64`) are
@@ -72,15 +73,16 @@ fn the_builders_take_the_library_crate_s_part_by_name() {
 fn the_material_is_the_frame_around_the_engines_surface() {
     assert_eq!(
         bricks::VARIANTS.len(),
-        26,
-        "list × blend × scalarize, less naive scalar; and the kernels of 1, 2, 4 and 8 samples, \
-         plain and scalarized, reading the raster targets or the compute rasteriser's buffer"
+        34,
+        "list × blend × scalarize, less naive scalar; the kernels of 1, 2, 4 and 8 samples, \
+         plain and scalarized, reading the raster targets or the compute rasteriser's buffer; \
+         and blended surfaces over that buffer at 1, 2, 4 and 8 samples, plain and scalarized"
     );
     for &key in bricks::VariantKey::ALL {
         let Ok(variant) = bricks::variant(key) else {
             let kernel = key.msaa != bricks::Msaa::Msaa0;
             let excluded = if kernel {
-                key.list != bricks::List::List2 || key.blend
+                key.list != bricks::List::List2 || (key.blend && !key.vis64)
             } else {
                 (key.list == bricks::List::List0 && key.scalarize) || key.vis64
             };
@@ -89,6 +91,8 @@ fn the_material_is_the_frame_around_the_engines_surface() {
         };
         let entries: &[&str] = if key.msaa == bricks::Msaa::Msaa0 {
             &["vs_forward", "fs_forward", "fs_gbuffer"]
+        } else if key.blend {
+            &["vs_forward", "fs_forward_vis64"]
         } else {
             &["vis_shade"]
         };

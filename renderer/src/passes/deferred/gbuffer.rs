@@ -51,7 +51,7 @@ impl GBufferPass {
                         streams: &crate::passes::FORWARD_STREAMS,
                         double_sided: d,
                         mirrored: m,
-                        depth: depth_state(false, wgpu::CompareFunction::LessEqual),
+                        depth: Some(depth_state(false, wgpu::CompareFunction::LessEqual)),
                         msaa: config.msaa,
                         fragment: Some(("fs_gbuffer", &targets)),
                     },

@@ -126,6 +126,28 @@ impl FrameGroup {
         self.build(ctx, (program, params), inputs, "visibility shading")
     }
 
+    /// Group 0 of `program`, glTF PBR's blended variant over the compute rasteriser's
+    /// samples (`fs_forward_vis64`): this frame group's parts, the `VisParams` uniform `params`
+    /// and the `samples`; `None` after recording the error in `ctx`.
+    pub(crate) fn over_samples_bind_group(
+        &self,
+        ctx: &mut PassContext<'_>,
+        program: &ShaderProgram,
+        (params, samples): (&wgpu::Buffer, &wgpu::Buffer),
+    ) -> Option<wgpu::BindGroup> {
+        let inputs = vis_frame::Group0 {
+            vis: Some(params.as_entire_buffer_binding()),
+            ids: None,
+            ids_ms: None,
+            vis64: Some(samples.as_entire_buffer_binding()),
+            hdr_out: None,
+            accum: None,
+            vis_depth: None,
+            vis_depth_ms: None,
+        };
+        self.build(ctx, (program, None), inputs, "blended over samples")
+    }
+
     fn build(
         &self,
         ctx: &mut PassContext<'_>,

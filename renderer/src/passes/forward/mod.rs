@@ -8,11 +8,15 @@
 //! surfaces: without MSAA over the deferred image in place, with MSAA into a transparent
 //! multisampled overlay (particles draw into it too) that [`OverlayPass`] resolves and lays over
 //! the image.
-//! It adds nothing when there are neither blended surfaces nor particles.
+//! It adds nothing when there are neither blended surfaces nor particles. On the compute
+//! rasteriser's frame the blended surfaces test the rasteriser's samples themselves
+//! (`over_samples`), and the pass has no depth target.
 
 pub(crate) mod bindings;
+pub(crate) mod over_samples;
 pub(crate) mod overlay;
 pub(crate) mod programs;
+mod record;
 
 pub(crate) use bindings::{FrameGroup, lighting_buffer};
 pub(crate) use overlay::OverlayPass;
@@ -24,17 +28,16 @@ use std::sync::Arc;
 use shaders_gen::forward::forward;
 
 use super::overlay_erase::{EraseStage, KeptOverlay};
-use super::{MeshPipeline, Pass, SceneDraws, color_pass, depth_state, mesh_pipeline};
+use super::{MeshPipeline, Pass, depth_state, mesh_pipeline};
 use crate::GpuContext;
 use crate::frame_data::{
-    BlendedDraws, DEPTH_FORMAT, FrameInputs, FrameResources, HDR_FORMAT, InstanceTable,
-    OverlayEraser, PreparedScene, RenderError, RenderPath, RendererConfig, SceneDrawList,
+    BlendedDraws, DEPTH_FORMAT, FrameInputs, FrameResources, HDR_FORMAT, RenderError, RenderPath,
+    RendererConfig,
 };
 use crate::graph::{BufferAccess, Handle, RenderGraph, Texture, TextureAccess, TextureDesc};
 use crate::materials::MaterialProgram;
-use crate::scene::VertexStreams;
 use crate::shader::ShaderProgram;
-use programs::BoundPrograms;
+use over_samples::OverSamples;
 
 /// The forward pass: its programs (glTF PBR's and every registered material program's) and
 /// pipelines, and its lighting uniform.
@@ -44,6 +47,8 @@ pub struct ForwardPass {
     lighting: wgpu::Buffer,
     /// The overlay the blended surfaces are drawn into on the deferred paths with MSAA.
     overlay: KeptOverlay,
+    /// On the compute rasteriser's frame, what the blended variant over its samples binds.
+    over_samples: Option<OverSamples>,
 }
 
 /// The opaque and masked draws' programs and pipelines (`[double_sided][mirrored]` per
@@ -54,6 +59,9 @@ pub struct ForwardPass {
 struct ForwardPipelines {
     opaque: MaterialPipelines,
     blended: wgpu::RenderPipeline,
+    /// The blended draws' program (`fs_forward_vis64`'s variant on the compute rasteriser's
+    /// frame, whose group 0 is not the opaque programs').
+    blended_program: ShaderProgram,
     /// Where the pass draws into an overlay: glTF PBR's blended program and the pipeline that
     /// erases what its draws covered (`passes::overlay_erase`).
     erase: Option<(ShaderProgram, wgpu::RenderPipeline)>,
@@ -77,8 +85,10 @@ impl ForwardPass {
         };
         let scalarize = config.scalarize && config.path.is_culled();
         let prepass = config.path.has_prepass();
-        let make = |program: &ShaderProgram, faces| {
-            pipeline(gpu.device(), program, config.msaa, prepass, faces)
+        let over_samples = config.reads_compute_samples();
+        let make = |program: &ShaderProgram, faces: (bool, bool, bool)| {
+            let depth = (!(over_samples && faces.0)).then_some(prepass);
+            pipeline(gpu.device(), program, config.msaa, depth, faces)
         };
         let opaque =
             MaterialPipelines::new(gpu, materials, (list, false, scalarize), |p, d, m| {
@@ -88,9 +98,17 @@ impl ForwardPass {
             list: forward::List::from_value(list).unwrap_or(forward::List::List0),
             blend: true,
             scalarize,
-            // The forward programs (the visibility kernels are `msaa` above 0).
-            msaa: forward::Msaa::Msaa0,
-            vis64: false,
+            // The forward programs are `msaa` 0; over the compute rasteriser's samples, the
+            // blended variant has the frame's sample count.
+            msaa: if over_samples {
+                forward::Msaa::from_value(config.msaa).ok_or(ConfigError::SampleCount {
+                    asked: config.msaa,
+                    supported: vec![1, 2, 4, 8],
+                })?
+            } else {
+                forward::Msaa::Msaa0
+            },
+            vis64: over_samples,
         })?)?;
         let erase = if config.path.is_deferred() && config.msaa > 1 {
             let streams = super::vertex_streams(&super::FORWARD_STREAMS);
@@ -107,20 +125,25 @@ impl ForwardPass {
         Ok(Self {
             pipelines: Arc::new(ForwardPipelines {
                 blended: make(&blended, (true, true, false)),
+                blended_program: blended,
                 opaque,
                 erase,
             }),
             lighting: lighting_buffer(gpu.device()),
             overlay: KeptOverlay::default(),
+            over_samples: over_samples.then(|| OverSamples::new(gpu.device())),
         })
     }
 }
 
+/// A forward pipeline of `program`; `prepass`: whether a pre-pass wrote the depth it tests,
+/// `None` where the pass has no depth target (blended surfaces over the compute rasteriser's
+/// samples, `fs_forward_vis64`, which tests them itself).
 fn pipeline(
     device: &wgpu::Device,
     program: &ShaderProgram,
     msaa: u32,
-    prepass: bool,
+    prepass: Option<bool>,
     (blend, double_sided, mirrored): (bool, bool, bool),
 ) -> wgpu::RenderPipeline {
     let target = wgpu::ColorTargetState {
@@ -144,13 +167,17 @@ fn pipeline(
             // last drawn of coincident surfaces (`LessEqual`), so naive equals the pre-pass paths
             // where surfaces coincide (the pre-pass keeps the nearest depth, and every draw at
             // that depth passes `LessEqual` after it, the last one's colour staying).
-            depth: if prepass || blend {
-                depth_state(false, wgpu::CompareFunction::LessEqual)
-            } else {
-                depth_state(true, wgpu::CompareFunction::LessEqual)
-            },
+            depth: prepass
+                .map(|prepass| depth_state(!(prepass || blend), wgpu::CompareFunction::LessEqual)),
             msaa,
-            fragment: Some(("fs_forward", &[Some(target)])),
+            fragment: Some((
+                if prepass.is_none() && blend {
+                    "fs_forward_vis64"
+                } else {
+                    "fs_forward"
+                },
+                &[Some(target)],
+            )),
         },
     )
 }
@@ -161,10 +188,7 @@ struct Targets {
     color: Handle<Texture>,
     /// Where `color` resolves to (the scene with MSAA).
     resolve: Option<Handle<Texture>>,
-    depth: Handle<Texture>,
-    /// Whether `depth` holds the pre-pass's depth (attached read-only) or is the pass's own
-    /// (cleared and written).
-    prepass: bool,
+    depth: Depth,
     layer: Layer,
 }
 
@@ -216,26 +240,23 @@ impl Pass for ForwardPass {
             (self.overlay).import(frame.gpu.device(), graph, resources, c)
         };
         let (layer, mut color, mut resolve) = color_targets(graph, c, shaded, kept);
-        let mut own_depth = resources.depth.is_none().then(|| {
-            let desc = TextureDesc::new_2d(c.width, c.height, DEPTH_FORMAT).with_samples(c.msaa);
-            graph.create_texture("depth", desc)
-        });
+        // Over the compute rasteriser's samples the blended draws test them, not a depth target.
+        let samples = match &self.over_samples {
+            Some(o) => Some(o.frame(frame, resources)?),
+            None => None,
+        };
+        let mut depth = Depth::of(graph, c, resources.depth, samples.is_some());
+        let mut pass = graph.add_pass(self.name());
+        depth.declare(&mut pass);
         let targets = Targets {
             color,
             resolve,
-            depth: resources
-                .depth
-                .or(own_depth)
-                .ok_or(missing("depth buffer"))?,
-            prepass: resources.depth.is_some(),
+            depth,
             layer,
         };
-        let mut pass = graph.add_pass(self.name());
-        match (resources.depth, own_depth.as_mut()) {
-            (Some(d), _) => pass.read_texture(d, TextureAccess::DepthRead),
-            (None, Some(d)) => pass.write_texture(d, TextureAccess::DepthWrite),
-            (None, None) => &mut pass,
-        };
+        if let Some(samples) = &samples {
+            samples.read_by(&mut pass);
+        }
         pass.write_texture(&mut color, TextureAccess::ColorAttachment);
         if let Some(h) = resolve.as_mut() {
             pass.write_texture(h, TextureAccess::ColorAttachment);
@@ -252,9 +273,9 @@ impl Pass for ForwardPass {
             pass.read_buffer(*args, BufferAccess::Indirect);
         }
         let eraser = (layer == Layer::Overlay && has_blend)
-            .then(|| self.blended_eraser(frame, group.clone(), list.clone()))
+            .then(|| self.blended_eraser(frame, (group.clone(), samples.clone()), list.clone()))
             .flatten();
-        let record = self.recorder(frame, targets, group, list);
+        let record = self.recorder(frame, targets, (group, samples), list);
         pass.execute(record);
         if let Some(eraser) = eraser {
             resources.add_overlay_eraser(eraser);
@@ -266,10 +287,54 @@ impl Pass for ForwardPass {
             resources.hdr = Some(resolve.unwrap_or(color));
             resources.hdr_multisampled = resolve.map(|_| color);
         }
-        if resources.depth.is_none() {
-            resources.depth = own_depth;
+        if let Depth::Own(own) = depth {
+            resources.depth = Some(own);
         }
         Ok(())
+    }
+}
+
+/// The forward pass's depth target.
+#[derive(Clone, Copy)]
+enum Depth {
+    /// The pre-pass's, attached read-only: no pipeline of the pass writes depth.
+    Prepass(Handle<Texture>),
+    /// The pass's own, cleared and written (no pre-pass).
+    Own(Handle<Texture>),
+    /// None: blended surfaces over the compute rasteriser's samples test those.
+    None,
+}
+
+impl Depth {
+    /// The depth of a frame of `c` whose pre-pass left `prepass`, or none `over_samples`.
+    fn of(
+        graph: &mut RenderGraph,
+        c: &RendererConfig,
+        prepass: Option<Handle<Texture>>,
+        over_samples: bool,
+    ) -> Self {
+        match prepass {
+            _ if over_samples => Self::None,
+            Some(d) => Self::Prepass(d),
+            None => {
+                let desc =
+                    TextureDesc::new_2d(c.width, c.height, DEPTH_FORMAT).with_samples(c.msaa);
+                Self::Own(graph.create_texture("depth", desc))
+            }
+        }
+    }
+
+    /// Declares `pass`'s use of the target.
+    fn declare(&mut self, pass: &mut crate::graph::PassBuilder<'_>) {
+        match self {
+            Self::Prepass(d) => {
+                pass.read_texture(*d, TextureAccess::DepthRead);
+            }
+            Self::Own(d) => {
+                pass.write_texture(d, TextureAccess::DepthWrite);
+            }
+            Self::None => {}
+        }
     }
 }
 
@@ -293,183 +358,5 @@ fn color_targets(
             Some(graph.create_texture("hdr", desc)),
         ),
         None => (Layer::Scene, graph.create_texture("hdr", desc), None),
-    }
-}
-
-impl ForwardPass {
-    /// The eraser of the blended draws this frame draws into the overlay: the same draws with
-    /// the erase pipeline, in a pass of their own after the overlay pass read the overlay
-    /// (`passes::overlay_erase`). `None` where the pass draws into no overlay.
-    fn blended_eraser(
-        &self,
-        frame: &FrameInputs,
-        group: FrameGroup,
-        list: SceneDrawList,
-    ) -> Option<OverlayEraser> {
-        let (program, pipeline) = self.pipelines.erase.clone()?;
-        let (scene, instances) = (Arc::clone(&frame.scene), Arc::clone(&frame.instances));
-        Some(Box::new(move |graph, overlay| {
-            let mut pass = graph.add_pass("erase blended");
-            group.read_by(&mut pass);
-            if let BlendedDraws::Sorted { args, .. } = &list.blended {
-                pass.read_buffer(*args, BufferAccess::Indirect);
-            }
-            pass.write_texture(overlay, TextureAccess::ColorAttachment);
-            let overlay = *overlay;
-            pass.execute(move |ctx| {
-                let Some(group0) = group.bind_group(ctx, (&program, None), "overlay erase") else {
-                    return;
-                };
-                let view = ctx.texture(overlay).create_view(&Default::default());
-                let load = wgpu::LoadOp::Load;
-                let mut pass = color_pass(&mut ctx.encoder, "erase blended", &view, load);
-                pass.set_bind_group(0, &group0, &[]);
-                let mut draws =
-                    SceneDraws::new(&mut pass, &scene, &instances, VertexStreams::Forward);
-                let materials = Some(scene.material_group());
-                draw_blended(&mut draws, (&list, &instances), &pipeline, materials);
-            });
-        }))
-    }
-
-    /// The recording function of one frame.
-    fn recorder(
-        &self,
-        frame: &FrameInputs,
-        targets: Targets,
-        group: FrameGroup,
-        list: SceneDrawList,
-    ) -> impl FnOnce(&mut crate::graph::PassContext<'_>) + 'static {
-        let pipelines = Arc::clone(&self.pipelines);
-        let (scene, instances) = (Arc::clone(&frame.scene), Arc::clone(&frame.instances));
-        let sky = sky_color(frame.config.sky);
-        move |ctx| {
-            let Some(bound) = pipelines.opaque.bind(ctx, &scene, &group, "forward frame") else {
-                return;
-            };
-            let Some(frame_group) = bound.gltf_group0() else {
-                return;
-            };
-            let depth_view = ctx.texture(targets.depth).create_view(&Default::default());
-            let color_view = ctx.texture(targets.color).create_view(&Default::default());
-            let resolve_view = targets
-                .resolve
-                .map(|h| ctx.texture(h).create_view(&Default::default()));
-            let load = match targets.layer {
-                Layer::Scene => wgpu::LoadOp::Clear(sky),
-                Layer::OverInPlace => wgpu::LoadOp::Load,
-                // Transparent where the last frame's erasers drew (`passes::overlay_erase`).
-                Layer::Overlay => wgpu::LoadOp::Load,
-            };
-            let mut pass = ctx.encoder.begin_render(&wgpu::RenderPassDescriptor {
-                label: Some("forward"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &color_view,
-                    depth_slice: None,
-                    resolve_target: resolve_view.as_ref(),
-                    ops: wgpu::Operations {
-                        load,
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &depth_view,
-                    // After a pre-pass no pipeline of this pass writes depth: attached
-                    // read-only, the pass neither stores nor decompresses it.
-                    depth_ops: (!targets.prepass).then_some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(1.0),
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.set_bind_group(0, frame_group, &[]);
-            // Over a deferred image only the blended surfaces are left to draw.
-            let opaque = targets.layer == Layer::Scene;
-            draw_scene(
-                &mut pass,
-                (&scene, &instances),
-                &list,
-                (&pipelines, &bound),
-                opaque,
-            );
-        }
-    }
-}
-
-/// Records the scene into the forward pass: with `opaque`, the opaque and masked batches of
-/// `list`; then its blended draws back to front (one multi-draw where they were ordered on
-/// the GPU).
-fn draw_scene<'a>(
-    pass: &mut wgpu::RenderPass<'a>,
-    (scene, instances): (&'a PreparedScene, &'a InstanceTable),
-    list: &'a SceneDrawList,
-    (pipelines, bound): (&'a ForwardPipelines, &'a BoundPrograms),
-    opaque: bool,
-) {
-    let mut draws = SceneDraws::new(pass, scene, instances, VertexStreams::Forward);
-    let materials = Some(scene.material_group());
-    if opaque {
-        let group2 = scene.material_group();
-        draws.draw_batches_with(list, instances, |batch| {
-            bound.state(&pipelines.opaque, batch, group2)
-        });
-        // The blended draws are glTF PBR's.
-        if let Some(group0) = bound.gltf_group0() {
-            draws.set_program_groups(group0, None);
-        }
-    }
-    draw_blended(&mut draws, (list, instances), &pipelines.blended, materials);
-}
-
-/// Records `list`'s blended draws with `pipeline` (the blended one, or the overlay's erase),
-/// back to front (one multi-draw where they were ordered on the GPU).
-fn draw_blended<'a>(
-    draws: &mut SceneDraws<'_, 'a>,
-    (list, instances): (&'a SceneDrawList, &InstanceTable),
-    pipeline: &'a wgpu::RenderPipeline,
-    materials: Option<&'a wgpu::BindGroup>,
-) {
-    match &list.blended {
-        BlendedDraws::Sorted {
-            args_buffer,
-            count,
-            count_buffer,
-            ..
-        } => {
-            // Where the opaque batches drew with counts, the blended draws do too: Mesa's
-            // lavapipe (25.0) keeps a count-draw's count buffer for the next plain indirect
-            // draw of the pass, which then draws only as many as that count says.
-            if list.counts.is_some() {
-                draws.multi_draw_count(
-                    (pipeline, materials),
-                    args_buffer,
-                    0,
-                    (count_buffer, 0),
-                    *count,
-                )
-            } else {
-                draws.multi_draw(pipeline, materials, args_buffer, 0, *count)
-            }
-        }
-        BlendedDraws::Listed(blended) => {
-            for &d in blended.iter() {
-                let geometry = instances.draws[d as usize].geometry;
-                draws.draw(pipeline, materials, geometry, d);
-            }
-        }
-    }
-}
-
-/// The HDR clear colour where no surface is drawn.
-fn sky_color(sky: glam::Vec3) -> wgpu::Color {
-    wgpu::Color {
-        r: f64::from(sky.x),
-        g: f64::from(sky.y),
-        b: f64::from(sky.z),
-        a: 1.0,
     }
 }

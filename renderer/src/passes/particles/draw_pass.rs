@@ -5,8 +5,10 @@
 //! per sample by the pipeline against the pre-Z depth attached read-only, and faded against a copy
 //! of it the shader samples (soft particles; sampling the attached depth itself would make its
 //! end-of-pass store a write after the shader's read, a hazard Vulkan's synchronization
-//! validation reports). Lit from the atlas or, on the reference path, per pixel with the same
-//! lights and shadows.
+//! validation reports). On the compute rasteriser's frame
+//! ([`RendererConfig::reads_compute_samples`]) the shader reads its samples instead, and its
+//! `sample_mask` output is the whole depth test: no depth target is attached or copied. Lit from
+//! the atlas or, on the reference path, per pixel with the same lights and shadows.
 
 use crate::frame_data::ConfigError;
 use shaders_gen::particles::particle_draw::{self, List, VariantKey};
@@ -18,9 +20,10 @@ use crate::GpuContext;
 use crate::frame_data::{
     FrameInputs, FrameResources, HDR_FORMAT, LightListHandles, LightSet, OverlayEraser,
     ParticleLighting, ParticleResources, RenderError, RendererConfig, ShadowResources,
+    VisibilitySamples,
 };
 use crate::graph::{
-    BufferAccess, Handle, PassBuilder, PassContext, RenderGraph, Texture, TextureAccess,
+    Buffer, BufferAccess, Handle, PassBuilder, PassContext, RenderGraph, Texture, TextureAccess,
     TextureDesc, TimedPass,
 };
 use crate::passes::overlay_erase::EraseStage;
@@ -42,6 +45,7 @@ pub struct ParticleDrawPass {
 impl ParticleDrawPass {
     pub fn new(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
         let atlas = config.particle_lighting == ParticleLighting::Atlas;
+        let vis64 = config.reads_compute_samples();
         let key = VariantKey {
             atlas,
             list: if !atlas && config.path.is_culled() {
@@ -49,10 +53,11 @@ impl ParticleDrawPass {
             } else {
                 List::List0
             },
-            msaa: config.msaa > 1,
+            msaa: config.msaa > 1 && !vis64,
+            vis64,
         };
         let program = gpu.program(particle_draw::variant(key)?)?;
-        let pipeline = pipeline(gpu.device(), &program, config.msaa);
+        let pipeline = pipeline(gpu.device(), &program, config.msaa, !vis64);
         let erase = if config.path.is_deferred() && config.msaa > 1 {
             let stage = EraseStage::new(gpu)?;
             Some(stage.pipeline(gpu.device(), (&program, "vs_particle"), &[], config.msaa))
@@ -68,7 +73,14 @@ impl ParticleDrawPass {
     }
 }
 
-fn pipeline(device: &wgpu::Device, program: &ShaderProgram, msaa: u32) -> wgpu::RenderPipeline {
+/// The draw's pipeline; with `depth_tested`, testing the pre-Z depth attached read-only (the
+/// `vis64` variant's sample mask does that test itself).
+fn pipeline(
+    device: &wgpu::Device,
+    program: &ShaderProgram,
+    msaa: u32,
+    depth_tested: bool,
+) -> wgpu::RenderPipeline {
     program.render_pipeline(
         device,
         &wgpu::RenderPipelineDescriptor {
@@ -82,10 +94,8 @@ fn pipeline(device: &wgpu::Device, program: &ShaderProgram, msaa: u32) -> wgpu::
             },
             primitive: wgpu::PrimitiveState::default(),
             // Per-sample occlusion by the pre-Z depth, attached read-only (and sampled for the fade).
-            depth_stencil: Some(crate::passes::depth_state(
-                false,
-                wgpu::CompareFunction::Less,
-            )),
+            depth_stencil: depth_tested
+                .then(|| crate::passes::depth_state(false, wgpu::CompareFunction::Less)),
             multisample: wgpu::MultisampleState {
                 count: msaa,
                 ..Default::default()
@@ -126,7 +136,7 @@ impl Pass for ParticleDrawPass {
         let Some(particles) = resources.particles.clone() else {
             return Ok(());
         };
-        let depth = resources.depth.ok_or(missing("depth buffer"))?;
+        let occluders = Occluders::of(graph, frame, resources, self.key.vis64)?;
         // With MSAA on the deferred paths, particles join the blended surfaces' multisampled
         // overlay (the overlay pass resolves it).
         let overlay = resources.hdr_overlay;
@@ -155,19 +165,20 @@ impl Pass for ParticleDrawPass {
         } else {
             None
         };
-        let fade_depth = fade_depth_copy(graph, depth, &frame.config);
         let inputs = DrawInputs {
             particles,
             lights: Arc::clone(&frame.lights),
             lists,
-            fade_depth,
+            occluders,
             shadows,
             atlas,
         };
         let mut pass = graph.add_pass(self.name());
         inputs.read_by(&mut pass);
-        pass.read_texture(depth, TextureAccess::DepthRead)
-            .write_texture(&mut hdr, TextureAccess::ColorAttachment);
+        if let Some(attached) = occluders.attached() {
+            pass.read_texture(attached, TextureAccess::DepthRead);
+        }
+        pass.write_texture(&mut hdr, TextureAccess::ColorAttachment);
         if let Some(m) = multisampled.as_mut() {
             pass.write_texture(m, TextureAccess::ColorAttachment);
         }
@@ -178,10 +189,12 @@ impl Pass for ParticleDrawPass {
             let Some(groups) = inputs.bind(ctx, &program) else {
                 return;
             };
-            let depth_view = ctx.texture(depth).create_view(&Default::default());
+            let depth_view = (occluders.attached())
+                .map(|attached| ctx.texture(attached).create_view(&Default::default()));
             let resolved = ctx.texture(hdr).create_view(&Default::default());
             let msaa_view = multisampled.map(|m| ctx.texture(m).create_view(&Default::default()));
-            let mut render = begin_particles(ctx, (&resolved, msaa_view.as_ref()), &depth_view);
+            let targets = (&resolved, msaa_view.as_ref());
+            let mut render = begin_particles(ctx, targets, depth_view.as_ref());
             inputs.draw(&mut render, &pipeline, (&groups.0, &groups.1));
         });
         if let Some(eraser) = eraser {
@@ -226,11 +239,11 @@ fn fade_depth_copy(
 }
 
 /// The particles' render pass: over `resolved`, or over `multisampled` resolving into it, the
-/// depth attached read-only.
+/// depth (where the pipeline tests one) attached read-only.
 fn begin_particles<'e>(
     ctx: &'e mut PassContext<'_>,
     (resolved, multisampled): (&wgpu::TextureView, Option<&wgpu::TextureView>),
-    depth: &wgpu::TextureView,
+    depth: Option<&wgpu::TextureView>,
 ) -> TimedPass<'e, wgpu::RenderPass<'e>> {
     ctx.encoder.begin_render(&wgpu::RenderPassDescriptor {
         label: Some("particles"),
@@ -243,8 +256,8 @@ fn begin_particles<'e>(
                 store: wgpu::StoreOp::Store,
             },
         })],
-        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-            view: depth,
+        depth_stencil_attachment: depth.map(|view| wgpu::RenderPassDepthStencilAttachment {
+            view,
             depth_ops: None,
             stencil_ops: None,
         }),
@@ -254,14 +267,61 @@ fn begin_particles<'e>(
     })
 }
 
+/// What hides the particles.
+#[derive(Clone, Copy)]
+enum Occluders {
+    /// The pre-Z depth, `attached` read-only for the pipeline's test, and its `copy`, which the
+    /// shader samples for the fade.
+    Depth {
+        attached: Handle<Texture>,
+        copy: Handle<Texture>,
+    },
+    /// The compute rasteriser's samples, which the `vis64` variant reads for both.
+    Samples(Handle<Buffer>),
+}
+
+impl Occluders {
+    /// This frame's: the compute rasteriser's samples for the `vis64` variant, else the depth
+    /// target and a copy of it.
+    fn of(
+        graph: &mut RenderGraph,
+        frame: &FrameInputs,
+        resources: &FrameResources,
+        vis64: bool,
+    ) -> Result<Self, RenderError> {
+        let missing = |input| {
+            RenderError::Config(ConfigError::MissingInput {
+                pass: "particles",
+                input,
+            })
+        };
+        if vis64 {
+            return match resources.visibility.as_ref().map(|v| v.samples) {
+                Some(VisibilitySamples::Buffer { samples }) => Ok(Self::Samples(samples)),
+                _ => Err(missing("the compute rasteriser's samples")),
+            };
+        }
+        let attached = resources.depth.ok_or(missing("depth buffer"))?;
+        let copy = fade_depth_copy(graph, attached, &frame.config);
+        Ok(Self::Depth { attached, copy })
+    }
+
+    /// The depth target the pipeline tests, attached read-only.
+    fn attached(self) -> Option<Handle<Texture>> {
+        match self {
+            Self::Depth { attached, .. } => Some(attached),
+            Self::Samples(_) => None,
+        }
+    }
+}
+
 /// What one frame's particle draw binds, shared by the draw and its overlay eraser.
 #[derive(Clone)]
 struct DrawInputs {
     particles: ParticleResources,
     lights: Arc<LightSet>,
     lists: Option<LightListHandles>,
-    /// The copy of the depth the shader samples for the fade.
-    fade_depth: Handle<Texture>,
+    occluders: Occluders,
     shadows: ShadowResources,
     atlas: Option<Handle<Texture>>,
 }
@@ -272,8 +332,11 @@ impl DrawInputs {
         let p = &self.particles;
         pass.read_buffer(p.simulated, BufferAccess::StorageRead)
             .read_buffer(p.laid_out, BufferAccess::StorageRead)
-            .read_texture(self.fade_depth, TextureAccess::Sampled)
             .read_texture(self.shadows.atlas, TextureAccess::Sampled);
+        match self.occluders {
+            Occluders::Depth { copy, .. } => pass.read_texture(copy, TextureAccess::Sampled),
+            Occluders::Samples(samples) => pass.read_buffer(samples, BufferAccess::StorageRead),
+        };
         if let Some(a) = self.atlas {
             pass.read_texture(a, TextureAccess::Sampled);
         }
@@ -287,12 +350,16 @@ impl DrawInputs {
         program: &ShaderProgram,
     ) -> Option<(wgpu::BindGroup, wgpu::BindGroup)> {
         let p = &self.particles;
-        let fade_view = ctx
-            .texture(self.fade_depth)
-            .create_view(&wgpu::TextureViewDescriptor {
-                aspect: wgpu::TextureAspect::DepthOnly,
-                ..Default::default()
-            });
+        let (fade_view, samples) = match self.occluders {
+            Occluders::Depth { copy, .. } => {
+                let view = ctx.texture(copy).create_view(&wgpu::TextureViewDescriptor {
+                    aspect: wgpu::TextureAspect::DepthOnly,
+                    ..Default::default()
+                });
+                (Some(view), None)
+            }
+            Occluders::Samples(samples) => (None, Some(ctx.buffer(samples).clone())),
+        };
         // The fade depth is given for both spellings; the variant binds the one its MSAA axis
         // declares.
         let frame_group = particle_draw::Group0 {
@@ -301,8 +368,9 @@ impl DrawInputs {
             },
             light_set: self.lights.bindings(),
             light_lists: LightListHandles::bindings(self.lists.as_ref(), ctx),
-            depth: Some(&fade_view),
-            depth_ms: Some(&fade_view),
+            depth: fade_view.as_ref(),
+            depth_ms: fade_view.as_ref(),
+            vis64: samples.as_ref().map(wgpu::Buffer::as_entire_buffer_binding),
             shadow_atlas: self.shadows.bindings(),
         }
         .bind_group(

@@ -149,6 +149,7 @@ impl ParticleGpu {
             g.near,
             g.far,
             c.soft_particle_distance,
+            c.msaa,
             camera.eye_homogeneous(),
         );
         frame

@@ -74,7 +74,7 @@ impl ShadowPipelines {
                     double_sided: true,
                     // Nothing is culled, so the winding (mirrored draws) changes nothing here.
                     mirrored: false,
-                    depth: depth.clone(),
+                    depth: Some(depth.clone()),
                     msaa: 1,
                     // Opaque casters write depth without a fragment stage; masked ones discard.
                     fragment: masked.then_some(("fs_caster_mask", &[][..])),

@@ -10,6 +10,7 @@
 mod compute_raster;
 mod geometry;
 mod raster;
+mod raster_draws;
 mod resolve;
 mod shade;
 

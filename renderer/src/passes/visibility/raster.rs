@@ -3,10 +3,10 @@
 //! [`VisibilityRaster::Compute`] the compute rasteriser draws the opaque ones first
 //! (`super::compute_raster`) into its buffer, which is then the frame's visibility samples
 //! ([`VisibilitySamples::Buffer`]): this pass adds the alpha-masked draws to it with the same
-//! 64-bit atomics (`vis_raster`'s `vis64` variant), and resolves its depths into the depth
-//! target first (`super::resolve`) for the passes that depth-test in hardware. Without masked
-//! draws it writes only that target, and the graph leaves it out of a frame that reads none;
-//! with masked draws it always runs (they write the buffer) and resolves the depth too.
+//! 64-bit atomics (`vis_raster`'s `vis64` variant), over a scratch depth target it clears and
+//! discards, and adds nothing without masked draws. A pass of its own resolves the buffer's
+//! depths into a depth target (`super::resolve`) for a pass that reads one; the frame's own
+//! passes read the buffer, and the graph leaves the resolve out.
 //!
 //! The depth is cleared and the ID target only loaded: a sample at depth 1.0 is sky whatever
 //! ID it holds, and every reader of the IDs tests the depth first (`vis_frame::vis_id_at`).
@@ -18,21 +18,17 @@ use shaders_gen::visibility::vis_raster;
 use super::geometry::{
     SceneState, draw_geometry, draw_geometry_buffer, geometry_group, sequence_buffer,
 };
-use super::resolve::{ComputeStage, Resolve};
+use super::raster_draws::Recording;
+use super::resolve::ComputeStage;
 use crate::GpuContext;
 use crate::frame_data::{
-    ConfigError, DEPTH_FORMAT, FrameInputs, FrameResources, InstanceTable, RenderError,
-    RendererConfig, VISIBILITY_FORMAT, VisibilityHandles, VisibilityRaster, VisibilitySamples,
+    ConfigError, DEPTH_FORMAT, FrameInputs, FrameResources, RenderError, RendererConfig,
+    SceneDrawList, VISIBILITY_FORMAT, VisibilityHandles, VisibilityRaster, VisibilitySamples,
 };
-use crate::graph::{
-    BufferAccess, Handle, PassBuilder, PassContext, RenderGraph, Texture, TextureAccess,
-    TextureDesc,
-};
+use crate::graph::{BufferAccess, Handle, RenderGraph, Texture, TextureAccess, TextureDesc};
 use crate::passes::{
-    BatchState, FacePipelines, MeshPipeline, Pass, SceneDraws, depth_state, face_pipeline,
-    face_pipelines, mesh_pipeline,
+    FacePipelines, MeshPipeline, Pass, depth_state, face_pipelines, mesh_pipeline,
 };
-use crate::scene::VertexStreams;
 use crate::shader::ShaderProgram;
 
 /// The visibility raster pass: its programs and pipelines (`[double_sided][mirrored]`, plain
@@ -106,7 +102,7 @@ impl VisRasterPass {
                         streams: &[],
                         double_sided,
                         mirrored,
-                        depth: depth_state(true, wgpu::CompareFunction::Less),
+                        depth: Some(depth_state(true, wgpu::CompareFunction::Less)),
                         msaa: config.msaa,
                         fragment: Some(fragment),
                     },
@@ -266,12 +262,21 @@ impl Pass for VisRasterPass {
             .scene_draws
             .clone()
             .ok_or(missing("the scene's draw batches (scene culling)"))?;
-        let first = if self.late {
+        if self.late {
             // The second half draws occlusion culling's late slots over the first's output.
             let Some(late) = list.late_half() else {
                 return Ok(());
             };
             list = late;
+        }
+        let kept = self.kept_buffers().ok_or(missing(
+            "draw geometry and sequence indices (built in prepare)",
+        ))?;
+        if let Some(stage) = &self.compute {
+            return self.add_compute(graph, frame, resources, stage, (list, kept));
+        }
+        let (draw_geometry, draws, sequence) = kept;
+        let first = if self.late {
             let depth = resources.depth.ok_or(missing("the first half's depth"))?;
             let vis = resources
                 .visibility
@@ -281,26 +286,11 @@ impl Pass for VisRasterPass {
         } else {
             None
         };
-        let (draw_geometry, draws, sequence) = self.kept_buffers().ok_or(missing(
-            "draw geometry and sequence indices (built in prepare)",
-        ))?;
-        // Under the compute rasteriser its buffer holds the IDs: the first half rasterises
-        // the opaque draws into it and resolves their depths; both halves add the masked
-        // draws' samples to it.
-        let (resolve, vis64) = match (&self.compute, first) {
-            (Some(stage), None) => {
-                let (resolve, buffer) =
-                    stage.add_to_graph(graph, frame, resources, (&list, &draw_geometry, draws))?;
-                (Some(resolve), Some(buffer))
-            }
-            (Some(stage), Some(_)) => (None, stage.samples_buffer()),
-            (None, _) => (None, None),
-        };
         let [camera, mask_camera, geometry, mask_geometry] =
-            self.groups(frame, &draw_geometry, vis64.as_ref())?;
+            self.groups(frame, &draw_geometry, None)?;
         let (mut depth, mut samples) = match first {
             Some(kept) => kept,
-            None => new_targets(graph, frame, resolve.as_ref()),
+            None => new_targets(graph, frame),
         };
         let recording = Recording {
             plain: self.plain.clone(),
@@ -318,15 +308,19 @@ impl Pass for VisRasterPass {
                 VisibilitySamples::Targets { ids } => Some(ids),
                 VisibilitySamples::Buffer { .. } => None,
             },
-            load: first.is_some(),
-            masked_only: self.compute.is_some(),
-            resolve,
+            depth_ops: if first.is_some() {
+                (wgpu::LoadOp::Load, wgpu::StoreOp::Store)
+            } else {
+                (wgpu::LoadOp::Clear(1.0), wgpu::StoreOp::Store)
+            },
+            masked_only: false,
         };
         let mut pass = graph.add_pass(self.name());
         pass.read_buffer(list.args, BufferAccess::Indirect)
             .write_texture(&mut depth, TextureAccess::DepthWrite);
-        let masked = list.layout.batches.iter().any(|b| b.masked);
-        declare_samples(&mut pass, &mut samples, masked);
+        if let VisibilitySamples::Targets { ids } = &mut samples {
+            pass.write_texture(ids, TextureAccess::ColorAttachment);
+        }
         pass.execute(move |ctx| recording.record(ctx));
         resources.depth = Some(depth);
         resources.visibility = Some(VisibilityHandles {
@@ -338,150 +332,88 @@ impl Pass for VisRasterPass {
     }
 }
 
-/// The first half's depth target and visibility samples: the compute rasteriser's buffer
-/// where it ran (`resolve`), else a new ID target.
+/// The first half's depth target and ID target (the hardware raster's).
 fn new_targets(
     graph: &mut RenderGraph,
     frame: &FrameInputs,
-    resolve: Option<&Resolve>,
 ) -> (Handle<Texture>, VisibilitySamples) {
     let c = &frame.config;
     let size = TextureDesc::new_2d(c.width, c.height, DEPTH_FORMAT).with_samples(c.msaa);
-    let samples = match resolve {
-        Some(r) => VisibilitySamples::Buffer { samples: r.samples },
-        None => {
-            let ids =
-                TextureDesc::new_2d(c.width, c.height, VISIBILITY_FORMAT).with_samples(c.msaa);
-            VisibilitySamples::Targets {
-                ids: graph.create_texture("visibility", ids),
-            }
-        }
+    let ids = TextureDesc::new_2d(c.width, c.height, VISIBILITY_FORMAT).with_samples(c.msaa);
+    let samples = VisibilitySamples::Targets {
+        ids: graph.create_texture("visibility", ids),
     };
     (graph.create_texture("depth", size), samples)
 }
 
-/// Declares what the pass does with the samples: writes the ID target, or adds the `masked`
-/// draws to the compute rasteriser's buffer. Without masked draws the pass only resolves the
-/// depth, and the graph leaves it out of a frame that reads no depth target.
-fn declare_samples(pass: &mut PassBuilder<'_>, samples: &mut VisibilitySamples, masked: bool) {
-    match samples {
-        VisibilitySamples::Targets { ids } => {
-            pass.write_texture(ids, TextureAccess::ColorAttachment);
-        }
-        VisibilitySamples::Buffer { samples } if masked => {
-            pass.write_buffer(samples, BufferAccess::StorageWrite);
-        }
-        VisibilitySamples::Buffer { samples } => {
-            pass.read_buffer(*samples, BufferAccess::StorageRead);
-        }
-    }
-}
-
-/// What one frame's visibility pass records with.
-struct Recording {
-    plain: FacePipelines,
-    masked: FacePipelines,
-    scene: Arc<crate::frame_data::PreparedScene>,
-    instances: Arc<InstanceTable>,
-    camera: wgpu::BindGroup,
-    /// The masked program's group 0 (with the compute rasteriser's buffer under it).
-    mask_camera: wgpu::BindGroup,
-    /// Group 3 of the plain and the masked programs.
-    geometry: wgpu::BindGroup,
-    mask_geometry: wgpu::BindGroup,
-    sequence: wgpu::Buffer,
-    list: crate::frame_data::SceneDrawList,
-    depth: Handle<Texture>,
-    /// The ID target (the hardware raster's; none under the compute rasteriser).
-    ids: Option<Handle<Texture>>,
-    /// The second half: keep what the first drew.
-    load: bool,
-    /// The compute raster's resolve, drawn first (the first half under the compute raster).
-    resolve: Option<Resolve>,
-    /// Under the compute raster: the opaque batches are the compute rasteriser's.
-    masked_only: bool,
-}
-
-impl Recording {
-    /// Clears depth (the hardware raster's first half; the IDs are loaded), or under the
-    /// compute raster resolves its depths into every sample instead, then draws every batch
-    /// of its list (only the masked ones, into the compute raster's buffer, under the compute
-    /// raster), through the sequence index buffer.
-    fn record(&self, ctx: &mut PassContext<'_>) {
-        let depth_view = ctx.texture(self.depth).create_view(&Default::default());
-        let ids_view = self
-            .ids
-            .map(|ids| ctx.texture(ids).create_view(&Default::default()));
-        let ids_attachment = ids_view
-            .as_ref()
-            .map(|view| wgpu::RenderPassColorAttachment {
-                view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    // Never cleared: a sample no triangle covers keeps an old ID, and its
-                    // cleared depth (1.0) tells every reader it is sky. On chips whose
-                    // fixed-function fill is slow, the clear cost a quarter of the pass
-                    // (0.59 of 2.26 ms at MSAA 4 on the H200; BENCHMARKS.md).
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                },
-            });
-        let mut pass = ctx.encoder.begin_render(&wgpu::RenderPassDescriptor {
-            label: Some("visibility"),
-            color_attachments: if ids_attachment.is_some() {
-                std::slice::from_ref(&ids_attachment)
-            } else {
-                &[]
-            },
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &depth_view,
-                depth_ops: Some(wgpu::Operations {
-                    // The second half keeps the first's depth; the compute rasteriser's
-                    // resolve writes every sample, so its target is not cleared either.
-                    load: if self.load || self.resolve.is_some() {
-                        wgpu::LoadOp::Load
-                    } else {
-                        wgpu::LoadOp::Clear(1.0)
-                    },
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        if let Some(r) = &self.resolve {
-            pass.set_pipeline(&r.pipeline);
-            pass.set_bind_group(0, &r.group, &[]);
-            pass.draw(0..3, 0..1);
-        }
-        let mut draws = SceneDraws::new(
-            &mut pass,
-            &self.scene,
-            &self.instances,
-            VertexStreams::Position,
-        );
-        // Drawn through the sequence: `vertex_index` is the position in the index buffer (plus
-        // the base vertex), from which the shader pulls the vertex.
-        draws
-            .pass()
-            .set_index_buffer(self.sequence.slice(..), wgpu::IndexFormat::Uint32);
-        draws.draw_batches_with(&self.list, &self.instances, |batch| {
-            if self.masked_only && !batch.masked {
-                return None;
-            }
-            let (pipelines, group0, group3) = if batch.masked {
-                (&self.masked, &self.mask_camera, &self.mask_geometry)
-            } else {
-                (&self.plain, &self.camera, &self.geometry)
+impl VisRasterPass {
+    /// Under the compute rasteriser: its raster of the opaque draws (the first half), the
+    /// masked draws of `list` merged into its buffer (a render pass of their own over a
+    /// scratch depth target, cleared and discarded: their 64-bit atomics are the depth test
+    /// that counts), and the buffer's depths resolved into a new depth target
+    /// ([`FrameResources::depth`]), which the graph leaves out of a frame that reads none.
+    fn add_compute(
+        &self,
+        graph: &mut RenderGraph,
+        frame: &FrameInputs,
+        resources: &mut FrameResources,
+        stage: &ComputeStage,
+        (list, (draw_geometry, draws, sequence)): (
+            SceneDrawList,
+            (wgpu::Buffer, u32, wgpu::Buffer),
+        ),
+    ) -> Result<(), RenderError> {
+        let (resolve, vis64) = if self.late {
+            let first = resources.visibility.as_ref().map(|v| v.samples);
+            let (Some(VisibilitySamples::Buffer { samples }), Some(buffer)) =
+                (first, stage.samples_buffer())
+            else {
+                return Err(RenderError::Config(ConfigError::MissingInput {
+                    pass: "visibility (late)",
+                    input: "the first half's compute-rasteriser samples",
+                }));
             };
-            Some(BatchState {
-                pipeline: face_pipeline(pipelines, batch.double_sided, batch.mirrored),
-                group2: batch.masked.then(|| self.scene.mask_group()),
-                program_groups: Some((group0, Some(group3))),
-            })
+            (stage.resolve(frame, &buffer, samples)?, buffer)
+        } else {
+            stage.add_to_graph(graph, frame, resources, (&list, &draw_geometry, draws))?
+        };
+        let mut samples = resolve.samples;
+        if list.layout.batches.iter().any(|b| b.masked) {
+            let [camera, mask_camera, geometry, mask_geometry] =
+                self.groups(frame, &draw_geometry, Some(&vis64))?;
+            let c = &frame.config;
+            let desc = TextureDesc::new_2d(c.width, c.height, DEPTH_FORMAT).with_samples(c.msaa);
+            let mut scratch = graph.create_texture("visibility masked depth", desc);
+            let recording = Recording {
+                plain: self.plain.clone(),
+                masked: self.masked.clone(),
+                scene: Arc::clone(&frame.scene),
+                instances: Arc::clone(&frame.instances),
+                camera,
+                mask_camera,
+                geometry,
+                mask_geometry,
+                sequence,
+                list: list.clone(),
+                depth: scratch,
+                ids: None,
+                depth_ops: (wgpu::LoadOp::Clear(1.0), wgpu::StoreOp::Discard),
+                masked_only: true,
+            };
+            let mut pass = graph.add_pass(self.name());
+            pass.read_buffer(list.args, BufferAccess::Indirect)
+                .write_texture(&mut scratch, TextureAccess::DepthWrite)
+                .write_buffer(&mut samples, BufferAccess::StorageWrite);
+            pass.execute(move |ctx| recording.record(ctx));
+        }
+        resources.depth = Some(super::resolve::add_depth_resolve(
+            graph, frame, resolve, samples,
+        ));
+        resources.visibility = Some(VisibilityHandles {
+            samples: VisibilitySamples::Buffer { samples },
+            draw_geometry,
+            draws,
         });
+        Ok(())
     }
 }

@@ -1,9 +1,11 @@
 //! The compute rasteriser and its depth resolve (`shaders_gen`'s `vis_resolve`): with
-//! [`crate::frame_data::VisibilityRaster::Compute`] the visibility raster pass draws the resolve
-//! full-screen, at sample rate, into its depth target (loaded: every sample is written, 1.0
-//! where no triangle is) before the alpha-masked draws, for the passes after it that
-//! depth-test in hardware. The IDs stay in the compute rasteriser's buffer, which the shading,
-//! the light culling and the depth pyramid read.
+//! [`crate::frame_data::VisibilityRaster::Compute`], after the visibility raster pass merged the
+//! alpha-masked draws into the rasteriser's buffer, a pass of its own (`visibility depth`) draws
+//! the resolve full-screen, at sample rate, into a new depth target (loaded: every sample is
+//! written, 1.0 where no triangle is), for a pass that reads a depth target (a tool's depth
+//! probe, the light heatmap). The frame's own passes read the buffer (the shading, the light
+//! culling, the depth pyramid, the blended surfaces and the particles), so the graph leaves the
+//! resolve out of their frames.
 
 use std::sync::Arc;
 
@@ -11,8 +13,12 @@ use shaders_gen::visibility::vis_resolve;
 
 use super::ComputeRasterPass;
 use crate::GpuContext;
-use crate::frame_data::{FrameInputs, FrameResources, RenderError, RendererConfig, SceneDrawList};
-use crate::graph::{Buffer, Handle, RenderGraph};
+use crate::frame_data::{
+    DEPTH_FORMAT, FrameInputs, FrameResources, RenderError, RendererConfig, SceneDrawList,
+};
+use crate::graph::{
+    Buffer, BufferAccess, Handle, RenderGraph, Texture, TextureAccess, TextureDesc,
+};
 use crate::passes::depth_state;
 use crate::shader::ShaderProgram;
 
@@ -26,7 +32,7 @@ pub(crate) struct ComputeStage {
     params: wgpu::Buffer,
 }
 
-/// What the visibility pass draws first under the compute raster: the full-screen resolve.
+/// The full-screen resolve of a frame's compute-rasteriser samples (`add_depth_resolve`).
 pub(crate) struct Resolve {
     pub(crate) pipeline: wgpu::RenderPipeline,
     pub(crate) group: wgpu::BindGroup,
@@ -83,8 +89,8 @@ impl ComputeStage {
     }
 
     /// Adds the compute raster of `list`'s opaque draws (their geometry records and count) to
-    /// `graph`; returns what the visibility pass needs to resolve its samples: the pipeline,
-    /// its bind group, and the samples' handle to read.
+    /// `graph`; returns the resolve of its samples (the pipeline, its bind group, and the
+    /// samples' handle) and the samples' buffer.
     pub(crate) fn add_to_graph(
         &self,
         graph: &mut RenderGraph,
@@ -93,13 +99,22 @@ impl ComputeStage {
         draws: (&SceneDrawList, &wgpu::Buffer, u32),
     ) -> Result<(Resolve, wgpu::Buffer), RenderError> {
         let (vis64, samples) = self.raster.add_raster(graph, frame, resources, draws)?;
+        Ok((self.resolve(frame, &vis64, samples)?, vis64))
+    }
+
+    /// The resolve of `samples` (in the graph; `vis64` its buffer).
+    pub(crate) fn resolve(
+        &self,
+        frame: &FrameInputs,
+        vis64: &wgpu::Buffer,
+        samples: Handle<Buffer>,
+    ) -> Result<Resolve, RenderError> {
         let c = &frame.config;
-        let resolve = Resolve {
+        Ok(Resolve {
             pipeline: self.pipeline.clone(),
-            group: self.bind_group(&frame.gpu, (c.width, c.msaa), &vis64)?,
+            group: self.bind_group(&frame.gpu, (c.width, c.msaa), vis64)?,
             samples,
-        };
-        Ok((resolve, vis64))
+        })
     }
 
     /// The compute rasteriser's buffer of this frame (after `add_to_graph`).
@@ -129,4 +144,45 @@ impl ComputeStage {
             "visibility resolve",
         )?)
     }
+}
+
+/// Adds the pass `visibility depth`, which draws `resolve` into a new depth target at the
+/// frame's sample count, reading `samples` (the buffer's handle after the masked draws merged
+/// into it); returns the target.
+pub(crate) fn add_depth_resolve(
+    graph: &mut RenderGraph,
+    frame: &FrameInputs,
+    resolve: Resolve,
+    samples: Handle<Buffer>,
+) -> Handle<Texture> {
+    let c = &frame.config;
+    let desc = TextureDesc::new_2d(c.width, c.height, DEPTH_FORMAT).with_samples(c.msaa);
+    let mut depth = graph.create_texture("depth", desc);
+    graph
+        .add_pass("visibility depth")
+        .read_buffer(samples, BufferAccess::StorageRead)
+        .write_texture(&mut depth, TextureAccess::DepthWrite)
+        .execute(move |ctx| {
+            let view = ctx.texture(depth).create_view(&Default::default());
+            let mut pass = ctx.encoder.begin_render(&wgpu::RenderPassDescriptor {
+                label: Some("visibility depth"),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &view,
+                    depth_ops: Some(wgpu::Operations {
+                        // Every sample is written.
+                        load: wgpu::LoadOp::Load,
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&resolve.pipeline);
+            pass.set_bind_group(0, &resolve.group, &[]);
+            pass.draw(0..3, 0..1);
+        });
+    depth
 }
