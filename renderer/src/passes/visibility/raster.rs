@@ -3,8 +3,8 @@
 //! [`VisibilityRaster::Compute`] the compute rasteriser draws the opaque ones first
 //! (`super::compute_raster`) into its buffer, which is then the frame's visibility samples
 //! ([`VisibilitySamples::Buffer`]): this pass adds the alpha-masked draws to it with the same
-//! 64-bit atomics (`vis_raster`'s `vis64` variant), over a scratch depth target it clears and
-//! discards, and adds nothing without masked draws. A pass of its own resolves the buffer's
+//! 64-bit atomics (`vis_raster`'s `vis64` variant), over a scratch depth target it neither
+//! loads nor stores (`LoadOp::DontCare`), and adds nothing without masked draws. A pass of its own resolves the buffer's
 //! depths into a depth target (`super::resolve`) for a pass that reads one; the frame's own
 //! passes read the buffer, and the graph leaves the resolve out.
 //!
@@ -102,7 +102,14 @@ impl VisRasterPass {
                         streams: &[],
                         double_sided,
                         mirrored,
-                        depth: Some(depth_state(true, wgpu::CompareFunction::Less)),
+                        // The masked draws over the compute rasteriser's buffer: its 64-bit
+                        // atomics keep the nearest sample, and the scratch depth target they
+                        // are drawn over is neither loaded nor stored.
+                        depth: Some(if masked && vis64 {
+                            depth_state(false, wgpu::CompareFunction::Always)
+                        } else {
+                            depth_state(true, wgpu::CompareFunction::Less)
+                        }),
                         msaa: config.msaa,
                         fragment: Some(fragment),
                     },
@@ -349,8 +356,8 @@ fn new_targets(
 impl VisRasterPass {
     /// Under the compute rasteriser: its raster of the opaque draws (the first half), the
     /// masked draws of `list` merged into its buffer (a render pass of their own over a
-    /// scratch depth target, cleared and discarded: their 64-bit atomics are the depth test
-    /// that counts), and the buffer's depths resolved into a new depth target
+    /// scratch depth target, neither loaded nor stored, which their pipelines do not test:
+    /// their 64-bit atomics are the depth test), and the buffer's depths resolved into a new depth target
     /// ([`FrameResources::depth`]), which the graph leaves out of a frame that reads none.
     fn add_compute(
         &self,
@@ -397,7 +404,7 @@ impl VisRasterPass {
                 list: list.clone(),
                 depth: scratch,
                 ids: None,
-                depth_ops: (wgpu::LoadOp::Clear(1.0), wgpu::StoreOp::Discard),
+                depth_ops: (scratch_load(), wgpu::StoreOp::Discard),
                 masked_only: true,
             };
             let mut pass = graph.add_pass(self.name());
@@ -416,4 +423,14 @@ impl VisRasterPass {
         });
         Ok(())
     }
+}
+
+/// The load of the scratch depth target the masked draws are drawn over under the compute
+/// rasteriser: nothing. Clearing it cost as much as the depth resolve it replaced (0.6 ms at
+/// MSAA 4, 1.2 at MSAA 8 on the H200; BENCHMARKS.md), though nothing reads it.
+fn scratch_load() -> wgpu::LoadOp<f32> {
+    // SAFETY: the target's contents are never read: no pipeline drawn over it tests or writes
+    // depth (the masked `vis64` pipelines compare `Always` without writing), it is stored with
+    // `Discard`, and no other pass is given it.
+    wgpu::LoadOp::DontCare(unsafe { wgpu::LoadOpDontCare::enabled() })
 }
