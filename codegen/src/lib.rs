@@ -47,6 +47,8 @@ mod pipeline;
 pub mod reflect;
 #[cfg(feature = "compiler")]
 mod sources;
+#[cfg(feature = "spirv-fix")]
+pub mod spirv_fix;
 #[cfg(feature = "compiler")]
 pub mod validate;
 #[cfg(feature = "compiler")]

@@ -21,7 +21,9 @@
 //! * for blended surfaces drawn over the compute rasteriser's frame (`msaa` above 0 with
 //!   `blend` and `vis64`), `vs_forward` and `fs_forward_vis64`: the forward shading, drawn into
 //!   the samples where the visibility frame's `vis_in_front` finds the fragment in front of the
-//!   opaque surface, through the `sample_mask` output, so no depth target is needed.
+//!   opaque surface, through the `sample_mask` output, so no depth target is needed. It takes
+//!   its derivatives before it may be discarded (the frame's `fragment_derivatives`), and
+//!   shades through `material_point_from` and `material_forward_from`.
 //!
 //! What the frame's functions do, and the names the renderer expects, are the frame library's
 //! contract; this expansion only writes the calls.
@@ -247,12 +249,14 @@ fn entry_points(span: Span, params: Option<&syn::Type>) -> Vec<syn::Item> {
                 #[builtin(front_facing)] front: bool,
                 #[builtin(sample_mask)] coverage: u32,
             ) -> VisBlendOut {
+                // Every derivative before the discard (see `fragment_derivatives`).
+                let d = fragment_derivatives(input);
                 let mask = vis_in_front(input.clip, coverage);
                 if mask == 0u32 {
                     discard();
                 }
-                let point = material_point(input, forward_facing(input, front));
-                VisBlendOut { color: material_forward(input, point, #call), mask }
+                let point = material_point_from(input, forward_facing(input, front), d);
+                VisBlendOut { color: material_forward_from(input, point, #call, d), mask }
             }
         },
         syn::parse_quote! {

@@ -1,5 +1,5 @@
 // Golden: `#[builtin(sample_mask)]` input and output. naga 30 writes the SampleMask builtin as a
-// scalar, which `spirv-val` rejects; the DSL's SPIR-V step (codegen/src/back/spv/sample_mask.rs)
+// scalar, which `spirv-val` rejects; the DSL's SPIR-V step (codegen/src/spirv_fix.rs)
 // makes both variables `array<u32, 1>`, and codegen/tests/golden.rs checks the result with
 // `spirv-val` and a disassembly snapshot.
 #[shader_dsl::shader]

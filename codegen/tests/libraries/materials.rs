@@ -23,11 +23,21 @@ pub mod mini_frame {
     pub fn forward_facing(input: VsOut, front: bool) -> bool {
         front || blend
     }
+    pub struct FragmentDerivatives { pub p_dx: Vec3 }
+    pub fn fragment_derivatives(input: VsOut) -> FragmentDerivatives {
+        FragmentDerivatives { p_dx: dpdx(input.world) }
+    }
     pub fn material_point(input: VsOut, front: bool) -> MaterialPoint {
         MaterialPoint { world: input.world, params: select(front, 1u32, 0u32) }
     }
+    pub fn material_point_from(input: VsOut, front: bool, d: FragmentDerivatives) -> MaterialPoint {
+        MaterialPoint { world: input.world + d.p_dx, params: select(front, 1u32, 0u32) }
+    }
     pub fn material_forward(input: VsOut, point: MaterialPoint, s: Surface) -> Vec4 {
         s.base_color * ((list + 1u32) as f32)
+    }
+    pub fn material_forward_from(input: VsOut, point: MaterialPoint, s: Surface, d: FragmentDerivatives) -> Vec4 {
+        s.base_color * d.p_dx.x
     }
     pub fn material_gbuffer(input: VsOut, point: MaterialPoint, s: Surface) -> GBufferOut {
         GBufferOut { albedo: s.base_color }

@@ -126,10 +126,10 @@ pub enum VisibilityRaster {
     /// `u64` a sample into a buffer; the alpha-masked draws, on the hardware rasteriser, add
     /// theirs with the same atomics. Every pass of the frame reads that buffer
     /// ([`crate::frame_data::VisibilitySamples::Buffer`]): the shading kernels, the light and
-    /// occlusion culling, and the blended surfaces and particles, which write the samples they
-    /// are in front of as their `sample_mask`. No multisampled target is written but the
-    /// overlay of blended surfaces; a full-screen pass resolves the buffer's depths into a
-    /// depth target only for a pass that reads one (a tool's depth probe).
+    /// occlusion culling, and the blended surfaces and particles, which test the samples in
+    /// their fragment stage. No multisampled depth target is written; a full-screen pass
+    /// resolves the buffer's depths into one only for a pass that reads it (a tool's depth
+    /// probe).
     /// Needs `SHADER_INT64_ATOMIC_MIN_MAX`
     /// ([`crate::gpu::Capabilities::int64_atomic_min_max`]).
     Compute,

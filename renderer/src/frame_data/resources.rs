@@ -312,7 +312,9 @@ pub struct GBufferHandles {
 pub struct FrameResources {
     /// The caller's target texture (imported).
     pub output: Handle<Texture>,
-    /// The multisampled depth buffer (pre-Z, or the naive forward pass's own).
+    /// The multisampled depth buffer (pre-Z, the visibility raster pass's, or the naive forward
+    /// pass's own; under the compute rasteriser, resolved from its samples only for a pass that
+    /// reads it).
     pub depth: Option<Handle<Texture>>,
     /// The culled light lists.
     pub light_lists: Option<LightListHandles>,

@@ -33,6 +33,10 @@ pub struct Capabilities {
     /// `SHADER_INT64` and `SHADER_INT64_ATOMIC_MIN_MAX`: 64-bit atomic min/max on storage
     /// buffers, which the compute rasteriser needs.
     pub int64_atomic_min_max: bool,
+    /// Vulkan with `PASSTHROUGH_SHADERS`: a variant whose SPIR-V wgpu would write invalid (a
+    /// `sample_mask` built-in) is given to the driver as its own SPIR-V instead
+    /// ([`crate::shader::ShaderProgram`]).
+    pub spirv_passthrough: bool,
     /// The adapter is a browser's WebGPU: shader source gets the `enable` directives its
     /// features need (`codegen::web::browser_directives`), which naga does not take.
     pub browser: bool,
@@ -110,6 +114,8 @@ impl AdapterReport {
                 int64_atomic_min_max: features.contains(
                     wgpu::Features::SHADER_INT64 | wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX,
                 ),
+                spirv_passthrough: info.backend == wgpu::Backend::Vulkan
+                    && features.contains(wgpu::Features::PASSTHROUGH_SHADERS),
                 browser: info.backend == wgpu::Backend::BrowserWebGpu,
             },
         }

@@ -22,7 +22,10 @@ pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::SUBGROUP
     // 64-bit integers and their atomic min/max on storage buffers: the compute rasteriser
     // (`passes::visibility::compute_raster`) packs depth and triangle ID into one atomic.
     .union(wgpu::Features::SHADER_INT64)
-    .union(wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX);
+    .union(wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX)
+    // The variant's own SPIR-V given to a Vulkan driver where wgpu's would be invalid (a
+    // `sample_mask` built-in: `crate::shader`).
+    .union(wgpu::Features::PASSTHROUGH_SHADERS);
 
 /// Largest compute workgroup the kernels use: a 32×32 tile, one invocation per pixel.
 pub const WANTED_WORKGROUP_INVOCATIONS: u32 = 32 * 32;

@@ -10,6 +10,12 @@ mod binding_log;
 pub mod hot;
 #[cfg(test)]
 mod layout_tests;
+mod own_spirv;
+
+/// The SPIR-V `own_spirv` writes, for this workspace's tests (`internals`).
+#[cfg(feature = "internals")]
+#[doc(hidden)]
+pub use own_spirv::{declares_sample_mask, spirv_of};
 mod pipeline_memo;
 pub(crate) mod store;
 #[cfg(test)]
@@ -136,6 +142,10 @@ pub struct ShaderProgram {
     pub variant: &'static Variant,
     /// The compiled WGSL (the generated source, or its hot-reloaded replacement).
     pub module: wgpu::ShaderModule,
+    /// On Vulkan, for a variant with a `sample_mask` built-in: SPIR-V with that built-in as
+    /// Vulkan requires, given to the driver as it is, which [`ShaderProgram::render_pipeline`]
+    /// uses for the fragment stage of the pipelines built from `module` (`own_spirv`).
+    fragment_spirv: Option<wgpu::ShaderModule>,
     /// One layout per group index `0..variant.group_count()` (empty where a group is unused).
     pub bind_group_layouts: Vec<wgpu::BindGroupLayout>,
     /// All of `bind_group_layouts` in group order, no immediates.
@@ -147,6 +157,12 @@ pub struct ShaderProgram {
 }
 
 impl ShaderProgram {
+    /// Whether the fragment stages of this program's pipelines take SPIR-V the renderer wrote
+    /// itself rather than wgpu's (a `sample_mask` built-in on Vulkan; `own_spirv`).
+    pub fn has_own_fragment_spirv(&self) -> bool {
+        self.fragment_spirv.is_some()
+    }
+
     /// The layout of bind group `group` (below `variant.group_count()`; empty where the
     /// variant binds nothing in it).
     pub fn layout(&self, group: u32) -> &wgpu::BindGroupLayout {
@@ -162,16 +178,25 @@ impl ShaderProgram {
         variant: &'static Variant,
     ) -> Result<Self, VariantError> {
         check_supported(variant, caps)?;
-        Ok(Self::compile(device, variant, source_for(variant, caps)))
+        Ok(Self::compile(
+            device,
+            caps,
+            variant,
+            source_for(variant, caps),
+        ))
     }
 
-    /// Compiles `source` (the WGSL of `variant`, or its hot-reloaded replacement).
+    /// Compiles `source` (the WGSL of `variant`, or its hot-reloaded replacement), and for its
+    /// fragment stages the SPIR-V that `own_spirv` gives the driver where wgpu's would be
+    /// invalid.
     fn compile(
         device: &wgpu::Device,
+        caps: &Capabilities,
         variant: &'static Variant,
         source: std::borrow::Cow<'static, str>,
     ) -> Self {
         let label = format!("{}::{}", variant.module, variant.name());
+        let fragment_spirv = own_spirv::fragment_module(device, caps, variant, &source, &label);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(&label),
             source: wgpu::ShaderSource::Wgsl(source),
@@ -194,6 +219,7 @@ impl ShaderProgram {
         Self {
             variant,
             module,
+            fragment_spirv,
             bind_group_layouts,
             pipeline_layout,
             binding_log: BindingLog::default(),
@@ -292,7 +318,19 @@ impl ShaderProgram {
             return device.create_render_pipeline(desc);
         }
         self.pipelines.render(pipeline_memo::render_key(desc), || {
-            device.create_render_pipeline(desc)
+            match (&self.fragment_spirv, &desc.fragment) {
+                (Some(module), Some(fragment)) => {
+                    let fragment = wgpu::FragmentState {
+                        module,
+                        ..fragment.clone()
+                    };
+                    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                        fragment: Some(fragment),
+                        ..desc.clone()
+                    })
+                }
+                _ => device.create_render_pipeline(desc),
+            }
         })
     }
 }
@@ -312,6 +350,7 @@ mod tests {
             msaa_r32uint: vec![1],
             max_workgroup_invocations: 1024,
             int64_atomic_min_max: false,
+            spirv_passthrough: false,
             browser: false,
         }
     }

@@ -61,7 +61,7 @@ impl ProgramStore {
         if let Some(kept) = programs.get(&key) {
             return Ok(kept.fresh_copy());
         }
-        let program = ShaderProgram::compile(device, variant, key.1.clone());
+        let program = ShaderProgram::compile(device, caps, variant, key.1.clone());
         self.compiled
             .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         programs.insert(key, program.fresh_copy());

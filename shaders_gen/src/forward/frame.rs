@@ -249,7 +249,36 @@ pub mod material_frame {
     /// are taken here), after the alpha mask's discard. Back faces (double-sided materials)
     /// get the flipped normal (glTF 2.0).
     pub fn material_point(input: VsOut, front: bool) -> MaterialPoint {
-        let d = uv_derivatives(input.uv, input.uv1);
+        let d = fragment_derivatives(input);
+        material_point_from(input, front, d)
+    }
+
+    /// The screen derivatives a fragment's shading takes: both UV sets' and the world
+    /// position's.
+    pub struct FragmentDerivatives {
+        pub uv: UvDerivatives,
+        pub p_dx: Vec3,
+        pub p_dy: Vec3,
+    }
+
+    /// `input`'s screen derivatives (uniform control flow). A fragment that may be discarded
+    /// before it shades takes them first: naga writes `discard` as `OpKill`, which ends the
+    /// invocation, and the rest of its 2 × 2 quad would read undefined derivatives after.
+    pub fn fragment_derivatives(input: VsOut) -> FragmentDerivatives {
+        FragmentDerivatives {
+            uv: uv_derivatives(input.uv, input.uv1),
+            p_dx: dpdx(input.world),
+            p_dy: dpdy(input.world),
+        }
+    }
+
+    /// [`material_point`] with the derivatives `derivatives` taken before.
+    pub fn material_point_from(
+        input: VsOut,
+        front: bool,
+        derivatives: FragmentDerivatives,
+    ) -> MaterialPoint {
+        let d = derivatives.uv;
         if masked_out(input.material, d, input.color.w) {
             discard();
         }
@@ -386,7 +415,23 @@ pub mod material_frame {
     /// The lit colour of surface `s` at `point` (linear HDR; alpha 1, or the surface's
     /// coverage on the blended variants), decals applied.
     pub fn material_forward(input: VsOut, point: MaterialPoint, s: Surface) -> Vec4 {
-        let sp = shading_point(input, point, s);
+        let p = point.world;
+        let d = FragmentDerivatives {
+            uv: point.uv,
+            p_dx: dpdx(p),
+            p_dy: dpdy(p),
+        };
+        material_forward_from(input, point, s, d)
+    }
+
+    /// [`material_forward`] with the derivatives `d` taken before.
+    pub fn material_forward_from(
+        input: VsOut,
+        point: MaterialPoint,
+        s: Surface,
+        d: FragmentDerivatives,
+    ) -> Vec4 {
+        let sp = shading_point_at(input.clip.xy(), point, s, d.p_dx, d.p_dy);
         let mut alpha = 1.0;
         if blend {
             alpha = sp.alpha;

@@ -18,13 +18,19 @@
 /// source alpha).
 ///
 /// Depth: the fragment finds the samples of its pixel whose surface lies beyond the particle
-/// (`visible_samples`) and writes them as its `sample_mask`; it fades alpha to 0 as the
+/// (`visible_samples`), is discarded where there are none, and fades alpha to 0 as the
 /// particle's view depth nears the farthest of those surfaces (soft particles,
 /// `soft_distance`; 0 turns the fade off). The surfaces' depths are a copy of the pre-Z depth
-/// (`DEPTH`, or `DEPTH_MS` with `msaa`), which the pipeline also tests against (read-only,
-/// `Less`); or, with `vis64`, the compute rasteriser's samples (`VIS64`, `VIEW.samples` a
-/// pixel whatever the frame's MSAA, so `msaa` stays false), with no depth target at all: the
-/// sample mask is then the only occlusion test.
+/// (`DEPTH`, or `DEPTH_MS` with `msaa`), and the pipeline's depth test (read-only, `Less`,
+/// against the pre-Z depth attached read-only) keeps occlusion per sample (`fs_particle`). With
+/// `vis64` they are the compute rasteriser's samples (`VIS64`, `VIEW.samples` a pixel whatever
+/// the frame's MSAA, so `msaa` stays false) and there is no depth target: `fs_particle_vis64`
+/// scales its premultiplied colour by the share of the pixel's samples it is in front of and
+/// draws into every sample it covers. Where the samples under it hold the same colour (the
+/// transparent overlay it draws into with MSAA, or one sample) that resolves to what drawing
+/// into the visible samples alone would; it writes no `sample_mask`, whose SPIR-V naga 30
+/// writes invalidly (`crate::shader`'s documentation). The sprite is sampled before the
+/// discard, so its derivatives see the whole quad.
 #[shader_dsl::shader(
     axes(
         atlas: bool = [false, true] => "atlas",
@@ -74,9 +80,6 @@ pub mod particle_draw {
     pub struct ParticleOut {
         #[location(0)]
         pub color: Vec4,
-        /// The samples the particle is in front of (`visible_samples`).
-        #[builtin(sample_mask)]
-        pub mask: u32,
     }
 
     #[texture(group = 0, binding = 5)]
@@ -218,13 +221,9 @@ pub mod particle_draw {
         Visible { mask, surface }
     }
 
-    #[fragment]
-    pub fn fs_particle(input: ParticleVarying) -> ParticleOut {
-        let visible = visible_samples(input.clip.xy().floor().as_uvec2(), input.view_depth);
-        if visible.mask == 0u32 {
-            discard();
-        }
-        let sprite = SPRITES.sample(SPRITE_SAMPLER, input.uv, input.layer);
+    /// The premultiplied colour of the particle at `input` with its `sprite` texel, faded in
+    /// front of `visible`'s farthest surface.
+    fn particle_color(input: ParticleVarying, visible: Visible, sprite: Vec4) -> Vec4 {
         let mut lighting = Vec3::ZERO;
         if atlas {
             lighting = atlas_bicubic(input.region, input.uv);
@@ -238,9 +237,33 @@ pub mod particle_draw {
         }
         let alpha = input.tint.w * sprite.w * fade;
         let color = input.tint.xyz() * sprite.xyz() * (lighting + input.emissive) * alpha;
+        color.extend(alpha)
+    }
+
+    #[fragment]
+    #[when(!vis64)]
+    pub fn fs_particle(input: ParticleVarying) -> ParticleOut {
+        let sprite = SPRITES.sample(SPRITE_SAMPLER, input.uv, input.layer);
+        let visible = visible_samples(input.clip.xy().floor().as_uvec2(), input.view_depth);
+        if visible.mask == 0u32 {
+            discard();
+        }
         ParticleOut {
-            color: color.extend(alpha),
-            mask: visible.mask,
+            color: particle_color(input, visible, sprite),
+        }
+    }
+
+    #[fragment]
+    #[when(vis64)]
+    pub fn fs_particle_vis64(input: ParticleVarying) -> ParticleOut {
+        let sprite = SPRITES.sample(SPRITE_SAMPLER, input.uv, input.layer);
+        let visible = visible_samples(input.clip.xy().floor().as_uvec2(), input.view_depth);
+        if visible.mask == 0u32 {
+            discard();
+        }
+        let share = visible.mask.count_ones() as f32 / VIEW.samples as f32;
+        ParticleOut {
+            color: particle_color(input, visible, sprite) * share,
         }
     }
 }

@@ -115,8 +115,9 @@ pub mod vis_raster {
     }
 
     /// `vis64`: the sample's depth and triangle into `VIS64` where nearer than what is
-    /// there; masked materials' texels below the cutoff leave nothing. The depth target is
-    /// written by the pipeline as without `vis64`.
+    /// there; masked materials' texels below the cutoff leave nothing. The renderer draws it
+    /// with no depth test over a scratch depth target it neither loads nor stores: the 64-bit
+    /// atomics are the depth test.
     #[fragment]
     #[when(vis64)]
     pub fn fs_vis64(input: VisVsOut, #[builtin(sample_index)] sample: u32) {

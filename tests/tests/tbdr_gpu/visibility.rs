@@ -102,3 +102,33 @@ fn the_visibility_shading_frequency_view_marks_every_pixel_of_several_triangles(
         );
     });
 }
+
+/// On Vulkan the blended surfaces over the compute rasteriser's samples take fragment SPIR-V
+/// the renderer wrote itself, with the `SampleMask` built-in an array as Vulkan requires
+/// (naga 30 writes it as a scalar; `renderer::shader`'s `own_spirv`, whose unit test runs
+/// `spirv-val` on it); every other program takes wgpu's.
+#[test]
+fn the_blended_surfaces_over_the_compute_rasterisers_samples_take_valid_spirv() {
+    use shaders_gen::forward::forward;
+    gpu_test(|gpu| {
+        let key = |msaa, vis64| forward::VariantKey {
+            list: forward::List::List2,
+            blend: true,
+            scalarize: false,
+            msaa,
+            vis64,
+        };
+        let over_samples = forward::variant(key(forward::Msaa::Msaa4, true)).expect("variant");
+        let program = gpu.program(over_samples).expect("program");
+        assert!(
+            program.has_own_fragment_spirv(),
+            "`fs_forward_vis64` takes wgpu's SPIR-V, whose SampleMask Vulkan refuses"
+        );
+        let plain = forward::variant(key(forward::Msaa::Msaa0, false)).expect("variant");
+        let program = gpu.program(plain).expect("program");
+        assert!(
+            !program.has_own_fragment_spirv(),
+            "the plain blended variant"
+        );
+    });
+}

@@ -2,12 +2,12 @@
 //! operations (`spirv-val` rejects them in 1.0), otherwise 1.0. No debug info, so the output
 //! does not depend on the build profile.
 //!
-//! naga 30's output goes through [`sample_mask::fix_sample_mask`], which makes the
+//! naga 30's output goes through [`fix_sample_mask`] (`crate::spirv_fix`), which makes the
 //! `SampleMask` built-in the array Vulkan requires, so every variant passes `spirv-val`.
 //!
 //! Must only be given modules that passed [`crate::validate`]; it never validates itself.
 
-mod sample_mask;
+pub use crate::spirv_fix::fix_sample_mask;
 
 use crate::validate::Validated;
 
@@ -28,5 +28,5 @@ pub fn write_vec(v: &Validated, subgroup: bool) -> Result<Vec<u32>, String> {
     };
     let words = naga::back::spv::write_vec(&v.module, &v.info, &options, None)
         .map_err(|e| e.to_string())?;
-    sample_mask::fix_sample_mask(&words).map_err(|e| format!("rewriting naga's SPIR-V: {e}"))
+    fix_sample_mask(&words).map_err(|e| format!("rewriting naga's SPIR-V: {e}"))
 }

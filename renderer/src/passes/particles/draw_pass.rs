@@ -6,8 +6,9 @@
 //! of it the shader samples (soft particles; sampling the attached depth itself would make its
 //! end-of-pass store a write after the shader's read, a hazard Vulkan's synchronization
 //! validation reports). On the compute rasteriser's frame
-//! ([`RendererConfig::reads_compute_samples`]) the shader reads its samples instead, and its
-//! `sample_mask` output is the whole depth test: no depth target is attached or copied. Lit from
+//! ([`RendererConfig::reads_compute_samples`]) the shader reads its samples instead and weighs
+//! its colour by the share of the pixel's samples it is in front of (`fs_particle_vis64`): no
+//! depth target is attached or copied. Lit from
 //! the atlas or, on the reference path, per pixel with the same lights and shadows.
 
 use crate::frame_data::ConfigError;
@@ -57,7 +58,7 @@ impl ParticleDrawPass {
             vis64,
         };
         let program = gpu.program(particle_draw::variant(key)?)?;
-        let pipeline = pipeline(gpu.device(), &program, config.msaa, !vis64);
+        let pipeline = pipeline(gpu.device(), &program, config.msaa, vis64);
         let erase = if config.path.is_deferred() && config.msaa > 1 {
             let stage = EraseStage::new(gpu)?;
             Some(stage.pipeline(gpu.device(), (&program, "vs_particle"), &[], config.msaa))
@@ -73,13 +74,14 @@ impl ParticleDrawPass {
     }
 }
 
-/// The draw's pipeline; with `depth_tested`, testing the pre-Z depth attached read-only (the
-/// `vis64` variant's sample mask does that test itself).
+/// The draw's pipeline: testing the pre-Z depth attached read-only, or, for the `vis64`
+/// variant, with no depth test (its `fs_particle_vis64` tests the compute rasteriser's
+/// samples itself).
 fn pipeline(
     device: &wgpu::Device,
     program: &ShaderProgram,
     msaa: u32,
-    depth_tested: bool,
+    vis64: bool,
 ) -> wgpu::RenderPipeline {
     program.render_pipeline(
         device,
@@ -94,7 +96,7 @@ fn pipeline(
             },
             primitive: wgpu::PrimitiveState::default(),
             // Per-sample occlusion by the pre-Z depth, attached read-only (and sampled for the fade).
-            depth_stencil: depth_tested
+            depth_stencil: (!vis64)
                 .then(|| crate::passes::depth_state(false, wgpu::CompareFunction::Less)),
             multisample: wgpu::MultisampleState {
                 count: msaa,
@@ -102,7 +104,11 @@ fn pipeline(
             },
             fragment: Some(wgpu::FragmentState {
                 module: &program.module,
-                entry_point: Some("fs_particle"),
+                entry_point: Some(if vis64 {
+                    "fs_particle_vis64"
+                } else {
+                    "fs_particle"
+                }),
                 compilation_options: Default::default(),
                 targets: &[Some(wgpu::ColorTargetState {
                     format: HDR_FORMAT,

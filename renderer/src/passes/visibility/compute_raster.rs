@@ -5,7 +5,7 @@
 //! With [`crate::frame_data::VisibilityRaster::Compute`] the visibility raster pass runs it
 //! first, and its buffer is the frame's visibility samples
 //! ([`crate::frame_data::VisibilitySamples::Buffer`]; `super::resolve` writes its depths into a
-//! depth target for the passes that depth-test in hardware). As a pass of its own ([`crate::extend::ComputeRasterPass`], inserted
+//! depth target for a pass that reads one). As a pass of its own ([`crate::extend::ComputeRasterPass`], inserted
 //! with [`crate::frame::Renderer::insert_pass_after`] after `"visibility"`) it runs beside the
 //! hardware raster, which the frame then reads: so the bench times both rasterisers on the
 //! same frames (`cargo xtask bench --compute-raster`) and the tests compare their IDs

@@ -3,9 +3,10 @@
 //! each pixel's triangles again, evaluates their materials and lights them through the frame's
 //! light lists (`shade`). It replaces pre-Z and the G-buffer: 4 bytes a sample besides depth.
 //! `compute_raster` rasterises the opaque triangles in compute instead
-//! ([`crate::frame_data::VisibilityRaster::Compute`]; the raster pass then resolves its samples
-//! into its targets, `resolve`, and draws only the alpha-masked draws), or beside the raster
-//! pass, to measure and check that way of rasterising.
+//! ([`crate::frame_data::VisibilityRaster::Compute`]; the raster pass then merges only the
+//! alpha-masked draws into its buffer, which every pass of the frame reads, and `resolve`
+//! writes a depth target from it for a pass that reads one), or beside the raster pass, to
+//! measure and check that way of rasterising.
 
 mod compute_raster;
 mod geometry;

@@ -18,8 +18,8 @@ use shaders_gen::visibility::vis_raster;
 use super::geometry::{
     SceneState, draw_geometry, draw_geometry_buffer, geometry_group, sequence_buffer,
 };
-use super::raster_draws::Recording;
-use super::resolve::ComputeStage;
+use super::raster_draws::{RasterTargets, Recording};
+use super::resolve::{ComputeStage, not_loaded};
 use crate::GpuContext;
 use crate::frame_data::{
     ConfigError, DEPTH_FORMAT, FrameInputs, FrameResources, RenderError, RendererConfig,
@@ -34,7 +34,7 @@ use crate::shader::ShaderProgram;
 /// The visibility raster pass: its programs and pipelines (`[double_sided][mirrored]`, plain
 /// and alpha-masked). With occlusion culling it runs twice, as pre-Z does: first the draws
 /// visible last frame into cleared depth (the IDs are loaded; under the compute rasteriser,
-/// the resolved depth and its buffer); then ([`VisRasterPass::late`], after
+/// its raster and the masked draws merged into its buffer); then ([`VisRasterPass::late`], after
 /// `passes::scene_cull::occlusion`) the draws the occlusion test found visible that the first
 /// half left out, over them.
 #[derive(Debug)]
@@ -153,6 +153,34 @@ impl VisRasterPass {
 }
 
 impl VisRasterPass {
+    /// A recording of `list`'s batches into `targets`, with the geometry records
+    /// `draw_geometry` (and, for the masked draws under the compute rasteriser, its buffer
+    /// `vis64`) and the sequence index buffer.
+    fn recording(
+        &self,
+        frame: &FrameInputs,
+        (draw_geometry, vis64): (&wgpu::Buffer, Option<&wgpu::Buffer>),
+        sequence: wgpu::Buffer,
+        list: &SceneDrawList,
+        targets: RasterTargets,
+    ) -> Result<Recording, RenderError> {
+        let [camera, mask_camera, geometry, mask_geometry] =
+            self.groups(frame, draw_geometry, vis64)?;
+        Ok(Recording {
+            plain: self.plain.clone(),
+            masked: self.masked.clone(),
+            scene: Arc::clone(&frame.scene),
+            instances: Arc::clone(&frame.instances),
+            camera,
+            mask_camera,
+            geometry,
+            mask_geometry,
+            sequence,
+            list: list.clone(),
+            targets,
+        })
+    }
+
     /// Group 0 (the camera; for the masked program under the compute rasteriser, its buffer
     /// `vis64` too) and group 3 of the plain and the masked programs: `(camera, mask camera,
     /// geometry, mask geometry)`.
@@ -293,23 +321,11 @@ impl Pass for VisRasterPass {
         } else {
             None
         };
-        let [camera, mask_camera, geometry, mask_geometry] =
-            self.groups(frame, &draw_geometry, None)?;
         let (mut depth, mut samples) = match first {
             Some(kept) => kept,
             None => new_targets(graph, frame),
         };
-        let recording = Recording {
-            plain: self.plain.clone(),
-            masked: self.masked.clone(),
-            scene: Arc::clone(&frame.scene),
-            instances: Arc::clone(&frame.instances),
-            camera,
-            mask_camera,
-            geometry,
-            mask_geometry,
-            sequence,
-            list: list.clone(),
+        let targets = RasterTargets {
             depth,
             ids: match samples {
                 VisibilitySamples::Targets { ids } => Some(ids),
@@ -322,6 +338,7 @@ impl Pass for VisRasterPass {
             },
             masked_only: false,
         };
+        let recording = self.recording(frame, (&draw_geometry, None), sequence, &list, targets)?;
         let mut pass = graph.add_pass(self.name());
         pass.read_buffer(list.args, BufferAccess::Indirect)
             .write_texture(&mut depth, TextureAccess::DepthWrite);
@@ -386,27 +403,17 @@ impl VisRasterPass {
         };
         let mut samples = resolve.samples;
         if list.layout.batches.iter().any(|b| b.masked) {
-            let [camera, mask_camera, geometry, mask_geometry] =
-                self.groups(frame, &draw_geometry, Some(&vis64))?;
             let c = &frame.config;
             let desc = TextureDesc::new_2d(c.width, c.height, DEPTH_FORMAT).with_samples(c.msaa);
             let mut scratch = graph.create_texture("visibility masked depth", desc);
-            let recording = Recording {
-                plain: self.plain.clone(),
-                masked: self.masked.clone(),
-                scene: Arc::clone(&frame.scene),
-                instances: Arc::clone(&frame.instances),
-                camera,
-                mask_camera,
-                geometry,
-                mask_geometry,
-                sequence,
-                list: list.clone(),
+            let targets = RasterTargets {
                 depth: scratch,
                 ids: None,
-                depth_ops: (scratch_load(), wgpu::StoreOp::Discard),
+                depth_ops: (not_loaded(), wgpu::StoreOp::Discard),
                 masked_only: true,
             };
+            let buffers = (&draw_geometry, Some(&vis64));
+            let recording = self.recording(frame, buffers, sequence, &list, targets)?;
             let mut pass = graph.add_pass(self.name());
             pass.read_buffer(list.args, BufferAccess::Indirect)
                 .write_texture(&mut scratch, TextureAccess::DepthWrite)
@@ -423,14 +430,4 @@ impl VisRasterPass {
         });
         Ok(())
     }
-}
-
-/// The load of the scratch depth target the masked draws are drawn over under the compute
-/// rasteriser: nothing. Clearing it cost as much as the depth resolve it replaced (0.6 ms at
-/// MSAA 4, 1.2 at MSAA 8 on the H200; BENCHMARKS.md), though nothing reads it.
-fn scratch_load() -> wgpu::LoadOp<f32> {
-    // SAFETY: the target's contents are never read: no pipeline drawn over it tests or writes
-    // depth (the masked `vis64` pipelines compare `Always` without writing), it is stored with
-    // `Discard`, and no other pass is given it.
-    wgpu::LoadOp::DontCare(unsafe { wgpu::LoadOpDontCare::enabled() })
 }

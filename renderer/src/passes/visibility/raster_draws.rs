@@ -23,12 +23,17 @@ pub(crate) struct Recording {
     pub(crate) mask_geometry: wgpu::BindGroup,
     pub(crate) sequence: wgpu::Buffer,
     pub(crate) list: SceneDrawList,
+    pub(crate) targets: RasterTargets,
+}
+
+/// What a recording draws into, and which batches.
+pub(crate) struct RasterTargets {
     pub(crate) depth: Handle<Texture>,
     /// The ID target (the hardware raster's; none under the compute rasteriser).
     pub(crate) ids: Option<Handle<Texture>>,
     /// The depth target's load and store: cleared and stored (the first half), loaded and
-    /// stored (the second), or a scratch target cleared and discarded (the masked draws under
-    /// the compute raster).
+    /// stored (the second), or a scratch target neither loaded nor stored (the masked draws
+    /// under the compute raster).
     pub(crate) depth_ops: (wgpu::LoadOp<f32>, wgpu::StoreOp),
     /// Under the compute raster: the opaque batches are the compute rasteriser's.
     pub(crate) masked_only: bool,
@@ -38,8 +43,11 @@ impl Recording {
     /// Draws every batch of its list (only the masked ones, into the compute raster's buffer,
     /// under the compute raster), through the sequence index buffer; the IDs are loaded.
     pub(crate) fn record(&self, ctx: &mut PassContext<'_>) {
-        let depth_view = ctx.texture(self.depth).create_view(&Default::default());
+        let depth_view = ctx
+            .texture(self.targets.depth)
+            .create_view(&Default::default());
         let ids_view = self
+            .targets
             .ids
             .map(|ids| ctx.texture(ids).create_view(&Default::default()));
         let ids_attachment = ids_view
@@ -67,8 +75,8 @@ impl Recording {
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &depth_view,
                 depth_ops: Some(wgpu::Operations {
-                    load: self.depth_ops.0,
-                    store: self.depth_ops.1,
+                    load: self.targets.depth_ops.0,
+                    store: self.targets.depth_ops.1,
                 }),
                 stencil_ops: None,
             }),
@@ -88,7 +96,7 @@ impl Recording {
             .pass()
             .set_index_buffer(self.sequence.slice(..), wgpu::IndexFormat::Uint32);
         draws.draw_batches_with(&self.list, &self.instances, |batch| {
-            if self.masked_only && !batch.masked {
+            if self.targets.masked_only && !batch.masked {
                 return None;
             }
             let (pipelines, group0, group3) = if batch.masked {
