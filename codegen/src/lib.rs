@@ -47,7 +47,7 @@ mod pipeline;
 pub mod reflect;
 #[cfg(feature = "compiler")]
 mod sources;
-#[cfg(feature = "spirv-fix")]
+#[cfg(feature = "compiler")]
 pub mod spirv_fix;
 #[cfg(feature = "compiler")]
 pub mod validate;

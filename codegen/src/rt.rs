@@ -45,6 +45,27 @@ impl Variant {
         self.bindings.iter().filter(move |b| b.group == group)
     }
 
+    /// Whether an entry point of this variant uses the `sample_mask` built-in: its SPIR-V
+    /// decorates a variable `BuiltIn SampleMask`. naga 30, which wgpu writes its SPIR-V with,
+    /// declares that variable as a scalar, which Vulkan refuses
+    /// (VUID-SampleMask-SampleMask-04359); this variant's own [`Variant::spirv`] declares the
+    /// array. `false` in a browser build, which has no SPIR-V.
+    pub fn uses_sample_mask(&self) -> bool {
+        const DECORATE: u32 = 71;
+        const BUILT_IN: u32 = 11;
+        const SAMPLE_MASK: u32 = 20;
+        let words = self.spirv;
+        let mut at = 5; // after the header
+        while let Some(&first) = words.get(at) {
+            let (count, opcode) = ((first >> 16) as usize, first & 0xffff);
+            if opcode == DECORATE && words.get(at + 2..at + 4) == Some(&[BUILT_IN, SAMPLE_MASK]) {
+                return true;
+            }
+            at += count.max(1);
+        }
+        false
+    }
+
     /// One past the highest bind group index used (the number of bind group layouts needed).
     pub fn group_count(&self) -> u32 {
         self.bindings.iter().map(|b| b.group + 1).max().unwrap_or(0)

@@ -3,8 +3,7 @@
 //! naga 30 declares a `#[builtin(sample_mask)]` input or output as a variable of type
 //! `u32`; the SPIR-V environment for Vulkan requires `BuiltIn SampleMask` to decorate an array
 //! of 32-bit integers (`VUID-SampleMask-SampleMask-04359`), and `spirv-val` rejects the module.
-//! This step, run on every variant's words after naga's backend (and by the renderer on the
-//! SPIR-V it gives a Vulkan driver itself), retypes each such variable as
+//! This step, run on every variant's words after naga's backend, retypes each such variable as
 //! `array<u32, 1>` and turns every use of it inside functions into a use of its element 0
 //! through an `OpAccessChain`. Nothing else in the module changes, and a module without a
 //! scalar `SampleMask` comes back word for word.

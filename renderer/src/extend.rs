@@ -18,4 +18,6 @@ pub use crate::passes::Pass;
 /// A built-in pass to insert after `"visibility"` on the visibility path: the compute
 /// rasteriser, which rasterises the same opaque triangles with 64-bit atomics beside the
 /// raster pass, to measure it and compare its IDs (the frame does not read them yet).
-pub use crate::passes::visibility::{ComputeRasterCounts, ComputeRasterPass, DEFAULT_SMALL_AREA};
+pub use crate::passes::visibility::{
+    COMPUTE_RASTER_TILES_PASS, ComputeRasterCounts, ComputeRasterPass, DEFAULT_SMALL_AREA,
+};

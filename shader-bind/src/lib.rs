@@ -28,14 +28,19 @@
 //!   buffer is a usage conflict for WebGPU and wgpu alike; overlapping writable ranges WebGPU
 //!   refuses and native backends let race).
 //!
+//! [`driver_module`] gives a Vulkan driver a variant's own build-time SPIR-V, for the variants
+//! whose SPIR-V wgpu would write invalidly (a `sample_mask` built-in).
+//!
 //! A crate that uses the DSL depends on this crate (the generated builders name
 //! `::shader_bind`), and through it on wgpu.
 
 mod check;
+mod driver_spirv;
 mod error;
 mod layout;
 mod resource;
 
+pub use driver_spirv::driver_module;
 pub use error::BindError;
 pub use layout::{bind_group_layout_entries, storage_format};
 pub use resource::{BoundResource, Resource};

@@ -21,9 +21,10 @@ use crate::gpu::gpu_test;
 pub const PREPARE_SOURCE: &str = include_str!("../../shaders_gen/src/culling/prepare.rs");
 pub const TILED_SOURCE: &str = include_str!("../../shaders_gen/src/culling/tiled.rs");
 pub const CLUSTERED_SOURCE: &str = include_str!("../../shaders_gen/src/culling/clustered.rs");
-const LIBRARY_SOURCES: [&str; 2] = [
+const LIBRARY_SOURCES: [&str; 3] = [
     include_str!("../../shaders_gen/src/shared/grid.rs"),
     include_str!("../../shaders_gen/src/shared/append.rs"),
+    include_str!("../../shaders_gen/src/visibility/samples64.rs"),
 ];
 
 /// Compiles the first shader module of `source` with the culling libraries.

@@ -12,19 +12,23 @@ use tests::frames::committed_scene;
 use tests::gpu::gpu_test;
 
 fn capture(path: RenderPath, msaa: u32, stride: u32) -> renderer::frame::capture::FrameCapture {
-    capture_with(path, msaa, stride, VisibilityRaster::Hardware)
+    capture_with(path, msaa, stride, VisibilityRaster::Hardware, None)
 }
 
+/// A capture of a 96 × 64 frame; where `first` is a size, of a frame after a captured frame
+/// of that size and a resize (so what a pass keeps between frames is used again, or not).
 fn capture_with(
     path: RenderPath,
     msaa: u32,
     stride: u32,
     raster: VisibilityRaster,
+    first: Option<(u32, u32)>,
 ) -> renderer::frame::capture::FrameCapture {
     let scene = committed_scene();
+    let (width, height) = first.unwrap_or((96, 64));
     let config = RendererConfig {
-        width: 96,
-        height: 64,
+        width,
+        height,
         msaa,
         path,
         tile: 16,
@@ -39,8 +43,23 @@ fn capture_with(
             .prepare_scene(&scene)
             .expect("the scene fits the device");
         renderer.set_lights(&lights).expect("lights fit");
-        let target = create_target(gpu.device(), &config);
         let camera = framing_camera(scene.bounds, 1.5);
+        if first.is_some() {
+            renderer.capture_next_frame(stride).expect("capture");
+            let target = create_target(gpu.device(), &config);
+            renderer.render(&camera, &target).expect("frame");
+            renderer
+                .take_capture()
+                .expect("readback")
+                .expect("a capture");
+            renderer.resize(96, 64).expect("resize");
+        }
+        let config = RendererConfig {
+            width: 96,
+            height: 64,
+            ..config
+        };
+        let target = create_target(gpu.device(), &config);
         assert!(
             renderer.take_capture().expect("take").is_none(),
             "nothing asked yet"
@@ -158,7 +177,8 @@ fn capture_needs_the_depth_prepass() {
 /// quads of the committed scene included (the resolve runs after they merge into the samples).
 #[test]
 fn a_capture_of_the_compute_rasterisers_frame_probes_its_resolved_depth() {
-    let probes = |raster| capture_with(RenderPath::Visibility, 4, 1, raster).probes;
+    // After a frame of another size, so the depth resolve's kept bind group is built again.
+    let probes = |raster| capture_with(RenderPath::Visibility, 4, 1, raster, Some((80, 48))).probes;
     let (hardware, compute) = (
         probes(VisibilityRaster::Hardware),
         probes(VisibilityRaster::Compute),

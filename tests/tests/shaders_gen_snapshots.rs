@@ -4,13 +4,14 @@
 //! To re-approve after a deliberate change: `INSTA_UPDATE=always cargo test -p tests --test
 //! shaders_gen_snapshots`, then review `git diff tests/tests/snapshots` before committing.
 //!
-//! `browser` compiles every variant in headless Chromium against the WebGPU checks; `own_spirv`
-//! checks the SPIR-V the renderer writes itself for the `sample_mask` variants with `spirv-val`.
+//! `browser` compiles every variant in headless Chromium against the WebGPU checks;
+//! `driver_spirv` runs `spirv-val` on every variant's SPIR-V, which a Vulkan driver is given as
+//! it is for the `sample_mask` variants.
 
 #[path = "shaders_gen_snapshots/browser.rs"]
 mod browser;
-#[path = "shaders_gen_snapshots/own_spirv.rs"]
-mod own_spirv;
+#[path = "shaders_gen_snapshots/driver_spirv.rs"]
+mod driver_spirv;
 
 #[test]
 fn every_shaders_gen_variant_matches_its_wgsl_snapshot() {

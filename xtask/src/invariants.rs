@@ -44,10 +44,6 @@ const SHADER_SOURCE_MARKERS: &[&str] = &[
     "ShaderSource::SpirV",
     "ShaderSource::Glsl",
 ];
-/// The file of `renderer` that gives a Vulkan driver SPIR-V itself: naga's SPIR-V of a
-/// `shaders_gen` variant's WGSL with the `SampleMask` built-in made valid (`codegen::spirv_fix`),
-/// created with `create_shader_module_passthrough`. No shader source is written there.
-const OWN_SPIRV_FILE: &str = "renderer/src/shader/own_spirv.rs";
 /// Text that only a bind group assembled by hand contains: `renderer` builds every bind group
 /// through the DSL's generated builders (`shader_bind`), which number bindings from the
 /// reflection.
@@ -214,15 +210,9 @@ pub fn check_shader_dsl_is_thin(sources: &[(String, String)]) -> Option<Violatio
 }
 
 /// "`renderer` contains no hand-written shader source: its GPU code comes from `shaders_gen`."
-/// The one file exempt, [`OWN_SPIRV_FILE`], writes SPIR-V from `shaders_gen`'s WGSL.
 pub fn check_no_shader_source(sources: &[(String, String)]) -> Vec<Violation> {
-    let checked: Vec<(String, String)> = sources
-        .iter()
-        .filter(|(path, _)| !path.ends_with(OWN_SPIRV_FILE))
-        .cloned()
-        .collect();
     lines_with_markers(
-        &checked,
+        sources,
         SHADER_SOURCE_MARKERS,
         "renderer contains no hand-written shader source",
         "looks like shader code; write it in the DSL in shaders_gen",

@@ -10,12 +10,6 @@ mod binding_log;
 pub mod hot;
 #[cfg(test)]
 mod layout_tests;
-mod own_spirv;
-
-/// The SPIR-V `own_spirv` writes, for this workspace's tests (`internals`).
-#[cfg(feature = "internals")]
-#[doc(hidden)]
-pub use own_spirv::{declares_sample_mask, spirv_of};
 mod pipeline_memo;
 pub(crate) mod store;
 #[cfg(test)]
@@ -142,9 +136,11 @@ pub struct ShaderProgram {
     pub variant: &'static Variant,
     /// The compiled WGSL (the generated source, or its hot-reloaded replacement).
     pub module: wgpu::ShaderModule,
-    /// On Vulkan, for a variant with a `sample_mask` built-in: SPIR-V with that built-in as
-    /// Vulkan requires, given to the driver as it is, which [`ShaderProgram::render_pipeline`]
-    /// uses for the fragment stage of the pipelines built from `module` (`own_spirv`).
+    /// On Vulkan, for a variant with a `sample_mask` built-in: the variant's own build-time
+    /// SPIR-V, given to the driver as it is ([`shader_bind::driver_module`]), which
+    /// [`ShaderProgram::render_pipeline`] uses for the fragment stage of the pipelines built
+    /// from `module`. wgpu's SPIR-V of the WGSL would declare that built-in as a scalar, which
+    /// Vulkan refuses (naga 30; gfx-rs/wgpu#7311).
     fragment_spirv: Option<wgpu::ShaderModule>,
     /// One layout per group index `0..variant.group_count()` (empty where a group is unused).
     pub bind_group_layouts: Vec<wgpu::BindGroupLayout>,
@@ -157,8 +153,8 @@ pub struct ShaderProgram {
 }
 
 impl ShaderProgram {
-    /// Whether the fragment stages of this program's pipelines take SPIR-V the renderer wrote
-    /// itself rather than wgpu's (a `sample_mask` built-in on Vulkan; `own_spirv`).
+    /// Whether the fragment stages of this program's pipelines take the variant's build-time
+    /// SPIR-V rather than wgpu's (a `sample_mask` built-in on Vulkan).
     pub fn has_own_fragment_spirv(&self) -> bool {
         self.fragment_spirv.is_some()
     }
@@ -187,8 +183,9 @@ impl ShaderProgram {
     }
 
     /// Compiles `source` (the WGSL of `variant`, or its hot-reloaded replacement), and for its
-    /// fragment stages the SPIR-V that `own_spirv` gives the driver where wgpu's would be
-    /// invalid.
+    /// fragment stages the variant's build-time SPIR-V where wgpu's would be invalid: on
+    /// Vulkan with `PASSTHROUGH_SHADERS`, for the variant's own source (a hot-reloaded
+    /// replacement compiles from its WGSL as every other variant).
     fn compile(
         device: &wgpu::Device,
         caps: &Capabilities,
@@ -196,7 +193,10 @@ impl ShaderProgram {
         source: std::borrow::Cow<'static, str>,
     ) -> Self {
         let label = format!("{}::{}", variant.module, variant.name());
-        let fragment_spirv = own_spirv::fragment_module(device, caps, variant, &source, &label);
+        let fragment_spirv =
+            (variant.uses_sample_mask() && caps.spirv_passthrough && source == variant.wgsl)
+                .then(|| shader_bind::driver_module(device, variant, &label))
+                .flatten();
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(&label),
             source: wgpu::ShaderSource::Wgsl(source),

@@ -20,10 +20,13 @@
 /// The first texel of each depth-pyramid level from the depth buffer, or with `vis64` from
 /// the compute rasteriser's samples (the visibility path under
 /// `VisibilityRaster::Compute`, whose frame may have no depth buffer).
-#[shader_dsl::shader(axes(
-    msaa: u32 = [1, 2, 4, 8] => "msaa",
-    vis64: bool = [false, true] => "vis64",
-))]
+#[shader_dsl::shader(
+    axes(
+        msaa: u32 = [1, 2, 4, 8] => "msaa",
+        vis64: bool = [false, true] => "vis64",
+    ),
+    uses(crate::visibility::samples64::vis64_sample),
+)]
 pub mod depth_pyramid_seed {
     /// The frame's size (`vis64`: the samples are `(y × width + x) × msaa + s`).
     pub struct SeedFrame {
@@ -52,10 +55,7 @@ pub mod depth_pyramid_seed {
     fn sample_depth(p: UVec2, s: u32) -> f32 {
         let mut d = 1.0;
         if vis64 {
-            let high = VIS64[(p.y * FRAME.size.x + p.x) * msaa + s].y;
-            if high != 0u32 {
-                d = f32::from_bits(!high);
-            }
+            d = vis64_depth(VIS64[(p.y * FRAME.size.x + p.x) * msaa + s]);
         } else if msaa == 1 {
             d = DEPTH.load(p, 0u32);
         } else {

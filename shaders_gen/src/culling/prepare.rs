@@ -27,7 +27,11 @@
         msaa: u32 = [1, 2, 4, 8],
         vis64: bool = [false, true] => "vis64",
     ),
-    uses(crate::shared::light_grid, crate::shared::cull_append),
+    uses(
+        crate::shared::light_grid,
+        crate::shared::cull_append,
+        crate::visibility::samples64::vis64_sample,
+    ),
 )]
 pub mod cull_prepare {
     const TILE_THREADS: u32 = tile * tile;
@@ -69,10 +73,7 @@ pub mod cull_prepare {
     fn sample_depth(p: UVec2, s: u32) -> f32 {
         let mut d = 1.0;
         if vis64 {
-            let high = VIS64[(p.y * PARAMS.screen.x + p.x) * msaa + s].y;
-            if high != 0u32 {
-                d = f32::from_bits(!high);
-            }
+            d = vis64_depth(VIS64[(p.y * PARAMS.screen.x + p.x) * msaa + s]);
         } else if msaa == 1 {
             d = DEPTH.load(p, 0u32);
         } else {

@@ -40,7 +40,10 @@
     ),
     exclude(atlas && list == 2),
     exclude(vis64 && msaa),
-    uses(crate::particles::lighting::particle_lighting),
+    uses(
+        crate::particles::lighting::particle_lighting,
+        crate::visibility::samples64::vis64_sample,
+    ),
 )]
 pub mod particle_draw {
     pub struct ParticleVarying {
@@ -203,10 +206,7 @@ pub mod particle_draw {
         for s in 0u32..samples {
             let mut d = 1.0;
             if vis64 {
-                let sample = VIS64[(pixel.y * VIEW.screen.x + pixel.x) * samples + s];
-                if sample.y != 0u32 {
-                    d = f32::from_bits(!sample.y);
-                }
+                d = vis64_depth(VIS64[(pixel.y * VIEW.screen.x + pixel.x) * samples + s]);
             } else if msaa {
                 d = DEPTH_MS.load(pixel, s);
             } else {

@@ -31,7 +31,8 @@
 /// Work is split by size. `raster_triangles`, one invocation a triangle, rasterises a triangle
 /// whose pixel box covers at most `small_area` pixels itself, and lists a larger one (or one
 /// that crosses the eye plane, whose box is the screen) in `LARGE`, set up, with one `ITEMS`
-/// entry per 16×16 tile of its box; `tile_args` writes the indirect dispatch, and `raster_tiles`, one
+/// entry per 16×16 tile of its box (written by the whole workgroup, empty where the tile lies
+/// outside one of its edges); `tile_args` writes the indirect dispatch, and `raster_tiles`, one
 /// workgroup an item, rasterises one tile of one large triangle, one invocation a pixel.
 /// Triangles past `LARGE`'s or `ITEMS`' capacity are counted in `COUNTERS[OVERFLOW]` and their
 /// items made empty, so nothing stale is drawn and the host can report what was left out.
@@ -100,6 +101,25 @@ pub mod vis_compute_raster {
         pub hi: UVec2,
     }
 
+    /// A large triangle of one `raster_triangles` workgroup whose tiles the workgroup lists
+    /// together.
+    pub struct TileListing {
+        pub e0: Vec3,
+        /// Its `LARGE` entry; `NO_ITEM` where it did not fit (its items are made empty).
+        pub large: u32,
+        pub e1: Vec3,
+        /// Its first `ITEMS` entry.
+        pub base: u32,
+        pub e2: Vec3,
+        /// Tiles of its box (0: no large triangle).
+        pub count: u32,
+        /// Its box's first tile column and row, `x | y << 16`.
+        pub first_tile: u32,
+        /// Tile columns of its box.
+        pub columns: u32,
+        pub pad: UVec2,
+    }
+
     /// A triangle set up for rasterisation.
     pub struct RasterTriangle {
         /// Edge functions over NDC `(x, y, 1)`, positive inside.
@@ -130,6 +150,9 @@ pub mod vis_compute_raster {
     static VIS64: [Atomic<u64>];
     #[storage(group = 0, binding = 4, read_write)]
     static COUNTERS: [Atomic<u32>];
+    /// The large triangles of a `raster_triangles` workgroup, one an invocation.
+    #[workgroup]
+    static LISTINGS: [TileListing; TRIANGLE_WORKGROUP];
     /// Large triangles, set up once for all their tiles.
     #[storage(group = 0, binding = 5, read_write)]
     static LARGE: [LargeTriangle];
@@ -146,6 +169,27 @@ pub mod vis_compute_raster {
     fn owns_edge(e: Vec3, at: Vec3) -> bool {
         let d = e.dot(at);
         d > 0.0 || (d == 0.0 && (e.x > 0.0 || (e.x == 0.0 && e.y < 0.0)))
+    }
+
+    /// Whether edge `e` (NDC `(x, y, 1)`, positive inside) may be non-negative somewhere in
+    /// the pixel rectangle `lo..hi`: its largest value there, at a corner, is not below 0 by
+    /// more than rounding (a sample inside the rectangle is never judged outside).
+    fn edge_reaches(e: Vec3, lo: Vec2, hi: Vec2) -> bool {
+        let size = Vec2::new(PARAMS.width as f32, PARAMS.height as f32);
+        let x = Vec2::new(lo.x, hi.x) / size.x * 2.0 - Vec2::ONE;
+        let y = Vec2::ONE - Vec2::new(lo.y, hi.y) / size.y * 2.0;
+        let largest = e.z + (e.x * x.x).max(e.x * x.y) + (e.y * y.x).max(e.y * y.y);
+        largest >= -1.0e-5 * (e.x.abs() + e.y.abs() + e.z.abs())
+    }
+
+    /// Whether tile `j` of `l`'s box may hold a sample of its triangle (inside all three
+    /// edges somewhere): the tiles that cannot are listed empty.
+    fn tile_touches(l: TileListing, j: u32) -> bool {
+        let first = UVec2::new(l.first_tile & 0xFFFFu32, l.first_tile >> 16u32);
+        let tile = first + UVec2::new(j % l.columns, j / l.columns);
+        let lo = (tile * TILE).as_vec2();
+        let hi = lo + Vec2::splat(TILE as f32);
+        edge_reaches(l.e0, lo, hi) && edge_reaches(l.e1, lo, hi) && edge_reaches(l.e2, lo, hi)
     }
 
     /// A clip position's window position, in pixels.
@@ -267,10 +311,27 @@ pub mod vis_compute_raster {
         }
     }
 
-    /// One triangle: small ones rasterised here, large ones listed by tile.
+    /// One triangle: small ones rasterised here, large ones listed by tile. The workgroup
+    /// writes its large triangles' tile items together, an invocation an item, so a
+    /// triangle of thousands of tiles (one across the screen, or crossing the eye plane) is
+    /// not listed by one invocation alone; a tile its triangle cannot touch is listed empty.
     #[compute(workgroup_size(64, 1, 1))]
-    pub fn raster_triangles(#[builtin(global_invocation_id)] gid: UVec3) {
+    pub fn raster_triangles(
+        #[builtin(global_invocation_id)] gid: UVec3,
+        #[builtin(local_invocation_index)] lane: u32,
+    ) {
         let index = gid.x + gid.y * PARAMS.row;
+        let mut listing = TileListing {
+            e0: Vec3::ZERO,
+            large: NO_ITEM,
+            e1: Vec3::ZERO,
+            base: 0u32,
+            e2: Vec3::ZERO,
+            count: 0u32,
+            first_tile: 0u32,
+            columns: 1u32,
+            pad: UVec2::ZERO,
+        };
         if index < PARAMS.triangles {
             let id = index + 1u32;
             let t = raster_triangle(id);
@@ -294,6 +355,7 @@ pub mod vis_compute_raster {
                     let fits = k < PARAMS.large_capacity
                         && base < PARAMS.item_capacity
                         && count <= PARAMS.item_capacity - base;
+                    let first_tile = first.x | (first.y << 16u32);
                     if fits {
                         LARGE[k] = LargeTriangle {
                             e0: t.e0,
@@ -301,7 +363,7 @@ pub mod vis_compute_raster {
                             e1: t.e1,
                             columns: tiles.x,
                             e2: t.e2,
-                            first_tile: first.x | (first.y << 16u32),
+                            first_tile,
                             z_plane: t.z_plane,
                             pad: 0u32,
                             lo: t.lo,
@@ -310,13 +372,34 @@ pub mod vis_compute_raster {
                     } else {
                         COUNTERS[OVERFLOW].fetch_add(1u32);
                     }
-                    for j in 0u32..count {
-                        if base < PARAMS.item_capacity && j < PARAMS.item_capacity - base {
-                            ITEMS[base + j] =
-                                select(fits, UVec2::new(k, j), UVec2::new(NO_ITEM, 0u32));
-                        }
-                    }
+                    listing = TileListing {
+                        e0: t.e0,
+                        large: select(fits, k, NO_ITEM),
+                        e1: t.e1,
+                        base,
+                        e2: t.e2,
+                        count,
+                        first_tile,
+                        columns: tiles.x,
+                        pad: UVec2::ZERO,
+                    };
                 }
+            }
+        }
+        LISTINGS[lane] = listing;
+        workgroup_barrier();
+        for i in 0u32..TRIANGLE_WORKGROUP {
+            let l = LISTINGS[i];
+            let mut j = lane;
+            while j < l.count {
+                if l.base < PARAMS.item_capacity && j < PARAMS.item_capacity - l.base {
+                    let mut item = UVec2::new(NO_ITEM, 0u32);
+                    if l.large != NO_ITEM && tile_touches(l, j) {
+                        item = UVec2::new(l.large, j);
+                    }
+                    ITEMS[l.base + j] = item;
+                }
+                j += TRIANGLE_WORKGROUP;
             }
         }
     }

@@ -46,6 +46,7 @@
     uses(
         crate::forward::material_frame,
         crate::forward::material_surface,
+        crate::visibility::samples64::vis64_sample,
         crate::shared::view,
         crate::shared::material_uv,
         crate::shared::material_table,
@@ -169,10 +170,8 @@ pub mod vis_frame {
         if vis64 {
             if msaa > 0 {
                 let sample = VIS64[(p.y * VIS.screen.x + p.x) * msaa + s];
-                if sample.y != 0u32 {
-                    id = !sample.x;
-                    depth = f32::from_bits(!sample.y);
-                }
+                id = vis64_id(sample);
+                depth = vis64_depth(sample);
             }
         } else if msaa == 1 {
             id = IDS.load(p, 0u32).x;
@@ -407,11 +406,7 @@ pub mod vis_frame {
             let first = (p.y * VIS.screen.x + p.x) * msaa;
             for s in 0u32..msaa {
                 let depth = frag.z + slope.dot(sample_offset(s) - Vec2::splat(0.5));
-                let sample = VIS64[first + s];
-                let mut opaque = 1.0f32;
-                if sample.y != 0u32 {
-                    opaque = f32::from_bits(!sample.y);
-                }
+                let opaque = vis64_depth(VIS64[first + s]);
                 if ((coverage >> s) & 1u32) != 0u32 && depth <= opaque {
                     mask = mask | (1u32 << s);
                 }

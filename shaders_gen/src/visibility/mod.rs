@@ -3,15 +3,18 @@
 //! read back in compute (`vis_geometry`), and the frame of the materials' kernels that shade
 //! and light what the samples see, in compute (`vis_frame`; each material's `vis_shade`). The
 //! compute rasteriser (`vis_compute_raster`) rasterises the same triangles with 64-bit atomics,
-//! and `vis_resolve` writes its samples into the depth and visibility buffers.
+//! and `vis_resolve` writes its samples into the depth and visibility buffers; `vis64_sample`
+//! reads one of its samples.
 
 pub mod compute_raster;
 pub mod frame;
 pub mod geometry;
 pub mod raster;
 pub mod resolve;
+pub mod samples64;
 
 pub use compute_raster::vis_compute_raster;
 pub use frame::vis_frame;
 pub use raster::vis_raster;
 pub use resolve::vis_resolve;
+pub use samples64::vis64_sample;

@@ -3,12 +3,12 @@
 
 /// Full-screen pass at sample rate: each invocation reads its sample of `VIS64` (the compute
 /// rasteriser's buffer, `vis_compute_raster`, two 32-bit words a sample, the low word first)
-/// and writes the depth it holds, 1.0 (sky) where no triangle covered the sample (both words
-/// 0). Every sample is written, so the target is never cleared: on chips with a slow
+/// and writes the depth it holds (`vis64_depth`), 1.0 (sky) where no triangle covered the
+/// sample. Every sample is written, so the target is never cleared: on chips with a slow
 /// fixed-function fill a multisampled depth clear costs nearly as much as this whole pass
-/// (0.60 ms at MSAA 4 on the H200, where the pass with the clear took 1.41 and now 0.81). A sample holds `(!depth_bits << 32) | !id`, so the depth is
-/// `bitcast(!high)`. The IDs stay in the buffer, which the shading kernels read.
-#[shader_dsl::shader]
+/// (0.60 ms at MSAA 4 on the H200, where the pass with the clear took 1.41 and now 0.81). The IDs
+/// stay in the buffer, which the shading kernels read.
+#[shader_dsl::shader(uses(crate::visibility::samples64::vis64_sample))]
 pub mod vis_resolve {
     /// The frame's size and sample count, for the sample's index in `VIS64`.
     pub struct ResolveParams {
@@ -27,7 +27,7 @@ pub mod vis_resolve {
     static PARAMS: ResolveParams;
     /// The compute rasteriser's samples, as `(low, high)` word pairs.
     #[storage(group = 0, binding = 1)]
-    static VIS64: [u32];
+    static VIS64: [UVec2];
 
     #[vertex]
     pub fn vs_fullscreen(#[builtin(vertex_index)] index: u32) -> Vec4 {
@@ -41,12 +41,7 @@ pub mod vis_resolve {
         #[builtin(sample_index)] sample: u32,
     ) -> ResolveOut {
         let p = position.xy().floor().as_uvec2();
-        let at = ((p.y * PARAMS.width + p.x) * PARAMS.msaa + sample) * 2u32;
-        let high = VIS64[at + 1u32];
-        let mut depth = 1.0f32;
-        if high != 0u32 {
-            depth = f32::from_bits(!high);
-        }
+        let depth = vis64_depth(VIS64[(p.y * PARAMS.width + p.x) * PARAMS.msaa + sample]);
         ResolveOut { depth }
     }
 }

@@ -103,10 +103,11 @@ fn the_visibility_shading_frequency_view_marks_every_pixel_of_several_triangles(
     });
 }
 
-/// On Vulkan the blended surfaces over the compute rasteriser's samples take fragment SPIR-V
-/// the renderer wrote itself, with the `SampleMask` built-in an array as Vulkan requires
-/// (naga 30 writes it as a scalar; `renderer::shader`'s `own_spirv`, whose unit test runs
-/// `spirv-val` on it); every other program takes wgpu's.
+/// On Vulkan the blended surfaces over the compute rasteriser's samples take their variant's
+/// build-time fragment SPIR-V, with the `SampleMask` built-in an array as Vulkan requires
+/// (naga 30, which wgpu writes SPIR-V with, declares it as a scalar;
+/// `shaders_gen_snapshots/driver_spirv.rs` runs `spirv-val` on it); every other program takes
+/// wgpu's.
 #[test]
 fn the_blended_surfaces_over_the_compute_rasterisers_samples_take_valid_spirv() {
     use shaders_gen::forward::forward;

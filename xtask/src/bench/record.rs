@@ -270,7 +270,14 @@ impl CellRecord {
             .or(pass("visibility shading"))
             .and_then(|s| s.median());
         record.volumes_median_ms = pass("light volumes").and_then(|s| s.median());
-        record.compute_raster_median_ms = pass("compute raster").and_then(|s| s.median());
+        // Its triangles and its large triangles' tiles, two graph passes.
+        record.compute_raster_median_ms = match (
+            pass("compute raster").and_then(|s| s.median()),
+            pass(renderer::extend::COMPUTE_RASTER_TILES_PASS).and_then(|s| s.median()),
+        ) {
+            (Some(a), Some(b)) => Some(a + b),
+            (a, b) => a.or(b),
+        };
         record.blended_order_median_ms = pass("blended order").and_then(|s| s.median());
         record.overlay_median_ms = pass("overlay").and_then(|s| s.median());
         record.pass_medians = m

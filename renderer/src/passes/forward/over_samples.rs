@@ -12,7 +12,8 @@ use crate::frame_data::{ConfigError, FrameInputs, FrameResources, RenderError, V
 use crate::graph::{Buffer, BufferAccess, Handle, PassBuilder, PassContext};
 use crate::shader::ShaderProgram;
 
-/// The uniform of the variant's `VIS` binding (`vis_frame::VisParams`: it reads the screen size).
+/// The uniform of the variant's `VIS` binding (`vis_frame::VisParams`, of which it reads only
+/// the screen size, to find a pixel's samples in the buffer).
 #[derive(Debug)]
 pub(crate) struct OverSamples {
     params: wgpu::Buffer,
@@ -51,10 +52,10 @@ impl OverSamples {
                 input: "the compute rasteriser's samples",
             }));
         };
-        let cam = &frame.camera;
+        // `vis_in_front` reads the screen size alone; the rest is the shading kernels'.
         let uniform = vis_frame::VisParams::new(
-            (cam.projection * cam.view).inverse(),
-            frame.config.sky,
+            glam::Mat4::IDENTITY,
+            glam::Vec3::ZERO,
             0,
             frame.screen(),
             0,

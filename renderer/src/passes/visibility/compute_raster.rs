@@ -11,10 +11,11 @@
 //! same frames (`cargo xtask bench --compute-raster`) and the tests compare their IDs
 //! (`tests/tests/render_gpu/compute_raster.rs`).
 
-use std::sync::{Arc, Mutex, PoisonError, Weak};
+use std::sync::{Arc, Mutex, PoisonError};
 
 use shaders_gen::visibility::compute_raster::vis_compute_raster as kernels;
 
+use super::compute_raster_buffers::{Buffers, Sizing};
 use super::geometry::geometry_group;
 use crate::frame_data::{
     BatchLayout, ConfigError, FrameInputs, FrameResources, NO_DRAW, RenderError, RendererConfig,
@@ -38,24 +39,6 @@ pub struct ComputeRasterCounts {
     pub overflow: u32,
 }
 
-/// The buffers of one screen size and scene size.
-#[derive(Debug)]
-struct Buffers {
-    /// What they were made for.
-    sizing: Sizing,
-    vis64: wgpu::Buffer,
-    counters: wgpu::Buffer,
-    large: wgpu::Buffer,
-    items: wgpu::Buffer,
-    tile_args: wgpu::Buffer,
-    /// `tile_args` copied, for the indirect dispatch.
-    indirect: wgpu::Buffer,
-    classes: wgpu::Buffer,
-    /// The batch layout and instance revision `classes` was written for (held weakly: a
-    /// dropped layout never matches a new one at the same address).
-    classes_of: Option<(Weak<BatchLayout>, u64)>,
-}
-
 /// The compute rasteriser pass. Opt-in: insert it after `"visibility"`.
 #[derive(Debug)]
 pub struct ComputeRasterPass {
@@ -70,12 +53,9 @@ pub struct ComputeRasterPass {
     buffers: Arc<Mutex<Option<Buffers>>>,
 }
 
-/// Tiles listed per screen tile before large triangles overflow.
-const ITEMS_PER_SCREEN_TILE: u64 = 32;
-/// Large triangles listed at most (80 bytes each).
-const LARGE_CAPACITY: u32 = 1 << 18;
-/// Large triangles listed at most when every triangle is large (`small_area` 0).
-const LARGE_CAPACITY_TILES_ONLY: u32 = 1 << 20;
+/// The graph pass after the pass's own ([`Pass::name`]) that rasterises the large triangles'
+/// tiles.
+pub const TILES_PASS: &str = "compute raster tiles";
 /// The default of [`ComputeRasterPass::with_small_area`].
 pub const DEFAULT_SMALL_AREA: u32 = 64;
 
@@ -178,123 +158,6 @@ fn classes(layout: &BatchLayout, draws: usize) -> Vec<u32> {
     out
 }
 
-fn storage(
-    device: &wgpu::Device,
-    label: &str,
-    size: u64,
-    extra: wgpu::BufferUsages,
-) -> wgpu::Buffer {
-    device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some(label),
-        size: size.max(16),
-        usage: wgpu::BufferUsages::STORAGE
-            | wgpu::BufferUsages::COPY_DST
-            | wgpu::BufferUsages::COPY_SRC
-            | extra,
-        mapped_at_creation: false,
-    })
-}
-
-/// A frame's sizes: what the buffers are made for.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-struct Sizing {
-    samples: u64,
-    /// Scene triangles: IDs run over every draw's triangles, in draw order (`vis_geometry`).
-    triangles: u32,
-    large_capacity: u32,
-    item_capacity: u32,
-    draws: usize,
-}
-
-impl Sizing {
-    fn of(frame: &FrameInputs, msaa: u32, small_area: u32) -> Self {
-        let c = &frame.config;
-        let triangles = frame
-            .instances
-            .draws
-            .iter()
-            .fold(0u32, |n, d| n.saturating_add(d.geometry.index_count / 3));
-        let screen_tiles = u64::from(c.width.div_ceil(kernels::TILE))
-            * u64::from(c.height.div_ceil(kernels::TILE));
-        // Every triangle is large where `small_area` is 0: room for each and its tiles.
-        let (large_most, per_triangle) = if small_area == 0 {
-            (LARGE_CAPACITY_TILES_ONLY, 4)
-        } else {
-            (LARGE_CAPACITY, 0)
-        };
-        let items = screen_tiles * ITEMS_PER_SCREEN_TILE
-            + u64::from(triangles.min(large_most)) * per_triangle;
-        Self {
-            samples: u64::from(c.width) * u64::from(c.height) * u64::from(msaa),
-            triangles,
-            large_capacity: triangles.clamp(1, large_most),
-            item_capacity: u32::try_from(items).unwrap_or(u32::MAX),
-            draws: frame.instances.draws.len(),
-        }
-    }
-}
-
-impl Sizing {
-    /// Fails with [`ConfigError::BufferTooLarge`] where a buffer is over the device's binding
-    /// size.
-    fn check(&self, device: &wgpu::Device) -> Result<(), RenderError> {
-        let max = device.limits().max_storage_buffer_binding_size;
-        let large = size_of::<kernels::LargeTriangle>() as u64;
-        let buffers = [
-            ("samples", self.samples * 8),
-            ("large-triangle", u64::from(self.large_capacity) * large),
-            ("tile item", u64::from(self.item_capacity) * 8),
-        ];
-        match buffers.into_iter().find(|&(_, bytes)| bytes > max) {
-            Some((buffer, bytes)) => Err(RenderError::Config(ConfigError::BufferTooLarge {
-                pass: "compute raster",
-                buffer,
-                bytes,
-                max,
-            })),
-            None => Ok(()),
-        }
-    }
-}
-
-impl Buffers {
-    fn new(device: &wgpu::Device, sizing: Sizing) -> Self {
-        let none = wgpu::BufferUsages::empty();
-        let large_bytes = size_of::<kernels::LargeTriangle>() as u64;
-        Self {
-            sizing,
-            vis64: storage(device, "compute raster samples", sizing.samples * 8, none),
-            counters: storage(device, "compute raster counters", 16, none),
-            large: storage(
-                device,
-                "compute raster large",
-                u64::from(sizing.large_capacity) * large_bytes,
-                none,
-            ),
-            items: storage(
-                device,
-                "compute raster items",
-                u64::from(sizing.item_capacity) * 8,
-                none,
-            ),
-            tile_args: storage(device, "compute raster tile args", 16, none),
-            indirect: storage(
-                device,
-                "compute raster tiles",
-                16,
-                wgpu::BufferUsages::INDIRECT,
-            ),
-            classes: storage(
-                device,
-                "compute raster classes",
-                sizing.draws.max(1) as u64 * 4,
-                none,
-            ),
-            classes_of: None,
-        }
-    }
-}
-
 impl ComputeRasterPass {
     /// Group 0 over `b`, after writing this frame's parameters.
     fn group0(
@@ -371,7 +234,7 @@ impl ComputeRasterPass {
                 .write_buffer(&b.classes, 0, bytemuck::cast_slice(&classes));
             b.classes_of = Some((Arc::downgrade(&list.layout), revision));
         }
-        let recording = Recording {
+        let recording = Arc::new(Recording {
             pipelines: [
                 self.triangles.clone(),
                 self.args.clone(),
@@ -387,7 +250,7 @@ impl ComputeRasterPass {
             tile_args: b.tile_args.clone(),
             indirect: b.indirect.clone(),
             triangle_groups: sizing.triangles.div_ceil(kernels::TRIANGLE_WORKGROUP),
-        };
+        });
         let vis64 = b.vis64.clone();
         drop(guard);
         let mut handle = resources.import_buffer(
@@ -396,10 +259,16 @@ impl ComputeRasterPass {
             &vis64,
             ImportAccess::ReadWrite,
         );
+        // Two graph passes, so a frame's timings show the triangles and the tiles apart.
+        let tiles = Arc::clone(&recording);
         graph
             .add_pass(self.name())
             .write_buffer(&mut handle, BufferAccess::StorageWrite)
-            .execute(move |ctx| recording.record(ctx));
+            .execute(move |ctx| recording.record_triangles(ctx));
+        graph
+            .add_pass(TILES_PASS)
+            .write_buffer(&mut handle, BufferAccess::StorageWrite)
+            .execute(move |ctx| tiles.record_tiles(ctx));
         Ok((vis64, handle))
     }
 }
@@ -455,12 +324,12 @@ struct Recording {
 }
 
 impl Recording {
-    /// Clears the samples and counters, rasterises the triangles and lists the large ones,
-    /// then rasterises the large ones' tiles.
-    fn record(&self, ctx: &mut PassContext<'_>) {
+    /// Clears the samples and counters, rasterises the triangles and lists the large ones'
+    /// tiles, and writes the tiles' dispatch.
+    fn record_triangles(&self, ctx: &mut PassContext<'_>) {
         ctx.encoder.clear_buffer(&self.vis64, 0, None);
         ctx.encoder.clear_buffer(&self.counters, 0, None);
-        let [triangles, args, tiles] = &self.pipelines;
+        let [triangles, args, _] = &self.pipelines;
         {
             let mut pass = self.begin(ctx, "compute raster");
             pass.set_pipeline(triangles);
@@ -475,7 +344,12 @@ impl Recording {
         // `TILE_ARGS` is bound read-write to every entry point: the dispatch reads a copy.
         ctx.encoder
             .copy_buffer_to_buffer(&self.tile_args, 0, &self.indirect, 0, Some(12));
-        let mut pass = self.begin(ctx, "compute raster tiles");
+    }
+
+    /// Rasterises the large triangles' tiles.
+    fn record_tiles(&self, ctx: &mut PassContext<'_>) {
+        let [_, _, tiles] = &self.pipelines;
+        let mut pass = self.begin(ctx, TILES_PASS);
         pass.set_pipeline(tiles);
         pass.dispatch_workgroups_indirect(&self.indirect, 0);
     }

@@ -9,12 +9,16 @@
 //! measure and check that way of rasterising.
 
 mod compute_raster;
+mod compute_raster_buffers;
 mod geometry;
 mod raster;
 mod raster_draws;
 mod resolve;
 mod shade;
 
-pub use compute_raster::{ComputeRasterCounts, ComputeRasterPass, DEFAULT_SMALL_AREA};
+pub use compute_raster::{
+    ComputeRasterCounts, ComputeRasterPass, DEFAULT_SMALL_AREA,
+    TILES_PASS as COMPUTE_RASTER_TILES_PASS,
+};
 pub use raster::VisRasterPass;
 pub use shade::VisShadePass;

@@ -7,7 +7,7 @@
 //! culling, the depth pyramid, the blended surfaces and the particles), so the graph leaves the
 //! resolve out of their frames.
 
-use std::sync::Arc;
+use std::sync::{Arc, Mutex, PoisonError};
 
 use shaders_gen::visibility::vis_resolve;
 
@@ -30,6 +30,18 @@ pub(crate) struct ComputeStage {
     program: ShaderProgram,
     pipeline: wgpu::RenderPipeline,
     params: wgpu::Buffer,
+    /// The resolve's last bind group, kept while the samples' buffer and the frame's width and
+    /// sample count stay the same, so a frame that does not resolve (most) neither rebuilds it
+    /// nor writes its parameters.
+    group: Mutex<Option<ResolveGroup>>,
+}
+
+/// The resolve's bind group and what it was built for.
+#[derive(Debug)]
+struct ResolveGroup {
+    vis64: wgpu::Buffer,
+    size: (u32, u32),
+    group: wgpu::BindGroup,
 }
 
 /// The full-screen resolve of a frame's compute-rasteriser samples (`add_depth_resolve`).
@@ -85,6 +97,7 @@ impl ComputeStage {
             program,
             pipeline,
             params,
+            group: Mutex::default(),
         }))
     }
 
@@ -123,13 +136,22 @@ impl ComputeStage {
     }
 
     /// The resolve's bind group over the samples `vis64` of a `width`-pixel-wide frame at
-    /// `msaa` samples, after writing its parameters.
+    /// `msaa` samples: the last one where it was built for the same, else a new one after
+    /// writing its parameters.
     fn bind_group(
         &self,
         gpu: &GpuContext,
-        (width, msaa): (u32, u32),
+        size: (u32, u32),
         vis64: &wgpu::Buffer,
     ) -> Result<wgpu::BindGroup, RenderError> {
+        let mut kept = self.group.lock().unwrap_or_else(PoisonError::into_inner);
+        if let Some(k) = kept
+            .as_ref()
+            .filter(|k| k.size == size && &k.vis64 == vis64)
+        {
+            return Ok(k.group.clone());
+        }
+        let (width, msaa) = size;
         let params = vis_resolve::ResolveParams::new(width, msaa, glam::UVec2::ZERO);
         gpu.queue()
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
@@ -137,12 +159,18 @@ impl ComputeStage {
             params: self.params.as_entire_buffer_binding(),
             vis64: vis64.as_entire_buffer_binding(),
         };
-        Ok(self.program.bind_group(
+        let group = self.program.bind_group(
             gpu.device(),
             vis_resolve::Group0::GROUP,
             &shader_bind::Resources::of(&group),
             "visibility resolve",
-        )?)
+        )?;
+        *kept = Some(ResolveGroup {
+            vis64: vis64.clone(),
+            size,
+            group: group.clone(),
+        });
+        Ok(group)
     }
 }
 
