@@ -17,7 +17,12 @@ pub use crate::frame_data::{
 pub use crate::passes::Pass;
 /// A built-in pass to insert after `"visibility"` on the visibility path: the compute
 /// rasteriser, which rasterises the same opaque triangles with 64-bit atomics beside the
-/// raster pass, to measure it and compare its IDs (the frame does not read them yet).
+/// raster pass, to measure it and compare its IDs (that frame does not read them). With
+/// [`crate::frame_data::VisibilityRaster::Compute`] the visibility raster pass runs it itself,
+/// and the frame's timings name its graph passes `"compute raster"`,
+/// [`COMPUTE_RASTER_TILES_PASS`] and, under occlusion culling, [`COMPUTE_RASTER_LATE_PASS`]
+/// and [`COMPUTE_RASTER_LATE_TILES_PASS`].
 pub use crate::passes::visibility::{
-    COMPUTE_RASTER_TILES_PASS, ComputeRasterCounts, ComputeRasterPass, DEFAULT_SMALL_AREA,
+    COMPUTE_RASTER_LATE_PASS, COMPUTE_RASTER_LATE_TILES_PASS, COMPUTE_RASTER_TILES_PASS,
+    ComputeRasterCounts, ComputeRasterPass, DEFAULT_SMALL_AREA,
 };

@@ -111,6 +111,10 @@ pub struct SceneDrawList {
     pub args: Handle<Buffer>,
     /// The arguments' buffer, five `u32` per slot.
     pub args_buffer: wgpu::Buffer,
+    /// The arguments slot by slot, packed or not (five `u32` a slot; an instance count of 0
+    /// where culling left the slot out): what a kernel that walks the draws reads, written
+    /// before `args` is.
+    pub slot_args: wgpu::Buffer,
     /// Draw each batch with one `multi_draw_indexed_indirect`; otherwise (the device cannot
     /// draw indirectly with a first instance) every slot directly, culling nothing.
     pub indirect: bool,
@@ -133,6 +137,7 @@ impl SceneDrawList {
     pub fn late_half(&self) -> Option<SceneDrawList> {
         let occlusion = self.occlusion.as_ref()?;
         let mut list = self.clone();
+        list.slot_args = occlusion.late_buffer.clone();
         match &occlusion.packed {
             Some(packed) => {
                 list.args = packed.late;

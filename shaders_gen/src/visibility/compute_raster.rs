@@ -26,9 +26,17 @@
 /// where the draw's batch culls them (its class, `CLASSES`, with the batch's double-sidedness
 /// and mirroring), depth outside `[0, 1)` is dropped, and the samples are the standard
 /// pattern's (`sample_pattern`). Masked and blended draws are not in `CLASSES` (class 0): the
-/// hardware raster draws them.
+/// hardware raster draws them. Like the hardware raster, it draws only the slots scene
+/// culling kept: a draw's class also holds its slot, whose instance count in `SLOT_ARGS` (the
+/// half's indirect arguments, slot by slot) is 0 where culling left it out. So under occlusion
+/// culling it runs once for each half, the second over the first's samples.
 ///
-/// Work is split by size. `raster_triangles`, one invocation a triangle, rasterises a triangle
+/// The triangles are dispatched by chunk (`CHUNKS`, listed by the host for the draws of a
+/// class): a workgroup takes up to `TRIANGLE_WORKGROUP` triangles of one draw, so a chunk of a
+/// draw culling left out costs its workgroup three loads, and no triangle searches for its
+/// draw.
+///
+/// Work is split by size. `raster_triangles`, one invocation a triangle of a chunk, rasterises a triangle
 /// whose pixel box covers at most `small_area` pixels itself, and lists a larger one (or one
 /// that crosses the eye plane, whose box is the screen) in `LARGE`, set up, with one `ITEMS`
 /// entry per 16×16 tile of its box (written by the whole workgroup, empty where the tile lies
@@ -45,11 +53,12 @@
     ),
 )]
 pub mod vis_compute_raster {
-    /// Invocations of `raster_triangles`' workgroups.
+    /// Invocations of `raster_triangles`' workgroups, and triangles of a chunk at most.
     pub const TRIANGLE_WORKGROUP: u32 = 64;
     /// Side of a large triangle's tiles, in pixels (`raster_tiles`' workgroup).
     pub const TILE: u32 = 16;
-    /// Workgroups in a row of `raster_tiles`' dispatch (item `x + y × TILE_ROW`).
+    /// Workgroups in a row of `raster_tiles`' and `raster_triangles`' dispatches (item or
+    /// chunk `x + y × TILE_ROW`).
     pub const TILE_ROW: u32 = 32768;
     /// A draw's class: rasterised here.
     pub const RASTERISE: u32 = 1;
@@ -57,6 +66,8 @@ pub mod vis_compute_raster {
     pub const DOUBLE_SIDED: u32 = 2;
     /// A draw's class: front faces wind clockwise (a mirrored instance's batch).
     pub const MIRRORED: u32 = 4;
+    /// A draw's class holds its batch slot above these bits.
+    pub const SLOT_SHIFT: u32 = 3;
     /// `COUNTERS[LARGE_COUNT]`: triangles listed in `LARGE` (past the capacity too).
     pub const LARGE_COUNT: u32 = 0;
     /// `COUNTERS[ITEM_COUNT]`: tiles listed in `ITEMS` (past the capacity too).
@@ -70,10 +81,8 @@ pub mod vis_compute_raster {
     pub struct RasterParams {
         pub width: u32,
         pub height: u32,
-        /// Scene triangles (IDs `1..=triangles`).
-        pub triangles: u32,
-        /// Draws in `DRAW_GEOMETRY`.
-        pub draws: u32,
+        /// Entries of `CHUNKS`.
+        pub chunks: u32,
         /// Triangles whose pixel box covers at most this many pixels are rasterised by one
         /// invocation; larger ones by tiles.
         pub small_area: u32,
@@ -81,8 +90,10 @@ pub mod vis_compute_raster {
         pub large_capacity: u32,
         /// Entries of `ITEMS`.
         pub item_capacity: u32,
-        /// Invocations in a row of `raster_triangles`' dispatch (triangle `x + y × row`).
-        pub row: u32,
+        /// 1: every draw of a class is rasterised, whatever `SLOT_ARGS` says; 0: only the
+        /// slots with an instance.
+        pub every_slot: u32,
+        pub pad: u32,
     }
 
     /// A large triangle as `raster_triangles` set it up, for its tiles.
@@ -142,10 +153,20 @@ pub mod vis_compute_raster {
     static CAMERA: Camera;
     #[uniform(group = 0, binding = 1)]
     static PARAMS: RasterParams;
-    /// Per draw (as `DRAW_GEOMETRY`): `RASTERISE | DOUBLE_SIDED | MIRRORED` bits, 0 for the
-    /// draws the hardware raster draws (masked) or nothing draws (blended, hidden).
+    /// Per draw (as `DRAW_GEOMETRY`): `RASTERISE | DOUBLE_SIDED | MIRRORED` bits and the
+    /// draw's slot `<< SLOT_SHIFT`; 0 for the draws the hardware raster draws (masked) or
+    /// nothing draws (blended, hidden).
     #[storage(group = 0, binding = 2)]
     static CLASSES: [u32];
+    /// The half's indirect draw arguments, five a slot: the second, the instance count, is 0
+    /// where scene culling left the slot out.
+    #[storage(group = 0, binding = 8)]
+    static SLOT_ARGS: [u32];
+    /// `raster_triangles`' work: per chunk, its draw (one with a class) and its first
+    /// triangle in the draw; a chunk is the draw's next `TRIANGLE_WORKGROUP` triangles, or the
+    /// rest.
+    #[storage(group = 0, binding = 9)]
+    static CHUNKS: [UVec2];
     #[storage(group = 0, binding = 3, read_write)]
     static VIS64: [Atomic<u64>];
     #[storage(group = 0, binding = 4, read_write)]
@@ -208,10 +229,24 @@ pub mod vis_compute_raster {
             || (c0.z > c0.w && c1.z > c1.w && c2.z > c2.w)
     }
 
-    /// Triangle `id` (not 0) set up: the same wherever it is rasterised.
-    pub fn raster_triangle(id: u32) -> RasterTriangle {
-        let tri = triangle_of(id, PARAMS.draws);
-        let class = CLASSES[tri.draw];
+    /// Whether a draw of class `class` is rasterised this half.
+    fn class_drawn(class: u32) -> bool {
+        let slot = class >> SLOT_SHIFT;
+        (class & RASTERISE) != 0u32
+            && (PARAMS.every_slot != 0u32 || SLOT_ARGS[slot * 5u32 + 1u32] != 0u32)
+    }
+
+    /// Triangle `t` of draw `draw`, of class `class`, set up: the same wherever it is
+    /// rasterised.
+    pub fn raster_triangle(draw: u32, t: u32, class: u32) -> RasterTriangle {
+        let tri = SceneTriangle {
+            draw,
+            vertices: UVec3::new(
+                triangle_vertex(draw, t, 0u32),
+                triangle_vertex(draw, t, 1u32),
+                triangle_vertex(draw, t, 2u32),
+            ),
+        };
         let world = DRAWS[tri.draw].world_from_mesh;
         let c0 = clip_position(
             CAMERA.view_projection,
@@ -272,10 +307,7 @@ pub mod vis_compute_raster {
             z_plane: Vec3::new(relative.x, relative.y, relative.z + z_ref),
             lo: UVec2::ZERO,
             hi: UVec2::new(PARAMS.width - 1u32, PARAMS.height - 1u32),
-            drawn: (class & RASTERISE) != 0u32
-                && det != 0.0
-                && !culled
-                && !outside_frustum(c0, c1, c2),
+            drawn: det != 0.0 && !culled && !outside_frustum(c0, c1, c2),
             in_front: c0.w > 0.0 && c1.w > 0.0 && c2.w > 0.0,
         };
         if out.in_front {
@@ -311,16 +343,17 @@ pub mod vis_compute_raster {
         }
     }
 
-    /// One triangle: small ones rasterised here, large ones listed by tile. The workgroup
-    /// writes its large triangles' tile items together, an invocation an item, so a
-    /// triangle of thousands of tiles (one across the screen, or crossing the eye plane) is
-    /// not listed by one invocation alone; a tile its triangle cannot touch is listed empty.
+    /// One chunk, an invocation a triangle: small ones rasterised here, large ones listed by
+    /// tile. The workgroup writes its large triangles' tile items together, an invocation an
+    /// item, so a triangle of thousands of tiles (one across the screen, or crossing the eye
+    /// plane) is not listed by one invocation alone; a tile its triangle cannot touch is
+    /// listed empty.
     #[compute(workgroup_size(64, 1, 1))]
     pub fn raster_triangles(
-        #[builtin(global_invocation_id)] gid: UVec3,
+        #[builtin(workgroup_id)] group: UVec3,
         #[builtin(local_invocation_index)] lane: u32,
     ) {
-        let index = gid.x + gid.y * PARAMS.row;
+        let chunk = group.x + group.y * TILE_ROW;
         let mut listing = TileListing {
             e0: Vec3::ZERO,
             large: NO_ITEM,
@@ -332,9 +365,22 @@ pub mod vis_compute_raster {
             columns: 1u32,
             pad: UVec2::ZERO,
         };
-        if index < PARAMS.triangles {
-            let id = index + 1u32;
-            let t = raster_triangle(id);
+        let mut class = 0u32;
+        let mut draw = 0u32;
+        let mut local = 0u32;
+        if chunk < PARAMS.chunks {
+            let c = CHUNKS[chunk];
+            draw = c.x;
+            local = c.y + lane;
+            class = CLASSES[draw];
+        }
+        // The same for the whole workgroup: a chunk of a draw not drawn this half ends here.
+        if !class_drawn(class) {
+            return;
+        }
+        if local < DRAW_GEOMETRY[draw].triangle_count {
+            let id = DRAW_GEOMETRY[draw].first_triangle + local + 1u32;
+            let t = raster_triangle(draw, local, class);
             if t.drawn {
                 let size = t.hi - t.lo + UVec2::ONE;
                 if t.in_front && size.x * size.y <= PARAMS.small_area {

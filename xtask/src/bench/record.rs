@@ -270,14 +270,17 @@ impl CellRecord {
             .or(pass("visibility shading"))
             .and_then(|s| s.median());
         record.volumes_median_ms = pass("light volumes").and_then(|s| s.median());
-        // Its triangles and its large triangles' tiles, two graph passes.
-        record.compute_raster_median_ms = match (
-            pass("compute raster").and_then(|s| s.median()),
-            pass(renderer::extend::COMPUTE_RASTER_TILES_PASS).and_then(|s| s.median()),
-        ) {
-            (Some(a), Some(b)) => Some(a + b),
-            (a, b) => a.or(b),
-        };
+        // Its triangles and its large triangles' tiles, two graph passes, for each half of
+        // occlusion culling.
+        record.compute_raster_median_ms = [
+            "compute raster",
+            renderer::extend::COMPUTE_RASTER_TILES_PASS,
+            renderer::extend::COMPUTE_RASTER_LATE_PASS,
+            renderer::extend::COMPUTE_RASTER_LATE_TILES_PASS,
+        ]
+        .into_iter()
+        .filter_map(|name| pass(name).and_then(|s| s.median()))
+        .reduce(|a, b| a + b);
         record.blended_order_median_ms = pass("blended order").and_then(|s| s.median());
         record.overlay_median_ms = pass("overlay").and_then(|s| s.median());
         record.pass_medians = m

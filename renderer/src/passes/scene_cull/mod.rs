@@ -217,6 +217,7 @@ impl Pass for SceneCullPass {
             layout: Arc::clone(&draws.layout),
             args,
             args_buffer,
+            slot_args: draws.args.clone(),
             indirect: self.indirect,
             counts,
             occlusion,

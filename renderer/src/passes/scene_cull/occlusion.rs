@@ -242,8 +242,8 @@ impl Pass for OcclusionCullPass {
                 input,
             })
         };
-        // Under the compute rasteriser the depths are its samples (which hold every opaque
-        // triangle, whatever the first phase drew): the frame need not resolve a depth target.
+        // Under the compute rasteriser the depths are its samples (its first half and the
+        // masked draws of the first phase): the frame need not resolve a depth target.
         let source = match &self.samples_frame {
             Some(uniform) => match resources.visibility.as_ref().map(|v| v.samples) {
                 Some(VisibilitySamples::Buffer { samples }) => {
@@ -278,6 +278,7 @@ impl Pass for OcclusionCullPass {
         // From here on the passes draw every slot either phase drew.
         list.args = occlusion.all;
         list.args_buffer = occlusion.all_buffer.clone();
+        list.slot_args = occlusion.all_buffer.clone();
         list.counts = None;
         if let Some(packed) = occlusion.packed.as_mut() {
             add_late_compaction(graph, &mut occlusion.late, &mut occlusion.all, packed);

@@ -9,7 +9,9 @@
 //! with [`crate::frame::Renderer::insert_pass_after`] after `"visibility"`) it runs beside the
 //! hardware raster, which the frame then reads: so the bench times both rasterisers on the
 //! same frames (`cargo xtask bench --compute-raster`) and the tests compare their IDs
-//! (`tests/tests/render_gpu/compute_raster.rs`).
+//! (`tests/tests/render_gpu/compute_raster.rs`); it then rasterises every opaque draw.
+//! Inside the visibility raster pass it rasterises only the slots scene culling kept, once for
+//! each half of occlusion culling ([`RasterHalf`]), as the hardware raster draws them.
 
 use std::sync::{Arc, Mutex, PoisonError};
 
@@ -50,19 +52,50 @@ pub struct ComputeRasterPass {
     msaa: u32,
     /// Pixel-box area up to which one invocation rasterises a triangle.
     small_area: u32,
+    /// Whether every opaque draw is rasterised, whatever culling kept (the pass beside the
+    /// hardware raster), or only the kept slots (inside the visibility raster pass).
+    every_slot: bool,
     buffers: Arc<Mutex<Option<Buffers>>>,
 }
 
 /// The graph pass after the pass's own ([`Pass::name`]) that rasterises the large triangles'
 /// tiles.
 pub const TILES_PASS: &str = "compute raster tiles";
+/// Occlusion culling's second half of the pass ([`RasterHalf::Late`]): the triangles, then
+/// the tiles.
+pub const LATE_PASS: &str = "compute raster (late)";
+/// See [`LATE_PASS`].
+pub const LATE_TILES_PASS: &str = "compute raster tiles (late)";
 /// The default of [`ComputeRasterPass::with_small_area`].
 pub const DEFAULT_SMALL_AREA: u32 = 64;
 
+/// Which of the visibility raster's halves a compute raster is.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum RasterHalf {
+    /// The first (or only) half: the samples are cleared first.
+    First,
+    /// Occlusion culling's second half: over the first's samples, this handle of them.
+    Late(Handle<Buffer>),
+}
+
 impl ComputeRasterPass {
-    /// The pass for `config`'s sample count; refused (the variant's error) on a device without
-    /// 64-bit atomic min/max.
+    /// The pass for `config`'s sample count, rasterising every opaque draw of the scene
+    /// whatever culling kept; refused (the variant's error) on a device without 64-bit atomic
+    /// min/max.
     pub fn new(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
+        Self::with_culling(gpu, config, false)
+    }
+
+    /// The pass inside the visibility raster pass: only the slots its list keeps.
+    pub(crate) fn culled(gpu: &GpuContext, config: &RendererConfig) -> Result<Self, RenderError> {
+        Self::with_culling(gpu, config, true)
+    }
+
+    fn with_culling(
+        gpu: &GpuContext,
+        config: &RendererConfig,
+        culled: bool,
+    ) -> Result<Self, RenderError> {
         let msaa = kernels::Msaa::from_value(config.msaa).ok_or_else(|| {
             RenderError::Config(ConfigError::SampleCount {
                 asked: config.msaa,
@@ -85,6 +118,7 @@ impl ComputeRasterPass {
             params,
             msaa: config.msaa,
             small_area: DEFAULT_SMALL_AREA,
+            every_slot: !culled,
             buffers: Arc::default(),
         })
     }
@@ -94,12 +128,6 @@ impl ComputeRasterPass {
     pub fn with_small_area(mut self, pixels: u32) -> Self {
         self.small_area = pixels;
         self
-    }
-
-    /// The buffer of samples the last frame rasterised into (none before the first).
-    pub(crate) fn samples_buffer(&self) -> Option<wgpu::Buffer> {
-        let buffers = self.buffers.lock().unwrap_or_else(PoisonError::into_inner);
-        buffers.as_ref().map(|b| b.vis64.clone())
     }
 
     /// The triangle ID every sample of the last frame holds (0: none), `(y × width + x) ×
@@ -115,7 +143,8 @@ impl ComputeRasterPass {
             .collect())
     }
 
-    /// What the last frame counted. Blocks until the GPU is done: for tests and tools.
+    /// What the last frame counted (its last half, under occlusion culling). Blocks until the
+    /// GPU is done: for tests and tools.
     pub fn read_counts(&self, gpu: &GpuContext) -> Result<ComputeRasterCounts, GpuError> {
         let Some(counters) = self.buffer(|b| b.counters.clone()) else {
             return Ok(ComputeRasterCounts::default());
@@ -134,10 +163,12 @@ impl ComputeRasterPass {
     }
 }
 
-/// Each draw's class bits for `layout`: the opaque batches' draws, with their batch's face
-/// culling and winding; 0 for masked, blended and hidden draws.
-fn classes(layout: &BatchLayout, draws: usize) -> Vec<u32> {
-    let mut out = vec![0u32; draws.max(1)];
+/// Each draw's class for `layout`: the opaque batches' draws, with their batch's face culling
+/// and winding, and their slot; 0 for masked, blended and hidden draws. And the chunks of the
+/// triangles of the draws with a class (`triangles` a draw), in draw order: `(draw, first
+/// triangle)`.
+fn classes_and_chunks(layout: &BatchLayout, triangles: &[u32]) -> (Vec<u32>, Vec<[u32; 2]>) {
+    let mut out = vec![0u32; triangles.len().max(1)];
     for batch in layout.batches.iter().filter(|b| !b.masked) {
         let class = kernels::RASTERISE
             | if batch.double_sided {
@@ -146,36 +177,46 @@ fn classes(layout: &BatchLayout, draws: usize) -> Vec<u32> {
                 0
             }
             | if batch.mirrored { kernels::MIRRORED } else { 0 };
-        let slots = batch.first_slot as usize..(batch.first_slot + batch.slot_count) as usize;
-        for &draw in &layout.slot_draws[slots] {
+        let slots = batch.first_slot..batch.first_slot + batch.slot_count;
+        for slot in slots {
+            let draw = layout.slot_draws[slot as usize];
             if draw != NO_DRAW
                 && let Some(c) = out.get_mut(draw as usize)
             {
-                *c = class;
+                *c = class | slot << kernels::SLOT_SHIFT;
             }
         }
     }
-    out
+    let chunks = (0u32..)
+        .zip(triangles)
+        .filter(|&(draw, _)| out[draw as usize] != 0)
+        .flat_map(|(draw, &count)| {
+            (0..count)
+                .step_by(kernels::TRIANGLE_WORKGROUP as usize)
+                .map(move |first| [draw, first])
+        })
+        .collect();
+    (out, chunks)
 }
 
 impl ComputeRasterPass {
-    /// Group 0 over `b`, after writing this frame's parameters.
+    /// Group 0 over `b` and the half's slot arguments, after writing this frame's parameters
+    /// (the same for both halves).
     fn group0(
         &self,
         frame: &FrameInputs,
-        b: &Buffers,
-        draws: u32,
+        (b, slot_args): (&Buffers, &wgpu::Buffer),
     ) -> Result<wgpu::BindGroup, RenderError> {
         let (c, s) = (&frame.config, b.sizing);
         let params = kernels::RasterParams::new(
             c.width,
             c.height,
-            s.triangles,
-            draws,
+            b.chunk_count,
             self.small_area,
             s.large_capacity,
             s.item_capacity,
-            kernels::TRIANGLE_WORKGROUP * kernels::TILE_ROW,
+            u32::from(self.every_slot),
+            0,
         );
         frame
             .gpu
@@ -190,6 +231,8 @@ impl ComputeRasterPass {
             large: b.large.as_entire_buffer_binding(),
             items: b.items.as_entire_buffer_binding(),
             tile_args: b.tile_args.as_entire_buffer_binding(),
+            slot_args: slot_args.as_entire_buffer_binding(),
+            chunks: b.chunks.as_entire_buffer_binding(),
         };
         Ok(self.program.bind_group(
             frame.gpu.device(),
@@ -201,15 +244,17 @@ impl ComputeRasterPass {
 }
 
 impl ComputeRasterPass {
-    /// Adds the compute raster to `graph` for `list`'s batches, whose draws' geometry records
-    /// are `draw_geometry` (`draws` of them); returns the samples buffer, imported and written
-    /// (the graph keeps the pass), and its handle after the write.
+    /// Adds the compute raster of `half` to `graph` for `list`'s batches (the slots it keeps,
+    /// unless the pass rasterises every draw), whose draws' geometry records are
+    /// `draw_geometry`; returns the samples buffer, written (imported by
+    /// the first half: the graph keeps the pass), and its handle after the write.
     pub(crate) fn add_raster(
         &self,
         graph: &mut RenderGraph,
         frame: &FrameInputs,
         resources: &mut FrameResources,
-        (list, draw_geometry, draws): (&SceneDrawList, &wgpu::Buffer, u32),
+        (list, draw_geometry): (&SceneDrawList, &wgpu::Buffer),
+        half: RasterHalf,
     ) -> Result<(wgpu::Buffer, Handle<Buffer>), RenderError> {
         let device = frame.gpu.device();
         let sizing = Sizing::of(frame, self.msaa, self.small_area);
@@ -227,11 +272,16 @@ impl ComputeRasterPass {
                     .is_some_and(|l| Arc::ptr_eq(&l, &list.layout))
         });
         if !current {
-            let classes = classes(&list.layout, sizing.draws);
-            frame
-                .gpu
-                .queue()
-                .write_buffer(&b.classes, 0, bytemuck::cast_slice(&classes));
+            let triangles: Vec<u32> = (frame.instances.draws.iter())
+                .map(|d| d.geometry.index_count / 3)
+                .collect();
+            let (classes, chunks) = classes_and_chunks(&list.layout, &triangles);
+            let queue = frame.gpu.queue();
+            queue.write_buffer(&b.classes, 0, bytemuck::cast_slice(&classes));
+            if !chunks.is_empty() {
+                queue.write_buffer(&b.chunks, 0, bytemuck::cast_slice(&chunks));
+            }
+            b.chunk_count = chunks.len() as u32;
             b.classes_of = Some((Arc::downgrade(&list.layout), revision));
         }
         let recording = Arc::new(Recording {
@@ -241,7 +291,7 @@ impl ComputeRasterPass {
                 self.tiles.clone(),
             ],
             groups: [
-                self.group0(frame, b, draws)?,
+                self.group0(frame, (b, &list.slot_args))?,
                 frame.instances.draw_group_for(device, &self.program)?,
                 geometry_group(device, &self.program, &frame.scene, draw_geometry)?,
             ],
@@ -249,24 +299,33 @@ impl ComputeRasterPass {
             counters: b.counters.clone(),
             tile_args: b.tile_args.clone(),
             indirect: b.indirect.clone(),
-            triangle_groups: sizing.triangles.div_ceil(kernels::TRIANGLE_WORKGROUP),
+            chunks: b.chunk_count,
+            clear_samples: matches!(half, RasterHalf::First),
         });
         let vis64 = b.vis64.clone();
         drop(guard);
-        let mut handle = resources.import_buffer(
-            graph,
-            "compute raster samples",
-            &vis64,
-            ImportAccess::ReadWrite,
-        );
-        // Two graph passes, so a frame's timings show the triangles and the tiles apart.
+        let (mut handle, names) = match half {
+            RasterHalf::First => {
+                let handle = resources.import_buffer(
+                    graph,
+                    "compute raster samples",
+                    &vis64,
+                    ImportAccess::ReadWrite,
+                );
+                (handle, [self.name(), TILES_PASS])
+            }
+            RasterHalf::Late(handle) => (handle, [LATE_PASS, LATE_TILES_PASS]),
+        };
+        // Two graph passes, so a frame's timings show the triangles and the tiles apart. They
+        // read the list's arguments so that culling writes them first.
         let tiles = Arc::clone(&recording);
         graph
-            .add_pass(self.name())
+            .add_pass(names[0])
+            .read_buffer(list.args, BufferAccess::Indirect)
             .write_buffer(&mut handle, BufferAccess::StorageWrite)
             .execute(move |ctx| recording.record_triangles(ctx));
         graph
-            .add_pass(TILES_PASS)
+            .add_pass(names[1])
             .write_buffer(&mut handle, BufferAccess::StorageWrite)
             .execute(move |ctx| tiles.record_tiles(ctx));
         Ok((vis64, handle))
@@ -304,7 +363,8 @@ impl Pass for ComputeRasterPass {
             graph,
             frame,
             resources,
-            (&list, &vis.draw_geometry, vis.draws),
+            (&list, &vis.draw_geometry),
+            RasterHalf::First,
         )?;
         Ok(())
     }
@@ -320,22 +380,27 @@ struct Recording {
     counters: wgpu::Buffer,
     tile_args: wgpu::Buffer,
     indirect: wgpu::Buffer,
-    triangle_groups: u32,
+    /// `raster_triangles`' workgroups.
+    chunks: u32,
+    /// Whether the samples are cleared first (the first half).
+    clear_samples: bool,
 }
 
 impl Recording {
     /// Clears the samples and counters, rasterises the triangles and lists the large ones'
     /// tiles, and writes the tiles' dispatch.
     fn record_triangles(&self, ctx: &mut PassContext<'_>) {
-        ctx.encoder.clear_buffer(&self.vis64, 0, None);
+        if self.clear_samples {
+            ctx.encoder.clear_buffer(&self.vis64, 0, None);
+        }
         ctx.encoder.clear_buffer(&self.counters, 0, None);
         let [triangles, args, _] = &self.pipelines;
         {
             let mut pass = self.begin(ctx, "compute raster");
             pass.set_pipeline(triangles);
             pass.dispatch_workgroups(
-                self.triangle_groups.min(kernels::TILE_ROW),
-                self.triangle_groups.div_ceil(kernels::TILE_ROW),
+                self.chunks.min(kernels::TILE_ROW),
+                self.chunks.div_ceil(kernels::TILE_ROW),
                 1,
             );
             pass.set_pipeline(args);

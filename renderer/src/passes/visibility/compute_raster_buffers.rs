@@ -27,6 +27,9 @@ pub(super) struct Buffers {
     /// `tile_args` copied, for the indirect dispatch.
     pub(super) indirect: wgpu::Buffer,
     pub(super) classes: wgpu::Buffer,
+    /// `raster_triangles`' chunks (written with `classes`), and how many are listed.
+    pub(super) chunks: wgpu::Buffer,
+    pub(super) chunk_count: u32,
     /// The batch layout and instance revision `classes` was written for (held weakly: a
     /// dropped layout never matches a new one at the same address).
     pub(super) classes_of: Option<(Weak<BatchLayout>, u64)>,
@@ -58,16 +61,23 @@ pub(super) struct Sizing {
     pub(super) large_capacity: u32,
     pub(super) item_capacity: u32,
     pub(super) draws: usize,
+    /// Chunks of every draw's triangles: the most `CHUNKS` lists.
+    pub(super) chunk_capacity: u32,
 }
 
 impl Sizing {
     pub(super) fn of(frame: &FrameInputs, msaa: u32, small_area: u32) -> Self {
         let c = &frame.config;
-        let triangles = frame
-            .instances
-            .draws
-            .iter()
-            .fold(0u32, |n, d| n.saturating_add(d.geometry.index_count / 3));
+        let (triangles, chunk_capacity) =
+            frame
+                .instances
+                .draws
+                .iter()
+                .fold((0u32, 0u32), |(n, c), d| {
+                    let t = d.geometry.index_count / 3;
+                    let chunks = t.div_ceil(kernels::TRIANGLE_WORKGROUP);
+                    (n.saturating_add(t), c.saturating_add(chunks))
+                });
         let screen_tiles = u64::from(c.width.div_ceil(kernels::TILE))
             * u64::from(c.height.div_ceil(kernels::TILE));
         // Every triangle is large where `small_area` is 0: room for each and its tiles.
@@ -84,6 +94,7 @@ impl Sizing {
             large_capacity: triangles.clamp(1, large_most),
             item_capacity: u32::try_from(items).unwrap_or(u32::MAX),
             draws: frame.instances.draws.len(),
+            chunk_capacity,
         }
     }
 }
@@ -98,6 +109,7 @@ impl Sizing {
             ("samples", self.samples * 8),
             ("large-triangle", u64::from(self.large_capacity) * large),
             ("tile item", u64::from(self.item_capacity) * 8),
+            ("chunk", u64::from(self.chunk_capacity) * 8),
         ];
         match buffers.into_iter().find(|&(_, bytes)| bytes > max) {
             Some((buffer, bytes)) => Err(RenderError::Config(ConfigError::BufferTooLarge {
@@ -144,6 +156,13 @@ impl Buffers {
                 sizing.draws.max(1) as u64 * 4,
                 none,
             ),
+            chunks: storage(
+                device,
+                "compute raster chunks",
+                u64::from(sizing.chunk_capacity.max(1)) * 8,
+                none,
+            ),
+            chunk_count: 0,
             classes_of: None,
         }
     }

@@ -18,6 +18,7 @@ mod shade;
 
 pub use compute_raster::{
     ComputeRasterCounts, ComputeRasterPass, DEFAULT_SMALL_AREA,
+    LATE_PASS as COMPUTE_RASTER_LATE_PASS, LATE_TILES_PASS as COMPUTE_RASTER_LATE_TILES_PASS,
     TILES_PASS as COMPUTE_RASTER_TILES_PASS,
 };
 pub use raster::VisRasterPass;

@@ -15,6 +15,7 @@ use std::sync::{Arc, Mutex, PoisonError};
 
 use shaders_gen::visibility::vis_raster;
 
+use super::compute_raster::RasterHalf;
 use super::geometry::{
     SceneState, draw_geometry, draw_geometry_buffer, geometry_group, sequence_buffer,
 };
@@ -387,20 +388,20 @@ impl VisRasterPass {
             (wgpu::Buffer, u32, wgpu::Buffer),
         ),
     ) -> Result<(), RenderError> {
-        let (resolve, vis64) = if self.late {
+        let half = if self.late {
             let first = resources.visibility.as_ref().map(|v| v.samples);
-            let (Some(VisibilitySamples::Buffer { samples }), Some(buffer)) =
-                (first, stage.samples_buffer())
-            else {
+            let Some(VisibilitySamples::Buffer { samples }) = first else {
                 return Err(RenderError::Config(ConfigError::MissingInput {
                     pass: "visibility (late)",
                     input: "the first half's compute-rasteriser samples",
                 }));
             };
-            (stage.resolve(frame, &buffer, samples)?, buffer)
+            RasterHalf::Late(samples)
         } else {
-            stage.add_to_graph(graph, frame, resources, (&list, &draw_geometry, draws))?
+            RasterHalf::First
         };
+        let (resolve, vis64) =
+            stage.add_to_graph(graph, frame, resources, (&list, &draw_geometry), half)?;
         let mut samples = resolve.samples;
         if list.layout.batches.iter().any(|b| b.masked) {
             let c = &frame.config;

@@ -12,6 +12,7 @@ use std::sync::{Arc, Mutex, PoisonError};
 use shaders_gen::visibility::vis_resolve;
 
 use super::ComputeRasterPass;
+use super::compute_raster::RasterHalf;
 use crate::GpuContext;
 use crate::frame_data::{
     DEPTH_FORMAT, FrameInputs, FrameResources, RenderError, RendererConfig, SceneDrawList,
@@ -56,7 +57,7 @@ impl ComputeStage {
     /// The stage for `config`; refused on a device without 64-bit atomic min/max (the compute
     /// rasteriser's variant error).
     pub(crate) fn new(gpu: &GpuContext, config: &RendererConfig) -> Result<Arc<Self>, RenderError> {
-        let raster = ComputeRasterPass::new(gpu, config)?;
+        let raster = ComputeRasterPass::culled(gpu, config)?;
         let program = gpu.program(vis_resolve::variant(vis_resolve::VariantKey {}))?;
         let pipeline = program.render_pipeline(
             gpu.device(),
@@ -101,17 +102,20 @@ impl ComputeStage {
         }))
     }
 
-    /// Adds the compute raster of `list`'s opaque draws (their geometry records and count) to
-    /// `graph`; returns the resolve of its samples (the pipeline, its bind group, and the
-    /// samples' handle) and the samples' buffer.
+    /// Adds the compute raster of `half` of `list`'s opaque draws (and their geometry records)
+    /// to `graph`; returns the resolve of its samples (the pipeline, its bind group,
+    /// and the samples' handle) and the samples' buffer.
     pub(crate) fn add_to_graph(
         &self,
         graph: &mut RenderGraph,
         frame: &FrameInputs,
         resources: &mut FrameResources,
-        draws: (&SceneDrawList, &wgpu::Buffer, u32),
+        draws: (&SceneDrawList, &wgpu::Buffer),
+        half: RasterHalf,
     ) -> Result<(Resolve, wgpu::Buffer), RenderError> {
-        let (vis64, samples) = self.raster.add_raster(graph, frame, resources, draws)?;
+        let (vis64, samples) = self
+            .raster
+            .add_raster(graph, frame, resources, draws, half)?;
         Ok((self.resolve(frame, &vis64, samples)?, vis64))
     }
 
@@ -128,11 +132,6 @@ impl ComputeStage {
             group: self.bind_group(&frame.gpu, (c.width, c.msaa), vis64)?,
             samples,
         })
-    }
-
-    /// The compute rasteriser's buffer of this frame (after `add_to_graph`).
-    pub(crate) fn samples_buffer(&self) -> Option<wgpu::Buffer> {
-        self.raster.samples_buffer()
     }
 
     /// The resolve's bind group over the samples `vis64` of a `width`-pixel-wide frame at
