@@ -3,12 +3,15 @@
 //! camera at 80° pitch (10° above a large floor, along long thin rails) is where any difference
 //! shows: whole runs of floor and rail pixels would fail the test and stay black, or flicker.
 //! Every culled path, and naive after pre-Z, must equal the naive image (no pre-pass: forward
-//! writes and tests its own depth) at 960×540, MSAA 1 and 4.
+//! writes and tests its own depth) at 960×540, MSAA 1 and 4. The visibility path's compute
+//! rasteriser evaluates edges in float where the hardware snaps vertices to its sub-pixel
+//! grid, so a sample within rounding of a thin rail's edge may see the other surface: it is
+//! held to at most one pixel in a thousand beyond the tolerance, as in `tbdr_gpu`.
 
 use glam::Vec3;
 use renderer::demo::procedural_lights;
 use renderer::frame::create_target;
-use renderer::frame::{FrameCamera, RenderPath, Renderer, RendererConfig};
+use renderer::frame::{FrameCamera, RenderPath, Renderer, RendererConfig, VisibilityRaster};
 use renderer::readback;
 use renderer::scene::Scene;
 use renderer::scene::procedural::SceneBuilder;
@@ -66,12 +69,13 @@ fn grazing_camera() -> FrameCamera {
     )
 }
 
-fn render(scene: &Scene, path: RenderPath, msaa: u32) -> Vec<u8> {
+fn render(scene: &Scene, (path, raster): (RenderPath, VisibilityRaster), msaa: u32) -> Vec<u8> {
     let config = RendererConfig {
         width: WIDTH,
         height: HEIGHT,
         msaa,
         path,
+        visibility_raster: raster,
         tile: 16,
         ambient: renderer::frame::Ambient::uniform(Vec3::splat(0.2)),
         ..Default::default()
@@ -102,7 +106,8 @@ fn render(scene: &Scene, path: RenderPath, msaa: u32) -> Vec<u8> {
 fn every_path_equals_naive_at_a_grazing_camera() {
     let scene = grazing_scene();
     for msaa in [1, 4] {
-        let naive = render(&scene, RenderPath::Naive, msaa);
+        let hardware = VisibilityRaster::Hardware;
+        let naive = render(&scene, (RenderPath::Naive, hardware), msaa);
         let lit = naive
             .chunks(4)
             .filter(|p| p[0] > 8 || p[1] > 8 || p[2] > 8)
@@ -111,14 +116,15 @@ fn every_path_equals_naive_at_a_grazing_camera() {
             lit > naive.len() / 4 / 3,
             "the floor must fill the frame ({lit} lit pixels)"
         );
-        for path in [
-            RenderPath::NaivePrez,
-            RenderPath::Tiled,
-            RenderPath::Depth25,
-            RenderPath::Clustered,
-            RenderPath::Visibility,
+        for (path, raster) in [
+            (RenderPath::NaivePrez, hardware),
+            (RenderPath::Tiled, hardware),
+            (RenderPath::Depth25, hardware),
+            (RenderPath::Clustered, hardware),
+            (RenderPath::Visibility, hardware),
+            (RenderPath::Visibility, VisibilityRaster::Compute),
         ] {
-            let image = render(&scene, path, msaa);
+            let image = render(&scene, (path, raster), msaa);
             // Tolerance: one 8-bit step per channel, as in `render_gpu` (the culled paths sum the
             // same lights in another order). A depth mismatch between pre-Z and forward leaves a
             // pixel black or half-covered: far more than one step.
@@ -133,11 +139,25 @@ fn every_path_equals_naive_at_a_grazing_camera() {
             let first = over
                 .first()
                 .map(|&(p, _)| (p % WIDTH as usize, p / WIDTH as usize));
+            let mut pixels: Vec<usize> = over.iter().map(|&(p, _)| p).collect();
+            pixels.dedup();
+            let allowed = match raster {
+                VisibilityRaster::Compute => (WIDTH * HEIGHT) as usize / 1000,
+                _ => 0,
+            };
+            eprintln!(
+                "{path:?} ({} raster) at MSAA {msaa}: {} pixels over",
+                raster.name(),
+                pixels.len()
+            );
             assert!(
-                over.is_empty(),
-                "{path:?} at MSAA {msaa}: {} channel values differ from naive by more than 1 \
-                 (worst {worst}, first at pixel {first:?})",
-                over.len()
+                pixels.len() <= allowed,
+                "{path:?} ({} raster) at MSAA {msaa}: {} channel values of {} pixels differ from \
+                 naive by more than 1 (worst {worst}, first at pixel {first:?}; {allowed} pixels \
+                 allowed)",
+                raster.name(),
+                over.len(),
+                pixels.len()
             );
         }
     }

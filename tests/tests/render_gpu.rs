@@ -7,6 +7,8 @@
 mod browser;
 #[path = "render_gpu/compute_raster.rs"]
 mod compute_raster;
+#[path = "render_gpu/default_raster.rs"]
+mod default_raster;
 #[path = "render_gpu/heatmap.rs"]
 mod heatmap;
 #[path = "render_gpu/material_programs.rs"]

@@ -178,6 +178,8 @@ impl App {
         };
         let renderer = build(&gpu, config, &self.shown, &self.shown.lights)?;
         let overlay = Overlay::new(&window, gpu.device(), format);
+        // With the renderer's choices for the device made (the visibility raster).
+        let config = *renderer.config();
         Ok(Running {
             window,
             renderer,

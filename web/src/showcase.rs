@@ -6,7 +6,7 @@
 use glam::Vec3;
 use renderer::decals::{DecalSet, procedural};
 use renderer::demo::{courtyard_look, pick_shadowed, procedural_lights, scatter_decals};
-use renderer::frame::{FrameCamera, RenderError, Renderer, RendererConfig};
+use renderer::frame::{FrameCamera, RenderError, Renderer, RendererConfig, VisibilityRaster};
 use renderer::particles::{ParticleSystem, WARMUP_STEPS, builtin_system};
 use renderer::scene::{Scene, SceneError, SceneLight};
 use renderer::{GpuContext, frame::RenderPath};
@@ -173,13 +173,16 @@ impl Showcase {
         }
     }
 
-    /// The renderer configuration of `settings` with the scene's look.
+    /// The renderer configuration of `settings` with the scene's look. The visibility path
+    /// rasterises with the hardware, the only raster a browser has (WebGPU has no 64-bit
+    /// atomics), so a native renderer of the same showcase draws the same frame.
     pub fn config(&self, settings: &Settings) -> RendererConfig {
         let config = RendererConfig {
             width: settings.width,
             height: settings.height,
             msaa: settings.msaa,
             path: settings.path,
+            visibility_raster: VisibilityRaster::Hardware,
             ..RendererConfig::default()
         };
         if self.courtyard {

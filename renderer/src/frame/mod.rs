@@ -144,7 +144,7 @@ impl Renderer {
     /// [`ConfigError::NoSubgroup`](crate::frame::ConfigError::NoSubgroup), [`ConfigError::FrameSize`](crate::frame::ConfigError::FrameSize), ...), and every program it
     /// needs is built now. [`Renderer::reconfigure`] changes it later, keeping the scene.
     pub fn new(gpu: &GpuContext, config: RendererConfig) -> Result<Self, RenderError> {
-        check_config(gpu, &config)?;
+        let config = check_config(gpu, config)?;
         Ok(Self {
             passes: pass_list::passes_for(gpu, &config, &[])?,
             materials: Vec::new(),
@@ -167,7 +167,8 @@ impl Renderer {
     }
 
     /// The configuration in use: the one it was created with, or the last one given to
-    /// [`Renderer::reconfigure`].
+    /// [`Renderer::reconfigure`], with its choices for the device made
+    /// ([`VisibilityRaster::Auto`](crate::frame::VisibilityRaster::Auto) is never here).
     pub fn config(&self) -> &RendererConfig {
         &self.config
     }
@@ -444,10 +445,14 @@ fn check_target(config: &RendererConfig, target: &wgpu::Texture) -> Result<(), R
     Ok(())
 }
 
-/// A frame of `width` × `height` fits `gpu`: 1 to the largest texture side on each axis.
-/// What a configuration asks of the device, checked before anything is built.
-fn check_config(gpu: &GpuContext, config: &RendererConfig) -> Result<(), RenderError> {
+/// What a configuration asks of the device, checked before anything is built; returns it with
+/// its choices for the device made (the visibility raster).
+fn check_config(gpu: &GpuContext, config: RendererConfig) -> Result<RendererConfig, RenderError> {
     let caps = gpu.capabilities();
+    let config = RendererConfig {
+        visibility_raster: (config.visibility_raster).for_device(caps, &gpu.device().limits()),
+        ..config
+    };
     let supported = caps.msaa_counts();
     if !supported.contains(&config.msaa) {
         return Err(RenderError::Config(ConfigError::SampleCount {
@@ -463,9 +468,11 @@ fn check_config(gpu: &GpuContext, config: &RendererConfig) -> Result<(), RenderE
             config.light_cutoff,
         )));
     }
-    check_frame_size(gpu, config.width, config.height)
+    check_frame_size(gpu, config.width, config.height)?;
+    Ok(config)
 }
 
+/// A frame of `width` × `height` fits `gpu`: 1 to the largest texture side on each axis.
 fn check_frame_size(gpu: &GpuContext, width: u32, height: u32) -> Result<(), RenderError> {
     let max = gpu.device().limits().max_texture_dimension_2d;
     if width == 0 || height == 0 || width > max || height > max {

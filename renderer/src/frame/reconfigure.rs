@@ -18,7 +18,7 @@ impl Renderer {
     /// graph) are rebuilt on the next frame. A configuration the device cannot run is an
     /// error, and the renderer stays as it was.
     pub fn reconfigure(&mut self, config: RendererConfig) -> Result<(), RenderError> {
-        check_config(&self.gpu, &config)?;
+        let config = check_config(&self.gpu, config)?;
         let passes = pass_list::passes_for(&self.gpu, &config, &self.materials)?;
         if (config.light_cutoff, config.exposure)
             != (self.config.light_cutoff, self.config.exposure)

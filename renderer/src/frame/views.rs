@@ -28,7 +28,7 @@ impl Renderer {
     /// main view's), drawn with the main view by [`Renderer::render_views`]. A configuration
     /// the device cannot run is an error.
     pub fn add_view(&mut self, config: RendererConfig) -> Result<ViewId, RenderError> {
-        check_config(&self.gpu, &config)?;
+        let config = check_config(&self.gpu, config)?;
         let id = ViewId(self.views.iter().map(|v| v.id.0 + 1).max().unwrap_or(1));
         self.views.push(ExtraView {
             id,
@@ -46,7 +46,7 @@ impl Renderer {
         id: ViewId,
         config: RendererConfig,
     ) -> Result<(), RenderError> {
-        check_config(&self.gpu, &config)?;
+        let config = check_config(&self.gpu, config)?;
         let passes = view_passes(&self.gpu, &config, &self.materials)?;
         let view = self.view_mut(id)?;
         view.passes = passes;

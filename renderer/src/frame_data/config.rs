@@ -119,8 +119,16 @@ pub enum FrameView {
 /// ([`RenderPath::Visibility`]; the other paths ignore it).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum VisibilityRaster {
-    /// The hardware rasteriser, every draw.
+    /// [`VisibilityRaster::Compute`] where the device has 64-bit atomic min/max and the storage
+    /// buffers its shading kernels bind (a material program's 21,
+    /// [`crate::gpu::requirements::WANTED_STORAGE_BUFFERS_PER_STAGE`]), else
+    /// [`VisibilityRaster::Hardware`]: chosen when the renderer is created or reconfigured
+    /// ([`VisibilityRaster::for_device`]; [`crate::frame::Renderer::config`] holds the choice).
+    /// On the H200 the compute rasteriser's frame was the faster one at every sample count on
+    /// every scene measured (BENCHMARKS.md); browsers have no 64-bit atomics.
     #[default]
+    Auto,
+    /// The hardware rasteriser, every draw.
     Hardware,
     /// Compute kernels with 64-bit atomics (`passes::visibility::compute_raster`) write one
     /// `u64` a sample into a buffer; the alpha-masked draws, on the hardware rasteriser, add
@@ -136,11 +144,30 @@ pub enum VisibilityRaster {
 }
 
 impl VisibilityRaster {
-    /// The command-line name: `hardware` or `compute`.
+    /// The command-line name: `auto`, `hardware` or `compute`.
     pub fn name(self) -> &'static str {
         match self {
+            Self::Auto => "auto",
             Self::Hardware => "hardware",
             Self::Compute => "compute",
+        }
+    }
+
+    /// The raster a device with `caps` and `limits` runs for this choice:
+    /// [`VisibilityRaster::Auto`] made concrete, the others as they are (an explicit `Compute`
+    /// on a device without 64-bit atomics stays, and the visibility path then refuses it by
+    /// name).
+    pub fn for_device(self, caps: &crate::gpu::Capabilities, limits: &wgpu::Limits) -> Self {
+        let storage = limits.max_storage_buffers_per_shader_stage;
+        match self {
+            Self::Auto
+                if caps.int64_atomic_min_max
+                    && storage >= crate::gpu::requirements::WANTED_STORAGE_BUFFERS_PER_STAGE =>
+            {
+                Self::Compute
+            }
+            Self::Auto => Self::Hardware,
+            chosen => chosen,
         }
     }
 }
@@ -149,10 +176,10 @@ impl std::str::FromStr for VisibilityRaster {
     type Err = String;
 
     fn from_str(s: &str) -> Result<Self, String> {
-        [Self::Hardware, Self::Compute]
+        [Self::Auto, Self::Hardware, Self::Compute]
             .into_iter()
             .find(|r| r.name() == s)
-            .ok_or_else(|| format!("visibility raster {s:?}: use hardware or compute"))
+            .ok_or_else(|| format!("visibility raster {s:?}: use auto, hardware or compute"))
     }
 }
 
@@ -364,7 +391,9 @@ impl std::str::FromStr for RenderPath {
 impl RendererConfig {
     /// Whether the frame's passes read the compute rasteriser's buffer of samples rather than
     /// raster targets: the visibility path under [`VisibilityRaster::Compute`] (the shading
-    /// kernels', light culling's and depth pyramid's `vis64` variants).
+    /// kernels', light culling's and depth pyramid's `vis64` variants). Ask a configuration the
+    /// renderer made concrete ([`crate::frame::Renderer::config`]): before, `Auto` answers
+    /// `false`, whatever the device will choose.
     pub fn reads_compute_samples(&self) -> bool {
         self.path == RenderPath::Visibility && self.visibility_raster == VisibilityRaster::Compute
     }
@@ -383,7 +412,7 @@ impl Default for RendererConfig {
             height: 720,
             msaa: 4,
             path: RenderPath::Tiled,
-            visibility_raster: VisibilityRaster::Hardware,
+            visibility_raster: VisibilityRaster::Auto,
             tile: 16,
             scalarize: false,
             cull_brute_force: false,

@@ -50,9 +50,11 @@ pub const STORAGE_BUFFERS_PER_STAGE: u32 = 10;
 /// Storage buffers per stage the renderer asks for where the adapter has them: the visibility
 /// path's shading kernels bind 19 (the light lists, shadow views and decals, the draw records,
 /// the material table and atlas, the scene's index and vertex streams, and the pixel sums the
-/// kernels pass on), a material program's 20 with its parameter records. A device with fewer
-/// runs every other path; the visibility path is then refused by name.
-pub const WANTED_STORAGE_BUFFERS_PER_STAGE: u32 = 20;
+/// kernels pass on), a material program's 20 with its parameter records, 21 over the compute
+/// rasteriser's samples (a storage buffer where the hardware raster's are two textures). A
+/// device with fewer runs every other path; the visibility path is then refused by name, and
+/// [`crate::frame::VisibilityRaster::Auto`] takes the hardware raster below 21.
+pub const WANTED_STORAGE_BUFFERS_PER_STAGE: u32 = 21;
 
 /// The smallest storage binding and buffer the renderer is tested with: it sizes its light
 /// lists, lights and scene buffers to the device's limits (with typed errors where something

@@ -17,17 +17,24 @@
 ///
 /// With `vis64` (masked draws only), under the compute rasteriser: the masked draws add their
 /// samples to its buffer (`vis_compute_raster`'s `VIS64`, the same packing and `fetch_max`)
-/// instead of writing an ID target. The fragment stage runs per sample (it reads
-/// `sample_index`), so each covered sample merges its own depth; the alpha test then runs per
-/// sample too (at the sample's texture coordinates), where the other paths' masked draws test
-/// once per pixel, so a masked edge can differ from theirs by a sample.
+/// instead of writing an ID target, at the frame's sample count (`msaa`, 0 without `vis64`).
+/// The fragment stage runs once a pixel, as the other paths' masked draws: the alpha test at
+/// the pixel centre, then each covered sample (the `sample_mask` input) merges its own depth,
+/// taken on the triangle's plane through the screen derivatives of the fragment's depth as the
+/// hardware interpolates it at the sample (`sample_pattern`'s positions). A fragment stage run
+/// per sample (reading `sample_index`) cost four to eight invocations a pixel on a chip whose
+/// fragment rate is far below its compute rate (BENCHMARKS.md).
 #[shader_dsl::shader(
     axes(
         alpha_mask: bool = [false, true] => "mask",
         vis64: bool = [false, true] => "vis64",
+        msaa: u32 = [0, 1, 2, 4, 8] => "msaa",
     ),
     exclude(vis64 && !alpha_mask),
+    exclude(vis64 && msaa == 0),
+    exclude(!vis64 && msaa > 0),
     uses(
+        crate::shared::sample_pattern,
         crate::shared::view,
         crate::shared::material_uv,
         crate::shared::material_table,
@@ -114,28 +121,33 @@ pub mod vis_raster {
         VisOut { id: input.id }
     }
 
-    /// `vis64`: the sample's depth and triangle into `VIS64` where nearer than what is
-    /// there; masked materials' texels below the cutoff leave nothing. The renderer draws it
-    /// with no depth test over a scratch depth target it neither loads nor stores: the 64-bit
-    /// atomics are the depth test.
+    /// `vis64`: at each sample of `coverage`, the fragment's depth there and its triangle into
+    /// `VIS64` where nearer than what is there; masked materials' texels below the cutoff leave
+    /// nothing. The renderer draws it with no depth test over a scratch depth target it neither
+    /// loads nor stores: the 64-bit atomics are the depth test.
     #[fragment]
     #[when(vis64)]
-    pub fn fs_vis64(input: VisVsOut, #[builtin(sample_index)] sample: u32) {
-        if masked_out(
+    pub fn fs_vis64(input: VisVsOut, #[builtin(sample_mask)] coverage: u32) {
+        // Derivatives first, where every invocation of the quad takes them.
+        let slope = Vec2::new(dpdx(input.clip.z), dpdy(input.clip.z));
+        let cut = masked_out(
             input.material,
             uv_derivatives(input.uv0, input.uv1),
             input.color_alpha,
-        ) {
-            discard();
-        }
-        // In the fragment stage the position is the sample's window position and depth.
-        let at = input.clip;
-        if at.z >= 0.0 && at.z < 1.0 {
-            let p = at.xy().floor().as_uvec2();
-            // `& 0x7FFF_FFFF`: -0.0 ranks as 0.0, as in the compute rasteriser.
-            let depth = at.z.to_bits() & 0x7FFF_FFFFu32;
-            let packed = ((!depth as u64) << 32u32) | ((!input.id) as u64);
-            VIS64[(p.y * SAMPLES.width + p.x) * SAMPLES.msaa + sample].fetch_max(packed);
+        );
+        if !cut {
+            // The position is the pixel centre's window position and depth.
+            let p = input.clip.xy().floor().as_uvec2();
+            let first = (p.y * SAMPLES.width + p.x) * msaa;
+            for s in 0u32..msaa {
+                let z = input.clip.z + slope.dot(sample_offset(s) - Vec2::splat(0.5));
+                if ((coverage >> s) & 1u32) != 0u32 && z >= 0.0 && z < 1.0 {
+                    // `& 0x7FFF_FFFF`: -0.0 ranks as 0.0, as in the compute rasteriser.
+                    let depth = z.to_bits() & 0x7FFF_FFFFu32;
+                    let packed = ((!depth as u64) << 32u32) | ((!input.id) as u64);
+                    VIS64[first + s].fetch_max(packed);
+                }
+            }
         }
     }
 

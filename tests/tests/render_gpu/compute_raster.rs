@@ -25,7 +25,9 @@
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use renderer::extend::{ComputeRasterCounts, ComputeRasterPass};
 use renderer::frame::default_camera;
-use renderer::frame::{FrameCamera, RenderPath, Renderer, RendererConfig, create_target};
+use renderer::frame::{
+    FrameCamera, RenderPath, Renderer, RendererConfig, VisibilityRaster, create_target,
+};
 use renderer::passes::visibility::VisShadePass;
 use renderer::scene::{Aabb, AlphaMode, Instance, Mesh, Primitive, Scene};
 use tests::gpu::gpu_test;
@@ -70,11 +72,13 @@ fn both_ids_at(
     (width, height, msaa): (u32, u32, u32),
     small_area: u32,
 ) -> (Vec<u32>, Vec<u32>, ComputeRasterCounts) {
+    // The frame's own raster is the hardware's, whose IDs the pass is compared with.
     let config = RendererConfig {
         width,
         height,
         msaa,
         path: RenderPath::Visibility,
+        visibility_raster: VisibilityRaster::Hardware,
         ..Default::default()
     };
     gpu_test(|gpu| {

@@ -1,9 +1,10 @@
 //! The build-time SPIR-V of `shaders_gen`'s variants: every one passes `spirv-val`, and the
 //! variants that use the `sample_mask` built-in, whose fragment stages a Vulkan driver is given
-//! as these words (`shader_bind::driver_module`), are exactly the blended ones over the
-//! compute rasteriser's samples.
+//! as these words (`shader_bind::driver_module`), are exactly the blended and the alpha-masked
+//! ones over the compute rasteriser's samples.
 use shaders_gen::forward::forward;
 use shaders_gen::particles::particle_draw;
+use shaders_gen::visibility::vis_raster;
 
 /// `spirv-val`'s verdict on `words` for Vulkan 1.1 (SPIR-V up to 1.3); an error also where
 /// it cannot run (`cargo xtask test` installs it).
@@ -43,20 +44,23 @@ fn every_shaders_gen_variant_passes_spirv_val() {
 }
 
 /// The variants that use `sample_mask` are exactly the blended ones over the compute
-/// rasteriser's samples (`fs_forward_vis64`, at each sample count, plain and scalarized), and
-/// their SPIR-V declares it as an array, where naga's own SPIR-V of the same WGSL, which wgpu
-/// would give the driver, declares a scalar that `spirv-val` refuses.
+/// rasteriser's samples (`fs_forward_vis64`, at each sample count, plain and scalarized) and the
+/// alpha-masked draws that merge into them (`fs_vis64`, at each sample count), and their SPIR-V
+/// declares it as an array, where naga's own SPIR-V of the same WGSL, which wgpu would give the
+/// driver, declares a scalar that `spirv-val` refuses.
 #[test]
-fn only_the_blended_variants_over_the_compute_rasterisers_samples_use_the_sample_mask() {
+fn only_the_variants_over_the_compute_rasterisers_samples_use_the_sample_mask() {
     let users: Vec<_> = (forward::VARIANTS.iter().chain(particle_draw::VARIANTS))
+        .chain(vis_raster::VARIANTS)
         .filter(|v| v.uses_sample_mask())
         .collect();
     let names: Vec<_> = users.iter().map(|v| v.name()).collect();
-    assert_eq!(users.len(), 8, "{names:?}");
+    assert_eq!(users.len(), 12, "{names:?}");
+    let blended = |n: &str| n.contains("_blend") && n.ends_with("_vis64");
+    let masked = |n: &str| n.starts_with("mask_vis64_msaa");
     assert!(
-        names
-            .iter()
-            .all(|n| n.contains("_blend") && n.ends_with("_vis64")),
+        names.iter().filter(|n| blended(n)).count() == 8
+            && names.iter().filter(|n| masked(n)).count() == 4,
         "{names:?}"
     );
     let v = forward::variant(forward::VariantKey {

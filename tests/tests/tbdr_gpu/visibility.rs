@@ -52,11 +52,10 @@ fn the_visibility_path_equals_naive_forward_at_msaa_1_and_4() {
                          {over} of {} pixels over {VIS_MAX}",
                         d.len()
                     );
-                    let largest_ok = match raster {
-                        VisibilityRaster::Hardware => largest <= VIS_MAX,
-                        VisibilityRaster::Compute => {
-                            over * 1000 <= d.len() * COMPUTE_OVER_PER_THOUSAND
-                        }
+                    let largest_ok = if raster == VisibilityRaster::Hardware {
+                        largest <= VIS_MAX
+                    } else {
+                        over * 1000 <= d.len() * COMPUTE_OVER_PER_THOUSAND
                     };
                     assert!(
                         mean <= VIS_MEAN && p99 <= VIS_P99 && largest_ok,

@@ -13,7 +13,7 @@
 
 use codegen::Compiled;
 use codegen::interp::{Address, Compare, Dispatch, HostSampler, Schedule};
-use renderer::frame::{RenderPath, Renderer, create_target};
+use renderer::frame::{RenderPath, Renderer, RendererConfig, VisibilityRaster, create_target};
 use renderer::passes::visibility::VisShadePass;
 use tests::gpu::gpu_test;
 use tests::host_replay::{BindingsProbe, BoundInputs, rgba_texels};
@@ -52,10 +52,15 @@ fn compile(frame_source: &str) -> Compiled {
     compiled.unwrap_or_else(|e| panic!("{name} does not compile: {e}"))
 }
 
-/// One lavapipe frame of the courtyard on the visibility path: what the shading kernel bound,
-/// its HDR output among them.
+/// One lavapipe frame of the courtyard on the visibility path with the hardware raster (the
+/// host replays the variant that reads its targets): what the shading kernel bound, its HDR
+/// output among them.
 fn gpu_frame(msaa: u32, scalarize: bool) -> BoundInputs {
     let (scene, lights, camera, config) = courtyard_frame(RenderPath::Visibility, msaa, scalarize);
+    let config = RendererConfig {
+        visibility_raster: VisibilityRaster::Hardware,
+        ..config
+    };
     gpu_test(|gpu| {
         let mut renderer = Renderer::new(gpu, config).expect("renderer");
         renderer.prepare_scene(&scene).expect("the scene fits");

@@ -58,11 +58,14 @@ impl Running {
                     ParticleLighting::PerPixel => ParticleLighting::Atlas,
                 }
             }
-            // The visibility path's rasteriser (a device without 64-bit atomics refuses it).
+            // The visibility path's rasteriser (a device without 64-bit atomics refuses the
+            // compute one). The configuration shown is the renderer's, `Auto` made concrete.
             'r' => {
                 config.visibility_raster = match config.visibility_raster {
-                    VisibilityRaster::Hardware => VisibilityRaster::Compute,
                     VisibilityRaster::Compute => VisibilityRaster::Hardware,
+                    VisibilityRaster::Auto | VisibilityRaster::Hardware => {
+                        VisibilityRaster::Compute
+                    }
                 }
             }
             'o' => {
@@ -99,7 +102,7 @@ impl Running {
         }
         match self.renderer.reconfigure(config) {
             Ok(()) => {
-                self.config = config;
+                self.config = *self.renderer.config();
                 self.message = None;
             }
             // A combination the renderer refuses (a heatmap of the naive path): say so.

@@ -70,9 +70,10 @@ pub struct Args {
     /// (the reference).
     #[arg(long, default_value = "atlas")]
     pub particle_lighting: String,
-    /// hardware | compute: what rasterises the visibility path's opaque triangles (compute:
-    /// kernels with 64-bit atomics, on adapters with them).
-    #[arg(long, default_value = "hardware")]
+    /// auto | hardware | compute: what rasterises the visibility path's opaque triangles
+    /// (compute: kernels with 64-bit atomics, on adapters with them; auto: compute where the
+    /// adapter has them, else hardware).
+    #[arg(long, default_value = "auto")]
     pub vis_raster: String,
     /// Side of the particle lighting atlas in texels (a power of two); 0: 2048, or more when
     /// the pool needs it.

@@ -66,17 +66,15 @@ impl VisRasterPass {
                 supported,
             }));
         }
+        // The renderer makes `Auto` concrete before it builds passes; left as it is, it reads as
+        // the hardware raster, as `RendererConfig::reads_compute_samples` does.
         let compute = match config.visibility_raster {
-            VisibilityRaster::Hardware => None,
+            VisibilityRaster::Auto | VisibilityRaster::Hardware => None,
             VisibilityRaster::Compute => Some(ComputeStage::new(gpu, config)?),
         };
         // Under the compute rasteriser the masked draws add their samples to its buffer.
         let vis64 = compute.is_some();
-        let program = |alpha_mask, vis64| {
-            let variant = vis_raster::variant(vis_raster::VariantKey { alpha_mask, vis64 })?;
-            Ok::<_, RenderError>(gpu.program(variant)?)
-        };
-        let (program, mask_program) = (program(false, false)?, program(true, vis64)?);
+        let (program, mask_program) = raster_programs(gpu, config, vis64)?;
         let ids_target = [Some(wgpu::ColorTargetState {
             format: VISIBILITY_FORMAT,
             blend: None,
@@ -355,6 +353,33 @@ impl Pass for VisRasterPass {
         });
         Ok(())
     }
+}
+
+/// The plain program and the masked one (with `vis64`, the variant that merges into the compute
+/// rasteriser's buffer, at the frame's sample count, which the compute stage checked).
+fn raster_programs(
+    gpu: &GpuContext,
+    config: &RendererConfig,
+    vis64: bool,
+) -> Result<(ShaderProgram, ShaderProgram), RenderError> {
+    let program = |alpha_mask, vis64| {
+        let msaa = match vis64 {
+            true => vis_raster::Msaa::from_value(config.msaa).ok_or_else(|| {
+                RenderError::Config(ConfigError::SampleCount {
+                    asked: config.msaa,
+                    supported: vec![1, 2, 4, 8],
+                })
+            })?,
+            false => vis_raster::Msaa::Msaa0,
+        };
+        let key = vis_raster::VariantKey {
+            alpha_mask,
+            vis64,
+            msaa,
+        };
+        Ok::<_, RenderError>(gpu.program(vis_raster::variant(key)?)?)
+    };
+    Ok((program(false, false)?, program(true, vis64)?))
 }
 
 /// The first half's depth target and ID target (the hardware raster's).
