@@ -2,8 +2,7 @@
 //! into a buffer of 64-bit atomics, one per sample, depth above the triangle ID.
 
 /// Compute rasterisation of the scene's opaque triangles into `VIS64`, one `u64` a sample
-/// (`(y × width + x) × msaa + s`), for the adapters with 64-bit atomic min/max (wgpu's
-/// `SHADER_INT64_ATOMIC_MIN_MAX`).
+/// (`(y × width + x) × msaa + s`), on adapters with `SHADER_INT64_ATOMIC_MIN_MAX`.
 ///
 /// A sample holds `(!depth_bits << 32) | !id`, merged with `fetch_max`: the nearest depth wins,
 /// and at equal depth the smallest ID. The buffer is cleared to 0, which no written value is
@@ -22,28 +21,22 @@
 /// edge's function from its lower-numbered vertex (so both get the same bits, FMA contraction
 /// or not), one negates it exactly, and `owns_edge` applies the top-left rule.
 ///
-/// What the hardware raster does and this rasteriser must also do: back faces are culled
-/// where the draw's batch culls them (its class, `CLASSES`, with the batch's double-sidedness
-/// and mirroring), depth outside `[0, 1)` is dropped, and the samples are the standard
-/// pattern's (`sample_pattern`). Masked and blended draws are not in `CLASSES` (class 0): the
-/// hardware raster draws them. Like the hardware raster, it draws only the slots scene
-/// culling kept: a draw's class also holds its slot, whose instance count in `SLOT_ARGS` (the
-/// half's indirect arguments, slot by slot) is 0 where culling left it out. So under occlusion
-/// culling it runs once for each half, the second over the first's samples.
+/// Like the hardware raster, it culls back faces where the draw's batch does (its class,
+/// `CLASSES`), drops depth outside `[0, 1)`, samples at the standard positions
+/// (`sample_pattern`), leaves masked and blended draws (class 0) to the hardware raster, and
+/// draws only the slots scene culling kept: a class holds its draw's slot, whose instance
+/// count in the half's `SLOT_ARGS` is 0 where culling left it out (under occlusion culling it
+/// runs once a half, the second over the first's samples).
 ///
-/// The triangles are dispatched by chunk (`CHUNKS`, listed by the host for the draws of a
-/// class): a workgroup takes up to `TRIANGLE_WORKGROUP` triangles of one draw, so a chunk of a
-/// draw culling left out costs its workgroup three loads, and no triangle searches for its
-/// draw.
-///
-/// Work is split by size. `raster_triangles`, one invocation a triangle of a chunk, rasterises a triangle
-/// whose pixel box covers at most `small_area` pixels itself, and lists a larger one (or one
-/// that crosses the eye plane, whose box is the screen) in `LARGE`, set up, with one `ITEMS`
-/// entry per 16×16 tile of its box (written by the whole workgroup, empty where the tile lies
-/// outside one of its edges); `tile_args` writes the indirect dispatch, and `raster_tiles`, one
-/// workgroup an item, rasterises one tile of one large triangle, one invocation a pixel.
-/// Triangles past `LARGE`'s or `ITEMS`' capacity are counted in `COUNTERS[OVERFLOW]` and their
-/// items made empty, so nothing stale is drawn and the host can report what was left out.
+/// `raster_triangles` takes a chunk a workgroup (`CHUNKS`, listed by the host: up to
+/// `TRIANGLE_WORKGROUP` triangles of one draw; a culled draw's chunk ends after three loads),
+/// an invocation a triangle. It rasterises a triangle whose pixel box covers at most
+/// `small_area` pixels itself, and lists a larger one (or one crossing the eye plane, whose box
+/// is the screen) in `LARGE`, set up, with an `ITEMS` entry per 16×16 tile of its box (written
+/// by the whole workgroup, empty where the tile lies outside an edge). `tile_args` writes the
+/// indirect dispatch of `raster_tiles`, a workgroup an item, an invocation a pixel. Triangles
+/// past `LARGE`'s or `ITEMS`' capacity are counted in `COUNTERS[OVERFLOW]` and their items made
+/// empty, so nothing stale is drawn and the host can report what was left out.
 #[shader_dsl::shader(
     axes(msaa: u32 = [1, 2, 4, 8] => "msaa"),
     uses(
@@ -57,8 +50,7 @@ pub mod vis_compute_raster {
     pub const TRIANGLE_WORKGROUP: u32 = 64;
     /// Side of a large triangle's tiles, in pixels (`raster_tiles`' workgroup).
     pub const TILE: u32 = 16;
-    /// Workgroups in a row of `raster_tiles`' and `raster_triangles`' dispatches (item or
-    /// chunk `x + y × TILE_ROW`).
+    /// Workgroups in a row of the tiles' and chunks' dispatches (`x + y × TILE_ROW`).
     pub const TILE_ROW: u32 = 32768;
     /// A draw's class: rasterised here.
     pub const RASTERISE: u32 = 1;
@@ -74,6 +66,8 @@ pub mod vis_compute_raster {
     pub const ITEM_COUNT: u32 = 1;
     /// `COUNTERS[OVERFLOW]`: large triangles left out, `LARGE` or `ITEMS` being full.
     pub const OVERFLOW: u32 = 2;
+    /// `TILE_ARGS[LATE_ARGS..]`: the late half's `raster_triangles` dispatch.
+    pub const LATE_ARGS: u32 = 4;
     /// An `ITEMS` entry that rasterises nothing.
     pub const NO_ITEM: u32 = 0xFFFF_FFFF;
 
@@ -83,15 +77,13 @@ pub mod vis_compute_raster {
         pub height: u32,
         /// Entries of `CHUNKS`.
         pub chunks: u32,
-        /// Triangles whose pixel box covers at most this many pixels are rasterised by one
-        /// invocation; larger ones by tiles.
+        /// The largest pixel box one invocation rasterises (larger: by tiles).
         pub small_area: u32,
         /// Entries of `LARGE`.
         pub large_capacity: u32,
         /// Entries of `ITEMS`.
         pub item_capacity: u32,
-        /// 1: every draw of a class is rasterised, whatever `SLOT_ARGS` says; 0: only the
-        /// slots with an instance.
+        /// 1: every draw with a class, whatever `SLOT_ARGS` says; 0: the slots with an instance.
         pub every_slot: u32,
         pub pad: u32,
     }
@@ -180,9 +172,13 @@ pub mod vis_compute_raster {
     /// One a tile of a large triangle: its `LARGE` entry and the tile's number in its box.
     #[storage(group = 0, binding = 6, read_write)]
     static ITEMS: [UVec2];
-    /// `raster_tiles`' indirect dispatch.
+    /// Indirect dispatches: `raster_tiles`' in words 0 to 2; under occlusion culling, the late
+    /// half's `raster_triangles`' in words `LATE_ARGS..LATE_ARGS + 3`.
     #[storage(group = 0, binding = 7, read_write)]
     static TILE_ARGS: [u32];
+    /// Occlusion culling's slots drawn by its first phase and by either (the late half's).
+    #[storage(group = 0, binding = 10)]
+    static DRAWN: [u32];
 
     /// Whether the sample at `at` = NDC `(x, y, 1)` is inside edge `e`. On the edge, the
     /// top-left rule of Vulkan and D3D: a left edge (the inside to its right, `e.x > 0`) or a
@@ -344,10 +340,8 @@ pub mod vis_compute_raster {
     }
 
     /// One chunk, an invocation a triangle: small ones rasterised here, large ones listed by
-    /// tile. The workgroup writes its large triangles' tile items together, an invocation an
-    /// item, so a triangle of thousands of tiles (one across the screen, or crossing the eye
-    /// plane) is not listed by one invocation alone; a tile its triangle cannot touch is
-    /// listed empty.
+    /// tile, by the whole workgroup (an invocation an item: a triangle across the screen has
+    /// thousands), a tile its triangle cannot touch listed empty.
     #[compute(workgroup_size(64, 1, 1))]
     pub fn raster_triangles(
         #[builtin(workgroup_id)] group: UVec3,
@@ -457,6 +451,16 @@ pub mod vis_compute_raster {
         TILE_ARGS[0] = items.min(TILE_ROW);
         TILE_ARGS[1] = (items + TILE_ROW - 1u32) / TILE_ROW;
         TILE_ARGS[2] = 1u32;
+    }
+
+    /// The late half's `raster_triangles` dispatch: every chunk where occlusion culling's
+    /// second phase drew a slot the first did not, none otherwise (a still camera's frames).
+    #[compute(workgroup_size(1, 1, 1))]
+    pub fn late_triangle_args() {
+        let late = DRAWN[1] > DRAWN[0];
+        TILE_ARGS[LATE_ARGS] = select(late, PARAMS.chunks.min(TILE_ROW), 0u32);
+        TILE_ARGS[LATE_ARGS + 1u32] = (PARAMS.chunks + TILE_ROW - 1u32) / TILE_ROW;
+        TILE_ARGS[LATE_ARGS + 2u32] = 1u32;
     }
 
     /// One tile of one large triangle, an invocation a pixel.

@@ -47,6 +47,7 @@ pub struct ComputeRasterPass {
     program: ShaderProgram,
     triangles: wgpu::ComputePipeline,
     args: wgpu::ComputePipeline,
+    late_args: wgpu::ComputePipeline,
     tiles: wgpu::ComputePipeline,
     params: wgpu::Buffer,
     msaa: u32,
@@ -113,6 +114,7 @@ impl ComputeRasterPass {
         Ok(Self {
             triangles: pipeline("raster_triangles")?,
             args: pipeline("tile_args")?,
+            late_args: pipeline("late_triangle_args")?,
             tiles: pipeline("raster_tiles")?,
             program,
             params,
@@ -200,12 +202,12 @@ fn classes_and_chunks(layout: &BatchLayout, triangles: &[u32]) -> (Vec<u32>, Vec
 }
 
 impl ComputeRasterPass {
-    /// Group 0 over `b` and the half's slot arguments, after writing this frame's parameters
-    /// (the same for both halves).
+    /// Group 0 over `b`, the half's slot arguments and occlusion culling's counters of slots
+    /// drawn (`drawn`), after writing this frame's parameters (the same for both halves).
     fn group0(
         &self,
         frame: &FrameInputs,
-        (b, slot_args): (&Buffers, &wgpu::Buffer),
+        (b, slot_args, drawn): (&Buffers, &wgpu::Buffer, &wgpu::Buffer),
     ) -> Result<wgpu::BindGroup, RenderError> {
         let (c, s) = (&frame.config, b.sizing);
         let params = kernels::RasterParams::new(
@@ -233,6 +235,7 @@ impl ComputeRasterPass {
             tile_args: b.tile_args.as_entire_buffer_binding(),
             slot_args: slot_args.as_entire_buffer_binding(),
             chunks: b.chunks.as_entire_buffer_binding(),
+            drawn: drawn.as_entire_buffer_binding(),
         };
         Ok(self.program.bind_group(
             frame.gpu.device(),
@@ -284,14 +287,24 @@ impl ComputeRasterPass {
             b.chunk_count = chunks.len() as u32;
             b.classes_of = Some((Arc::downgrade(&list.layout), revision));
         }
+        // The late half dispatches its triangles only where occlusion culling's second phase
+        // drew a slot the first did not; elsewhere `DRAWN` is unread.
+        let drawn = match half {
+            RasterHalf::Late(_) => list.occlusion.as_ref().map(|o| &o.visible),
+            RasterHalf::First => None,
+        };
         let recording = Arc::new(Recording {
             pipelines: [
                 self.triangles.clone(),
                 self.args.clone(),
                 self.tiles.clone(),
+                self.late_args.clone(),
             ],
             groups: [
-                self.group0(frame, (b, &list.slot_args))?,
+                self.group0(
+                    frame,
+                    (b, &list.slot_args, drawn.unwrap_or(&list.slot_args)),
+                )?,
                 frame.instances.draw_group_for(device, &self.program)?,
                 geometry_group(device, &self.program, &frame.scene, draw_geometry)?,
             ],
@@ -301,6 +314,7 @@ impl ComputeRasterPass {
             indirect: b.indirect.clone(),
             chunks: b.chunk_count,
             clear_samples: matches!(half, RasterHalf::First),
+            late_dispatch: drawn.is_some(),
         });
         let vis64 = b.vis64.clone();
         drop(guard);
@@ -372,8 +386,8 @@ impl Pass for ComputeRasterPass {
 
 /// What one frame of the pass records with.
 struct Recording {
-    /// `raster_triangles`, `tile_args`, `raster_tiles`.
-    pipelines: [wgpu::ComputePipeline; 3],
+    /// `raster_triangles`, `tile_args`, `raster_tiles`, `late_triangle_args`.
+    pipelines: [wgpu::ComputePipeline; 4],
     /// Groups 0, 1 and 3 (the module binds nothing at 2).
     groups: [wgpu::BindGroup; 3],
     vis64: wgpu::Buffer,
@@ -384,6 +398,8 @@ struct Recording {
     chunks: u32,
     /// Whether the samples are cleared first (the first half).
     clear_samples: bool,
+    /// Whether the triangles are dispatched from `late_triangle_args` (the late half).
+    late_dispatch: bool,
 }
 
 impl Recording {
@@ -394,26 +410,45 @@ impl Recording {
             ctx.encoder.clear_buffer(&self.vis64, 0, None);
         }
         ctx.encoder.clear_buffer(&self.counters, 0, None);
-        let [triangles, args, _] = &self.pipelines;
+        let [triangles, args, _, late_args] = &self.pipelines;
+        // `TILE_ARGS` is bound read-write to every entry point: a dispatch reads a copy.
+        let late = u64::from(kernels::LATE_ARGS) * 4;
+        if self.late_dispatch {
+            {
+                let mut pass = self.begin(ctx, "compute raster late dispatch");
+                pass.set_pipeline(late_args);
+                pass.dispatch_workgroups(1, 1, 1);
+            }
+            ctx.encoder.copy_buffer_to_buffer(
+                &self.tile_args,
+                late,
+                &self.indirect,
+                late,
+                Some(12),
+            );
+        }
         {
             let mut pass = self.begin(ctx, "compute raster");
             pass.set_pipeline(triangles);
-            pass.dispatch_workgroups(
-                self.chunks.min(kernels::TILE_ROW),
-                self.chunks.div_ceil(kernels::TILE_ROW),
-                1,
-            );
+            if self.late_dispatch {
+                pass.dispatch_workgroups_indirect(&self.indirect, late);
+            } else {
+                pass.dispatch_workgroups(
+                    self.chunks.min(kernels::TILE_ROW),
+                    self.chunks.div_ceil(kernels::TILE_ROW),
+                    1,
+                );
+            }
             pass.set_pipeline(args);
             pass.dispatch_workgroups(1, 1, 1);
         }
-        // `TILE_ARGS` is bound read-write to every entry point: the dispatch reads a copy.
         ctx.encoder
             .copy_buffer_to_buffer(&self.tile_args, 0, &self.indirect, 0, Some(12));
     }
 
     /// Rasterises the large triangles' tiles.
     fn record_tiles(&self, ctx: &mut PassContext<'_>) {
-        let [_, _, tiles] = &self.pipelines;
+        let [_, _, tiles, _] = &self.pipelines;
         let mut pass = self.begin(ctx, TILES_PASS);
         pass.set_pipeline(tiles);
         pass.dispatch_workgroups_indirect(&self.indirect, 0);

@@ -24,7 +24,7 @@ pub(super) struct Buffers {
     pub(super) large: wgpu::Buffer,
     pub(super) items: wgpu::Buffer,
     pub(super) tile_args: wgpu::Buffer,
-    /// `tile_args` copied, for the indirect dispatch.
+    /// `tile_args` copied, for the indirect dispatches.
     pub(super) indirect: wgpu::Buffer,
     pub(super) classes: wgpu::Buffer,
     /// `raster_triangles`' chunks (written with `classes`), and how many are listed.
@@ -143,11 +143,11 @@ impl Buffers {
                 u64::from(sizing.item_capacity) * 8,
                 none,
             ),
-            tile_args: storage(device, "compute raster tile args", 16, none),
+            tile_args: storage(device, "compute raster tile args", 32, none),
             indirect: storage(
                 device,
-                "compute raster tiles",
-                16,
+                "compute raster indirect dispatches",
+                32,
                 wgpu::BufferUsages::INDIRECT,
             ),
             classes: storage(
