@@ -63,7 +63,7 @@ pub mod vis_raster {
 
     #[uniform(group = 0, binding = 0)]
     static CAMERA: Camera;
-    /// The compute rasteriser's samples and the frame's size and sample count (`vis64`).
+    /// The compute rasteriser's samples and the frame's width (`vis64`).
     #[storage(group = 0, binding = 1, read_write)]
     #[when(vis64)]
     static VIS64: [Atomic<u64>];
@@ -71,11 +71,10 @@ pub mod vis_raster {
     #[when(vis64)]
     static SAMPLES: SampleLayout;
 
-    /// Where a sample is in `VIS64`: `(y × width + x) × msaa + s`.
+    /// Where a sample is in `VIS64`: `(y × width + x) × msaa + s` (`msaa` the variant's).
     pub struct SampleLayout {
         pub width: u32,
-        pub msaa: u32,
-        pub pad: UVec2,
+        pub pad: UVec3,
     }
 
     #[vertex]

@@ -197,7 +197,7 @@ impl VisRasterPass {
         let layout = match (vis64, &self.sample_layout) {
             (Some(_), Some(layout)) => {
                 let c = &frame.config;
-                let params = vis_raster::SampleLayout::new(c.width, c.msaa, glam::UVec2::ZERO);
+                let params = vis_raster::SampleLayout::new(c.width, glam::UVec3::ZERO);
                 frame
                     .gpu
                     .queue()
