@@ -37,8 +37,9 @@ struct State {
     settings: Settings,
     showcase: Showcase,
     renderer: Renderer,
-    /// The renderer's output (`Rgba8UnormSrgb`), copied onto the canvas: the canvas takes
-    /// no sRGB format, and a copy between the two keeps the encoded bytes.
+    /// The renderer's output (`Rgba8UnormSrgb`, stored as `Rgba8Unorm` where the compute
+    /// tonemap writes it: `create_target`), copied onto the canvas: the canvas takes no sRGB
+    /// format, and a copy keeps the encoded bytes.
     target: wgpu::Texture,
     orbit: Orbit,
     /// The newest frame's per-pass GPU timings (empty without timestamp queries).

@@ -73,9 +73,25 @@ pub fn scene_camera(
 }
 
 /// A texture the renderer can draw a frame into (`config.output_format`, the configured size),
-/// readable back with [`crate::readback::read_texture_rgba8`]; it takes copies, so the tonemap
-/// can run in compute ([`RendererConfig::compute_tonemap`]).
+/// readable back with [`crate::readback::read_texture_rgba8`].
+///
+/// It is a render attachment and takes copies. Where the compute tonemap serves the output
+/// format ([`RendererConfig::compute_tonemap`], `Rgba8Unorm` or `Rgba8UnormSrgb`), it is also a
+/// storage image, which the kernel writes without a copy: an `Rgba8UnormSrgb` output is then
+/// stored as `Rgba8Unorm` with `Rgba8UnormSrgb` among its view formats (a storage image
+/// cannot be sRGB), and holds the same sRGB-encoded bytes. View it as
+/// `config.output_format` to sample or display it as sRGB.
 pub fn create_target(device: &wgpu::Device, config: &RendererConfig) -> wgpu::Texture {
+    let storage = config.compute_tonemap
+        && config.output_format.remove_srgb_suffix() == wgpu::TextureFormat::Rgba8Unorm;
+    let (format, storage_usage) = if storage {
+        (
+            wgpu::TextureFormat::Rgba8Unorm,
+            wgpu::TextureUsages::STORAGE_BINDING,
+        )
+    } else {
+        (config.output_format, wgpu::TextureUsages::empty())
+    };
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some("frame target"),
         size: wgpu::Extent3d {
@@ -86,10 +102,15 @@ pub fn create_target(device: &wgpu::Device, config: &RendererConfig) -> wgpu::Te
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
-        format: config.output_format,
+        format,
         usage: wgpu::TextureUsages::RENDER_ATTACHMENT
             | wgpu::TextureUsages::COPY_SRC
-            | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
+            | wgpu::TextureUsages::COPY_DST
+            | storage_usage,
+        view_formats: if format == config.output_format {
+            &[]
+        } else {
+            std::slice::from_ref(&config.output_format)
+        },
     })
 }

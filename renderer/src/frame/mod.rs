@@ -34,7 +34,9 @@
 //! renderer.set_lights(&lights)?;
 //!
 //! // The engine's own target: any texture of `config.output_format` with RENDER_ATTACHMENT,
-//! // and COPY_DST for the compute tonemap (this helper makes one of the configured size).
+//! // and COPY_DST for the compute tonemap; or, for an sRGB format, one stored as its linear
+//! // twin with STORAGE_BINDING and the sRGB format among its view formats, which the compute
+//! // tonemap writes without a copy (this helper makes one of the configured size).
 //! let target = renderer::frame::create_target(gpu.device(), &config);
 //! let camera = framing_camera(scene.bounds, 1280.0 / 720.0);
 //! let report = renderer.render(&camera, &target)?;
@@ -360,6 +362,7 @@ impl Renderer {
             capture: self.capture_request.take(),
             index: self.frame_index,
             target_usage: target.usage(),
+            target_format: target.format(),
         };
         let upload_started = Instant::now();
         self.camera_uniform.write(self.gpu.queue(), camera);
@@ -429,11 +432,12 @@ impl Renderer {
     }
 }
 
-/// `target` is a texture of `config`'s size and output format.
+/// `target` is a texture of `config`'s size and output format (or that format's linear twin,
+/// `crate::frame_data::target_takes`).
 fn check_target(config: &RendererConfig, target: &wgpu::Texture) -> Result<(), RenderError> {
     let size = target.size();
     if (size.width, size.height) != (config.width, config.height)
-        || target.format() != config.output_format
+        || !crate::frame_data::target_takes(config.output_format, target.format())
     {
         return Err(RenderError::Input(InputError::TargetMismatch {
             actual: (size.width, size.height),

@@ -127,6 +127,7 @@ impl Renderer {
                 camera_uniform: view.camera_uniform.clone(),
                 capture: None,
                 target_usage: v.target.usage(),
+                target_format: v.target.format(),
                 ..main.clone()
             };
             for pass in &mut view.passes {

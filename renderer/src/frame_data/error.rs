@@ -365,11 +365,13 @@ pub enum InputError {
         /// The particle system problem.
         crate::particles::ParticleError,
     ),
-    /// The render target's size or format differs from the configuration's.
+    /// The render target's size or format differs from the configuration's (an sRGB output
+    /// format also takes a target stored as its linear twin).
     #[error(
         "the target texture is {actual:?} {actual_format:?}; this renderer draws {expected:?} \
          {expected_format:?} (resize the renderer or the target, or set \
-         RendererConfig::output_format)"
+         RendererConfig::output_format; an sRGB format also takes a target stored as its linear \
+         twin, with the sRGB format among its view formats)"
     )]
     TargetMismatch {
         /// The target's (width, height), in pixels.

@@ -48,6 +48,9 @@ pub struct FrameInputs {
     /// The usages of the texture this view is drawn into (the tonemap writes it from a compute
     /// kernel where it has `STORAGE_BINDING` or `COPY_DST`).
     pub target_usage: wgpu::TextureUsages,
+    /// The format that texture is stored as: the configuration's output format, or its linear
+    /// twin (`Rgba8Unorm` for `Rgba8UnormSrgb`, which can be a storage image).
+    pub target_format: wgpu::TextureFormat,
 }
 
 impl FrameInputs {

@@ -41,6 +41,7 @@ pub use draw_batches::{BatchKey, DrawPlace, NoRoom};
 pub use draw_batches::{BatchLayout, DrawBatch, NO_DRAW, draw_place};
 pub use error::{ConfigError, DeviceError, InputError, RenderError};
 pub use formats::{DEPTH_FORMAT, GBUFFER_FORMATS, HDR_FORMAT, VISIBILITY_FORMAT};
+pub(crate) use formats::{output_view, target_takes};
 pub use inputs::{FrameInputs, ParticleInput};
 pub use instances::{DrawItem, InstanceEditError, InstanceHandle, InstanceState, InstanceTable};
 #[cfg(any(test, feature = "internals"))]

@@ -315,7 +315,9 @@ pub struct GBufferHandles {
 /// What the passes of one frame have produced so far.
 #[derive(Debug)]
 pub struct FrameResources {
-    /// The caller's target texture (imported).
+    /// The caller's target texture (imported). It may be stored as the output format's
+    /// linear twin ([`FrameInputs::target_format`](crate::frame_data::FrameInputs)): view it
+    /// with `format: Some(config.output_format)` to draw into it.
     pub output: Handle<Texture>,
     /// The multisampled depth buffer (pre-Z, the visibility raster pass's, or the naive forward
     /// pass's own; under the compute rasteriser, resolved from its samples only for a pass that

@@ -120,7 +120,7 @@ impl Pass for HeatmapPass {
             .ok_or(missing("light lists"))?;
         let depth = resources.depth.ok_or(missing("depth buffer"))?;
         self.write_params(frame, lists.method);
-        let target = resources.output;
+        let (target, output_format) = (resources.output, frame.config.output_format);
         let needs_depth = self.needs_depth;
         let program = self.program.clone();
         let (pipeline, params) = (self.pipeline.clone(), self.params.clone());
@@ -134,7 +134,7 @@ impl Pass for HeatmapPass {
         pass.execute(move |ctx| {
             let depth_view =
                 needs_depth.then(|| ctx.texture(depth).create_view(&Default::default()));
-            let out_view = ctx.texture(target).create_view(&Default::default());
+            let out_view = crate::frame_data::output_view(ctx.texture(target), output_format);
             let group = heatmap::Group0 {
                 params: params.as_entire_buffer_binding(),
                 light_set: lights.bindings(),

@@ -4,12 +4,13 @@
 //! Two ways, the same image (within one 8-bit step: the compute kernel encodes sRGB itself):
 //! - **a compute kernel** (`shaders_gen::forward::tonemap_compute`), where
 //!   [`RendererConfig::compute_tonemap`] is set (the default) and the output format is
-//!   `Rgba8Unorm` or `Rgba8UnormSrgb`: it writes an `Rgba8Unorm` target with `STORAGE_BINDING`
-//!   itself; otherwise it writes an internal `Rgba8Unorm` storage image, and a copy puts it
-//!   into a target with `COPY_DST` ([`crate::frame::create_target`] gives it; storage images
-//!   cannot be sRGB, but the two formats copy into each other). On GPUs whose fragment rate is
-//!   far below their compute rate the kernel costs a tenth of the fragment pass, and the copy
-//!   half of it (BENCHMARKS.md).
+//!   `Rgba8Unorm` or `Rgba8UnormSrgb`: it writes a target stored as `Rgba8Unorm` with
+//!   `STORAGE_BINDING` itself, encoding sRGB where the output format is sRGB
+//!   ([`crate::frame::create_target`] gives such a target); otherwise it writes an internal
+//!   `Rgba8Unorm` storage image, and a copy puts it into a target with `COPY_DST` (storage
+//!   images cannot be sRGB, but the two formats copy into each other). On GPUs whose fragment
+//!   rate is far below their compute rate the kernel costs a tenth of the fragment pass, and
+//!   the copy five times the kernel (BENCHMARKS.md).
 //! - **a full-screen fragment pass** (`shaders_gen::forward::tonemap`) everywhere else: a
 //!   target that takes neither (a swap chain with `RENDER_ATTACHMENT` only), other
 //!   output formats (`Bgra8UnormSrgb`, float targets).
@@ -19,7 +20,9 @@ use shaders_gen::forward::{tonemap, tonemap_compute};
 
 use super::{Pass, draw_fullscreen, fullscreen_pipeline, groups_8x8};
 use crate::GpuContext;
-use crate::frame_data::{FrameInputs, FrameResources, FrameView, RenderError, RendererConfig};
+use crate::frame_data::{
+    FrameInputs, FrameResources, FrameView, RenderError, RendererConfig, output_view,
+};
 use crate::graph::{Handle, RenderGraph, Texture, TextureAccess, TextureDesc};
 use crate::shader::ShaderProgram;
 
@@ -149,11 +152,11 @@ enum Route {
     Fragment,
 }
 
-/// How a frame into a target of `format` and `usage` is tonemapped where the compute kernel
-/// exists (`compute_serves`).
-fn route(format: wgpu::TextureFormat, usage: wgpu::TextureUsages) -> Route {
+/// How a frame into a target stored as `stored` with `usage` is tonemapped where the compute
+/// kernel exists (`compute_serves`).
+fn route(stored: wgpu::TextureFormat, usage: wgpu::TextureUsages) -> Route {
     use wgpu::TextureUsages as U;
-    if format == STORAGE_FORMAT && usage.contains(U::STORAGE_BINDING) {
+    if stored == STORAGE_FORMAT && usage.contains(U::STORAGE_BINDING) {
         Route::Direct
     } else if usage.contains(U::COPY_DST) {
         Route::Copied
@@ -202,12 +205,12 @@ impl Pass for TonemapPass {
             .gpu
             .queue()
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
-        let route = route(c.output_format, frame.target_usage);
+        let route = route(frame.target_format, frame.target_usage);
         if let (Some(kernel), Route::Direct | Route::Copied) = (&self.compute, route) {
             self.add_compute(graph, frame, resources, (hdr, route), kernel.clone());
             return Ok(());
         }
-        let target = resources.output;
+        let (target, output_format) = (resources.output, c.output_format);
         let program = self.program.clone();
         let (pipeline, params) = (self.pipeline.clone(), self.params.clone());
         graph
@@ -216,7 +219,7 @@ impl Pass for TonemapPass {
             .write_texture(&mut resources.output, TextureAccess::ColorAttachment)
             .execute(move |ctx| {
                 let hdr_view = ctx.texture(hdr).create_view(&Default::default());
-                let out_view = ctx.texture(target).create_view(&Default::default());
+                let out_view = output_view(ctx.texture(target), output_format);
                 let group = tonemap::Group0 {
                     params: params.as_entire_buffer_binding(),
                     hdr: &hdr_view,

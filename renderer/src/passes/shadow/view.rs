@@ -76,7 +76,7 @@ impl Pass for ShadowAtlasViewPass {
                     contents: bytemuck::cast_slice(&regions),
                     usage: wgpu::BufferUsages::STORAGE,
                 });
-        let target = resources.output;
+        let (target, output_format) = (resources.output, frame.config.output_format);
         let program = self.program.clone();
         let (pipeline, params) = (self.pipeline.clone(), self.params.clone());
         graph
@@ -84,7 +84,7 @@ impl Pass for ShadowAtlasViewPass {
             .read_texture(shadows.atlas, TextureAccess::Sampled)
             .write_texture(&mut resources.output, TextureAccess::ColorAttachment)
             .execute(move |ctx| {
-                let out_view = ctx.texture(target).create_view(&Default::default());
+                let out_view = crate::frame_data::output_view(ctx.texture(target), output_format);
                 let label = "shadow atlas view";
                 let group = shadow_atlas_view::Group0 {
                     params: params.as_entire_buffer_binding(),
