@@ -269,7 +269,9 @@ fn entry_points(span: Span, params: Option<&syn::Type>) -> Vec<syn::Item> {
         },
         syn::parse_quote! {
             /// One pixel (8 × 8 a workgroup): each distinct triangle of its samples whose
-            /// material is this program's, shaded once and weighted by its samples.
+            /// material is this program's, shaded once and weighted by its samples. Round `k`
+            /// shades each pixel's `k`-th distinct ID, so a subgroup shades as many times as
+            /// its pixel with the most IDs, whichever samples hold them.
             #[compute(workgroup_size(8, 8, 1))]
             #[when(msaa > 0 && !blend)]
             pub fn vis_shade(#[builtin(global_invocation_id)] gid: UVec3) {
@@ -277,16 +279,19 @@ fn entry_points(span: Span, params: Option<&syn::Type>) -> Vec<syn::Item> {
                 if vis_on_screen(p) {
                     let mut total = vis_begin(p);
                     let mut kinds = 0u32;
-                    for s in 0u32..msaa {
-                        let id = vis_id_at(p, s);
-                        if vis_first(p, s, id) {
+                    let mut left = vis_all_samples();
+                    for _round in 0u32..msaa {
+                        if left != 0u32 {
+                            let id = vis_id_at(p, left.trailing_zeros());
+                            let seen = vis_samples_of(p, id, left);
+                            left = left ^ seen;
                             kinds += 1u32;
                             if id != 0u32 {
                                 let tri = vis_triangle(id);
                                 if vis_shades(tri) {
                                     let v = vis_point(tri, p);
                                     let point = v.point;
-                                    total += vis_radiance(v, #call) * vis_coverage(p, s, id);
+                                    total += vis_radiance(v, #call) * (seen.count_ones() as f32);
                                 }
                             }
                         }

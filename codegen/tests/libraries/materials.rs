@@ -73,8 +73,11 @@ pub mod mini_vis {
     pub fn vis_id_at(p: UVec2, s: u32) -> u32 {
         p.x + s
     }
-    pub fn vis_first(p: UVec2, s: u32, id: u32) -> bool {
-        s == 0u32
+    pub fn vis_all_samples() -> u32 {
+        1u32
+    }
+    pub fn vis_samples_of(p: UVec2, id: u32, left: u32) -> u32 {
+        left
     }
     pub fn vis_triangle(id: u32) -> SceneTriangle {
         SceneTriangle { draw: id - 1u32 }
@@ -87,9 +90,6 @@ pub mod mini_vis {
     }
     pub fn vis_radiance(v: VisPoint, s: Surface) -> Vec3 {
         s.base_color.xyz() * v.point.world
-    }
-    pub fn vis_coverage(p: UVec2, s: u32, id: u32) -> f32 {
-        1.0
     }
     pub fn vis_finish(p: UVec2, total: Vec3, kinds: u32) {
         if msaa > 0 && !blend {

@@ -23,10 +23,14 @@
 ///    froxel, shadowed), the very code of the forward pass.
 ///
 /// A pixel whose samples all see one triangle (or the sky) is shaded once; otherwise each
-/// distinct triangle once, weighted by the samples it covers (`vis_coverage`), the sky by the
-/// sky's. Each test reads the samples' IDs again (from the texture cache): a version that read
-/// them once into a local array was 8% slower on the H200 (BENCHMARKS.md). The forward pass shades each triangle at the pixel centre and the resolve averages
-/// its samples: the same sum.
+/// distinct triangle once, weighted by the samples it covers (`vis_samples_of`), the sky by
+/// the sky's. The material kernel shades the pixels' first distinct IDs in one round, their
+/// second ones in the next, and so on, so a subgroup shades as many times as its pixel with
+/// the most triangles (a loop over the samples shaded where each ID first appeared, up to a
+/// sample count of times). Each test reads the samples' IDs again (from the texture cache): a
+/// version that read them once into a local array was 8% slower on the H200 (BENCHMARKS.md).
+/// The forward pass shades each triangle at the pixel centre and the resolve averages its
+/// samples: the same sum.
 ///
 /// **Several programs.** Each material program's kernel runs over the whole screen and shades
 /// only the triangles whose material record names its program (`GpuMaterial::program`,
@@ -186,26 +190,24 @@ pub mod vis_frame {
         id
     }
 
-    /// Whether sample `s` is the first of pixel `p` to see `id`.
-    pub fn vis_first(p: UVec2, s: u32, id: u32) -> bool {
-        let mut first = true;
-        for r in 0u32..s {
-            if vis_id_at(p, r) == id {
-                first = false;
-            }
+    /// Every sample of a pixel, as a mask (bit `s`: sample `s`).
+    pub fn vis_all_samples() -> u32 {
+        let mut all = 0u32;
+        if msaa > 0 {
+            all = (1u32 << msaa) - 1u32;
         }
-        first
+        all
     }
 
-    /// How many samples of pixel `p` from `s` on see `id`.
-    pub fn vis_coverage(p: UVec2, s: u32, id: u32) -> f32 {
-        let mut count = 0u32;
-        for r in s..msaa {
-            if vis_id_at(p, r) == id {
-                count += 1u32;
+    /// The samples of `left` (a mask) where pixel `p` sees `id`.
+    pub fn vis_samples_of(p: UVec2, id: u32, left: u32) -> u32 {
+        let mut seen = 0u32;
+        for s in 0u32..msaa {
+            if ((left >> s) & 1u32) != 0u32 && vis_id_at(p, s) == id {
+                seen = seen | (1u32 << s);
             }
         }
-        count as f32
+        seen
     }
 
     /// Scene triangle `id` (not 0, the sky): its draw and vertices.

@@ -7,9 +7,10 @@
 //! image: MSAA 1 and 4, scalarized and plain, at four subgroup sizes and three schedules. Edge
 //! pixels (several triangles) are shaded once per triangle and weighted by coverage on both.
 //!
-//! The mutation: a kernel that weights every distinct triangle of a pixel as the whole pixel
-//! (the coverage count dropped) leaves the host's edge pixels brighter than the GPU's, and no
-//! other pixel changes.
+//! The mutation: a kernel that gives a pixel's first triangle every sample (`vis_samples_of`
+//! returning the samples left, not the ones that see its ID, so the pixel's other triangles
+//! are never shaded) leaves the host's edge pixels unlike the GPU's, and no other pixel
+//! changes.
 
 use codegen::Compiled;
 use codegen::interp::{Address, Compare, Dispatch, HostSampler, Schedule};
@@ -213,15 +214,15 @@ fn host_vis_shade_msaa4_equals_the_gpu_frame_at_four_subgroup_sizes() {
 fn host_vis_shade_plain_equals_the_gpu_frames_and_a_kernel_that_drops_edge_coverage_does_not() {
     check(1, false, &[(8, Schedule::Shuffled(5))]);
     let frame = check(4, false, &[(32, Schedule::InOrder)]);
-    let site = "        count as f32\n";
+    let site = "        seen\n    }\n";
     assert!(VIS_FRAME_SOURCE.contains(site), "the mutation site moved");
-    let mutated = compile(&VIS_FRAME_SOURCE.replacen(site, "        msaa as f32\n", 1));
+    let mutated = compile(&VIS_FRAME_SOURCE.replacen(site, "        left\n    }\n", 1));
     let (gpu, edges, _) = gpu_image(&frame);
     let axes = [("list", 2), ("msaa", 4), ("scalarize", 0)];
     let host = host_image(&mutated, &axes, &frame, 8, Schedule::InOrder);
     let (largest, off) = pixel_difference(&gpu, &host, TOLERANCE);
     eprintln!(
-        "coverage dropped: largest relative difference {largest:.3}, {off} of {edges} edge \
+        "the first triangle given every sample: largest relative difference {largest:.3}, {off} of {edges} edge \
          pixels off"
     );
     assert!(
