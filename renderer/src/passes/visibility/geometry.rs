@@ -30,20 +30,38 @@ pub(super) fn draw_geometry(instances: &InstanceTable) -> Vec<vis_geometry::Draw
         .collect()
 }
 
-/// A storage buffer holding `records` (one record at least: a binding is never empty).
+/// The triangle directory `triangle_of` narrows its search with, to follow `records`: for
+/// each block of `1 << TRIANGLE_BLOCK_SHIFT` triangle IDs, and one past the last, a record
+/// whose `first_index` is the last draw whose first triangle is at or before the block's first.
+pub(super) fn triangle_directory(
+    records: &[vis_geometry::DrawGeometry],
+) -> Vec<vis_geometry::DrawGeometry> {
+    let shift = vis_geometry::TRIANGLE_BLOCK_SHIFT;
+    let triangles = records
+        .last()
+        .map_or(0, |r| r.first_triangle.saturating_add(r.triangle_count));
+    let blocks = (triangles >> shift) + 2;
+    (0..blocks)
+        .map(|b| {
+            let first = b.saturating_mul(1 << shift);
+            let after = records.partition_point(|r| r.first_triangle <= first);
+            let draw = after.saturating_sub(1) as u32;
+            vis_geometry::DrawGeometry::new(draw, 0, 0, 0)
+        })
+        .collect()
+}
+
+/// A storage buffer holding `records` and their triangle directory (one record at least: a
+/// binding is never empty).
 pub(super) fn draw_geometry_buffer(
     device: &wgpu::Device,
     records: &[vis_geometry::DrawGeometry],
 ) -> wgpu::Buffer {
-    let empty = [vis_geometry::DrawGeometry::new(0, 0, 0, 0)];
-    let records = if records.is_empty() {
-        &empty[..]
-    } else {
-        records
-    };
+    let mut contents = records.to_vec();
+    contents.extend(triangle_directory(records));
     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("visibility draw geometry"),
-        contents: bytemuck::cast_slice(records),
+        contents: bytemuck::cast_slice(&contents),
         // COPY_SRC: tools read back what a kernel bound (the tests' host replay).
         usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
     })
@@ -128,5 +146,37 @@ impl SceneState {
                 })
             })
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The directory's draw for each block is the last draw whose first triangle is at or
+    /// before the block's first ID, found here by a walk over every draw; draws without
+    /// triangles (several draws at one first triangle) included.
+    #[test]
+    fn the_triangle_directory_names_the_draw_of_each_blocks_first_triangle() {
+        let block = 1u32 << vis_geometry::TRIANGLE_BLOCK_SHIFT;
+        let counts = [0, 5, block, 0, 0, 3 * block + 7, 1, 0, 2, block - 1, 0];
+        let mut first = 0;
+        let records: Vec<_> = counts
+            .iter()
+            .map(|&n| {
+                let r = vis_geometry::DrawGeometry::new(0, 0, first, n);
+                first += n;
+                r
+            })
+            .collect();
+        let directory = triangle_directory(&records);
+        assert_eq!(directory.len() as u32, first / block + 2);
+        for (b, entry) in directory.iter().enumerate() {
+            let start = b as u32 * block;
+            let walked = (0..records.len())
+                .rfind(|&d| records[d].first_triangle <= start)
+                .unwrap_or(0);
+            assert_eq!(entry.first_index, walked as u32, "block {b}");
+        }
     }
 }
