@@ -422,3 +422,13 @@ pub enum DeviceError {
         String,
     ),
 }
+
+impl ConfigError {
+    /// `asked` is not among the sample counts a shader's `msaa` axis has (1, 2, 4 and 8).
+    pub(crate) fn shader_sample_count(asked: u32) -> RenderError {
+        RenderError::Config(Self::SampleCount {
+            asked,
+            supported: vec![1, 2, 4, 8],
+        })
+    }
+}

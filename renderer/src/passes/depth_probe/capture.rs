@@ -27,12 +27,8 @@ pub struct ProbePipeline {
 impl ProbePipeline {
     pub fn new(gpu: &GpuContext, msaa: u32) -> Result<Self, crate::frame_data::RenderError> {
         let key = depth_probe::VariantKey {
-            msaa: depth_probe::Msaa::from_value(msaa).ok_or(
-                crate::frame_data::RenderError::Config(ConfigError::SampleCount {
-                    asked: msaa,
-                    supported: vec![1, 2, 4, 8],
-                }),
-            )?,
+            msaa: depth_probe::Msaa::from_value(msaa)
+                .ok_or_else(|| ConfigError::shader_sample_count(msaa))?,
         };
         let program = gpu.program(depth_probe::variant(key))?;
         let pipeline = program.compute_pipeline(gpu.device(), "probe")?;

@@ -101,10 +101,8 @@ impl ForwardPass {
             // The forward programs are `msaa` 0; over the compute rasteriser's samples, the
             // blended variant has the frame's sample count.
             msaa: if over_samples {
-                forward::Msaa::from_value(config.msaa).ok_or(ConfigError::SampleCount {
-                    asked: config.msaa,
-                    supported: vec![1, 2, 4, 8],
-                })?
+                forward::Msaa::from_value(config.msaa)
+                    .ok_or_else(|| ConfigError::shader_sample_count(config.msaa))?
             } else {
                 forward::Msaa::Msaa0
             },

@@ -97,12 +97,8 @@ impl ComputeRasterPass {
         config: &RendererConfig,
         culled: bool,
     ) -> Result<Self, RenderError> {
-        let msaa = kernels::Msaa::from_value(config.msaa).ok_or_else(|| {
-            RenderError::Config(ConfigError::SampleCount {
-                asked: config.msaa,
-                supported: vec![1, 2, 4, 8],
-            })
-        })?;
+        let msaa = kernels::Msaa::from_value(config.msaa)
+            .ok_or_else(|| ConfigError::shader_sample_count(config.msaa))?;
         let program = gpu.program(kernels::variant(kernels::VariantKey { msaa }))?;
         let pipeline = |entry| program.compute_pipeline(gpu.device(), entry);
         let params = gpu.device().create_buffer(&wgpu::BufferDescriptor {

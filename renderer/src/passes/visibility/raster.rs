@@ -364,12 +364,8 @@ fn raster_programs(
 ) -> Result<(ShaderProgram, ShaderProgram), RenderError> {
     let program = |alpha_mask, vis64| {
         let msaa = match vis64 {
-            true => vis_raster::Msaa::from_value(config.msaa).ok_or_else(|| {
-                RenderError::Config(ConfigError::SampleCount {
-                    asked: config.msaa,
-                    supported: vec![1, 2, 4, 8],
-                })
-            })?,
+            true => vis_raster::Msaa::from_value(config.msaa)
+                .ok_or_else(|| ConfigError::shader_sample_count(config.msaa))?,
             false => vis_raster::Msaa::Msaa0,
         };
         let key = vis_raster::VariantKey {
