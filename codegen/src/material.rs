@@ -19,11 +19,18 @@
 //!   the axis `msaa` above 0 (the raster pass's sample count; clustered lists, opaque), and the
 //!   forward entry points in those at 0, whose names the axis leaves as they were (`unless 0`);
 //! * for blended surfaces drawn over the compute rasteriser's frame (`msaa` above 0 with
-//!   `blend` and `vis64`), `vs_forward` and `fs_forward_vis64`: the forward shading, drawn into
-//!   the samples where the visibility frame's `vis_in_front` finds the fragment in front of the
-//!   opaque surface, through the `sample_mask` output, so no depth target is needed. It takes
-//!   its derivatives before it may be discarded (the frame's `fragment_derivatives`), and
-//!   shades through `material_point_from` and `material_forward_from`.
+//!   `blend` and `vis64`), the three steps of the blended frame (`blended = path`, by default
+//!   `shaders_gen::visibility::vis_blend`): `vs_blend`, the vertex stage that pulls the vertex
+//!   and knows its triangle; `fs_blend_list`, which lists the fragments in front of the opaque
+//!   surface (`vis_blend_kept`, `vis_blend_append`); `vis_blend_args`, which writes the
+//!   lighting's dispatch and picks the blended pipeline (`vis_blend_write_args`);
+//!   `vis_shade_blended`, one invocation a record, which lights each listed fragment through
+//!   `vis_point` and `vis_radiance` around `surface` and stores its colour; `fs_blend_listed`,
+//!   which outputs that colour into the samples where `vis_in_front` finds the fragment in
+//!   front of the opaque surface (through the `sample_mask` output, so no depth target is
+//!   needed); and `fs_forward_vis64`, which does the same but shades a fragment the records
+//!   had no room for itself (`material_point_from`, `material_forward_from`, its derivatives
+//!   taken before it may be discarded). `vs_forward` stays, for the overlay's eraser.
 //!
 //! What the frame's functions do, and the names the renderer expects, are the frame library's
 //! contract; this expansion only writes the calls.
@@ -35,12 +42,17 @@ use syn::spanned::Spanned;
 use syn::{Ident, Token};
 
 /// The items the expansion adds; a module may not declare them itself.
-const RESERVED: [&str; 6] = [
+const RESERVED: [&str; 11] = [
     "vs_forward",
     "fs_forward",
     "fs_forward_vis64",
     "fs_gbuffer",
     "vis_shade",
+    "vs_blend",
+    "fs_blend_list",
+    "vis_shade_blended",
+    "vis_blend_args",
+    "fs_blend_listed",
     "PARAMS",
 ];
 
@@ -48,6 +60,7 @@ const RESERVED: [&str; 6] = [
 struct MaterialArgs {
     frame: syn::Path,
     visibility: syn::Path,
+    blended: syn::Path,
     params: Option<syn::Type>,
     uses: Vec<syn::Path>,
 }
@@ -57,6 +70,7 @@ impl Parse for MaterialArgs {
         let mut args = MaterialArgs {
             frame: syn::parse_quote!(shaders_gen::forward::material_frame),
             visibility: syn::parse_quote!(shaders_gen::visibility::vis_frame),
+            blended: syn::parse_quote!(shaders_gen::visibility::vis_blend),
             params: None,
             uses: Vec::new(),
         };
@@ -70,6 +84,10 @@ impl Parse for MaterialArgs {
                 "visibility" => {
                     input.parse::<Token![=]>()?;
                     args.visibility = input.parse()?;
+                }
+                "blended" => {
+                    input.parse::<Token![=]>()?;
+                    args.blended = input.parse()?;
                 }
                 "params" => {
                     input.parse::<Token![=]>()?;
@@ -85,7 +103,7 @@ impl Parse for MaterialArgs {
                     return Err(syn::Error::new(
                         key.span(),
                         format!(
-                            "unknown `#[material]` argument `{other}`: a material takes `frame = path` (the material frame library, by default `shaders_gen::forward::material_frame`), `visibility = path` (the visibility path's frame, by default `shaders_gen::visibility::vis_frame`), `params = Type` (its parameter struct) and `uses(..)` (libraries); its axes are the frame's"
+                            "unknown `#[material]` argument `{other}`: a material takes `frame = path` (the material frame library, by default `shaders_gen::forward::material_frame`), `visibility = path` (the visibility path's frame, by default `shaders_gen::visibility::vis_frame`), `blended = path` (the blended surfaces' frame over the compute rasteriser's, by default `shaders_gen::visibility::vis_blend`), `params = Type` (its parameter struct) and `uses(..)` (libraries); its axes are the frame's"
                         ),
                     ));
                 }
@@ -138,6 +156,7 @@ pub fn as_shader(
     }
     let frame = &args.frame;
     let visibility = &args.visibility;
+    let blended = &args.blended;
     let uses = &args.uses;
     let shader_args = quote! {
         axes(
@@ -152,7 +171,7 @@ pub fn as_shader(
         exclude(msaa > 0 && blend && !vis64),
         exclude(msaa == 0 && vis64),
         requires(subgroup = scalarize),
-        uses(#frame, #visibility #(, #uses)*),
+        uses(#frame, #visibility, #blended #(, #uses)*),
     };
     Ok((shader_args, module))
 }
@@ -169,7 +188,7 @@ fn check_reserved(content: &[syn::Item]) -> syn::Result<()> {
             return Err(syn::Error::new(
                 ident.span(),
                 format!(
-                    "`{ident}` is written by `#[material]` (the entry points `vs_forward`, `fs_forward` and `fs_gbuffer`, and `PARAMS`, the parameter records); a material declares its `surface` function, and may call other functions of its own"
+                    "`{ident}` is written by `#[material]` (its entry points `vs_forward`, `fs_forward`, `fs_gbuffer`, `vis_shade`, `vs_blend`, `fs_blend_list`, `vis_blend_args`, `vis_shade_blended`, `fs_blend_listed` and `fs_forward_vis64`, and `PARAMS`, the parameter records); a material declares its `surface` function, and may call other functions of its own"
                 ),
             ));
         }
@@ -240,23 +259,102 @@ fn entry_points(span: Span, params: Option<&syn::Type>) -> Vec<syn::Item> {
             }
         },
         syn::parse_quote! {
-            /// A blended fragment over the compute rasteriser's frame: drawn into the samples
-            /// where it is in front of the opaque surface in `VIS64`, as a depth test would.
+            /// A blended draw's vertex over the compute rasteriser's frame, pulled from
+            /// storage, with its triangle's ID.
+            #[vertex]
+            #[when(msaa > 0 && blend)]
+            pub fn vs_blend(
+                #[builtin(vertex_index)] index: u32,
+                #[builtin(instance_index)] draw: u32,
+            ) -> VisBlendVsOut {
+                vis_blend_vertex(index, draw)
+            }
+        },
+        syn::parse_quote! {
+            /// Lists a blended fragment in front of the opaque surface for
+            /// `vis_shade_blended`.
+            #[fragment]
+            #[when(msaa > 0 && blend)]
+            pub fn fs_blend_list(
+                input: VisBlendVsOut,
+                #[builtin(front_facing)] front: bool,
+                #[builtin(sample_mask)] coverage: u32,
+            ) {
+                if vis_blend_kept(vis_blend_varyings(input), front, coverage) {
+                    vis_blend_append(input.clip.xy(), input.id);
+                }
+            }
+        },
+        syn::parse_quote! {
+            /// After the listing: the lighting's dispatch and the blended pipeline's choice.
+            #[compute(workgroup_size(1, 1, 1))]
+            #[when(msaa > 0 && blend)]
+            pub fn vis_blend_args() {
+                vis_blend_write_args();
+            }
+        },
+        syn::parse_quote! {
+            /// One listed blended fragment (64 a workgroup): lit, its colour and alpha stored
+            /// in its record.
+            #[compute(workgroup_size(64, 1, 1))]
+            #[when(msaa > 0 && blend)]
+            pub fn vis_shade_blended(#[builtin(global_invocation_id)] gid: UVec3) {
+                let r = gid.x + 1u32;
+                if r <= vis_blend_listed() {
+                    let record = vis_blend_at(r);
+                    let v = vis_point(vis_triangle(record.id), record.pixel);
+                    let point = v.point;
+                    let s = #call;
+                    vis_blend_store(r, vis_radiance(v, s).extend(s.base_color.w));
+                }
+            }
+        },
+        syn::parse_quote! {
+            /// A listed blended fragment over the compute rasteriser's frame: its record's
+            /// colour drawn into the samples where it is in front of the opaque surface in
+            /// `VIS64`, as a depth test would (the pipeline of a frame whose fragments all
+            /// found room).
+            #[fragment]
+            #[when(msaa > 0 && blend)]
+            pub fn fs_blend_listed(
+                input: VisBlendVsOut,
+                #[builtin(sample_mask)] coverage: u32,
+            ) -> VisBlendOut {
+                let mask = vis_in_front(input.clip, coverage);
+                let r = vis_blend_record(input.clip.xy(), input.id);
+                if mask == 0u32 || r == 0u32 {
+                    discard();
+                }
+                VisBlendOut { color: vis_blend_color(r), mask }
+            }
+        },
+        syn::parse_quote! {
+            /// A blended fragment over the compute rasteriser's frame: its listed colour (or,
+            /// past the records' capacity, its own shading) drawn into the samples where it is
+            /// in front of the opaque surface in `VIS64`, as a depth test would.
             #[fragment]
             #[when(msaa > 0 && blend)]
             pub fn fs_forward_vis64(
-                input: VsOut,
+                input: VisBlendVsOut,
                 #[builtin(front_facing)] front: bool,
                 #[builtin(sample_mask)] coverage: u32,
             ) -> VisBlendOut {
+                let varyings = vis_blend_varyings(input);
                 // Every derivative before the discard (see `fragment_derivatives`).
-                let d = fragment_derivatives(input);
-                let mask = vis_in_front(input.clip, coverage);
+                let d = fragment_derivatives(varyings);
+                let mask = vis_in_front(varyings.clip, coverage);
                 if mask == 0u32 {
                     discard();
                 }
-                let point = material_point_from(input, forward_facing(input, front), d);
-                VisBlendOut { color: material_forward_from(input, point, #call, d), mask }
+                let r = vis_blend_record(varyings.clip.xy(), input.id);
+                let mut color = Vec4::ZERO;
+                if r != 0u32 {
+                    color = vis_blend_color(r);
+                } else {
+                    let point = material_point_from(varyings, forward_facing(varyings, front), d);
+                    color = material_forward_from(varyings, point, #call, d);
+                }
+                VisBlendOut { color, mask }
             }
         },
         syn::parse_quote! {

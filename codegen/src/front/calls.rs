@@ -91,6 +91,8 @@ const PACK: &[(&str, &str, u8, bool)] = &[
     ("unpack4x8_snorm", "unpack4x8snorm", 4, false),
     ("unpack2x16_unorm", "unpack2x16unorm", 2, false),
     ("unpack2x16_snorm", "unpack2x16snorm", 2, false),
+    ("pack2x16_float", "pack2x16float", 2, true),
+    ("unpack2x16_float", "unpack2x16float", 2, false),
 ];
 
 const DERIVATIVES: &[(&str, &str)] = &[

@@ -19,8 +19,11 @@ pub struct Validated {
 }
 
 /// Capabilities every WebGPU device has (core WGSL features naga gates behind a capability:
-/// `@builtin(sample_index)` and per-sample interpolation).
-pub const BASELINE: Capabilities = Capabilities::MULTISAMPLED_SHADING;
+/// `@builtin(sample_index)` and per-sample interpolation; `pack2x16float` and
+/// `unpack2x16float`, which wgpu grants with the downlevel flag `SHADER_F16_IN_F32` that every
+/// Vulkan, Metal, D3D12 and WebGPU device has).
+pub const BASELINE: Capabilities =
+    Capabilities::MULTISAMPLED_SHADING.union(Capabilities::SHADER_FLOAT16_IN_FLOAT32);
 
 /// The capabilities of 64-bit integers: `u64` values and their atomic `min`/`max` on storage
 /// buffers without a returned value (wgpu `SHADER_INT64` and `SHADER_INT64_ATOMIC_MIN_MAX`).

@@ -45,25 +45,15 @@ pub mod mini_frame {
 }
 "#;
 
-/// A small visibility frame with the contract's names: what the kernel `vis_shade` and the
-/// blended entry point over the compute rasteriser's samples, `fs_forward_vis64`, call.
+/// A small visibility frame with the contract's names: what the kernel `vis_shade` calls.
 const VIS_FRAME: &str = r#"
 #[library(axes(list: u32 = [0, 1, 2], blend: bool = [false, true], scalarize: bool = [false, true], msaa: u32 = [0, 1, 2, 4, 8]), uses(crate::mini_frame))]
 pub mod mini_vis {
     pub struct SceneTriangle { pub draw: u32 }
     pub struct VisPoint { pub point: MaterialPoint }
-    pub struct VisBlendOut {
-        #[location(0)]
-        pub color: Vec4,
-        #[builtin(sample_mask)]
-        pub mask: u32,
-    }
     #[storage(group = 0, binding = 18, read_write)]
     #[when(msaa > 0 && !blend)]
     static SUMS: [Vec4];
-    pub fn vis_in_front(frag: Vec4, coverage: u32) -> u32 {
-        coverage & select(frag.z < 0.5, 1u32, 0u32)
-    }
     pub fn vis_on_screen(p: UVec2) -> bool {
         p.x < 64u32
     }
@@ -99,12 +89,79 @@ pub mod mini_vis {
 }
 "#;
 
+/// A small frame of the blended surfaces over the compute rasteriser's samples with the
+/// contract's names: what `vs_blend`, `fs_blend_list`, `vis_blend_args`, `vis_shade_blended`,
+/// `fs_blend_listed` and `fs_forward_vis64` call.
+const BLEND_FRAME: &str = r#"
+#[library(axes(list: u32 = [0, 1, 2], blend: bool = [false, true], scalarize: bool = [false, true], msaa: u32 = [0, 1, 2, 4, 8]), uses(crate::mini_frame, crate::mini_vis))]
+pub mod mini_blend {
+    pub struct VisBlendVsOut {
+        #[builtin(position)]
+        pub clip: Vec4,
+        #[location(0)]
+        pub world: Vec3,
+        #[location(1)]
+        #[interpolate(flat)]
+        pub id: u32,
+    }
+    pub struct VisBlendOut {
+        #[location(0)]
+        pub color: Vec4,
+        #[builtin(sample_mask)]
+        pub mask: u32,
+    }
+    pub struct BlendRecord { pub next: u32, pub id: u32, pub pixel: UVec2 }
+    #[storage(group = 0, binding = 17, read_write)]
+    #[when(msaa > 0 && blend)]
+    static RECORDS: [Vec4];
+    pub fn vis_blend_vertex(index: u32, draw: u32) -> VisBlendVsOut {
+        VisBlendVsOut { clip: Vec4::splat(index as f32), world: Vec3::ZERO, id: draw }
+    }
+    pub fn vis_blend_varyings(input: VisBlendVsOut) -> VsOut {
+        VsOut { clip: input.clip, world: input.world }
+    }
+    pub fn vis_in_front(frag: Vec4, coverage: u32) -> u32 {
+        coverage & select(frag.z < 0.5, 1u32, 0u32)
+    }
+    pub fn vis_blend_kept(input: VsOut, front: bool, coverage: u32) -> bool {
+        front && vis_in_front(input.clip, coverage) != 0u32
+    }
+    pub fn vis_blend_append(frag: Vec2, id: u32) {
+        if msaa > 0 && blend {
+            RECORDS[id] = frag.extend(0.0).extend(1.0);
+        }
+    }
+    pub fn vis_blend_listed() -> u32 {
+        3u32
+    }
+    pub fn vis_blend_write_args() {
+        if msaa > 0 && blend {
+            RECORDS[0] = Vec4::ONE;
+        }
+    }
+    pub fn vis_blend_at(r: u32) -> BlendRecord {
+        BlendRecord { next: r / 2u32, id: r, pixel: UVec2::splat(r) }
+    }
+    pub fn vis_blend_store(r: u32, color: Vec4) {
+        if msaa > 0 && blend {
+            RECORDS[r] = color;
+        }
+    }
+    pub fn vis_blend_record(frag: Vec2, id: u32) -> u32 {
+        id + (frag.x as u32)
+    }
+    pub fn vis_blend_color(r: u32) -> Vec4 {
+        Vec4::splat(r as f32)
+    }
+}
+"#;
+
 fn with_frame(material: &str) -> String {
-    format!("{FRAME}{VIS_FRAME}{material}")
+    format!("{FRAME}{VIS_FRAME}{BLEND_FRAME}{material}")
 }
 
 const TINTED: &str = r#"
-#[material(frame = crate::mini_frame, visibility = crate::mini_vis, params = Tint)]
+#[material(frame = crate::mini_frame, visibility = crate::mini_vis, blended = crate::mini_blend, params = Tint)]
 mod tinted {
     pub struct Tint { pub colour: Vec4 }
     fn surface(point: MaterialPoint, params: Tint) -> Surface {
@@ -167,19 +224,39 @@ fn a_material_is_the_frame_around_its_surface_for_every_frame_variant() {
         let (present, absent): (&[&str], &[&str]) = match (over_samples, blend) {
             (true, false) => (
                 &["fn vis_shade("],
-                &["fn vs_forward(", "fn fs_forward(", "fn fs_gbuffer("],
+                &[
+                    "fn vs_forward(",
+                    "fn fs_forward(",
+                    "fn fs_gbuffer(",
+                    "fn vs_blend(",
+                    "fn vis_shade_blended(",
+                ],
             ),
             (true, true) => (
                 &[
                     "fn vs_forward(",
+                    "fn vs_blend(",
+                    "fn fs_blend_list(",
+                    "fn vis_blend_args(",
+                    "fn vis_shade_blended(",
+                    "fn fs_blend_listed(",
                     "fn fs_forward_vis64(",
-                    "vis_in_front(input.clip, coverage)",
+                    "vis_in_front(varyings.clip, coverage)",
+                    "vis_point(vis_triangle(record.id), record.pixel)",
+                    "vis_blend_append(input.clip.xy, input.id)",
+                    "vis_blend_record(varyings.clip.xy, input.id)",
                 ],
                 &["fn vis_shade(", "fn fs_forward(", "fn fs_gbuffer("],
             ),
             (false, _) => (
                 &["fn vs_forward(", "fn fs_forward(", "fn fs_gbuffer("],
-                &["fn vis_shade(", "fn fs_forward_vis64("],
+                &[
+                    "fn vis_shade(",
+                    "fn fs_forward_vis64(",
+                    "fn vs_blend(",
+                    "fn fs_blend_list(",
+                    "fn vis_shade_blended(",
+                ],
             ),
         };
         for entry in present {
@@ -191,6 +268,11 @@ fn a_material_is_the_frame_around_its_surface_for_every_frame_variant() {
         assert_eq!(
             wgsl.contains("var<storage, read_write> SUMS"),
             kernel,
+            "{wgsl}"
+        );
+        assert_eq!(
+            wgsl.contains("var<storage, read_write> RECORDS"),
+            over_samples && blend,
             "{wgsl}"
         );
         assert!(

@@ -371,6 +371,11 @@ pub struct RendererConfig {
     /// fragment pass. The two agree within one 8-bit step; on GPUs whose fragment
     /// rate is far below their compute rate the kernel costs a tenth of the pass.
     pub compute_tonemap: bool,
+    /// On the compute rasteriser's frame, how many blended fragments are listed and lit in
+    /// compute (16 bytes each); a fragment past them is shaded by the forward pass's fragment
+    /// stage, the same colour at the fragment rate. 0 picks one for every two pixels (16.6 MB
+    /// at 1080p).
+    pub blended_fragment_records: u32,
 }
 
 impl std::str::FromStr for RenderPath {
@@ -434,6 +439,7 @@ impl Default for RendererConfig {
             occlusion_cull: true,
             occlusion_min_draws: 512,
             compute_tonemap: true,
+            blended_fragment_records: 0,
         }
     }
 }

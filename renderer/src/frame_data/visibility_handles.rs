@@ -40,4 +40,7 @@ pub struct VisibilityHandles {
     pub draw_geometry: wgpu::Buffer,
     /// Draws in `draw_geometry`.
     pub draws: u32,
+    /// The sequence index buffer (index `i` is `i`): a pass that pulls its vertices
+    /// (`vis_geometry`'s `pulled_vertex`) draws the scene's indexed draws over it.
+    pub sequence: wgpu::Buffer,
 }

@@ -61,6 +61,7 @@ pub mod gltf_material {
 #[shader_dsl::material(
     frame = crate::forward::material_frame,
     visibility = crate::visibility::vis_frame,
+    blended = crate::visibility::vis_blend,
     uses(crate::forward::gltf_material),
 )]
 pub mod forward {

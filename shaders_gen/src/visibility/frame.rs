@@ -62,7 +62,6 @@
         crate::shared::decal_apply,
         crate::shared::octahedral,
         crate::visibility::geometry::vis_geometry,
-        crate::shared::sample_pattern,
     ),
 )]
 pub mod vis_frame {
@@ -82,7 +81,10 @@ pub mod vis_frame {
         pub program: u32,
         /// 1: an earlier kernel of this frame left its sums in `ACCUM`.
         pub accumulated: u32,
-        pub pad: UVec3,
+        /// The blended draws the forward pass draws over the compute rasteriser's frame
+        /// (`vis_blend`'s draw counts).
+        pub blended_draws: u32,
+        pub pad: UVec2,
     }
 
     /// A reconstructed point of a triangle seen through a pixel: what `surface` takes, and
@@ -383,37 +385,5 @@ pub mod vis_frame {
                 ACCUM[p.y * VIS.screen.x + p.x] = total.extend(0.0);
             }
         }
-    }
-
-    /// The colour of a blended fragment drawn over the compute rasteriser's frame, and the
-    /// samples it goes to (`fs_forward_vis64`).
-    pub struct VisBlendOut {
-        #[location(0)]
-        pub color: Vec4,
-        #[builtin(sample_mask)]
-        pub mask: u32,
-    }
-
-    /// With `vis64`: the samples of `coverage` (the fragment's `sample_mask` input) where a
-    /// blended fragment at `frag` (its `position` built-in: the pixel centre and the depth
-    /// there) is no farther than the opaque surface in `VIS64` (`LessEqual`, the hardware
-    /// raster's blended depth test). Its depth at a sample is taken on its plane through the
-    /// screen derivatives of `frag.z`, as the hardware interpolates depth at the sample; 0
-    /// where the module has no `VIS64`.
-    pub fn vis_in_front(frag: Vec4, coverage: u32) -> u32 {
-        let slope = Vec2::new(dpdx(frag.z), dpdy(frag.z));
-        let mut mask = 0u32;
-        if vis64 && msaa > 0 {
-            let p = frag.xy().floor().as_uvec2();
-            let first = (p.y * VIS.screen.x + p.x) * msaa;
-            for s in 0u32..msaa {
-                let depth = frag.z + slope.dot(sample_offset(s) - Vec2::splat(0.5));
-                let opaque = vis64_depth(VIS64[first + s]);
-                if ((coverage >> s) & 1u32) != 0u32 && depth <= opaque {
-                    mask = mask | (1u32 << s);
-                }
-            }
-        }
-        mask
     }
 }

@@ -76,6 +76,27 @@ pub mod vis_geometry {
         )
     }
 
+    /// A vertex a raster pass pulls from storage, and its triangle's ID.
+    pub struct PulledVertex {
+        /// The vertex (index into the streams).
+        pub vertex: u32,
+        /// Its triangle's ID.
+        pub triangle: u32,
+    }
+
+    /// The vertex of draw `draw` that a raster pass drawing the draw's indirect arguments over
+    /// a *sequence* index buffer (index `i` is `i`) sees as `index` (its `vertex_index`):
+    /// `index − base_vertex` is the position in `SCENE_INDICES`, so the vertex knows its
+    /// triangle without `primitive_index` (which WebGPU lacks).
+    pub fn pulled_vertex(index: u32, draw: u32) -> PulledVertex {
+        let g = DRAW_GEOMETRY[draw];
+        let at = index - g.base_vertex;
+        PulledVertex {
+            vertex: SCENE_INDICES[at] + g.base_vertex,
+            triangle: g.first_triangle + (at - g.first_index) / 3u32 + 1u32,
+        }
+    }
+
     /// Vertex `k` (0, 1 or 2) of triangle `t` of draw `d`.
     pub fn triangle_vertex(d: u32, t: u32, k: u32) -> u32 {
         let g = DRAW_GEOMETRY[d];

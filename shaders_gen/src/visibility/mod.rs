@@ -4,8 +4,10 @@
 //! and light what the samples see, in compute (`vis_frame`; each material's `vis_shade`). The
 //! compute rasteriser (`vis_compute_raster`) rasterises the same triangles with 64-bit atomics,
 //! and `vis_resolve` writes its samples into the depth and visibility buffers; `vis64_sample`
-//! reads one of its samples.
+//! reads one of its samples. `vis_blend` lights the blended surfaces drawn over the compute
+//! rasteriser's frame in compute.
 
+pub mod blend;
 pub mod compute_raster;
 pub mod frame;
 pub mod geometry;
@@ -13,6 +15,7 @@ pub mod raster;
 pub mod resolve;
 pub mod samples64;
 
+pub use blend::vis_blend;
 pub use compute_raster::vis_compute_raster;
 pub use frame::vis_frame;
 pub use raster::vis_raster;

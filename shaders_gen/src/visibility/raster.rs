@@ -82,16 +82,15 @@ pub mod vis_raster {
         #[builtin(vertex_index)] index: u32,
         #[builtin(instance_index)] draw: u32,
     ) -> VisVsOut {
-        let g = DRAW_GEOMETRY[draw];
-        let at = index - g.base_vertex;
-        let v = SCENE_INDICES[at] + g.base_vertex;
+        let pulled = pulled_vertex(index, draw);
+        let v = pulled.vertex;
         let mut out = VisVsOut {
             clip: clip_position(
                 CAMERA.view_projection,
                 DRAWS[draw].world_from_mesh,
                 vertex_position(v),
             ),
-            id: g.first_triangle + (at - g.first_index) / 3u32 + 1u32,
+            id: pulled.triangle,
             uv0: Vec2::ZERO,
             uv1: Vec2::ZERO,
             color_alpha: 1.0,

@@ -68,6 +68,48 @@ fn the_visibility_path_equals_naive_forward_at_msaa_1_and_4() {
     });
 }
 
+/// Under the compute rasteriser the blended glass is lit in compute from the records its
+/// listing pass appends; with room for one record, every other fragment is shaded by the
+/// forward pass's fragment stage instead, and the frame still equals naive forward. The
+/// mutations: the fallback outputting black (this test fails), the compute kernel's colour
+/// scaled by 0.8 (the test above fails, so the records are what the frame shows).
+#[test]
+fn blended_fragments_past_the_records_capacity_are_shaded_by_the_forward_pass() {
+    gpu_test(|gpu| {
+        let stage = courtyard_stage();
+        for msaa in [1, 4] {
+            let default = EdgeThresholds::default();
+            let (naive, _) = frame(gpu, &stage, RenderPath::NaivePrez, msaa, default, false);
+            let config = RendererConfig {
+                width: stage.size.0,
+                height: stage.size.1,
+                msaa,
+                path: RenderPath::Visibility,
+                visibility_raster: VisibilityRaster::Compute,
+                blended_fragment_records: 1,
+                ..Default::default()
+            };
+            let (vis, _) = frame_with(gpu, &stage, config, false);
+            let d = pixel_differences(&naive, &vis, 3);
+            let (mean, p99, largest) = stats(&d);
+            let over = d.iter().filter(|&&x| x > VIS_MAX).count();
+            eprintln!(
+                "courtyard, one blended record, MSAA {msaa}: mean {mean:.3}, 99th percentile \
+                 {p99}, largest {largest}, {over} of {} pixels over {VIS_MAX}",
+                d.len()
+            );
+            assert!(
+                mean <= VIS_MEAN
+                    && p99 <= VIS_P99
+                    && over * 1000 <= d.len() * COMPUTE_OVER_PER_THOUSAND,
+                "one blended record, MSAA {msaa}: differs from naive forward by mean \
+                 {mean:.3}, 99th percentile {p99}, largest {largest}, {over} pixels over \
+                 {VIS_MAX}"
+            );
+        }
+    });
+}
+
 /// Every pixel the TBDR path shades per sample sees more than one surface, so more than one
 /// triangle: the visibility path's shading-frequency view marks it red, and more besides (the
 /// edges between triangles of one surface).

@@ -26,8 +26,9 @@ const GLTF_SOURCE: &str = include_str!("../../../shaders_gen/src/forward/shading
 /// The visibility path's material frame, where the mutation goes.
 const VIS_FRAME_SOURCE: &str = include_str!("../../../shaders_gen/src/visibility/frame.rs");
 /// Every other library the kernel uses, as source text.
-const LIBRARY_SOURCES: [&str; 13] = [
+const LIBRARY_SOURCES: [&str; 14] = [
     include_str!("../../../shaders_gen/src/visibility/geometry.rs"),
+    include_str!("../../../shaders_gen/src/visibility/blend.rs"),
     include_str!("../../../shaders_gen/src/visibility/samples64.rs"),
     include_str!("../../../shaders_gen/src/shared/samples.rs"),
     include_str!("../../../shaders_gen/src/forward/frame.rs"),

@@ -92,7 +92,15 @@ fn the_material_is_the_frame_around_the_engines_surface() {
         let entries: &[&str] = if key.msaa == bricks::Msaa::Msaa0 {
             &["vs_forward", "fs_forward", "fs_gbuffer"]
         } else if key.blend {
-            &["vs_forward", "fs_forward_vis64"]
+            &[
+                "vs_forward",
+                "vs_blend",
+                "fs_blend_list",
+                "vis_blend_args",
+                "vis_shade_blended",
+                "fs_blend_listed",
+                "fs_forward_vis64",
+            ]
         } else {
             &["vis_shade"]
         };

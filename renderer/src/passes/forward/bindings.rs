@@ -6,7 +6,7 @@
 use std::sync::Arc;
 
 use shaders_gen::forward::{forward, material_frame};
-use shaders_gen::visibility::vis_frame;
+use shaders_gen::visibility::{vis_blend, vis_frame};
 
 use crate::frame_data::{
     FrameInputs, GpuDecals, LightListHandles, LightSet, ListGeometry, ShadowResources,
@@ -97,7 +97,7 @@ impl FrameGroup {
             vis_depth: None,
             vis_depth_ms: None,
         };
-        self.build(ctx, (program, params), vis, label)
+        self.build(ctx, (program, params), (vis, NO_BLEND_LISTS), label)
     }
 
     /// Group 0 of `program`, a material program's visibility kernel (`vis_shade`): this frame
@@ -123,17 +123,23 @@ impl FrameGroup {
             vis_depth: depth,
             vis_depth_ms: depth,
         };
-        self.build(ctx, (program, params), inputs, "visibility shading")
+        self.build(
+            ctx,
+            (program, params),
+            (inputs, NO_BLEND_LISTS),
+            "visibility shading",
+        )
     }
 
     /// Group 0 of `program`, glTF PBR's blended variant over the compute rasteriser's
-    /// samples (`fs_forward_vis64`): this frame group's parts, the `VisParams` uniform `params`
-    /// and the `samples`; `None` after recording the error in `ctx`.
+    /// samples (`vis_blend`): this frame group's parts, the `VisParams` uniform `params`, the
+    /// `samples`, and the blended fragments' lists and records; `None` after recording the
+    /// error in `ctx`.
     pub(crate) fn over_samples_bind_group(
         &self,
         ctx: &mut PassContext<'_>,
         program: &ShaderProgram,
-        (params, samples): (&wgpu::Buffer, &wgpu::Buffer),
+        (params, [samples, lists, records]): (&wgpu::Buffer, &[wgpu::Buffer; 3]),
     ) -> Option<wgpu::BindGroup> {
         let inputs = vis_frame::Group0 {
             vis: Some(params.as_entire_buffer_binding()),
@@ -145,14 +151,23 @@ impl FrameGroup {
             vis_depth: None,
             vis_depth_ms: None,
         };
-        self.build(ctx, (program, None), inputs, "blended over samples")
+        let blend = vis_blend::Group0 {
+            blend_lists: Some(lists.as_entire_buffer_binding()),
+            blend_records: Some(records.as_entire_buffer_binding()),
+        };
+        self.build(
+            ctx,
+            (program, None),
+            (inputs, blend),
+            "blended over samples",
+        )
     }
 
     fn build(
         &self,
         ctx: &mut PassContext<'_>,
         (program, params): (&ShaderProgram, Option<&wgpu::Buffer>),
-        vis: vis_frame::Group0<'_>,
+        (vis, blend): (vis_frame::Group0<'_>, vis_blend::Group0<'_>),
         label: &str,
     ) -> Option<wgpu::BindGroup> {
         let builder = forward::Group0 {
@@ -161,6 +176,7 @@ impl FrameGroup {
                 lighting: self.lighting.as_entire_buffer_binding(),
             },
             vis_frame: vis,
+            vis_blend: blend,
             light_set: self.lights.bindings(),
             light_lists: LightListHandles::bindings(self.lists.as_ref(), ctx),
             shadow_atlas: self.shadows.bindings(),
@@ -179,6 +195,13 @@ impl FrameGroup {
         ctx.bind(group)
     }
 }
+
+/// The blended fragments' lists and records: only the blended variant over the compute
+/// rasteriser's samples binds them.
+const NO_BLEND_LISTS: vis_blend::Group0<'static> = vis_blend::Group0 {
+    blend_lists: None,
+    blend_records: None,
+};
 
 /// The visibility kernels' own inputs of group 0 ([`FrameGroup::vis_bind_group`]).
 pub(crate) struct VisInputs<'a> {

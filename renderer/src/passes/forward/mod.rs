@@ -9,8 +9,8 @@
 //! multisampled overlay (particles draw into it too) that [`OverlayPass`] resolves and lays over
 //! the image.
 //! It adds nothing when there are neither blended surfaces nor particles. On the compute
-//! rasteriser's frame the blended surfaces test the rasteriser's samples themselves
-//! (`over_samples`), and the pass has no depth target.
+//! rasteriser's frame the blended surfaces test the rasteriser's samples themselves, their
+//! fragments lit in compute first (`over_samples`), and the pass has no depth target.
 
 pub(crate) mod bindings;
 pub(crate) mod over_samples;
@@ -65,6 +65,10 @@ struct ForwardPipelines {
     /// Where the pass draws into an overlay: glTF PBR's blended program and the pipeline that
     /// erases what its draws covered (`passes::overlay_erase`).
     erase: Option<(ShaderProgram, wgpu::RenderPipeline)>,
+    /// Over the compute rasteriser's samples (`vs_blend`, the records lit in compute): the
+    /// blended pipeline that outputs the records (`fs_blend_listed`; `blended` is then the one
+    /// that may shade, `fs_forward_vis64`).
+    listed: Option<wgpu::RenderPipeline>,
 }
 
 impl ForwardPass {
@@ -120,23 +124,31 @@ impl ForwardPass {
         } else {
             None
         };
+        let over_samples = match over_samples {
+            true => Some(OverSamples::new(gpu.device(), &blended, config.msaa)?),
+            false => None,
+        };
         Ok(Self {
             pipelines: Arc::new(ForwardPipelines {
                 blended: make(&blended, (true, true, false)),
+                listed: over_samples.is_some().then(|| {
+                    over_samples_pipeline(gpu.device(), &blended, config.msaa, "fs_blend_listed")
+                }),
                 blended_program: blended,
                 opaque,
                 erase,
             }),
             lighting: lighting_buffer(gpu.device()),
             overlay: KeptOverlay::default(),
-            over_samples: over_samples.then(|| OverSamples::new(gpu.device())),
+            over_samples,
         })
     }
 }
 
 /// A forward pipeline of `program`; `prepass`: whether a pre-pass wrote the depth it tests,
 /// `None` where the pass has no depth target (blended surfaces over the compute rasteriser's
-/// samples, `fs_forward_vis64`, which tests them itself).
+/// samples: `vs_blend`, which pulls its vertices, and `fs_forward_vis64`, which tests the
+/// samples itself).
 fn pipeline(
     device: &wgpu::Device,
     program: &ShaderProgram,
@@ -144,13 +156,9 @@ fn pipeline(
     prepass: Option<bool>,
     (blend, double_sided, mirrored): (bool, bool, bool),
 ) -> wgpu::RenderPipeline {
-    let target = wgpu::ColorTargetState {
-        format: HDR_FORMAT,
-        // Alpha accumulates as `One, OneMinusSrcAlpha`, so drawn into a transparent overlay
-        // the blended layers compose into one that `OverlayPass` lays over the deferred image.
-        blend: blend.then_some(wgpu::BlendState::ALPHA_BLENDING),
-        write_mask: wgpu::ColorWrites::ALL,
-    };
+    if prepass.is_none() && blend {
+        return over_samples_pipeline(device, program, msaa, "fs_forward_vis64");
+    }
     mesh_pipeline(
         device,
         program,
@@ -168,14 +176,43 @@ fn pipeline(
             depth: prepass
                 .map(|prepass| depth_state(!(prepass || blend), wgpu::CompareFunction::LessEqual)),
             msaa,
-            fragment: Some((
-                if prepass.is_none() && blend {
-                    "fs_forward_vis64"
-                } else {
-                    "fs_forward"
-                },
-                &[Some(target)],
-            )),
+            fragment: Some(("fs_forward", &[Some(color_target(blend))])),
+        },
+    )
+}
+
+/// The colour target of the forward pipelines: alpha accumulates as `One, OneMinusSrcAlpha`
+/// where `blend`, so drawn into a transparent overlay the blended layers compose into one that
+/// `OverlayPass` lays over the deferred image.
+fn color_target(blend: bool) -> wgpu::ColorTargetState {
+    wgpu::ColorTargetState {
+        format: HDR_FORMAT,
+        blend: blend.then_some(wgpu::BlendState::ALPHA_BLENDING),
+        write_mask: wgpu::ColorWrites::ALL,
+    }
+}
+
+/// A pipeline of the blended draws over the compute rasteriser's samples: `vs_blend` (its
+/// vertices pulled, no vertex buffer) and `fragment` (`fs_blend_listed` or
+/// `fs_forward_vis64`), no depth target (the fragment stage tests the samples), no face culled.
+fn over_samples_pipeline(
+    device: &wgpu::Device,
+    program: &ShaderProgram,
+    msaa: u32,
+    fragment: &str,
+) -> wgpu::RenderPipeline {
+    mesh_pipeline(
+        device,
+        program,
+        &MeshPipeline {
+            label: "forward blend",
+            vertex_entry: "vs_blend",
+            streams: &[],
+            double_sided: true,
+            mirrored: false,
+            depth: None,
+            msaa,
+            fragment: Some((fragment, &[Some(color_target(true))])),
         },
     )
 }
@@ -238,12 +275,19 @@ impl Pass for ForwardPass {
             (self.overlay).import(frame.gpu.device(), graph, resources, c)
         };
         let (layer, mut color, mut resolve) = color_targets(graph, c, shaded, kept);
-        // Over the compute rasteriser's samples the blended draws test them, not a depth target.
+        let shadows = resources.shadows.clone().ok_or(missing("shadow atlas"))?;
+        let group = FrameGroup::new(frame, &self.lighting, lists, shadows);
+        let list = resources
+            .scene_draws
+            .clone()
+            .ok_or(missing("the scene's draw batches"))?;
+        // Over the compute rasteriser's samples the blended draws test them, not a depth
+        // target, and are lit in compute first.
         let samples = match &self.over_samples {
-            Some(o) => Some(o.frame(frame, resources)?),
-            None => None,
+            Some(o) if has_blend => Some(o.frame(graph, (frame, resources), (&group, &list))?),
+            _ => None,
         };
-        let mut depth = Depth::of(graph, c, resources.depth, samples.is_some());
+        let mut depth = Depth::of(graph, c, resources.depth, self.over_samples.is_some());
         let mut pass = graph.add_pass(self.name());
         depth.declare(&mut pass);
         let targets = Targets {
@@ -259,13 +303,7 @@ impl Pass for ForwardPass {
         if let Some(h) = resolve.as_mut() {
             pass.write_texture(h, TextureAccess::ColorAttachment);
         }
-        let shadows = resources.shadows.clone().ok_or(missing("shadow atlas"))?;
-        let group = FrameGroup::new(frame, &self.lighting, lists, shadows);
         group.read_by(&mut pass);
-        let list = resources
-            .scene_draws
-            .clone()
-            .ok_or(missing("the scene's draw batches"))?;
         pass.read_buffer(list.args, BufferAccess::Indirect);
         if let BlendedDraws::Sorted { args, .. } = &list.blended {
             pass.read_buffer(*args, BufferAccess::Indirect);

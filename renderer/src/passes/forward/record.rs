@@ -4,7 +4,7 @@
 
 use std::sync::Arc;
 
-use super::over_samples::FrameSamples;
+use super::over_samples::{FrameSamples, LISTED_DRAWS_AT, SHADED_DRAWS_AT};
 use super::programs::BoundPrograms;
 use super::{Depth, ForwardPass, ForwardPipelines, Layer, Targets};
 use crate::frame_data::{
@@ -52,8 +52,15 @@ impl ForwardPass {
                 pass.set_bind_group(0, &group0, &[]);
                 let mut draws =
                     SceneDraws::new(&mut pass, &scene, &instances, VertexStreams::Forward);
-                let materials = Some(scene.material_group());
-                draw_blended(&mut draws, (&list, &instances), &pipeline, materials);
+                // Over the compute rasteriser's samples the program's groups are its own.
+                let materials = match &samples {
+                    Some(samples) => {
+                        samples.draws.bind(&mut draws, &group0);
+                        &samples.draws.materials
+                    }
+                    None => scene.material_group(),
+                };
+                draw_blended(&mut draws, (&list, &instances), &pipeline, Some(materials));
             });
         }))
     }
@@ -78,7 +85,7 @@ impl ForwardPass {
             };
             let blended_group = match &samples {
                 Some(s) => match s.bind_group(ctx, &group, &pipelines.blended_program) {
-                    Some(g) => Some(g),
+                    Some(g) => Some((g, s)),
                     None => return,
                 },
                 None => None,
@@ -130,11 +137,12 @@ impl ForwardPass {
             pass.set_bind_group(0, frame_group, &[]);
             // Over a deferred image only the blended surfaces are left to draw.
             let opaque = targets.layer == Layer::Scene;
+            let blended = blended_group.as_ref().map(|(g, d)| (g, *d));
             draw_scene(
                 &mut pass,
                 (&scene, &instances),
                 &list,
-                (&pipelines, &bound, blended_group.as_ref()),
+                (&pipelines, &bound, blended),
                 opaque,
             );
         }
@@ -143,16 +151,19 @@ impl ForwardPass {
 
 /// Records the scene into the forward pass: with `opaque`, the opaque and masked batches of
 /// `list`; then its blended draws back to front (one multi-draw where they were ordered on
-/// the GPU), with `blended_group` as group 0 where given (over the compute rasteriser's
-/// samples), else glTF PBR's.
+/// the GPU), with glTF PBR's groups, or, over the compute rasteriser's samples, the blended
+/// program's group 0 and the frame's `FrameSamples` (none where the frame has no blended
+/// draws): there, where the device counts draws, through both blended pipelines with the
+/// counts `vis_blend_args` wrote (one of them draws nothing), else through the one that may
+/// shade.
 fn draw_scene<'a>(
     pass: &mut wgpu::RenderPass<'a>,
     (scene, instances): (&'a PreparedScene, &'a InstanceTable),
     list: &'a SceneDrawList,
-    (pipelines, bound, blended_group): (
+    (pipelines, bound, blended): (
         &'a ForwardPipelines,
         &'a BoundPrograms,
-        Option<&'a wgpu::BindGroup>,
+        Option<(&'a wgpu::BindGroup, &'a FrameSamples)>,
     ),
     opaque: bool,
 ) {
@@ -165,15 +176,49 @@ fn draw_scene<'a>(
         });
     }
     // The blended draws are glTF PBR's.
-    if let Some(group0) = blended_group.or(bound.gltf_group0()) {
-        draws.set_program_groups(group0, None);
+    match (blended, &pipelines.listed) {
+        (Some((group0, samples)), Some(listed)) => {
+            samples.draws.bind_pulled(&mut draws, group0);
+            let materials = Some(&samples.draws.materials);
+            match (&list.blended, list.counts.is_some()) {
+                (
+                    BlendedDraws::Sorted {
+                        args_buffer, count, ..
+                    },
+                    true,
+                ) => {
+                    let counts = samples.draw_counts();
+                    for (pipeline, at) in [
+                        (listed, LISTED_DRAWS_AT),
+                        (&pipelines.blended, SHADED_DRAWS_AT),
+                    ] {
+                        let drawn = (counts, at);
+                        draws.multi_draw_count(
+                            (pipeline, materials),
+                            args_buffer,
+                            0,
+                            drawn,
+                            *count,
+                        );
+                    }
+                }
+                _ => draw_blended(&mut draws, (list, instances), &pipelines.blended, materials),
+            }
+        }
+        (None, None) => {
+            if let Some(group0) = bound.gltf_group0() {
+                draws.set_program_groups(group0, None);
+            }
+            draw_blended(&mut draws, (list, instances), &pipelines.blended, materials);
+        }
+        // Over the compute rasteriser's samples without blended draws: nothing to draw.
+        _ => {}
     }
-    draw_blended(&mut draws, (list, instances), &pipelines.blended, materials);
 }
 
 /// Records `list`'s blended draws with `pipeline` (the blended one, or the overlay's erase),
 /// back to front (one multi-draw where they were ordered on the GPU).
-fn draw_blended<'a>(
+pub(super) fn draw_blended<'a>(
     draws: &mut SceneDraws<'_, 'a>,
     (list, instances): (&'a SceneDrawList, &InstanceTable),
     pipeline: &'a wgpu::RenderPipeline,

@@ -80,7 +80,7 @@ pub(super) fn sequence_buffer(device: &wgpu::Device, count: u32) -> wgpu::Buffer
 
 /// Group 3 of `program` (a `vis_raster` or `vis_shade` variant): `draw_geometry` and the
 /// scene's streams, through the library's generated builder.
-pub(super) fn geometry_group(
+pub(crate) fn geometry_group(
     device: &wgpu::Device,
     program: &ShaderProgram,
     scene: &PreparedScene,

@@ -10,10 +10,10 @@
 
 mod compute_raster;
 mod compute_raster_buffers;
-mod geometry;
+pub(crate) mod geometry;
 mod raster;
 mod raster_draws;
-mod resolve;
+pub(crate) mod resolve;
 mod shade;
 
 pub use compute_raster::{

@@ -337,7 +337,13 @@ impl Pass for VisRasterPass {
             },
             masked_only: false,
         };
-        let recording = self.recording(frame, (&draw_geometry, None), sequence, &list, targets)?;
+        let recording = self.recording(
+            frame,
+            (&draw_geometry, None),
+            sequence.clone(),
+            &list,
+            targets,
+        )?;
         let mut pass = graph.add_pass(self.name());
         pass.read_buffer(list.args, BufferAccess::Indirect)
             .write_texture(&mut depth, TextureAccess::DepthWrite);
@@ -350,6 +356,7 @@ impl Pass for VisRasterPass {
             samples,
             draw_geometry,
             draws,
+            sequence,
         });
         Ok(())
     }
@@ -435,7 +442,7 @@ impl VisRasterPass {
                 masked_only: true,
             };
             let buffers = (&draw_geometry, Some(&vis64));
-            let recording = self.recording(frame, buffers, sequence, &list, targets)?;
+            let recording = self.recording(frame, buffers, sequence.clone(), &list, targets)?;
             let mut pass = graph.add_pass(self.name());
             pass.read_buffer(list.args, BufferAccess::Indirect)
                 .write_texture(&mut scratch, TextureAccess::DepthWrite)
@@ -449,6 +456,7 @@ impl VisRasterPass {
             samples: VisibilitySamples::Buffer { samples },
             draw_geometry,
             draws,
+            sequence,
         });
         Ok(())
     }

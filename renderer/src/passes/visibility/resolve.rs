@@ -175,14 +175,15 @@ impl ComputeStage {
 
 /// The load of a depth target under the compute rasteriser: nothing, where no sample's
 /// contents before the pass are read. Used by the masked draws' scratch target (stored with
-/// `Discard`; their pipelines compare `Always` without writing) and by the depth resolve
+/// `Discard`; their pipelines compare `Always` without writing), by the blended fragments'
+/// listing (`passes::forward::over_samples`, the same) and by the depth resolve
 /// (which writes every sample). A clear costs what a resolve does (0.6 ms at MSAA 4, 1.2 at
 /// MSAA 8 on the H200; BENCHMARKS.md); a load, of a pool texture that an earlier pass of the
 /// frame discarded (the graph gives the scratch target and the resolve's target one slot),
 /// makes wgpu clear it first.
-pub(super) fn not_loaded() -> wgpu::LoadOp<f32> {
+pub(crate) fn not_loaded() -> wgpu::LoadOp<f32> {
     // SAFETY: `LoadOp::DontCare` leaves the contents undefined until written. Neither user
-    // reads them: the masked pipelines neither test nor write depth, and their target is
+    // reads them: the masked and listing pipelines neither test nor write depth, and their target is
     // discarded; the resolve writes every sample (a full-screen triangle at sample rate, depth
     // compare `Always`) before anything reads the target.
     wgpu::LoadOp::DontCare(unsafe { wgpu::LoadOpDontCare::enabled() })

@@ -191,7 +191,8 @@ impl VisShadePass {
                 number,
                 // Every kernel after the first adds to the sums the ones before left.
                 u32::from(!out.is_empty()),
-                glam::UVec3::ZERO,
+                0,
+                glam::UVec2::ZERO,
             );
             frame
                 .gpu
