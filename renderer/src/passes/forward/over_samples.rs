@@ -97,7 +97,8 @@ impl ListBuffers {
         }
     }
 
-    /// The sizes in bytes of the lists and the records for `pixels` and `records`.
+    /// The sizes in bytes of the lists and the records for `pixels` and `records` (at least
+    /// one, at most [`MAX_RECORDS`]).
     fn sizes(pixels: u64, records: u64) -> (u64, u64) {
         let header = u64::from(vis_blend::BLEND_LIST_HEADER);
         (
@@ -366,7 +367,6 @@ impl OverSamples {
             0 => pixels.div_ceil(2),
             n => u64::from(n),
         };
-        let records = records.min(MAX_RECORDS);
         let wanted = ListBuffers::sizes(pixels, records);
         let mut kept = self.kept.lock().unwrap_or_else(PoisonError::into_inner);
         match kept.as_ref() {
